@@ -1,0 +1,20 @@
+// Debug-build precondition checks. In release builds WIREDEM_ASSERT compiles to
+// nothing; use it for programming errors only, never for user input (that is
+// validated once, in api/).
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+
+#ifndef NDEBUG
+#define WIREDEM_ASSERT(cond, msg)                                                          \
+    do {                                                                                   \
+        if (!(cond)) {                                                                     \
+            std::fprintf(stderr, "%s:%d: assertion failed: %s (%s)\n", __FILE__, __LINE__, \
+                #cond, msg);                                                               \
+            std::abort();                                                                  \
+        }                                                                                  \
+    } while (false)
+#else
+#define WIREDEM_ASSERT(cond, msg) ((void)0)
+#endif

@@ -1,0 +1,51 @@
+// Basic value types shared by the whole engine: vectors, quaternions and the
+// reference that names a body by (kind, index). Everything is SI.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+
+namespace wiredem::engine {
+
+using Vec3 = Eigen::Vector3d;
+using Quat = Eigen::Quaterniond;
+
+/// The kinds of moving bodies. The numeric order is the canonical order of
+/// body references: grains first, then wire nodes, then membrane nodes.
+enum class BodyKind : std::uint8_t { grain = 0, wire = 1, membrane = 2 };
+
+inline constexpr int body_kind_count = 3;
+
+/// A body named by kind and index, packed into 32 bits (2 bits of kind, 30 of
+/// index) so that comparing two references compares (kind, index).
+struct BodyRef {
+    std::uint32_t bits = 0;
+
+    static constexpr std::uint32_t index_bits = 30;
+    static constexpr std::uint32_t index_mask = (1u << index_bits) - 1u;
+    /// Largest index a body of one kind can have.
+    static constexpr std::uint32_t max_index = index_mask;
+
+    constexpr BodyRef() = default;
+    constexpr BodyRef(BodyKind kind, std::uint32_t index)
+        : bits((static_cast<std::uint32_t>(kind) << index_bits) | (index & index_mask))
+    {
+    }
+    [[nodiscard]] constexpr BodyKind kind() const { return static_cast<BodyKind>(bits >> index_bits); }
+    [[nodiscard]] constexpr std::uint32_t index() const { return bits & index_mask; }
+    friend constexpr bool operator==(BodyRef, BodyRef) = default;
+    friend constexpr auto operator<=>(BodyRef a, BodyRef b) { return a.bits <=> b.bits; }
+};
+
+/// Key of an unordered body pair, with the smaller reference in the high half:
+/// sorting keys sorts pairs by (first, second).
+[[nodiscard]] constexpr std::uint64_t pair_key(BodyRef a, BodyRef b)
+{
+    const std::uint32_t lo = a.bits < b.bits ? a.bits : b.bits;
+    const std::uint32_t hi = a.bits < b.bits ? b.bits : a.bits;
+    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+} // namespace wiredem::engine

@@ -1,0 +1,75 @@
+// Tangential contact law (the model spec §3): a static spring whose stiffness
+// scales with the normal force, F_t = −k_t F_n δ_t (k_t in 1/m, the paper's
+// reading), that breaks into dynamic sliding when |F_t| > μ F_n or
+// |δ_t| > d_cr. While sliding, F_t = −F_n min(μ, γ_t |v_t|) v̂_t: shear damping
+// below the Coulomb bound, Coulomb friction above it. A sliding contact sticks
+// again (a new spring, δ_t = 0) once γ_t |v_t| ≤ μ, i.e. once the relative
+// sliding speed has dropped below μ/γ_t.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <cmath>
+
+namespace wiredem::engine {
+
+/// Memory of one tangential contact.
+struct TangentialState {
+    Vec3 spring_m = Vec3::Zero(); ///< δ_t, relative tangential displacement [m]
+    bool sticking = true;         ///< true: static spring; false: sliding
+};
+
+/// Parameters of the tangential law, shared by all contacts.
+struct TangentialParams {
+    double stiffness_per_m = 1e5;   ///< k_t [1/m]
+    double friction_coeff = 0.3;    ///< μ
+    double critical_slip_m = 1e-4;  ///< d_cr [m]
+    double damping_s_per_m = 1e3;   ///< γ_t [s/m]; F-normalised shear damping
+};
+
+struct TangentialResult {
+    Vec3 force_n;          ///< tangential force on the first body [N]
+    TangentialState next;  ///< state to keep for the next step
+};
+
+/// Evaluates the tangential law for one step.
+/// @param prev                state after the previous step
+/// @param normal              unit normal of the contact (any orientation)
+/// @param tangential_velocity_m_per_s  v_t, relative velocity of the first body's contact
+///                            point with respect to the second's, in the tangent plane
+/// @param normal_force_n      F_n ≥ 0 [N]
+/// @param dt_s                time step [s]
+[[nodiscard]] inline TangentialResult tangential_force(const TangentialState& prev, const Vec3& normal,
+    const Vec3& tangential_velocity_m_per_s, double normal_force_n, const TangentialParams& p,
+    double dt_s) noexcept
+{
+    const Vec3& vt = tangential_velocity_m_per_s;
+    const double speed = vt.norm();
+    const double coulomb_n = p.friction_coeff * normal_force_n;
+
+    auto slide = [&]() -> TangentialResult {
+        // γ_t |v_t| ≤ μ: the sliding has stopped, attach a new spring.
+        if (p.damping_s_per_m * speed <= p.friction_coeff)
+            return {-p.stiffness_per_m * normal_force_n * (vt * dt_s), {vt * dt_s, true}};
+        return {-coulomb_n / speed * vt, {Vec3::Zero(), false}};
+    };
+    if (!prev.sticking) return slide();
+
+    // Keep the spring in the current tangent plane as the contact turns:
+    // drop its normal component and restore its length.
+    Vec3 spring = prev.spring_m - prev.spring_m.dot(normal) * normal;
+    const double old_len = prev.spring_m.norm();
+    const double new_len = spring.norm();
+    if (new_len > 0.0) spring *= old_len / new_len;
+    spring += vt * dt_s;
+
+    const Vec3 force = -p.stiffness_per_m * normal_force_n * spring;
+    if (force.squaredNorm() > coulomb_n * coulomb_n || spring.squaredNorm() > p.critical_slip_m * p.critical_slip_m) {
+        // The spring breaks: the contact slides with the dynamic force.
+        const double f = normal_force_n * std::fmin(p.friction_coeff, p.damping_s_per_m * speed);
+        return {speed > 0.0 ? Vec3(-f / speed * vt) : Vec3(Vec3::Zero()), {Vec3::Zero(), false}};
+    }
+    return {force, {spring, true}};
+}
+
+} // namespace wiredem::engine

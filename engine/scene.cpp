@@ -1,0 +1,37 @@
+#include "scene.hpp"
+
+#include <cmath>
+
+namespace wiredem::engine {
+
+double build_container(World& w, const ContainerSpec& spec)
+{
+    const std::uint8_t grain_mat = add_material(w, spec.grain);
+    const std::uint8_t wall_mat = add_material(w, spec.wall);
+    add_wall(w, make_plate(0.0, +1.0, wall_mat));
+    add_wall(w, make_cylinder(spec.container_radius_m, wall_mat));
+
+    SplitMix64 rng(spec.seed);
+    const double r = spec.grain_radius_m;
+    const double pitch = 2.0 * r * (1.0 + spec.lattice_gap);
+    const double gap = pitch - 2.0 * r;
+    const double reach = spec.container_radius_m - r - 0.5 * gap; // centre must stay inside
+    const int half = static_cast<int>(std::floor(reach / pitch));
+    double top = 0.0;
+    std::size_t placed = 0;
+    for (int layer = 0; placed < spec.grains; ++layer) {
+        const double z = r + 0.5 * gap + layer * pitch;
+        for (int iy = -half; iy <= half && placed < spec.grains; ++iy)
+            for (int ix = -half; ix <= half && placed < spec.grains; ++ix) {
+                const double x = ix * pitch, y = iy * pitch;
+                if (std::hypot(x, y) > reach) continue;
+                const Vec3 jitter(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+                add_grain(w, Vec3(x, y, z) + spec.jitter * gap * jitter, r, grain_mat);
+                ++placed;
+                top = z;
+            }
+    }
+    return top;
+}
+
+} // namespace wiredem::engine

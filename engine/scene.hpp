@@ -1,0 +1,48 @@
+// Ready-made scenes shared by the demo, the benchmark and the tests: grains
+// on a loose lattice inside a cylindrical container on a floor. (Pouring with
+// a wire nozzle is the specimen preparation's job; this is the plain box.)
+#pragma once
+
+#include "state/world.hpp"
+
+#include <cstdint>
+
+namespace wiredem::engine {
+
+/// Deterministic 64-bit generator (splitmix64) with a portable uniform [0, 1):
+/// the same seed gives the same numbers on every platform and library.
+class SplitMix64 {
+public:
+    explicit SplitMix64(std::uint64_t seed) : s_(seed) {}
+    std::uint64_t next()
+    {
+        std::uint64_t z = (s_ += 0x9e3779b97f4a7c15ull);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    /// Uniform in [0, 1) with 53 random bits.
+    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+private:
+    std::uint64_t s_;
+};
+
+/// A cylindrical container filled with grains.
+struct ContainerSpec {
+    double container_radius_m = 20e-3;
+    double grain_radius_m = 1.23e-3;
+    std::size_t grains = 8000;
+    double lattice_gap = 0.1;       ///< gap between lattice neighbours, fraction of the diameter
+    double jitter = 0.2;            ///< random offset, fraction of the gap
+    std::uint64_t seed = 1;
+    Material grain{};               ///< default: the paper's grains
+    Material wall{1e9, 0.3, 7800.0}; ///< plates and cylinder (E_b)
+};
+
+/// Adds a floor at z = 0, the cylinder wall and `spec.grains` grains on a
+/// simple cubic lattice (with jitter) inside it, at rest. Returns the height
+/// of the top layer's centres [m].
+double build_container(World& w, const ContainerSpec& spec);
+
+} // namespace wiredem::engine

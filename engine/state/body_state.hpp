@@ -1,0 +1,66 @@
+// Flat per-quantity arrays of the moving bodies. Index = body id within its
+// kind; ids follow creation order and never change.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// Number of Gear-5 scaled derivatives kept per degree of freedom (x₀ … x₅).
+inline constexpr int gear_order = 6;
+
+/// Translational state of a set of spheres of one kind (grains, wire nodes or
+/// membrane nodes). All arrays have size() entries.
+struct TranslationalState {
+    /// Gear-5 scaled derivatives: x[0] position [m], x[k] = δt^k/k! · d^k x/dt^k [m].
+    std::array<std::vector<Vec3>, gear_order> x;
+    std::vector<double> radius_m;          ///< contact radius [m]
+    std::vector<double> mass_kg;           ///< [kg]
+    std::vector<double> inv_mass_per_kg;   ///< 0 for a body held fixed [1/kg]
+    std::vector<std::uint8_t> material;    ///< index into World::materials
+    std::vector<Vec3> force_n;             ///< total force, rebuilt every step [N]
+
+    [[nodiscard]] std::size_t size() const { return radius_m.size(); }
+
+    /// Appends one body at rest at `position_m` moving with `velocity_m_per_s`
+    /// (scaled by δt into x[1]); returns its index.
+    std::uint32_t add(const Vec3& position_m, const Vec3& velocity_m_per_s, double radius_m_, double mass_kg_,
+        std::uint8_t material_id, double dt_s)
+    {
+        x[0].push_back(position_m);
+        x[1].push_back(velocity_m_per_s * dt_s);
+        for (int k = 2; k < gear_order; ++k) x[k].push_back(Vec3::Zero());
+        radius_m.push_back(radius_m_);
+        mass_kg.push_back(mass_kg_);
+        inv_mass_per_kg.push_back(mass_kg_ > 0.0 ? 1.0 / mass_kg_ : 0.0);
+        material.push_back(material_id);
+        force_n.push_back(Vec3::Zero());
+        return static_cast<std::uint32_t>(size() - 1);
+    }
+};
+
+/// Rotational state of the grains, parallel to their TranslationalState.
+/// The rotation is integrated with the same Gear-5 scheme on a rotation
+/// vector: w[1] = δt ω, w[2] = δt²/2 · dω/dt, …; w[0] accumulates the rotation
+/// angle vector and is kept for symmetry only. The orientation quaternion is
+/// advanced from the corrected ω and renormalised every step.
+struct RotationalState {
+    std::array<std::vector<Vec3>, gear_order> w;
+    std::vector<Quat> orientation;            ///< unit quaternion
+    std::vector<double> inv_inertia_per_kg_m2; ///< 1/I, 0 for a body that must not turn
+    std::vector<Vec3> torque_n_m;             ///< rebuilt every step [N·m]
+
+    void add(double inertia_kg_m2)
+    {
+        for (auto& v : w) v.push_back(Vec3::Zero());
+        orientation.push_back(Quat::Identity());
+        inv_inertia_per_kg_m2.push_back(inertia_kg_m2 > 0.0 ? 1.0 / inertia_kg_m2 : 0.0);
+        torque_n_m.push_back(Vec3::Zero());
+    }
+};
+
+} // namespace wiredem::engine

@@ -1,0 +1,105 @@
+#include "state/world.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace wiredem::engine {
+
+std::uint8_t add_material(World& w, const Material& m)
+{
+    w.materials.push_back(m);
+    return static_cast<std::uint8_t>(w.materials.size() - 1);
+}
+
+namespace {
+void grow_wall_memory(World& w, BodyKind kind)
+{
+    const auto k = static_cast<int>(kind);
+    for (Wall& wall : w.walls) {
+        wall.tangential[k].resize(w.bodies[k].size());
+        wall.force_on_body_n[k].resize(w.bodies[k].size(), Vec3::Zero());
+        wall.torque_on_body_n_m[k].resize(w.bodies[k].size(), Vec3::Zero());
+    }
+}
+} // namespace
+
+std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::uint8_t material,
+    const Vec3& velocity_m_per_s, const Vec3& angular_velocity_rad_per_s)
+{
+    const double mass = w.materials[material].density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
+    const std::uint32_t id = w.of(BodyKind::grain).add(position_m, velocity_m_per_s, radius_m, mass, material, w.dt_s);
+    w.grain_rotation.add(0.4 * mass * radius_m * radius_m); // solid sphere: I = 2/5 m r²
+    w.grain_rotation.w[1].back() = angular_velocity_rad_per_s * w.dt_s;
+    grow_wall_memory(w, BodyKind::grain);
+    w.neighbours_dirty = true;
+    return id;
+}
+
+std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double radius_m, double mass_kg,
+    std::uint8_t material, const Vec3& velocity_m_per_s)
+{
+    const std::uint32_t id = w.of(kind).add(position_m, velocity_m_per_s, radius_m, mass_kg, material, w.dt_s);
+    grow_wall_memory(w, kind);
+    w.neighbours_dirty = true;
+    return id;
+}
+
+std::size_t add_wall(World& w, Wall wall)
+{
+    for (int k = 0; k < body_kind_count; ++k) {
+        wall.tangential[k].assign(w.bodies[k].size(), {});
+        wall.force_on_body_n[k].assign(w.bodies[k].size(), Vec3::Zero());
+        wall.torque_on_body_n_m[k].assign(w.bodies[k].size(), Vec3::Zero());
+    }
+    w.walls.push_back(std::move(wall));
+    return w.walls.size() - 1;
+}
+
+Wall make_plate(double z_m, double normal_sign, std::uint8_t material)
+{
+    Wall wall;
+    wall.shape = Wall::Shape::plane;
+    wall.point_m = Vec3(0.0, 0.0, z_m);
+    wall.normal = Vec3(0.0, 0.0, normal_sign >= 0.0 ? 1.0 : -1.0);
+    wall.material = material;
+    return wall;
+}
+
+Wall make_cylinder(double radius_m, std::uint8_t material)
+{
+    Wall wall;
+    wall.shape = Wall::Shape::cylinder;
+    wall.radius_m = radius_m;
+    wall.material = material;
+    return wall;
+}
+
+void set_time_step(World& w, double dt_s)
+{
+    const double ratio = dt_s / w.dt_s;
+    double scale = 1.0;
+    for (int k = 1; k < gear_order; ++k) {
+        scale *= ratio;
+        for (auto& body : w.bodies)
+            for (Vec3& v : body.x[k]) v *= scale;
+        for (Vec3& v : w.grain_rotation.w[k]) v *= scale;
+    }
+    w.dt_s = dt_s;
+}
+
+Vec3 velocity_m_per_s(const World& w, BodyRef b)
+{
+    return w.of(b.kind()).x[1][b.index()] / w.dt_s;
+}
+
+Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain)
+{
+    return w.grain_rotation.w[1][grain] / w.dt_s;
+}
+
+void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
+{
+    w.of(b.kind()).x[1][b.index()] = v_m_per_s * w.dt_s;
+}
+
+} // namespace wiredem::engine

@@ -1,0 +1,126 @@
+// Everything a simulation step reads and writes: bodies of every kind, walls,
+// materials, contact settings, the neighbour list and the clock.
+//
+// Invariants: body ids follow creation order and never change; the scaled
+// Gear derivatives are scaled by the current dt_s (set_time_step rescales
+// them); a body with inv_mass_per_kg == 0 is held fixed.
+#pragma once
+
+#include "broadphase/cell_grid.hpp"
+#include "contact/contact_list.hpp"
+#include "core/types.hpp"
+#include "laws/tangential.hpp"
+#include "state/body_state.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// Elastic properties of a material.
+struct Material {
+    double youngs_modulus_pa = 10e9;      ///< E [Pa]
+    double poisson_ratio = 0.3;           ///< ν
+    double density_kg_per_m3 = 7800.0;    ///< ρ [kg/m³]
+};
+
+/// The contact law shared by every pair (model spec §3).
+struct ContactSettings {
+    double normal_damping_s = 0.0;        ///< γ_n [s]
+    TangentialParams tangential{};
+};
+
+/// A rigid, infinitely large wall: a plane (plate) or the inside of a
+/// vertical cylinder. Walls have R = ∞ in the Hertz law.
+struct Wall {
+    enum class Shape : std::uint8_t { plane, cylinder };
+    Shape shape = Shape::plane;
+    Vec3 point_m = Vec3::Zero();          ///< plane: a point on it; cylinder: a point on the axis
+    Vec3 normal = Vec3::UnitZ();          ///< plane: unit normal pointing into the domain
+    double radius_m = 0.0;                ///< cylinder radius (axis ∥ z) [m]
+    Vec3 velocity_m_per_s = Vec3::Zero(); ///< prescribed velocity; point_m moves with it
+    std::uint8_t material = 0;
+    /// Tangential memory of every body against this wall, by kind and index.
+    std::array<std::vector<TangentialState>, body_kind_count> tangential;
+    /// Force this wall exerts on each body this step, by kind and index [N].
+    std::array<std::vector<Vec3>, body_kind_count> force_on_body_n;
+    std::array<std::vector<Vec3>, body_kind_count> torque_on_body_n_m;
+    Vec3 total_force_n = Vec3::Zero();    ///< force the bodies exert on the wall this step [N]
+    std::size_t contacts = 0;             ///< bodies touching the wall this step
+};
+
+/// The whole simulated system.
+struct World {
+    std::vector<Material> materials;
+    std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
+    RotationalState grain_rotation;       ///< parallel to bodies[grain]
+    std::vector<Wall> walls;
+    ContactSettings contact;
+    Vec3 gravity_m_per_s2{0.0, 0.0, -10.0};
+    /// Whether gravity acts on a kind (never on membrane nodes: model spec §3).
+    std::array<bool, body_kind_count> gravity_acts{true, true, false};
+    /// Whether two kinds interact through contact (symmetric). Membrane–membrane
+    /// and membrane–wire contacts are not modelled (model spec §3).
+    std::array<std::array<bool, body_kind_count>, body_kind_count> kinds_interact{
+        {{true, true, true}, {true, true, false}, {true, false, false}}};
+
+    double dt_s = 1e-7;
+    double time_s = 0.0;
+    std::uint64_t step_count = 0;
+
+    /// Verlet skin of the neighbour list [m]; ≤ 0 picks 0.2 × the largest radius.
+    double skin_m = 0.0;
+    ContactList contacts;
+    CellGrid grid;
+    std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
+    bool neighbours_dirty = true;          ///< set when bodies are added or moved by hand
+    std::uint64_t neighbour_builds = 0;
+
+    /// Total number of bodies over all kinds.
+    [[nodiscard]] std::size_t body_count() const
+    {
+        return bodies[0].size() + bodies[1].size() + bodies[2].size();
+    }
+    /// Flat index of the first body of `kind` (grains, then wire, then membrane).
+    [[nodiscard]] std::size_t flat_offset(BodyKind kind) const
+    {
+        std::size_t off = 0;
+        for (int k = 0; k < static_cast<int>(kind); ++k) off += bodies[k].size();
+        return off;
+    }
+    [[nodiscard]] TranslationalState& of(BodyKind k) { return bodies[static_cast<int>(k)]; }
+    [[nodiscard]] const TranslationalState& of(BodyKind k) const { return bodies[static_cast<int>(k)]; }
+};
+
+/// Adds a material; returns its id.
+std::uint8_t add_material(World& w, const Material& m);
+
+/// Adds a grain (solid sphere of the material's density) at rest or moving;
+/// returns its index.
+std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::uint8_t material,
+    const Vec3& velocity_m_per_s = Vec3::Zero(), const Vec3& angular_velocity_rad_per_s = Vec3::Zero());
+
+/// Adds a node of a kind without rotation (wire or membrane); returns its index.
+std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double radius_m, double mass_kg,
+    std::uint8_t material, const Vec3& velocity_m_per_s = Vec3::Zero());
+
+/// Adds a wall; returns its index.
+std::size_t add_wall(World& w, Wall wall);
+/// A horizontal plate at height z whose normal points up (+1, a floor) or down (−1, a lid).
+[[nodiscard]] Wall make_plate(double z_m, double normal_sign, std::uint8_t material);
+/// The inside of a vertical cylinder of radius r around the z axis.
+[[nodiscard]] Wall make_cylinder(double radius_m, std::uint8_t material);
+
+/// Changes δt, rescaling every stored Gear derivative (x[k] ∝ δt^k).
+void set_time_step(World& w, double dt_s);
+
+/// Velocity of a body [m/s] (from the scaled derivative x[1]).
+[[nodiscard]] Vec3 velocity_m_per_s(const World& w, BodyRef b);
+/// Angular velocity of a grain [rad/s].
+[[nodiscard]] Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain);
+/// Sets a body's velocity.
+void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s);
+
+} // namespace wiredem::engine

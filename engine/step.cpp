@@ -1,0 +1,303 @@
+#include "step.hpp"
+
+#include "integrate/gear5.hpp"
+#include "laws/hertz.hpp"
+#include "laws/tangential.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wiredem::engine {
+namespace {
+
+/// E* for every material pair, row-major; rebuilt per step (a handful of materials).
+std::vector<double> effective_moduli(const World& w)
+{
+    const std::size_t n = w.materials.size();
+    std::vector<double> e(n * n);
+    for (std::size_t a = 0; a < n; ++a)
+        for (std::size_t b = 0; b < n; ++b)
+            e[a * n + b] = effective_modulus_pa(w.materials[a].youngs_modulus_pa, w.materials[a].poisson_ratio,
+                w.materials[b].youngs_modulus_pa, w.materials[b].poisson_ratio);
+    return e;
+}
+
+Vec3 angular_velocity(const World& w, BodyRef b)
+{
+    return b.kind() == BodyKind::grain ? Vec3(w.grain_rotation.w[1][b.index()] / w.dt_s) : Vec3(Vec3::Zero());
+}
+
+} // namespace
+
+void initialize_accelerations(World& w, ThreadPool& pool)
+{
+    update_neighbours(w, pool);
+    const std::vector<TangentialState> pair_springs = w.contacts.tangential;
+    std::vector<std::array<std::vector<TangentialState>, body_kind_count>> wall_springs;
+    for (const Wall& wall : w.walls) wall_springs.push_back(wall.tangential);
+    compute_pair_forces(w, pool);
+    compute_wall_forces(w, pool);
+    gather_forces(w, pool);
+    w.contacts.tangential = pair_springs;
+    for (std::size_t i = 0; i < w.walls.size(); ++i) w.walls[i].tangential = wall_springs[i];
+
+    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
+    for (auto& body : w.bodies)
+        parallel_for(pool, body.size(), [&](std::size_t i) {
+            body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
+        });
+    RotationalState& rot = w.grain_rotation;
+    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
+        rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+    });
+}
+
+StepReport step(World& w, ThreadPool& pool)
+{
+    StepReport report;
+    if (w.step_count == 0) initialize_accelerations(w, pool); // Gear start-up
+    gear5_predict(w, pool);                              // every moving body
+    move_walls(w);                                       // prescribed plate motion
+    report.neighbours_rebuilt = update_neighbours(w, pool); // cell grid + skin, only when needed
+    compute_pair_forces(w, pool);                        // Hertz + tangential, one slot per pair
+    compute_wall_forces(w, pool);                        // plates and cylinder, one slot per body
+    gather_forces(w, pool);                              // per body, fixed order
+    report.blew_up = !gear5_correct(w, pool);
+    w.time_s += w.dt_s;
+    ++w.step_count;
+    return report;
+}
+
+void move_walls(World& w)
+{
+    for (Wall& wall : w.walls) wall.point_m += wall.velocity_m_per_s * w.dt_s;
+}
+
+double effective_skin_m(const World& w)
+{
+    if (w.skin_m > 0.0) return w.skin_m;
+    double r_max = 0.0;
+    for (const auto& body : w.bodies)
+        for (double r : body.radius_m) r_max = std::max(r_max, r);
+    return 0.2 * r_max;
+}
+
+bool update_neighbours(World& w, ThreadPool& pool)
+{
+    const double skin = effective_skin_m(w);
+    const std::size_t n = w.body_count();
+    if (!w.neighbours_dirty && w.position_at_build_m.size() == n) {
+        double max_move2 = 0.0;
+        for (int k = 0; k < body_kind_count; ++k) {
+            const auto& pos = w.bodies[k].x[0];
+            const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
+            max_move2 = std::max(max_move2,
+                reduce_blocks(
+                    pool, pos.size(), 0.0,
+                    [&](std::size_t b, std::size_t e) {
+                        double m = 0.0;
+                        for (std::size_t i = b; i < e; ++i)
+                            m = std::max(m, (pos[i] - w.position_at_build_m[off + i]).squaredNorm());
+                        return m;
+                    },
+                    [](double a, double b) { return std::max(a, b); }));
+        }
+        if (max_move2 < 0.25 * skin * skin) return false;
+    }
+
+    std::vector<Vec3> pos;
+    std::vector<double> radius;
+    std::vector<BodyRef> ref;
+    pos.reserve(n);
+    radius.reserve(n);
+    ref.reserve(n);
+    for (int k = 0; k < body_kind_count; ++k) {
+        const auto& body = w.bodies[k];
+        pos.insert(pos.end(), body.x[0].begin(), body.x[0].end());
+        radius.insert(radius.end(), body.radius_m.begin(), body.radius_m.end());
+        for (std::uint32_t i = 0; i < body.size(); ++i) ref.emplace_back(static_cast<BodyKind>(k), i);
+    }
+    const PairFilter filter = [&](std::uint32_t i, std::uint32_t j) {
+        const BodyRef a = ref[i], b = ref[j];
+        if (!w.kinds_interact[static_cast<int>(a.kind())][static_cast<int>(b.kind())]) return false;
+        // Two fixed bodies never need a contact.
+        return w.of(a.kind()).inv_mass_per_kg[a.index()] != 0.0 || w.of(b.kind()).inv_mass_per_kg[b.index()] != 0.0;
+    };
+    const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, filter);
+
+    std::vector<std::uint64_t> keys(pairs.size());
+    std::vector<BodyRef> first(pairs.size()), second(pairs.size());
+    std::vector<std::uint32_t> flat_first(pairs.size()), flat_second(pairs.size());
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+        // Flat order equals BodyRef order, so (i < j) is already (first < second).
+        flat_first[p] = pairs[p].first;
+        flat_second[p] = pairs[p].second;
+        first[p] = ref[pairs[p].first];
+        second[p] = ref[pairs[p].second];
+        keys[p] = pair_key(first[p], second[p]);
+    }
+    w.contacts.rebuild(keys, first, second, flat_first, flat_second, n);
+    w.position_at_build_m = std::move(pos);
+    w.neighbours_dirty = false;
+    ++w.neighbour_builds;
+    return true;
+}
+
+void compute_pair_forces(World& w, ThreadPool& pool)
+{
+    const std::vector<double> e_star = effective_moduli(w);
+    const std::size_t n_mat = w.materials.size();
+    ContactList& c = w.contacts;
+    const double dt = w.dt_s;
+    const double inv_dt = 1.0 / dt;
+    const double damping_s = w.contact.normal_damping_s;
+    const TangentialParams& tp = w.contact.tangential;
+
+    parallel_for(pool, c.size(), [&](std::size_t p) {
+        const BodyRef a = c.first[p], b = c.second[p];
+        const TranslationalState& A = w.of(a.kind());
+        const TranslationalState& B = w.of(b.kind());
+        const std::uint32_t ia = a.index(), ib = b.index();
+        const Vec3 d = B.x[0][ib] - A.x[0][ia];
+        const double ra = A.radius_m[ia], rb = B.radius_m[ib];
+        const double dist2 = d.squaredNorm();
+        if (dist2 >= (ra + rb) * (ra + rb) || dist2 == 0.0) {
+            // Apart: the contact (and its spring) is gone.
+            c.tangential[p] = TangentialState{};
+            c.force_n[p].setZero();
+            c.torque_first_n_m[p].setZero();
+            c.torque_second_n_m[p].setZero();
+            c.normal_force_n[p] = 0.0;
+            c.touching[p] = 0;
+            return;
+        }
+        const double dist = std::sqrt(dist2);
+        const double overlap = ra + rb - dist;
+        const Vec3 n = d / dist; // from a to b
+        const double arm_a = ra - 0.5 * overlap, arm_b = rb - 0.5 * overlap;
+        const Vec3 v_rel = (A.x[1][ia] - B.x[1][ib]) * inv_dt
+                         + (arm_a * angular_velocity(w, a) + arm_b * angular_velocity(w, b)).cross(n);
+        const double rate = v_rel.dot(n); // > 0 while approaching
+        const Vec3 vt = v_rel - rate * n;
+
+        const double fn = hertz_normal_force_n(overlap, rate, e_star[A.material[ia] * n_mat + B.material[ib]],
+            effective_radius_m(ra, rb), damping_s);
+        const TangentialResult t = tangential_force(c.tangential[p], n, vt, fn, tp, dt);
+        c.tangential[p] = t.next;
+        c.force_n[p] = -fn * n + t.force_n;
+        c.torque_first_n_m[p] = arm_a * n.cross(t.force_n);
+        c.torque_second_n_m[p] = arm_b * n.cross(t.force_n);
+        c.normal_force_n[p] = fn;
+        c.touching[p] = 1;
+    });
+}
+
+void compute_wall_forces(World& w, ThreadPool& pool)
+{
+    const std::vector<double> e_star = effective_moduli(w);
+    const std::size_t n_mat = w.materials.size();
+    const double dt = w.dt_s;
+    const double inv_dt = 1.0 / dt;
+    const double damping_s = w.contact.normal_damping_s;
+    const TangentialParams& tp = w.contact.tangential;
+
+    struct Total {
+        Vec3 force = Vec3::Zero();
+        std::size_t contacts = 0;
+    };
+    for (Wall& wall : w.walls) {
+        Total total;
+        for (int k = 0; k < body_kind_count; ++k) {
+            const TranslationalState& body = w.bodies[k];
+            const auto kind = static_cast<BodyKind>(k);
+            auto& memory = wall.tangential[k];
+            auto& force = wall.force_on_body_n[k];
+            auto& torque = wall.torque_on_body_n_m[k];
+            const Total part = reduce_blocks(
+                pool, body.size(), Total{},
+                [&](std::size_t begin, std::size_t end) {
+                    Total sum;
+                    for (std::size_t i = begin; i < end; ++i) {
+                        const Vec3& x = body.x[0][i];
+                        const double r = body.radius_m[i];
+                        // m: unit normal from the body towards the wall; gap: distance to it.
+                        Vec3 m;
+                        double gap;
+                        if (wall.shape == Wall::Shape::plane) {
+                            m = -wall.normal;
+                            gap = (x - wall.point_m).dot(wall.normal);
+                        } else {
+                            Vec3 radial = x - wall.point_m;
+                            radial.z() = 0.0;
+                            const double rho = radial.norm();
+                            m = rho > 0.0 ? Vec3(radial / rho) : Vec3(Vec3::UnitX());
+                            gap = wall.radius_m - rho;
+                        }
+                        const double overlap = r - gap;
+                        if (overlap <= 0.0 || body.inv_mass_per_kg[i] == 0.0) {
+                            memory[i] = TangentialState{};
+                            force[i].setZero();
+                            torque[i].setZero();
+                            continue;
+                        }
+                        const double arm = r - 0.5 * overlap;
+                        const Vec3 omega = kind == BodyKind::grain ? Vec3(w.grain_rotation.w[1][i] * inv_dt) : Vec3(Vec3::Zero());
+                        const Vec3 v_rel = body.x[1][i] * inv_dt + arm * omega.cross(m) - wall.velocity_m_per_s;
+                        const double rate = v_rel.dot(m);
+                        const Vec3 vt = v_rel - rate * m;
+                        const double fn = hertz_normal_force_n(
+                            overlap, rate, e_star[body.material[i] * n_mat + wall.material], r, damping_s);
+                        const TangentialResult t = tangential_force(memory[i], m, vt, fn, tp, dt);
+                        memory[i] = t.next;
+                        force[i] = -fn * m + t.force_n;
+                        torque[i] = arm * m.cross(t.force_n);
+                        sum.force -= force[i];
+                        ++sum.contacts;
+                    }
+                    return sum;
+                },
+                [](Total a, const Total& b) {
+                    a.force += b.force;
+                    a.contacts += b.contacts;
+                    return a;
+                });
+            total.force += part.force;
+            total.contacts += part.contacts;
+        }
+        wall.total_force_n = total.force;
+        wall.contacts = total.contacts;
+    }
+}
+
+void gather_forces(World& w, ThreadPool& pool)
+{
+    const ContactList& c = w.contacts;
+    for (int k = 0; k < body_kind_count; ++k) {
+        TranslationalState& body = w.bodies[k];
+        const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
+        const Vec3 g = w.gravity_acts[k] ? w.gravity_m_per_s2 : Vec3(Vec3::Zero());
+        const bool rotates = k == static_cast<int>(BodyKind::grain);
+        parallel_for(pool, body.size(), [&](std::size_t i) {
+            Vec3 f = body.mass_kg[i] * g;
+            Vec3 tau = Vec3::Zero();
+            for (std::uint32_t e = c.incidence_start[off + i]; e < c.incidence_start[off + i + 1]; ++e) {
+                const Incidence inc = c.incidence[e];
+                if (inc.is_first) {
+                    f += c.force_n[inc.pair];
+                    tau += c.torque_first_n_m[inc.pair];
+                } else {
+                    f -= c.force_n[inc.pair];
+                    tau += c.torque_second_n_m[inc.pair];
+                }
+            }
+            for (const Wall& wall : w.walls) {
+                f += wall.force_on_body_n[k][i];
+                tau += wall.torque_on_body_n_m[k][i];
+            }
+            body.force_n[i] = f;
+            if (rotates) w.grain_rotation.torque_n_m[i] = tau;
+        });
+    }
+}
+
+} // namespace wiredem::engine

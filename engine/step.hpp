@@ -1,0 +1,42 @@
+// One time step of the whole system, as an explicit list of stages.
+#pragma once
+
+#include "parallel/thread_pool.hpp"
+#include "state/world.hpp"
+
+namespace wiredem::engine {
+
+/// What a step noticed. Steps never throw: problems are flagged here.
+struct StepReport {
+    bool blew_up = false;             ///< a position became NaN/∞: δt too large or bad input
+    bool neighbours_rebuilt = false;  ///< the neighbour list was rebuilt this step
+};
+
+/// Advances `w` by w.dt_s. Thread-count independent: the same World gives
+/// bit-identical results with any pool size.
+StepReport step(World& w, ThreadPool& pool);
+
+/// Sets every body's second Gear derivative from the forces at the current
+/// state (x₂ = δt²/2 · F/m, likewise for rotation), leaving tangential springs
+/// untouched. step() does this before the first step; without it Gear-5 would
+/// start from a = 0 and carry the start-up error for the whole run.
+void initialize_accelerations(World& w, ThreadPool& pool);
+
+// The stages, in the order step() runs them; exposed for tests and benchmarks.
+
+/// Moves walls with their prescribed velocity by one step.
+void move_walls(World& w);
+/// Rebuilds the neighbour list if a body moved more than half the skin since
+/// the last build, or bodies were added. Returns true if it rebuilt.
+bool update_neighbours(World& w, ThreadPool& pool);
+/// Evaluates every pair of the neighbour list (one writer per pair slot).
+void compute_pair_forces(World& w, ThreadPool& pool);
+/// Evaluates every body against every wall and totals the wall forces.
+void compute_wall_forces(World& w, ThreadPool& pool);
+/// Sums each body's pair, wall and gravity forces in a fixed order.
+void gather_forces(World& w, ThreadPool& pool);
+
+/// Effective skin actually used [m].
+[[nodiscard]] double effective_skin_m(const World& w);
+
+} // namespace wiredem::engine

@@ -1,0 +1,101 @@
+// Binary collisions against Hertz theory.
+#include "helpers.hpp"
+#include "laws/hertz.hpp"
+#include "timestep.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace wiredem::engine;
+using namespace wiredem::engine::test;
+
+namespace {
+
+const Material grain_material{10e9, 0.3, 7800.0};
+constexpr double radius_m = 1.23e-3;
+
+struct CollisionResult {
+    double contact_time_s = 0.0;
+    double energy_before_j = 0.0;
+    double energy_after_j = 0.0;
+    double restitution = 0.0; ///< |v_rel after| / |v_rel before|
+};
+
+/// Two equal grains approaching head-on along x at relative speed v.
+CollisionResult collide(double v, double dt, double damping_s, unsigned threads = 1)
+{
+    Simulation sim(threads);
+    reset_world(sim.world, grain_material, dt, damping_s);
+    World& w = sim.world;
+    const double gap = 0.5 * v * 10 * dt; // touch after a few steps
+    add_grain(w, Vec3(-radius_m - gap, 0, 0), radius_m, 0, Vec3(0.5 * v, 0, 0));
+    add_grain(w, Vec3(radius_m + gap, 0, 0), radius_m, 0, Vec3(-0.5 * v, 0, 0));
+    CollisionResult r;
+    r.energy_before_j = kinetic_energy_j(w, sim.pool());
+    bool started = false;
+    for (int s = 0; s < 10'000'000; ++s) {
+        sim.step();
+        const bool touching = w.contacts.size() == 1 && w.contacts.touching[0];
+        if (touching) {
+            started = true;
+            r.contact_time_s += dt;
+        } else if (started) {
+            break;
+        }
+    }
+    r.energy_after_j = kinetic_energy_j(w, sim.pool());
+    const double v_after = (velocity_m_per_s(w, {BodyKind::grain, 1}) - velocity_m_per_s(w, {BodyKind::grain, 0})).x();
+    r.restitution = v_after / v;
+    return r;
+}
+
+double reduced_mass_kg() { return 0.5 * sphere_mass_kg(radius_m, grain_material.density_kg_per_m3); }
+double e_star_pa() { return effective_modulus_pa(10e9, 0.3, 10e9, 0.3); }
+
+} // namespace
+
+TEST(HertzCollision, ContactTimeMatchesHertzAndEnergyIsConservedWithoutDamping)
+{
+    const double v = 0.5;
+    const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
+    const CollisionResult r = collide(v, tc / 1000.0, 0.0);
+    EXPECT_NEAR(r.contact_time_s / tc, 1.0, 0.01);
+    EXPECT_NEAR(r.energy_after_j / r.energy_before_j, 1.0, 1e-3);
+    EXPECT_NEAR(r.restitution, 1.0, 1e-3);
+}
+
+TEST(HertzCollision, ContactTimeScalesAsSpeedToMinusOneFifth)
+{
+    const double tc = hertz_contact_time_s(reduced_mass_kg(), 0.1, e_star_pa(), 0.5 * radius_m);
+    const CollisionResult slow = collide(0.1, tc / 1000.0, 0.0);
+    const CollisionResult fast = collide(3.2, tc / 1000.0, 0.0);
+    EXPECT_NEAR(slow.contact_time_s / fast.contact_time_s, std::pow(32.0, 0.2), 0.02); // = 2
+}
+
+TEST(HertzCollision, DampingDerivedFromRestitutionGivesThatRestitution)
+{
+    const double v = 0.5;
+    const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
+    for (double e : {0.3, 0.7}) {
+        const double gamma = hertz_damping_for_restitution_s(e, reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
+        const CollisionResult r = collide(v, tc / 1000.0, gamma);
+        EXPECT_NEAR(r.restitution, e, 0.01 * e) << "target e = " << e;
+        EXPECT_NEAR(r.energy_after_j / r.energy_before_j, e * e, 0.02 * e * e);
+    }
+}
+
+TEST(HertzCollision, AutomaticTimeStepResolvesTheCollision)
+{
+    // At the automatic δt a collision at the reference speed still conserves
+    // energy to 1 % and lasts the Hertz time to 5 % (one step of ≳ 20).
+    World probe;
+    add_material(probe, grain_material);
+    add_grain(probe, Vec3::Zero(), radius_m, 0);
+    add_grain(probe, Vec3(3 * radius_m, 0, 0), radius_m, 0);
+    const double dt = auto_time_step_fraction * critical_time_step(probe).critical_s;
+    const double v = 1.0;
+    const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
+    ASSERT_LT(dt, tc / 20.0);
+    const CollisionResult r = collide(v, dt, 0.0);
+    EXPECT_NEAR(r.energy_after_j / r.energy_before_j, 1.0, 0.01);
+    EXPECT_NEAR(r.contact_time_s / tc, 1.0, 0.05);
+}
