@@ -1,5 +1,7 @@
 #include "step.hpp"
 
+#include "forces/membrane_forces.hpp"
+#include "forces/wire_forces.hpp"
 #include "integrate/gear5.hpp"
 #include "laws/hertz.hpp"
 #include "laws/tangential.hpp"
@@ -37,6 +39,8 @@ void initialize_accelerations(World& w, ThreadPool& pool)
     for (const Wall& wall : w.walls) wall_springs.push_back(wall.tangential);
     compute_pair_forces(w, pool);
     compute_wall_forces(w, pool);
+    compute_wire_forces(w, pool);
+    compute_membrane_forces(w, pool);
     gather_forces(w, pool);
     w.contacts.tangential = pair_springs;
     for (std::size_t i = 0; i < w.walls.size(); ++i) w.walls[i].tangential = wall_springs[i];
@@ -61,6 +65,8 @@ StepReport step(World& w, ThreadPool& pool)
     report.neighbours_rebuilt = update_neighbours(w, pool); // cell grid + skin, only when needed
     compute_pair_forces(w, pool);                        // Hertz + tangential, one slot per pair
     compute_wall_forces(w, pool);                        // plates and cylinder, one slot per body
+    compute_wire_forces(w, pool);                        // stretch + bending, one slot per element
+    compute_membrane_forces(w, pool);                    // edge springs + σ₃·A per triangle
     gather_forces(w, pool);                              // per body, fixed order
     report.blew_up = !gear5_correct(w, pool);
     w.time_s += w.dt_s;
@@ -120,6 +126,9 @@ bool update_neighbours(World& w, ThreadPool& pool)
     const PairFilter filter = [&](std::uint32_t i, std::uint32_t j) {
         const BodyRef a = ref[i], b = ref[j];
         if (!w.kinds_interact[static_cast<int>(a.kind())][static_cast<int>(b.kind())]) return false;
+        // Neighbours along the wire are held by its springs, not by contact.
+        if (a.kind() == BodyKind::wire && b.kind() == BodyKind::wire && b.index() - a.index() < w.wire_contact_skip)
+            return false;
         // Two fixed bodies never need a contact.
         return w.of(a.kind()).inv_mass_per_kg[a.index()] != 0.0 || w.of(b.kind()).inv_mass_per_kg[b.index()] != 0.0;
     };
@@ -294,10 +303,13 @@ void gather_forces(World& w, ThreadPool& pool)
                 f += wall.force_on_body_n[k][i];
                 tau += wall.torque_on_body_n_m[k][i];
             }
+            if (k == static_cast<int>(BodyKind::wire)) f += w.wire.node_force_n[i];
+            if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane.node_force_n[i];
             body.force_n[i] = f;
             if (rotates) w.grain_rotation.torque_n_m[i] = tau;
         });
     }
+    for (const auto& [body, f] : w.point_loads) w.of(body.kind()).force_n[body.index()] += f;
 }
 
 } // namespace wiredem::engine

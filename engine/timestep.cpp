@@ -73,6 +73,15 @@ CriticalStep critical_time_step(const World& w)
             fold_spring_limit(c, kk / kinds[k].min_mass, std::string(kind_name(k)) + "–wall contacts");
         }
     }
+    // Springs: the highest chain mode of the wire has ω² = 4 k_elo/m; a node of
+    // the membrane mesh has six edges, bounded (Gershgorin) by ω² ≤ 12 k_m/m.
+    const TranslationalState& wire = w.of(BodyKind::wire);
+    if (wire.size() >= 2 && w.wire.node_mass_kg > 0.0)
+        fold_spring_limit(c, 4.0 * w.wire.axial_stiffness_n_per_m / w.wire.node_mass_kg, "wire segments");
+    if (!w.membrane.node_mass_kg.empty()) {
+        const double m = *std::min_element(w.membrane.node_mass_kg.begin(), w.membrane.node_mass_kg.end());
+        if (m > 0.0) fold_spring_limit(c, 12.0 * w.membrane.edge_stiffness_n_per_m / m, "membrane edges");
+    }
     return c;
 }
 

@@ -11,6 +11,8 @@
 #include "core/types.hpp"
 #include "laws/tangential.hpp"
 #include "state/body_state.hpp"
+#include "state/membrane.hpp"
+#include "state/wire.hpp"
 
 #include <array>
 #include <cstdint>
@@ -57,8 +59,15 @@ struct World {
     std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
     RotationalState grain_rotation;       ///< parallel to bodies[grain]
     std::vector<Wall> walls;
+    WireState wire;                       ///< topology and slots of the wire nodes
+    MembraneState membrane;               ///< topology and slots of the membrane nodes
     ContactSettings contact;
+    /// Wire nodes fewer than this many apart along the chain never touch (model spec §3).
+    std::uint32_t wire_contact_skip = 3;
     Vec3 gravity_m_per_s2{0.0, 0.0, -10.0};
+    /// External forces on single bodies (loads in tests, tip loads), applied
+    /// after the gather in list order [N].
+    std::vector<std::pair<BodyRef, Vec3>> point_loads;
     /// Whether gravity acts on a kind (never on membrane nodes: model spec §3).
     std::array<bool, body_kind_count> gravity_acts{true, true, false};
     /// Whether two kinds interact through contact (symmetric). Membrane–membrane

@@ -26,3 +26,21 @@ inline void reset_world(World& w, const Material& m, double dt_s, double damping
 }
 
 } // namespace wiredem::engine::test
+
+namespace wiredem::engine::test {
+
+/// Dynamic relaxation towards a static equilibrium: steps the simulation and
+/// removes a fraction `damping_per_step` of every body's velocity after each
+/// step (critical damping of a mode ω needs ≈ 2 ω δt). Test-only: the engine
+/// itself has no global damping (model spec §4).
+inline void relax(Simulation& sim, std::uint64_t steps, double damping_per_step)
+{
+    for (std::uint64_t s = 0; s < steps; ++s) {
+        sim.step();
+        for (auto& body : sim.world.bodies)
+            for (auto& v : body.x[1]) v *= 1.0 - damping_per_step;
+        for (auto& v : sim.world.grain_rotation.w[1]) v *= 1.0 - damping_per_step;
+    }
+}
+
+} // namespace wiredem::engine::test

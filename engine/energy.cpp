@@ -1,0 +1,96 @@
+#include "energy.hpp"
+
+#include "laws/hertz.hpp"
+
+#include <cmath>
+
+namespace wiredem::engine {
+namespace {
+
+double hertz_energy_j(double overlap_m, double e_star_pa, double r_star_m)
+{
+    return overlap_m > 0.0 ? 8.0 / 15.0 * e_star_pa * std::sqrt(r_star_m) * std::pow(overlap_m, 2.5) : 0.0;
+}
+
+double sum(ThreadPool& pool, std::size_t n, const auto& term)
+{
+    return reduce_blocks(
+        pool, n, 0.0,
+        [&](std::size_t b, std::size_t e) {
+            double s = 0.0;
+            for (std::size_t i = b; i < e; ++i) s += term(i);
+            return s;
+        },
+        [](double a, double b) { return a + b; });
+}
+
+} // namespace
+
+ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
+{
+    ElasticEnergy e;
+    auto modulus = [&](std::uint8_t a, std::uint8_t b) {
+        const Material &ma = w.materials[a], &mb = w.materials[b];
+        return effective_modulus_pa(ma.youngs_modulus_pa, ma.poisson_ratio, mb.youngs_modulus_pa, mb.poisson_ratio);
+    };
+    const ContactList& c = w.contacts;
+    e.contacts_j = sum(pool, c.size(), [&](std::size_t p) {
+        if (!c.touching[p]) return 0.0;
+        const TranslationalState &A = w.of(c.first[p].kind()), &B = w.of(c.second[p].kind());
+        const std::uint32_t ia = c.first[p].index(), ib = c.second[p].index();
+        const double overlap = A.radius_m[ia] + B.radius_m[ib] - (A.x[0][ia] - B.x[0][ib]).norm();
+        return hertz_energy_j(overlap, modulus(A.material[ia], B.material[ib]), effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
+    });
+    for (const Wall& wall : w.walls)
+        for (int k = 0; k < body_kind_count; ++k) {
+            const TranslationalState& body = w.bodies[k];
+            e.contacts_j += sum(pool, body.size(), [&](std::size_t i) {
+                const Vec3& x = body.x[0][i];
+                double gap;
+                if (wall.shape == Wall::Shape::plane) {
+                    gap = (x - wall.point_m).dot(wall.normal);
+                } else {
+                    gap = wall.radius_m - std::hypot(x.x() - wall.point_m.x(), x.y() - wall.point_m.y());
+                }
+                return hertz_energy_j(body.radius_m[i] - gap, modulus(body.material[i], wall.material), body.radius_m[i]);
+            });
+        }
+    const auto& xw = w.of(BodyKind::wire).x[0];
+    const WireState& wire = w.wire;
+    if (xw.size() >= 2) {
+        e.wire_j = sum(pool, xw.size(), [&](std::size_t i) {
+            double energy = 0.0;
+            if (i + 1 < xw.size()) {
+                const double dl = (xw[i + 1] - xw[i]).norm() - wire.segment_length_m;
+                energy += 0.5 * wire.axial_stiffness_n_per_m * dl * dl;
+            }
+            if (i >= 1 && i + 1 < xw.size()) {
+                const Vec3 a = xw[i] - xw[i - 1], b = xw[i + 1] - xw[i];
+                const double zeta = std::atan2(a.cross(b).norm(), a.dot(b));
+                energy += 0.5 * wire.bending_stiffness_n_m * zeta * zeta;
+            }
+            return energy;
+        });
+    }
+    const MembraneState& m = w.membrane;
+    const auto& xm = w.of(BodyKind::membrane).x[0];
+    e.membrane_j = sum(pool, m.edges.size(), [&](std::size_t k) {
+        const double dl = (xm[m.edges[k][1]] - xm[m.edges[k][0]]).norm() - m.edge_rest_m[k];
+        return 0.5 * m.edge_stiffness_n_per_m * dl * dl;
+    });
+    return e;
+}
+
+double gravitational_energy_j(const World& w)
+{
+    double e = 0.0;
+    for (int k = 0; k < body_kind_count; ++k) {
+        if (!w.gravity_acts[k]) continue;
+        const TranslationalState& body = w.bodies[k];
+        for (std::size_t i = 0; i < body.size(); ++i)
+            if (body.inv_mass_per_kg[i] != 0.0) e -= body.mass_kg[i] * w.gravity_m_per_s2.dot(body.x[0][i]);
+    }
+    return e;
+}
+
+} // namespace wiredem::engine

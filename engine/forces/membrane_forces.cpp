@@ -1,0 +1,215 @@
+#include "forces/membrane_forces.hpp"
+
+#include "laws/wire_bond.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace wiredem::engine {
+
+void build_membrane(World& w, const MembraneSpec& spec)
+{
+    MembraneState& m = w.membrane;
+    m = MembraneState{};
+    m.radius_m = spec.radius_m;
+    m.height_m = spec.height_m;
+    m.base_z_m = spec.base_z_m;
+    m.edge_stiffness_n_per_m = std::sqrt(3.0) / 2.0 * spec.youngs_modulus_pa * spec.thickness_m;
+    const std::uint8_t material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
+
+    // Columns from the circumference, rows so that the row spacing is
+    // (√3/2) × the chord between neighbours (equilateral triangles).
+    const std::size_t columns = std::max<std::size_t>(6, static_cast<std::size_t>(std::lround(2 * std::numbers::pi * spec.radius_m / spec.mesh_size_m)));
+    const double chord = 2.0 * spec.radius_m * std::sin(std::numbers::pi / columns);
+    const std::size_t rows = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(spec.height_m / (std::sqrt(3.0) / 2.0 * chord))) + 1);
+    const double dz = spec.height_m / static_cast<double>(rows - 1);
+    m.columns = columns;
+    m.rows = rows;
+    m.node_area_m2 = chord * dz; // the cylinder's area shared equally among the nodes
+    const double node_mass = spec.density_scale * m.node_area_m2 * spec.density_kg_per_m3 * spec.thickness_m;
+
+    const std::size_t first = w.of(BodyKind::membrane).size();
+    auto id = [&](std::size_t row, std::size_t col) {
+        return static_cast<std::uint32_t>(first + row * columns + (col % columns));
+    };
+    for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t c = 0; c < columns; ++c) {
+            const double phi = 2.0 * std::numbers::pi * (static_cast<double>(c) + 0.5 * static_cast<double>(r % 2)) / columns;
+            const Vec3 x(spec.radius_m * std::cos(phi), spec.radius_m * std::sin(phi), spec.base_z_m + r * dz);
+            add_node(w, BodyKind::membrane, x, spec.contact_radius_m, 0.0, material); // rigid: no mass yet
+            m.node_fixed.push_back(r == 0 || r + 1 == rows ? 1 : 0);
+            m.node_mass_kg.push_back(node_mass);
+        }
+    // Two triangles per quad between rows r and r+1. An odd row is turned by
+    // +½ column, so (r, c) neighbours (r+1, c) and (r+1, c−1) when r is odd.
+    for (std::size_t r = 0; r + 1 < rows; ++r)
+        for (std::size_t c = 0; c < columns; ++c) {
+            const bool odd = r % 2 == 1;
+            const std::uint32_t a = id(r, c), b = id(r, c + 1);
+            const std::uint32_t up = id(r + 1, c), up_next = id(r + 1, c + 1);
+            if (!odd) { // (r+1, c) sits half a column after (r, c)
+                m.triangles.push_back({a, b, up});
+                m.triangles.push_back({b, up_next, up});
+            } else {    // (r+1, c+1) sits half a column after (r, c)
+                m.triangles.push_back({a, b, up_next});
+                m.triangles.push_back({a, up_next, up});
+            }
+        }
+    // Orient every triangle so that (b−a)×(c−a) points towards the axis.
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    for (auto& t : m.triangles) {
+        const Vec3 n = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+        Vec3 out = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+        out.z() = 0.0;
+        if (n.dot(out) > 0.0) std::swap(t[1], t[2]);
+    }
+    // Unique edges, in ascending (i, j) order.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> unique;
+    for (const auto& t : m.triangles)
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t i = t[e], j = t[(e + 1) % 3];
+            unique[{std::min(i, j), std::max(i, j)}] = 0;
+        }
+    for (const auto& [e, unused] : unique) {
+        // Springs between two fixed rim nodes never act: leave them out.
+        if (m.node_fixed[e.first - first] && m.node_fixed[e.second - first]) continue;
+        m.edges.push_back({e.first, e.second});
+        m.edge_rest_m.push_back((x[e.second] - x[e.first]).norm());
+    }
+    // Incidence lists (node → elements), ascending element id.
+    const std::size_t nodes = first + rows * columns;
+    auto build_csr = [&](std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& list, auto&& for_each_element,
+                         std::size_t elements) {
+        start.assign(nodes + 1, 0);
+        for (std::size_t e = 0; e < elements; ++e) for_each_element(e, [&](std::uint32_t node, std::uint32_t) { ++start[node + 1]; });
+        for (std::size_t n = 0; n < nodes; ++n) start[n + 1] += start[n];
+        list.resize(start.back());
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t e = 0; e < elements; ++e)
+            for_each_element(e, [&](std::uint32_t node, std::uint32_t code) { list[fill[node]++] = code; });
+    };
+    build_csr(m.edge_incidence_start, m.edge_incidence,
+        [&](std::size_t e, auto&& visit) {
+            visit(m.edges[e][0], static_cast<std::uint32_t>(2 * e));
+            visit(m.edges[e][1], static_cast<std::uint32_t>(2 * e + 1));
+        },
+        m.edges.size());
+    build_csr(m.triangle_incidence_start, m.triangle_incidence,
+        [&](std::size_t t, auto&& visit) {
+            for (int k = 0; k < 3; ++k) visit(m.triangles[t][k], static_cast<std::uint32_t>(t));
+        },
+        m.triangles.size());
+    m.edge_force_n.assign(m.edges.size(), Vec3::Zero());
+    m.triangle_force_n.assign(m.triangles.size(), Vec3::Zero());
+    m.node_force_n.assign(nodes, Vec3::Zero());
+    m.rigid = true;
+}
+
+void set_membrane_rigid(World& w, bool rigid)
+{
+    MembraneState& m = w.membrane;
+    TranslationalState& nodes = w.of(BodyKind::membrane);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const bool held = rigid || m.node_fixed[i];
+        nodes.mass_kg[i] = m.node_mass_kg[i];
+        nodes.inv_mass_per_kg[i] = held ? 0.0 : 1.0 / m.node_mass_kg[i];
+        if (held)
+            for (int k = 1; k < gear_order; ++k) nodes.x[k][i].setZero();
+    }
+    m.rigid = rigid;
+    w.neighbours_dirty = true; // the pair filter skips pairs of two held bodies
+}
+
+void compute_membrane_forces(World& w, ThreadPool& pool)
+{
+    MembraneState& m = w.membrane;
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    if (x.empty()) return;
+    const double k = m.edge_stiffness_n_per_m;
+    parallel_for(pool, m.edges.size(), [&](std::size_t e) {
+        m.edge_force_n[e] = wire_stretch_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k);
+    });
+    const double p = m.pressure_pa;
+    parallel_for(pool, m.triangles.size(), [&](std::size_t t) {
+        const auto& tri = m.triangles[t];
+        // ½ (b−a)×(c−a) = A n_in: the pressure force σ₃ A n_in, a third per node.
+        m.triangle_force_n[t] = p / 6.0 * (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    });
+    parallel_for(pool, x.size(), [&](std::size_t i) {
+        Vec3 f = Vec3::Zero();
+        for (std::uint32_t e = m.edge_incidence_start[i]; e < m.edge_incidence_start[i + 1]; ++e) {
+            const std::uint32_t code = m.edge_incidence[e];
+            f += (code & 1u) ? Vec3(-m.edge_force_n[code >> 1]) : m.edge_force_n[code >> 1];
+        }
+        for (std::uint32_t e = m.triangle_incidence_start[i]; e < m.triangle_incidence_start[i + 1]; ++e)
+            f += m.triangle_force_n[m.triangle_incidence[e]];
+        m.node_force_n[i] = f;
+    });
+}
+
+MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool)
+{
+    const ContactList& c = w.contacts;
+    MembraneLoad load = reduce_blocks(
+        pool, c.size(), MembraneLoad{},
+        [&](std::size_t begin, std::size_t end) {
+            MembraneLoad part;
+            for (std::size_t p = begin; p < end; ++p) {
+                if (!c.touching[p] || c.first[p].kind() != BodyKind::grain || c.second[p].kind() != BodyKind::membrane)
+                    continue;
+                // force_n is the force on the grain; the membrane node feels −force_n.
+                Vec3 radial = w.of(BodyKind::membrane).x[0][c.second[p].index()];
+                radial.z() = 0.0;
+                const double rho = radial.norm();
+                part.normal_force_n += c.normal_force_n[p];
+                if (rho > 0.0) part.radial_force_n += -c.force_n[p].dot(radial) / rho;
+                ++part.contacts;
+            }
+            return part;
+        },
+        [](MembraneLoad a, const MembraneLoad& b) {
+            a.normal_force_n += b.normal_force_n;
+            a.radial_force_n += b.radial_force_n;
+            a.contacts += b.contacts;
+            return a;
+        });
+    // Nodes touched by at least one grain.
+    const std::size_t off = w.flat_offset(BodyKind::membrane);
+    const std::size_t n = w.of(BodyKind::membrane).size();
+    if (c.incidence_start.size() >= off + n + 1) {
+        load.nodes_in_contact = reduce_blocks(
+            pool, n, std::size_t{0},
+            [&](std::size_t begin, std::size_t end) {
+                std::size_t count = 0;
+                for (std::size_t i = begin; i < end; ++i)
+                    for (std::uint32_t e = c.incidence_start[off + i]; e < c.incidence_start[off + i + 1]; ++e)
+                        if (c.touching[c.incidence[e].pair]) {
+                            ++count;
+                            break;
+                        }
+                return count;
+            },
+            [](std::size_t a, std::size_t b) { return a + b; });
+    }
+    load.area_in_contact_m2 = static_cast<double>(load.nodes_in_contact) * w.membrane.node_area_m2;
+    return load;
+}
+
+double membrane_volume_m3(const World& w)
+{
+    const MembraneState& m = w.membrane;
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    // Divergence theorem with the field (x, y, 0)/2: V = Σ_faces ∫ (x n_x + y n_y)/2 dA;
+    // the flat rims contribute nothing. Triangle normals point inwards, hence the sign.
+    double v = 0.0;
+    for (const auto& t : m.triangles) {
+        const Vec3 area_n = 0.5 * (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]); // A n_in
+        const Vec3 centre = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+        v -= 0.5 * (centre.x() * area_n.x() + centre.y() * area_n.y());
+    }
+    return v;
+}
+
+} // namespace wiredem::engine

@@ -1,0 +1,53 @@
+// The membrane's own forces: edge springs and the confining pressure, per
+// element then gathered per node in element order; plus the grain–membrane
+// contact load the triaxial test reads as its effective confining pressure.
+#pragma once
+
+#include "parallel/thread_pool.hpp"
+#include "state/world.hpp"
+
+namespace wiredem::engine {
+
+/// Membrane parameters (the model spec §2–§3); masses × density_scale.
+struct MembraneSpec {
+    double radius_m = 20e-3;            ///< R
+    double height_m = 0.12;             ///< H_m
+    double base_z_m = 0.0;              ///< z of the bottom row
+    double mesh_size_m = 1.25e-3;       ///< l_m, target edge length
+    double thickness_m = 1e-3;          ///< d
+    double youngs_modulus_pa = 1e8;     ///< E_m
+    double poisson_ratio = 0.0;         ///< ν_m (for contacts only; see docs/model.md)
+    double density_kg_per_m3 = 1000.0;  ///< ρ_m
+    double contact_radius_m = 0.5e-3;   ///< r_m, default d/2
+    double density_scale = 1.0;
+};
+
+/// Meshes the cylinder: rows of `columns` nodes, alternate rows turned by half
+/// a column so that the triangles are nearly equilateral; the top and bottom
+/// rows are fixed. The membrane starts rigid.
+void build_membrane(World& w, const MembraneSpec& spec);
+
+/// Rigid (nodes held, contact forces still computed) or deformable (all but
+/// the top and bottom rows integrated).
+void set_membrane_rigid(World& w, bool rigid);
+
+/// Stage: edge springs and pressure σ₃ A n_in / 3 per triangle, gathered per node.
+void compute_membrane_forces(World& w, ThreadPool& pool);
+
+/// What the grains do to the membrane this step.
+struct MembraneLoad {
+    double normal_force_n = 0.0;        ///< Σ |F_n| over grain–membrane contacts [N]
+    double radial_force_n = 0.0;        ///< Σ outward radial component of those forces [N]
+    std::size_t contacts = 0;           ///< grain–membrane contacts touching
+    std::size_t nodes_in_contact = 0;   ///< membrane nodes touched by ≥ 1 grain
+    double area_in_contact_m2 = 0.0;    ///< nodes_in_contact × area per node [m²]
+};
+
+/// Sums the grain–membrane contacts of the current step, deterministically.
+[[nodiscard]] MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool);
+
+/// Volume enclosed by the membrane between its rims [m³] (sum over triangles
+/// of the signed tetrahedra to the axis, closed by the flat rims).
+[[nodiscard]] double membrane_volume_m3(const World& w);
+
+} // namespace wiredem::engine

@@ -1,0 +1,41 @@
+// The membrane: a cylindrical triangular mesh of nodes (bodies of kind
+// membrane) with a linear spring on every edge and the confining pressure on
+// every triangle (the model spec §3).
+#pragma once
+
+#include "core/types.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace wiredem::engine {
+
+struct MembraneState {
+    double radius_m = 0.0;                  ///< R of the undeformed cylinder [m]
+    double height_m = 0.0;                  ///< H_m [m]
+    double base_z_m = 0.0;                  ///< z of the bottom row [m]
+    double edge_stiffness_n_per_m = 0.0;    ///< k_m = (√3/2) E_m d
+    double node_area_m2 = 0.0;              ///< membrane area per node, (√3/2) l_m² [m²]
+    double pressure_pa = 0.0;               ///< σ₃, acting inward on every triangle [Pa]
+    bool rigid = true;                      ///< rigid: nodes are not integrated
+    std::size_t columns = 0;                ///< nodes per row
+    std::size_t rows = 0;
+
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    std::vector<double> edge_rest_m;
+    std::vector<std::array<std::uint32_t, 3>> triangles; ///< (b−a)×(c−a) points inwards
+    std::vector<std::uint8_t> node_fixed;   ///< 1 on the top and bottom rows
+    std::vector<double> node_mass_kg;       ///< mass each node gets when deformable
+
+    /// Node → (edge, sign) and node → triangle incidence, CSR, ascending element id.
+    std::vector<std::uint32_t> edge_incidence_start, edge_incidence;      ///< edge*2 + (node is second)
+    std::vector<std::uint32_t> triangle_incidence_start, triangle_incidence;
+
+    // Per-step slots.
+    std::vector<Vec3> edge_force_n;         ///< force of edge e on its first node
+    std::vector<Vec3> triangle_force_n;     ///< σ₃ A n_in / 3, on each of its nodes
+    std::vector<Vec3> node_force_n;         ///< membrane forces gathered per node
+};
+
+} // namespace wiredem::engine

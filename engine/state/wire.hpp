@@ -1,0 +1,30 @@
+// The wire: one chain of nodes (bodies of kind wire). Node i is the i-th node
+// laid, so chain order is id order and segment s joins nodes s and s+1.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <array>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// Wire parameters (the model spec §2) and per-step force slots.
+struct WireState {
+    double radius_m = 0.5e-3;               ///< r_w, contact sphere radius [m]
+    double segment_length_m = 1.25e-3;      ///< l_w, rest length of every segment [m]
+    double axial_stiffness_n_per_m = 0.0;   ///< k_elo
+    double bending_stiffness_n_m = 0.0;     ///< k_rot
+    double node_mass_kg = 0.0;              ///< ρ_w π r_w² l_w (× density scaling)
+    std::uint8_t material = 0;
+
+    // Per-step slots: one writer each, gathered per node in chain order.
+    std::vector<Vec3> segment_force_n;      ///< force of segment s on node s (node s+1 gets −)
+    std::vector<std::array<Vec3, 3>> bending_force_n; ///< at interior node i: on i−1, i, i+1
+    std::vector<Vec3> node_force_n;         ///< wire forces gathered per node
+
+    /// Current strain of every segment, (|x_{s+1} − x_s| − l_w)/l_w.
+    std::vector<double> segment_strain;
+};
+
+} // namespace wiredem::engine

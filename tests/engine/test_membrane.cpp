@@ -1,0 +1,158 @@
+// The membrane against thin-shell theory, and grains against the mesh.
+#include "energy.hpp"
+#include "forces/membrane_forces.hpp"
+#include "helpers.hpp"
+#include "laws/hertz.hpp"
+#include "timestep.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace wiredem::engine;
+using namespace wiredem::engine::test;
+
+namespace {
+
+MembraneSpec small_membrane(double radius_m, double height_m)
+{
+    MembraneSpec m;
+    m.radius_m = radius_m;
+    m.height_m = height_m;
+    return m;
+}
+
+/// Mean radial distance of the nodes of the middle row [m].
+double mid_row_radius_m(const World& w)
+{
+    const MembraneState& m = w.membrane;
+    const std::size_t row = m.rows / 2;
+    double sum = 0.0;
+    for (std::size_t c = 0; c < m.columns; ++c) {
+        const Vec3& x = w.of(BodyKind::membrane).x[0][row * m.columns + c];
+        sum += std::hypot(x.x(), x.y());
+    }
+    return sum / static_cast<double>(m.columns);
+}
+
+} // namespace
+
+TEST(MembraneMesh, TrianglesAreNearlyEquilateralAndPointInwards)
+{
+    World w;
+    build_membrane(w, small_membrane(20e-3, 30e-3));
+    const MembraneState& m = w.membrane;
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    EXPECT_EQ(m.triangles.size(), 2 * m.columns * (m.rows - 1));
+    for (const auto& t : m.triangles) {
+        const Vec3 n = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+        Vec3 out = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+        out.z() = 0;
+        ASSERT_LT(n.dot(out), 0.0);
+    }
+    for (double l : m.edge_rest_m) {
+        EXPECT_GT(l, 0.9 * 1.25e-3);
+        EXPECT_LT(l, 1.1 * 1.25e-3);
+    }
+}
+
+TEST(MembranePressure, RadialExpansionMatchesThinWalledCylinder)
+{
+    // σ₃ pushes along the inward normal (confinement); an internal pressure p
+    // is σ₃ = −p. A triangular lattice of springs k = (√3/2) E d is an isotropic sheet with
+    // Young's modulus E and Poisson ratio 1/3 (docs/model.md). With its rims
+    // held, far from the rims the axial strain vanishes (σ_z = ν σ_θ), so
+    //   Δr = (1 − ν²) p R² / (E d) = (8/9) p R² / (E d).
+    Simulation sim(2);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    const MembraneSpec spec = small_membrane(10e-3, 30e-3);
+    build_membrane(w, spec);
+    set_membrane_rigid(w, false);
+    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    const double r0 = mid_row_radius_m(w);
+    const double p = 10e3;
+    w.membrane.pressure_pa = -p;
+    // Breathing mode ω = √(E/ρ(1−ν²))/R; relax over many of its periods.
+    const double omega = std::sqrt(spec.youngs_modulus_pa / spec.density_kg_per_m3 / (8.0 / 9.0)) / spec.radius_m;
+    relax(sim, static_cast<std::uint64_t>(60.0 / (omega * w.dt_s)), 2.0 * omega * w.dt_s);
+    const double expected = 8.0 / 9.0 * p * spec.radius_m * spec.radius_m / (spec.youngs_modulus_pa * spec.thickness_m);
+    EXPECT_NEAR((mid_row_radius_m(w) - r0) / expected, 1.0, 0.05);
+}
+
+TEST(MembraneContact, GrainPressedAgainstRigidMembraneGetsTheHertzForce)
+{
+    Simulation sim(1);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    const std::uint8_t grain_mat = add_material(w, Material{});
+    const MembraneSpec spec = small_membrane(20e-3, 20e-3);
+    build_membrane(w, spec);
+    const MembraneState& m = w.membrane;
+    const std::uint32_t node = static_cast<std::uint32_t>(m.rows / 2 * m.columns);
+    const Vec3 xn = w.of(BodyKind::membrane).x[0][node];
+    const Vec3 inward = -Vec3(xn.x(), xn.y(), 0).normalized();
+    const double rp = 1.23e-3, overlap = 1e-5;
+    add_grain(w, xn + inward * (rp + spec.contact_radius_m - overlap), rp, grain_mat);
+    w.dt_s = 1e-8;
+    sim.step();
+    const double e_star = effective_modulus_pa(10e9, 0.3, spec.youngs_modulus_pa, spec.poisson_ratio);
+    const double expected = 4.0 / 3.0 * e_star * std::sqrt(effective_radius_m(rp, spec.contact_radius_m)) * std::pow(overlap, 1.5);
+    const MembraneLoad load = membrane_contact_load(w, sim.pool());
+    EXPECT_EQ(load.contacts, 1u);
+    EXPECT_EQ(load.nodes_in_contact, 1u);
+    EXPECT_NEAR(load.normal_force_n / expected, 1.0, 1e-6);
+    EXPECT_NEAR(load.radial_force_n / expected, 1.0, 1e-6);
+    // The grain is pushed inwards; the rigid node does not move.
+    EXPECT_NEAR(w.of(BodyKind::grain).force_n[0].dot(inward) / expected, 1.0, 1e-6);
+    EXPECT_EQ((w.of(BodyKind::membrane).x[0][node] - xn).norm(), 0.0);
+}
+
+TEST(MembraneContact, GrainCannotPassThroughTheMesh)
+{
+    Simulation sim(1);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    const std::uint8_t grain_mat = add_material(w, Material{});
+    const MembraneSpec spec = small_membrane(10e-3, 15e-3);
+    build_membrane(w, spec);
+    const MembraneState& m = w.membrane;
+    // Aim at the centroid of a mid-height triangle: the widest hole in the mesh.
+    const auto& t = m.triangles[m.triangles.size() / 2];
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    const Vec3 centroid = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+    const Vec3 outward = Vec3(centroid.x(), centroid.y(), 0).normalized();
+    const double rp = 1.23e-3;
+    add_grain(w, centroid - outward * 3e-3, rp, grain_mat, 2.0 * outward);
+    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    double max_reach = 0.0;
+    for (int s = 0; s < 20000; ++s) {
+        sim.step();
+        max_reach = std::max(max_reach, w.of(BodyKind::grain).x[0][0].dot(outward));
+    }
+    EXPECT_LT(max_reach, centroid.dot(outward)); // its centre never reached the mesh
+    EXPECT_LT(velocity_m_per_s(w, {BodyKind::grain, 0}).dot(outward), 0.0); // bounced back
+}
+
+TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEnergy)
+{
+    // Pressure switched on suddenly, no damping: the membrane oscillates about
+    // its squeezed state. The confining pressure is a conservative load on a
+    // membrane with held rims (work −σ₃ ΔV), so E = kinetic + elastic + σ₃ (V − V₀)
+    // must not grow.
+    Simulation sim(2);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    build_membrane(w, small_membrane(5e-3, 8e-3));
+    set_membrane_rigid(w, false);
+    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    const double p = 20e3;
+    w.membrane.pressure_pa = p;
+    const double v0 = membrane_volume_m3(w);
+    auto energy = [&] {
+        return kinetic_energy_j(w, sim.pool()) + elastic_energy(w, sim.pool()).total_j() + p * (membrane_volume_m3(w) - v0);
+    };
+    sim.run(200);
+    const double swing = kinetic_energy_j(w, sim.pool()) + elastic_energy(w, sim.pool()).total_j();
+    const double e0 = energy();
+    ASSERT_EQ(sim.run(100000).end, RunEnd::completed);
+    EXPECT_LT(energy() - e0, 1e-2 * swing);
+}
