@@ -1,0 +1,214 @@
+// fork + exec with pipes. Between fork and exec the child calls only
+// async-signal-safe functions: the parent is multi-threaded.
+#include "child_process.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+namespace wiredem::server {
+namespace {
+
+[[noreturn]] void throw_errno(const char* what)
+{
+    throw std::system_error(errno, std::generic_category(), what);
+}
+
+void write_all(int fd, const char* s)
+{
+    std::size_t n = std::strlen(s);
+    while (n > 0) {
+        const ssize_t w = ::write(fd, s, n);
+        if (w <= 0) return;
+        s += w;
+        n -= static_cast<std::size_t>(w);
+    }
+}
+
+/// Child side of fork(); never returns.
+[[noreturn]] void exec_child(char* const* argv, const char* cwd, int out_w, int err_w, pid_t parent)
+{
+    ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(143);  // the server died before prctl took effect
+    const int null_fd = ::open("/dev/null", O_RDONLY);
+    if (null_fd >= 0) ::dup2(null_fd, 0);
+    ::dup2(out_w, 1);
+    ::dup2(err_w, 2);
+    // The server's listening socket and database must not leak into the runner
+    // (Asio does not open sockets with O_CLOEXEC).
+    if (::syscall(SYS_close_range, 3u, ~0u, 0u) != 0)
+        for (int fd = 3; fd < 4096; ++fd) ::close(fd);
+    sigset_t none;
+    ::sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    ::signal(SIGPIPE, SIG_DFL);  // ignored in the server; ignored dispositions survive exec
+    if (::chdir(cwd) != 0) {
+        write_all(2, "cannot enter the job directory\n");
+        ::_exit(127);
+    }
+    ::execv(argv[0], argv);
+    write_all(2, "cannot execute the runner ");
+    write_all(2, argv[0]);
+    write_all(2, ": ");
+    write_all(2, ::strerror(errno));  // not strictly async-signal-safe, harmless right before _exit
+    write_all(2, "\n");
+    ::_exit(127);
+}
+
+} // namespace
+
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& cwd)
+{
+    std::vector<std::string> args = argv;
+    std::vector<char*> cargv;
+    for (auto& a : args) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    const std::string cwd_str = cwd.string();
+
+    int out[2];
+    int err[2];
+    if (::pipe2(out, O_CLOEXEC) != 0) throw_errno("pipe");
+    if (::pipe2(err, O_CLOEXEC) != 0) {
+        ::close(out[0]);
+        ::close(out[1]);
+        throw_errno("pipe");
+    }
+    const pid_t parent = ::getpid();
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        const int e = errno;
+        for (int fd : {out[0], out[1], err[0], err[1]}) ::close(fd);
+        errno = e;
+        throw_errno("fork");
+    }
+    if (pid == 0) exec_child(cargv.data(), cwd_str.c_str(), out[1], err[1], parent);
+    ::setpgid(pid, pid);  // also in the parent: no window in which signal() misses the group
+    ::close(out[1]);
+    ::close(err[1]);
+    out_fd_ = out[0];
+    err_fd_ = err[0];
+    pid_ = pid;
+}
+
+ChildProcess::~ChildProcess()
+{
+    if (const pid_t pid = pid_.load(); pid > 0) {
+        ::kill(-pid, SIGKILL);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+    }
+    if (out_fd_ >= 0) ::close(out_fd_);
+    if (err_fd_ >= 0) ::close(err_fd_);
+}
+
+void ChildProcess::signal(int sig) noexcept
+{
+    if (const pid_t pid = pid_.load(); pid > 0) ::kill(-pid, sig);
+}
+
+int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_stdout_line,
+    const std::function<void()>& on_tick, std::chrono::milliseconds tick)
+{
+    using clock = std::chrono::steady_clock;
+    std::string line;
+    char buf[8192];
+    int status = 0;
+    bool reaped = false;
+    clock::time_point reaped_at{};
+    auto next_tick = clock::now() + tick;
+
+    while (out_fd_ >= 0 || err_fd_ >= 0) {
+        pollfd fds[2];
+        nfds_t n = 0;
+        if (out_fd_ >= 0) fds[n++] = {out_fd_, POLLIN, 0};
+        if (err_fd_ >= 0) fds[n++] = {err_fd_, POLLIN, 0};
+        const auto wait_ms = std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - clock::now());
+        const int rc = ::poll(fds, n, static_cast<int>(std::max<std::int64_t>(0, wait_ms.count())));
+        if (rc < 0 && errno != EINTR) throw_errno("poll");
+        for (nfds_t k = 0; rc > 0 && k < n; ++k) {
+            if (!(fds[k].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+            const ssize_t got = ::read(fds[k].fd, buf, sizeof buf);
+            if (got <= 0) {
+                if (got < 0 && errno == EINTR) continue;
+                int& fd = fds[k].fd == out_fd_ ? out_fd_ : err_fd_;
+                ::close(fd);
+                fd = -1;
+                continue;
+            }
+            if (fds[k].fd == out_fd_) {
+                for (ssize_t i = 0; i < got; ++i) {
+                    if (buf[i] == '\n') {
+                        on_stdout_line(line);
+                        line.clear();
+                    } else if (line.size() < max_line_bytes) {
+                        line.push_back(buf[i]);
+                    }  // the rest of an over-long line is dropped
+                }
+            } else {
+                stderr_tail_.append(buf, static_cast<std::size_t>(got));
+                if (stderr_tail_.size() > 2 * stderr_tail_bytes)
+                    stderr_tail_.erase(0, stderr_tail_.size() - stderr_tail_bytes);
+            }
+        }
+        if (clock::now() >= next_tick) {
+            on_tick();
+            next_tick = clock::now() + tick;
+            if (!reaped) {
+                const pid_t pid = pid_.load();
+                if (::waitpid(pid, &status, WNOHANG) == pid) {
+                    reaped = true;
+                    reaped_at = clock::now();
+                    pid_ = -1;
+                }
+            } else if (clock::now() - reaped_at > std::chrono::seconds(2)) {
+                break;  // the runner is gone but something it started still holds the pipes
+            }
+        }
+    }
+    if (!line.empty()) on_stdout_line(line);
+    if (!reaped) {
+        const pid_t pid = pid_.load();
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        pid_ = -1;
+    }
+    if (stderr_tail_.size() > stderr_tail_bytes) stderr_tail_.erase(0, stderr_tail_.size() - stderr_tail_bytes);
+    return status;
+}
+
+std::string describe_wait_status(int status)
+{
+    if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        const char* name = ::strsignal(sig);
+        return "killed by signal " + std::to_string(sig) + (name ? std::string(" (") + name + ")" : "");
+    }
+    return "ended with wait status " + std::to_string(status);
+}
+
+std::string last_line(const std::string& text)
+{
+    std::size_t end = text.size();
+    while (end > 0) {
+        while (end > 0 && (text[end - 1] == '\n' || text[end - 1] == '\r' || text[end - 1] == ' ')) --end;
+        std::size_t begin = text.rfind('\n', end == 0 ? 0 : end - 1);
+        begin = begin == std::string::npos ? 0 : begin + 1;
+        std::string l = text.substr(begin, end - begin);
+        while (!l.empty() && (l.front() == ' ' || l.front() == '\t')) l.erase(0, 1);
+        if (!l.empty()) return l;
+        end = begin;
+    }
+    return {};
+}
+
+} // namespace wiredem::server

@@ -1,0 +1,32 @@
+// Everything the server is configured with, filled from the command line in
+// main.cpp and read-only afterwards (safe to read from any thread).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace wiredem::server {
+
+struct ServerConfig {
+    std::string listen_host = "127.0.0.1";     ///< address to bind; loopback unless asked otherwise
+    std::uint16_t listen_port = 8080;          ///< 0: any free port (see port_file)
+    std::filesystem::path data_dir = "wiredem-data";  ///< database and job files
+    std::filesystem::path runner;              ///< runner executable (absolute)
+    std::filesystem::path port_file;           ///< if set, the bound port is written here once listening
+    unsigned concurrent_jobs = 1;              ///< jobs run at the same time
+    unsigned threads_per_job = 1;              ///< engine threads of each job
+    unsigned io_threads = 2;                   ///< threads serving HTTP
+    std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
+    std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
+    std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
+    std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
+    std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this
+    std::chrono::seconds write_timeout{60};    ///< limit for each chunk of a reply to drain
+    std::size_t max_connections = 512;         ///< open connections; more are closed at once
+    std::chrono::seconds retry_after{30};      ///< Retry-After sent with 429
+    std::string token;                         ///< bearer token for /v1 routes; empty: no auth
+};
+
+} // namespace wiredem::server

@@ -1,0 +1,58 @@
+// Handlers of the /v1/jobs routes: free functions from (request, services) to
+// a response, with no socket in sight (style §7). Path parameters arrive
+// decoded; `id` has already passed is_valid_job_id. Each handler is
+// thread-safe and never throws (the router catches anything that escapes).
+#pragma once
+
+#include "../http.hpp"
+#include "../services.hpp"
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace wiredem::server {
+
+/// Decoded query parameters in request order.
+using QueryParams = std::vector<std::pair<std::string, std::string>>;
+
+/// POST /v1/jobs: validate the spec, honour Idempotency-Key, queue the job.
+/// 201 + Location; 400 invalid_json / invalid_job; 409 idempotency_conflict;
+/// 415 when the body is not JSON; 429 + Retry-After when the queue is full.
+[[nodiscard]] Response handle_submit_job(const Request& req, Services& svc);
+
+/// GET /v1/jobs?state=&limit=&cursor=: newest first, `next_cursor` pages on.
+[[nodiscard]] Response handle_list_jobs(const Request& req, const QueryParams& params, Services& svc);
+
+/// GET /v1/jobs/{id}: the job with its live progress and its spec.
+[[nodiscard]] Response handle_get_job(const Request& req, const std::string& id, Services& svc);
+
+/// DELETE /v1/jobs/{id}: cancel a queued or running job (200); 409 when it
+/// already succeeded or failed.
+[[nodiscard]] Response handle_cancel_job(const Request& req, const std::string& id, Services& svc);
+
+/// GET /v1/jobs/{id}/summary: the runner's summary.json (409 until succeeded).
+[[nodiscard]] Response handle_get_summary(const Request& req, const std::string& id, Services& svc);
+
+/// GET /v1/jobs/{id}/result.h5: the HDF5 file, with byte ranges (206, 416)
+/// and If-Range; 409 until succeeded.
+[[nodiscard]] Response handle_get_result(const Request& req, const std::string& id, Services& svc);
+
+/// The single byte range a Range header asks for, resolved against a size.
+struct ByteRange {
+    std::uint64_t first = 0;
+    std::uint64_t length = 0;
+};
+
+/// Result of parsing a Range header: none (send everything), a range, or
+/// unsatisfiable (416). Several ranges or a syntax error count as none (RFC 9110 §14.2).
+struct RangeRequest {
+    enum class Kind { none, range, unsatisfiable } kind = Kind::none;
+    ByteRange range;
+};
+
+/// Parses `bytes=a-b`, `bytes=a-` and `bytes=-n` against a file of `size` bytes.
+[[nodiscard]] RangeRequest parse_range(std::string_view header, std::uint64_t size);
+
+} // namespace wiredem::server

@@ -1,0 +1,237 @@
+// Health, metrics, OpenAPI.
+#include "meta.hpp"
+
+#include <boost/json.hpp>
+
+#include <sstream>
+
+namespace wiredem::server {
+namespace json = boost::json;
+
+namespace {
+
+/// The API described as OpenAPI 3.0. The job spec schema itself is
+/// docs/job-spec.md (api/ owns it); here it is an open object.
+constexpr const char* openapi_text = R"json({
+  "openapi": "3.0.3",
+  "info": {
+    "title": "wiredem",
+    "version": "1",
+    "description": "Queues triaxial campaigns of wire-reinforced gravel columns and serves their results (summary JSON, HDF5). Errors are {\"error\": {\"code\", \"message\", \"field\"}}."
+  },
+  "servers": [{"url": "http://127.0.0.1:8080"}],
+  "security": [{"bearer": []}],
+  "paths": {
+    "/v1/jobs": {
+      "post": {
+        "summary": "Submit a job",
+        "parameters": [{"name": "Idempotency-Key", "in": "header", "required": false,
+          "description": "1-255 visible ASCII characters; a retried submit with the same key and spec returns the first job.",
+          "schema": {"type": "string", "maxLength": 255}}],
+        "requestBody": {"required": true, "content": {"application/json": {"schema": {"$ref": "#/components/schemas/JobSpec"}}}},
+        "responses": {
+          "201": {"description": "Queued (or replayed: header Idempotent-Replayed: true)",
+                  "headers": {"Location": {"schema": {"type": "string"}}},
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"},
+          "413": {"$ref": "#/components/responses/Error"},
+          "415": {"$ref": "#/components/responses/Error"},
+          "429": {"description": "Queue full", "headers": {"Retry-After": {"schema": {"type": "integer"}}},
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+        }
+      },
+      "get": {
+        "summary": "List jobs, newest first",
+        "parameters": [
+          {"name": "state", "in": "query", "schema": {"$ref": "#/components/schemas/State"}},
+          {"name": "limit", "in": "query", "schema": {"type": "integer", "minimum": 1, "maximum": 500, "default": 50}},
+          {"name": "cursor", "in": "query", "description": "next_cursor of the previous page", "schema": {"type": "string"}}
+        ],
+        "responses": {
+          "200": {"description": "A page of jobs", "content": {"application/json": {"schema": {
+            "type": "object", "required": ["jobs", "next_cursor"],
+            "properties": {"jobs": {"type": "array", "items": {"$ref": "#/components/schemas/Job"}},
+                           "next_cursor": {"type": "string", "nullable": true}}}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "A job with its progress and spec",
+        "responses": {
+          "200": {"description": "The job", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"}
+        }
+      },
+      "delete": {
+        "summary": "Cancel a queued or running job (the runner stops within a second)",
+        "responses": {
+          "200": {"description": "Cancelled", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/summary": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "Results of a succeeded job: peak stresses, Mohr-Coulomb fit, specimen, engine figures",
+        "responses": {
+          "200": {"description": "summary.json", "content": {"application/json": {"schema": {"type": "object"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/result.h5": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"},
+        {"name": "Range", "in": "header", "schema": {"type": "string", "example": "bytes=1048576-"}},
+        {"name": "If-Range", "in": "header", "schema": {"type": "string"}}],
+      "get": {
+        "summary": "The HDF5 result file; byte ranges allow resuming a download",
+        "responses": {
+          "200": {"description": "The whole file", "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
+          "206": {"description": "One byte range (Content-Range)", "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"},
+          "416": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/health": {
+      "get": {"summary": "Liveness and queue figures",
+              "responses": {"200": {"description": "Serving", "content": {"application/json": {"schema": {"type": "object"}}}}}}
+    },
+    "/v1/openapi.json": {
+      "get": {"summary": "This document", "responses": {"200": {"description": "OpenAPI 3", "content": {"application/json": {"schema": {"type": "object"}}}}}}
+    },
+    "/metrics": {
+      "get": {"summary": "Prometheus metrics (no authentication)", "security": [],
+              "responses": {"200": {"description": "Text exposition format 0.0.4", "content": {"text/plain": {"schema": {"type": "string"}}}}}}
+    }
+  },
+  "components": {
+    "securitySchemes": {"bearer": {"type": "http", "scheme": "bearer",
+      "description": "Only when the server runs with --token-file; then every /v1 route needs it."}},
+    "parameters": {
+      "JobId": {"name": "id", "in": "path", "required": true,
+                "schema": {"type": "string", "pattern": "^[0-9a-f]{24}$"}}
+    },
+    "responses": {
+      "Error": {"description": "Error", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+    },
+    "schemas": {
+      "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
+      "JobSpec": {"type": "object", "description": "The job spec of docs/job-spec.md; unknown keys are errors; {} is a valid job with every default."},
+      "Job": {
+        "type": "object",
+        "required": ["id", "url", "state", "progress", "created_at", "links"],
+        "properties": {
+          "id": {"type": "string", "pattern": "^[0-9a-f]{24}$"},
+          "url": {"type": "string"},
+          "name": {"type": "string"},
+          "state": {"$ref": "#/components/schemas/State"},
+          "stage": {"type": "string", "nullable": true, "enum": ["preparing", "testing", "analysing", "writing", null]},
+          "progress": {"type": "number", "minimum": 0, "maximum": 1},
+          "eta_s": {"type": "number", "nullable": true},
+          "message": {"type": "string"},
+          "error": {"type": "string", "nullable": true},
+          "attempts": {"type": "integer"},
+          "created_at": {"type": "string", "format": "date-time"},
+          "started_at": {"type": "string", "format": "date-time", "nullable": true},
+          "finished_at": {"type": "string", "format": "date-time", "nullable": true},
+          "links": {"type": "object", "properties": {"self": {"type": "string"}, "summary": {"type": "string"}, "result": {"type": "string"}}},
+          "spec": {"$ref": "#/components/schemas/JobSpec"}
+        }
+      },
+      "Error": {
+        "type": "object", "required": ["error"],
+        "properties": {"error": {"type": "object", "required": ["code", "message", "field"],
+          "properties": {
+            "code": {"type": "string"},
+            "message": {"type": "string"},
+            "field": {"type": "string", "nullable": true},
+            "details": {"type": "array", "items": {"type": "object", "properties": {"field": {"type": "string"}, "message": {"type": "string"}}}}}}}
+      }
+    }
+  }
+})json";
+
+double uptime_s(const Metrics& m)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
+}
+
+} // namespace
+
+const json::value& openapi_document()
+{
+    static const json::value doc = json::parse(openapi_text);
+    return doc;
+}
+
+Response handle_health(const Request& req, Services& svc)
+{
+    const StateCounts counts = svc.store.count_by_state();
+    json::object body;
+    body["status"] = "ok";
+    body["version"] = "0.1.0";
+    body["uptime_s"] = uptime_s(svc.metrics);
+    body["queued"] = counts[static_cast<std::size_t>(JobState::queued)];
+    body["running"] = svc.queue.busy_workers();
+    body["workers"] = svc.queue.config().concurrent_jobs;
+    body["threads_per_job"] = svc.queue.config().threads_per_job;
+    return json_response(req, http::status::ok, body);
+}
+
+Response handle_metrics(const Request& req, Services& svc)
+{
+    const StateCounts counts = svc.store.count_by_state();
+    std::ostringstream out;
+    out.imbue(std::locale::classic());
+    auto family = [&](const char* name, const char* type, const char* help) {
+        out << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
+    };
+    family("wiredem_queue_length", "gauge", "Jobs waiting for a worker.");
+    out << "wiredem_queue_length " << counts[static_cast<std::size_t>(JobState::queued)] << '\n';
+    family("wiredem_jobs", "gauge", "Jobs in the store by state.");
+    for (JobState s : all_job_states)
+        out << "wiredem_jobs{state=\"" << to_string(s) << "\"} " << counts[static_cast<std::size_t>(s)] << '\n';
+    family("wiredem_workers", "gauge", "Worker slots (concurrent jobs).");
+    out << "wiredem_workers " << svc.queue.config().concurrent_jobs << '\n';
+    family("wiredem_workers_busy", "gauge", "Workers running a job now.");
+    out << "wiredem_workers_busy " << svc.queue.busy_workers() << '\n';
+    family("wiredem_body_steps_per_second", "gauge",
+        "Engine throughput (bodies x steps per second) last reported by a job; 0 before any.");
+    out << "wiredem_body_steps_per_second " << svc.queue.body_steps_per_second().value_or(0.0) << '\n';
+    family("wiredem_jobs_submitted_total", "counter", "Jobs accepted since the server started.");
+    out << "wiredem_jobs_submitted_total " << svc.metrics.jobs_submitted.load(std::memory_order_relaxed) << '\n';
+    family("wiredem_http_responses_total", "counter", "HTTP replies by status class.");
+    for (int c = 1; c <= 5; ++c)
+        out << "wiredem_http_responses_total{code=\"" << c << "xx\"} "
+            << svc.metrics.responses_by_class[c].load(std::memory_order_relaxed) << '\n';
+    family("wiredem_http_connections_open", "gauge", "Open client connections.");
+    out << "wiredem_http_connections_open " << svc.metrics.connections_open.load(std::memory_order_relaxed) << '\n';
+    family("wiredem_http_connections_rejected_total", "counter", "Connections closed at once: too many open.");
+    out << "wiredem_http_connections_rejected_total "
+        << svc.metrics.connections_rejected.load(std::memory_order_relaxed) << '\n';
+    family("wiredem_uptime_seconds", "gauge", "Seconds since the server started.");
+    out << "wiredem_uptime_seconds " << uptime_s(svc.metrics) << '\n';
+    return text_response(req, http::status::ok, out.str(), "text/plain; version=0.0.4; charset=utf-8");
+}
+
+Response handle_openapi(const Request& req, Services&)
+{
+    return json_response(req, http::status::ok, openapi_document());
+}
+
+} // namespace wiredem::server

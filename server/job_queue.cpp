@@ -1,0 +1,355 @@
+// Worker threads and one attempt of a job: spawn the runner, follow its
+// progress lines, then publish its files (rename, fsync) before the store
+// says succeeded.
+#include "job_queue.hpp"
+
+#include "child_process.hpp"
+
+#include <boost/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace wiredem::server {
+namespace fs = std::filesystem;
+namespace json = boost::json;
+using clock_type = std::chrono::steady_clock;
+
+namespace {
+
+/// How often a running job's progress is copied to the store at most.
+constexpr auto persist_interval = std::chrono::seconds(2);
+/// How often a worker checks cancellation and shutdown while a runner runs.
+constexpr auto tick = std::chrono::milliseconds(100);
+/// Largest summary.json the server accepts from a runner.
+constexpr std::uintmax_t max_summary_bytes = 16u << 20;
+
+/// fsync a file or directory; best effort (the data dir may be on a file
+/// system without directory fsync).
+void sync_path(const fs::path& p)
+{
+    const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    ::fsync(fd);
+    ::close(fd);
+}
+
+std::optional<std::string> read_small_file(const fs::path& p, std::uintmax_t max_bytes)
+{
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec) || fs::file_size(p, ec) > max_bytes || ec) return std::nullopt;
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (!in) return std::nullopt;
+    return ss.str();
+}
+
+std::optional<double> number_at(const json::value& v, std::initializer_list<const char*> path)
+{
+    const json::value* cur = &v;
+    for (const char* key : path) {
+        const auto* obj = cur->if_object();
+        if (!obj) return std::nullopt;
+        auto it = obj->find(key);
+        if (it == obj->end()) return std::nullopt;
+        cur = &it->value();
+    }
+    if (cur->is_double()) return cur->get_double();
+    if (cur->is_int64()) return static_cast<double>(cur->get_int64());
+    if (cur->is_uint64()) return static_cast<double>(cur->get_uint64());
+    return std::nullopt;
+}
+
+} // namespace
+
+JobQueue::JobQueue(JobStore& store, QueueConfig config) : store_(store), config_(std::move(config))
+{
+    config_.concurrent_jobs = std::max(1u, config_.concurrent_jobs);
+    config_.threads_per_job = std::max(1u, config_.threads_per_job);
+    body_steps_per_second_ = store_.last_body_steps_per_second();
+}
+
+JobQueue::~JobQueue() { stop(); }
+
+void JobQueue::start()
+{
+    for (const auto& id : store_.requeue_interrupted())
+        spdlog::warn("job {}: interrupted by a restart, queued again", id);
+    for (const auto& id : store_.succeeded_ids()) {
+        const fs::path dir = config_.data_dir / "jobs" / id;
+        std::error_code ec;
+        if (!fs::is_regular_file(dir / "summary.json", ec) || !fs::is_regular_file(dir / "result.h5", ec)) {
+            spdlog::error("job {}: result files missing, marked failed", id);
+            store_.demote_to_failed(id, "result files missing at server start");
+        }
+    }
+    std::lock_guard lock(mutex_);
+    if (started_) return;
+    started_ = true;
+    for (unsigned i = 0; i < config_.concurrent_jobs; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+}
+
+void JobQueue::notify()
+{
+    {
+        std::lock_guard lock(mutex_);
+        ++wake_count_;
+    }
+    wake_.notify_one();
+}
+
+void JobQueue::cancel(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    auto it = active_.find(id);
+    if (it == active_.end()) return;
+    it->second.cancel_requested = true;
+    if (!it->second.signalled) {
+        it->second.child->signal(SIGTERM);
+        it->second.signalled = true;
+        it->second.signalled_at = clock_type::now();
+    }
+}
+
+void JobQueue::stop()
+{
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_ && workers_.empty()) return;
+        stopping_ = true;
+        for (auto& [id, a] : active_) {
+            if (a.signalled) continue;
+            a.child->signal(SIGTERM);
+            a.signalled = true;
+            a.signalled_at = clock_type::now();
+        }
+    }
+    wake_.notify_all();
+    for (auto& t : workers_)
+        if (t.joinable()) t.join();
+    std::lock_guard lock(mutex_);
+    workers_.clear();
+}
+
+std::optional<LiveProgress> JobQueue::live(const std::string& id) const
+{
+    std::lock_guard lock(mutex_);
+    auto it = active_.find(id);
+    if (it == active_.end()) return std::nullopt;
+    return it->second.live;
+}
+
+unsigned JobQueue::busy_workers() const
+{
+    std::lock_guard lock(mutex_);
+    return static_cast<unsigned>(active_.size());
+}
+
+std::optional<double> JobQueue::body_steps_per_second() const
+{
+    std::lock_guard lock(mutex_);
+    return body_steps_per_second_;
+}
+
+void JobQueue::worker_loop(unsigned index)
+{
+    spdlog::debug("worker {} started", index);
+    for (;;) {
+        std::uint64_t seen = 0;
+        {
+            std::lock_guard lock(mutex_);
+            if (stopping_) break;
+            seen = wake_count_;
+        }
+        std::optional<JobRecord> job;
+        try {
+            job = store_.claim_next();
+        } catch (const std::exception& e) {
+            spdlog::error("worker {}: cannot claim a job: {}", index, e.what());
+        }
+        if (!job) {
+            std::unique_lock lock(mutex_);
+            // The timeout also picks up jobs queued by anything that did not notify.
+            wake_.wait_for(lock, std::chrono::seconds(2), [&] { return stopping_ || wake_count_ != seen; });
+            continue;
+        }
+        if (job->attempts > config_.max_attempts) {
+            spdlog::error("job {}: interrupted {} times, giving up", job->id, job->attempts - 1);
+            store_.finish(job->id, JobState::failed,
+                "gave up after " + std::to_string(job->attempts - 1) + " interrupted attempts", std::nullopt);
+            continue;
+        }
+        try {
+            run_job(*job);
+        } catch (const std::exception& e) {
+            // Nothing here may stop the worker: fail this job and take the next.
+            spdlog::error("job {}: {}", job->id, e.what());
+            {
+                std::lock_guard lock(mutex_);
+                active_.erase(job->id);
+            }
+            store_.finish(job->id, JobState::failed, std::string("server error: ") + e.what(), std::nullopt);
+        }
+    }
+    spdlog::debug("worker {} stopped", index);
+}
+
+void JobQueue::run_job(const JobRecord& job)
+{
+    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
+    const fs::path work = job_dir / "work";
+    fs::remove_all(work);
+    fs::create_directories(work / "out");
+    {
+        std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
+        spec << job.spec_json << '\n';
+        if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
+    }
+    const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
+        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json"};
+
+    auto child = std::make_shared<ChildProcess>(argv, work);
+    spdlog::info("job {}: attempt {} started (runner pid {}, {} threads)", job.id, job.attempts, child->pid(),
+        config_.threads_per_job);
+    {
+        std::lock_guard lock(mutex_);
+        Active& a = active_[job.id];
+        a.child = child;
+        if (stopping_) {  // stop() ran between claim and here
+            child->signal(SIGTERM);
+            a.signalled = true;
+            a.signalled_at = clock_type::now();
+        }
+    }
+
+    auto last_persist = clock_type::now();
+    const int status = child->run_to_exit(
+        [&](const std::string& line) { on_progress_line(job.id, line, last_persist); },
+        [&] {
+            std::lock_guard lock(mutex_);
+            Active& a = active_[job.id];
+            if (a.signalled && clock_type::now() - a.signalled_at > config_.kill_grace) child->signal(SIGKILL);
+        },
+        tick);
+
+    bool cancelled = false;
+    bool stopping = false;
+    {
+        std::lock_guard lock(mutex_);
+        cancelled = active_[job.id].cancel_requested;
+        stopping = stopping_;
+        active_.erase(job.id);
+    }
+    finish_attempt(job, status, child->stderr_tail(), cancelled, stopping);
+}
+
+void JobQueue::on_progress_line(const std::string& id, const std::string& line, clock_type::time_point& last_persist)
+{
+    boost::system::error_code ec;
+    const json::value v = json::parse(line, ec);
+    const auto* obj = ec ? nullptr : v.if_object();
+    if (!obj) {
+        spdlog::debug("job {}: runner: {}", id, line);  // not a progress line; keep it in the log
+        return;
+    }
+    LiveProgress p;
+    bool stage_changed = false;
+    {
+        std::lock_guard lock(mutex_);
+        auto it = active_.find(id);
+        if (it == active_.end()) return;
+        p = it->second.live;
+        if (auto s = obj->find("stage"); s != obj->end() && s->value().is_string()) {
+            const std::string stage(s->value().get_string());
+            stage_changed = stage != p.stage;
+            p.stage = stage.substr(0, 64);
+        }
+        if (auto f = number_at(v, {"progress"})) p.progress = std::clamp(*f, 0.0, 1.0);
+        if (auto e = obj->find("eta_s"); e != obj->end())
+            p.eta_s = e->value().is_null() ? std::nullopt : number_at(v, {"eta_s"});
+        if (auto m = obj->find("message"); m != obj->end() && m->value().is_string())
+            p.message = std::string(m->value().get_string()).substr(0, 512);
+        if (auto b = number_at(v, {"body_steps_per_second"})) body_steps_per_second_ = *b;
+        // preparing until the runner reports a later stage; running from then on
+        if (p.state == JobState::preparing && !p.stage.empty() && p.stage != "preparing") p.state = JobState::running;
+        it->second.live = p;
+    }
+    const auto now = clock_type::now();
+    if (stage_changed || now - last_persist >= persist_interval) {
+        store_.update_progress(id, p.state, p.stage, p.progress, p.eta_s, p.message);
+        last_persist = now;
+    }
+}
+
+void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::string& stderr_tail,
+    bool cancelled, bool stopping)
+{
+    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
+    const fs::path work = job_dir / "work";
+    const fs::path out = work / "out";
+    std::error_code ec;
+    const bool exited_ok = WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0;
+
+    if (cancelled) {
+        spdlog::info("job {}: cancelled, runner {}", job.id, describe_wait_status(wait_status));
+        fs::remove_all(work, ec);
+        return;
+    }
+    if (stopping && !exited_ok) {
+        store_.requeue(job.id);
+        spdlog::info("job {}: stopped by shutdown, queued again", job.id);
+        fs::remove_all(work, ec);
+        return;
+    }
+    if (!exited_ok) {
+        std::string reason = last_line(stderr_tail);
+        const std::string how = describe_wait_status(wait_status);
+        if (reason.empty()) reason = "runner " + how;
+        else if (WIFSIGNALED(wait_status)) reason = "runner " + how + ": " + reason;
+        spdlog::warn("job {}: failed, runner {}: {}", job.id, how, reason);
+        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        store_.finish(job.id, JobState::failed, reason, std::nullopt);
+        fs::remove_all(work, ec);
+        return;
+    }
+
+    // Success only with both files; the summary must be a JSON object.
+    const auto summary_text = read_small_file(out / "summary.json", max_summary_bytes);
+    boost::system::error_code jec;
+    const json::value summary = summary_text ? json::parse(*summary_text, jec) : json::value();
+    std::string problem;
+    if (!summary_text) problem = "runner exited 0 without a readable summary.json";
+    else if (jec || !summary.is_object()) problem = "runner wrote a summary.json that is not a JSON object";
+    else if (!fs::is_regular_file(out / "result.h5", ec)) problem = "runner exited 0 without result.h5";
+    if (!problem.empty()) {
+        spdlog::warn("job {}: failed: {}", job.id, problem);
+        store_.finish(job.id, JobState::failed, problem, std::nullopt);
+        fs::remove_all(work, ec);
+        return;
+    }
+    sync_path(out / "result.h5");
+    sync_path(out / "summary.json");
+    fs::rename(out / "result.h5", job_dir / "result.h5");
+    fs::rename(out / "summary.json", job_dir / "summary.json");
+    sync_path(job_dir);  // the renames are durable before the store says succeeded
+    const auto bsps = number_at(summary, {"engine", "body_steps_per_second"});
+    if (store_.finish(job.id, JobState::succeeded, "", bsps)) {
+        spdlog::info("job {}: succeeded", job.id);
+        if (bsps) {
+            std::lock_guard lock(mutex_);
+            body_steps_per_second_ = bsps;
+        }
+    } else {
+        spdlog::info("job {}: finished after it was cancelled; kept as cancelled", job.id);
+    }
+    fs::remove_all(work, ec);
+}
+
+} // namespace wiredem::server

@@ -1,0 +1,116 @@
+// The simulation workers. Each worker thread claims the oldest queued job from
+// the store and runs it as a child process (the runner contract in
+// docs/api.md): crash isolation, cancellation by signal, and a kill -9 of the
+// server never leaves a job reported as succeeded without its files.
+//
+// Workers are plain std::threads: they never run on the HTTP I/O threads, and
+// the only thing the I/O threads ask of the queue (notify, cancel, live) takes
+// a mutex for microseconds.
+//
+// Files of job <id>, all under <data-dir>/jobs/<id>/:
+//   work/job.json, work/out/...   the current attempt (wiped at every attempt)
+//   summary.json, result.h5       moved in by rename only after the runner
+//                                 exited 0 and both exist; then the store says
+//                                 succeeded.
+#pragma once
+
+#include "job_store.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace wiredem::server {
+
+class ChildProcess;
+
+/// How the queue runs jobs.
+struct QueueConfig {
+    std::filesystem::path data_dir;        ///< holds jobs/<id>/
+    std::filesystem::path runner;          ///< executable following the runner contract
+    unsigned concurrent_jobs = 1;          ///< worker threads, ≥ 1
+    unsigned threads_per_job = 1;          ///< passed to the runner as --threads
+    int max_attempts = 5;                  ///< attempts interrupted by crashes before giving up
+    std::chrono::milliseconds kill_grace{3000};  ///< SIGTERM → SIGKILL delay
+};
+
+/// The freshest progress of a running job (kept in memory; the store gets a
+/// copy at every stage change and at most every persist_interval).
+struct LiveProgress {
+    JobState state = JobState::preparing;
+    std::string stage;
+    double progress = 0.0;
+    std::optional<double> eta_s;
+    std::string message;
+};
+
+class JobQueue {
+public:
+    JobQueue(JobStore& store, QueueConfig config);
+    ~JobQueue();  ///< calls stop()
+    JobQueue(const JobQueue&) = delete;
+    JobQueue& operator=(const JobQueue&) = delete;
+
+    /// Requeues jobs interrupted by a crash, checks the files of succeeded
+    /// jobs, and starts the workers.
+    void start();
+
+    /// Wakes a worker: a job was queued. Thread-safe, non-blocking.
+    void notify();
+
+    /// Asks the runner of `id` (if one runs) to stop: SIGTERM now, SIGKILL
+    /// after kill_grace. The caller has already marked the job cancelled.
+    void cancel(const std::string& id);
+
+    /// Stops claiming jobs, stops every runner and puts its job back in the
+    /// queue, joins the workers. Blocks up to about kill_grace. Idempotent.
+    void stop();
+
+    /// Progress of `id` if a worker runs it now.
+    [[nodiscard]] std::optional<LiveProgress> live(const std::string& id) const;
+
+    /// Number of workers running a job.
+    [[nodiscard]] unsigned busy_workers() const;
+
+    /// Newest engine throughput reported by a runner [body-steps/s].
+    [[nodiscard]] std::optional<double> body_steps_per_second() const;
+
+    [[nodiscard]] const QueueConfig& config() const { return config_; }
+
+private:
+    struct Active {
+        std::shared_ptr<ChildProcess> child;
+        LiveProgress live;
+        bool cancel_requested = false;
+        std::chrono::steady_clock::time_point signalled_at{};
+        bool signalled = false;
+    };
+
+    void worker_loop(unsigned index);
+    void run_job(const JobRecord& job);
+    void on_progress_line(const std::string& id, const std::string& line,
+        std::chrono::steady_clock::time_point& last_persist);
+    void finish_attempt(const JobRecord& job, int wait_status, const std::string& stderr_tail,
+        bool cancelled, bool stopping);
+
+    JobStore& store_;
+    QueueConfig config_;
+    std::vector<std::thread> workers_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stopping_ = false;
+    bool started_ = false;
+    std::uint64_t wake_count_ = 0;
+    std::map<std::string, Active> active_;
+    std::optional<double> body_steps_per_second_;
+};
+
+} // namespace wiredem::server

@@ -1,0 +1,377 @@
+// SQLite job table. Each public member holds the mutex for its whole
+// transaction, so check-then-write sequences (queue bound, idempotency key,
+// conditional state moves) are atomic.
+#include "job_store.hpp"
+
+#include <sqlite3.h>
+
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace wiredem::server {
+namespace {
+
+[[noreturn]] void fail(sqlite3* db, const std::string& what)
+{
+    throw std::runtime_error("sqlite: " + what + ": " + (db ? sqlite3_errmsg(db) : "out of memory"));
+}
+
+void exec(sqlite3* db, const char* sql)
+{
+    char* err = nullptr;
+    if (sqlite3_exec(db, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+        std::string msg = err ? err : "unknown error";
+        sqlite3_free(err);
+        throw std::runtime_error(std::string("sqlite: ") + msg + " in: " + sql);
+    }
+}
+
+/// A prepared statement, finalised on scope exit; bind() indexes from 1.
+class Statement {
+public:
+    Statement(sqlite3* db, const char* sql) : db_(db)
+    {
+        if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) fail(db, sql);
+    }
+    ~Statement() { sqlite3_finalize(stmt_); }
+    Statement(const Statement&) = delete;
+    Statement& operator=(const Statement&) = delete;
+
+    Statement& bind(int i, const std::string& s)
+    {
+        check(sqlite3_bind_text(stmt_, i, s.data(), static_cast<int>(s.size()), SQLITE_TRANSIENT));
+        return *this;
+    }
+    Statement& bind(int i, std::string_view s) { return bind(i, std::string(s)); }
+    Statement& bind(int i, const char* s) { return bind(i, std::string(s)); }
+    Statement& bind(int i, std::int64_t v)
+    {
+        check(sqlite3_bind_int64(stmt_, i, v));
+        return *this;
+    }
+    Statement& bind(int i, int v) { return bind(i, static_cast<std::int64_t>(v)); }
+    Statement& bind(int i, double v)
+    {
+        check(sqlite3_bind_double(stmt_, i, v));
+        return *this;
+    }
+    template <class T>
+    Statement& bind(int i, const std::optional<T>& v)
+    {
+        if (v) return bind(i, *v);
+        check(sqlite3_bind_null(stmt_, i));
+        return *this;
+    }
+
+    /// Steps once: true while a row is available.
+    bool step()
+    {
+        const int rc = sqlite3_step(stmt_);
+        if (rc == SQLITE_ROW) return true;
+        if (rc == SQLITE_DONE) return false;
+        fail(db_, "step");
+    }
+    void run()
+    {
+        while (step()) {
+        }
+    }
+
+    std::string text(int col) const
+    {
+        const auto* p = sqlite3_column_text(stmt_, col);
+        return p ? std::string(reinterpret_cast<const char*>(p),
+                       static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+                 : std::string();
+    }
+    std::int64_t int64(int col) const { return sqlite3_column_int64(stmt_, col); }
+    double real(int col) const { return sqlite3_column_double(stmt_, col); }
+    bool is_null(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+    std::optional<double> opt_real(int col) const
+    {
+        return is_null(col) ? std::nullopt : std::optional<double>(real(col));
+    }
+    std::optional<std::int64_t> opt_int64(int col) const
+    {
+        return is_null(col) ? std::nullopt : std::optional<std::int64_t>(int64(col));
+    }
+
+private:
+    void check(int rc)
+    {
+        if (rc != SQLITE_OK) fail(db_, "bind");
+    }
+    sqlite3* db_;
+    sqlite3_stmt* stmt_ = nullptr;
+};
+
+/// BEGIN IMMEDIATE … COMMIT, rolled back if the scope is left by an exception.
+class Transaction {
+public:
+    explicit Transaction(sqlite3* db) : db_(db) { exec(db_, "BEGIN IMMEDIATE"); }
+    ~Transaction()
+    {
+        if (!done_) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+    }
+    Transaction(const Transaction&) = delete;
+    Transaction& operator=(const Transaction&) = delete;
+    void commit()
+    {
+        exec(db_, "COMMIT");
+        done_ = true;
+    }
+
+private:
+    sqlite3* db_;
+    bool done_ = false;
+};
+
+constexpr const char* columns =
+    "seq, id, state, stage, progress, eta_s, message, error, attempts, created_ms, started_ms, "
+    "finished_ms, spec, idempotency_key, body_steps_per_second";
+
+JobRecord read_row(const Statement& s)
+{
+    JobRecord r;
+    r.seq = s.int64(0);
+    r.id = s.text(1);
+    r.state = job_state_from_string(s.text(2)).value_or(JobState::failed);
+    r.stage = s.text(3);
+    r.progress = s.real(4);
+    r.eta_s = s.opt_real(5);
+    r.message = s.text(6);
+    r.error = s.text(7);
+    r.attempts = static_cast<int>(s.int64(8));
+    r.created_ms = s.int64(9);
+    r.started_ms = s.opt_int64(10);
+    r.finished_ms = s.opt_int64(11);
+    r.spec_json = s.text(12);
+    r.idempotency_key = s.text(13);
+    r.body_steps_per_second = s.opt_real(14);
+    return r;
+}
+
+std::optional<JobRecord> get_locked(sqlite3* db, const std::string& id)
+{
+    Statement s(db, (std::string("SELECT ") + columns + " FROM jobs WHERE id = ?").c_str());
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    return read_row(s);
+}
+
+} // namespace
+
+JobStore::JobStore(const std::filesystem::path& db_file)
+{
+    const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX;
+    if (sqlite3_open_v2(db_file.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
+        std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+        sqlite3_close(db_);
+        throw std::runtime_error("cannot open " + db_file.string() + ": " + msg);
+    }
+    try {
+        sqlite3_busy_timeout(db_, 5000);
+        // WAL: readers never block the writer; FULL: a commit is on disk before
+        // we answer 201 (kill -9 and power loss both keep accepted jobs).
+        exec(db_, "PRAGMA journal_mode=WAL");
+        exec(db_, "PRAGMA synchronous=FULL");
+        exec(db_, "PRAGMA foreign_keys=ON");
+        exec(db_,
+            "CREATE TABLE IF NOT EXISTS jobs ("
+            " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
+            " id TEXT NOT NULL UNIQUE,"
+            " state TEXT NOT NULL,"
+            " stage TEXT NOT NULL DEFAULT '',"
+            " progress REAL NOT NULL DEFAULT 0,"
+            " eta_s REAL,"
+            " message TEXT NOT NULL DEFAULT '',"
+            " error TEXT NOT NULL DEFAULT '',"
+            " attempts INTEGER NOT NULL DEFAULT 0,"
+            " created_ms INTEGER NOT NULL,"
+            " started_ms INTEGER,"
+            " finished_ms INTEGER,"
+            " spec TEXT NOT NULL,"
+            " idempotency_key TEXT UNIQUE,"
+            " body_steps_per_second REAL)");
+        exec(db_, "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, seq)");
+    } catch (...) {
+        sqlite3_close(db_);
+        throw;
+    }
+}
+
+JobStore::~JobStore() { sqlite3_close(db_); }
+
+InsertOutcome JobStore::insert(const JobRecord& job, std::size_t max_queued, JobRecord& out)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    if (!job.idempotency_key.empty()) {
+        Statement s(db_, (std::string("SELECT ") + columns + " FROM jobs WHERE idempotency_key = ?").c_str());
+        s.bind(1, job.idempotency_key);
+        if (s.step()) {
+            out = read_row(s);
+            return out.spec_json == job.spec_json ? InsertOutcome::replayed
+                                                  : InsertOutcome::idempotency_conflict;
+        }
+    }
+    {
+        Statement s(db_, "SELECT COUNT(*) FROM jobs WHERE state = 'queued'");
+        s.step();
+        if (static_cast<std::size_t>(s.int64(0)) >= max_queued) return InsertOutcome::queue_full;
+    }
+    {
+        Statement s(db_,
+            "INSERT INTO jobs (id, state, created_ms, spec, idempotency_key) VALUES (?, 'queued', ?, ?, ?)");
+        s.bind(1, job.id).bind(2, job.created_ms).bind(3, job.spec_json);
+        s.bind(4, job.idempotency_key.empty() ? std::optional<std::string>()
+                                              : std::optional<std::string>(job.idempotency_key));
+        s.run();
+    }
+    out = *get_locked(db_, job.id);
+    tx.commit();
+    return InsertOutcome::created;
+}
+
+std::optional<JobRecord> JobStore::get(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    return get_locked(db_, id);
+}
+
+std::vector<JobRecord> JobStore::list(std::optional<JobState> state, std::int64_t before_seq, int limit)
+{
+    std::lock_guard lock(mutex_);
+    std::string sql = std::string("SELECT ") + columns + " FROM jobs WHERE seq < ?";
+    if (state) sql += " AND state = ?";
+    sql += " ORDER BY seq DESC LIMIT ?";
+    Statement s(db_, sql.c_str());
+    int i = 1;
+    s.bind(i++, before_seq > 0 ? before_seq : std::numeric_limits<std::int64_t>::max());
+    if (state) s.bind(i++, to_string(*state));
+    s.bind(i, limit);
+    std::vector<JobRecord> rows;
+    while (s.step()) rows.push_back(read_row(s));
+    return rows;
+}
+
+std::optional<JobRecord> JobStore::claim_next()
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    std::string id;
+    {
+        Statement s(db_, "SELECT id FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1");
+        if (!s.step()) return std::nullopt;
+        id = s.text(0);
+    }
+    Statement u(db_,
+        "UPDATE jobs SET state = 'preparing', stage = '', progress = 0, eta_s = NULL, message = '',"
+        " attempts = attempts + 1, started_ms = ? WHERE id = ?");
+    u.bind(1, now_ms()).bind(2, id).run();
+    auto job = get_locked(db_, id);
+    tx.commit();
+    return job;
+}
+
+void JobStore::update_progress(const std::string& id, JobState state, const std::string& stage,
+    double progress, std::optional<double> eta_s, const std::string& message)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_,
+        "UPDATE jobs SET state = ?, stage = ?, progress = ?, eta_s = ?, message = ?"
+        " WHERE id = ? AND state IN ('preparing', 'running')");
+    s.bind(1, to_string(state)).bind(2, stage).bind(3, progress).bind(4, eta_s).bind(5, message).bind(6, id);
+    s.run();
+}
+
+bool JobStore::finish(const std::string& id, JobState final_state, const std::string& error,
+    std::optional<double> body_steps_per_second)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_,
+        "UPDATE jobs SET state = ?, error = ?, finished_ms = ?, eta_s = NULL,"
+        " progress = CASE WHEN ? = 'succeeded' THEN 1.0 ELSE progress END,"
+        " body_steps_per_second = ? WHERE id = ? AND state IN ('preparing', 'running')");
+    s.bind(1, to_string(final_state)).bind(2, error).bind(3, now_ms()).bind(4, to_string(final_state));
+    s.bind(5, body_steps_per_second).bind(6, id).run();
+    return sqlite3_changes(db_) > 0;
+}
+
+CancelOutcome JobStore::cancel(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    auto job = get_locked(db_, id);
+    if (!job) return CancelOutcome::not_found;
+    if (job->state == JobState::cancelled) return CancelOutcome::already_cancelled;
+    if (is_final(job->state)) return CancelOutcome::already_final;
+    Statement s(db_, "UPDATE jobs SET state = 'cancelled', finished_ms = ?, eta_s = NULL, "
+                     "error = 'cancelled by request' WHERE id = ?");
+    s.bind(1, now_ms()).bind(2, id).run();
+    tx.commit();
+    return CancelOutcome::cancelled;
+}
+
+bool JobStore::requeue(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_,
+        "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = '',"
+        " attempts = MAX(attempts - 1, 0) WHERE id = ? AND state IN ('preparing', 'running')");
+    s.bind(1, id).run();
+    return sqlite3_changes(db_) > 0;
+}
+
+std::vector<std::string> JobStore::requeue_interrupted()
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    std::vector<std::string> ids;
+    {
+        Statement s(db_, "SELECT id FROM jobs WHERE state IN ('preparing', 'running') ORDER BY seq");
+        while (s.step()) ids.push_back(s.text(0));
+    }
+    exec(db_, "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = ''"
+              " WHERE state IN ('preparing', 'running')");
+    tx.commit();
+    return ids;
+}
+
+std::vector<std::string> JobStore::succeeded_ids()
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT id FROM jobs WHERE state = 'succeeded' ORDER BY seq");
+    std::vector<std::string> ids;
+    while (s.step()) ids.push_back(s.text(0));
+    return ids;
+}
+
+void JobStore::demote_to_failed(const std::string& id, const std::string& error)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "UPDATE jobs SET state = 'failed', error = ? WHERE id = ? AND state = 'succeeded'");
+    s.bind(1, error).bind(2, id).run();
+}
+
+StateCounts JobStore::count_by_state()
+{
+    std::lock_guard lock(mutex_);
+    StateCounts counts{};
+    Statement s(db_, "SELECT state, COUNT(*) FROM jobs GROUP BY state");
+    while (s.step())
+        if (auto st = job_state_from_string(s.text(0))) counts[static_cast<std::size_t>(*st)] = s.int64(1);
+    return counts;
+}
+
+std::optional<double> JobStore::last_body_steps_per_second()
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT body_steps_per_second FROM jobs WHERE body_steps_per_second IS NOT NULL"
+                     " ORDER BY finished_ms DESC, seq DESC LIMIT 1");
+    if (!s.step()) return std::nullopt;
+    return s.opt_real(0);
+}
+
+} // namespace wiredem::server

@@ -1,0 +1,217 @@
+// wiredem-server: the HTTP front of the job queue. Wires the pieces together:
+// options → data directory (locked) → job store → queue (workers) → listener
+// on io_threads threads → wait for SIGINT/SIGTERM → stop accepting, stop the
+// runners and requeue their jobs, let replies drain, exit 0.
+#include "config.hpp"
+#include "job_queue.hpp"
+#include "job_store.hpp"
+#include "listener.hpp"
+#include "router.hpp"
+#include "services.hpp"
+
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <future>
+#include <thread>
+
+namespace asio = boost::asio;
+namespace fs = std::filesystem;
+using namespace wiredem::server;
+
+namespace {
+
+/// Exit codes of wiredem-server.
+constexpr int exit_ok = 0;
+constexpr int exit_usage = 2;
+constexpr int exit_setup = 3;  ///< data dir, database, runner, token or address unusable
+
+fs::path default_runner()
+{
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? fs::path("wiredem") : self.parent_path() / "wiredem";
+}
+
+bool parse_listen(const std::string& text, std::string& host, std::uint16_t& port)
+{
+    const auto colon = text.rfind(':');
+    if (colon == std::string::npos) return false;
+    host = text.substr(0, colon);
+    if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    const std::string p = text.substr(colon + 1);
+    if (p.empty() || p.size() > 5 || p.find_first_not_of("0123456789") != std::string::npos) return false;
+    const int v = std::stoi(p);
+    if (v > 65535) return false;
+    port = static_cast<std::uint16_t>(v);
+    return !host.empty();
+}
+
+std::string read_token(const fs::path& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read token file " + file.string());
+    std::string token((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.back()))) token.pop_back();
+    while (!token.empty() && std::isspace(static_cast<unsigned char>(token.front()))) token.erase(0, 1);
+    if (token.empty()) throw std::runtime_error("token file " + file.string() + " is empty");
+    for (char c : token)
+        if (c <= 0x20 || c >= 0x7f) throw std::runtime_error("token in " + file.string() + " must be one word of visible ASCII");
+    return token;
+}
+
+/// Holds an exclusive lock on <data-dir>/server.lock for the process's life:
+/// two servers on one data directory would run every job twice.
+int lock_data_dir(const fs::path& dir)
+{
+    const fs::path lock = dir / "server.lock";
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error("cannot open " + lock.string() + ": " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+        throw std::runtime_error("another wiredem-server uses " + dir.string());
+    return fd;
+}
+
+void write_port_file(const fs::path& file, std::uint16_t port)
+{
+    const fs::path tmp = file.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::trunc);
+        out << port << '\n';
+        if (!out) throw std::runtime_error("cannot write " + tmp.string());
+    }
+    fs::rename(tmp, file);  // readers never see a half-written file
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    ServerConfig cfg;
+    std::string listen = "127.0.0.1:8080";
+    std::string token_file;
+    std::string log_level = "info";
+    std::string runner;
+    unsigned threads_per_job = 0;
+    unsigned read_timeout_s = 30;
+    unsigned write_timeout_s = 60;
+    unsigned retry_after_s = 30;
+
+    CLI::App app{"wiredem-server: queues triaxial campaigns and serves their results over HTTP (docs/api.md)"};
+    app.add_option("--listen", listen, "address:port to listen on")->capture_default_str();
+    app.add_option("--data-dir", cfg.data_dir, "directory for the job database and result files")->capture_default_str();
+    app.add_option("--runner", runner, "executable that runs one job (default: wiredem next to this binary)");
+    app.add_option("--jobs", cfg.concurrent_jobs, "jobs run at the same time")->capture_default_str()->check(CLI::Range(1u, 256u));
+    app.add_option("--threads-per-job", threads_per_job, "engine threads per job (default: cores / jobs)")
+        ->check(CLI::Range(1u, 1024u));
+    app.add_option("--io-threads", cfg.io_threads, "threads serving HTTP")->capture_default_str()->check(CLI::Range(1u, 64u));
+    app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
+    app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
+    app.add_option("--max-header-bytes", cfg.max_header_bytes, "request header limit")->capture_default_str()->check(CLI::Range(1024, 1 << 20));
+    app.add_option("--read-timeout", read_timeout_s, "seconds a client has to send the next request")->capture_default_str()->check(CLI::Range(1u, 3600u));
+    app.add_option("--write-timeout", write_timeout_s, "seconds a client has to take each chunk of a reply")->capture_default_str()->check(CLI::Range(1u, 3600u));
+    app.add_option("--max-connections", cfg.max_connections, "open connections")->capture_default_str()->check(CLI::Range(1, 100000));
+    app.add_option("--retry-after", retry_after_s, "Retry-After seconds sent with 429")->capture_default_str()->check(CLI::Range(1u, 86400u));
+    app.add_option("--token-file", token_file, "file holding the bearer token every /v1 request must carry")->check(CLI::ExistingFile);
+    app.add_option("--port-file", cfg.port_file, "write the bound port here once listening (for --listen HOST:0)");
+    app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str()
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int rc = app.exit(e);
+        return rc == 0 ? exit_ok : exit_usage;
+    }
+
+    auto logger = spdlog::stderr_color_mt("wiredem-server");
+    spdlog::set_default_logger(logger);
+    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+    spdlog::set_level(spdlog::level::from_str(log_level));
+
+    if (!parse_listen(listen, cfg.listen_host, cfg.listen_port)) {
+        spdlog::error("--listen must be HOST:PORT, got '{}'", listen);
+        return exit_usage;
+    }
+    cfg.read_timeout = std::chrono::seconds(read_timeout_s);
+    cfg.write_timeout = std::chrono::seconds(write_timeout_s);
+    cfg.retry_after = std::chrono::seconds(retry_after_s);
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    cfg.threads_per_job = threads_per_job ? threads_per_job : std::max(1u, cores / cfg.concurrent_jobs);
+
+    ::signal(SIGPIPE, SIG_IGN);
+    int lock_fd = -1;
+    std::unique_ptr<JobStore> store;
+    try {
+        cfg.runner = fs::absolute(runner.empty() ? default_runner() : fs::path(runner));
+        if (::access(cfg.runner.c_str(), X_OK) != 0)
+            throw std::runtime_error("runner " + cfg.runner.string() + " is not an executable file (see --runner)");
+        if (!token_file.empty()) cfg.token = read_token(token_file);
+        fs::create_directories(cfg.data_dir / "jobs");
+        cfg.data_dir = fs::canonical(cfg.data_dir);
+        lock_fd = lock_data_dir(cfg.data_dir);
+        store = std::make_unique<JobStore>(cfg.data_dir / "jobs.sqlite3");
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return exit_setup;
+    }
+
+    Metrics metrics;
+    JobQueue queue(*store, QueueConfig{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job});
+    Services services{cfg, *store, queue, metrics};
+    Router router(services);
+
+    asio::io_context ioc(static_cast<int>(cfg.io_threads));
+    std::shared_ptr<Listener> listener;
+    try {
+        const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(cfg.listen_host), cfg.listen_port);
+        listener = std::make_shared<Listener>(ioc, endpoint, router, cfg, metrics);
+        queue.start();
+        listener->run();
+        const auto bound = listener->local_endpoint();
+        if (!cfg.port_file.empty()) write_port_file(cfg.port_file, bound.port());
+        spdlog::info("listening on {}:{}; data {}; runner {}; {} job(s) x {} thread(s){}", bound.address().to_string(),
+            bound.port(), cfg.data_dir.string(), cfg.runner.string(), cfg.concurrent_jobs, cfg.threads_per_job,
+            cfg.token.empty() ? "" : "; bearer token required");
+    } catch (const std::exception& e) {
+        spdlog::error("cannot listen on {}: {}", listen, e.what());
+        queue.stop();
+        return exit_setup;
+    }
+
+    std::promise<int> stop_signal;
+    asio::signal_set signals(ioc, SIGINT, SIGTERM);
+    signals.async_wait([&](const boost::system::error_code& ec, int sig) {
+        if (!ec) stop_signal.set_value(sig);
+    });
+
+    std::vector<std::thread> io_threads;
+    for (unsigned i = 0; i < cfg.io_threads; ++i) io_threads.emplace_back([&ioc] { ioc.run(); });
+
+    const int sig = stop_signal.get_future().get();
+    spdlog::info("{}: stopping (running jobs go back to the queue)", sig == SIGINT ? "SIGINT" : "SIGTERM");
+    // A second signal during the shutdown ends the process at once; accepted
+    // jobs are safe in the store either way.
+    signals.async_wait([](const boost::system::error_code& ec, int) {
+        if (!ec) std::_Exit(1);
+    });
+    listener->stop();
+    queue.stop();
+    const auto drain_until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (metrics.connections_open.load() > 0 && std::chrono::steady_clock::now() < drain_until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ioc.stop();
+    for (auto& t : io_threads) t.join();
+    ::close(lock_fd);
+    spdlog::info("stopped");
+    return exit_ok;
+}

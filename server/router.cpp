@@ -1,0 +1,157 @@
+// Routing table:
+//   POST   /v1/jobs                     GET /v1/jobs
+//   GET    /v1/jobs/{id}                DELETE /v1/jobs/{id}
+//   GET    /v1/jobs/{id}/summary        GET /v1/jobs/{id}/result.h5
+//   GET    /v1/health   /v1/openapi.json   /metrics
+// GET routes also answer HEAD.
+#include "router.hpp"
+
+#include "handlers/jobs.hpp"
+#include "handlers/meta.hpp"
+
+#include <boost/url/parse.hpp>
+#include <boost/url/url_view.hpp>
+#include <spdlog/spdlog.h>
+
+#include <string>
+#include <vector>
+
+namespace wiredem::server {
+namespace {
+
+/// Constant-time comparison: the time taken does not tell how much of a
+/// guessed token was right.
+bool same_secret(std::string_view given, std::string_view expected)
+{
+    if (expected.empty()) return false;
+    unsigned char diff = given.size() == expected.size() ? 0 : 1;
+    for (std::size_t i = 0; i < given.size(); ++i)
+        diff |= static_cast<unsigned char>(given[i] ^ expected[i % expected.size()]);
+    return diff == 0;
+}
+
+bool authorized(const Request& req, const std::string& token)
+{
+    auto it = req.find(http::field::authorization);
+    if (it == req.end()) return false;
+    const std::string_view value(it->value().data(), it->value().size());
+    constexpr std::string_view scheme = "Bearer ";
+    if (value.size() <= scheme.size()) return false;
+    std::string prefix(value.substr(0, scheme.size()));
+    for (char& c : prefix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (prefix != "bearer ") return false;
+    return same_secret(value.substr(scheme.size()), token);
+}
+
+Response method_not_allowed(const Request& req, std::string_view allow)
+{
+    auto res = error_response(req, http::status::method_not_allowed, "method_not_allowed",
+        std::string(req.method_string()) + " is not allowed here (allowed: " + std::string(allow) + ")");
+    res.set(http::field::allow, allow);
+    return res;
+}
+
+/// HEAD: the GET reply's headers (Content-Length included) with no body.
+void strip_body(Response& res)
+{
+    std::visit(
+        [](auto& r) {
+            using T = std::decay_t<decltype(r)>;
+            if constexpr (std::is_same_v<T, StringResponse>) {
+                r.content_length(r.body().size());
+                r.body().clear();
+            } else {
+                r.content_length(r.body().length);
+                r.body().length = 0;
+            }
+        },
+        res);
+}
+
+} // namespace
+
+Response Router::dispatch(const Request& req) noexcept
+{
+    Response res = [&]() -> Response {
+        try {
+            return route(req);
+        } catch (const std::exception& e) {
+            spdlog::error("{} {}: {}", std::string(req.method_string()), std::string(req.target()), e.what());
+            return error_response(req, http::status::internal_server_error, "internal", e.what());
+        } catch (...) {
+            return error_response(req, http::status::internal_server_error, "internal", "unknown error");
+        }
+    }();
+    const unsigned cls = status_of(res) / 100;
+    if (cls >= 1 && cls <= 5) svc_.metrics.responses_by_class[cls].fetch_add(1, std::memory_order_relaxed);
+    return res;
+}
+
+Response Router::route(const Request& req)
+{
+    auto parsed = boost::urls::parse_origin_form(req.target());
+    if (!parsed)
+        return error_response(req, http::status::bad_request, "bad_target", "the request target is not a valid path");
+    const boost::urls::url_view url = *parsed;
+    std::vector<std::string> seg;
+    for (auto s : url.segments()) seg.push_back(s);
+
+    const bool is_v1 = !seg.empty() && seg[0] == "v1";
+    if (is_v1 && !svc_.config.token.empty() && !authorized(req, svc_.config.token)) {
+        auto res = error_response(req, http::status::unauthorized, "unauthorized",
+            "this server needs 'Authorization: Bearer <token>'");
+        res.set(http::field::www_authenticate, "Bearer realm=\"wiredem\"");
+        return res;
+    }
+
+    const auto method = req.method();
+    const bool get = method == http::verb::get || method == http::verb::head;
+    auto finish = [&](Response res) {
+        if (method == http::verb::head) strip_body(res);
+        return res;
+    };
+
+    if (seg.size() == 1 && seg[0] == "metrics") {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_metrics(req, svc_));
+    }
+    if (!is_v1 || seg.size() < 2)
+        return error_response(req, http::status::not_found, "not_found", "no such route");
+
+    if (seg.size() == 2 && seg[1] == "health") {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_health(req, svc_));
+    }
+    if (seg.size() == 2 && seg[1] == "openapi.json") {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_openapi(req, svc_));
+    }
+    if (seg[1] != "jobs" || seg.size() > 4)
+        return error_response(req, http::status::not_found, "not_found", "no such route");
+
+    if (seg.size() == 2) {
+        if (method == http::verb::post) return handle_submit_job(req, svc_);
+        if (!get) return method_not_allowed(req, "GET, HEAD, POST");
+        QueryParams params;
+        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
+        return finish(handle_list_jobs(req, params, svc_));
+    }
+
+    const std::string& id = seg[2];
+    if (seg.size() == 4 && seg[3] != "summary" && seg[3] != "result.h5")
+        return error_response(req, http::status::not_found, "not_found", "no such route");
+    if (!is_valid_job_id(id))
+        return error_response(req, http::status::bad_request, "bad_id",
+            "a job id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
+
+    if (seg.size() == 3) {
+        if (method == http::verb::delete_) return handle_cancel_job(req, id, svc_);
+        if (!get) return method_not_allowed(req, "GET, HEAD, DELETE");
+        return finish(handle_get_job(req, id, svc_));
+    }
+    if (!get) return method_not_allowed(req, "GET, HEAD");
+    if (seg[3] == "summary") return finish(handle_get_summary(req, id, svc_));
+    return finish(handle_get_result(req, id, svc_));
+}
+
+} // namespace wiredem::server

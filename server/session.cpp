@@ -1,0 +1,173 @@
+// The per-connection state machine: read → dispatch → write → read …, with a
+// deadline on every read and on every chunk written (slow clients are cut
+// off), and a lingering close after an error reply so the client reads the
+// reply instead of a reset.
+#include "session.hpp"
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/beast/core/bind_handler.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/error.hpp>
+#include <boost/beast/http/parser.hpp>
+#include <boost/beast/http/read.hpp>
+#include <boost/beast/http/serializer.hpp>
+#include <boost/beast/http/write.hpp>
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <chrono>
+#include <optional>
+
+namespace wiredem::server {
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+using tcp = asio::ip::tcp;
+
+class Session : public std::enable_shared_from_this<Session> {
+public:
+    Session(tcp::socket&& socket, Router& router, const ServerConfig& config, Metrics& metrics)
+        : stream_(std::move(socket)), router_(router), config_(config), metrics_(metrics)
+    {
+        beast::error_code ec;
+        const auto ep = stream_.socket().remote_endpoint(ec);
+        peer_ = ec ? std::string("?") : ep.address().to_string() + ":" + std::to_string(ep.port());
+        metrics_.connections_open.fetch_add(1, std::memory_order_relaxed);
+    }
+    ~Session() { metrics_.connections_open.fetch_sub(1, std::memory_order_relaxed); }
+
+    void run() { asio::dispatch(stream_.get_executor(), beast::bind_front_handler(&Session::do_read, shared_from_this())); }
+
+private:
+    void do_read()
+    {
+        parser_.emplace();
+        parser_->body_limit(config_.max_body_bytes);
+        parser_->header_limit(config_.max_header_bytes);
+        stream_.expires_after(config_.read_timeout);
+        http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Session::on_read, shared_from_this()));
+    }
+
+    void on_read(beast::error_code ec, std::size_t)
+    {
+        if (ec == http::error::end_of_stream) return do_close();
+        if (ec == beast::error::timeout) {
+            if (parser_->got_some()) return reply_and_close(http::status::request_timeout, "timeout", "request not received in time");
+            return;  // an idle keep-alive connection: just drop it
+        }
+        if (ec == http::error::body_limit)
+            return reply_and_close(http::status::payload_too_large, "body_too_large",
+                "request body exceeds " + std::to_string(config_.max_body_bytes) + " bytes");
+        if (ec == http::error::header_limit)
+            return reply_and_close(http::status::request_header_fields_too_large, "headers_too_large",
+                "request headers exceed " + std::to_string(config_.max_header_bytes) + " bytes");
+        if (ec && ec.category() == http::make_error_code(http::error::bad_target).category())  // ill-formed HTTP
+            return reply_and_close(http::status::bad_request, "bad_request", "malformed HTTP request: " + ec.message());
+        if (ec) return log_failure(ec, "read");
+
+        const auto t0 = std::chrono::steady_clock::now();
+        Request req = parser_->release();
+        Response res = router_.dispatch(req);
+        log_access(req, status_of(res), std::chrono::steady_clock::now() - t0);
+        send(std::move(res));
+    }
+
+    void send(Response&& res)
+    {
+        std::visit([this](auto& r) { write_message(std::make_shared<std::decay_t<decltype(r)>>(std::move(r))); }, res);
+    }
+
+    /// Writes the message chunk by chunk; each chunk gets write_timeout, so a
+    /// large download may take long but a stalled client cannot hold the session.
+    template <class Body>
+    void write_message(std::shared_ptr<http::response<Body>> msg)
+    {
+        close_after_write_ = msg->need_eof();
+        auto sr = std::make_shared<http::response_serializer<Body>>(*msg);
+        write_some(std::move(msg), std::move(sr));
+    }
+
+    template <class Body>
+    void write_some(std::shared_ptr<http::response<Body>> msg, std::shared_ptr<http::response_serializer<Body>> sr)
+    {
+        stream_.expires_after(config_.write_timeout);
+        auto& serializer = *sr;
+        http::async_write_some(stream_, serializer,
+            [self = shared_from_this(), msg = std::move(msg), sr = std::move(sr)](beast::error_code ec, std::size_t) mutable {
+                if (ec) return self->log_failure(ec, "write");
+                if (!sr->is_done()) return self->write_some(std::move(msg), std::move(sr));
+                if (self->close_after_write_) return self->do_close();
+                self->do_read();
+            });
+    }
+
+    void reply_and_close(http::status status, std::string_view code, const std::string& message)
+    {
+        Request stub;
+        stub.version(11);
+        stub.keep_alive(false);
+        auto res = error_response(stub, status, code, message);
+        const unsigned cls = res.result_int() / 100;
+        metrics_.responses_by_class[cls].fetch_add(1, std::memory_order_relaxed);
+        spdlog::info("{} - {} {}", peer_, res.result_int(), message);
+        send(Response(std::move(res)));
+    }
+
+    /// Half-close, then read and discard what the client still sends (at
+    /// most linger_time), so an early error reply is not lost to a reset.
+    void do_close()
+    {
+        beast::error_code ec;
+        stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+        if (ec) return;
+        stream_.expires_after(std::chrono::seconds(2));
+        drain();
+    }
+
+    void drain()
+    {
+        stream_.async_read_some(asio::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+            if (!ec) self->drain();
+        });
+    }
+
+    void log_failure(beast::error_code ec, const char* what)
+    {
+        if (ec == asio::error::operation_aborted || ec == beast::error::timeout || ec == asio::error::eof
+            || ec == asio::error::connection_reset || ec == asio::error::broken_pipe)
+            spdlog::debug("{} - {}: {}", peer_, what, ec.message());
+        else
+            spdlog::warn("{} - {}: {}", peer_, what, ec.message());
+    }
+
+    void log_access(const Request& req, unsigned status, std::chrono::steady_clock::duration took)
+    {
+        const double ms = std::chrono::duration<double, std::milli>(took).count();
+        const bool quiet = (req.method() == http::verb::get || req.method() == http::verb::head) && status < 400;
+        spdlog::log(quiet ? spdlog::level::debug : spdlog::level::info, "{} - {} {} {} {:.2f} ms", peer_,
+            std::string(req.method_string()), std::string(req.target()), status, ms);
+    }
+
+    beast::tcp_stream stream_;
+    beast::flat_buffer buffer_;
+    std::optional<http::request_parser<http::string_body>> parser_;
+    Router& router_;
+    const ServerConfig& config_;
+    Metrics& metrics_;
+    std::string peer_;
+    bool close_after_write_ = false;
+    std::array<char, 4096> discard_{};
+};
+
+void start_session(tcp::socket socket, Router& router, const ServerConfig& config, Metrics& metrics)
+{
+    if (metrics.connections_open.load(std::memory_order_relaxed) >= config.max_connections) {
+        metrics.connections_rejected.fetch_add(1, std::memory_order_relaxed);
+        beast::error_code ec;
+        socket.close(ec);
+        return;
+    }
+    std::make_shared<Session>(std::move(socket), router, config, metrics)->run();
+}
+
+} // namespace wiredem::server
