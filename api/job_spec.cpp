@@ -1,0 +1,879 @@
+// Reading, validating and writing job specs. The reader walks the schema in
+// document order and records every problem instead of stopping at the first;
+// a field with a problem keeps its default so that reading can go on. The
+// cross-field checks run afterwards, each only when all of its inputs were
+// read without a problem (so one bad value gives one error, not a cascade).
+//
+// The allowed ranges are the Range constants passed to the readers below; the
+// same figures are in the header's field comments and docs/job-spec.md.
+#include "api/job_spec.hpp"
+
+#include "api/derived.hpp"
+#include "api/json_text.hpp"
+
+#include <boost/json.hpp>
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <initializer_list>
+#include <numbers>
+#include <span>
+#include <utility>
+
+namespace wiredem::api {
+
+namespace json = boost::json;
+
+namespace {
+
+// ---------------------------------------------------------------- formatting
+
+/// Shortest text that reads back as the same double: shows users exactly
+/// the value they gave ("1e-05", "0.1", "20000").
+std::string exact_text(double x)
+{
+    std::array<char, 64> buf{};
+    const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), x);
+    return std::string(buf.data(), res.ptr);
+}
+
+/// Three significant digits, for derived quantities ("1.88e-07").
+std::string approx_text(double x)
+{
+    std::array<char, 32> buf{};
+    const int n = std::snprintf(buf.data(), buf.size(), "%.3g", x);
+    return std::string(buf.data(), static_cast<std::size_t>(n));
+}
+
+/// What a JSON value is, for "expected a number, got a string".
+std::string_view kind_text(const json::value& v)
+{
+    switch (v.kind()) {
+    case json::kind::null: return "null";
+    case json::kind::bool_: return "a boolean";
+    case json::kind::int64:
+    case json::kind::uint64:
+    case json::kind::double_: return "a number";
+    case json::kind::string: return "a string";
+    case json::kind::array: return "an array";
+    case json::kind::object: return "an object";
+    }
+    return "an unknown value";
+}
+
+// -------------------------------------------------------------------- ranges
+
+/// An interval of allowed values; NaN is never inside.
+struct Range {
+    double lo;
+    double hi;
+    bool lo_open;
+    bool hi_open;
+
+    [[nodiscard]] bool contains(double x) const
+    {
+        return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+    }
+    [[nodiscard]] std::string text() const
+    {
+        return std::string(lo_open ? "(" : "[") + exact_text(lo) + ", " + exact_text(hi) + (hi_open ? ")" : "]");
+    }
+};
+
+constexpr Range open_closed(double lo, double hi) { return {lo, hi, true, false}; }
+constexpr Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+constexpr Range closed_open(double lo, double hi) { return {lo, hi, false, true}; }
+
+// Shared ranges (documented in docs/job-spec.md).
+constexpr Range modulus_range = open_closed(0.0, 1e13);       // up to ~10× diamond
+constexpr Range poisson_range = open_closed(-1.0, 0.5);       // thermodynamic bounds of an isotropic solid
+constexpr Range density_range = open_closed(0.0, 1e5);
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+/// Integer ranges are closed.
+struct IntRange {
+    std::uint64_t lo;
+    std::uint64_t hi;
+    [[nodiscard]] std::string text() const
+    {
+        // Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "[" + std::string&&.
+        std::string s(1, '[');
+        s += std::to_string(lo);
+        s += ", ";
+        s += std::to_string(hi);
+        s += ']';
+        return s;
+    }
+};
+
+constexpr std::size_t max_name_chars = 200;
+constexpr std::size_t max_pressures = 16;
+constexpr std::size_t max_snapshots = 64;
+/// The column must be at least this many largest-grain diameters wide. The
+/// triaxial standards ask for 6 (ASTM D7181); 4 still lets the small test
+/// specimens (R = 8 mm, r_p = 1.23 mm, some spread) through.
+constexpr double min_column_grain_diameters = 4.0;
+/// Densest random packing of spheres: more grain volume than this fraction of
+/// the membrane's cannot be poured into it.
+constexpr double random_close_packing = 0.64;
+
+// ----------------------------------------------------------------- validator
+
+/// Collects errors and answers whether a field (or anything under it) holds
+/// a bad value. Only blocking errors count for that: a bad value or type
+/// read while walking the schema. Unknown keys and the cross-field checks'
+/// own findings do not block other checks (the values they read are fine).
+class Validator {
+public:
+    /// A field's value is unusable (wrong type, out of range): checks that read it are skipped.
+    void fail(std::string path, std::string message) { add(std::move(path), std::move(message), true); }
+    /// A problem that leaves the values usable (unknown key, failed cross-field check).
+    void note(std::string path, std::string message) { add(std::move(path), std::move(message), false); }
+
+    /// True when no blocking error was recorded at `path` or below it.
+    [[nodiscard]] bool clean(std::string_view path) const
+    {
+        for (std::size_t i = 0; i < errors_.size(); ++i) {
+            if (!blocking_[i]) continue;
+            const std::string_view p = errors_[i].path;
+            if (p.substr(0, path.size()) != path) continue;
+            if (p.size() == path.size() || p[path.size()] == '.' || p[path.size()] == '[') return false;
+        }
+        return true;
+    }
+    [[nodiscard]] bool clean(std::initializer_list<std::string_view> paths) const
+    {
+        for (std::string_view p : paths)
+            if (!clean(p)) return false;
+        return true;
+    }
+    [[nodiscard]] std::vector<FieldError>& errors() { return errors_; }
+
+private:
+    void add(std::string path, std::string message, bool blocking)
+    {
+        errors_.push_back({std::move(path), std::move(message)});
+        blocking_.push_back(blocking);
+    }
+    std::vector<FieldError> errors_;
+    std::vector<bool> blocking_;
+};
+
+std::string join_path(std::string_view parent, std::string_view key)
+{
+    return parent.empty() ? std::string(key) : std::string(parent) + "." + std::string(key);
+}
+
+std::string index_path(std::string_view parent, std::size_t i)
+{
+    return std::string(parent) + "[" + std::to_string(i) + "]";
+}
+
+// --------------------------------------------------------- value-level reads
+
+/// A JSON number as a double, or nullopt for any other kind.
+std::optional<double> number_of(const json::value& v)
+{
+    if (v.is_double()) return v.get_double();
+    if (v.is_int64()) return static_cast<double>(v.get_int64());
+    if (v.is_uint64()) return static_cast<double>(v.get_uint64());
+    return std::nullopt;
+}
+
+/// Reads a number in `range` into `out`; on a problem records it and leaves `out`.
+bool read_number(Validator& v, const json::value& j, const std::string& path, Range range, double& out)
+{
+    const std::optional<double> x = number_of(j);
+    if (!x) {
+        v.fail(path, "expected a number, got " + std::string(kind_text(j)));
+        return false;
+    }
+    if (!range.contains(*x)) {
+        v.fail(path, exact_text(*x) + " is out of range " + range.text());
+        return false;
+    }
+    out = *x;
+    return true;
+}
+
+/// Reads a non-negative integer in `range`. A number with a zero fraction
+/// (3.0) counts as an integer; 3.5 does not.
+bool read_integer(Validator& v, const json::value& j, const std::string& path, IntRange range, std::uint64_t& out)
+{
+    std::uint64_t n = 0;
+    if (j.is_int64()) {
+        if (j.get_int64() < 0) {
+            v.fail(path, std::to_string(j.get_int64()) + " is out of range " + range.text());
+            return false;
+        }
+        n = static_cast<std::uint64_t>(j.get_int64());
+    } else if (j.is_uint64()) {
+        n = j.get_uint64();
+    } else if (j.is_double()) {
+        const double d = j.get_double();
+        if (!std::isfinite(d) || std::trunc(d) != d) {
+            v.fail(path, "expected an integer, got " + exact_text(d));
+            return false;
+        }
+        if (d < 0.0 || d >= 0x1p64) {
+            v.fail(path, exact_text(d) + " is out of range " + range.text());
+            return false;
+        }
+        n = static_cast<std::uint64_t>(d);
+    } else {
+        v.fail(path, "expected an integer, got " + std::string(kind_text(j)));
+        return false;
+    }
+    if (n < range.lo || n > range.hi) {
+        v.fail(path, std::to_string(n) + " is out of range " + range.text());
+        return false;
+    }
+    out = n;
+    return true;
+}
+
+/// Reads an enum from one of its JSON names.
+template <class E, std::size_t N>
+bool read_choice(Validator& v, const json::value& j, const std::string& path,
+    const std::array<std::pair<std::string_view, E>, N>& choices, E& out)
+{
+    if (!j.is_string()) {
+        v.fail(path, "expected a string, got " + std::string(kind_text(j)));
+        return false;
+    }
+    const std::string_view s(j.get_string().data(), j.get_string().size());
+    std::string allowed;
+    for (const auto& [name, value] : choices) {
+        if (name == s) {
+            out = value;
+            return true;
+        }
+        allowed += (allowed.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    }
+    v.fail(path, "\"" + std::string(s) + "\" is not one of " + allowed);
+    return false;
+}
+
+/// Number of Unicode code points in valid UTF-8 (Boost.JSON has checked it).
+std::size_t utf8_length(std::string_view s)
+{
+    std::size_t n = 0;
+    for (const char c : s) n += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u;
+    return n;
+}
+
+// --------------------------------------------------------- object-level reads
+
+/// Reads the fields of one JSON object. Every key the schema knows is taken
+/// with take(); finish() then reports the keys nobody took. An absent object
+/// (nullptr) reads as all defaults.
+class ObjectReader {
+public:
+    ObjectReader(Validator& v, const json::value* j, std::string path) : v_(v), path_(std::move(path))
+    {
+        if (j == nullptr) return;
+        if (j->is_object())
+            obj_ = &j->get_object();
+        else
+            v_.fail(path_, "expected an object, got " + std::string(kind_text(*j)));
+    }
+    ObjectReader(const ObjectReader&) = delete;
+    ObjectReader& operator=(const ObjectReader&) = delete;
+
+    [[nodiscard]] Validator& validator() { return v_; }
+    [[nodiscard]] std::string path_of(std::string_view key) const { return join_path(path_, key); }
+
+    /// The value under `key`, or nullptr when absent; marks the key as known.
+    [[nodiscard]] const json::value* take(std::string_view key)
+    {
+        known_.push_back(key);
+        if (obj_ == nullptr) return nullptr;
+        return obj_->if_contains(key);
+    }
+
+    void number(std::string_view key, Range range, double& out)
+    {
+        if (const json::value* j = take(key)) read_number(v_, *j, path_of(key), range, out);
+    }
+    template <class T>
+    void integer(std::string_view key, IntRange range, T& out)
+    {
+        std::uint64_t n = 0;
+        if (const json::value* j = take(key))
+            if (read_integer(v_, *j, path_of(key), range, n)) out = static_cast<T>(n);
+    }
+    template <class E, std::size_t N>
+    void choice(std::string_view key, const std::array<std::pair<std::string_view, E>, N>& choices, E& out)
+    {
+        if (const json::value* j = take(key)) read_choice(v_, *j, path_of(key), choices, out);
+    }
+    void text(std::string_view key, std::string& out)
+    {
+        const json::value* j = take(key);
+        if (j == nullptr) return;
+        if (!j->is_string()) {
+            v_.fail(path_of(key), "expected a string, got " + std::string(kind_text(*j)));
+            return;
+        }
+        out.assign(j->get_string().data(), j->get_string().size());
+    }
+
+    /// Reports every key of the object that no take() asked for, in document order.
+    void finish()
+    {
+        if (obj_ == nullptr) return;
+        for (const auto& kv : *obj_) {
+            const std::string_view key(kv.key().data(), kv.key().size());
+            bool is_known = false;
+            for (std::string_view k : known_) is_known = is_known || k == key;
+            if (is_known) continue;
+            std::string allowed;
+            for (std::string_view k : known_) allowed += (allowed.empty() ? "" : ", ") + std::string(k);
+            v_.note(path_of(key), "unknown key \"" + std::string(key) + "\" (allowed here: " + allowed + ")");
+        }
+    }
+
+private:
+    Validator& v_;
+    std::string path_;
+    const json::object* obj_ = nullptr;
+    std::vector<std::string_view> known_;
+};
+
+/// Reads an array of numbers, each in `range`, strictly increasing, with
+/// `min_n`–`max_n` entries. Returns false (leaving `out`) on any problem.
+bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n,
+    std::size_t max_n, std::string_view what, std::vector<double>& out)
+{
+    const json::value* j = r.take(key);
+    if (j == nullptr) return false;
+    Validator& v = r.validator();
+    const std::string path = r.path_of(key);
+    if (!j->is_array()) {
+        v.fail(path, "expected an array, got " + std::string(kind_text(*j)));
+        return false;
+    }
+    const json::array& a = j->get_array();
+    bool ok = true;
+    if (a.size() < min_n || a.size() > max_n) {
+        v.fail(path, "has " + std::to_string(a.size()) + " entries; allowed " + std::to_string(min_n) + " to "
+                         + std::to_string(max_n));
+        ok = false;
+    }
+    std::vector<double> values(a.size(), 0.0);
+    std::vector<bool> valid(a.size(), false);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        valid[i] = read_number(v, a[i], index_path(path, i), range, values[i]);
+        ok = ok && valid[i];
+        if (i > 0 && valid[i] && valid[i - 1] && !(values[i] > values[i - 1])) {
+            v.fail(index_path(path, i), exact_text(values[i]) + " is not greater than the previous entry "
+                                            + exact_text(values[i - 1]) + "; " + std::string(what)
+                                            + " must be strictly increasing");
+            ok = false;
+        }
+    }
+    if (ok) out = std::move(values);
+    return ok;
+}
+
+// ----------------------------------------------------------- schema readers
+
+constexpr std::array<std::pair<std::string_view, WirePattern>, 4> wire_patterns{{
+    {"none", WirePattern::none},
+    {"helix", WirePattern::helix},
+    {"spiral_helix", WirePattern::spiral_helix},
+    {"radial_helix", WirePattern::radial_helix},
+}};
+
+constexpr std::array<std::pair<std::string_view, Integrator>, 2> integrators{{
+    {"gear5", Integrator::gear5},
+    {"verlet", Integrator::verlet},
+}};
+
+void read_grain(ObjectReader& r, GrainMaterialSpec& g)
+{
+    r.number("youngs_modulus_pa", modulus_range, g.youngs_modulus_pa);
+    r.number("poisson_ratio", poisson_range, g.poisson_ratio);
+    r.number("density_kg_per_m3", density_range, g.density_kg_per_m3);
+}
+
+void read_plate(ObjectReader& r, PlateMaterialSpec& p)
+{
+    r.number("youngs_modulus_pa", modulus_range, p.youngs_modulus_pa);
+    r.number("poisson_ratio", poisson_range, p.poisson_ratio);
+}
+
+void read_wire(ObjectReader& r, WireSpec& w)
+{
+    r.choice("pattern", wire_patterns, w.pattern);
+    r.number("radius_m", open_closed(0.0, 0.01), w.radius_m);
+    r.number("segment_length_m", open_closed(0.0, 0.1), w.segment_length_m);
+    r.number("youngs_modulus_pa", modulus_range, w.youngs_modulus_pa);
+    r.number("poisson_ratio", poisson_range, w.poisson_ratio);
+    r.number("density_kg_per_m3", density_range, w.density_kg_per_m3);
+    r.number("nozzle_rise_speed_m_per_s", open_closed(0.0, 100.0), w.nozzle_rise_speed_m_per_s);
+    r.number("angular_speed_rad_per_s", open_closed(0.0, 1e5), w.angular_speed_rad_per_s);
+    r.number("helix_radius_m", open_closed(0.0, 1.0), w.helix_radius_m);
+    r.number("inner_radius_m", open_closed(0.0, 1.0), w.inner_radius_m);
+    r.number("period_angle_rad", open_closed(0.0, two_pi), w.period_angle_rad);
+    r.number("clearance_m", closed(0.0, 0.1), w.clearance_m);
+}
+
+void read_membrane(ObjectReader& r, MembraneSpec& m)
+{
+    r.number("thickness_m", open_closed(0.0, 0.01), m.thickness_m);
+    r.number("mesh_size_m", open_closed(0.0, 0.1), m.mesh_size_m);
+    r.number("youngs_modulus_pa", modulus_range, m.youngs_modulus_pa);
+    r.number("poisson_ratio", poisson_range, m.poisson_ratio);
+    r.number("density_kg_per_m3", density_range, m.density_kg_per_m3);
+    // null (or absent) means "follow the thickness": d/2.
+    if (const json::value* j = r.take("contact_radius_m"); j != nullptr && !j->is_null()) {
+        double radius = 0.0;
+        if (read_number(r.validator(), *j, r.path_of("contact_radius_m"), open_closed(0.0, 0.01), radius))
+            m.contact_radius_m = radius;
+    }
+}
+
+void read_pouring(ObjectReader& r, PouringSpec& p)
+{
+    r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), p.settle_kinetic_energy_per_grain_j);
+    r.number("max_preparation_time_s", open_closed(0.0, 1e4), p.max_preparation_time_s);
+}
+
+void read_specimen(ObjectReader& r, SpecimenSpec& s)
+{
+    r.number("membrane_radius_m", open_closed(0.0, 1.0), s.membrane_radius_m);
+    r.number("membrane_height_m", open_closed(0.0, 10.0), s.membrane_height_m);
+    r.integer("grain_count", IntRange{1, 100'000'000}, s.grain_count);
+    r.number("grain_radius_m", open_closed(0.0, 0.1), s.grain_radius_m);
+    r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread);
+    {
+        ObjectReader g(r.validator(), r.take("grain"), r.path_of("grain"));
+        read_grain(g, s.grain);
+        g.finish();
+    }
+    {
+        ObjectReader p(r.validator(), r.take("plate"), r.path_of("plate"));
+        read_plate(p, s.plate);
+        p.finish();
+    }
+    {
+        ObjectReader w(r.validator(), r.take("wire"), r.path_of("wire"));
+        read_wire(w, s.wire);
+        w.finish();
+    }
+    {
+        ObjectReader m(r.validator(), r.take("membrane"), r.path_of("membrane"));
+        read_membrane(m, s.membrane);
+        m.finish();
+    }
+    {
+        ObjectReader p(r.validator(), r.take("pouring"), r.path_of("pouring"));
+        read_pouring(p, s.pouring);
+        p.finish();
+    }
+}
+
+void read_contact(ObjectReader& r, ContactSpec& c)
+{
+    Validator& v = r.validator();
+    const json::value* damping = r.take("normal_damping_s");
+    const json::value* restitution = r.take("restitution");
+    const json::value* reference_speed = r.take("restitution_reference_speed_m_per_s");
+    // γ_n in seconds, or e_n from which γ_n is derived (the model spec §3): one form only.
+    if (damping != nullptr && restitution != nullptr)
+        v.fail(r.path_of("normal_damping_s"), "both " + r.path_of("normal_damping_s") + " and "
+                                                  + r.path_of("restitution")
+                                                  + " are given; give one (γ_n directly, or e_n to derive γ_n from)");
+    else if (damping != nullptr && reference_speed != nullptr)
+        v.fail(r.path_of("restitution_reference_speed_m_per_s"),
+            "applies to " + r.path_of("restitution") + " only, but the damping is given as "
+                + r.path_of("normal_damping_s"));
+
+    NormalDampingTime time;
+    if (damping != nullptr) read_number(v, *damping, r.path_of("normal_damping_s"), closed(0.0, 1.0), time.normal_damping_s);
+    NormalRestitution e;
+    if (restitution != nullptr) read_number(v, *restitution, r.path_of("restitution"), open_closed(0.0, 1.0), e.restitution);
+    if (reference_speed != nullptr)
+        read_number(v, *reference_speed, r.path_of("restitution_reference_speed_m_per_s"), open_closed(0.0, 100.0),
+            e.restitution_reference_speed_m_per_s);
+    if (damping != nullptr)
+        c.normal_damping = time;
+    else
+        c.normal_damping = e;
+
+    r.number("tangential_stiffness_per_m", open_closed(0.0, 1e9), c.tangential_stiffness_per_m);
+    r.number("friction_coeff", closed(0.0, 10.0), c.friction_coeff);
+    r.number("critical_slip_m", open_closed(0.0, 1.0), c.critical_slip_m);
+    r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential_damping_s_per_m);
+}
+
+void read_triaxial(ObjectReader& r, TriaxialSpec& t)
+{
+    read_increasing_numbers(r, "confining_pressures_pa", open_closed(0.0, 1e7), 1, max_pressures, "the pressures",
+        t.confining_pressures_pa);
+    r.number("target_axial_strain", open_closed(0.0, 0.5), t.target_axial_strain);
+    r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s);
+    r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s);
+    r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s);
+    r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s);
+    // The default snapshots follow the target; a given list is checked
+    // against the target by the cross-field checks.
+    if (r.validator().clean(r.path_of("target_axial_strain")))
+        t.snapshot_strains = {0.0, 0.5 * t.target_axial_strain, t.target_axial_strain};
+    read_increasing_numbers(r, "snapshot_strains", closed(0.0, 0.5), 0, max_snapshots, "the snapshot strains",
+        t.snapshot_strains);
+}
+
+void read_engine(ObjectReader& r, EngineSpec& e)
+{
+    if (const json::value* j = r.take("time_step_s")) {
+        const std::string path = r.path_of("time_step_s");
+        if (j->is_string()) {
+            const json::string& s = j->get_string();
+            if (s != "auto") r.validator().fail(path, "\"" + std::string(s.data(), s.size()) + "\" is neither \"auto\" nor a number");
+        } else if (number_of(*j)) {
+            double dt = 0.0;
+            if (read_number(r.validator(), *j, path, open_closed(0.0, 1e-3), dt)) e.time_step_s = dt;
+        } else {
+            r.validator().fail(path, "expected a number or \"auto\", got " + std::string(kind_text(*j)));
+        }
+    }
+    r.choice("integrator", integrators, e.integrator);
+    r.integer("threads", IntRange{0, 256}, e.threads);
+    r.number("density_scale", closed(1.0, 1e6), e.density_scale);
+    // 1e9 < 2^30: every body index fits a BodyRef (engine/core/types.hpp).
+    r.integer("max_bodies", IntRange{1, 1'000'000'000}, e.max_bodies);
+}
+
+void read_job(Validator& v, const json::value& doc, JobSpec& spec)
+{
+    ObjectReader r(v, &doc, "");
+    r.text("name", spec.name);
+    if (v.clean("name")) {
+        const std::size_t n = utf8_length(spec.name);
+        if (n > max_name_chars)
+            v.fail("name", "is " + std::to_string(n) + " characters long; at most " + std::to_string(max_name_chars)
+                               + " are allowed");
+        for (const char c : spec.name)
+            if (static_cast<unsigned char>(c) < 0x20u || c == 0x7F) {
+                v.fail("name", "contains a control character; the name must be a single line of text");
+                break;
+            }
+    }
+    r.text("comment", spec.comment);
+    r.integer("seed", IntRange{0, UINT64_MAX}, spec.seed);
+    {
+        ObjectReader s(v, r.take("specimen"), "specimen");
+        read_specimen(s, spec.specimen);
+        s.finish();
+    }
+    {
+        ObjectReader c(v, r.take("contact"), "contact");
+        read_contact(c, spec.contact);
+        c.finish();
+    }
+    {
+        ObjectReader t(v, r.take("triaxial"), "triaxial");
+        read_triaxial(t, spec.triaxial);
+        t.finish();
+    }
+    {
+        ObjectReader e(v, r.take("engine"), "engine");
+        read_engine(e, spec.engine);
+        e.finish();
+    }
+    r.finish();
+}
+
+// ------------------------------------------------------- cross-field checks
+
+void check_grain_size(Validator& v, const SpecimenSpec& s)
+{
+    if (!v.clean({"specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.membrane_radius_m"})) return;
+    const double largest_m = s.grain_radius_m * (1.0 + s.grain_radius_spread);
+    const double limit_m = s.membrane_radius_m / min_column_grain_diameters;
+    if (largest_m > limit_m)
+        v.note("specimen.grain_radius_m",
+            exact_text(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
+                + exact_text(min_column_grain_diameters)
+                + " grain diameters wide, so grain_radius_m × (1 + grain_radius_spread) must not exceed "
+                  "membrane_radius_m / "
+                + exact_text(min_column_grain_diameters) + " = " + approx_text(limit_m));
+}
+
+void check_grain_volume(Validator& v, const SpecimenSpec& s)
+{
+    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
+            "specimen.membrane_radius_m", "specimen.membrane_height_m"}))
+        return;
+    // Radii uniform in r (1 ± s): E[r³] = r³ (1 + s²).
+    const double r = s.grain_radius_m;
+    const double mean_volume_m3 = 4.0 / 3.0 * std::numbers::pi * r * r * r
+                                * (1.0 + s.grain_radius_spread * s.grain_radius_spread);
+    const double grains_m3 = static_cast<double>(s.grain_count) * mean_volume_m3;
+    const double area_m2 = std::numbers::pi * s.membrane_radius_m * s.membrane_radius_m;
+    const double packed_height_m = grains_m3 / (random_close_packing * area_m2);
+    if (packed_height_m > s.membrane_height_m)
+        v.note("specimen.grain_count",
+            std::to_string(s.grain_count) + " grains do not fit in the membrane: even at random close packing "
+                + "(volume fraction " + exact_text(random_close_packing) + ") they fill a height of "
+                + approx_text(packed_height_m) + " m, more than membrane_height_m " + exact_text(s.membrane_height_m));
+}
+
+void check_wire_fits(Validator& v, const SpecimenSpec& s)
+{
+    const WireSpec& w = s.wire;
+    if (w.pattern == WirePattern::none || !v.clean({"specimen.membrane_radius_m", "specimen.wire"})) return;
+    const std::string pattern(to_string(w.pattern));
+    // Clipped to stay r_w + clearance inside the membrane (the model spec §5).
+    const double room_m = s.membrane_radius_m - w.radius_m - w.clearance_m;
+    if (w.pattern == WirePattern::spiral_helix) {
+        if (w.inner_radius_m >= w.helix_radius_m)
+            v.note("specimen.wire.inner_radius_m",
+                exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
+                    + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
+        if (w.helix_radius_m + w.inner_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
+            v.note("specimen.wire.helix_radius_m",
+                exact_text(w.helix_radius_m) + " is too large for the membrane: a spiral_helix needs helix_radius_m "
+                    + "+ inner_radius_m + radius_m + clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m)
+                    + ", so helix_radius_m < " + approx_text(room_m - w.inner_radius_m) + " with inner_radius_m "
+                    + exact_text(w.inner_radius_m));
+        return;
+    }
+    // helix and radial_helix: the outer circle has radius R_a.
+    if (w.helix_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
+        v.note("specimen.wire.helix_radius_m",
+            exact_text(w.helix_radius_m) + " is too large for the membrane: a " + pattern
+                + " needs helix_radius_m + radius_m + clearance_m < membrane_radius_m "
+                + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
+}
+
+void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
+{
+    if (!v.clean({"specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.membrane"})) return;
+    // A sphere passes through a mesh triangle of edge l_m whose corners carry
+    // spheres of radius r_m unless r_p + r_m > l_m/√3 (centroid to corner).
+    const double smallest_m = s.grain_radius_m * (1.0 - s.grain_radius_spread);
+    const double contact_m = membrane_contact_radius_m(s.membrane);
+    const double limit_m = std::numbers::sqrt3 * (smallest_m + contact_m);
+    if (s.membrane.mesh_size_m >= limit_m)
+        v.note("specimen.membrane.mesh_size_m",
+            exact_text(s.membrane.mesh_size_m) + " is too coarse: the smallest grain (radius " + approx_text(smallest_m)
+                + ") would slip between membrane nodes of contact radius " + approx_text(contact_m)
+                + "; mesh_size_m must be below √3 (smallest grain radius + membrane contact radius) = "
+                + approx_text(limit_m));
+}
+
+void check_body_count(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen.grain_count", "specimen.membrane_radius_m", "specimen.membrane_height_m",
+            "specimen.membrane.mesh_size_m", "specimen.wire", "engine.max_bodies"}))
+        return;
+    const BodyCounts n = estimated_body_counts(spec);
+    if (n.total() > spec.engine.max_bodies)
+        v.note("engine.max_bodies",
+            "the job needs about " + std::to_string(n.total()) + " bodies (" + std::to_string(n.grains) + " grains, "
+                + std::to_string(n.wire_nodes) + " wire nodes, " + std::to_string(n.membrane_nodes)
+                + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
+}
+
+void check_snapshots(Validator& v, const TriaxialSpec& t)
+{
+    if (!v.clean({"triaxial.target_axial_strain", "triaxial.snapshot_strains"})) return;
+    for (std::size_t i = 0; i < t.snapshot_strains.size(); ++i)
+        if (t.snapshot_strains[i] > t.target_axial_strain)
+            v.note(index_path("triaxial.snapshot_strains", i),
+                exact_text(t.snapshot_strains[i]) + " is beyond triaxial.target_axial_strain "
+                    + exact_text(t.target_axial_strain));
+}
+
+void check_time_step(Validator& v, const JobSpec& spec)
+{
+    if (!spec.engine.time_step_s) return;
+    if (!v.clean({"engine.time_step_s", "engine.density_scale", "specimen.grain_radius_m",
+            "specimen.grain_radius_spread", "specimen.grain", "specimen.plate", "specimen.wire", "specimen.membrane"}))
+        return;
+    const StableStep stable = stable_time_step(spec);
+    const double dt = *spec.engine.time_step_s;
+    if (dt > stable.critical_s)
+        v.note("engine.time_step_s", exact_text(dt) + " exceeds the stable limit " + approx_text(stable.critical_s)
+                                         + " set by the " + stable.limited_by + " (\"auto\" would use "
+                                         + approx_text(stable.auto_s) + ")");
+}
+
+void cross_check(Validator& v, const JobSpec& spec)
+{
+    check_grain_size(v, spec.specimen);
+    check_grain_volume(v, spec.specimen);
+    check_wire_fits(v, spec.specimen);
+    check_membrane_mesh(v, spec.specimen);
+    check_body_count(v, spec);
+    check_snapshots(v, spec.triaxial);
+    check_time_step(v, spec);
+}
+
+// ------------------------------------------------------------------- writing
+
+json::array numbers_json(const std::vector<double>& xs)
+{
+    json::array a;
+    a.reserve(xs.size());
+    for (const double x : xs) a.emplace_back(x);
+    return a;
+}
+
+json::object specimen_json(const SpecimenSpec& s)
+{
+    const WireSpec& w = s.wire;
+    const MembraneSpec& m = s.membrane;
+    json::object membrane{
+        {"thickness_m", m.thickness_m},
+        {"mesh_size_m", m.mesh_size_m},
+        {"youngs_modulus_pa", m.youngs_modulus_pa},
+        {"poisson_ratio", m.poisson_ratio},
+        {"density_kg_per_m3", m.density_kg_per_m3},
+    };
+    if (m.contact_radius_m)
+        membrane["contact_radius_m"] = *m.contact_radius_m;
+    else
+        membrane["contact_radius_m"] = nullptr;
+    return {
+        {"membrane_radius_m", s.membrane_radius_m},
+        {"membrane_height_m", s.membrane_height_m},
+        {"grain_count", s.grain_count},
+        {"grain_radius_m", s.grain_radius_m},
+        {"grain_radius_spread", s.grain_radius_spread},
+        {"grain",
+            {
+                {"youngs_modulus_pa", s.grain.youngs_modulus_pa},
+                {"poisson_ratio", s.grain.poisson_ratio},
+                {"density_kg_per_m3", s.grain.density_kg_per_m3},
+            }},
+        {"plate",
+            {
+                {"youngs_modulus_pa", s.plate.youngs_modulus_pa},
+                {"poisson_ratio", s.plate.poisson_ratio},
+            }},
+        {"wire",
+            {
+                {"pattern", to_string(w.pattern)},
+                {"radius_m", w.radius_m},
+                {"segment_length_m", w.segment_length_m},
+                {"youngs_modulus_pa", w.youngs_modulus_pa},
+                {"poisson_ratio", w.poisson_ratio},
+                {"density_kg_per_m3", w.density_kg_per_m3},
+                {"nozzle_rise_speed_m_per_s", w.nozzle_rise_speed_m_per_s},
+                {"angular_speed_rad_per_s", w.angular_speed_rad_per_s},
+                {"helix_radius_m", w.helix_radius_m},
+                {"inner_radius_m", w.inner_radius_m},
+                {"period_angle_rad", w.period_angle_rad},
+                {"clearance_m", w.clearance_m},
+            }},
+        {"membrane", std::move(membrane)},
+        {"pouring",
+            {
+                {"settle_kinetic_energy_per_grain_j", s.pouring.settle_kinetic_energy_per_grain_j},
+                {"max_preparation_time_s", s.pouring.max_preparation_time_s},
+            }},
+    };
+}
+
+json::object contact_json(const ContactSpec& c)
+{
+    json::object o;
+    if (const auto* time = std::get_if<NormalDampingTime>(&c.normal_damping)) {
+        o["normal_damping_s"] = time->normal_damping_s;
+    } else {
+        const auto& e = std::get<NormalRestitution>(c.normal_damping);
+        o["restitution"] = e.restitution;
+        o["restitution_reference_speed_m_per_s"] = e.restitution_reference_speed_m_per_s;
+    }
+    o["tangential_stiffness_per_m"] = c.tangential_stiffness_per_m;
+    o["friction_coeff"] = c.friction_coeff;
+    o["critical_slip_m"] = c.critical_slip_m;
+    o["tangential_damping_s_per_m"] = c.tangential_damping_s_per_m;
+    return o;
+}
+
+json::object triaxial_json(const TriaxialSpec& t)
+{
+    return {
+        {"confining_pressures_pa", numbers_json(t.confining_pressures_pa)},
+        {"target_axial_strain", t.target_axial_strain},
+        {"plate_speed_m_per_s", t.plate_speed_m_per_s},
+        {"pressure_ramp_time_s", t.pressure_ramp_time_s},
+        {"hold_time_s", t.hold_time_s},
+        {"sample_interval_s", t.sample_interval_s},
+        {"snapshot_strains", numbers_json(t.snapshot_strains)},
+    };
+}
+
+json::object engine_json(const EngineSpec& e)
+{
+    json::object o;
+    if (e.time_step_s)
+        o["time_step_s"] = *e.time_step_s;
+    else
+        o["time_step_s"] = "auto";
+    o["integrator"] = to_string(e.integrator);
+    o["threads"] = e.threads;
+    o["density_scale"] = e.density_scale;
+    o["max_bodies"] = e.max_bodies;
+    return o;
+}
+
+} // namespace
+
+std::string_view to_string(WirePattern p)
+{
+    for (const auto& [name, value] : wire_patterns)
+        if (value == p) return name;
+    return "?";
+}
+
+std::string_view to_string(Integrator i)
+{
+    for (const auto& [name, value] : integrators)
+        if (value == i) return name;
+    return "?";
+}
+
+engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const json::value& doc)
+{
+    Validator v;
+    JobSpec spec;
+    read_job(v, doc, spec);
+    cross_check(v, spec);
+    if (!v.errors().empty()) return engine::Err{std::move(v.errors())};
+    return spec;
+}
+
+engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(std::string_view text)
+{
+    auto doc = parse_json_text(text);
+    if (!doc) return engine::Err{std::vector<FieldError>{{"", doc.error()}}};
+    return parse_job_spec(doc.value());
+}
+
+engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const char* text)
+{
+    return parse_job_spec(std::string_view(text));
+}
+
+json::value to_json(const JobSpec& spec)
+{
+    return json::object{
+        {"name", spec.name},
+        {"comment", spec.comment},
+        {"seed", spec.seed},
+        {"specimen", specimen_json(spec.specimen)},
+        {"contact", contact_json(spec.contact)},
+        {"triaxial", triaxial_json(spec.triaxial)},
+        {"engine", engine_json(spec.engine)},
+    };
+}
+
+} // namespace wiredem::api

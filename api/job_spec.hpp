@@ -1,0 +1,224 @@
+// The job spec: one JSON document describes a whole triaxial campaign (one
+// specimen, tested at several confining pressures). Server and client share
+// these structs, the parser (which validates) and the serializer (style §8).
+//
+// Invariants: every field is defaulted to the model's default (the model spec
+// §2–§8), so `{}` is a valid job and `JobSpec{}` is its parse; field names
+// carry SI units; parse_job_spec(to_json(s)) == s for every valid s. The
+// schema with units, defaults and allowed ranges is in docs/job-spec.md; the
+// ranges live in job_spec.cpp (one table per object) next to the reader.
+// All functions are pure and thread-safe.
+#pragma once
+
+#include "core/result.hpp"
+
+#include <boost/json/value.hpp>
+
+#include <cstdint>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace wiredem::api {
+
+/// How the nozzle lays the wire (the model spec §5). JSON: "none", "helix",
+/// "spiral_helix", "radial_helix".
+enum class WirePattern : std::uint8_t {
+    none,          ///< no wire
+    helix,         ///< circle of radius R_a rising at v_z
+    spiral_helix,  ///< circle of radius R_i whose centre travels on the circle R_a
+    radial_helix,  ///< circle R_a with a radial excursion to the axis every φ_rs
+};
+
+/// Time integrator (the model spec §4). JSON: "gear5", "verlet".
+enum class Integrator : std::uint8_t {
+    gear5,   ///< fifth-order Gear predictor–corrector, the reference
+    verlet,  ///< velocity Verlet: cheaper, symplectic
+};
+
+/// Elastic properties of the grains (the model spec §2).
+struct GrainMaterialSpec {
+    double youngs_modulus_pa = 10e9;     ///< E_p [Pa], (0, 1e13]
+    double poisson_ratio = 0.3;          ///< ν_p, (-1, 0.5]
+    double density_kg_per_m3 = 7800.0;   ///< ρ_p [kg/m³], (0, 1e5]
+    friend bool operator==(const GrainMaterialSpec&, const GrainMaterialSpec&) = default;
+};
+
+/// Elastic properties of both plates (the model spec §2). Plates do not move
+/// freely, so they have no density.
+struct PlateMaterialSpec {
+    double youngs_modulus_pa = 1e9;      ///< E_b [Pa], (0, 1e13]
+    double poisson_ratio = 0.3;          ///< ν_b, (-1, 0.5]
+    friend bool operator==(const PlateMaterialSpec&, const PlateMaterialSpec&) = default;
+};
+
+/// The wire and how the nozzle lays it (the model spec §2, §5). The pattern
+/// parameters that a pattern does not use are kept (and validated) but ignored.
+struct WireSpec {
+    WirePattern pattern = WirePattern::helix;  ///< the simplest pattern of the paper
+    double radius_m = 5e-4;                    ///< r_w, contact radius of a node [m], (0, 0.01]
+    double segment_length_m = 1.25e-3;         ///< l_w, rest length of a segment [m], (0, 0.1]
+    double youngs_modulus_pa = 1e9;            ///< E_w [Pa], (0, 1e13]
+    double poisson_ratio = 0.0;                ///< ν_w, (-1, 0.5]
+    double density_kg_per_m3 = 1000.0;         ///< ρ_w [kg/m³], (0, 1e5]
+    double nozzle_rise_speed_m_per_s = 0.5;    ///< v_z^w [m/s], (0, 100]
+    double angular_speed_rad_per_s = 300.0;    ///< ω [rad/s], (0, 1e5]; laying speed ω R_a
+    double helix_radius_m = 12e-3;             ///< R_a [m], (0, 1]; 0.6 R for the 20 mm column
+    double inner_radius_m = 4e-3;              ///< R_i, spiral_helix only [m], (0, 1]
+    double period_angle_rad = std::numbers::pi / 2; ///< φ_rs, spiral/radial only [rad], (0, 2π]
+    double clearance_m = 1e-3;                 ///< gap kept to the membrane beyond r_w [m], [0, 0.1]
+    friend bool operator==(const WireSpec&, const WireSpec&) = default;
+};
+
+/// The membrane (the model spec §2, §3).
+struct MembraneSpec {
+    double thickness_m = 1e-3;                 ///< d [m], (0, 0.01]
+    double mesh_size_m = 1.25e-3;              ///< l_m, edge of the triangular mesh [m], (0, 0.1]
+    double youngs_modulus_pa = 1e8;            ///< E_m [Pa], (0, 1e13]
+    double poisson_ratio = 0.0;                ///< ν_m, (-1, 0.5]
+    double density_kg_per_m3 = 1000.0;         ///< ρ_m [kg/m³], (0, 1e5]
+    /// r_m, contact radius of a node [m], (0, 0.01]; nullopt (JSON null or
+    /// absent): thickness_m / 2, following the thickness. See
+    /// membrane_contact_radius_m.
+    std::optional<double> contact_radius_m;
+    friend bool operator==(const MembraneSpec&, const MembraneSpec&) = default;
+};
+
+/// The effective membrane contact radius r_m [m]: the given one, or d/2.
+[[nodiscard]] inline double membrane_contact_radius_m(const MembraneSpec& m)
+{
+    return m.contact_radius_m ? *m.contact_radius_m : 0.5 * m.thickness_m;
+}
+
+/// When the preparation (the model spec §5) ends.
+struct PouringSpec {
+    /// Settled when the mean kinetic energy per grain falls below this [J], (0, 1].
+    double settle_kinetic_energy_per_grain_j = 1e-9;
+    /// The preparation fails if not settled after this much simulated time [s], (0, 1e4].
+    double max_preparation_time_s = 2.0;
+    friend bool operator==(const PouringSpec&, const PouringSpec&) = default;
+};
+
+/// The specimen: membrane, grains, wire and how they are poured.
+struct SpecimenSpec {
+    double membrane_radius_m = 0.02;           ///< R [m], (0, 1]
+    double membrane_height_m = 0.12;           ///< H_m [m], (0, 10]
+    /// N_p, [1, 1e8]. 8000, not the paper's 1000: the model spec §8.
+    std::uint64_t grain_count = 8000;
+    double grain_radius_m = 1.23e-3;           ///< r_p, mean radius [m], (0, 0.1]
+    /// s: radii uniform in r_p (1 ± s); 0 = monodisperse. [0, 0.5).
+    double grain_radius_spread = 0.0;
+    GrainMaterialSpec grain;                   ///< grain material
+    PlateMaterialSpec plate;                   ///< plate material
+    WireSpec wire;                             ///< the wire and its deployment
+    MembraneSpec membrane;                     ///< the membrane
+    PouringSpec pouring;                       ///< end of the preparation
+    friend bool operator==(const SpecimenSpec&, const SpecimenSpec&) = default;
+};
+
+/// Normal damping given as a coefficient of restitution e_n; γ_n is derived
+/// from it for a head-on grain–grain collision at the reference speed
+/// (resolved_normal_damping_s in api/derived.hpp).
+struct NormalRestitution {
+    double restitution = 0.5;                          ///< e_n, (0, 1]
+    double restitution_reference_speed_m_per_s = 0.1;  ///< impact speed for e_n [m/s], (0, 100]
+    friend bool operator==(const NormalRestitution&, const NormalRestitution&) = default;
+};
+
+/// Normal damping given directly as γ_n in seconds (the model spec §3).
+struct NormalDampingTime {
+    double normal_damping_s = 0.0;  ///< γ_n [s], [0, 1]
+    friend bool operator==(const NormalDampingTime&, const NormalDampingTime&) = default;
+};
+
+/// The contact law shared by every pair (the model spec §3).
+struct ContactSpec {
+    /// Exactly one of the two forms; JSON: either `restitution` (+
+    /// `restitution_reference_speed_m_per_s`) or `normal_damping_s`.
+    std::variant<NormalRestitution, NormalDampingTime> normal_damping = NormalRestitution{};
+    double tangential_stiffness_per_m = 1e5;   ///< k_t in F_t = −k_t F_n δ_t [1/m], (0, 1e9]
+    double friction_coeff = 0.3;               ///< μ, [0, 10]
+    double critical_slip_m = 1e-4;             ///< d_cr [m], (0, 1]
+    double tangential_damping_s_per_m = 1e3;   ///< γ_t [s/m] (engine/laws/tangential.hpp), [0, 1e9]
+    friend bool operator==(const ContactSpec&, const ContactSpec&) = default;
+};
+
+/// The triaxial tests (the model spec §6), one per confining pressure.
+struct TriaxialSpec {
+    /// σ_3 of each test [Pa]: 1–16 entries, each in (0, 1e7], strictly increasing.
+    std::vector<double> confining_pressures_pa{20e3, 40e3, 60e3, 80e3};
+    double target_axial_strain = 0.1;          ///< ε_a at which a test ends, (0, 0.5]
+    double plate_speed_m_per_s = 2e-4;         ///< top plate speed v_z [m/s], (0, 10]
+    double pressure_ramp_time_s = 0.05;        ///< σ_3 ramps linearly from 0 over this [s], [0, 1e3]
+    double hold_time_s = 0.05;                 ///< then holds before loading [s], [0, 1e3]
+    double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
+    /// Axial strains at which the wire profile and force network are saved:
+    /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
+    /// absent from the JSON: {0, target/2, target}.
+    std::vector<double> snapshot_strains{0.0, 0.05, 0.1};
+    friend bool operator==(const TriaxialSpec&, const TriaxialSpec&) = default;
+};
+
+/// Numerical settings.
+struct EngineSpec {
+    /// δt [s]: nullopt = "auto" (auto_s of stable_time_step); a number must be
+    /// in (0, 1e-3] and at most the stable limit.
+    std::optional<double> time_step_s;
+    Integrator integrator = Integrator::gear5; ///< time integrator
+    std::uint32_t threads = 0;                 ///< worker threads, 0 = all cores, [0, 256]
+    double density_scale = 1.0;                ///< mass scaling factor for every body, [1, 1e6]
+    /// Cap on grains + wire nodes + membrane nodes (estimated), [1, 1e9].
+    std::uint64_t max_bodies = 200000;
+    friend bool operator==(const EngineSpec&, const EngineSpec&) = default;
+};
+
+/// One job: a specimen prepared once and tested at every confining pressure.
+struct JobSpec {
+    std::string name = "job";                  ///< ≤ 200 characters, no control characters
+    std::string comment;                       ///< free text
+    std::uint64_t seed = 1;                    ///< seed of the pouring (the model spec §5)
+    SpecimenSpec specimen;                     ///< what is prepared
+    ContactSpec contact;                       ///< the contact law
+    TriaxialSpec triaxial;                     ///< how it is tested
+    EngineSpec engine;                         ///< numerical settings
+    friend bool operator==(const JobSpec&, const JobSpec&) = default;
+};
+
+/// One problem in a job document.
+struct FieldError {
+    /// JSON path of the field, e.g. `specimen.wire.helix_radius_m` or
+    /// `triaxial.confining_pressures_pa[2]`; "" for the whole document.
+    std::string path;
+    /// What is wrong, with the offending value and the limit, e.g.
+    /// `-5 is out of range (0, 1e+07]`. Shown to users as "path: message".
+    std::string message;
+    friend bool operator==(const FieldError&, const FieldError&) = default;
+};
+
+/// Parses and validates a job document. Reports every problem it finds
+/// (unknown keys, wrong types, values out of range, then the cross-field
+/// checks whose inputs are valid), each with its field path; never throws on
+/// bad input.
+[[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const boost::json::value& doc);
+
+/// Parses JSON text, then validates it as above. Malformed JSON gives one
+/// FieldError with path "" and the parser's message with line and column.
+/// Numbers are read correctly rounded, so the text round trip is exact too.
+[[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(std::string_view text);
+
+/// Overload for string literals (a `const char*` converts to both
+/// string_view and boost::json::value): parses it as JSON text.
+[[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const char* text);
+
+/// The complete document for a spec: every field, defaults included (an
+/// unset optional as null or "auto"). parse_job_spec(to_json(s)) == s.
+[[nodiscard]] boost::json::value to_json(const JobSpec& spec);
+
+/// JSON names of the enums.
+[[nodiscard]] std::string_view to_string(WirePattern p);
+[[nodiscard]] std::string_view to_string(Integrator i);
+
+} // namespace wiredem::api

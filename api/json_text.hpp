@@ -1,0 +1,27 @@
+// Strict JSON text parsing for the job spec: RFC 8259 only (no comments, no
+// trailing commas, valid UTF-8), no duplicate keys, and numbers converted with
+// correct rounding (Boost.JSON 1.81's own conversion can be one ulp off, which
+// would break the text round trip client → server of a spec).
+//
+// Errors carry the parser's message and the position of the problem.
+#pragma once
+
+#include "core/result.hpp"
+
+#include <boost/json/value.hpp>
+
+#include <string>
+#include <string_view>
+
+namespace wiredem::api {
+
+/// Parses one JSON document. Whitespace may surround it; anything else after
+/// it is an error. Every floating-point number is the double nearest to its
+/// text (std::from_chars); integers that fit become int64 (or uint64 above
+/// INT64_MAX). Thread-safe (no shared state).
+/// @return the document, or a message such as
+///         `syntax error at line 3, column 7 (byte 41)` or
+///         `duplicate key "seed" at line 1, column 19 (byte 18)`
+[[nodiscard]] engine::Result<boost::json::value, std::string> parse_json_text(std::string_view text);
+
+} // namespace wiredem::api

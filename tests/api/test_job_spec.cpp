@@ -1,0 +1,433 @@
+// The job spec: defaults, the round trip, and one row per kind of invalid
+// document with the exact field path and a fragment of the message.
+#include "api/job_spec.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <variant>
+
+using namespace wiredem::api;
+namespace json = boost::json;
+
+namespace {
+
+/// "path: message" lines, for failure output.
+std::string describe(const std::vector<FieldError>& errors)
+{
+    std::string s;
+    for (const FieldError& e : errors) s += "  " + e.path + ": " + e.message + "\n";
+    return s;
+}
+
+/// A spec in which every field differs from its default (and stays valid).
+JobSpec everything_changed()
+{
+    JobSpec s;
+    s.name = "spiral at four pressures, ünïcode";
+    s.comment = "compare with the helix run";
+    s.seed = 18446744073709551615ull; // above INT64_MAX: travels as uint64
+    SpecimenSpec& p = s.specimen;
+    p.membrane_radius_m = 0.021;
+    p.membrane_height_m = 0.11;
+    p.grain_count = 7000;
+    p.grain_radius_m = 1.1e-3;
+    p.grain_radius_spread = 0.15;
+    p.grain = {20e9, 0.25, 2650.0};
+    p.plate = {2e9, 0.2};
+    p.wire.pattern = WirePattern::spiral_helix;
+    p.wire.radius_m = 4e-4;
+    p.wire.segment_length_m = 1.1e-3;
+    p.wire.youngs_modulus_pa = 2e9;
+    p.wire.poisson_ratio = 0.1;
+    p.wire.density_kg_per_m3 = 1200.0;
+    p.wire.nozzle_rise_speed_m_per_s = 0.4;
+    p.wire.angular_speed_rad_per_s = 250.0;
+    p.wire.helix_radius_m = 11e-3;
+    p.wire.inner_radius_m = 3e-3;
+    p.wire.period_angle_rad = 1.0471975511965976; // π/3
+    p.wire.clearance_m = 1.5e-3;
+    p.membrane.thickness_m = 0.8e-3;
+    p.membrane.mesh_size_m = 1.2e-3;
+    p.membrane.youngs_modulus_pa = 0.9e8;
+    p.membrane.poisson_ratio = 0.05;
+    p.membrane.density_kg_per_m3 = 1100.0;
+    p.membrane.contact_radius_m = 0.45e-3;
+    p.pouring.settle_kinetic_energy_per_grain_j = 1.0422268939785323e-5; // Boost 1.81 parses this 1 ulp off
+    p.pouring.max_preparation_time_s = 3.5;
+    s.contact.normal_damping = NormalDampingTime{2.4942671903958094e-7};   // likewise
+    s.contact.tangential_stiffness_per_m = 2e5;
+    s.contact.friction_coeff = 0.5;
+    s.contact.critical_slip_m = 2e-4;
+    s.contact.tangential_damping_s_per_m = 500.0;
+    s.triaxial.confining_pressures_pa = {10e3, 30e3, 100e3};
+    s.triaxial.target_axial_strain = 0.15;
+    s.triaxial.plate_speed_m_per_s = 0.01;
+    s.triaxial.pressure_ramp_time_s = 0.1;
+    s.triaxial.hold_time_s = 0.02;
+    s.triaxial.sample_interval_s = 1e-3;
+    s.triaxial.snapshot_strains = {0.0, 0.02, 0.15};
+    s.engine.time_step_s = 5e-8;
+    s.engine.integrator = Integrator::verlet;
+    s.engine.threads = 2;
+    s.engine.density_scale = 4.0;
+    s.engine.max_bodies = 50000;
+    return s;
+}
+
+/// Finds the error at `path`, or nullptr.
+const FieldError* error_at(const std::vector<FieldError>& errors, const std::string& path)
+{
+    for (const FieldError& e : errors)
+        if (e.path == path) return &e;
+    return nullptr;
+}
+
+} // namespace
+
+TEST(JobSpec, EmptyDocumentIsTheDefaultJob)
+{
+    const auto parsed = parse_job_spec("{}");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value(), JobSpec{});
+}
+
+TEST(JobSpec, DefaultsAreTheModelsParameters)
+{
+    const JobSpec s;
+    EXPECT_EQ(s.specimen.grain_count, 8000u); // not the paper's 1000: the model spec §8
+    EXPECT_DOUBLE_EQ(s.specimen.grain_radius_m, 1.23e-3);
+    EXPECT_DOUBLE_EQ(s.specimen.membrane_radius_m, 0.02);
+    EXPECT_EQ(s.specimen.wire.pattern, WirePattern::helix);
+    EXPECT_DOUBLE_EQ(s.specimen.wire.youngs_modulus_pa, 1e9);
+    EXPECT_DOUBLE_EQ(s.specimen.membrane.youngs_modulus_pa, 1e8);
+    EXPECT_DOUBLE_EQ(membrane_contact_radius_m(s.specimen.membrane), 0.5e-3); // d/2
+    ASSERT_TRUE(std::holds_alternative<NormalRestitution>(s.contact.normal_damping));
+    EXPECT_DOUBLE_EQ(std::get<NormalRestitution>(s.contact.normal_damping).restitution, 0.5);
+    EXPECT_DOUBLE_EQ(s.contact.tangential_stiffness_per_m, 1e5);
+    EXPECT_EQ(s.triaxial.confining_pressures_pa, (std::vector<double>{20e3, 40e3, 60e3, 80e3}));
+    EXPECT_FALSE(s.engine.time_step_s.has_value()); // "auto"
+    EXPECT_EQ(s.engine.integrator, Integrator::gear5);
+}
+
+TEST(JobSpec, DefaultJobRoundTrips)
+{
+    const JobSpec s;
+    const auto back = parse_job_spec(to_json(s));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), s);
+}
+
+TEST(JobSpec, EveryFieldRoundTripsThroughJsonValue)
+{
+    const JobSpec s = everything_changed();
+    const auto back = parse_job_spec(to_json(s));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), s);
+}
+
+TEST(JobSpec, EveryFieldRoundTripsThroughTextBitForBit)
+{
+    const JobSpec s = everything_changed();
+    const std::string text = json::serialize(to_json(s));
+    const auto back = parse_job_spec(text);
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), s) << text;
+}
+
+TEST(JobSpec, RestitutionFormRoundTrips)
+{
+    JobSpec s;
+    s.contact.normal_damping = NormalRestitution{0.8, 0.3};
+    const auto back = parse_job_spec(json::serialize(to_json(s)));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), s);
+}
+
+TEST(JobSpec, ToJsonWritesEveryFieldIncludingDefaults)
+{
+    const json::value j = to_json(JobSpec{});
+    const json::object& o = j.as_object();
+    for (const char* key : {"name", "comment", "seed", "specimen", "contact", "triaxial", "engine"})
+        EXPECT_TRUE(o.contains(key)) << key;
+    EXPECT_EQ(o.at("engine").at("time_step_s"), json::value("auto"));
+    EXPECT_TRUE(o.at("specimen").at("membrane").at("contact_radius_m").is_null());
+    EXPECT_EQ(o.at("specimen").at("wire").as_object().size(), 12u);
+    EXPECT_EQ(o.at("specimen").at("wire").at("pattern"), json::value("helix"));
+    EXPECT_TRUE(o.at("contact").as_object().contains("restitution"));
+    EXPECT_FALSE(o.at("contact").as_object().contains("normal_damping_s"));
+}
+
+TEST(JobSpec, NormalDampingMayBeGivenInSeconds)
+{
+    const auto parsed = parse_job_spec(R"({"contact": {"normal_damping_s": 1e-6}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    const auto* time = std::get_if<NormalDampingTime>(&parsed.value().contact.normal_damping);
+    ASSERT_NE(time, nullptr);
+    EXPECT_EQ(time->normal_damping_s, 1e-6);
+}
+
+TEST(JobSpec, MembraneContactRadiusFollowsTheThicknessUnlessGiven)
+{
+    const auto followed = parse_job_spec(R"({"specimen": {"membrane": {"thickness_m": 2e-3, "contact_radius_m": null}}})");
+    ASSERT_TRUE(followed.ok()) << describe(followed.error());
+    EXPECT_FALSE(followed.value().specimen.membrane.contact_radius_m.has_value());
+    EXPECT_DOUBLE_EQ(membrane_contact_radius_m(followed.value().specimen.membrane), 1e-3);
+
+    const auto given = parse_job_spec(R"({"specimen": {"membrane": {"thickness_m": 2e-3, "contact_radius_m": 7e-4}}})");
+    ASSERT_TRUE(given.ok()) << describe(given.error());
+    EXPECT_DOUBLE_EQ(membrane_contact_radius_m(given.value().specimen.membrane), 7e-4);
+}
+
+TEST(JobSpec, DefaultSnapshotsFollowTheTargetStrain)
+{
+    const auto parsed = parse_job_spec(R"({"triaxial": {"target_axial_strain": 0.2}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value().triaxial.snapshot_strains, (std::vector<double>{0.0, 0.1, 0.2}));
+}
+
+TEST(JobSpec, IntegersMayBeWrittenWithAZeroFraction)
+{
+    const auto parsed = parse_job_spec(R"({"seed": 7.0, "specimen": {"grain_count": 3000.0}, "engine": {"threads": 2e0}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value().seed, 7u);
+    EXPECT_EQ(parsed.value().specimen.grain_count, 3000u);
+    EXPECT_EQ(parsed.value().engine.threads, 2u);
+}
+
+TEST(JobSpec, StableExplicitTimeStepIsAccepted)
+{
+    const auto parsed = parse_job_spec(R"({"engine": {"time_step_s": 1e-8}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value().engine.time_step_s, 1e-8);
+    const auto automatic = parse_job_spec(R"({"engine": {"time_step_s": "auto"}})");
+    ASSERT_TRUE(automatic.ok()) << describe(automatic.error());
+    EXPECT_FALSE(automatic.value().engine.time_step_s.has_value());
+}
+
+TEST(JobSpec, PatternNoneIgnoresTheHelixGeometry)
+{
+    // Without a wire, a helix radius wider than the membrane does not matter.
+    const auto parsed = parse_job_spec(R"({"specimen": {"wire": {"pattern": "none", "helix_radius_m": 0.5}}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value().specimen.wire.pattern, WirePattern::none);
+}
+
+TEST(JobSpec, MessageNamesPathValueAndRange)
+{
+    const auto parsed = parse_job_spec(R"({"triaxial": {"confining_pressures_pa": [20e3, 40e3, -5]}})");
+    ASSERT_FALSE(parsed.ok());
+    ASSERT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
+    const FieldError& e = parsed.error()[0];
+    EXPECT_EQ(e.path + ": " + e.message, "triaxial.confining_pressures_pa[2]: -5 is out of range (0, 1e+07]");
+}
+
+TEST(JobSpec, ReportsEveryProblemAtOnceInDocumentOrder)
+{
+    const auto parsed = parse_job_spec(R"({
+        "name": 3,
+        "specimen": {"grain_count": 3.5, "wire": {"pattern": "zigzag", "colour": "red"}},
+        "contact": {"friction_coeff": -1},
+        "triaxial": {"confining_pressures_pa": [0, 2e4, 1e4]},
+        "engine": {"threads": 1000},
+        "extra": true
+    })");
+    ASSERT_FALSE(parsed.ok());
+    std::vector<std::string> paths;
+    for (const FieldError& e : parsed.error()) paths.push_back(e.path);
+    EXPECT_EQ(paths, (std::vector<std::string>{"name", "specimen.grain_count", "specimen.wire.pattern",
+                         "specimen.wire.colour", "contact.friction_coeff", "triaxial.confining_pressures_pa[0]",
+                         "triaxial.confining_pressures_pa[2]", "engine.threads", "extra"}))
+        << describe(parsed.error());
+}
+
+TEST(JobSpec, OneBadValueGivesOneErrorNotACascade)
+{
+    // A negative membrane radius must not also trip the wire-fit, grain-size,
+    // volume and body-count checks that read it.
+    const auto parsed = parse_job_spec(R"({"specimen": {"membrane_radius_m": -0.02}})");
+    ASSERT_FALSE(parsed.ok());
+    EXPECT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
+}
+
+TEST(JobSpec, FailedCrossChecksDoNotHideOtherCrossChecks)
+{
+    // Each value is in range; five independent cross-field checks fail, and
+    // an unknown key does not silence the checks of its object either.
+    const auto parsed = parse_job_spec(R"({
+        "specimen": {"grain_radius_m": 0.0055, "grain_count": 100,
+                     "wire": {"pattern": "spiral_helix", "helix_radius_m": 0.015, "colour": "red"},
+                     "membrane": {"mesh_size_m": 0.012}},
+        "engine": {"time_step_s": 1e-5, "max_bodies": 10}
+    })");
+    ASSERT_FALSE(parsed.ok());
+    std::vector<std::string> paths;
+    for (const FieldError& e : parsed.error()) paths.push_back(e.path);
+    EXPECT_EQ(paths, (std::vector<std::string>{"specimen.wire.colour", "specimen.grain_radius_m",
+                         "specimen.wire.helix_radius_m", "specimen.membrane.mesh_size_m", "engine.max_bodies",
+                         "engine.time_step_s"}))
+        << describe(parsed.error());
+}
+
+TEST(JobSpec, DocumentedExampleIsValid)
+{
+    // The ```json block of docs/job-spec.md must stay a valid job.
+    std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/docs/job-spec.md");
+    ASSERT_TRUE(in) << "docs/job-spec.md not found";
+    std::stringstream doc;
+    doc << in.rdbuf();
+    const std::string md = doc.str();
+    const std::size_t begin = md.find("```json\n");
+    ASSERT_NE(begin, std::string::npos);
+    const std::size_t end = md.find("```", begin + 8);
+    ASSERT_NE(end, std::string::npos);
+    const auto parsed = parse_job_spec(std::string_view(md).substr(begin + 8, end - begin - 8));
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    EXPECT_EQ(parsed.value().specimen.wire.pattern, WirePattern::spiral_helix);
+}
+
+// ------------------------------------------------------------ invalid table
+
+struct InvalidCase {
+    const char* name;       ///< test name suffix
+    std::string document;   ///< JSON text
+    std::string path;       ///< exact path of the expected error
+    std::string fragment;   ///< must occur in its message
+};
+
+class JobSpecRejects : public testing::TestWithParam<InvalidCase> {};
+
+TEST_P(JobSpecRejects, NamingTheFieldAndTheProblem)
+{
+    const InvalidCase& c = GetParam();
+    const auto parsed = parse_job_spec(c.document);
+    ASSERT_FALSE(parsed.ok()) << c.document;
+    const FieldError* e = error_at(parsed.error(), c.path);
+    ASSERT_NE(e, nullptr) << "no error at \"" << c.path << "\"; got\n" << describe(parsed.error());
+    EXPECT_NE(e->message.find(c.fragment), std::string::npos)
+        << "message \"" << e->message << "\" lacks \"" << c.fragment << "\"";
+}
+
+const std::string seventeen_pressures = "[" + [] {
+    std::string s;
+    for (int i = 1; i <= 17; ++i) s += (i > 1 ? "," : "") + std::to_string(i * 1000);
+    return s;
+}() + "]";
+
+INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
+    testing::Values(
+        // keys and types
+        InvalidCase{"UnknownTopLevelKey", R"({"colour": 1})", "colour", "unknown key \"colour\""},
+        InvalidCase{"UnknownNestedKey", R"({"specimen": {"wire": {"colour": 1}}})", "specimen.wire.colour",
+            "unknown key \"colour\" (allowed here: pattern, radius_m"},
+        InvalidCase{"MisspelledUnitSuffix", R"({"specimen": {"grain_radius_mm": 1}})", "specimen.grain_radius_mm",
+            "unknown key"},
+        InvalidCase{"DocumentNotAnObject", "[1, 2]", "", "expected an object, got an array"},
+        InvalidCase{"NestedNotAnObject", R"({"specimen": 3})", "specimen", "expected an object, got a number"},
+        InvalidCase{"StringForNumber", R"({"specimen": {"grain_radius_m": "big"}})", "specimen.grain_radius_m",
+            "expected a number, got a string"},
+        InvalidCase{"BooleanForNumber", R"({"contact": {"friction_coeff": true}})", "contact.friction_coeff",
+            "expected a number, got a boolean"},
+        InvalidCase{"NumberForString", R"({"name": 5})", "name", "expected a string, got a number"},
+        InvalidCase{"NumberForArray", R"({"triaxial": {"confining_pressures_pa": 20000}})",
+            "triaxial.confining_pressures_pa", "expected an array, got a number"},
+        InvalidCase{"NullForNumber", R"({"engine": {"density_scale": null}})", "engine.density_scale",
+            "expected a number, got null"},
+        InvalidCase{"FractionalInteger", R"({"specimen": {"grain_count": 3.5}})", "specimen.grain_count",
+            "expected an integer, got 3.5"},
+        InvalidCase{"NegativeSeed", R"({"seed": -1})", "seed", "-1 is out of range [0, 18446744073709551615]"},
+        InvalidCase{"UnknownPattern", R"({"specimen": {"wire": {"pattern": "zigzag"}}})", "specimen.wire.pattern",
+            "\"zigzag\" is not one of \"none\", \"helix\", \"spiral_helix\", \"radial_helix\""},
+        InvalidCase{"UnknownIntegrator", R"({"engine": {"integrator": "rk4"}})", "engine.integrator",
+            "\"rk4\" is not one of \"gear5\", \"verlet\""},
+        InvalidCase{"TimeStepWord", R"({"engine": {"time_step_s": "fast"}})", "engine.time_step_s",
+            "\"fast\" is neither \"auto\" nor a number"},
+        InvalidCase{"TimeStepArray", R"({"engine": {"time_step_s": [1e-7]}})", "engine.time_step_s",
+            "expected a number or \"auto\", got an array"},
+        InvalidCase{"MembraneContactRadiusWord", R"({"specimen": {"membrane": {"contact_radius_m": "half"}}})",
+            "specimen.membrane.contact_radius_m", "expected a number, got a string"},
+        // ranges
+        InvalidCase{"NegativePressure", R"({"triaxial": {"confining_pressures_pa": [1e4, 2e4, -5]}})",
+            "triaxial.confining_pressures_pa[2]", "-5 is out of range (0, 1e+07]"},
+        InvalidCase{"PressuresNotIncreasing", R"({"triaxial": {"confining_pressures_pa": [4e4, 2e4]}})",
+            "triaxial.confining_pressures_pa[1]", "20000 is not greater than the previous entry 40000"},
+        InvalidCase{"NoPressure", R"({"triaxial": {"confining_pressures_pa": []}})", "triaxial.confining_pressures_pa",
+            "has 0 entries; allowed 1 to 16"},
+        InvalidCase{"SeventeenPressures", R"({"triaxial": {"confining_pressures_pa": )" + seventeen_pressures + "}}",
+            "triaxial.confining_pressures_pa", "has 17 entries; allowed 1 to 16"},
+        InvalidCase{"SpreadOfOneHalf", R"({"specimen": {"grain_radius_spread": 0.5}})", "specimen.grain_radius_spread",
+            "0.5 is out of range [0, 0.5)"},
+        InvalidCase{"PoissonRatioAboveOneHalf", R"({"specimen": {"grain": {"poisson_ratio": 0.6}}})",
+            "specimen.grain.poisson_ratio", "0.6 is out of range (-1, 0.5]"},
+        InvalidCase{"ZeroGrains", R"({"specimen": {"grain_count": 0}})", "specimen.grain_count",
+            "0 is out of range [1, 100000000]"},
+        InvalidCase{"TooManyThreads", R"({"engine": {"threads": 300}})", "engine.threads", "300 is out of range [0, 256]"},
+        InvalidCase{"DensityScaleBelowOne", R"({"engine": {"density_scale": 0.5}})", "engine.density_scale",
+            "0.5 is out of range [1, 1e+06]"},
+        InvalidCase{"ZeroTimeStep", R"({"engine": {"time_step_s": 0}})", "engine.time_step_s",
+            "0 is out of range (0, 0.001]"},
+        InvalidCase{"TargetStrainAboveHalf", R"({"triaxial": {"target_axial_strain": 0.6}})",
+            "triaxial.target_axial_strain", "0.6 is out of range (0, 0.5]"},
+        InvalidCase{"RestitutionZero", R"({"contact": {"restitution": 0}})", "contact.restitution",
+            "0 is out of range (0, 1]"},
+        InvalidCase{"NameTooLong", R"({"name": ")" + std::string(201, 'x') + "\"}", "name",
+            "is 201 characters long; at most 200"},
+        InvalidCase{"NameOnTwoLines", R"({"name": "a\nb"})", "name", "control character"},
+        // both damping forms
+        InvalidCase{"BothDampingForms", R"({"contact": {"normal_damping_s": 1e-6, "restitution": 0.5}})",
+            "contact.normal_damping_s", "both contact.normal_damping_s and contact.restitution are given"},
+        InvalidCase{"ReferenceSpeedWithDampingTime",
+            R"({"contact": {"normal_damping_s": 1e-6, "restitution_reference_speed_m_per_s": 0.2}})",
+            "contact.restitution_reference_speed_m_per_s", "applies to contact.restitution only"},
+        // cross-field checks
+        InvalidCase{"HelixTooLarge", R"({"specimen": {"wire": {"pattern": "helix", "helix_radius_m": 0.019}}})",
+            "specimen.wire.helix_radius_m",
+            "0.019 is too large for the membrane: a helix needs helix_radius_m + radius_m + clearance_m < "
+            "membrane_radius_m 0.02, so helix_radius_m < 0.0185"},
+        InvalidCase{"SpiralTooLarge",
+            R"({"specimen": {"wire": {"pattern": "spiral_helix", "helix_radius_m": 0.015, "inner_radius_m": 0.004}}})",
+            "specimen.wire.helix_radius_m",
+            "a spiral_helix needs helix_radius_m + inner_radius_m + radius_m + clearance_m < membrane_radius_m 0.02, "
+            "so helix_radius_m < 0.0145"},
+        InvalidCase{"RadialTooLarge", R"({"specimen": {"wire": {"pattern": "radial_helix", "helix_radius_m": 0.0186}}})",
+            "specimen.wire.helix_radius_m", "a radial_helix needs helix_radius_m + radius_m + clearance_m"},
+        InvalidCase{"HelixTooLargeForNarrowerMembrane", R"({"specimen": {"membrane_radius_m": 0.012}})",
+            "specimen.wire.helix_radius_m", "0.012 is too large for the membrane"},
+        InvalidCase{"SpiralInnerNotSmaller",
+            R"({"specimen": {"wire": {"pattern": "spiral_helix", "helix_radius_m": 0.006, "inner_radius_m": 0.008}}})",
+            "specimen.wire.inner_radius_m", "0.008 is not smaller than helix_radius_m 0.006"},
+        InvalidCase{"UnstableTimeStep", R"({"engine": {"time_step_s": 1e-5}})", "engine.time_step_s",
+            "1e-05 exceeds the stable limit 1.88e-07 set by the wire segments"},
+        InvalidCase{"UnstableTimeStepWithoutWire", R"({"specimen": {"wire": {"pattern": "none"}}, "engine": {"time_step_s": 1e-6}})",
+            "engine.time_step_s", "set by the membrane edges"},
+        InvalidCase{"TooManyBodies", R"({"engine": {"max_bodies": 10000}})", "engine.max_bodies",
+            "bodies (8000 grains, 693 wire nodes, 11312 membrane nodes), more than max_bodies 10000"},
+        InvalidCase{"GrainTooBigForMembrane", R"({"specimen": {"grain_radius_m": 0.006, "grain_count": 100}})",
+            "specimen.grain_radius_m", "0.006 is too big for the membrane"},
+        InvalidCase{"GrainsDoNotFit", R"({"specimen": {"grain_count": 30000}})", "specimen.grain_count",
+            "30000 grains do not fit in the membrane"},
+        InvalidCase{"MembraneMeshTooCoarse", R"({"specimen": {"membrane": {"mesh_size_m": 0.004}}})",
+            "specimen.membrane.mesh_size_m", "0.004 is too coarse"},
+        InvalidCase{"SnapshotBeyondTarget",
+            R"({"triaxial": {"target_axial_strain": 0.1, "snapshot_strains": [0, 0.05, 0.2]}})",
+            "triaxial.snapshot_strains[2]", "0.2 is beyond triaxial.target_axial_strain 0.1"},
+        // malformed JSON
+        InvalidCase{"DoubleComma", "{\"seed\": 1,,}", "", "syntax error at line 1, column 12"},
+        InvalidCase{"SyntaxErrorOnLaterLine", "{\n  \"seed\": 1\n  \"name\": \"x\"\n}", "", "at line 3, column 3"},
+        InvalidCase{"Truncated", "{\"seed\": 1", "", "incomplete JSON"},
+        InvalidCase{"EmptyText", "", "", "incomplete JSON"},
+        InvalidCase{"TrailingText", "{} {}", "", "unexpected text after the JSON document at line 1, column 4"},
+        InvalidCase{"DuplicateKey", R"({"seed": 1, "seed": 2})", "", "duplicate key \"seed\""},
+        InvalidCase{"Comment", "{} // no comments", "", "line 1, column 4"}),
+    [](const testing::TestParamInfo<InvalidCase>& info) { return std::string(info.param.name); });
+
+TEST(JobSpec, MalformedJsonGivesExactlyOneError)
+{
+    const auto parsed = parse_job_spec(std::string_view("{\"specimen\": {\"grain_count\": 3.5,}"));
+    ASSERT_FALSE(parsed.ok());
+    ASSERT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
+    EXPECT_EQ(parsed.error()[0].path, "");
+}

@@ -1,0 +1,124 @@
+// Quantities derived from a job: the stable time step against the spring
+// formulas of the model spec §4, the body estimate, the damping time.
+#include "api/derived.hpp"
+
+#include "laws/hertz.hpp"
+#include "timestep.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace wiredem::api;
+
+namespace {
+
+/// Critical step of a wire chain: 0.3 / √(4 k_elo / m_w).
+double wire_critical_s(const WireSpec& w, double density_scale)
+{
+    const double area = std::numbers::pi * w.radius_m * w.radius_m;
+    const double k = w.youngs_modulus_pa * area / w.segment_length_m;
+    const double m = w.density_kg_per_m3 * area * w.segment_length_m * density_scale;
+    return wiredem::engine::gear5_stability_limit / std::sqrt(4.0 * k / m);
+}
+
+/// Critical step of the membrane mesh: 0.3 / √(12 k_m / m_m).
+double membrane_critical_s(const MembraneSpec& mb, double density_scale)
+{
+    const double k = std::numbers::sqrt3 / 2.0 * mb.youngs_modulus_pa * mb.thickness_m;
+    const double m = std::numbers::sqrt3 / 2.0 * mb.mesh_size_m * mb.mesh_size_m * mb.density_kg_per_m3
+                   * mb.thickness_m * density_scale;
+    return wiredem::engine::gear5_stability_limit / std::sqrt(12.0 * k / m);
+}
+
+} // namespace
+
+TEST(StableStep, DefaultJobIsLimitedByTheWireBelowAMicrosecond)
+{
+    // The model spec §4: the wire needs δt below about 1 µs.
+    const StableStep st = stable_time_step(JobSpec{});
+    EXPECT_LT(st.critical_s, 1.3e-6);
+    EXPECT_EQ(st.limited_by, "wire segments");
+    EXPECT_NEAR(st.critical_s, wire_critical_s(WireSpec{}, 1.0), 1e-12 * st.critical_s);
+    EXPECT_DOUBLE_EQ(st.auto_s, wiredem::engine::auto_time_step_fraction * st.critical_s);
+}
+
+TEST(StableStep, WithoutWireTheMembraneEdgesLimit)
+{
+    JobSpec s;
+    s.specimen.wire.pattern = WirePattern::none;
+    const StableStep st = stable_time_step(s);
+    EXPECT_EQ(st.limited_by, "membrane edges");
+    EXPECT_NEAR(st.critical_s, membrane_critical_s(MembraneSpec{}, 1.0), 1e-12 * st.critical_s);
+    EXPECT_GT(st.critical_s, stable_time_step(JobSpec{}).critical_s);
+}
+
+TEST(StableStep, DensityScalingRaisesTheStepAsItsSquareRoot)
+{
+    // Every limit is ∝ √m, and scaling multiplies every mass.
+    JobSpec s;
+    s.engine.density_scale = 100.0;
+    EXPECT_NEAR(stable_time_step(s).critical_s, 10.0 * stable_time_step(JobSpec{}).critical_s,
+        1e-12 * stable_time_step(s).critical_s);
+}
+
+TEST(StableStep, StiffGrainsTakeOverFromASoftWire)
+{
+    JobSpec s;
+    s.specimen.wire.youngs_modulus_pa = 1e6;
+    s.specimen.membrane.youngs_modulus_pa = 1e5;
+    s.specimen.grain.youngs_modulus_pa = 1e12;
+    EXPECT_EQ(stable_time_step(s).limited_by, "grain–grain contacts");
+}
+
+TEST(StableStep, ParserAcceptsTheCriticalStepAndRejectsJustAbove)
+{
+    const double critical_s = stable_time_step(JobSpec{}).critical_s;
+    JobSpec at = JobSpec{};
+    at.engine.time_step_s = critical_s;
+    EXPECT_TRUE(parse_job_spec(to_json(at)).ok());
+    JobSpec above = JobSpec{};
+    above.engine.time_step_s = critical_s * 1.001;
+    const auto parsed = parse_job_spec(to_json(above));
+    ASSERT_FALSE(parsed.ok());
+    EXPECT_EQ(parsed.error()[0].path, "engine.time_step_s");
+}
+
+TEST(BodyCounts, DefaultColumnMatchesTheGeometry)
+{
+    const BodyCounts n = estimated_body_counts(JobSpec{});
+    EXPECT_EQ(n.grains, 8000u);
+    // 300 rad/s × 12 mm × 0.12 m / 0.5 m/s = 0.864 m of wire over 1.25 mm segments.
+    EXPECT_EQ(n.wire_nodes, 693u);
+    // ⌈2π·20 mm / 1.25 mm⌉ = 101 around, ⌈0.12 / (1.25 mm·√3/2)⌉ + 1 = 112 rows.
+    EXPECT_EQ(n.membrane_nodes, 101u * 112u);
+    EXPECT_EQ(n.total(), 8000u + 693u + 11312u);
+}
+
+TEST(BodyCounts, NoWireWithoutPattern)
+{
+    JobSpec s;
+    s.specimen.wire.pattern = WirePattern::none;
+    EXPECT_EQ(estimated_body_counts(s).wire_nodes, 0u);
+}
+
+TEST(NormalDamping, GivenTimeIsUsedAsIs)
+{
+    JobSpec s;
+    s.contact.normal_damping = NormalDampingTime{3e-6};
+    EXPECT_EQ(resolved_normal_damping_s(s), 3e-6);
+}
+
+TEST(NormalDamping, RestitutionGivesTheRequestedBounceOfTwoGrains)
+{
+    JobSpec s;
+    s.contact.normal_damping = NormalRestitution{0.7, 0.2};
+    const double gamma_s = resolved_normal_damping_s(s);
+    EXPECT_GT(gamma_s, 0.0);
+    const double r = s.specimen.grain_radius_m;
+    const double m = s.specimen.grain.density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double e_star = wiredem::engine::effective_modulus_pa(10e9, 0.3, 10e9, 0.3);
+    const double e = wiredem::engine::hertz_restitution(0.5 * m, 0.2, e_star, 0.5 * r, gamma_s);
+    EXPECT_NEAR(e, 0.7, 1e-4);
+}
