@@ -1,0 +1,384 @@
+// The subcommands. Every server reply goes through check_reply, which turns
+// an error reply into one line and the exit code of its class.
+#include "commands.hpp"
+
+#include "display.hpp"
+#include "run_command.hpp"
+
+#include "api/job_spec.hpp"
+
+#include <boost/json.hpp>
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <thread>
+
+namespace wiredem::client {
+namespace json = boost::json;
+namespace fs = std::filesystem;
+using clock_type = std::chrono::steady_clock;
+
+namespace {
+
+constexpr const char* default_server = "http://127.0.0.1:8080";
+
+std::string read_file(const fs::path& p, const char* what)
+{
+    std::ifstream in(p, std::ios::binary);
+    if (!in) throw CommandError(exit_code::local_io, std::string("cannot read ") + what + " " + p.string());
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string read_token(const std::string& file)
+{
+    std::string t = read_file(file, "token file");
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.pop_back();
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.erase(0, 1);
+    if (t.empty()) throw CommandError(exit_code::usage, "token file " + file + " is empty");
+    return t;
+}
+
+HttpClient make_client(const GlobalOptions& g)
+{
+    std::string url = g.server_url;
+    if (url.empty())
+        if (const char* env = std::getenv("WIREDEM_SERVER"); env && *env) url = env;
+    if (url.empty()) url = default_server;
+    std::string token_file = g.token_file;
+    if (token_file.empty())
+        if (const char* env = std::getenv("WIREDEM_TOKEN_FILE"); env && *env) token_file = env;
+    return HttpClient(parse_server_url(url), token_file.empty() ? std::string() : read_token(token_file), g.timeout);
+}
+
+void check_id(const std::string& id)
+{
+    bool ok = id.size() == 24;
+    for (char c : id) ok = ok && ((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'));
+    if (!ok) throw CommandError(exit_code::usage, "'" + id + "' is not a job id (24 lower-case hex digits)");
+}
+
+/// Throws CommandError for any reply that is not 2xx, with the server's own
+/// message and the exit code of its class.
+void check_reply(const HttpReply& r, const std::string& what)
+{
+    if (r.status >= 200 && r.status < 300) return;
+    boost::system::error_code ec;
+    const json::value doc = json::parse(r.body, ec);
+    std::string code;
+    std::string message;
+    std::string details;
+    if (const auto* err = ec ? nullptr : doc.is_object() ? doc.as_object().if_contains("error") : nullptr;
+        err && err->is_object()) {
+        const auto& e = err->get_object();
+        if (auto* c = e.if_contains("code"); c && c->is_string()) code = std::string(c->get_string());
+        if (auto* m = e.if_contains("message"); m && m->is_string()) message = std::string(m->get_string());
+        if (auto* d = e.if_contains("details"); d && d->is_array() && d->get_array().size() > 1)
+            for (const auto& item : d->get_array())
+                if (item.is_object()) {
+                    const auto& o = item.get_object();
+                    auto* f = o.if_contains("field");
+                    auto* m = o.if_contains("message");
+                    details += "\n  " + (f && f->is_string() ? std::string(f->get_string()) + ": " : std::string())
+                        + (m && m->is_string() ? std::string(m->get_string()) : std::string());
+                }
+    }
+    if (message.empty()) message = "HTTP " + std::to_string(r.status);
+    std::string line = what + ": " + message + " (HTTP " + std::to_string(r.status) + ")";
+    if (r.status == 429 && !r.header("retry-after").empty()) line += "; retry after " + r.header("retry-after") + " s";
+    int exit = exit_code::server_refused;
+    if (r.status == 400 && (code == "invalid_job" || code == "invalid_json")) exit = exit_code::invalid_job;
+    else if (r.status == 401 || r.status == 403) exit = exit_code::unauthorized;
+    else if (r.status == 404) exit = exit_code::not_found;
+    throw CommandError(exit, line + details);
+}
+
+json::value parse_reply(const HttpReply& r, const std::string& what)
+{
+    boost::system::error_code ec;
+    json::value v = json::parse(r.body, ec);
+    if (ec) throw CommandError(exit_code::network, what + ": the server's reply is not JSON");
+    return v;
+}
+
+std::string str(const json::value& v, std::string_view key)
+{
+    if (const auto* o = v.if_object())
+        if (const auto* s = o->if_contains(key); s && s->is_string()) return std::string(s->get_string());
+    return {};
+}
+
+void print_json(const json::value& v) { std::cout << json::serialize(v) << std::endl; }
+
+api::JobSpec load_job(const fs::path& file)
+{
+    const std::string text = read_file(file, "job file");
+    auto spec = api::parse_job_spec(std::string_view(text));
+    if (spec) return std::move(spec).value();
+    std::string msg = "job file " + file.string() + " is not a valid job:";
+    for (const auto& e : spec.error()) msg += "\n  " + (e.path.empty() ? std::string() : e.path + ": ") + e.message;
+    throw CommandError(exit_code::invalid_job, msg);
+}
+
+std::string random_key()
+{
+    std::random_device rd;
+    char buf[33];
+    std::snprintf(buf, sizeof buf, "%08x%08x%08x%08x", rd(), rd(), rd(), rd());
+    return buf;
+}
+
+int exit_for_state(const std::string& state)
+{
+    if (state == "succeeded") return exit_code::ok;
+    if (state == "cancelled") return exit_code::job_cancelled;
+    return exit_code::job_failed;
+}
+
+bool is_final(const std::string& state) { return state == "succeeded" || state == "failed" || state == "cancelled"; }
+
+int wait_for(HttpClient& client, const GlobalOptions& g, const std::string& id, const WaitOptions& w)
+{
+    const bool tty = !g.json && ::isatty(STDOUT_FILENO);
+    const auto started = clock_type::now();
+    std::optional<clock_type::time_point> failing_since;
+    std::string last_state;
+    std::string last_stage;
+    double last_progress = -1.0;
+    const auto interval = std::chrono::duration<double>(std::max(0.05, w.interval_s));
+    for (;;) {
+        HttpReply reply;
+        try {
+            reply = client.request(Method::get, "/v1/jobs/" + id);
+            failing_since.reset();
+        } catch (const CommandError& e) {
+            // A server restarting (crash, upgrade) is not the end of a job: keep
+            // trying for a minute, the job is durable.
+            if (e.code != exit_code::network) throw;
+            if (!failing_since) failing_since = clock_type::now();
+            if (clock_type::now() - *failing_since > std::chrono::seconds(60)) throw;
+            std::this_thread::sleep_for(interval);
+            continue;
+        }
+        check_reply(reply, "job " + id);
+        const json::value job = parse_reply(reply, "job " + id);
+        const std::string state = str(job, "state");
+        const std::string stage = str(job, "stage");
+        double progress = 0.0;
+        if (const auto* p = job.as_object().if_contains("progress"); p && p->is_number()) progress = p->to_number<double>();
+        if (tty) {
+            std::cout << '\r' << format_progress_bar(job, 30) << "\x1b[K" << std::flush;
+        } else if (!g.json && (state != last_state || stage != last_stage || progress >= last_progress + 0.1)) {
+            std::cout << format_progress_line(job) << std::endl;
+            last_progress = progress;
+        }
+        last_state = state;
+        last_stage = stage;
+        if (is_final(state)) {
+            if (tty) std::cout << '\n';
+            if (g.json) print_json(job);
+            else if (state == "succeeded") std::cout << "job " << id << " succeeded" << std::endl;
+            else if (state == "cancelled") std::cerr << "wiredem: job " << id << " was cancelled" << std::endl;
+            else std::cerr << "wiredem: job " << id << " failed: " << str(job, "error") << std::endl;
+            return exit_for_state(state);
+        }
+        if (w.timeout_s && std::chrono::duration<double>(clock_type::now() - started).count() > *w.timeout_s) {
+            if (tty) std::cout << '\n';
+            throw CommandError(exit_code::wait_timeout, "job " + id + " still " + state + " after " + format_duration(*w.timeout_s));
+        }
+        std::this_thread::sleep_for(interval);
+    }
+}
+
+} // namespace
+
+int cmd_submit(const GlobalOptions& g, const fs::path& job_file, bool wait, const WaitOptions& w)
+{
+    const api::JobSpec spec = load_job(job_file);  // the server's own validation, before sending
+    auto client = make_client(g);
+    const std::string body = json::serialize(api::to_json(spec));
+    // The key makes a retry after a lost reply safe: the server answers with the first job.
+    const std::string key = random_key();
+    HttpReply reply;
+    for (int attempt = 1;; ++attempt) {
+        try {
+            reply = client.request(Method::post, "/v1/jobs", body, {{"Idempotency-Key", key}});
+            break;
+        } catch (const CommandError& e) {
+            if (e.code != exit_code::network || attempt == 3) throw;
+            std::this_thread::sleep_for(std::chrono::seconds(1));
+        }
+    }
+    check_reply(reply, "submit " + job_file.string());
+    const json::value job = parse_reply(reply, "submit");
+    const std::string id = str(job, "id");
+    if (g.json && !wait) print_json(job);
+    else if (!g.json) std::cout << id << std::endl;
+    return wait ? wait_for(client, g, id, w) : exit_code::ok;
+}
+
+int cmd_status(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/jobs/" + id);
+    check_reply(reply, "job " + id);
+    const json::value job = parse_reply(reply, "job " + id);
+    if (g.json) print_json(job);
+    else std::cout << format_job(job);
+    return exit_code::ok;
+}
+
+int cmd_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w)
+{
+    check_id(id);
+    auto client = make_client(g);
+    return wait_for(client, g, id, w);
+}
+
+int cmd_list(const GlobalOptions& g, const std::string& state, int limit, bool all)
+{
+    auto client = make_client(g);
+    json::array jobs;
+    std::string cursor;
+    json::value next = nullptr;
+    do {
+        std::string target = "/v1/jobs?limit=" + std::to_string(limit);
+        if (!state.empty()) target += "&state=" + state;
+        if (!cursor.empty()) target += "&cursor=" + cursor;
+        const auto reply = client.request(Method::get, target);
+        check_reply(reply, "list");
+        json::value page = parse_reply(reply, "list");
+        if (auto* arr = page.as_object().if_contains("jobs"); arr && arr->is_array())
+            for (auto& j : arr->as_array()) jobs.push_back(std::move(j));
+        next = page.as_object().contains("next_cursor") ? page.as_object()["next_cursor"] : json::value(nullptr);
+        cursor = next.is_string() ? std::string(next.get_string()) : std::string();
+    } while (all && !cursor.empty());
+    json::object out{{"jobs", std::move(jobs)}, {"next_cursor", all ? json::value(nullptr) : next}};
+    if (g.json) print_json(out);
+    else std::cout << format_job_list(out);
+    return exit_code::ok;
+}
+
+int cmd_cancel(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::del, "/v1/jobs/" + id);
+    check_reply(reply, "cancel " + id);
+    const json::value job = parse_reply(reply, "cancel " + id);
+    if (g.json) print_json(job);
+    else std::cout << "job " << id << " " << str(job, "state") << std::endl;
+    return exit_code::ok;
+}
+
+int cmd_summary(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/jobs/" + id + "/summary");
+    check_reply(reply, "summary of " + id);
+    const json::value summary = parse_reply(reply, "summary of " + id);
+    if (g.json) print_json(summary);
+    else std::cout << format_summary(summary);
+    return exit_code::ok;
+}
+
+int cmd_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir)
+{
+    check_id(id);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());
+    auto client = make_client(g);
+    const std::string base = "/v1/jobs/" + id;
+
+    const auto summary = client.request(Method::get, base + "/summary");
+    check_reply(summary, "summary of " + id);
+    const fs::path summary_file = dir / "summary.json";
+    {
+        const fs::path tmp = dir / "summary.json.part";
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << summary.body;
+        out.close();
+        if (!out) throw CommandError(exit_code::local_io, "cannot write " + tmp.string());
+        fs::rename(tmp, summary_file, ec);
+        if (ec) throw CommandError(exit_code::local_io, "cannot write " + summary_file.string() + ": " + ec.message());
+    }
+
+    const auto head = client.request(Method::head, base + "/result.h5");
+    check_reply(head, "result of " + id);
+    std::uint64_t total = 0;
+    try {
+        total = std::stoull(head.header("content-length"));
+    } catch (const std::exception&) {
+        throw CommandError(exit_code::server_refused, "result of " + id + ": the server sent no Content-Length");
+    }
+    const fs::path final_file = dir / "result.h5";
+    const fs::path part = dir / "result.h5.part";
+    std::uint64_t resumed_from = 0;
+    const bool have_final = fs::is_regular_file(final_file, ec) && fs::file_size(final_file, ec) == total;
+    if (!have_final) {
+        std::uint64_t offset = fs::is_regular_file(part, ec) ? fs::file_size(part, ec) : 0;
+        if (offset > total) offset = 0;
+        resumed_from = offset;
+        if (offset < total || total == 0) {
+            const bool tty = !g.json && ::isatty(STDERR_FILENO);
+            auto show = [&](std::uint64_t bytes) {
+                if (tty) std::cerr << "\rresult.h5  " << bytes / 1024 << " / " << total / 1024 << " KiB" << std::flush;
+            };
+            auto reply = client.download(base + "/result.h5", part, offset, show);
+            if (reply.status == 416) {  // the part file is not a prefix of this result: start again
+                resumed_from = 0;
+                reply = client.download(base + "/result.h5", part, 0, show);
+            }
+            if (tty) std::cerr << '\n';
+            check_reply(reply, "result of " + id);
+        }
+        const std::uint64_t got = fs::file_size(part, ec);
+        if (ec || got != total)
+            throw CommandError(exit_code::network, "result of " + id + ": got " + std::to_string(got) + " of "
+                    + std::to_string(total) + " bytes; run fetch again to resume");
+        fs::rename(part, final_file, ec);
+        if (ec) throw CommandError(exit_code::local_io, "cannot write " + final_file.string() + ": " + ec.message());
+    }
+    if (g.json) {
+        print_json(json::object{{"summary", summary_file.string()}, {"result", final_file.string()},
+            {"bytes", total}, {"resumed_from", resumed_from}});
+    } else {
+        std::cout << summary_file.string() << '\n'
+                  << final_file.string() << "  (" << total << " bytes"
+                  << (have_final ? ", already complete" : resumed_from > 0 ? ", resumed at byte " + std::to_string(resumed_from) : "")
+                  << ")" << std::endl;
+    }
+    return exit_code::ok;
+}
+
+int cmd_health(const GlobalOptions& g)
+{
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/health");
+    check_reply(reply, "health");
+    const json::value h = parse_reply(reply, "health");
+    if (g.json) print_json(h);
+    else std::cout << str(h, "status") << "  " << json::serialize(h) << std::endl;
+    return exit_code::ok;
+}
+
+int cmd_run(const fs::path& job_file, const fs::path& out_dir, unsigned threads, const std::string& progress)
+{
+    const api::JobSpec spec = load_job(job_file);
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + out_dir.string() + ": " + ec.message());
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    return run_campaign_main(spec, out_dir, threads, progress == "json");
+}
+
+} // namespace wiredem::client

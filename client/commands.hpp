@@ -1,0 +1,41 @@
+// The subcommands of `wiredem`. Each returns the process exit code
+// (exit_codes.hpp) or throws CommandError; output goes to stdout, progress of
+// `wait` to stdout as well (a bar on a terminal, plain lines otherwise).
+#pragma once
+
+#include "http_client.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace wiredem::client {
+
+/// Options shared by every command that talks to a server.
+struct GlobalOptions {
+    std::string server_url;          ///< --server, else WIREDEM_SERVER, else http://127.0.0.1:8080
+    std::string token_file;          ///< --token-file, else WIREDEM_TOKEN_FILE; "" for none
+    bool json = false;               ///< machine-readable output
+    std::chrono::milliseconds timeout{30000};  ///< per network operation
+};
+
+/// How `wait` polls.
+struct WaitOptions {
+    double interval_s = 1.0;              ///< between polls
+    std::optional<double> timeout_s;      ///< give up (exit 10) after this
+};
+
+int cmd_submit(const GlobalOptions& g, const std::filesystem::path& job_file, bool wait, const WaitOptions& w);
+int cmd_status(const GlobalOptions& g, const std::string& id);
+int cmd_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w);
+int cmd_list(const GlobalOptions& g, const std::string& state, int limit, bool all);
+int cmd_cancel(const GlobalOptions& g, const std::string& id);
+int cmd_summary(const GlobalOptions& g, const std::string& id);
+int cmd_fetch(const GlobalOptions& g, const std::string& id, const std::filesystem::path& dir);
+int cmd_health(const GlobalOptions& g);
+/// `wiredem run`: validates the job file, then runs the campaign locally.
+int cmd_run(const std::filesystem::path& job_file, const std::filesystem::path& out_dir, unsigned threads,
+    const std::string& progress);
+
+} // namespace wiredem::client

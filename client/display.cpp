@@ -1,0 +1,193 @@
+// Formatting only; every lookup tolerates a missing or mistyped field,
+// because a summary from an older or newer runner must still print.
+#include "display.hpp"
+
+#include <boost/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+namespace wiredem::client {
+namespace json = boost::json;
+
+namespace {
+
+const json::value* at(const json::value& v, std::initializer_list<std::string_view> path)
+{
+    const json::value* cur = &v;
+    for (auto key : path) {
+        const auto* obj = cur->if_object();
+        if (!obj) return nullptr;
+        auto it = obj->find(key);
+        if (it == obj->end()) return nullptr;
+        cur = &it->value();
+    }
+    return cur;
+}
+
+std::optional<double> number(const json::value* v)
+{
+    if (!v) return std::nullopt;
+    if (v->is_double()) return v->get_double();
+    if (v->is_int64()) return static_cast<double>(v->get_int64());
+    if (v->is_uint64()) return static_cast<double>(v->get_uint64());
+    return std::nullopt;
+}
+
+std::string text(const json::value* v, std::string fallback = "-")
+{
+    if (!v || !v->is_string() || v->get_string().empty()) return fallback;
+    return std::string(v->get_string());
+}
+
+/// printf into a std::string; "-" when the value is missing.
+std::string fmt(const char* format, std::optional<double> v)
+{
+    if (!v || !std::isfinite(*v)) return "-";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, *v);
+    return buf;
+}
+
+/// v·factor, or nullopt (std::optional::transform is C++23).
+std::optional<double> scaled(std::optional<double> v, double factor)
+{
+    return v ? std::optional<double>(*v * factor) : std::nullopt;
+}
+
+std::string pad_left(const std::string& s, std::size_t w) { return s.size() >= w ? s : std::string(w - s.size(), ' ') + s; }
+std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
+
+std::string percent(const json::value& job)
+{
+    return fmt("%.0f%%", scaled(number(at(job, {"progress"})), 100.0));
+}
+
+std::string eta(const json::value& job)
+{
+    const auto e = number(at(job, {"eta_s"}));
+    return e ? "eta " + format_duration(*e) : std::string();
+}
+
+} // namespace
+
+std::string format_duration(double seconds)
+{
+    if (!std::isfinite(seconds) || seconds < 0) return "-";
+    const long s = std::lround(seconds);
+    char buf[32];
+    if (s < 60) std::snprintf(buf, sizeof buf, "%lds", s);
+    else if (s < 3600) std::snprintf(buf, sizeof buf, "%ldm%02lds", s / 60, s % 60);
+    else std::snprintf(buf, sizeof buf, "%ldh%02ldm", s / 3600, (s % 3600) / 60);
+    return buf;
+}
+
+std::string format_summary(const json::value& summary)
+{
+    std::ostringstream out;
+    const auto kpa = [](std::optional<double> pa) { return scaled(pa, 1e-3); };
+
+    out << "Triaxial tests\n";
+    const std::vector<std::pair<std::string, std::size_t>> cols{
+        {"sigma3 [kPa]", 12}, {"peak q [kPa]", 13}, {"strain at peak [%]", 19}, {"sigma1 [kPa]", 13}, {"sigma3' [kPa]", 14}};
+    out << "  ";
+    for (const auto& [name, w] : cols) out << pad_left(name, w) << "  ";
+    out << '\n';
+    const auto* tests = at(summary, {"tests"});
+    if (!tests || !tests->is_array() || tests->get_array().empty()) out << "  (no tests in the summary)\n";
+    else
+        for (const auto& t : tests->get_array()) {
+            out << "  " << pad_left(fmt("%.1f", kpa(number(at(t, {"confining_pressure_pa"})))), cols[0].second) << "  "
+                << pad_left(fmt("%.1f", kpa(number(at(t, {"peak_deviatoric_stress_pa"})))), cols[1].second) << "  "
+                << pad_left(fmt("%.2f", scaled(number(at(t, {"peak_axial_strain"})), 100.0)),
+                       cols[2].second)
+                << "  " << pad_left(fmt("%.1f", kpa(number(at(t, {"sigma1_pa"})))), cols[3].second) << "  "
+                << pad_left(fmt("%.1f", kpa(number(at(t, {"sigma3_effective_pa"})))), cols[4].second) << '\n';
+        }
+
+    out << "\nMohr-Coulomb envelope\n"
+        << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {"mohr_coulomb", "friction_angle_deg"}))) << '\n'
+        << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {"mohr_coulomb", "cohesion_pa"})))) << '\n'
+        << "  fit R^2             " << fmt("%.4f", number(at(summary, {"mohr_coulomb", "r_squared"}))) << '\n';
+
+    out << "\nSpecimen\n"
+        << "  grain volume fraction  "
+        << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
+        << "  wire volume fraction   " << fmt("%.5f", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'
+        << "  sample volume          " << fmt("%.4g m^3", number(at(summary, {"specimen", "sample_volume_m3"}))) << '\n'
+        << "  grains                 " << fmt("%.0f", number(at(summary, {"specimen", "grains"}))) << '\n'
+        << "  wire nodes             " << fmt("%.0f", number(at(summary, {"specimen", "wire_nodes"}))) << '\n'
+        << "  wire autocorr. lag     " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_lag_m"}))) << '\n';
+
+    out << "\nEngine\n"
+        << "  time step              " << fmt("%.3g s", number(at(summary, {"engine", "time_step_s"}))) << '\n'
+        << "  steps                  " << fmt("%.0f", number(at(summary, {"engine", "steps"}))) << '\n'
+        << "  wall time              "
+        << (number(at(summary, {"engine", "wall_time_s"})) ? format_duration(*number(at(summary, {"engine", "wall_time_s"}))) : "-")
+        << '\n'
+        << "  body-steps per second  " << fmt("%.3g", number(at(summary, {"engine", "body_steps_per_second"}))) << '\n';
+
+    if (const auto* w = at(summary, {"warnings"}); w && w->is_array() && !w->get_array().empty()) {
+        out << "\nWarnings\n";
+        for (const auto& item : w->get_array()) out << "  - " << (item.is_string() ? std::string(item.get_string()) : json::serialize(item)) << '\n';
+    }
+    return out.str();
+}
+
+std::string format_job(const json::value& job)
+{
+    std::ostringstream out;
+    const std::string state = text(at(job, {"state"}));
+    std::string progress = percent(job);
+    if (const auto stage = text(at(job, {"stage"}), ""); !stage.empty()) progress = stage + "  " + progress;
+    if (const auto e = eta(job); !e.empty() && (state == "preparing" || state == "running")) progress += "  " + e;
+    out << "id        " << text(at(job, {"id"})) << '\n'
+        << "name      " << text(at(job, {"name"})) << '\n'
+        << "state     " << state << '\n'
+        << "progress  " << progress << '\n'
+        << "message   " << text(at(job, {"message"})) << '\n'
+        << "attempts  " << fmt("%.0f", number(at(job, {"attempts"}))) << '\n'
+        << "created   " << text(at(job, {"created_at"})) << '\n'
+        << "started   " << text(at(job, {"started_at"})) << '\n'
+        << "finished  " << text(at(job, {"finished_at"})) << '\n';
+    if (const auto err = text(at(job, {"error"}), ""); !err.empty()) out << "error     " << err << '\n';
+    return out.str();
+}
+
+std::string format_job_list(const json::value& page)
+{
+    std::ostringstream out;
+    out << pad_right("ID", 26) << pad_right("STATE", 11) << pad_right("PROGRESS", 10) << pad_right("CREATED", 26) << "NAME\n";
+    if (const auto* jobs = at(page, {"jobs"}); jobs && jobs->is_array())
+        for (const auto& j : jobs->get_array())
+            out << pad_right(text(at(j, {"id"})), 26) << pad_right(text(at(j, {"state"})), 11)
+                << pad_right(percent(j), 10) << pad_right(text(at(j, {"created_at"})), 26) << text(at(j, {"name"}), "") << '\n';
+    return out.str();
+}
+
+std::string format_progress_bar(const json::value& job, int width)
+{
+    const double p = std::clamp(number(at(job, {"progress"})).value_or(0.0), 0.0, 1.0);
+    const int filled = static_cast<int>(p * width);
+    std::string bar = "[";
+    for (int i = 0; i < width; ++i) bar += i < filled ? '=' : (i == filled ? '>' : ' ');
+    bar += "] ";
+    bar += pad_left(fmt("%.0f%%", 100.0 * p), 4);
+    const std::string stage = text(at(job, {"stage"}), text(at(job, {"state"})));
+    bar += "  " + pad_right(stage, 10);
+    if (const auto e = eta(job); !e.empty()) bar += "  " + e;
+    return bar;
+}
+
+std::string format_progress_line(const json::value& job)
+{
+    std::string line = pad_right(text(at(job, {"state"})), 10) + pad_right(text(at(job, {"stage"}), ""), 10) + pad_left(percent(job), 5);
+    if (const auto e = eta(job); !e.empty()) line += "  " + e;
+    if (const auto m = text(at(job, {"message"}), ""); !m.empty()) line += "  " + m;
+    return line;
+}
+
+} // namespace wiredem::client
