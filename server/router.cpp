@@ -138,7 +138,7 @@ Response Router::route(const Request& req)
     }
 
     const std::string& id = seg[2];
-    if (seg.size() == 4 && seg[3] != "summary" && seg[3] != "result.h5")
+    if (id.empty() || (seg.size() == 4 && seg[3] != "summary" && seg[3] != "result.h5"))
         return error_response(req, http::status::not_found, "not_found", "no such route");
     if (!is_valid_job_id(id))
         return error_response(req, http::status::bad_request, "bad_id",

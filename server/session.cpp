@@ -51,10 +51,9 @@ private:
     void on_read(beast::error_code ec, std::size_t)
     {
         if (ec == http::error::end_of_stream) return do_close();
-        if (ec == beast::error::timeout) {
-            if (parser_->got_some()) return reply_and_close(http::status::request_timeout, "timeout", "request not received in time");
-            return;  // an idle keep-alive connection: just drop it
-        }
+        // tcp_stream closes the socket when its deadline passes, so a stalled
+        // client gets no 408, just the closed connection.
+        if (ec == beast::error::timeout) return log_failure(ec, "read");
         if (ec == http::error::body_limit)
             return reply_and_close(http::status::payload_too_large, "body_too_large",
                 "request body exceeds " + std::to_string(config_.max_body_bytes) + " bytes");

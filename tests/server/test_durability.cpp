@@ -1,0 +1,106 @@
+// A job accepted with 201 is never lost: kill -9 the server mid-run, start it
+// again on the same data directory, and every job finishes with its files;
+// SIGTERM puts the running job back in the queue and exits 0.
+#include "harness.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <thread>
+
+namespace wiredem::test {
+namespace {
+namespace fs = std::filesystem;
+namespace json = boost::json;
+
+bool is_running(const json::value& j) { return state_of(j) == "running"; }
+bool is_final(const json::value& j)
+{
+    const auto s = state_of(j);
+    return s == "succeeded" || s == "failed" || s == "cancelled";
+}
+
+/// True while some process still has `needle` in its command line (the fake
+/// runner with a job's directory in its arguments).
+bool process_with_arg_exists(const std::string& needle)
+{
+    for (const auto& entry : fs::directory_iterator("/proc")) {
+        const auto name = entry.path().filename().string();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::string cmdline = read_file(entry.path() / "cmdline");
+        if (cmdline.find(needle) != std::string::npos) return true;
+    }
+    return false;
+}
+
+TEST(Durability, KillNineMidRunThenRestartFinishesEveryJob)
+{
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    std::vector<std::string> ids;
+    {
+        ServerProcess server(data, {"--jobs", "1"}, 0.1);
+        for (int i = 0; i < 3; ++i) {
+            const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "durable)" + std::to_string(i) + "\"}");
+            ASSERT_EQ(r.status, 201);
+            ids.push_back(std::string(r.json().at("id").as_string()));
+        }
+        ASSERT_EQ(state_of(poll_job(server.port(), ids[0], is_running)), "running");
+        server.kill_hard();
+    }
+    // The orphaned runner got SIGTERM from the kernel (PR_SET_PDEATHSIG) and
+    // does not write into the job directory behind the next server's back.
+    const std::string work = (data / "jobs" / ids[0] / "work").string();
+    for (int i = 0; i < 100 && process_with_arg_exists(work); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_FALSE(process_with_arg_exists(work));
+
+    ServerProcess restarted(data, {"--jobs", "1"}, 0.02);
+    for (const auto& id : ids) {
+        const auto job = poll_job(restarted.port(), id, is_final);
+        EXPECT_EQ(state_of(job), "succeeded") << id << "\n" << restarted.log();
+        EXPECT_TRUE(fs::is_regular_file(data / "jobs" / id / "result.h5"));
+        EXPECT_TRUE(fs::is_regular_file(data / "jobs" / id / "summary.json"));
+    }
+    EXPECT_EQ(poll_job(restarted.port(), ids[0], is_final).at("attempts").to_number<int>(), 2)
+        << "the interrupted attempt counts";
+    EXPECT_NE(restarted.log().find("job " + ids[0] + ": interrupted by a restart, queued again"), std::string::npos);
+    const auto fetched = run_client({"fetch", ids[0], "-o", (tmp.path() / "out").string(), "--server", restarted.url()});
+    EXPECT_EQ(fetched.exit_code, 0) << fetched.err;
+}
+
+TEST(Durability, SigtermRequeuesTheRunningJobAndExitsCleanly)
+{
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    std::string id;
+    {
+        ServerProcess server(data, {}, 0.2);
+        const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "slow-term"})");
+        ASSERT_EQ(r.status, 201);
+        id = std::string(r.json().at("id").as_string());
+        ASSERT_EQ(state_of(poll_job(server.port(), id, is_running)), "running");
+        const auto t0 = std::chrono::steady_clock::now();
+        const int status = server.terminate();
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << server.log();
+        EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+        EXPECT_NE(server.log().find("stopped by shutdown, queued again"), std::string::npos) << server.log();
+    }
+    ServerProcess restarted(data, {}, 0.02);
+    const auto job = poll_job(restarted.port(), id, is_final);
+    EXPECT_EQ(state_of(job), "succeeded") << restarted.log();
+    EXPECT_EQ(job.at("attempts").to_number<int>(), 1) << "a graceful stop does not count as an attempt";
+}
+
+TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
+{
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data");
+    EXPECT_THROW(ServerProcess(tmp.path() / "data"), std::runtime_error);
+    EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
+}
+
+} // namespace
+} // namespace wiredem::test

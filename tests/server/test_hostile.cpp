@@ -1,0 +1,228 @@
+// Hostile and malformed input: each answered with the right 4xx, and the
+// server still serves afterwards. Also the service routes (health, metrics,
+// OpenAPI) and bearer-token authentication.
+#include "harness.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <thread>
+
+namespace wiredem::test {
+namespace {
+namespace fs = std::filesystem;
+namespace json = boost::json;
+
+class HostileInput : public ::testing::Test {
+protected:
+    void SetUp() override { server_ = std::make_unique<ServerProcess>(tmp_.path() / "data", std::vector<std::string>{"--read-timeout", "2"}); }
+    void TearDown() override
+    {
+        // Whatever came before, the server still answers.
+        const auto health = http(server_->port(), "GET", "/v1/health");
+        EXPECT_EQ(health.status, 200);
+        EXPECT_EQ(health.json().at("status").as_string(), "ok");
+    }
+    std::uint16_t port() const { return server_->port(); }
+    TempDir tmp_;
+    std::unique_ptr<ServerProcess> server_;
+};
+
+TEST_F(HostileInput, MalformedJsonIs400InvalidJson)
+{
+    for (const std::string body : {"{\"name\": ", "not json", "{\"name\": \"a\",}", "[1, 2", "{\"seed\": 1} trailing"}) {
+        const auto r = http(port(), "POST", "/v1/jobs", body);
+        EXPECT_EQ(r.status, 400) << body;
+        EXPECT_EQ(r.error_code(), "invalid_json") << body;
+    }
+    EXPECT_EQ(http(port(), "POST", "/v1/jobs", "").error_code(), "invalid_json");
+}
+
+TEST_F(HostileInput, WrongTypesAndUnknownKeysAre400WithEveryFieldPath)
+{
+    const auto r = http(port(), "POST", "/v1/jobs", R"({"name": 5, "seed": "x", "bogus": true, "triaxial": []})");
+    ASSERT_EQ(r.status, 400);
+    EXPECT_EQ(r.error_code(), "invalid_job");
+    const json::value doc = r.json();
+    const auto& err = doc.at("error").as_object();
+    EXPECT_EQ(err.at("field").as_string(), "name");
+    std::vector<std::string> fields;
+    for (const auto& d : err.at("details").as_array()) fields.emplace_back(d.at("field").as_string());
+    for (const char* f : {"name", "seed", "bogus", "triaxial"})
+        EXPECT_NE(std::find(fields.begin(), fields.end(), f), fields.end()) << f;
+    const auto not_object = http(port(), "POST", "/v1/jobs", "[]");
+    EXPECT_EQ(not_object.status, 400);
+    EXPECT_EQ(not_object.error_code(), "invalid_job");
+    const auto text = http(port(), "POST", "/v1/jobs", "{}", {{"Content-Type", "text/plain"}});
+    EXPECT_EQ(text.status, 415);
+}
+
+TEST_F(HostileInput, TooManyBodiesIs400)
+{
+    const auto r = http(port(), "POST", "/v1/jobs", R"({"specimen": {"grain_count": 50000000}, "engine": {"max_bodies": 1000000000}})");
+    EXPECT_EQ(r.status, 400);
+    EXPECT_EQ(r.error_code(), "invalid_job");
+}
+
+TEST_F(HostileInput, HugeBodyIs413WhetherAnnouncedOrStreamed)
+{
+    // Announced: the limit applies as soon as the headers arrive.
+    const auto announced = raw_exchange(port(),
+        "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 50000000\r\n\r\n{\"name\":");
+    EXPECT_EQ(announced.status, 413);
+    EXPECT_EQ(announced.error_code(), "body_too_large");
+    // Streamed in chunks with no length given.
+    std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n";
+    const std::string chunk(64 * 1024, ' ');
+    for (int i = 0; i < 24; ++i) req += "10000\r\n" + chunk + "\r\n";
+    req += "0\r\n\r\n";
+    const auto streamed = raw_exchange(port(), req);
+    EXPECT_EQ(streamed.status, 413);
+}
+
+TEST_F(HostileInput, HugeHeaderIs431)
+{
+    const auto r = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: x\r\nX-Junk: " + std::string(100000, 'a') + "\r\n\r\n");
+    EXPECT_EQ(r.status, 431);
+}
+
+TEST_F(HostileInput, GarbageAndBadRequestLinesAre400)
+{
+    EXPECT_EQ(raw_exchange(port(), "\x16\x03\x01\x02\x00 hello TLS?\r\n\r\n").status, 400);
+    EXPECT_EQ(raw_exchange(port(), "GET\r\n\r\n").status, 400);
+    EXPECT_EQ(raw_exchange(port(), "GET /v1/health HTTP/9.9\r\n\r\n").status, 400);
+    EXPECT_EQ(http(port(), "GET", "http://evil.example/v1/health").status, 400);  // absolute form is not served
+}
+
+TEST_F(HostileInput, StalledClientIsCutOffAfterTheReadTimeout)
+{
+    // Half a request, then silence with the connection open: the server
+    // closes it after the read timeout (2 s here).
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{",
+        std::chrono::milliseconds(8000), false);
+    const auto took = std::chrono::steady_clock::now() - t0;
+    EXPECT_EQ(r.status, 0) << "closed without a reply";
+    EXPECT_GT(took, std::chrono::milliseconds(1500));
+    EXPECT_LT(took, std::chrono::seconds(5));
+    // A truncated request (client went away mid-body) is a 400.
+    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{").status, 400);
+}
+
+TEST_F(HostileInput, UnknownRoutesAre404AndWrongMethods405)
+{
+    EXPECT_EQ(http(port(), "GET", "/").status, 404);
+    EXPECT_EQ(http(port(), "GET", "/v2/jobs").status, 404);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs/0123456789abcdef01234567/other").status, 404);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs/").status, 404);
+    const auto put = http(port(), "PUT", "/v1/jobs");
+    EXPECT_EQ(put.status, 405);
+    EXPECT_EQ(put.headers.at("allow"), "GET, HEAD, POST");
+    EXPECT_EQ(http(port(), "POST", "/v1/health").status, 405);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs?color=blue").status, 400);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs?limit=0").status, 400);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs?state=done").status, 400);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs?limit=5&limit=6").status, 400);
+}
+
+TEST_F(HostileInput, BadIdsAre400AndUnknownIds404)
+{
+    for (const std::string& id : std::vector<std::string>{"123", "0123456789ABCDEF01234567", "0123456789abcdef0123456z", "%00%00", std::string(5000, 'a')}) {
+        const auto r = http(port(), "GET", "/v1/jobs/" + id);
+        EXPECT_EQ(r.status, 400) << id;
+        EXPECT_EQ(r.error_code(), "bad_id") << id;
+    }
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs/0123456789abcdef01234567").status, 404);
+    EXPECT_EQ(http(port(), "DELETE", "/v1/jobs/0123456789abcdef01234567").status, 404);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs/0123456789abcdef01234567/result.h5").status, 404);
+}
+
+TEST_F(HostileInput, PathTraversalNeverReachesAFile)
+{
+    // A file the server must never serve, next to the data directory.
+    write_file(tmp_.path() / "secret.txt", "top secret");
+    for (const std::string target : {"/v1/jobs/../../secret.txt", "/v1/jobs/..%2F..%2Fsecret.txt/result.h5",
+             "/v1/jobs/%2e%2e/result.h5", "/v1/jobs/..%2f..%2f..%2fetc%2fpasswd/summary", "/../../etc/passwd",
+             "/v1/jobs/0123456789abcdef01234567%2F..%2F..%2Fsecret.txt/result.h5", "/v1/jobs//etc/passwd/result.h5"}) {
+        const auto r = http(port(), "GET", target);
+        EXPECT_TRUE(r.status == 400 || r.status == 404) << target << " -> " << r.status;
+        EXPECT_EQ(r.body.find("top secret"), std::string::npos) << target;
+        EXPECT_EQ(r.body.find("root:"), std::string::npos) << target;
+    }
+}
+
+TEST_F(HostileInput, HealthMetricsAndOpenApiAnswer)
+{
+    const auto metrics = http(port(), "GET", "/metrics");
+    EXPECT_EQ(metrics.status, 200);
+    EXPECT_EQ(metrics.headers.at("content-type").rfind("text/plain; version=0.0.4", 0), 0u);
+    for (const char* name : {"wiredem_queue_length ", "wiredem_jobs{state=\"running\"} ", "wiredem_body_steps_per_second ",
+             "# TYPE wiredem_http_responses_total counter"})
+        EXPECT_NE(metrics.body.find(name), std::string::npos) << name;
+    const auto api = http(port(), "GET", "/v1/openapi.json");
+    ASSERT_EQ(api.status, 200);
+    const json::value doc = api.json();
+    EXPECT_EQ(doc.at("openapi").as_string().subview().substr(0, 2), "3.");
+    for (const char* path : {"/v1/jobs", "/v1/jobs/{id}", "/v1/jobs/{id}/summary", "/v1/jobs/{id}/result.h5", "/v1/health", "/metrics"})
+        EXPECT_TRUE(doc.at("paths").as_object().contains(path)) << path;
+}
+
+TEST(Authentication, EveryV1RouteNeedsTheBearerToken)
+{
+    TempDir tmp;
+    write_file(tmp.path() / "token", "s3cret-token\n");
+    ServerProcess server(tmp.path() / "data", {"--token-file", (tmp.path() / "token").string()});
+    for (const std::string target : {"/v1/jobs", "/v1/health", "/v1/openapi.json", "/v1/jobs/0123456789abcdef01234567", "/v1/nothing"}) {
+        const auto missing = http(server.port(), "GET", target);
+        EXPECT_EQ(missing.status, 401) << target;
+        EXPECT_EQ(missing.headers.at("www-authenticate"), "Bearer realm=\"wiredem\"");
+        EXPECT_EQ(http(server.port(), "GET", target, {}, {{"Authorization", "Bearer wrong-token!"}}).status, 401) << target;
+        EXPECT_EQ(http(server.port(), "GET", target, {}, {{"Authorization", "Bearer s3cret-toke"}}).status, 401) << target;
+        EXPECT_EQ(http(server.port(), "GET", target, {}, {{"Authorization", "Basic czNjcmV0LXRva2Vu"}}).status, 401) << target;
+    }
+    EXPECT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 401);
+    EXPECT_EQ(http(server.port(), "GET", "/v1/health", {}, {{"Authorization", "Bearer s3cret-token"}}).status, 200);
+    EXPECT_EQ(http(server.port(), "GET", "/metrics").status, 200) << "Prometheus scrapes without the token";
+
+    // The client with and without --token-file.
+    const auto without = run_client({"list", "--server", server.url()});
+    EXPECT_EQ(without.exit_code, 5) << without.err;
+    EXPECT_NE(without.err.find("401"), std::string::npos);
+    const fs::path job = tmp.path() / "job.json";
+    write_file(job, R"({"name": "authorised"})");
+    const auto submit = run_client({"submit", job.string(), "--wait", "--interval", "0.05", "--server", server.url(),
+        "--token-file", (tmp.path() / "token").string()});
+    EXPECT_EQ(submit.exit_code, 0) << submit.err;
+}
+
+TEST(Client, ErrorsAreOneLineWithDocumentedExitCodes)
+{
+    TempDir tmp;
+    const fs::path bad = tmp.path() / "bad.json";
+    write_file(bad, R"({"seed": -3})");
+    const auto invalid = run_client({"submit", bad.string(), "--server", "http://127.0.0.1:9"});
+    EXPECT_EQ(invalid.exit_code, 3) << "validated locally before any network";
+    EXPECT_NE(invalid.err.find("seed: "), std::string::npos) << invalid.err;
+    EXPECT_EQ(run_client({"submit", (tmp.path() / "missing.json").string()}).exit_code, 9);
+    EXPECT_EQ(run_client({"status", "nope"}).exit_code, 2);
+    EXPECT_EQ(run_client({"frobnicate"}).exit_code, 2);
+    EXPECT_EQ(run_client({"list", "--server", "https://127.0.0.1:1"}).exit_code, 2);
+    const auto refused = run_client({"list", "--server", "http://127.0.0.1:9", "--timeout", "2"});
+    EXPECT_EQ(refused.exit_code, 7);
+    EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+    EXPECT_EQ(refused.err.rfind("wiredem: cannot connect to http://127.0.0.1:9", 0), 0u) << refused.err;
+}
+
+TEST(Client, RunValidatesTheJobFileBeforeRunning)
+{
+    TempDir tmp;
+    const fs::path bad = tmp.path() / "bad.json";
+    write_file(bad, R"({"specimen": {"grain_count": 0}})");
+    const auto r = run_client({"run", bad.string(), "-o", (tmp.path() / "out").string(), "--progress", "json"});
+    EXPECT_EQ(r.exit_code, 3);
+    EXPECT_NE(r.err.find("specimen.grain_count"), std::string::npos) << r.err;
+    EXPECT_EQ(run_client({"run", bad.string(), "-o", "x", "--progress", "yaml"}).exit_code, 2);
+}
+
+} // namespace
+} // namespace wiredem::test
