@@ -6,7 +6,7 @@
 # prints progress lines, writes OUTDIR/summary.json and OUTDIR/result.h5
 # (temp names, then rename), exits 0; stops within a second on SIGTERM (143).
 # The job's "name" steers it: fail* exits 3 with a reason on stderr, slow*
-# takes three times longer, burn* keeps N cores busy while it runs.
+# takes three times longer, *burn* keeps N cores busy while it runs.
 # WIREDEM_FAKE_STEP_S (default 0.2) is the pause between progress lines.
 set -u
 if [ "${1:-}" != run ]; then echo "fake runner: usage: run JOB.json -o OUTDIR --threads N --progress json" >&2; exit 2; fi
@@ -40,7 +40,7 @@ nap() { sleep "$1" & sleeper=$!; wait "$sleeper"; sleeper=""; }
 emit() { printf '{"stage":"%s","progress":%s,"eta_s":%s,"message":"%s"}\n' "$1" "$2" "$3" "$4"; }
 
 case $name in
-  burn*) for ((t = 0; t < threads; t++)); do (while :; do :; done) & burners+=($!); done ;;
+  *burn*) for ((t = 0; t < threads; t++)); do (while :; do :; done) & burners+=($!); done ;;
 esac
 
 emit preparing 0 null "pouring grains"
