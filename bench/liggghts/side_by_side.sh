@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# wiredem and LIGGGHTS side by side on one packing (issue 3).
+#
+# 1. wiredem-bench settles the grains, writes the packing as a LIGGGHTS data
+#    file and times N steps on it at 1 and 2 threads;
+# 2. LIGGGHTS (bench/liggghts/in.bench) reads that packing and runs the same
+#    N steps with the same δt, on 1 process and, if it is built with MPI and
+#    mpirun exists, on 2;
+# 3. one table: wall time, body-steps/s, body-steps/s per core, and
+#    wiredem/LIGGGHTS per core.
+#
+# Builds nothing: it needs build/release (bash scripts/build.sh release).
+#
+# usage: bench/liggghts/side_by_side.sh [--steps N] [--settle-time S] [--grains G] [--no-mpi]
+#   defaults: 2000 steps, 8000 grains, 0.2 s settling. The bench's own default
+#   (0.03 s) leaves most grains still falling (~500 contacts instead of ~20000),
+#   which is not the static packing the comparison is about; 0.2 s gives a
+#   packing at rest (kinetic energy ~1e-5 J) but takes minutes to settle.
+# environment: LIGGGHTS (binary, default: liggghts on PATH, else /usr/bin/liggghts),
+#              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+bench=$root/build/release/bench/wiredem-bench
+deck=$here/in.bench
+
+steps=2000
+settle=0.2
+grains=
+use_mpi=1
+while [ $# -gt 0 ]; do
+    case $1 in
+        --steps) steps=$2; shift 2 ;;
+        --settle-time) settle=$2; shift 2 ;;
+        --grains) grains=$2; shift 2 ;;
+        --no-mpi) use_mpi=0; shift ;;
+        -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
+        *) echo "unknown argument: $1 (try --help)" >&2; exit 2 ;;
+    esac
+done
+
+if [ ! -x "$bench" ]; then
+    echo "no $bench: build it first with 'bash scripts/build.sh release'" >&2
+    exit 1
+fi
+liggghts=${LIGGGHTS:-$(command -v liggghts || echo /usr/bin/liggghts)}
+if [ ! -x "$liggghts" ]; then
+    echo "no LIGGGHTS binary ($liggghts): install it (Debian: apt-get install liggghts) or set LIGGGHTS=" >&2
+    exit 1
+fi
+mpirun=${MPIRUN:-$(command -v mpirun || true)}
+# (not `ldd | grep -q`: grep -q quits early, ldd gets SIGPIPE, pipefail fails it)
+if [ "$use_mpi" = 1 ] && { [ -z "$mpirun" ] || [ "$(ldd "$liggghts" 2>/dev/null | grep -c libmpi)" = 0 ]; }; then
+    echo "note: LIGGGHTS runs on 1 process only (no mpirun, or $liggghts not built with MPI)" >&2
+    use_mpi=0
+fi
+
+work=$(mktemp -d /tmp/wiredem-side-by-side.XXXXXX)
+if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
+
+# --- wiredem ---------------------------------------------------------------
+bench_args=(--json --threads 1,2 --steps "$steps" --liggghts-data "$work/packing.data")
+[ -n "$settle" ] && bench_args+=(--settle-time "$settle")
+[ -n "$grains" ] && bench_args+=(--grains "$grains")
+echo "running: $bench ${bench_args[*]}" >&2
+"$bench" "${bench_args[@]}" > "$work/wiredem.json"
+
+field() { # field NAME < one JSON line: the value of a number or string field
+    sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"
+}
+dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
+bodies=$(head -n1 "$work/wiredem.json" | field bodies)
+contacts=$(head -n1 "$work/wiredem.json" | field contacts)
+
+# --- LIGGGHTS --------------------------------------------------------------
+# The bench writes "1 atom types"; type 2 is the walls' own material.
+sed 's/^1 atom types$/2 atom types/' "$work/packing.data" > "$work/packing2.data"
+grep -q '^2 atom types$' "$work/packing2.data" || { echo "unexpected data file header" >&2; exit 1; }
+
+run_liggghts() { # run_liggghts PROCS
+    local procs=$1 log=$work/liggghts.$1.log
+    local cmd=("$liggghts" -in "$deck" -var datafile "$work/packing2.data" -var dt "$dt" -var steps "$steps" -log "$log")
+    if [ "$procs" -gt 1 ]; then
+        # OMPI_ALLOW_RUN_AS_ROOT*: Open MPI refuses root otherwise (containers); harmless elsewhere.
+        cmd=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "$mpirun" -np "$procs" "${cmd[@]}")
+    fi
+    echo "running: ${cmd[*]}" >&2
+    (cd "$work" && "${cmd[@]}" > "$work/liggghts.$procs.out" 2>&1) || {
+        echo "LIGGGHTS failed on $procs process(es); its output:" >&2
+        tail -n 30 "$work/liggghts.$procs.out" >&2
+        exit 1
+    }
+    # "Loop time of X on P procs for N steps with M atoms[, finish time ...]"
+    grep -m1 '^Loop time of' "$log" |
+        sed -n 's/^Loop time of \([0-9.eE+-]*\) on \([0-9]*\) procs for \([0-9]*\) steps with \([0-9]*\) atoms.*/\1 \2 \3 \4/p'
+}
+
+rows=()
+while read -r line; do
+    rows+=("wiredem $(echo "$line" | field threads) $(echo "$line" | field steps) $(echo "$line" | field wall_time_s) $(echo "$line" | field bodies)")
+done < "$work/wiredem.json"
+procs_list=(1)
+[ "$use_mpi" = 1 ] && procs_list+=(2)
+for p in "${procs_list[@]}"; do
+    read -r wall np nsteps atoms < <(run_liggghts "$p")
+    [ -n "${wall:-}" ] || { echo "no 'Loop time' line in the LIGGGHTS log" >&2; exit 1; }
+    [ "$atoms" = "$bodies" ] || echo "warning: LIGGGHTS has $atoms atoms, wiredem $bodies bodies" >&2
+    rows+=("LIGGGHTS $np $nsteps $wall $atoms")
+done
+
+# --- table -----------------------------------------------------------------
+echo
+echo "$(date -u '+%Y-%m-%d %H:%M UTC'); $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "$bodies grains, ${settle:-default} s settling, $contacts contacts, δt = $dt s, $steps steps on the settled packing"
+printf '%s\n' "${rows[@]}" | awk '
+    { engine[NR] = $1; cores[NR] = $2; steps[NR] = $3; wall[NR] = $4; bodies[NR] = $5
+      rate[NR] = $5 * $3 / $4; per_core[NR] = rate[NR] / $2
+      if ($1 == "LIGGGHTS") lig[$2] = per_core[NR] }
+    END {
+      printf "%-9s %8s %7s %10s %14s %16s %22s\n", "engine", "cores", "steps", "wall [s]",
+             "body-steps/s", "per core", "wiredem/LIGGGHTS/core"
+      for (i = 1; i <= NR; ++i) {
+        ratio = "-"
+        if (engine[i] == "wiredem") {
+          ref = (cores[i] in lig) ? lig[cores[i]] : lig[1]
+          tag = (cores[i] in lig) ? "" : " (vs 1 proc)"
+          ratio = sprintf("%.2fx%s", per_core[i] / ref, tag)
+        }
+        printf "%-9s %8s %7d %10.3f %14.4g %16.4g %22s\n", engine[i], cores[i] (engine[i] == "wiredem" ? " thr" : " proc"),
+               steps[i], wall[i], rate[i], per_core[i], ratio
+      }
+    }'
