@@ -111,7 +111,7 @@ void JobQueue::cancel(const std::string& id)
     auto it = active_.find(id);
     if (it == active_.end()) return;
     it->second.cancel_requested = true;
-    if (!it->second.signalled) {
+    if (it->second.child && !it->second.signalled) {
         it->second.child->signal(SIGTERM);
         it->second.signalled = true;
         it->second.signalled_at = clock_type::now();
@@ -125,7 +125,7 @@ void JobQueue::stop()
         if (stopping_ && workers_.empty()) return;
         stopping_ = true;
         for (auto& [id, a] : active_) {
-            if (a.signalled) continue;
+            if (a.signalled || !a.child) continue;
             a.child->signal(SIGTERM);
             a.signalled = true;
             a.signalled_at = clock_type::now();
@@ -215,6 +215,25 @@ void JobQueue::run_job(const JobRecord& job)
     const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
         (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json"};
 
+    // Register first, then look at the store: a DELETE that came between the
+    // claim and here is seen either in the store or as cancel_requested.
+    {
+        std::lock_guard lock(mutex_);
+        active_[job.id];
+    }
+    const auto current = store_.get(job.id);
+    bool stop_now = false;
+    {
+        std::lock_guard lock(mutex_);
+        stop_now = stopping_ || active_[job.id].cancel_requested || !current || current->state != JobState::preparing;
+        if (stop_now) active_.erase(job.id);
+    }
+    if (stop_now) {
+        if (current && current->state == JobState::preparing) store_.requeue(job.id);  // shutdown before the start
+        spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
+        return;
+    }
+
     auto child = std::make_shared<ChildProcess>(argv, work);
     spdlog::info("job {}: attempt {} started (runner pid {}, {} threads)", job.id, job.attempts, child->pid(),
         config_.threads_per_job);
@@ -222,7 +241,7 @@ void JobQueue::run_job(const JobRecord& job)
         std::lock_guard lock(mutex_);
         Active& a = active_[job.id];
         a.child = child;
-        if (stopping_) {  // stop() ran between claim and here
+        if (stopping_ || a.cancel_requested) {  // stop() or cancel() ran while the child started
             child->signal(SIGTERM);
             a.signalled = true;
             a.signalled_at = clock_type::now();
