@@ -26,13 +26,22 @@ struct WaitOptions {
     std::optional<double> timeout_s;      ///< give up (exit 10) after this
 };
 
+/// `submit`: validate locally, POST with a fresh Idempotency-Key (retried on
+/// network errors), print the id; with `wait`, then wait like cmd_wait.
 int cmd_submit(const GlobalOptions& g, const std::filesystem::path& job_file, bool wait, const WaitOptions& w);
+/// `status`: the job as a key/value block (or its JSON).
 int cmd_status(const GlobalOptions& g, const std::string& id);
+/// `wait`: poll until the job ends; exit code from its final state.
 int cmd_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w);
+/// `list`: a page of jobs (every page with `all`), optionally of one state.
 int cmd_list(const GlobalOptions& g, const std::string& state, int limit, bool all);
+/// `cancel`: DELETE the job.
 int cmd_cancel(const GlobalOptions& g, const std::string& id);
+/// `summary`: the results table (or the summary JSON).
 int cmd_summary(const GlobalOptions& g, const std::string& id);
+/// `fetch`: DIR/summary.json and DIR/result.h5, resuming a DIR/result.h5.part.
 int cmd_fetch(const GlobalOptions& g, const std::string& id, const std::filesystem::path& dir);
+/// `health`: GET /v1/health.
 int cmd_health(const GlobalOptions& g);
 /// `wiredem run`: validates the job file, then runs the campaign locally.
 int cmd_run(const std::filesystem::path& job_file, const std::filesystem::path& out_dir, unsigned threads,

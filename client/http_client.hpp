@@ -43,8 +43,10 @@ struct HttpReply {
     [[nodiscard]] std::string header(const std::string& name) const;
 };
 
+/// The HTTP methods the API uses.
 enum class Method { get, head, post, del };
 
+/// One connection's worth of API calls (see the file comment).
 class HttpClient {
 public:
     /// @param token     bearer token ("" to send none)
@@ -68,6 +70,7 @@ public:
     HttpReply download(std::string_view target, const std::filesystem::path& file, std::uint64_t offset,
         const std::function<void(std::uint64_t)>& on_bytes);
 
+    /// The server this client talks to.
     [[nodiscard]] const ServerUrl& server() const { return server_; }
 
 private:

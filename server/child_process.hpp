@@ -20,6 +20,7 @@
 
 namespace wiredem::server {
 
+/// One runner process and the read ends of its stdout and stderr.
 class ChildProcess {
 public:
     /// Starts `argv[0]` with arguments `argv` in directory `cwd`.

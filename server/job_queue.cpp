@@ -231,6 +231,8 @@ void JobQueue::run_job(const JobRecord& job)
     if (stop_now) {
         if (current && current->state == JobState::preparing) store_.requeue(job.id);  // shutdown before the start
         spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
+        std::error_code ec;
+        fs::remove_all(work, ec);
         return;
     }
 

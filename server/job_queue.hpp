@@ -52,6 +52,7 @@ struct LiveProgress {
     std::string message;
 };
 
+/// Runs queued jobs on worker threads, one runner process per job.
 class JobQueue {
 public:
     JobQueue(JobStore& store, QueueConfig config);
@@ -83,9 +84,11 @@ public:
     /// Newest engine throughput reported by a runner [body-steps/s].
     [[nodiscard]] std::optional<double> body_steps_per_second() const;
 
+    /// The configuration in force (concurrent_jobs and threads_per_job at least 1).
     [[nodiscard]] const QueueConfig& config() const { return config_; }
 
 private:
+    /// A job a worker has claimed; child is null until the runner started.
     struct Active {
         std::shared_ptr<ChildProcess> child;
         LiveProgress live;

@@ -40,6 +40,7 @@ enum class CancelOutcome {
 /// Job counts per state, indexed by JobState.
 using StateCounts = std::array<std::int64_t, std::size(all_job_states)>;
 
+/// The job table (see the file comment for durability and threading).
 class JobStore {
 public:
     /// Opens (creating if needed) the database file and its schema.

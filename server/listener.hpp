@@ -14,6 +14,7 @@
 
 namespace wiredem::server {
 
+/// The accept loop of one listening address.
 class Listener : public std::enable_shared_from_this<Listener> {
 public:
     /// Opens, binds and listens. @throws boost::system::system_error when the

@@ -11,6 +11,7 @@
 
 namespace wiredem::server {
 
+/// Dispatches requests to the handlers; holds nothing but the services.
 class Router {
 public:
     explicit Router(Services& services) : svc_(services) {}

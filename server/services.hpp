@@ -16,17 +16,19 @@ namespace wiredem::server {
 struct Metrics {
     /// Replies by status class: index 1 = 1xx … 5 = 5xx.
     std::atomic<std::uint64_t> responses_by_class[6]{};
-    std::atomic<std::uint64_t> jobs_submitted{0};
-    std::atomic<std::uint64_t> connections_open{0};
-    std::atomic<std::uint64_t> connections_rejected{0};
-    std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+    std::atomic<std::uint64_t> jobs_submitted{0};        ///< 201s that created a job
+    std::atomic<std::uint64_t> connections_open{0};      ///< live sessions
+    std::atomic<std::uint64_t> connections_rejected{0};  ///< closed at once: max_connections reached
+    std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();  ///< for uptime
 };
 
+/// Everything a handler may use; references to objects that outlive the
+/// I/O threads.
 struct Services {
-    const ServerConfig& config;
-    JobStore& store;
-    JobQueue& queue;
-    Metrics& metrics;
+    const ServerConfig& config;  ///< read-only after start
+    JobStore& store;             ///< durable job table
+    JobQueue& queue;             ///< workers and live progress
+    Metrics& metrics;            ///< counters for /metrics
 };
 
 } // namespace wiredem::server

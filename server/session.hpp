@@ -13,8 +13,6 @@
 
 namespace wiredem::server {
 
-class Session;
-
 /// Starts serving a connection that was just accepted (the socket's executor
 /// must be a strand). The session keeps itself alive until the connection ends.
 void start_session(boost::asio::ip::tcp::socket socket, Router& router, const ServerConfig& config,
