@@ -1,0 +1,52 @@
+// What the client prints for people: the progress bar of `wait` on a
+// terminal, durations, and the summary table (also when fields are missing).
+#include "display.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+namespace wiredem::client {
+namespace {
+namespace json = boost::json;
+
+TEST(ClientDisplay, ProgressBarShowsFractionStageAndEta)
+{
+    const json::value job = json::parse(R"({"state": "running", "stage": "testing", "progress": 0.5, "eta_s": 80})");
+    const std::string bar = format_progress_bar(job, 10);
+    EXPECT_EQ(bar.substr(0, 12), "[=====>    ]");
+    EXPECT_NE(bar.find(" 50%"), std::string::npos) << bar;
+    EXPECT_NE(bar.find("testing"), std::string::npos) << bar;
+    EXPECT_NE(bar.find("eta 1m20s"), std::string::npos) << bar;
+    const json::value queued = json::parse(R"({"state": "queued", "stage": null, "progress": 0, "eta_s": null})");
+    const std::string q = format_progress_bar(queued, 10);
+    EXPECT_NE(q.find("queued"), std::string::npos) << q;
+    EXPECT_EQ(q.find("eta"), std::string::npos) << q;
+}
+
+TEST(ClientDisplay, DurationsReadLikeAClock)
+{
+    EXPECT_EQ(format_duration(0), "0s");
+    EXPECT_EQ(format_duration(59.4), "59s");
+    EXPECT_EQ(format_duration(80), "1m20s");
+    EXPECT_EQ(format_duration(4000), "1h06m");
+    EXPECT_EQ(format_duration(-1), "-");
+}
+
+TEST(ClientDisplay, SummaryTableGivesPeakStressPerPressureInKpaAndTheEnvelope)
+{
+    const json::value summary = json::parse(R"({
+      "tests": [{"confining_pressure_pa": 20000, "peak_deviatoric_stress_pa": 81234.5, "peak_axial_strain": 0.0412,
+                 "sigma1_pa": 101234.5, "sigma3_effective_pa": 19000}],
+      "mohr_coulomb": {"friction_angle_deg": 38.5, "cohesion_pa": 1500, "r_squared": 0.99},
+      "specimen": {"grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
+      "warnings": ["fit used two points"]})");
+    const std::string table = format_summary(summary);
+    for (const char* expected : {"20.0", "81.2", "4.12", "101.2", "19.0", "38.50 deg", "1.50 kPa", "0.6100", "0.00800",
+             "fit used two points"})
+        EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
+    EXPECT_NE(table.find("wire nodes             -"), std::string::npos) << "missing fields print as -\n" << table;
+    EXPECT_NE(format_summary(json::object{}).find("(no tests in the summary)"), std::string::npos);
+}
+
+} // namespace
+} // namespace wiredem::client
