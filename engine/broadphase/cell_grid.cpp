@@ -20,22 +20,32 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         hi = hi.cwiseMax(pos[i]);
         r_max = std::max(r_max, radius[i]);
     }
+    // A body that has flown off to infinity (a blown-up run, flagged by the
+    // step) must not make the grid unbounded: clamp the box to finite values.
+    if (!lo.allFinite() || !hi.allFinite()) {
+        lo = lo.cwiseMax(Vec3::Constant(-1e6)).cwiseMin(Vec3::Constant(1e6));
+        hi = hi.cwiseMax(Vec3::Constant(-1e6)).cwiseMin(Vec3::Constant(1e6));
+        for (int d = 0; d < 3; ++d) {
+            if (std::isnan(lo[d])) lo[d] = -1e6;
+            if (std::isnan(hi[d])) hi[d] = 1e6;
+        }
+    }
     // Cells at least one interaction range wide; coarsen if the box is so
     // sparse that the grid would hold far more cells than bodies.
     double cell = 2.0 * r_max + skin_m;
     std::array<std::int64_t, 3> dims{};
+    const double max_cells = static_cast<double>(8 * n + 64);
     for (;;) {
-        std::int64_t total = 1;
-        for (int d = 0; d < 3; ++d) {
-            dims[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell)) + 1);
-            total *= dims[d];
-        }
-        if (total <= static_cast<std::int64_t>(8 * n + 64)) break;
+        double total = 1.0;
+        for (int d = 0; d < 3; ++d) total *= std::floor((hi[d] - lo[d]) / cell) + 1.0;
+        if (total <= max_cells) break;
         cell *= 1.5;
     }
+    for (int d = 0; d < 3; ++d) dims[d] = static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell)) + 1;
     const std::size_t cells = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
     auto coord = [&](const Vec3& p, int d) {
-        return std::clamp<std::int64_t>(static_cast<std::int64_t>((p[d] - lo[d]) / cell), 0, dims[d] - 1);
+        const double c = std::clamp((p[d] - lo[d]) / cell, 0.0, static_cast<double>(dims[d] - 1));
+        return std::isnan(c) ? std::int64_t{0} : static_cast<std::int64_t>(c);
     };
 
     // Counting sort of bodies by cell: ids ascend within each cell.

@@ -1,0 +1,71 @@
+// Wire-deployment patterns (the model spec §5): the nozzle's horizontal
+// trajectory, parametrised by path length so that the nozzle can move at the
+// constant path speed ω R_a whatever the pattern.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <string>
+#include <string_view>
+
+namespace wiredem::engine {
+
+enum class PatternKind { none, helix, spiral_helix, radial_helix };
+
+/// Parses "none", "helix", "spiral_helix", "radial_helix".
+[[nodiscard]] bool parse_pattern_kind(std::string_view name, PatternKind& out);
+[[nodiscard]] std::string_view pattern_name(PatternKind kind);
+
+/// The pattern's parameters. Defaults fit a 20 mm-radius membrane.
+struct PatternSpec {
+    PatternKind kind = PatternKind::helix;
+    double helix_radius_m = 12e-3;          ///< R_a
+    double inner_radius_m = 4e-3;           ///< R_i (spiral_helix)
+    double period_angle_rad = 1.5707963267948966; ///< φ_rs (spiral and radial): π/2
+    double angular_speed_rad_per_s = 300.0; ///< ω; path speed ω R_a
+    double rise_speed_m_per_s = 0.5;        ///< v_z^w, the nozzle's largest rise speed
+};
+
+/// Largest distance of the pattern from the axis [m].
+[[nodiscard]] double pattern_reach_m(const PatternSpec& p);
+
+/// Horizontal nozzle trajectory, walked by path length.
+class NozzlePath {
+public:
+    /// @param hairpin_gap_m  lateral distance between the in and out legs of a
+    ///        radial excursion (they must not overlap: ≥ 2 r_w).
+    NozzlePath(const PatternSpec& spec, double hairpin_gap_m);
+
+    /// Position (x, y, 0) after `s` metres along the path.
+    [[nodiscard]] Vec3 at(double s_m) const;
+    /// The angle Θ travelled around the large circle after `s` metres
+    /// (helix and spiral helix; the spiral's small circle is at ψ = 2πΘ/φ_rs).
+    [[nodiscard]] double large_angle(double s_m) const
+    {
+        return spec_.kind == PatternKind::spiral_helix ? spiral_angle(s_m) : s_m / spec_.helix_radius_m;
+    }
+    /// Constant path speed ω R_a [m/s].
+    [[nodiscard]] double speed_m_per_s() const { return spec_.angular_speed_rad_per_s * spec_.helix_radius_m; }
+
+    /// Geometry of a radial excursion (radial_helix).
+    struct Hairpin {
+        double r_min_m = 0.0;   ///< closest approach to the axis
+        double in_m = 0.0, out_m = 0.0; ///< leg lengths
+        double beta_rad = 0.0;  ///< where the out leg meets the circle, behind the excursion
+        double period_m = 0.0;  ///< path length of one period
+    };
+    [[nodiscard]] Hairpin hairpin() const;
+
+private:
+    /// Spiral helix: the large angle Θ reached after path length s, by
+    /// integrating dΘ/ds = 1/|dP/dΘ| (RK4), cached for monotone queries.
+    [[nodiscard]] double spiral_angle(double s_m) const;
+    [[nodiscard]] Vec3 spiral_point(double theta) const;
+    [[nodiscard]] double spiral_speed(double theta) const; ///< |dP/dΘ|
+
+    PatternSpec spec_;
+    double hairpin_gap_m_;
+    mutable double cached_s_ = 0.0, cached_theta_ = 0.0;
+};
+
+} // namespace wiredem::engine

@@ -1,0 +1,69 @@
+// Specimen preparation, "rock printing" (the model spec §5): grains are poured
+// into the rigid membrane on the bottom plate while a nozzle lays the wire
+// along its pattern; then the packing settles and the top plate is lowered
+// until it touches the pile.
+//
+// Deterministic: random numbers are drawn on the calling thread from the seed,
+// and the engine step is thread-count independent.
+#pragma once
+
+#include "core/result.hpp"
+#include "forces/membrane_forces.hpp"
+#include "forces/wire_forces.hpp"
+#include "simulation.hpp"
+#include "specimen/pattern.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace wiredem::engine {
+
+struct PreparationSpec {
+    double membrane_radius_m = 20e-3;
+    double membrane_height_m = 0.12;
+    std::size_t grain_count = 8000;
+    double grain_radius_m = 1.23e-3;
+    double grain_radius_spread = 0.0;      ///< radii uniform in r (1 ± spread)
+    Material grain{};
+    Material plate{1e9, 0.3, 7800.0};      ///< E_b
+    WireSpec wire{};
+    PatternSpec pattern{};
+    MembraneSpec membrane{};               ///< radius/height/base are taken from above
+    ContactSettings contact{};
+    double density_scale = 1.0;            ///< multiplies every mass (quasi-static scaling)
+    /// Speed at which the fill height rises while pouring [m/s]; sets the
+    /// pouring time and therefore the length of wire laid.
+    double fill_rate_m_per_s = 0.04;
+    double pour_speed_m_per_s = 0.5;       ///< grains enter the pouring zone moving down at this speed
+    double clearance_m = 1e-3;             ///< wire pattern keeps r_w + this inside the membrane
+    double settle_kinetic_energy_per_grain_j = 1e-9;
+    double max_time_s = 5.0;               ///< simulated time limit for the whole preparation
+    double plate_speed_m_per_s = 0.05;     ///< the top plate's lowering speed
+    double time_step_s = 0.0;              ///< 0: auto
+    std::uint64_t seed = 1;
+};
+
+struct PreparationReport {
+    std::size_t grains = 0;
+    std::size_t wire_nodes = 0;
+    double wire_length_m = 0.0;
+    double pile_height_m = 0.0;            ///< bottom plate to top plate [m]
+    double sample_volume_m3 = 0.0;         ///< π R² h
+    double grain_volume_fraction = 0.0;
+    double wire_volume_fraction = 0.0;     ///< wire as a cylinder of radius r_w along its length
+    double simulated_time_s = 0.0;
+    double wall_time_s = 0.0;
+    std::uint64_t steps = 0;
+    double time_step_s = 0.0;
+    bool settled = false;                  ///< kinetic energy fell below the threshold in time
+    std::size_t top_plate_wall = 0;        ///< index of the top plate in World::walls
+};
+
+/// Stages reported to RunControl::progress are steps of the whole preparation
+/// (expected total estimated from the pouring time).
+/// @return the report, or an error message (pattern outside the membrane,
+///         column taller than the membrane, cancelled, blew up)
+[[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(
+    Simulation& sim, const PreparationSpec& spec, const RunControl& control = {});
+
+} // namespace wiredem::engine
