@@ -1,0 +1,470 @@
+// The triaxial test driver; see triaxial.hpp.
+#include "triaxial/triaxial.hpp"
+
+#include "analysis/stress.hpp"
+#include "energy.hpp"
+#include "forces/membrane_forces.hpp"
+#include "laws/hertz.hpp"
+#include "timestep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <span>
+
+namespace wiredem::engine {
+namespace {
+
+/// Force the column exerts on a plate along the plate's inward normal, > 0 in
+/// compression (total_force_n is the force the bodies exert on the wall).
+double plate_compression_n(const Wall& plate) { return -plate.total_force_n.dot(plate.normal); }
+
+/// σ₃(t) during the ramp: ½(1 − cos(π t/T)) of the target, the target from T on.
+double ramped_pressure_pa(double target_pa, double t_s, double ramp_s)
+{
+    if (t_s >= ramp_s) return target_pa;
+    return target_pa * 0.5 * (1.0 - std::cos(std::numbers::pi * t_s / ramp_s));
+}
+
+std::string format_number(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+
+bool is_plate(const World& w, std::size_t wall, double normal_z)
+{
+    return wall < w.walls.size() && w.walls[wall].shape == Wall::Shape::plane
+        && w.walls[wall].normal.isApprox(Vec3(0.0, 0.0, normal_z));
+}
+
+std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const TriaxialSettings& s)
+{
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+    if (!positive(s.confining_pressure_pa))
+        return "confining_pressure_pa: " + format_number(s.confining_pressure_pa) + " must be > 0";
+    if (!(s.target_axial_strain > 0.0 && s.target_axial_strain < 1.0))
+        return "target_axial_strain: " + format_number(s.target_axial_strain) + " must lie in (0, 1)";
+    if (!positive(s.plate_speed_m_per_s))
+        return "plate_speed_m_per_s: " + format_number(s.plate_speed_m_per_s) + " must be > 0";
+    if (!non_negative(s.pressure_ramp_time_s))
+        return "pressure_ramp_time_s: " + format_number(s.pressure_ramp_time_s) + " must be ≥ 0";
+    if (!non_negative(s.hold_time_s)) return "hold_time_s: " + format_number(s.hold_time_s) + " must be ≥ 0";
+    if (s.pressure_ramp_time_s + s.hold_time_s <= 0.0)
+        return "pressure_ramp_time_s + hold_time_s must be > 0: the column needs time under σ₃ before loading";
+    if (!positive(s.sample_interval_s))
+        return "sample_interval_s: " + format_number(s.sample_interval_s) + " must be > 0";
+    for (double e : s.snapshot_strains)
+        if (!std::isfinite(e)) return "snapshot_strains: every strain must be finite";
+    if (!is_plate(w, 0, 1.0)) return "wall 0 must be the bottom plate (a plane with its normal pointing up)";
+    if (!is_plate(w, top_plate_wall, -1.0))
+        return "wall " + std::to_string(top_plate_wall) + " must be the top plate (a plane with its normal pointing down)";
+    if (w.of(BodyKind::grain).size() == 0) return "the world has no grains";
+    if (w.of(BodyKind::membrane).size() == 0 || w.membrane.triangles.empty())
+        return "the world has no membrane to apply the confining pressure on";
+    if (!(w.dt_s > 0.0)) return "the time step is not set";
+    const double h = w.walls[top_plate_wall].point_m.z() - w.walls[0].point_m.z();
+    if (!(h > 0.0)) return "the top plate is not above the bottom plate";
+    return std::nullopt;
+}
+
+/// Sorted, de-duplicated snapshot strains within [0, target], always with 0 and target.
+std::vector<double> snapshot_plan(const TriaxialSettings& s)
+{
+    std::vector<double> plan{0.0, s.target_axial_strain};
+    for (double e : s.snapshot_strains) plan.push_back(std::clamp(e, 0.0, s.target_axial_strain));
+    std::sort(plan.begin(), plan.end());
+    plan.erase(std::unique(plan.begin(), plan.end()), plan.end());
+    return plan;
+}
+
+/// Elastic energy stored in the system [J]: wire and membrane springs from
+/// elastic_energy(), Hertz energy (8/15) E* √R* ξ^{5/2} of the touching pairs
+/// and of the body–wall contacts of moving bodies only. elastic_energy() also
+/// counts held bodies against walls (the membrane rims, the nodes sealed to the
+/// cap above the top plate), overlaps that exert no force and would swamp the
+/// kinetic/elastic ratio.
+double stored_elastic_energy_j(const World& w, ThreadPool& pool)
+{
+    const ElasticEnergy springs = elastic_energy(w, pool);
+    auto e_star = [&](std::uint8_t a, std::uint8_t b) {
+        const Material &ma = w.materials[a], &mb = w.materials[b];
+        return effective_modulus_pa(ma.youngs_modulus_pa, ma.poisson_ratio, mb.youngs_modulus_pa, mb.poisson_ratio);
+    };
+    auto hertz_energy_j = [](double overlap_m, double e_star_pa, double r_star_m) {
+        return overlap_m > 0.0 ? 8.0 / 15.0 * e_star_pa * std::sqrt(r_star_m) * std::pow(overlap_m, 2.5) : 0.0;
+    };
+    auto sum = [&](std::size_t n, const auto& term) {
+        return reduce_blocks(
+            pool, n, 0.0,
+            [&](std::size_t b, std::size_t e) {
+                double s = 0.0;
+                for (std::size_t i = b; i < e; ++i) s += term(i);
+                return s;
+            },
+            [](double a, double b) { return a + b; });
+    };
+    const ContactList& c = w.contacts;
+    double contacts_j = sum(c.size(), [&](std::size_t p) {
+        if (!c.touching[p]) return 0.0;
+        const TranslationalState &A = w.of(c.first[p].kind()), &B = w.of(c.second[p].kind());
+        const std::uint32_t ia = c.first[p].index(), ib = c.second[p].index();
+        const double overlap = A.radius_m[ia] + B.radius_m[ib] - (A.x[0][ia] - B.x[0][ib]).norm();
+        return hertz_energy_j(overlap, e_star(A.material[ia], B.material[ib]), effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
+    });
+    for (const Wall& wall : w.walls)
+        for (int k = 0; k < body_kind_count; ++k) {
+            const TranslationalState& body = w.bodies[k];
+            contacts_j += sum(body.size(), [&](std::size_t i) {
+                if (body.inv_mass_per_kg[i] == 0.0) return 0.0; // held: no wall force (step.cpp)
+                const Vec3& x = body.x[0][i];
+                const double gap = wall.shape == Wall::Shape::plane
+                                     ? (x - wall.point_m).dot(wall.normal)
+                                     : wall.radius_m - std::hypot(x.x() - wall.point_m.x(), x.y() - wall.point_m.y());
+                return hertz_energy_j(body.radius_m[i] - gap, e_star(body.material[i], wall.material), body.radius_m[i]);
+            });
+        }
+    return contacts_j + springs.wire_j + springs.membrane_j;
+}
+
+} // namespace
+
+void TriaxialSeries::push_back(const TriaxialSample& s)
+{
+    time_s.push_back(s.time_s);
+    phase.push_back(static_cast<std::uint8_t>(s.phase));
+    axial_strain.push_back(s.axial_strain);
+    height_m.push_back(s.height_m);
+    top_plate_force_n.push_back(s.top_plate_force_n);
+    bottom_plate_force_n.push_back(s.bottom_plate_force_n);
+    column_radius_m.push_back(s.column_radius_m);
+    confining_pressure_pa.push_back(s.confining_pressure_pa);
+    sigma1_pa.push_back(s.sigma1_pa);
+    sigma3_effective_pa.push_back(s.sigma3_effective_pa);
+    deviatoric_stress_pa.push_back(s.deviatoric_stress_pa);
+    stress_ratio.push_back(s.stress_ratio);
+    volumetric_strain.push_back(std::numeric_limits<double>::quiet_NaN());
+    kinetic_energy_j.push_back(s.kinetic_energy_j);
+    elastic_energy_j.push_back(s.elastic_energy_j);
+    contacts.push_back(s.contacts);
+    sliding_contacts.push_back(s.sliding_contacts);
+    membrane_contacts.push_back(s.membrane_contacts);
+    wire_strain_mean.push_back(s.wire_strain_mean);
+    wire_strain_max.push_back(s.wire_strain_max);
+    inertial_number.push_back(s.inertial_number);
+}
+
+TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
+    std::size_t bottom_plate_wall, double initial_height_m)
+{
+    TriaxialSample s;
+    const Wall& top = w.walls[top_plate_wall];
+    const Wall& bottom = w.walls[bottom_plate_wall];
+    s.height_m = top.point_m.z() - bottom.point_m.z();
+    s.axial_strain = analysis::axial_strain(initial_height_m, s.height_m);
+    s.top_plate_force_n = plate_compression_n(top);
+    s.bottom_plate_force_n = plate_compression_n(bottom);
+
+    // Column radius (the model spec §6.3): grains touching the membrane, each
+    // counted once. Pairs are sorted by (first, second) and a grain's
+    // membrane pairs come last among its pairs, so they are consecutive.
+    const TranslationalState& grains = w.of(BodyKind::grain);
+    const ContactList& c = w.contacts;
+    std::vector<double> radial_m;
+    std::uint32_t previous = std::numeric_limits<std::uint32_t>::max();
+    for (std::size_t p = 0; p < c.size(); ++p) {
+        if (!c.touching[p] || c.first[p].kind() != BodyKind::grain || c.second[p].kind() != BodyKind::membrane) continue;
+        const std::uint32_t g = c.first[p].index();
+        if (g == previous) continue;
+        previous = g;
+        const Vec3& x = grains.x[0][g];
+        radial_m.push_back(std::hypot(x.x(), x.y()));
+    }
+    double radius_sum_m = 0.0, enclosing_m = 0.0;
+    for (std::size_t i = 0; i < grains.size(); ++i) {
+        radius_sum_m += grains.radius_m[i];
+        const Vec3& x = grains.x[0][i];
+        enclosing_m = std::max(enclosing_m, std::hypot(x.x(), x.y()) + grains.radius_m[i]);
+    }
+    const double mean_grain_radius_m = grains.size() ? radius_sum_m / static_cast<double>(grains.size()) : 0.0;
+    s.column_radius_m = analysis::column_radius_m(radial_m, mean_grain_radius_m).value_or(enclosing_m);
+
+    const MembraneLoad load = membrane_contact_load(w, pool);
+    s.membrane_contacts = load.contacts;
+    s.sigma1_pa = analysis::axial_stress_pa(s.top_plate_force_n, s.column_radius_m);
+    s.sigma3_effective_pa = analysis::effective_confining_pressure_pa(load.normal_force_n, s.column_radius_m, s.height_m);
+    s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
+    s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
+    s.volume_m3 = analysis::cylinder_volume_m3(s.column_radius_m, s.height_m);
+    s.kinetic_energy_j = kinetic_energy_j(w, pool);
+    s.elastic_energy_j = stored_elastic_energy_j(w, pool);
+
+    struct Count {
+        std::uint64_t touching = 0, sliding = 0;
+    };
+    const Count pairs = reduce_blocks(
+        pool, c.size(), Count{},
+        [&](std::size_t b, std::size_t e) {
+            Count n;
+            for (std::size_t p = b; p < e; ++p)
+                if (c.touching[p]) {
+                    ++n.touching;
+                    if (!c.tangential[p].sticking) ++n.sliding;
+                }
+            return n;
+        },
+        [](Count a, const Count& b) {
+            a.touching += b.touching;
+            a.sliding += b.sliding;
+            return a;
+        });
+    s.contacts = pairs.touching;
+    s.sliding_contacts = pairs.sliding;
+    for (const Wall& wall : w.walls) {
+        s.contacts += wall.contacts;
+        // A wall's memory is reset to sticking when its body is not touching.
+        for (const auto& memory : wall.tangential)
+            for (const TangentialState& t : memory)
+                if (!t.sticking) ++s.sliding_contacts;
+    }
+
+    const std::vector<double>& strain = w.wire.segment_strain;
+    if (!strain.empty()) {
+        double sum = 0.0, max = strain.front();
+        for (double e : strain) {
+            sum += e;
+            max = std::max(max, e);
+        }
+        s.wire_strain_mean = sum / static_cast<double>(strain.size());
+        s.wire_strain_max = max;
+    }
+    return s;
+}
+
+TriaxialSnapshot take_triaxial_snapshot(const World& w)
+{
+    TriaxialSnapshot snap;
+    const TranslationalState& g = w.of(BodyKind::grain);
+    snap.grain_position_m = g.x[0];
+    snap.grain_radius_m = g.radius_m;
+    snap.grain_velocity_m_per_s.reserve(g.size());
+    for (const Vec3& v : g.x[1]) snap.grain_velocity_m_per_s.push_back(v / w.dt_s);
+    snap.wire_node_position_m = w.of(BodyKind::wire).x[0];
+    snap.wire_segment_strain = w.wire.segment_strain;
+    snap.membrane_node_position_m = w.of(BodyKind::membrane).x[0];
+    snap.membrane_triangles = w.membrane.triangles;
+
+    ForceNetwork& f = snap.forces;
+    const ContactList& c = w.contacts;
+    for (std::size_t p = 0; p < c.size(); ++p) {
+        if (!c.touching[p]) continue;
+        f.first.push_back(c.first[p]);
+        f.second.push_back(c.second[p]);
+        f.force_n.push_back(c.force_n[p]);
+        f.normal_force_n.push_back(c.normal_force_n[p]);
+    }
+    for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
+        for (int k = 0; k < body_kind_count; ++k) {
+            const auto& force = w.walls[wi].force_on_body_n[k];
+            for (std::size_t i = 0; i < force.size(); ++i) {
+                if (force[i].isZero(0.0)) continue;
+                f.wall.push_back(static_cast<std::uint32_t>(wi));
+                f.wall_body.emplace_back(static_cast<BodyKind>(k), static_cast<std::uint32_t>(i));
+                f.wall_force_n.push_back(force[i]);
+            }
+        }
+    return snap;
+}
+
+Result<TriaxialResult, std::string> run_triaxial(
+    Simulation& sim, std::size_t top_plate_wall, const TriaxialSettings& settings, const RunControl& control)
+{
+    const auto wall_start = std::chrono::steady_clock::now();
+    World& w = sim.world;
+    ThreadPool& pool = sim.pool();
+    if (auto e = validate(w, top_plate_wall, settings)) return Err(*e);
+    constexpr std::size_t bottom_plate_wall = 0;
+
+    // 1. Deformable membrane; the part at and above the top plate is sealed to the cap.
+    set_membrane_rigid(w, false);
+    TranslationalState& nodes = w.of(BodyKind::membrane);
+    std::vector<std::uint32_t> cap_nodes;
+    {
+        const double plate_z = w.walls[top_plate_wall].point_m.z();
+        for (std::uint32_t i = 0; i < nodes.size(); ++i) {
+            if (nodes.x[0][i].z() + nodes.radius_m[i] <= plate_z) continue;
+            nodes.inv_mass_per_kg[i] = 0.0;
+            for (int k = 1; k < gear_order; ++k) nodes.x[k][i].setZero();
+            cap_nodes.push_back(i);
+        }
+    }
+    w.neighbours_dirty = true;
+    w.membrane.pressure_pa = 0.0;
+    w.walls[top_plate_wall].velocity_m_per_s.setZero();
+    const double dt = w.dt_s;
+    if (const CriticalStep crit = critical_time_step(w); dt > crit.critical_s)
+        return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
+                   + " s set by the " + crit.limited_by + " of the deformable system");
+
+    // Grain properties for the inertial number (mass-scaled density if scaled).
+    const TranslationalState& grains = w.of(BodyKind::grain);
+    double radius_sum_m = 0.0;
+    for (double r : grains.radius_m) radius_sum_m += r;
+    const double grain_radius_m = radius_sum_m / static_cast<double>(grains.size());
+    const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
+
+    const double pre_load_s = settings.pressure_ramp_time_s + settings.hold_time_s;
+    const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil(pre_load_s / dt));
+    const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
+    const double height_now = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
+    std::uint64_t expected_steps = pre_load_steps
+        + static_cast<std::uint64_t>(std::ceil(settings.target_axial_strain * height_now / settings.plate_speed_m_per_s / dt));
+
+    TriaxialResult result;
+    result.time_step_s = dt;
+    const std::vector<double> plan = snapshot_plan(settings);
+    std::size_t next_snapshot = 0;
+    std::uint64_t n = 0;                 // steps of this test
+    std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
+    double h0 = height_now;
+    bool loading = false;
+    std::size_t loading_start_sample = 0;
+
+    auto sample = [&] {
+        TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, h0);
+        s.time_s = static_cast<double>(n) * dt;
+        s.phase = loading ? TriaxialPhase::loading
+                          : (s.time_s < settings.pressure_ramp_time_s ? TriaxialPhase::ramp : TriaxialPhase::hold);
+        s.confining_pressure_pa = w.membrane.pressure_pa;
+        if (loading) {
+            // ε̇ = v/h₀ (the model spec §4), with the applied σ₃.
+            s.inertial_number = analysis::inertial_number(
+                settings.plate_speed_m_per_s / h0, grain_radius_m, grain_density, s.confining_pressure_pa);
+        }
+        result.series.push_back(s);
+        last_sample_step = n;
+    };
+    auto snapshot_due = [&] {
+        const double strain = analysis::axial_strain(h0, w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z());
+        while (next_snapshot < plan.size() && strain >= plan[next_snapshot]) {
+            TriaxialSnapshot snap = take_triaxial_snapshot(w);
+            snap.requested_axial_strain = plan[next_snapshot];
+            snap.axial_strain = strain;
+            snap.time_s = static_cast<double>(n) * dt;
+            result.snapshots.push_back(std::move(snap));
+            ++next_snapshot;
+        }
+        return strain;
+    };
+    // One step: σ₃ for the time reached, the cap nodes carried with the plate.
+    auto advance = [&]() -> std::optional<std::string> {
+        if (control.cancel && control.cancel->load(std::memory_order_relaxed))
+            return "cancelled after " + std::to_string(n) + " steps of the triaxial test";
+        w.membrane.pressure_pa = ramped_pressure_pa(
+            settings.confining_pressure_pa, static_cast<double>(n + 1) * dt, settings.pressure_ramp_time_s);
+        const Vec3 v = w.walls[top_plate_wall].velocity_m_per_s;
+        for (std::uint32_t i : cap_nodes) {
+            nodes.x[0][i] += v * dt;
+            nodes.x[1][i] = v * dt;
+        }
+        const StepReport report = sim.step();
+        ++n;
+        if (report.blew_up)
+            return "the simulation blew up after " + std::to_string(n)
+                 + " steps of the triaxial test (time step too large for the loading?)";
+        if (control.progress && control.progress_every > 0 && n % control.progress_every == 0)
+            control.progress(n, std::max(expected_steps, n));
+        if ((n - 1) % sample_every == 0) sample();
+        return std::nullopt;
+    };
+
+    // 1. Ramp and hold, plate still.
+    while (n < pre_load_steps)
+        if (auto e = advance()) return Err(*e);
+
+    // 2. Loading at constant plate speed.
+    h0 = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
+    result.initial_height_m = h0;
+    loading = true;
+    if (last_sample_step == n) { // the grid sample of this step belongs to the loading
+        result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
+        result.series.axial_strain.back() = 0.0;
+        result.series.inertial_number.back() = analysis::inertial_number(
+            settings.plate_speed_m_per_s / h0, grain_radius_m, grain_density, w.membrane.pressure_pa);
+    } else {
+        sample();
+    }
+    loading_start_sample = result.series.size() - 1;
+    snapshot_due();
+    w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
+    bool stopped_early = false;
+    for (;;) {
+        if (auto e = advance()) return Err(*e);
+        const double strain = snapshot_due();
+        if (strain >= settings.target_axial_strain) break;
+        if (control.after_step && !control.after_step(w, StepReport{})) {
+            stopped_early = true;
+            break;
+        }
+    }
+    w.walls[top_plate_wall].velocity_m_per_s.setZero();
+    if (last_sample_step != n) sample(); // the end of the test is always a row
+
+    // Volumetric strain against V₀ at loading start.
+    TriaxialSeries& ts = result.series;
+    const double v0 = analysis::cylinder_volume_m3(ts.column_radius_m[loading_start_sample], h0);
+    result.initial_volume_m3 = v0;
+    for (std::size_t i = 0; i < ts.size(); ++i)
+        ts.volumetric_strain[i] = analysis::volumetric_strain(v0, analysis::cylinder_volume_m3(ts.column_radius_m[i], ts.height_m[i]));
+
+    // Peak of q over the loading samples.
+    const std::span<const double> q_loading(ts.deviatoric_stress_pa.data() + loading_start_sample, ts.size() - loading_start_sample);
+    if (const auto peak = analysis::peak_deviatoric_stress(q_loading)) {
+        const std::size_t i = loading_start_sample + peak->index;
+        result.peak_sample = i;
+        result.peak_deviatoric_stress_pa = peak->value_pa;
+        result.peak_axial_strain = ts.axial_strain[i];
+        result.peak_sigma1_pa = ts.sigma1_pa[i];
+        result.peak_sigma3_effective_pa = ts.sigma3_effective_pa[i];
+    } else {
+        result.warnings.push_back("no valid deviatoric stress sample during loading: no peak");
+    }
+
+    // Quasi-static verdict over the loading samples.
+    QuasiStaticVerdict& v = result.verdict;
+    for (std::size_t i = loading_start_sample; i < ts.size(); ++i) {
+        v.max_inertial_number = std::max(v.max_inertial_number, ts.inertial_number[i]);
+        const double ratio = ts.elastic_energy_j[i] > 0.0 ? ts.kinetic_energy_j[i] / ts.elastic_energy_j[i]
+                                                          : std::numeric_limits<double>::infinity();
+        v.max_kinetic_to_elastic = std::max(v.max_kinetic_to_elastic, ratio);
+    }
+    if (v.max_inertial_number > max_quasi_static_inertial_number)
+        v.warning = "inertial number reached " + format_number(v.max_inertial_number) + " (quasi-static below "
+                  + format_number(max_quasi_static_inertial_number) + ")";
+    if (v.max_kinetic_to_elastic > max_quasi_static_energy_ratio)
+        v.warning += std::string(v.warning.empty() ? "" : "; ") + "kinetic/elastic energy reached "
+                   + format_number(v.max_kinetic_to_elastic) + " (quasi-static below "
+                   + format_number(max_quasi_static_energy_ratio) + ")";
+    v.quasi_static = v.warning.empty();
+    if (!v.quasi_static) {
+        v.warning = "test at σ₃ = " + format_number(settings.confining_pressure_pa) + " Pa was not quasi-static: " + v.warning
+                  + "; lower the plate speed or the density scaling";
+        result.warnings.push_back(v.warning);
+    }
+    if (stopped_early)
+        result.warnings.push_back("stopped by the host at axial strain " + format_number(ts.axial_strain.back())
+                                  + " before the target " + format_number(settings.target_axial_strain));
+
+    result.steps = n;
+    result.simulated_time_s = static_cast<double>(n) * dt;
+    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return result;
+}
+
+} // namespace wiredem::engine

@@ -1,0 +1,200 @@
+// The triaxial compression test (the model spec §6) on a prepared World:
+// the membrane is made deformable, the confining pressure σ₃ is ramped up and
+// held with the top plate still, then the top plate moves down at constant
+// speed to the target axial strain. Every sample_interval_s a row of
+// measurements is recorded; snapshots of the whole system are taken at chosen
+// axial strains.
+//
+// Conventions: forces on the plates and stresses are positive in compression;
+// ε_a = (h₀ − h)/h₀ with h the distance between the plates and h₀ its value
+// when loading starts; ε_v = (V₀ − V)/V₀ > 0 when the column contracts, with
+// V = π r² h from the measured column radius r.
+//
+// Membrane above the top plate. A prepared membrane is usually taller than the
+// column, and the plates are infinite planes: a free membrane node above the
+// top plate would be pushed through it. As in a real cell, where the membrane
+// is sealed to the top cap, every membrane node within its contact radius of
+// the top plate or above it is clamped to the cap when the test starts: held
+// (not integrated) and carried with the plate's velocity.
+//
+// Determinism: every sum is either a reduce_blocks over canonical order or a
+// serial loop in id order, so results are bit-identical for any thread count.
+// Nothing throws across this API.
+#pragma once
+
+#include "core/result.hpp"
+#include "simulation.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// Quasi-static thresholds (the model spec §4). A test is flagged as not
+/// quasi-static when, during loading, the inertial number exceeds
+/// `max_quasi_static_inertial_number` (I ≲ 10⁻³ is the usual quasi-static
+/// regime, GDR MiDi 2004; above it the stress depends on the loading rate) or
+/// the kinetic energy exceeds `max_quasi_static_energy_ratio` times the stored
+/// elastic energy (1 %: the stored energy, not the motion, carries the load).
+inline constexpr double max_quasi_static_inertial_number = 1e-3;
+inline constexpr double max_quasi_static_energy_ratio = 1e-2;
+
+/// Parameters of one triaxial test. All SI.
+struct TriaxialSettings {
+    double confining_pressure_pa = 40e3;      ///< σ₃ applied on the membrane [Pa], > 0
+    double target_axial_strain = 0.10;        ///< loading stops when ε_a reaches this, in (0, 1)
+    double plate_speed_m_per_s = 0.2e-3;      ///< top plate speed while loading [m/s], > 0
+    /// σ₃ rises from 0 to the target over this time as ½(1 − cos(π t/T)), a
+    /// ramp without a jump in rate at either end [s], ≥ 0 (0: a step).
+    double pressure_ramp_time_s = 0.02;
+    double hold_time_s = 0.02;                ///< σ₃ held, plate still, before loading [s], ≥ 0
+    double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
+    /// Axial strains at which to take snapshots; 0 (loading start) and the
+    /// target are always added; values outside [0, target] are clamped.
+    std::vector<double> snapshot_strains{};
+};
+
+/// The phase a sample was taken in.
+enum class TriaxialPhase : std::uint8_t { ramp = 0, hold = 1, loading = 2 };
+
+/// One row of measurements (see the file comment for signs and references).
+struct TriaxialSample {
+    double time_s = 0.0;                  ///< time since the test started [s]
+    TriaxialPhase phase = TriaxialPhase::ramp;
+    double axial_strain = 0.0;            ///< ε_a
+    double height_m = 0.0;                ///< h, top plate z − bottom plate z [m]
+    double top_plate_force_n = 0.0;       ///< vertical force the column exerts on the top plate [N]
+    double bottom_plate_force_n = 0.0;    ///< same on the bottom plate [N]
+    /// Mean radial distance of the grains touching the membrane + mean grain
+    /// radius; without any grain–membrane contact, the radius of the smallest
+    /// axis-centred cylinder that encloses the grains [m].
+    double column_radius_m = 0.0;
+    double confining_pressure_pa = 0.0;   ///< σ₃ applied on the membrane at this time [Pa]
+    double sigma1_pa = 0.0;               ///< top plate force / (π r²) [Pa]
+    double sigma3_effective_pa = 0.0;     ///< Σ grain–membrane |F_n| / (2π r h) [Pa]
+    double deviatoric_stress_pa = 0.0;    ///< q = σ₁ − σ₃,eff [Pa]
+    double stress_ratio = 0.0;            ///< (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff)
+    double volume_m3 = 0.0;               ///< π r² h [m³]
+    double kinetic_energy_j = 0.0;        ///< translational + rotational, moving bodies [J]
+    /// Hertz energy of the contacts that exert force (pairs, moving bodies on
+    /// walls) + wire + membrane springs [J]
+    double elastic_energy_j = 0.0;
+    std::uint64_t contacts = 0;           ///< touching pairs + body–wall contacts
+    std::uint64_t sliding_contacts = 0;   ///< of those, the ones not sticking
+    std::uint64_t membrane_contacts = 0;  ///< touching grain–membrane pairs
+    double wire_strain_mean = 0.0;        ///< mean segment strain (0 without wire)
+    double wire_strain_max = 0.0;         ///< largest segment strain (0 without wire)
+    /// I = ε̇ · 2 r_p · √(ρ_p/σ₃) with the applied σ₃; 0 while the plate is still.
+    double inertial_number = 0.0;
+};
+
+/// The time series: one entry per sample in every vector, in time order.
+struct TriaxialSeries {
+    std::vector<double> time_s;
+    std::vector<std::uint8_t> phase;               ///< TriaxialPhase values
+    std::vector<double> axial_strain;
+    std::vector<double> height_m;
+    std::vector<double> top_plate_force_n;
+    std::vector<double> bottom_plate_force_n;
+    std::vector<double> column_radius_m;
+    std::vector<double> confining_pressure_pa;     ///< applied σ₃
+    std::vector<double> sigma1_pa;
+    std::vector<double> sigma3_effective_pa;
+    std::vector<double> deviatoric_stress_pa;
+    std::vector<double> stress_ratio;
+    /// ε_v relative to the volume at the start of loading (also for the
+    /// samples before it, which then show the consolidation under σ₃).
+    std::vector<double> volumetric_strain;
+    std::vector<double> kinetic_energy_j;
+    std::vector<double> elastic_energy_j;
+    std::vector<std::uint64_t> contacts;
+    std::vector<std::uint64_t> sliding_contacts;
+    std::vector<std::uint64_t> membrane_contacts;
+    std::vector<double> wire_strain_mean;
+    std::vector<double> wire_strain_max;
+    std::vector<double> inertial_number;
+
+    [[nodiscard]] std::size_t size() const { return time_s.size(); }
+    /// Appends a row; volumetric_strain gets NaN until the run fills it in.
+    void push_back(const TriaxialSample& s);
+};
+
+/// Contacts of one instant: every touching body pair and every body–wall contact.
+struct ForceNetwork {
+    std::vector<BodyRef> first, second;   ///< body pairs, (kind, index), first < second
+    std::vector<Vec3> force_n;            ///< force on `first` (−force on `second`) [N]
+    std::vector<double> normal_force_n;   ///< |F_n| [N]
+    std::vector<std::uint32_t> wall;      ///< body–wall contacts: wall index …
+    std::vector<BodyRef> wall_body;       ///< … the body …
+    std::vector<Vec3> wall_force_n;       ///< … and the wall's force on it [N]
+};
+
+/// The whole system at one instant.
+struct TriaxialSnapshot {
+    double requested_axial_strain = 0.0;  ///< the strain asked for
+    double axial_strain = 0.0;            ///< the strain when taken (first step at or past it)
+    double time_s = 0.0;                  ///< since the test started [s]
+    std::vector<Vec3> grain_position_m;
+    std::vector<double> grain_radius_m;
+    std::vector<Vec3> grain_velocity_m_per_s;
+    std::vector<Vec3> wire_node_position_m;
+    std::vector<double> wire_segment_strain;
+    std::vector<Vec3> membrane_node_position_m;
+    std::vector<std::array<std::uint32_t, 3>> membrane_triangles; ///< node indices, (b−a)×(c−a) inwards
+    ForceNetwork forces;
+};
+
+/// Whether the loading was slow enough to be called quasi-static.
+struct QuasiStaticVerdict {
+    bool quasi_static = true;
+    double max_inertial_number = 0.0;     ///< over the loading samples
+    double max_kinetic_to_elastic = 0.0;  ///< max KE / elastic energy over the loading samples
+    std::string warning;                  ///< empty when quasi-static; otherwise what was exceeded
+};
+
+/// Everything one test produced.
+struct TriaxialResult {
+    TriaxialSeries series;
+    std::vector<TriaxialSnapshot> snapshots;  ///< in ascending strain
+    double peak_deviatoric_stress_pa = 0.0;   ///< max q over the loading samples [Pa]
+    double peak_axial_strain = 0.0;           ///< ε_a at that sample
+    double peak_sigma1_pa = 0.0;              ///< σ₁ at that sample [Pa]
+    double peak_sigma3_effective_pa = 0.0;    ///< σ₃,eff at that sample [Pa]
+    std::size_t peak_sample = 0;              ///< index of that sample in the series
+    double initial_height_m = 0.0;            ///< h₀ [m]
+    double initial_volume_m3 = 0.0;           ///< V₀ = π r₀² h₀ [m³]
+    QuasiStaticVerdict verdict;
+    std::vector<std::string> warnings;        ///< the verdict's warning and any other
+    std::uint64_t steps = 0;
+    double time_step_s = 0.0;
+    double simulated_time_s = 0.0;            ///< ramp + hold + loading [s]
+    double wall_time_s = 0.0;
+};
+
+/// Takes one row of measurements of `w` as it is after its last step (the
+/// contact and wall forces of that step). time_s, phase, confining_pressure_pa
+/// and inertial_number are left for the caller. Reads only; deterministic.
+/// @param top_plate_wall    index of the top plate (a plane whose normal points down)
+/// @param bottom_plate_wall index of the bottom plate (a plane whose normal points up)
+/// @param initial_height_m  h₀ for ε_a [m], > 0
+[[nodiscard]] TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
+    std::size_t bottom_plate_wall, double initial_height_m);
+
+/// Copies the system into a snapshot (forces of the last step).
+[[nodiscard]] TriaxialSnapshot take_triaxial_snapshot(const World& w);
+
+/// Runs one triaxial test on `sim.world` (grains, optional wire, membrane,
+/// bottom plate = wall 0, top plate = `top_plate_wall`, δt set), leaving the
+/// World in its final state. RunControl: `cancel` is checked every step,
+/// `progress` receives (steps done, estimated total), `after_step` returning
+/// false ends the loading early (the result then carries a warning).
+/// @return the result, or an error: settings out of range, walls missing or
+///         not plates, no membrane, δt above the critical step of the
+///         deformable system, cancelled, blew up.
+[[nodiscard]] Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
+    const TriaxialSettings& settings, const RunControl& control = {});
+
+} // namespace wiredem::engine
