@@ -121,9 +121,9 @@ TriaxialSettings fast_settings(double confining_pressure_pa)
     TriaxialSettings s;
     s.confining_pressure_pa = confining_pressure_pa;
     s.target_axial_strain = 0.03;
-    s.plate_speed_m_per_s = 0.05;
-    s.pressure_ramp_time_s = 4e-3;
-    s.hold_time_s = 4e-3;
+    s.plate_speed_m_per_s = 0.02;
+    s.pressure_ramp_time_s = 5e-3;
+    s.hold_time_s = 10e-3;
     s.sample_interval_s = 0.2e-3;
     s.snapshot_strains = {0.01, 0.02};
     return s;
@@ -277,9 +277,7 @@ TEST(TriaxialTest, ReachesTheTargetStrainWithRowsEverySampleInterval)
     }
 }
 
-// Disabled: fails on this loose lattice specimen under fast loading (KE ≈ elastic
-// energy, σ₃ = 40 kPa collapses it); needs a denser, consolidated specimen.
-TEST(TriaxialTest, DISABLED_AxialStressExceedsEffectiveConfinementNearAppliedPressure)
+TEST(TriaxialTest, AxialStressExceedsEffectiveConfinementNearAppliedPressure)
 {
     for (double p : {10e3, 40e3}) {
         const TriaxialSeries& s = lattice_result(p).series;
@@ -291,9 +289,7 @@ TEST(TriaxialTest, DISABLED_AxialStressExceedsEffectiveConfinementNearAppliedPre
     }
 }
 
-// Disabled: fails on this loose lattice specimen under fast loading (KE ≈ elastic
-// energy, σ₃ = 40 kPa collapses it); needs a denser, consolidated specimen.
-TEST(TriaxialTest, DISABLED_PeakDeviatoricStressComesAfterTheStartAndGrowsWithPressure)
+TEST(TriaxialTest, PeakDeviatoricStressComesAfterTheStartAndGrowsWithPressure)
 {
     const TriaxialResult& low = lattice_result(10e3);
     const TriaxialResult& high = lattice_result(40e3);
@@ -332,7 +328,7 @@ TEST(TriaxialTest, SnapshotsAtTheRequestedStrainsHoldTheWholeSystem)
 
 TEST(TriaxialTest, FastLoadingIsFlaggedAsNotQuasiStatic)
 {
-    // The test loads at ε̇ ≈ 2.6/s: I = ε̇ 2 r_p √(ρ/σ₃) ≈ 5·10⁻³ at 10 kPa, above 10⁻³.
+    // The test loads at ε̇ ≈ 1/s: I = ε̇ 2 r_p √(ρ/σ₃) ≈ 2·10⁻³ at 10 kPa, above 10⁻³.
     const TriaxialResult& r = lattice_result(10e3);
     const double expected_i = fast_settings(10e3).plate_speed_m_per_s / r.initial_height_m * 2.0 * grain_radius_m
                             * std::sqrt(7800.0 / 10e3);
