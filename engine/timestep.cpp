@@ -78,7 +78,7 @@ CriticalStep critical_time_step(const World& w)
     const TranslationalState& wire = w.of(BodyKind::wire);
     if (wire.size() >= 2 && w.wire.node_mass_kg > 0.0)
         fold_spring_limit(c, 4.0 * w.wire.axial_stiffness_n_per_m / w.wire.node_mass_kg, "wire segments");
-    if (!w.membrane.node_mass_kg.empty()) {
+    if (!w.membrane.node_mass_kg.empty() && !w.membrane.rigid) { // a rigid membrane does not oscillate
         const double m = *std::min_element(w.membrane.node_mass_kg.begin(), w.membrane.node_mass_kg.end());
         if (m > 0.0) fold_spring_limit(c, 12.0 * w.membrane.edge_stiffness_n_per_m / m, "membrane edges");
     }

@@ -125,8 +125,10 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     {
         World probe = w;
         add_grain(probe, Vec3(0, 0, 1), spec.grain_radius_m * (1.0 - spec.grain_radius_spread), grain_mat);
-        append_wire_node(probe, Vec3(0, 0, 2));
-        append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
+        if (with_wire) {
+            append_wire_node(probe, Vec3(0, 0, 2));
+            append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
+        }
         w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s : auto_time_step_fraction * critical_time_step(probe).critical_s;
     }
     const double dt = w.dt_s;
