@@ -45,6 +45,7 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
         for (int k = 0; k < body_kind_count; ++k) {
             const TranslationalState& body = w.bodies[k];
             e.contacts_j += sum(pool, body.size(), [&](std::size_t i) {
+                if (body.inv_mass_per_kg[i] == 0.0) return 0.0; // held bodies do not touch walls (compute_wall_forces)
                 const Vec3& x = body.x[0][i];
                 double gap;
                 if (wall.shape == Wall::Shape::plane) {
