@@ -74,8 +74,8 @@ bodies=$(head -n1 "$work/wiredem.json" | field bodies)
 contacts=$(head -n1 "$work/wiredem.json" | field contacts)
 
 # --- LIGGGHTS --------------------------------------------------------------
-# The bench writes "1 atom types"; type 2 is the walls' own material.
-sed 's/^1 atom types$/2 atom types/' "$work/packing.data" > "$work/packing2.data"
+# The bench writes "2 atom types": type 2 is the walls' own material.
+cp "$work/packing.data" "$work/packing2.data"
 grep -q '^2 atom types$' "$work/packing2.data" || { echo "unexpected data file header" >&2; exit 1; }
 
 run_liggghts() { # run_liggghts PROCS
