@@ -26,7 +26,7 @@ void fold_spring_limit(CriticalStep& c, double omega2_per_s2, const std::string&
     }
 }
 
-CriticalStep critical_time_step(const World& w)
+CriticalStep critical_time_step(const World& w, double impact_speed_m_per_s)
 {
     CriticalStep c;
     struct Extremes {
@@ -56,9 +56,11 @@ CriticalStep critical_time_step(const World& w)
             if (!kinds[a].any && !kinds[b].any) continue;
             const double e_star = 1.0 / (1.0 / kinds[a].max_modulus + 1.0 / kinds[b].max_modulus);
             const double r_star = effective_radius_m(kinds[a].min_radius, kinds[b].min_radius);
-            const double k = hertz_stiffness_n_per_m(reference_overlap_fraction * r_star, e_star, r_star);
             // The lighter moving body bounds the reduced mass from above: m* ≤ m_min.
             const double m = std::min(kinds[a].min_mass, kinds[b].min_mass);
+            const double overlap = std::max(reference_overlap_fraction * r_star,
+                impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(m, impact_speed_m_per_s, e_star, r_star) : 0.0);
+            const double k = hertz_stiffness_n_per_m(overlap, e_star, r_star);
             fold_spring_limit(c, k / m, std::string(kind_name(a)) + "–" + kind_name(b) + " contacts");
         }
     // Body–wall contacts.
@@ -69,7 +71,9 @@ CriticalStep critical_time_step(const World& w)
             if (!kinds[k].any) continue;
             const double e_star = 1.0 / (1.0 / kinds[k].max_modulus + 1.0 / wall_modulus);
             const double r = kinds[k].min_radius;
-            const double kk = hertz_stiffness_n_per_m(reference_overlap_fraction * r, e_star, r);
+            const double overlap = std::max(reference_overlap_fraction * r,
+                impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(kinds[k].min_mass, impact_speed_m_per_s, e_star, r) : 0.0);
+            const double kk = hertz_stiffness_n_per_m(overlap, e_star, r);
             fold_spring_limit(c, kk / kinds[k].min_mass, std::string(kind_name(k)) + "–wall contacts");
         }
     }

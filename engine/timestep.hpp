@@ -33,9 +33,13 @@ struct CriticalStep {
 };
 
 /// Critical δt from every kind of contact that can occur in `w` (lightest body,
-/// stiffest material pair, smallest radius of each kind) and from extra
-/// stiffnesses passed as (k/m) pairs by the bodies with springs.
-[[nodiscard]] CriticalStep critical_time_step(const World& w);
+/// stiffest material pair, smallest radius of each kind) and from the wire's
+/// and the (deformable) membrane's springs.
+/// @param impact_speed_m_per_s  fastest expected impact: the Hertz stiffness is
+///        taken at the larger of the reference overlap and the maximum overlap
+///        of a collision at this speed (heavy, density-scaled grains falling
+///        at real speeds overlap far more than 2 %).
+[[nodiscard]] CriticalStep critical_time_step(const World& w, double impact_speed_m_per_s = 0.0);
 
 /// Folds in a spring-type limit: ω² = k/m for a stiffness k [N/m] on a mass m [kg].
 void fold_spring_limit(CriticalStep& c, double omega2_per_s2, const std::string& what);

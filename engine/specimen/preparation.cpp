@@ -129,7 +129,11 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
             append_wire_node(probe, Vec3(0, 0, 2));
             append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
         }
-        w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s : auto_time_step_fraction * critical_time_step(probe).critical_s;
+        // Fastest impact: entering the zone at the pour speed, then falling
+        // through the zone and the gap above the pile (≤ 12 r_max).
+        const double impact = spec.pour_speed_m_per_s + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
+        w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s
+                                        : auto_time_step_fraction * critical_time_step(probe, impact).critical_s;
     }
     const double dt = w.dt_s;
 
