@@ -84,55 +84,6 @@ std::vector<double> snapshot_plan(const TriaxialSettings& s)
     return plan;
 }
 
-/// Elastic energy stored in the system [J]: wire and membrane springs from
-/// elastic_energy(), Hertz energy (8/15) E* √R* ξ^{5/2} of the touching pairs
-/// and of the body–wall contacts of moving bodies only. elastic_energy() also
-/// counts held bodies against walls (the membrane rims, the nodes sealed to the
-/// cap above the top plate), overlaps that exert no force and would swamp the
-/// kinetic/elastic ratio.
-double stored_elastic_energy_j(const World& w, ThreadPool& pool)
-{
-    const ElasticEnergy springs = elastic_energy(w, pool);
-    auto e_star = [&](std::uint8_t a, std::uint8_t b) {
-        const Material &ma = w.materials[a], &mb = w.materials[b];
-        return effective_modulus_pa(ma.youngs_modulus_pa, ma.poisson_ratio, mb.youngs_modulus_pa, mb.poisson_ratio);
-    };
-    auto hertz_energy_j = [](double overlap_m, double e_star_pa, double r_star_m) {
-        return overlap_m > 0.0 ? 8.0 / 15.0 * e_star_pa * std::sqrt(r_star_m) * std::pow(overlap_m, 2.5) : 0.0;
-    };
-    auto sum = [&](std::size_t n, const auto& term) {
-        return reduce_blocks(
-            pool, n, 0.0,
-            [&](std::size_t b, std::size_t e) {
-                double s = 0.0;
-                for (std::size_t i = b; i < e; ++i) s += term(i);
-                return s;
-            },
-            [](double a, double b) { return a + b; });
-    };
-    const ContactList& c = w.contacts;
-    double contacts_j = sum(c.size(), [&](std::size_t p) {
-        if (!c.touching[p]) return 0.0;
-        const TranslationalState &A = w.of(c.first[p].kind()), &B = w.of(c.second[p].kind());
-        const std::uint32_t ia = c.first[p].index(), ib = c.second[p].index();
-        const double overlap = A.radius_m[ia] + B.radius_m[ib] - (A.x[0][ia] - B.x[0][ib]).norm();
-        return hertz_energy_j(overlap, e_star(A.material[ia], B.material[ib]), effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
-    });
-    for (const Wall& wall : w.walls)
-        for (int k = 0; k < body_kind_count; ++k) {
-            const TranslationalState& body = w.bodies[k];
-            contacts_j += sum(body.size(), [&](std::size_t i) {
-                if (body.inv_mass_per_kg[i] == 0.0) return 0.0; // held: no wall force (step.cpp)
-                const Vec3& x = body.x[0][i];
-                const double gap = wall.shape == Wall::Shape::plane
-                                     ? (x - wall.point_m).dot(wall.normal)
-                                     : wall.radius_m - std::hypot(x.x() - wall.point_m.x(), x.y() - wall.point_m.y());
-                return hertz_energy_j(body.radius_m[i] - gap, e_star(body.material[i], wall.material), body.radius_m[i]);
-            });
-        }
-    return contacts_j + springs.wire_j + springs.membrane_j;
-}
-
 } // namespace
 
 void TriaxialSeries::push_back(const TriaxialSample& s)
@@ -203,7 +154,7 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
     s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
     s.volume_m3 = analysis::cylinder_volume_m3(s.column_radius_m, s.height_m);
     s.kinetic_energy_j = kinetic_energy_j(w, pool);
-    s.elastic_energy_j = stored_elastic_energy_j(w, pool);
+    s.elastic_energy_j = elastic_energy(w, pool).total_j(); // held bodies carry none
 
     struct Count {
         std::uint64_t touching = 0, sliding = 0;
