@@ -1,0 +1,185 @@
+// `wiredem run` end to end: the real binary on examples/tiny.json (a few
+// seconds in Release), then its summary.json and result.h5 are checked; and
+// SIGTERM stops a run within a second with exit code 143.
+//
+// WIREDEM_BIN and WIREDEM_SOURCE_DIR come from tests/triaxial/CMakeLists.txt.
+#include "io/hdf5.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <csignal>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+namespace json = boost::json;
+using wiredem::engine::io::File;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name)
+{
+    const fs::path dir = fs::temp_directory_path() / ("wiredem_campaign_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string read_text(const fs::path& p)
+{
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+/// Runs `wiredem run JOB -o OUT --threads 2 --progress json`; returns the wait status.
+int run_binary(const fs::path& job, const fs::path& out, const fs::path& log, pid_t* pid_out = nullptr, bool wait = true)
+{
+    const std::string bin = WIREDEM_BIN, job_s = job.string(), out_s = out.string(), log_s = log.string();
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, (log_s + ".stdout").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, (log_s + ".stderr").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const char* argv[] = {bin.c_str(), "run", job_s.c_str(), "-o", out_s.c_str(), "--threads", "2", "--progress", "json",
+        nullptr};
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, bin.c_str(), &fa, nullptr, const_cast<char* const*>(argv), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0) return -1;
+    if (pid_out) *pid_out = pid;
+    if (!wait) return 0;
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return status;
+}
+
+const json::value& at(const json::value& v, std::initializer_list<const char*> path)
+{
+    const json::value* p = &v;
+    for (const char* k : path) p = &p->as_object().at(k);
+    return *p;
+}
+
+} // namespace
+
+TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
+{
+    const fs::path dir = fresh_dir("tiny"), out = dir / "out";
+    const int status = run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json", out, dir / "log");
+    const std::string err = read_text(dir / "log.stderr");
+    ASSERT_TRUE(WIFEXITED(status)) << err;
+    ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+
+    // Progress: JSON lines with the four fields, ending at 1.
+    std::istringstream lines(read_text(dir / "log.stdout"));
+    std::string line, last;
+    int count = 0;
+    while (std::getline(lines, line)) {
+        const json::value p = json::parse(line);
+        ASSERT_TRUE(p.as_object().contains("stage")) << line;
+        const double f = p.at("progress").to_number<double>();
+        EXPECT_GE(f, 0.0);
+        EXPECT_LE(f, 1.0);
+        EXPECT_TRUE(p.at("eta_s").is_null() || p.at("eta_s").is_number()) << line;
+        EXPECT_TRUE(p.at("message").is_string()) << line;
+        last = line, ++count;
+    }
+    EXPECT_GT(count, 2);
+    EXPECT_EQ(json::parse(last).at("progress").to_number<double>(), 1.0);
+
+    // summary.json: the fields of the contract, physically sane.
+    ASSERT_TRUE(fs::exists(out / "summary.json"));
+    EXPECT_FALSE(fs::exists(out / "summary.json.tmp"));
+    const json::value s = json::parse(read_text(out / "summary.json"));
+    const json::array& tests = s.at("tests").as_array();
+    ASSERT_EQ(tests.size(), 2u);
+    for (const json::value& t : tests) {
+        const double s1 = t.at("sigma1_pa").to_number<double>(), s3 = t.at("sigma3_effective_pa").to_number<double>();
+        EXPECT_GT(s3, 0.0) << json::serialize(t);
+        EXPECT_GT(s1, s3) << json::serialize(t);
+        EXPECT_GT(t.at("peak_deviatoric_stress_pa").to_number<double>(), 0.0);
+        EXPECT_GT(t.at("peak_axial_strain").to_number<double>(), 0.0);
+        EXPECT_LE(t.at("peak_axial_strain").to_number<double>(), 0.081);
+        EXPECT_TRUE(t.at("quasi_static").is_bool());
+        EXPECT_TRUE(t.at("confining_pressure_pa").is_number());
+    }
+    for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg"})
+        EXPECT_TRUE(at(s, {"mohr_coulomb"}).as_object().contains(k)) << k;
+    // Two tests with σ₁ > σ₃: the fit exists, φ in a granular range.
+    const double phi_deg = at(s, {"mohr_coulomb", "friction_angle_deg"}).to_number<double>();
+    EXPECT_GT(phi_deg, 0.0);
+    EXPECT_LT(phi_deg, 60.0);
+    for (const char* k : {"grain_volume_fraction", "wire_volume_fraction", "sample_volume_m3", "grains", "wire_nodes",
+             "wire_length_m", "pile_height_m"})
+        EXPECT_TRUE(at(s, {"specimen"}).as_object().contains(k)) << k;
+    EXPECT_EQ(at(s, {"specimen", "grains"}).to_number<std::int64_t>(), 150);
+    const double phi = at(s, {"specimen", "grain_volume_fraction"}).to_number<double>();
+    EXPECT_GT(phi, 0.2);
+    EXPECT_LT(phi, 0.65);
+    EXPECT_TRUE(at(s, {"wire"}).as_object().contains("autocorrelation_lag_m"));
+    EXPECT_TRUE(s.at("warnings").is_array());
+    EXPECT_GT(at(s, {"engine", "time_step_s"}).to_number<double>(), 0.0);
+    EXPECT_GT(at(s, {"engine", "steps"}).to_number<std::int64_t>(), 0);
+    EXPECT_GT(at(s, {"engine", "body_steps_per_second"}).to_number<double>(), 0.0);
+    EXPECT_EQ(at(s, {"engine", "threads"}).to_number<std::int64_t>(), 2);
+
+    // result.h5: format, job spec, specimen and one group per test.
+    ASSERT_TRUE(fs::exists(out / "result.h5"));
+    EXPECT_FALSE(fs::exists(out / "result.h5.tmp"));
+    const File f = File::open_read_only(out / "result.h5");
+    const auto root = f.root();
+    EXPECT_EQ(root.read_string_attribute("format"), "wiredem-result-1");
+    const json::value spec = json::parse(root.open_dataset("job_spec").read_string());
+    EXPECT_EQ(at(spec, {"specimen", "grain_count"}).to_number<std::int64_t>(), 150);
+    const auto specimen = root.open_group("specimen");
+    EXPECT_EQ(specimen.read_int_attribute("grains"), 150);
+    EXPECT_EQ(specimen.open_dataset("grain_position_m").shape(), (std::vector<std::size_t>{150, 3}));
+    EXPECT_EQ(specimen.open_dataset("grain_radius_m").read_string_attribute("units"), "m");
+    for (const char* name : {"sigma3_10000", "sigma3_20000"}) {
+        ASSERT_TRUE(root.exists(std::string("tests/") + name)) << name;
+        const auto t = root.open_group(std::string("tests/") + name);
+        const auto q = t.open_dataset("deviatoric_stress_pa");
+        EXPECT_EQ(q.read_string_attribute("units"), "Pa");
+        const std::size_t n = q.shape().at(0);
+        EXPECT_GT(n, 10u);
+        EXPECT_EQ(t.open_dataset("axial_strain").shape().at(0), n);
+        EXPECT_EQ(t.open_dataset("time_s").read_string_attribute("units"), "s");
+        const auto snaps = t.open_group("snapshots");
+        ASSERT_GE(snaps.child_names().size(), 2u);
+        EXPECT_EQ(snaps.open_group("snapshot_0").open_dataset("grain_position_m").shape(),
+            (std::vector<std::size_t>{150, 3}));
+    }
+    fs::remove_all(dir);
+}
+
+TEST(Campaign, SigtermStopsTheRunWithinASecondWithExitCode143)
+{
+    const fs::path dir = fresh_dir("sigterm");
+    pid_t pid = 0;
+    ASSERT_EQ(run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json", dir / "out", dir / "log", &pid, false), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_EQ(::kill(pid, SIGTERM), 0);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 143);
+    EXPECT_LT(waited, 1.0);
+    EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+    fs::remove_all(dir);
+}
