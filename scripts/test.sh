@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds and runs the whole test suite: Release,
+# Installs what is missing, lints the container files, builds and runs the
+# whole test suite: Release,
 # then AddressSanitizer + UndefinedBehaviorSanitizer, then ThreadSanitizer on
 # the threaded tests.
 set -euo pipefail
@@ -7,6 +8,8 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 
 jobs=$(nproc)
+echo "== lint: container files"
+bash scripts/lint-docker.sh
 for variant in release asan; do
   echo "== $variant"
   bash scripts/build.sh "$variant"
