@@ -3,6 +3,7 @@
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "integrate/gear5.hpp"
+#include "integrate/verlet.hpp"
 #include "laws/hertz.hpp"
 #include "laws/tangential.hpp"
 
@@ -59,8 +60,10 @@ void initialize_accelerations(World& w, ThreadPool& pool)
 StepReport step(World& w, ThreadPool& pool)
 {
     StepReport report;
-    if (w.step_count == 0) initialize_accelerations(w, pool); // Gear start-up
-    gear5_predict(w, pool);                              // every moving body
+    const bool gear = w.integrator == Integrator::gear5;
+    if (w.step_count == 0) initialize_accelerations(w, pool); // a(0) from the forces
+    if (gear) gear5_predict(w, pool);                    // every moving body
+    else verlet_first_half(w, pool);
     move_walls(w);                                       // prescribed plate motion
     report.neighbours_rebuilt = update_neighbours(w, pool); // cell grid + skin, only when needed
     compute_pair_forces(w, pool);                        // Hertz + tangential, one slot per pair
@@ -68,7 +71,7 @@ StepReport step(World& w, ThreadPool& pool)
     compute_wire_forces(w, pool);                        // stretch + bending, one slot per element
     compute_membrane_forces(w, pool);                    // edge springs + σ₃·A per triangle
     gather_forces(w, pool);                              // per body, fixed order
-    report.blew_up = !gear5_correct(w, pool);
+    report.blew_up = !(gear ? gear5_correct(w, pool) : verlet_second_half(w, pool));
     w.time_s += w.dt_s;
     ++w.step_count;
     return report;

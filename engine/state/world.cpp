@@ -87,6 +87,17 @@ void set_time_step(World& w, double dt_s)
     w.dt_s = dt_s;
 }
 
+void set_integrator(World& w, Integrator integrator)
+{
+    if (integrator == w.integrator) return;
+    for (int k = 3; k < gear_order; ++k) {
+        for (auto& body : w.bodies)
+            for (Vec3& v : body.x[k]) v.setZero();
+        for (Vec3& v : w.grain_rotation.w[k]) v.setZero();
+    }
+    w.integrator = integrator;
+}
+
 Vec3 velocity_m_per_s(const World& w, BodyRef b)
 {
     return w.of(b.kind()).x[1][b.index()] / w.dt_s;

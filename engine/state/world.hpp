@@ -53,6 +53,12 @@ struct Wall {
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
 
+/// Time integrator (the model spec §4).
+enum class Integrator : std::uint8_t {
+    gear5,  ///< fifth-order Gear predictor–corrector: the reference
+    verlet, ///< velocity Verlet: cheaper per step, symplectic
+};
+
 /// The whole simulated system.
 struct World {
     std::vector<Material> materials;
@@ -75,6 +81,8 @@ struct World {
     std::array<std::array<bool, body_kind_count>, body_kind_count> kinds_interact{
         {{true, true, true}, {true, true, false}, {true, false, false}}};
 
+    /// Change it with set_integrator, which keeps the stored derivatives consistent.
+    Integrator integrator = Integrator::gear5;
     double dt_s = 1e-7;
     double time_s = 0.0;
     std::uint64_t step_count = 0;
@@ -124,6 +132,10 @@ std::size_t add_wall(World& w, Wall wall);
 
 /// Changes δt, rescaling every stored Gear derivative (x[k] ∝ δt^k).
 void set_time_step(World& w, double dt_s);
+
+/// Switches the integrator. Both keep x₀, x₁ = δt v and x₂ = δt²/2 · a;
+/// Gear-5's higher derivatives x₃…x₅ are zeroed, since Verlet does not keep them.
+void set_integrator(World& w, Integrator integrator);
 
 /// Velocity of a body [m/s] (from the scaled derivative x[1]).
 [[nodiscard]] Vec3 velocity_m_per_s(const World& w, BodyRef b);

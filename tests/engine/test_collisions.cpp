@@ -21,11 +21,12 @@ struct CollisionResult {
 };
 
 /// Two equal grains approaching head-on along x at relative speed v.
-CollisionResult collide(double v, double dt, double damping_s, unsigned threads = 1)
+CollisionResult collide(double v, double dt, double damping_s, Integrator integrator)
 {
-    Simulation sim(threads);
+    Simulation sim(1);
     reset_world(sim.world, grain_material, dt, damping_s);
     World& w = sim.world;
+    w.integrator = integrator;
     const double gap = 0.5 * v * 10 * dt; // touch after a few steps
     add_grain(w, Vec3(-radius_m - gap, 0, 0), radius_m, 0, Vec3(0.5 * v, 0, 0));
     add_grain(w, Vec3(radius_m + gap, 0, 0), radius_m, 0, Vec3(-0.5 * v, 0, 0));
@@ -51,39 +52,45 @@ CollisionResult collide(double v, double dt, double damping_s, unsigned threads 
 double reduced_mass_kg() { return 0.5 * sphere_mass_kg(radius_m, grain_material.density_kg_per_m3); }
 double e_star_pa() { return effective_modulus_pa(10e9, 0.3, 10e9, 0.3); }
 
+/// Every collision test runs with both integrators.
+class HertzCollision : public ::testing::TestWithParam<Integrator> {};
+
 } // namespace
 
-TEST(HertzCollision, ContactTimeMatchesHertzAndEnergyIsConservedWithoutDamping)
+INSTANTIATE_TEST_SUITE_P(Integrators, HertzCollision, ::testing::Values(Integrator::gear5, Integrator::verlet),
+    [](const ::testing::TestParamInfo<Integrator>& i) { return i.param == Integrator::gear5 ? "Gear5" : "Verlet"; });
+
+TEST_P(HertzCollision, ContactTimeMatchesHertzAndEnergyIsConservedWithoutDamping)
 {
     const double v = 0.5;
     const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
-    const CollisionResult r = collide(v, tc / 1000.0, 0.0);
+    const CollisionResult r = collide(v, tc / 1000.0, 0.0, GetParam());
     EXPECT_NEAR(r.contact_time_s / tc, 1.0, 0.01);
     EXPECT_NEAR(r.energy_after_j / r.energy_before_j, 1.0, 1e-3);
     EXPECT_NEAR(r.restitution, 1.0, 1e-3);
 }
 
-TEST(HertzCollision, ContactTimeScalesAsSpeedToMinusOneFifth)
+TEST_P(HertzCollision, ContactTimeScalesAsSpeedToMinusOneFifth)
 {
     const double tc = hertz_contact_time_s(reduced_mass_kg(), 0.1, e_star_pa(), 0.5 * radius_m);
-    const CollisionResult slow = collide(0.1, tc / 1000.0, 0.0);
-    const CollisionResult fast = collide(3.2, tc / 1000.0, 0.0);
+    const CollisionResult slow = collide(0.1, tc / 1000.0, 0.0, GetParam());
+    const CollisionResult fast = collide(3.2, tc / 1000.0, 0.0, GetParam());
     EXPECT_NEAR(slow.contact_time_s / fast.contact_time_s, std::pow(32.0, 0.2), 0.02); // = 2
 }
 
-TEST(HertzCollision, DampingDerivedFromRestitutionGivesThatRestitution)
+TEST_P(HertzCollision, DampingDerivedFromRestitutionGivesThatRestitution)
 {
     const double v = 0.5;
     const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
     for (double e : {0.3, 0.7}) {
         const double gamma = hertz_damping_for_restitution_s(e, reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
-        const CollisionResult r = collide(v, tc / 1000.0, gamma);
+        const CollisionResult r = collide(v, tc / 1000.0, gamma, GetParam());
         EXPECT_NEAR(r.restitution, e, 0.01 * e) << "target e = " << e;
         EXPECT_NEAR(r.energy_after_j / r.energy_before_j, e * e, 0.02 * e * e);
     }
 }
 
-TEST(HertzCollision, AutomaticTimeStepResolvesTheCollision)
+TEST_P(HertzCollision, AutomaticTimeStepResolvesTheCollision)
 {
     // At the automatic δt a collision at the reference speed still conserves
     // energy to 1 % and lasts the Hertz time to 5 % (one step of ≳ 20).
@@ -95,7 +102,7 @@ TEST(HertzCollision, AutomaticTimeStepResolvesTheCollision)
     const double v = 1.0;
     const double tc = hertz_contact_time_s(reduced_mass_kg(), v, e_star_pa(), 0.5 * radius_m);
     ASSERT_LT(dt, tc / 20.0);
-    const CollisionResult r = collide(v, dt, 0.0);
+    const CollisionResult r = collide(v, dt, 0.0, GetParam());
     EXPECT_NEAR(r.energy_after_j / r.energy_before_j, 1.0, 0.01);
     EXPECT_NEAR(r.contact_time_s / tc, 1.0, 0.05);
 }

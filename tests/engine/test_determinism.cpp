@@ -26,9 +26,10 @@ std::uint64_t state_hash(const World& w)
 }
 
 /// A small column of grains falling into a cylinder, hashed every 250 steps.
-std::vector<std::uint64_t> run_column(unsigned threads)
+std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = Integrator::gear5)
 {
     Simulation sim(threads);
+    sim.world.integrator = integrator;
     ContainerSpec spec;
     spec.container_radius_m = 6e-3;
     spec.grains = 400;
@@ -56,6 +57,13 @@ TEST(Determinism, StateHashIdenticalFor1To4Threads)
 {
     const auto reference = run_column(1);
     for (unsigned threads : {2u, 3u, 4u}) EXPECT_EQ(run_column(threads), reference) << threads << " threads";
+}
+
+TEST(Determinism, VerletStateHashIdenticalFor1And3Threads)
+{
+    const auto reference = run_column(1, Integrator::verlet);
+    EXPECT_EQ(run_column(3, Integrator::verlet), reference);
+    EXPECT_NE(reference, run_column(1)); // the integrator really changed
 }
 
 TEST(Determinism, SameSeedSameScene)

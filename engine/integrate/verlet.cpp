@@ -1,0 +1,55 @@
+#include "integrate/verlet.hpp"
+
+namespace wiredem::engine {
+
+void verlet_first_half(World& w, ThreadPool& pool)
+{
+    for (auto& body : w.bodies) {
+        parallel_for(pool, body.size(), [&](std::size_t i) {
+            if (body.inv_mass_per_kg[i] == 0.0) return; // held fixed
+            body.x[0][i] += body.x[1][i] + body.x[2][i];
+            body.x[1][i] += body.x[2][i];
+        });
+    }
+    RotationalState& rot = w.grain_rotation;
+    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
+        rot.w[1][i] += rot.w[2][i];
+        // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
+        const Vec3& turn = rot.w[1][i];
+        const double angle = turn.norm();
+        if (angle > 0.0) {
+            const Quat dq(Eigen::AngleAxisd(angle, turn / angle));
+            rot.orientation[i] = (dq * rot.orientation[i]).normalized();
+        }
+    });
+}
+
+bool verlet_second_half(World& w, ThreadPool& pool)
+{
+    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
+    bool finite = true;
+    for (auto& body : w.bodies) {
+        const bool body_finite = reduce_blocks(
+            pool, body.size(), true,
+            [&](std::size_t begin, std::size_t end) {
+                bool ok = true;
+                for (std::size_t i = begin; i < end; ++i) {
+                    if (body.inv_mass_per_kg[i] == 0.0) continue;
+                    body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
+                    body.x[1][i] += body.x[2][i];
+                    ok = ok && body.x[0][i].allFinite() && body.x[1][i].allFinite();
+                }
+                return ok;
+            },
+            [](bool a, bool b) { return a && b; });
+        finite = finite && body_finite;
+    }
+    RotationalState& rot = w.grain_rotation;
+    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
+        rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        rot.w[1][i] += rot.w[2][i];
+    });
+    return finite;
+}
+
+} // namespace wiredem::engine
