@@ -3,6 +3,7 @@
 // code from exit_codes.hpp (table in docs/client.md).
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "export_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -77,6 +78,11 @@ int main(int argc, char** argv)
     run->add_option("--progress", progress, "progress on stdout: text or json (one object per line)")
         ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
 
+    auto* export_xdmf = app.add_subcommand("export-xdmf", "write the XDMF sidecar of a result.h5, for ParaView");
+    std::string h5_file, xdmf_file;
+    export_xdmf->add_option("result", h5_file, "result file (docs/results.md)")->required();
+    export_xdmf->add_option("-o,--output", xdmf_file, "XDMF file (default: RESULT with the extension .xdmf)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -96,6 +102,7 @@ int main(int argc, char** argv)
         if (*fetch) return cmd_fetch(g, id, out_dir);
         if (*health) return cmd_health(g);
         if (*run) return cmd_run(job_file, out_dir, threads, progress);
+        if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;
         return e.code;

@@ -19,6 +19,7 @@
 #include "api/derived.hpp"
 #include "forces/membrane_forces.hpp"
 #include "io/hdf5.hpp"
+#include "io/xdmf.hpp"
 #include "simulation.hpp"
 #include "specimen/preparation.hpp"
 #include "timestep.hpp"
@@ -466,6 +467,7 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     try {
         write_result_h5(h5_tmp, spec, prepared_world, prep, pressures, tests);
         std::filesystem::rename(h5_tmp, h5);
+        eng::io::write_xdmf(h5, out_dir / "result.xdmf");  // ParaView's view of result.h5
 
         json::object summary;
         json::array jt;

@@ -1,0 +1,504 @@
+// XDMF sidecar writer; see xdmf.hpp for the grids it describes. Every HDF5 reference
+// is built from the dataset as found in the file (its shape and stored type), so the
+// XML never names a dataset that does not exist or declares dimensions it does not
+// have; arrays with an unexpected shape are left out rather than described wrongly.
+#include "io/xdmf.hpp"
+
+#include "io/hdf5.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
+namespace wiredem::engine::io {
+
+namespace {
+
+/// One HDF5 dataset as XDMF sees it.
+struct Array {
+    std::string path;                ///< absolute HDF5 path
+    std::vector<std::size_t> shape;  ///< stored extent
+    std::string number_type;         ///< XDMF NumberType: Float, Int, UInt, Char, UChar
+    std::size_t precision = 8;       ///< bytes per element
+
+    [[nodiscard]] std::size_t rows() const { return shape.empty() ? 1 : shape.front(); }
+    [[nodiscard]] std::size_t columns() const { return shape.size() == 2 ? shape[1] : 1; }
+};
+
+std::string escape(std::string_view s)
+{
+    std::string out;
+    out.reserve(s.size());
+    for (const char c : s) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        case '\'': out += "&apos;"; break;
+        default: out += c;
+        }
+    }
+    return out;
+}
+
+/// Shortest text that reads back as the same double.
+std::string number_text(double x)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return buf;
+}
+
+std::string dims_text(const std::vector<std::size_t>& shape)
+{
+    std::string s;
+    for (const std::size_t d : shape) {
+        if (!s.empty()) s += ' ';
+        s += std::to_string(d);
+    }
+    return s.empty() ? "1" : s;
+}
+
+/// The dataset at `path` (relative to `g`) with its stored type, or nothing when it
+/// is absent or not a plain integer/float array.
+std::optional<Array> find_array(const Group& g, const std::string& path)
+{
+    if (!g.exists(path)) return std::nullopt;
+    // A group of that name is not an array (H5Oopen + H5Iget_type: the same in
+    // HDF5 1.10 and 1.12+, unlike H5Oget_info).
+    const hid_t object = H5Oopen(g.id(), path.c_str(), H5P_DEFAULT);
+    if (object < 0) {
+        H5Eclear2(H5E_DEFAULT);
+        return std::nullopt;
+    }
+    const bool is_dataset = H5Iget_type(object) == H5I_DATASET;
+    H5Oclose(object);
+    if (!is_dataset) return std::nullopt;
+    const Dataset ds = g.open_dataset(path);
+    Array a;
+    a.path = ds.path();
+    a.shape = ds.shape();
+    const hid_t type = H5Dget_type(ds.id());
+    if (type < 0) throw Hdf5Error("cannot get dataset type", ds.file_name(), ds.path(), "H5Dget_type failed");
+    const H5T_class_t cls = H5Tget_class(type);
+    a.precision = H5Tget_size(type);
+    const H5T_sign_t sign = cls == H5T_INTEGER ? H5Tget_sign(type) : H5T_SGN_ERROR;
+    H5Tclose(type);
+    if (cls == H5T_FLOAT && (a.precision == 4 || a.precision == 8))
+        a.number_type = "Float";
+    else if (cls == H5T_INTEGER && a.precision == 1)
+        a.number_type = sign == H5T_SGN_NONE ? "UChar" : "Char";
+    else if (cls == H5T_INTEGER && (a.precision == 2 || a.precision == 4 || a.precision == 8))
+        a.number_type = sign == H5T_SGN_NONE ? "UInt" : "Int";
+    else
+        return std::nullopt;
+    return a;
+}
+
+/// An N×3 array (positions, velocities, forces), or nothing.
+std::optional<Array> find_vectors(const Group& g, const std::string& path)
+{
+    auto a = find_array(g, path);
+    if (!a || a->shape.size() != 2 || a->shape[1] != 3) return std::nullopt;
+    return a;
+}
+
+/// A 1-D array of exactly `n` values (or an n×1 one), or nothing.
+std::optional<Array> find_scalars(const Group& g, const std::string& path, std::size_t n)
+{
+    auto a = find_array(g, path);
+    if (!a || a->shape.empty() || a->shape.size() > 2 || a->rows() != n || a->columns() != 1) return std::nullopt;
+    return a;
+}
+
+/// Indented XML text, one element per line.
+class Xml {
+public:
+    void line(const std::string& text) { out_ << std::string(2 * depth_, ' ') << text << '\n'; }
+    void open(const std::string& tag_and_attributes)
+    {
+        line("<" + tag_and_attributes + ">");
+        ++depth_;
+    }
+    void close(const std::string& tag)
+    {
+        --depth_;
+        line("</" + tag + ">");
+    }
+    [[nodiscard]] std::string str() const { return out_.str(); }
+
+private:
+    std::ostringstream out_;
+    int depth_ = 0;
+};
+
+/// Writes the XDMF elements of one result file.
+class Writer {
+public:
+    Writer(std::string h5_reference, XdmfSummary& summary) : ref_(escape(h5_reference)), summary_(summary) {}
+
+    Xml xml;
+
+    /// <DataItem> naming an HDF5 dataset, with its stored dimensions and type.
+    void data_item(const Array& a)
+    {
+        xml.line("<DataItem Dimensions=\"" + dims_text(a.shape) + "\" NumberType=\"" + a.number_type
+                 + "\" Precision=\"" + std::to_string(a.precision) + "\" Format=\"HDF\">" + ref_ + ":"
+                 + escape(a.path) + "</DataItem>");
+    }
+
+    /// <DataItem> holding integers inline, `columns` per row.
+    void inline_item(const std::vector<std::int64_t>& values, std::size_t columns)
+    {
+        const std::size_t rows = values.size() / columns;
+        xml.open("DataItem Dimensions=\"" + std::to_string(rows) + " " + std::to_string(columns)
+                 + "\" NumberType=\"Int\" Precision=\"" + (fits_int32(values) ? "4" : "8") + "\" Format=\"XML\"");
+        std::string row;
+        for (std::size_t r = 0; r < rows; ++r) {
+            row.clear();
+            for (std::size_t c = 0; c < columns; ++c) {
+                if (c) row += ' ';
+                row += std::to_string(values[r * columns + c]);
+            }
+            xml.line(row);
+        }
+        xml.close("DataItem");
+    }
+
+    /// <DataItem> holding N×3 doubles inline (contact end points).
+    void inline_item(const std::vector<double>& xyz)
+    {
+        xml.open("DataItem Dimensions=\"" + std::to_string(xyz.size() / 3)
+                 + " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\"");
+        char buf[96];
+        for (std::size_t r = 0; 3 * r < xyz.size(); ++r) {
+            // 9 significant digits: far below a grain radius, a third of the text of %.17g
+            std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g", xyz[3 * r], xyz[3 * r + 1], xyz[3 * r + 2]);
+            xml.line(buf);
+        }
+        xml.close("DataItem");
+    }
+
+    /// A Polyvertex topology of n one-node cells. ParaView's XDMF 3 reader makes no
+    /// cells without a connectivity array, hence the explicit 0 … n−1.
+    void vertices(std::size_t n)
+    {
+        xml.open("Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + std::to_string(n)
+                 + "\" NodesPerElement=\"1\"");
+        std::vector<std::int64_t> ids(n);
+        for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int64_t>(i);
+        inline_item(ids, 1);
+        xml.close("Topology");
+    }
+
+    void attribute(const std::string& name, const char* type, const char* center, const Array& a)
+    {
+        xml.open("Attribute Name=\"" + escape(name) + "\" AttributeType=\"" + type + "\" Center=\"" + center + "\"");
+        data_item(a);
+        xml.close("Attribute");
+    }
+
+    void geometry(const Array& positions)
+    {
+        xml.open("Geometry GeometryType=\"XYZ\"");
+        data_item(positions);
+        xml.close("Geometry");
+    }
+
+    /// Grains as vertices with radius and (optionally) velocity.
+    void grains(const Group& g, bool with_velocity)
+    {
+        const auto pos = find_vectors(g, "grain_position_m");
+        if (!pos || pos->rows() == 0) return;
+        const std::size_t n = pos->rows();
+        xml.open("Grid Name=\"grains\" GridType=\"Uniform\"");
+        vertices(n);
+        geometry(*pos);
+        if (const auto r = find_scalars(g, "grain_radius_m", n)) attribute("radius_m", "Scalar", "Node", *r);
+        if (with_velocity)
+            if (const auto v = find_vectors(g, "grain_velocity_m_per_s"); v && v->rows() == n)
+                attribute("velocity_m_per_s", "Vector", "Node", *v);
+        xml.close("Grid");
+        ++summary_.grids;
+    }
+
+    /// The wire as W − 1 two-node segments, with the segment strain.
+    void wire(const Group& g, bool with_strain)
+    {
+        const auto pos = find_vectors(g, "wire_node_position_m");
+        if (!pos || pos->rows() < 2) return;
+        const std::size_t segments = pos->rows() - 1;
+        xml.open("Grid Name=\"wire\" GridType=\"Uniform\"");
+        xml.open("Topology TopologyType=\"Polyline\" NumberOfElements=\"" + std::to_string(segments)
+                 + "\" NodesPerElement=\"2\"");
+        std::vector<std::int64_t> pairs;
+        pairs.reserve(2 * segments);
+        for (std::size_t s = 0; s < segments; ++s) {
+            pairs.push_back(static_cast<std::int64_t>(s));
+            pairs.push_back(static_cast<std::int64_t>(s + 1));
+        }
+        inline_item(pairs, 2);
+        xml.close("Topology");
+        geometry(*pos);
+        if (with_strain)
+            if (const auto e = find_scalars(g, "wire_segment_strain", segments))
+                attribute("segment_strain", "Scalar", "Cell", *e);
+        xml.close("Grid");
+        ++summary_.grids;
+    }
+
+    /// The membrane as a triangle surface (`triangles` from `tri_group` when given).
+    void membrane(const Group& g, const std::optional<Array>& triangles)
+    {
+        const auto pos = find_vectors(g, "membrane_node_position_m");
+        if (!pos || pos->rows() == 0) return;
+        xml.open("Grid Name=\"membrane\" GridType=\"Uniform\"");
+        if (triangles) {
+            xml.open("Topology TopologyType=\"Triangle\" NumberOfElements=\"" + std::to_string(triangles->rows())
+                     + "\" NodesPerElement=\"3\"");
+            data_item(*triangles);
+            xml.close("Topology");
+        } else {
+            vertices(pos->rows());
+        }
+        geometry(*pos);
+        xml.close("Grid");
+        ++summary_.grids;
+    }
+
+    /// The force network: one segment per contact pair, between the bodies' centres.
+    /// The end points are written inline: the pair's bodies live in up to two of the
+    /// three position datasets, and ParaView's XDMF 3 reader does not evaluate
+    /// Function (JOIN) or HyperSlab items that could combine them.
+    void contacts(const Group& g)
+    {
+        const auto bodies = find_array(g, "contact_bodies");
+        if (!bodies || bodies->shape.size() != 2 || bodies->shape[1] != 4 || bodies->rows() == 0) return;
+        const std::size_t p = bodies->rows();
+        const std::array<const char*, 3> names = {
+            "grain_position_m", "wire_node_position_m", "membrane_node_position_m"};
+        std::array<std::vector<double>, 3> pos; // by kind: 0 grain, 1 wire, 2 membrane
+        for (std::size_t k = 0; k < 3; ++k)
+            if (find_vectors(g, names[k])) pos[k] = g.open_dataset(names[k]).read_doubles();
+        const std::vector<std::int64_t> raw = g.open_dataset("contact_bodies").read_int64s();
+        std::vector<double> xyz;
+        xyz.reserve(6 * p);
+        for (std::size_t c = 0; c < p; ++c) {
+            for (std::size_t end = 0; end < 2; ++end) {
+                const std::int64_t kind = raw[4 * c + 2 * end], index = raw[4 * c + 2 * end + 1];
+                // A reference outside the stored bodies: the file is inconsistent;
+                // describe no force network rather than a wrong one.
+                if (kind < 0 || kind > 2 || index < 0
+                    || 3 * static_cast<std::size_t>(index) + 3 > pos[static_cast<std::size_t>(kind)].size())
+                    return;
+                const double* x = &pos[static_cast<std::size_t>(kind)][3 * static_cast<std::size_t>(index)];
+                xyz.insert(xyz.end(), x, x + 3);
+            }
+        }
+        std::vector<std::int64_t> ends(2 * p);
+        for (std::size_t i = 0; i < 2 * p; ++i) ends[i] = static_cast<std::int64_t>(i);
+        xml.open("Grid Name=\"contacts\" GridType=\"Uniform\"");
+        xml.open("Topology TopologyType=\"Polyline\" NumberOfElements=\"" + std::to_string(p)
+                 + "\" NodesPerElement=\"2\"");
+        inline_item(ends, 2);
+        xml.close("Topology");
+        xml.open("Geometry GeometryType=\"XYZ\"");
+        inline_item(xyz);
+        xml.close("Geometry");
+        if (const auto f = find_scalars(g, "contact_normal_force_n", p)) attribute("normal_force_n", "Scalar", "Cell", *f);
+        if (const auto f = find_vectors(g, "contact_force_n"); f && f->rows() == p)
+            attribute("force_n", "Vector", "Cell", *f);
+        xml.close("Grid");
+        ++summary_.grids;
+    }
+
+private:
+    static bool fits_int32(const std::vector<std::int64_t>& v)
+    {
+        return std::all_of(v.begin(), v.end(), [](std::int64_t x) { return x >= INT32_MIN && x <= INT32_MAX; });
+    }
+
+    std::string ref_;
+    XdmfSummary& summary_;
+};
+
+/// Names of the children of `g` that start with `prefix` and end in a number,
+/// in ascending numeric order.
+std::vector<std::string> numbered_children(const Group& g, std::string_view prefix)
+{
+    std::vector<std::pair<long long, std::string>> found;
+    for (const std::string& name : g.child_names()) {
+        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+        const std::string digits = name.substr(prefix.size());
+        if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+        found.emplace_back(std::stoll(digits), name);
+    }
+    std::sort(found.begin(), found.end());
+    std::vector<std::string> names;
+    for (auto& f : found) names.push_back(std::move(f.second));
+    return names;
+}
+
+double attribute_or(const Object& o, std::string_view name, double fallback)
+{
+    return o.has_attribute(name) ? o.read_double_attribute(name) : fallback;
+}
+
+bool strictly_increasing(const std::vector<double>& v)
+{
+    for (std::size_t i = 1; i < v.size(); ++i)
+        if (!(v[i] > v[i - 1])) return false;
+    return true;
+}
+
+} // namespace
+
+std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h5_reference, XdmfSummary* summary)
+{
+    XdmfSummary local;
+    XdmfSummary& sum = summary ? *summary : local;
+    sum = {};
+    const File file = File::open_read_only(h5_path);
+    const Group root = file.root();
+    Writer w(h5_reference, sum);
+    Xml& xml = w.xml;
+    xml.line("<?xml version=\"1.0\" encoding=\"utf-8\"?>");
+    xml.line("<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>");
+    xml.open("Xdmf Version=\"3.0\"");
+    xml.open("Domain");
+    const std::string format = root.has_attribute("format") ? root.read_string_attribute("format") : "unknown";
+    xml.line("<Information Name=\"source\" Value=\"" + escape(h5_reference) + " (" + escape(format)
+             + "), written by wiredem\"/>");
+
+    // Tests (and their snapshot groups), by ascending confining pressure.
+    struct TestGroup {
+        double pressure_pa;
+        std::string name;
+        std::vector<std::string> snapshots;
+    };
+    std::vector<TestGroup> tests;
+    if (root.exists("tests")) {
+        const Group all = root.open_group("tests");
+        for (const std::string& name : all.child_names()) {
+            if (!all.exists(name + "/snapshots")) continue;
+            const Group t = all.open_group(name);
+            tests.push_back({attribute_or(t, "confining_pressure_pa", 0.0), name,
+                numbered_children(t.open_group("snapshots"), "snapshot_")});
+        }
+        std::stable_sort(tests.begin(), tests.end(),
+            [](const TestGroup& a, const TestGroup& b) { return a.pressure_pa < b.pressure_pa; });
+    }
+
+    // The specimen. Its membrane triangles: those of the first snapshot whose
+    // membrane has as many nodes (the mesh does not change during a test).
+    if (root.exists("specimen")) {
+        const Group sp = root.open_group("specimen");
+        std::optional<Array> triangles;
+        const auto sp_nodes = find_vectors(sp, "membrane_node_position_m");
+        for (const TestGroup& t : tests) {
+            if (triangles || !sp_nodes || t.snapshots.empty()) break;
+            const Group s = root.open_group("tests/" + t.name + "/snapshots/" + t.snapshots.front());
+            const auto nodes = find_vectors(s, "membrane_node_position_m");
+            const auto tri = find_array(s, "membrane_triangles");
+            if (nodes && nodes->rows() == sp_nodes->rows() && tri && tri->shape.size() == 2 && tri->shape[1] == 3
+                && tri->rows() > 0 && tri->number_type != "Float")
+                triangles = tri;
+        }
+        xml.open("Grid Name=\"specimen\" GridType=\"Collection\" CollectionType=\"Spatial\"");
+        sum.specimen = true;
+        w.grains(sp, false);
+        w.wire(sp, false);
+        w.membrane(sp, triangles);
+        xml.close("Grid");
+    }
+
+    for (const TestGroup& t : tests) {
+        if (t.snapshots.empty()) continue;
+        const std::string base = "tests/" + t.name + "/snapshots/";
+        std::vector<double> strain, requested, time_s;
+        for (const std::string& s : t.snapshots) {
+            const Group g = root.open_group(base + s);
+            strain.push_back(attribute_or(g, "axial_strain", -1.0));
+            requested.push_back(attribute_or(g, "requested_axial_strain", -1.0));
+            time_s.push_back(attribute_or(g, "time_s", 0.0));
+        }
+        // ParaView needs strictly increasing times within a collection.
+        const char* time_is = "axial_strain";
+        std::vector<double> times = strain;
+        if (!strictly_increasing(times)) {
+            times = requested;
+            time_is = "requested_axial_strain";
+        }
+        if (!strictly_increasing(times)) {
+            for (std::size_t k = 0; k < times.size(); ++k) times[k] = static_cast<double>(k);
+            time_is = "snapshot index";
+        }
+        xml.open("Grid Name=\"" + escape(t.name) + "\" GridType=\"Collection\" CollectionType=\"Temporal\"");
+        xml.line("<Information Name=\"time\" Value=\"" + std::string(time_is) + "\"/>");
+        for (std::size_t k = 0; k < t.snapshots.size(); ++k) {
+            const Group g = root.open_group(base + t.snapshots[k]);
+            xml.open("Grid Name=\"" + escape(t.snapshots[k]) + "\" GridType=\"Collection\" CollectionType=\"Spatial\"");
+            xml.line("<Time Value=\"" + number_text(times[k]) + "\"/>");
+            xml.line("<Information Name=\"time_s\" Value=\"" + number_text(time_s[k]) + "\"/>");
+            xml.line("<Information Name=\"axial_strain\" Value=\"" + number_text(strain[k]) + "\"/>");
+            std::optional<Array> tri = find_array(g, "membrane_triangles");
+            if (tri && (tri->shape.size() != 2 || tri->shape[1] != 3 || tri->rows() == 0 || tri->number_type == "Float"))
+                tri.reset();
+            w.grains(g, true);
+            w.wire(g, true);
+            w.membrane(g, tri);
+            w.contacts(g);
+            xml.close("Grid");
+            ++sum.snapshots;
+        }
+        xml.close("Grid");
+        ++sum.tests;
+    }
+    xml.close("Domain");
+    xml.close("Xdmf");
+    return xml.str();
+}
+
+XdmfSummary write_xdmf(const std::filesystem::path& h5_path, std::filesystem::path xdmf_path)
+{
+    if (xdmf_path.empty()) xdmf_path = std::filesystem::path(h5_path).replace_extension(".xdmf");
+    // The reference is relative to the XDMF file's directory, so the pair can move.
+    std::error_code ec;
+    const std::filesystem::path dir = std::filesystem::absolute(xdmf_path, ec).parent_path();
+    std::filesystem::path ref = ec ? h5_path : std::filesystem::relative(std::filesystem::absolute(h5_path), dir, ec);
+    if (ec || ref.empty()) ref = std::filesystem::absolute(h5_path);
+
+    XdmfSummary summary;
+    const std::string text = xdmf_text(h5_path, ref.generic_string(), &summary);
+    std::filesystem::path tmp = xdmf_path;
+    tmp += ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.close();
+        if (!out) {
+            std::filesystem::remove(tmp, ec);
+            throw std::runtime_error("cannot write " + tmp.string());
+        }
+    }
+    std::filesystem::rename(tmp, xdmf_path, ec);
+    if (ec) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throw std::runtime_error("cannot rename " + tmp.string() + " to " + xdmf_path.string() + ": " + ec.message());
+    }
+    return summary;
+}
+
+} // namespace wiredem::engine::io
