@@ -433,12 +433,14 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
             requested.push_back(attribute_or(g, "requested_axial_strain", -1.0));
             time_s.push_back(attribute_or(g, "time_s", 0.0));
         }
-        // ParaView needs strictly increasing times within a collection.
-        const char* time_is = "axial_strain";
-        std::vector<double> times = strain;
+        // Time = the requested strain: the same in every test of a campaign, so that
+        // ParaView shows all tests at each step (its XDMF 3 readers match times
+        // exactly). ParaView needs strictly increasing times within a collection.
+        const char* time_is = "requested_axial_strain";
+        std::vector<double> times = requested;
         if (!strictly_increasing(times)) {
-            times = requested;
-            time_is = "requested_axial_strain";
+            times = strain;
+            time_is = "axial_strain";
         }
         if (!strictly_increasing(times)) {
             for (std::size_t k = 0; k < times.size(); ++k) times[k] = static_cast<double>(k);

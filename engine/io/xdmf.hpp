@@ -9,9 +9,10 @@
 // The Domain holds:
 //   * "specimen": a spatial collection of the prepared specimen;
 //   * one temporal collection per test ("sigma3_20000", …, by ascending pressure)
-//     whose steps are the test's snapshots, Time = the snapshot's axial strain
-//     (the requested strain, then the snapshot index, when the measured strains do
-//     not increase strictly); each step is a spatial collection.
+//     whose steps are the test's snapshots, Time = the snapshot's requested axial
+//     strain (the same list in every test; the measured strain, then the snapshot
+//     index, when it does not increase strictly); each step is a spatial collection
+//     with the measured strain and the time in Information elements.
 // Each spatial collection holds, when the file has the data:
 //   * "grains": Polyvertex, one vertex cell per grain; point attributes radius_m and
 //     (snapshots) velocity_m_per_s, for Point Gaussian or Glyph (scale by radius);
