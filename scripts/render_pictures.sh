@@ -3,25 +3,36 @@
 # runs each job file docs/pictures/<pattern>.json with `wiredem run` (which also
 # writes the XDMF sidecar), then draws the specimen from result.xdmf with ParaView.
 #
-#   bash scripts/render_pictures.sh [--reuse] [WIREDEM]
+#   bash scripts/render_pictures.sh [--reuse] [--wiredem PATH] [PATTERN ...]
 #
-# WIREDEM: the client binary (default build/release/bin/wiredem). --reuse keeps the
-# results already in build/pictures/<pattern>/ and only renders.
+# PATTERN: none, helix, spiral_helix, radial_helix (default: all four). --wiredem:
+# the client binary (default build/release/bin/wiredem). --reuse keeps a result
+# already in build/pictures/<pattern>/ and only renders it.
 # Needs Debian's paraview and xvfb (apt-get install paraview xvfb): for the docs
 # only, deliberately not in scripts/setup.sh or CI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 reuse=0
-if [[ "${1:-}" == "--reuse" ]]; then reuse=1; shift; fi
-wiredem="${1:-build/release/bin/wiredem}"
+wiredem=build/release/bin/wiredem
+patterns=()
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --reuse) reuse=1 ;;
+        --wiredem) wiredem="$2"; shift ;;
+        none|helix|spiral_helix|radial_helix) patterns+=("$1") ;;
+        *) echo "usage: $0 [--reuse] [--wiredem PATH] [none|helix|spiral_helix|radial_helix ...]" >&2; exit 2 ;;
+    esac
+    shift
+done
+[[ ${#patterns[@]} -gt 0 ]] || patterns=(none helix spiral_helix radial_helix)
 runs=build/pictures
 
 for tool in pvbatch xvfb-run; do
     command -v "$tool" >/dev/null || { echo "render_pictures: $tool not found (apt-get install paraview xvfb)" >&2; exit 1; }
 done
 
-for pattern in none helix spiral_helix radial_helix; do
+for pattern in "${patterns[@]}"; do
     job="docs/pictures/$pattern.json"
     out="$runs/$pattern"
     if [[ $reuse == 0 || ! -f "$out/result.xdmf" ]]; then
