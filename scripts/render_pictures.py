@@ -92,7 +92,7 @@ if "grains" in grids:
 
 if "wire" in grids:
     wire = source(grids["wire"])
-    tube = Tube(Input=wire)
+    tube = Tube(Input=ExtractSurface(Input=wire))  # Tube needs polydata
     tube.Radius = wire_radius_m
     tube.NumberofSides = 16
     tube.Capping = 1
@@ -119,15 +119,19 @@ tdisp.Color = [0.1, 0.1, 0.1]
 tdisp.FontSize = 14
 tdisp.WindowLocation = "Upper Center"
 
-view.ResetCamera()
-cam = view.GetActiveCamera()
-bounds = grids["grains"].GetBounds() if "grains" in grids else grids["membrane"].GetBounds()
+# Frame the membrane (a grain that escaped the column must not shrink the picture).
+bounds = (grids["membrane"] if "membrane" in grids else grids["grains"]).GetBounds()
+height = bounds[5] - bounds[4]
 cz = 0.5 * (bounds[4] + bounds[5])
-cam.SetFocalPoint(0.0, 0.0, cz)
-cam.SetPosition(0.0, -0.11, cz + 0.035)
-cam.SetViewUp(0.0, 0.0, 1.0)
-view.ResetCamera(False)
+view.CameraFocalPoint = [0.0, 0.0, cz]
+view.CameraPosition = [0.0, -3.4 * height, cz + 1.0 * height]
+view.CameraViewUp = [0.0, 0.0, 1.0]
+view.CameraViewAngle = 30.0
 view.CameraParallelProjection = 0
+Render(view)  # the first render resets the camera to everything shown: frame it again
+view.CameraFocalPoint = [0.0, 0.0, cz]
+view.CameraPosition = [0.0, -3.4 * height, cz + 1.0 * height]
+view.CameraViewUp = [0.0, 0.0, 1.0]
 Render(view)
 SaveScreenshot(png, view, ImageResolution=[720, 1000], TransparentBackground=0)
 print("wrote", png)
