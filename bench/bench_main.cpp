@@ -15,9 +15,12 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <numeric>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,11 +31,14 @@ namespace {
 
 struct Case {
     std::string name;
+    Integrator integrator = Integrator::gear5;
     unsigned threads = 1;
     std::size_t bodies = 0;
-    std::size_t contacts = 0;
+    std::size_t contacts = 0;    ///< touching pairs and body–wall contacts at the end
+    std::size_t list_pairs = 0;  ///< pairs in the neighbour list (touching or within the skin)
     std::uint64_t steps = 0;
     double wall_s = 0.0;
+    double cpu_s = 0.0; ///< CPU time of the whole process over the timed steps (all threads)
     std::uint64_t hash = 0;
     [[nodiscard]] double body_steps_per_s() const { return static_cast<double>(bodies) * steps / wall_s; }
     [[nodiscard]] double ns_per_contact() const { return wall_s * 1e9 / (static_cast<double>(contacts) * steps); }
@@ -73,23 +79,70 @@ void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::s
             << g.x[0][i].x() << ' ' << g.x[0][i].y() << ' ' << g.x[0][i].z() << '\n';
 }
 
+/// Replaces the grains of a freshly built container by the packing in a data
+/// file written by write_liggghts_data (positions and diameters; the grains
+/// start at rest with fresh springs, as LIGGGHTS does when it reads the file).
+void read_liggghts_data(World& w, const ContainerSpec& spec, const std::string& path)
+{
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read packing file " + path);
+    std::string line;
+    std::size_t atoms = 0;
+    while (std::getline(in, line) && line != "Atoms")
+        if (line.find(" atoms") != std::string::npos) atoms = std::stoul(line);
+    if (atoms == 0) throw std::runtime_error(path + ": no 'N atoms' line before the Atoms section");
+    World fresh;
+    ContainerSpec none = spec;
+    none.grains = 0;
+    build_container(fresh, none);
+    fresh.materials = w.materials;
+    fresh.contact = w.contact;
+    for (std::size_t i = 0; i < atoms;) {
+        if (!std::getline(in, line)) throw std::runtime_error(path + ": fewer atoms than declared");
+        std::istringstream row(line);
+        std::size_t id = 0;
+        int type = 0;
+        double diameter = 0.0, density = 0.0, x = 0.0, y = 0.0, z = 0.0;
+        if (!(row >> id >> type >> diameter >> density >> x >> y >> z)) continue; // blank line
+        add_grain(fresh, Vec3(x, y, z), 0.5 * diameter, w.bodies[0].material.at(0));
+        ++i;
+    }
+    fresh.dt_s = w.dt_s;
+    w = std::move(fresh);
+}
+
+/// CPU time used by this process so far, all threads [s]. On a busy machine
+/// the wall time of a one-thread run includes waiting for a core; its CPU time
+/// does not.
+double process_cpu_s()
+{
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 /// Times `steps` steps from the same starting world for each thread count.
 std::vector<Case> time_cases(const std::string& name, const World& start, std::uint64_t steps,
-    const std::vector<unsigned>& thread_counts)
+    const std::vector<unsigned>& thread_counts, Integrator integrator)
 {
     std::vector<Case> cases;
     for (unsigned threads : thread_counts) {
         Simulation sim(threads);
         sim.world = start;
+        set_integrator(sim.world, integrator);
         sim.step(); // warm-up outside the timing
+        const double cpu0 = process_cpu_s();
         const auto t0 = std::chrono::steady_clock::now();
         sim.run(steps);
         Case c;
         c.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        c.cpu_s = process_cpu_s() - cpu0;
         c.name = name;
+        c.integrator = integrator;
         c.threads = threads;
         c.bodies = sim.world.body_count();
         c.contacts = touching(sim.world);
+        c.list_pairs = sim.world.contacts.size();
         c.steps = steps;
         c.hash = hash_world(sim.world);
         cases.push_back(c);
@@ -149,12 +202,15 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
     return w;
 }
 
+const char* integrator_name(Integrator i) { return i == Integrator::gear5 ? "gear5" : "verlet"; }
+
 void print_case_json(const Case& c, double dt)
 {
-    std::printf("{\"case\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"steps\":%llu,"
-                "\"wall_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
+    std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"steps\":%llu,"
+                "\"wall_time_s\":%.6f,\"cpu_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
                 "\"ns_per_contact\":%.4g,\"state_hash\":\"%016llx\"}\n",
-        c.name.c_str(), c.threads, c.bodies, c.contacts, static_cast<unsigned long long>(c.steps), c.wall_s, dt,
+        c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs,
+        static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
         c.body_steps_per_s(), c.ns_per_contact(), static_cast<unsigned long long>(c.hash));
 }
 
@@ -174,11 +230,20 @@ int main(int argc, char** argv)
     app.add_option("--settle-time", settle_s, "simulated settling time before timing [s]")->check(CLI::Range(0.0, 10.0));
     app.add_option("--threads", thread_counts, "thread counts to time")->delimiter(',')->check(CLI::Range(1, 256));
     app.add_flag("--json", json, "one JSON object per line and case");
+    std::vector<Integrator> integrators{Integrator::gear5, Integrator::verlet};
+    app.add_option("--integrators", integrators, "integrators to time (gear5: the reference; verlet)")
+        ->delimiter(',')
+        ->transform(CLI::CheckedTransformer(
+            std::map<std::string, Integrator>{{"gear5", Integrator::gear5}, {"verlet", Integrator::verlet}}));
     bool with_wire_membrane = true;
     std::size_t wire_nodes = 8000;
     app.add_flag("!--no-wire-membrane", with_wire_membrane, "skip the wire + membrane case");
     app.add_option("--wire-nodes", wire_nodes, "wire nodes in the wire + membrane case")->check(CLI::Range(2, 1000000));
     app.add_option("--liggghts-data", liggghts_data, "also write the settled packing as a LIGGGHTS data file");
+    std::string packing;
+    app.add_option("--packing", packing,
+           "time a packing read from a data file written by --liggghts-data instead of settling one (grains at rest)")
+        ->check(CLI::ExistingFile);
     CLI11_PARSE(app, argc, argv);
 
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
@@ -191,6 +256,10 @@ int main(int argc, char** argv)
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
     w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    if (!packing.empty()) {
+        read_liggghts_data(w, spec, packing);
+        settle_s = 0.0;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     settle.run(static_cast<std::uint64_t>(settle_s / w.dt_s));
     const double settle_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -201,13 +270,19 @@ int main(int argc, char** argv)
             kinetic_energy_j(w, settle.pool()));
     if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data);
 
-    std::vector<Case> cases = time_cases("settled_packing", w, steps, thread_counts);
+    std::vector<Case> cases;
+    for (Integrator integrator : integrators) {
+        const auto more = time_cases("settled_packing", w, steps, thread_counts, integrator);
+        cases.insert(cases.end(), more.begin(), more.end());
+    }
     std::vector<double> dts(cases.size(), w.dt_s);
     if (with_wire_membrane) {
         const World column = wire_membrane_column(spec, wire_nodes);
-        const auto more = time_cases("wire_membrane", column, steps, thread_counts);
-        cases.insert(cases.end(), more.begin(), more.end());
-        dts.insert(dts.end(), more.size(), column.dt_s);
+        for (Integrator integrator : integrators) {
+            const auto more = time_cases("wire_membrane", column, steps, thread_counts, integrator);
+            cases.insert(cases.end(), more.begin(), more.end());
+        }
+        dts.insert(dts.end(), cases.size() - dts.size(), column.dt_s);
         if (!json)
             std::printf("wire_membrane: %zu grains, %zu wire nodes, %zu membrane nodes, δt = %.3g s (set by %s)\n",
                 column.bodies[0].size(), column.bodies[1].size(), column.bodies[2].size(), column.dt_s,
@@ -216,18 +291,19 @@ int main(int argc, char** argv)
     if (json)
         for (std::size_t i = 0; i < cases.size(); ++i) print_case_json(cases[i], dts[i]);
     if (!json) {
-        std::printf("\n%-16s %7s %7s %9s %7s %10s %16s %14s %10s\n", "case", "threads", "bodies", "contacts", "steps",
-            "wall [s]", "body-steps/s", "ns/contact", "speed-up");
+        std::printf("\n%-16s %-7s %7s %7s %9s %7s %10s %9s %16s %14s %10s\n", "case", "method", "threads", "bodies",
+            "contacts", "steps", "wall [s]", "cpu [s]", "body-steps/s", "ns/contact", "speed-up");
         // Speed-up and bit-identity against the first run of the same case.
         auto first_of = [&](const Case& c) -> const Case& {
             for (const Case& f : cases)
-                if (f.name == c.name) return f;
+                if (f.name == c.name && f.integrator == c.integrator) return f;
             return c;
         };
         bool same = true;
         for (const Case& c : cases) {
-            std::printf("%-16s %7u %7zu %9zu %7llu %10.3f %16.4g %14.4g %9.2fx\n", c.name.c_str(), c.threads, c.bodies,
-                c.contacts, static_cast<unsigned long long>(c.steps), c.wall_s, c.body_steps_per_s(), c.ns_per_contact(),
+            std::printf("%-16s %-7s %7u %7zu %9zu %7llu %10.3f %9.3f %16.4g %14.4g %9.2fx\n", c.name.c_str(),
+                integrator_name(c.integrator), c.threads, c.bodies, c.contacts,
+                static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, c.body_steps_per_s(), c.ns_per_contact(),
                 first_of(c).wall_s / c.wall_s);
             same = same && c.hash == first_of(c).hash;
         }

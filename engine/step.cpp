@@ -25,10 +25,6 @@ std::vector<double> effective_moduli(const World& w)
     return e;
 }
 
-Vec3 angular_velocity(const World& w, BodyRef b)
-{
-    return b.kind() == BodyKind::grain ? Vec3(w.grain_rotation.w[1][b.index()] / w.dt_s) : Vec3(Vec3::Zero());
-}
 
 } // namespace
 
@@ -149,6 +145,17 @@ bool update_neighbours(World& w, ThreadPool& pool)
         keys[p] = pair_key(first[p], second[p]);
     }
     w.contacts.rebuild(keys, first, second, flat_first, flat_second, n);
+    const std::vector<double> e_star = effective_moduli(w);
+    const std::size_t n_mat = w.materials.size();
+    ContactList& c = w.contacts;
+    c.hertz_coefficient.resize(c.size());
+    parallel_for(pool, c.size(), [&](std::size_t p) {
+        const TranslationalState& A = w.of(c.first[p].kind());
+        const TranslationalState& B = w.of(c.second[p].kind());
+        const std::uint32_t ia = c.first[p].index(), ib = c.second[p].index();
+        c.hertz_coefficient[p] = (4.0 / 3.0) * e_star[A.material[ia] * n_mat + B.material[ib]]
+                               * std::sqrt(effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
+    });
     w.position_at_build_m = std::move(pos);
     w.neighbours_dirty = false;
     ++w.neighbour_builds;
@@ -157,48 +164,63 @@ bool update_neighbours(World& w, ThreadPool& pool)
 
 void compute_pair_forces(World& w, ThreadPool& pool)
 {
-    const std::vector<double> e_star = effective_moduli(w);
-    const std::size_t n_mat = w.materials.size();
     ContactList& c = w.contacts;
     const double dt = w.dt_s;
     const double inv_dt = 1.0 / dt;
     const double damping_s = w.contact.normal_damping_s;
     const TangentialParams& tp = w.contact.tangential;
+    // Raw views of what the loop reads, by kind, hoisted out of it.
+    struct KindView {
+        const Vec3* x;       // x₀
+        const Vec3* v_dt;    // x₁ = δt v
+        const double* radius;
+    };
+    std::array<KindView, body_kind_count> view{};
+    for (int k = 0; k < body_kind_count; ++k)
+        view[k] = {w.bodies[k].x[0].data(), w.bodies[k].x[1].data(), w.bodies[k].radius_m.data()};
+    const Vec3* spin_dt = w.grain_rotation.w[1].data(); // δt ω of the grains
+    const Vec3 no_spin = Vec3::Zero();
 
     parallel_for(pool, c.size(), [&](std::size_t p) {
         const BodyRef a = c.first[p], b = c.second[p];
-        const TranslationalState& A = w.of(a.kind());
-        const TranslationalState& B = w.of(b.kind());
+        const KindView& A = view[static_cast<int>(a.kind())];
+        const KindView& B = view[static_cast<int>(b.kind())];
         const std::uint32_t ia = a.index(), ib = b.index();
-        const Vec3 d = B.x[0][ib] - A.x[0][ia];
-        const double ra = A.radius_m[ia], rb = B.radius_m[ib];
+        const Vec3 d = B.x[ib] - A.x[ia];
+        const double ra = A.radius[ia], rb = B.radius[ib];
         const double dist2 = d.squaredNorm();
         if (dist2 >= (ra + rb) * (ra + rb) || dist2 == 0.0) {
-            // Apart: the contact (and its spring) is gone.
-            c.tangential[p] = TangentialState{};
-            c.force_n[p].setZero();
-            c.torque_first_n_m[p].setZero();
-            c.torque_second_n_m[p].setZero();
-            c.normal_force_n[p] = 0.0;
-            c.touching[p] = 0;
+            // Apart: the contact (and its spring) is gone. Slots of a pair
+            // that was apart already are zero: leave them alone.
+            if (c.touching[p]) {
+                c.tangential[p] = TangentialState{};
+                c.force_n[p].setZero();
+                c.shares[c.share_of_first[p]] = ContactShare{};
+                c.shares[c.share_of_second[p]] = ContactShare{};
+                c.normal_force_n[p] = 0.0;
+                c.touching[p] = 0;
+            }
             return;
         }
         const double dist = std::sqrt(dist2);
         const double overlap = ra + rb - dist;
-        const Vec3 n = d / dist; // from a to b
+        const Vec3 n = d * (1.0 / dist); // from a to b
         const double arm_a = ra - 0.5 * overlap, arm_b = rb - 0.5 * overlap;
-        const Vec3 v_rel = (A.x[1][ia] - B.x[1][ib]) * inv_dt
-                         + (arm_a * angular_velocity(w, a) + arm_b * angular_velocity(w, b)).cross(n);
+        const Vec3& spin_a = a.kind() == BodyKind::grain ? spin_dt[ia] : no_spin;
+        const Vec3& spin_b = b.kind() == BodyKind::grain ? spin_dt[ib] : no_spin;
+        const Vec3 v_rel = ((A.v_dt[ia] - B.v_dt[ib]) + (arm_a * spin_a + arm_b * spin_b).cross(n)) * inv_dt;
         const double rate = v_rel.dot(n); // > 0 while approaching
         const Vec3 vt = v_rel - rate * n;
 
-        const double fn = hertz_normal_force_n(overlap, rate, e_star[A.material[ia] * n_mat + B.material[ib]],
-            effective_radius_m(ra, rb), damping_s);
+        // Damped Hertz, F_n = (4/3) E* √R* √ξ (ξ + γ_n dξ/dt) ≥ 0 (laws/hertz.hpp).
+        const double fn = std::max(c.hertz_coefficient[p] * std::sqrt(overlap) * (overlap + damping_s * rate), 0.0);
         const TangentialResult t = tangential_force(c.tangential[p], n, vt, fn, tp, dt);
         c.tangential[p] = t.next;
-        c.force_n[p] = -fn * n + t.force_n;
-        c.torque_first_n_m[p] = arm_a * n.cross(t.force_n);
-        c.torque_second_n_m[p] = arm_b * n.cross(t.force_n);
+        const Vec3 force = -fn * n + t.force_n;
+        const Vec3 n_x_ft = n.cross(t.force_n);
+        c.force_n[p] = force;
+        c.shares[c.share_of_first[p]] = {force, arm_a * n_x_ft};
+        c.shares[c.share_of_second[p]] = {-force, arm_b * n_x_ft};
         c.normal_force_n[p] = fn;
         c.touching[p] = 1;
     });
@@ -225,6 +247,7 @@ void compute_wall_forces(World& w, ThreadPool& pool)
             auto& memory = wall.tangential[k];
             auto& force = wall.force_on_body_n[k];
             auto& torque = wall.torque_on_body_n_m[k];
+            auto& touching = wall.touching[k];
             const Total part = reduce_blocks(
                 pool, body.size(), Total{},
                 [&](std::size_t begin, std::size_t end) {
@@ -247,11 +270,15 @@ void compute_wall_forces(World& w, ThreadPool& pool)
                         }
                         const double overlap = r - gap;
                         if (overlap <= 0.0 || body.inv_mass_per_kg[i] == 0.0) {
-                            memory[i] = TangentialState{};
-                            force[i].setZero();
-                            torque[i].setZero();
+                            if (touching[i]) {
+                                memory[i] = TangentialState{};
+                                force[i].setZero();
+                                torque[i].setZero();
+                                touching[i] = 0;
+                            }
                             continue;
                         }
+                        touching[i] = 1;
                         const double arm = r - 0.5 * overlap;
                         const Vec3 omega = kind == BodyKind::grain ? Vec3(w.grain_rotation.w[1][i] * inv_dt) : Vec3(Vec3::Zero());
                         const Vec3 v_rel = body.x[1][i] * inv_dt + arm * omega.cross(m) - wall.velocity_m_per_s;
@@ -293,16 +320,11 @@ void gather_forces(World& w, ThreadPool& pool)
             Vec3 f = body.mass_kg[i] * g;
             Vec3 tau = Vec3::Zero();
             for (std::uint32_t e = c.incidence_start[off + i]; e < c.incidence_start[off + i + 1]; ++e) {
-                const Incidence inc = c.incidence[e];
-                if (inc.is_first) {
-                    f += c.force_n[inc.pair];
-                    tau += c.torque_first_n_m[inc.pair];
-                } else {
-                    f -= c.force_n[inc.pair];
-                    tau += c.torque_second_n_m[inc.pair];
-                }
+                f += c.shares[e].force_n; // ascending pair order; zero while apart
+                tau += c.shares[e].torque_n_m;
             }
             for (const Wall& wall : w.walls) {
+                if (!wall.touching[k][i]) continue; // its slots are zero
                 f += wall.force_on_body_n[k][i];
                 tau += wall.torque_on_body_n_m[k][i];
             }

@@ -30,8 +30,6 @@ void ContactList::rebuild(const std::vector<std::uint64_t>& new_keys, const std:
     tangential = std::move(carried);
     touching = std::move(was_touching);
     force_n.assign(n, Vec3::Zero());
-    torque_first_n_m.assign(n, Vec3::Zero());
-    torque_second_n_m.assign(n, Vec3::Zero());
     normal_force_n.assign(n, 0.0);
 
     incidence_start.assign(flat_body_count + 1, 0);
@@ -41,11 +39,16 @@ void ContactList::rebuild(const std::vector<std::uint64_t>& new_keys, const std:
     }
     for (std::size_t b = 0; b < flat_body_count; ++b) incidence_start[b + 1] += incidence_start[b];
     incidence.resize(2 * n);
+    share_of_first.resize(n);
+    share_of_second.resize(n);
     std::vector<std::uint32_t> fill(incidence_start.begin(), incidence_start.end() - 1);
     for (std::size_t p = 0; p < n; ++p) { // ascending p: each body's list is in pair order
-        incidence[fill[flat_first[p]]++] = {static_cast<std::uint32_t>(p), true};
-        incidence[fill[flat_second[p]]++] = {static_cast<std::uint32_t>(p), false};
+        share_of_first[p] = fill[flat_first[p]]++;
+        share_of_second[p] = fill[flat_second[p]]++;
+        incidence[share_of_first[p]] = {static_cast<std::uint32_t>(p), true};
+        incidence[share_of_second[p]] = {static_cast<std::uint32_t>(p), false};
     }
+    shares.assign(2 * n, ContactShare{});
 }
 
 } // namespace wiredem::engine

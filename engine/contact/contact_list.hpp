@@ -7,7 +7,8 @@
 // last build; a rebuild carries each surviving pair's tangential state across
 // by a merge of the two sorted key lists. The incidence list (CSR over flat body
 // index, ascending pair index) lets every body gather its pair forces in a
-// fixed order.
+// fixed order; the pair loop writes each force straight into the two bodies'
+// incidence slots, so the gather reads memory in order.
 #pragma once
 
 #include "core/types.hpp"
@@ -25,19 +26,32 @@ struct Incidence {
     bool is_first = true;
 };
 
+/// A pair's force and torque on one of its two bodies, stored where that
+/// body's gather reads it: shares[e] belongs to incidence[e].
+struct ContactShare {
+    Vec3 force_n = Vec3::Zero();    ///< [N]
+    Vec3 torque_n_m = Vec3::Zero(); ///< [N·m]
+};
+
 struct ContactList {
     std::vector<std::uint64_t> key;          ///< pair_key(a, b), ascending
     std::vector<BodyRef> first, second;       ///< a < b
     std::vector<std::uint32_t> flat_first, flat_second; ///< flat body indices of a, b
+    /// (4/3) E* √R* of the pair, set with the pair (materials and radii are fixed) [N/m^{3/2}]
+    std::vector<double> hertz_coefficient;
     std::vector<TangentialState> tangential;  ///< spring memory; reset when the contact opens
     std::vector<Vec3> force_n;                ///< this step's force on a (−force on b) [N]
-    std::vector<Vec3> torque_first_n_m;       ///< torque on a [N·m]
-    std::vector<Vec3> torque_second_n_m;      ///< torque on b [N·m]
     std::vector<double> normal_force_n;       ///< |F_n| this step, 0 when apart [N]
     std::vector<std::uint8_t> touching;       ///< 1 when overlapping this step
 
     std::vector<std::uint32_t> incidence_start; ///< CSR offsets per flat body, size bodies + 1
     std::vector<Incidence> incidence;
+    /// This step's force and torque on each body of each pair, in incidence
+    /// order: the pair loop writes a pair's two shares (one writer per slot),
+    /// and each body's gather then reads its own shares contiguously, in
+    /// ascending pair order. Zero while the pair is apart.
+    std::vector<ContactShare> shares;
+    std::vector<std::uint32_t> share_of_first, share_of_second; ///< per pair: slot in shares
 
     [[nodiscard]] std::size_t size() const { return key.size(); }
 

@@ -1,5 +1,7 @@
 #include "integrate/gear5.hpp"
 
+#include "integrate/rotation.hpp"
+
 #include <cmath>
 
 namespace wiredem::engine {
@@ -64,12 +66,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
         correct_one(rot.w, i, half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i]);
         // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-        const Vec3& turn = rot.w[1][i];
-        const double angle = turn.norm();
-        if (angle > 0.0) {
-            const Quat dq(Eigen::AngleAxisd(angle, turn / angle));
-            rot.orientation[i] = (dq * rot.orientation[i]).normalized();
-        }
+        turn(rot.orientation[i], rot.w[1][i]);
     });
     return finite;
 }

@@ -1,5 +1,7 @@
 #include "integrate/verlet.hpp"
 
+#include "integrate/rotation.hpp"
+
 namespace wiredem::engine {
 
 void verlet_first_half(World& w, ThreadPool& pool)
@@ -15,12 +17,7 @@ void verlet_first_half(World& w, ThreadPool& pool)
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
         rot.w[1][i] += rot.w[2][i];
         // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
-        const Vec3& turn = rot.w[1][i];
-        const double angle = turn.norm();
-        if (angle > 0.0) {
-            const Quat dq(Eigen::AngleAxisd(angle, turn / angle));
-            rot.orientation[i] = (dq * rot.orientation[i]).normalized();
-        }
+        turn(rot.orientation[i], rot.w[1][i]);
     });
 }
 

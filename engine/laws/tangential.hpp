@@ -39,36 +39,37 @@ struct TangentialResult {
 ///                            point with respect to the second's, in the tangent plane
 /// @param normal_force_n      F_n ≥ 0 [N]
 /// @param dt_s                time step [s]
-[[nodiscard]] inline TangentialResult tangential_force(const TangentialState& prev, const Vec3& normal,
+[[nodiscard, gnu::always_inline]] inline TangentialResult tangential_force(const TangentialState& prev, const Vec3& normal,
     const Vec3& tangential_velocity_m_per_s, double normal_force_n, const TangentialParams& p,
     double dt_s) noexcept
 {
     const Vec3& vt = tangential_velocity_m_per_s;
-    const double speed = vt.norm();
     const double coulomb_n = p.friction_coeff * normal_force_n;
 
-    auto slide = [&]() -> TangentialResult {
+    // Dynamic friction: F_t = −F_n min(μ, γ_t |v_t|) v̂_t.
+    auto sliding = [&](double speed) -> TangentialResult {
+        const double f = normal_force_n * std::fmin(p.friction_coeff, p.damping_s_per_m * speed);
+        return {speed > 0.0 ? Vec3(-f / speed * vt) : Vec3(Vec3::Zero()), {Vec3::Zero(), false}};
+    };
+    if (!prev.sticking) {
+        const double speed = vt.norm();
         // γ_t |v_t| ≤ μ: the sliding has stopped, attach a new spring.
         if (p.damping_s_per_m * speed <= p.friction_coeff)
             return {-p.stiffness_per_m * normal_force_n * (vt * dt_s), {vt * dt_s, true}};
         return {-coulomb_n / speed * vt, {Vec3::Zero(), false}};
-    };
-    if (!prev.sticking) return slide();
+    }
 
     // Keep the spring in the current tangent plane as the contact turns:
-    // drop its normal component and restore its length.
+    // drop its normal component and restore its length. (One square root:
+    // the length ratio is √(|δ|²/|δ_⊥|²).)
     Vec3 spring = prev.spring_m - prev.spring_m.dot(normal) * normal;
-    const double old_len = prev.spring_m.norm();
-    const double new_len = spring.norm();
-    if (new_len > 0.0) spring *= old_len / new_len;
+    const double new_len2 = spring.squaredNorm();
+    if (new_len2 > 0.0) spring *= std::sqrt(prev.spring_m.squaredNorm() / new_len2);
     spring += vt * dt_s;
 
     const Vec3 force = -p.stiffness_per_m * normal_force_n * spring;
-    if (force.squaredNorm() > coulomb_n * coulomb_n || spring.squaredNorm() > p.critical_slip_m * p.critical_slip_m) {
-        // The spring breaks: the contact slides with the dynamic force.
-        const double f = normal_force_n * std::fmin(p.friction_coeff, p.damping_s_per_m * speed);
-        return {speed > 0.0 ? Vec3(-f / speed * vt) : Vec3(Vec3::Zero()), {Vec3::Zero(), false}};
-    }
+    if (force.squaredNorm() > coulomb_n * coulomb_n || spring.squaredNorm() > p.critical_slip_m * p.critical_slip_m)
+        return sliding(vt.norm()); // the spring breaks
     return {force, {spring, true}};
 }
 

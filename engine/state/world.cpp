@@ -19,6 +19,7 @@ void grow_wall_memory(World& w, BodyKind kind)
         wall.tangential[k].resize(w.bodies[k].size());
         wall.force_on_body_n[k].resize(w.bodies[k].size(), Vec3::Zero());
         wall.torque_on_body_n_m[k].resize(w.bodies[k].size(), Vec3::Zero());
+        wall.touching[k].resize(w.bodies[k].size(), 0);
     }
 }
 } // namespace
@@ -50,6 +51,7 @@ std::size_t add_wall(World& w, Wall wall)
         wall.tangential[k].assign(w.bodies[k].size(), {});
         wall.force_on_body_n[k].assign(w.bodies[k].size(), Vec3::Zero());
         wall.torque_on_body_n_m[k].assign(w.bodies[k].size(), Vec3::Zero());
+        wall.touching[k].assign(w.bodies[k].size(), 0);
     }
     w.walls.push_back(std::move(wall));
     return w.walls.size() - 1;

@@ -49,6 +49,9 @@ struct Wall {
     /// Force this wall exerts on each body this step, by kind and index [N].
     std::array<std::vector<Vec3>, body_kind_count> force_on_body_n;
     std::array<std::vector<Vec3>, body_kind_count> torque_on_body_n_m;
+    /// 1 where the body touches this wall this step; the three arrays above
+    /// are zero (and not rewritten) wherever it is 0.
+    std::array<std::vector<std::uint8_t>, body_kind_count> touching;
     Vec3 total_force_n = Vec3::Zero();    ///< force the bodies exert on the wall this step [N]
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
