@@ -169,7 +169,13 @@ struct EngineSpec {
     std::optional<double> time_step_s;
     Integrator integrator = Integrator::gear5; ///< time integrator
     std::uint32_t threads = 0;                 ///< worker threads, 0 = all cores, [0, 256]
-    double density_scale = 1.0;                ///< mass scaling factor for every body, [1, 1e6]
+    /// Mass scaling s of every body, [1, 1e6]: inertia only, weights stay
+    /// real (gravity acts as g/s on the scaled masses; docs/model.md).
+    double density_scale = 1.0;
+    /// Extra inertia M of wire and membrane nodes on top of density_scale,
+    /// [1, 1e6]: their masses are s·M times the model's, their weights stay
+    /// real. Lifts the time step set by the light nodes' springs.
+    double node_mass_scale = 1.0;
     /// Cap on grains + wire nodes + membrane nodes (estimated), [1, 1e9].
     std::uint64_t max_bodies = 200000;
     friend bool operator==(const EngineSpec&, const EngineSpec&) = default;

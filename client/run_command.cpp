@@ -17,6 +17,7 @@
 #include "analysis/autocorrelation.hpp"
 #include "analysis/mohr_coulomb.hpp"
 #include "api/derived.hpp"
+#include "api/engine_settings.hpp"
 #include "forces/membrane_forces.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
@@ -117,75 +118,6 @@ private:
     Clock::time_point start_;
     Clock::time_point last_{};
 };
-
-/// The engine's preparation spec from the job spec.
-eng::PreparationSpec preparation_spec(const api::JobSpec& spec)
-{
-    const api::SpecimenSpec& s = spec.specimen;
-    eng::PreparationSpec p;
-    p.membrane_radius_m = s.membrane_radius_m;
-    p.membrane_height_m = s.membrane_height_m;
-    p.grain_count = static_cast<std::size_t>(s.grain_count);
-    p.grain_radius_m = s.grain_radius_m;
-    p.grain_radius_spread = s.grain_radius_spread;
-    p.grain = eng::Material{s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3};
-    p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
-    p.plate.poisson_ratio = s.plate.poisson_ratio;
-
-    p.wire.radius_m = s.wire.radius_m;
-    p.wire.segment_length_m = s.wire.segment_length_m;
-    p.wire.youngs_modulus_pa = s.wire.youngs_modulus_pa;
-    p.wire.poisson_ratio = s.wire.poisson_ratio;
-    p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
-    p.wire.density_scale = spec.engine.density_scale;
-
-    switch (s.wire.pattern) {
-    case api::WirePattern::none: p.pattern.kind = eng::PatternKind::none; break;
-    case api::WirePattern::helix: p.pattern.kind = eng::PatternKind::helix; break;
-    case api::WirePattern::spiral_helix: p.pattern.kind = eng::PatternKind::spiral_helix; break;
-    case api::WirePattern::radial_helix: p.pattern.kind = eng::PatternKind::radial_helix; break;
-    }
-    p.pattern.helix_radius_m = s.wire.helix_radius_m;
-    p.pattern.inner_radius_m = s.wire.inner_radius_m;
-    p.pattern.period_angle_rad = s.wire.period_angle_rad;
-    p.pattern.angular_speed_rad_per_s = s.wire.angular_speed_rad_per_s;
-    p.pattern.rise_speed_m_per_s = s.wire.nozzle_rise_speed_m_per_s;
-    p.clearance_m = s.wire.clearance_m;
-
-    p.membrane.mesh_size_m = s.membrane.mesh_size_m;
-    p.membrane.thickness_m = s.membrane.thickness_m;
-    p.membrane.youngs_modulus_pa = s.membrane.youngs_modulus_pa;
-    p.membrane.poisson_ratio = s.membrane.poisson_ratio;
-    p.membrane.density_kg_per_m3 = s.membrane.density_kg_per_m3;
-    p.membrane.contact_radius_m = api::membrane_contact_radius_m(s.membrane);
-    p.membrane.density_scale = spec.engine.density_scale;
-
-    p.contact.normal_damping_s = api::resolved_normal_damping_s(spec);
-    p.contact.tangential.stiffness_per_m = spec.contact.tangential_stiffness_per_m;
-    p.contact.tangential.friction_coeff = spec.contact.friction_coeff;
-    p.contact.tangential.critical_slip_m = spec.contact.critical_slip_m;
-    p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
-
-    p.density_scale = spec.engine.density_scale;
-    p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
-    p.max_time_s = s.pouring.max_preparation_time_s;
-    p.time_step_s = spec.engine.time_step_s.value_or(0.0);
-    p.seed = spec.seed;
-    return p;
-}
-
-eng::TriaxialSettings triaxial_settings(const api::JobSpec& spec, double pressure_pa)
-{
-    eng::TriaxialSettings t;
-    t.confining_pressure_pa = pressure_pa;
-    t.target_axial_strain = spec.triaxial.target_axial_strain;
-    t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s;
-    t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
-    t.hold_time_s = spec.triaxial.hold_time_s;
-    t.sample_interval_s = spec.triaxial.sample_interval_s;
-    t.snapshot_strains = spec.triaxial.snapshot_strains;
-    return t;
-}
 
 std::size_t body_count(const eng::World& w)
 {
@@ -385,7 +317,7 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     if (ec) return fail(progress, "cannot create " + out_dir.string() + ": " + ec.message());
 
     // 1. Preparation.
-    const eng::PreparationSpec prep_spec = preparation_spec(spec);
+    const eng::PreparationSpec prep_spec = api::preparation_spec(spec);
     eng::Simulation prep_sim(threads);
     eng::RunControl control;
     control.cancel = &g_cancel;
@@ -431,7 +363,7 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
             progress.report("testing", base + per_test * f, std::string(label) + ", step " + std::to_string(done));
         };
         progress.report("testing", base, label, true);
-        auto r = eng::run_triaxial(sim, prep.top_plate_wall, triaxial_settings(spec, pressures[i]), control);
+        auto r = eng::run_triaxial(sim, prep.top_plate_wall, api::triaxial_settings(spec, pressures[i]), control);
         if (!r.ok()) return fail(progress, std::string(label) + " failed: " + r.error());
         for (const std::string& w : r.value().warnings) warnings.push_back(std::string(label) + ": " + w);
         steps += r.value().steps;

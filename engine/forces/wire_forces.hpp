@@ -1,5 +1,16 @@
 // The wire's own forces: stretch of every segment and bending at every
 // interior node, computed per element and gathered per node in chain order.
+//
+// Material damping. The wire is a Kelvin–Voigt solid: every elastic force has
+// a dashpot in parallel with the same retardation time τ,
+//     F_seg = k_elo (Δl + τ dΔl/dt),   bending moment k_rot (ζ + τ dζ/dt),
+// the bending dashpot applied as −τ k_rot ζ̇ ∇ζ (the gradient of the Rayleigh
+// function ½ τ k_rot ζ̇²), so, like the springs, it exerts no net force and
+// no net torque and a rigidly moving wire feels nothing. τ is fixed by the
+// damping ratio of the chain's highest (axial) mode, τ = 2 ξ_w / ω_max with
+// ω_max² = 4 k_elo/m_w (docs/model.md, "Wire"); a mode of frequency ω then
+// has the damping ratio ω τ / 2. This is damping inside the wire, not global
+// viscous damping: it dissipates only relative motion of neighbouring nodes.
 #pragma once
 
 #include "parallel/thread_pool.hpp"
@@ -17,6 +28,18 @@ struct WireSpec {
     double density_scale = 1.0;
 };
 
+/// Damping ratio ξ_w of the wire's highest axial mode (Kelvin–Voigt material
+/// damping, see the file comment). Its highest bending mode then has
+/// ξ_w r_w / l_w (0.4 ξ_w with the paper's wire); long, slow bending waves
+/// much less. 1 makes the stiffest mode critically damped, which is what
+/// stops a wire laid along a curve from whipping (it stores ½ k_rot ζ² per
+/// node, the model spec §3) without slowing its quasi-static response.
+inline constexpr double wire_damping_ratio = 0.3;
+
+/// Kelvin–Voigt retardation time τ = 2 ξ_w / ω_max, ω_max² = 4 k_elo/m_w [s];
+/// 0 for a wire without mass or stiffness.
+[[nodiscard]] double wire_retardation_time_s(const WireState& wire);
+
 /// Sets the wire's parameters (material, stiffnesses, node mass). Call before
 /// adding nodes.
 void configure_wire(World& w, const WireSpec& spec);
@@ -26,8 +49,9 @@ void configure_wire(World& w, const WireSpec& spec);
 /// during a run: only the new node's slots are added.
 std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& velocity_m_per_s = Vec3::Zero());
 
-/// Stage: stretch and bending forces into per-element slots, then per node.
-/// Also refreshes WireState::segment_strain.
+/// Stage: stretch and bending forces (springs and their dashpots) into
+/// per-element slots, then per node. Also refreshes WireState::segment_strain.
+/// Velocities are the integrator's current ones (x[1] / δt).
 void compute_wire_forces(World& w, ThreadPool& pool);
 
 /// Total length of the wire along its nodes [m].

@@ -42,20 +42,40 @@ public:
         const Vec3 here = path_.at(s_m_) + Vec3(0, 0, z_m_);
         const auto& x = w.of(BodyKind::wire).x[0];
         if (x.empty()) {
-            append_wire_node(w, here);
+            lay(w, here);
             s_last_node_m_ = s_m_;
         } else if (s_m_ - s_last_node_m_ >= spec_.wire.segment_length_m) {
             const Vec3 reach = here - x.back();
             const double len = reach.norm();
-            append_wire_node(w, len > 0.0 ? Vec3(x.back() + spec_.wire.segment_length_m / len * reach)
-                                          : Vec3(here + Vec3(0, 0, spec_.wire.segment_length_m)));
+            lay(w, len > 0.0 ? Vec3(x.back() + spec_.wire.segment_length_m / len * reach)
+                             : Vec3(here + Vec3(0, 0, spec_.wire.segment_length_m)));
             s_last_node_m_ += spec_.wire.segment_length_m;
         }
+    }
+    /// Lets go of the wire's end (when the laying is over): both ends free.
+    static void release_end(World& w)
+    {
+        TranslationalState& wire = w.of(BodyKind::wire);
+        if (wire.size() > 0) wire.inv_mass_per_kg.back() = 1.0 / wire.mass_kg.back();
     }
     [[nodiscard]] double z_m() const { return z_m_; }
     [[nodiscard]] Vec3 position() const { return path_.at(s_m_) + Vec3(0, 0, z_m_); }
 
 private:
+    /// Appends a node and holds it where it was laid until the next one: the
+    /// wire's end is inside the nozzle, so it cannot whip. A wire laid along
+    /// a curve stores ½ k_rot ζ² per joint (straight rest shape, the model
+    /// spec §3); with a free end that energy is released at the end of the
+    /// chain as a whip of tens of m/s. Held, each joint can only relax
+    /// against its neighbours and the grains, short-wave motion that the
+    /// wire's own damping absorbs.
+    static void lay(World& w, const Vec3& at)
+    {
+        release_end(w);
+        const std::uint32_t id = append_wire_node(w, at);
+        w.of(BodyKind::wire).inv_mass_per_kg[id] = 0.0;
+    }
+
     NozzlePath path_;
     const PreparationSpec& spec_;
     double z_m_;
@@ -65,13 +85,16 @@ private:
 
 /// Highest top (z + r) of the bodies within `reach` of the vertical line
 /// through `at` whose bottom is below `at` (what the nozzle would run into;
-/// grains falling from above do not count).
-double local_top_m(const World& w, const Vec3& at, double reach)
+/// grains falling from above do not count). The newest `own_nodes` wire
+/// nodes are the nozzle's own output, still at its height: they do not
+/// count, or the nozzle would climb over the wire it is laying.
+double local_top_m(const World& w, const Vec3& at, double reach, std::size_t own_nodes)
 {
     double top = 0.0;
     for (int k = 0; k < 2; ++k) { // grains and wire
         const TranslationalState& b = w.bodies[k];
-        for (std::size_t i = 0; i < b.size(); ++i) {
+        const std::size_t n = k == 1 ? b.size() - std::min(b.size(), own_nodes) : b.size();
+        for (std::size_t i = 0; i < n; ++i) {
             const Vec3& x = b.x[0][i];
             if (x.z() + b.radius_m[i] <= top || x.z() - b.radius_m[i] > at.z()) continue;
             if (std::hypot(x.x() - at.x(), x.y() - at.y()) < reach + b.radius_m[i]) top = x.z() + b.radius_m[i];
@@ -80,7 +103,38 @@ double local_top_m(const World& w, const Vec3& at, double reach)
     return top;
 }
 
+/// Kinetic energy of grains (translation and rotation) and wire nodes, the
+/// nodes' masses divided by their extra scale M [J]. Serial, in id order.
+double settling_energy_j(const World& w, double node_mass_scale)
+{
+    double e = 0.0;
+    const TranslationalState& g = w.of(BodyKind::grain);
+    const double inv_dt2 = 1.0 / (w.dt_s * w.dt_s);
+    for (std::size_t i = 0; i < g.size(); ++i) {
+        e += 0.5 * g.mass_kg[i] * g.x[1][i].squaredNorm() * inv_dt2;
+        const Vec3 omega = angular_velocity_rad_per_s(w, static_cast<std::uint32_t>(i));
+        const double inv_i = w.grain_rotation.inv_inertia_per_kg_m2[i];
+        if (inv_i > 0.0) e += 0.5 * omega.squaredNorm() / inv_i;
+    }
+    const TranslationalState& n = w.of(BodyKind::wire);
+    for (std::size_t i = 0; i < n.size(); ++i)
+        if (n.inv_mass_per_kg[i] != 0.0) e += 0.5 * n.mass_kg[i] / node_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
+    return e;
+}
+
 } // namespace
+
+void set_weights(World& w, double density_scale, double node_mass_scale, double weight_factor)
+{
+    const Vec3 g(0.0, 0.0, -standard_gravity_m_per_s2);
+    w.gravity_m_per_s2 = g * (weight_factor / density_scale);
+    w.gravity_acts[static_cast<int>(BodyKind::wire)] = false;
+    const TranslationalState& wire = w.of(BodyKind::wire);
+    w.point_loads.clear();
+    const double per_mass = weight_factor / (density_scale * node_mass_scale);
+    for (std::uint32_t i = 0; i < wire.size(); ++i)
+        w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), wire.mass_kg[i] * per_mass * g);
+}
 
 Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const PreparationSpec& spec, const RunControl& control)
 {
@@ -110,15 +164,18 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     const std::uint8_t plate_mat = add_material(w, spec.plate);
     add_wall(w, make_plate(0.0, +1.0, plate_mat));
     WireSpec wire = spec.wire;
-    wire.density_scale = spec.density_scale;
+    wire.density_scale = spec.density_scale * spec.node_mass_scale;
     configure_wire(w, wire);
     MembraneSpec membrane = spec.membrane;
     membrane.radius_m = R;
     membrane.height_m = spec.membrane_height_m;
     membrane.base_z_m = 0.0;
-    membrane.density_scale = spec.density_scale;
+    membrane.density_scale = spec.density_scale * spec.node_mass_scale;
     build_membrane(w, membrane);
     set_membrane_rigid(w, true);
+    const std::size_t mould_wall = add_wall(w, make_cylinder(R + r_m, plate_mat));
+    // Weights scaled like the masses while pouring (see preparation.hpp).
+    set_weights(w, spec.density_scale, spec.node_mass_scale, spec.density_scale);
 
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
@@ -148,6 +205,8 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     double next_batch = 0.0;
     double nozzle_target = spec.wire.radius_m;
     double poured_volume = 0.0;
+    // Wire nodes within the nozzle's reach (2 r_w) along the chain behind it, + 1.
+    const auto own_nodes = static_cast<std::size_t>(std::ceil(3.0 * spec.wire.radius_m / spec.wire.segment_length_m)) + 1;
     const auto expected_steps = static_cast<std::uint64_t>((pour_time + 0.1) / dt);
     std::uint64_t steps = 0;
 
@@ -186,28 +245,40 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
             next_batch += batch_interval;
         }
         if (with_wire) {
-            if (steps % 100 == 0) // the pile under the nozzle, refreshed every 100 steps
-                nozzle_target = std::max(fill_now(), local_top_m(w, nozzle.position(), 2.0 * spec.wire.radius_m))
+            // The pile under the nozzle, refreshed every 100 steps. The nozzle
+            // climbs over earlier wire, but stays within 2 r_max of the fill
+            // height: a wire laid faster than the grains bury it would
+            // otherwise lift the nozzle out of the pile, loop after loop.
+            if (steps % 100 == 0)
+                nozzle_target = std::min(std::max(fill_now(), local_top_m(w, nozzle.position(), 2.0 * spec.wire.radius_m, own_nodes)),
+                                    fill_now() + 2.0 * r_max)
                               + 1.1 * spec.wire.radius_m;
             nozzle.advance(w, dt, nozzle_target);
+            if (w.point_loads.size() != w.of(BodyKind::wire).size())
+                set_weights(w, spec.density_scale, spec.node_mass_scale, spec.density_scale);
         }
         if (std::string e = step_once(); !e.empty()) return Err(e);
     }
 
-    // Settling.
+    Nozzle::release_end(w); // the laying is over: the wire's ends are free (the model spec §3)
+
+    // Settling: the kinetic energy per grain, with the masses scaled by s only
+    // (the nodes' extra inertia M does not count), below the threshold × s.
     PreparationReport report;
     const auto check_every = static_cast<std::uint64_t>(std::max(1.0, 1e-3 / dt));
     for (;;) {
         if (std::string e = step_once(); !e.empty()) return Err(e);
         if (steps % check_every == 0) {
-            const double ke = kinetic_energy_j(w, sim.pool());
-            if (ke / static_cast<double>(w.of(BodyKind::grain).size()) < spec.settle_kinetic_energy_per_grain_j * spec.density_scale) {
+            const double ke = settling_energy_j(w, spec.node_mass_scale);
+            if (ke / static_cast<double>(w.of(BodyKind::grain).size())
+                < spec.settle_kinetic_energy_per_grain_j * spec.density_scale) {
                 report.settled = true;
                 break;
             }
             if (w.time_s > spec.max_time_s) break;
         }
     }
+    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(mould_wall)); // the mould goes before the lid
 
     // Lower the top plate until it touches the pile.
     double top = 0.0;

@@ -30,7 +30,13 @@ struct PreparationSpec {
     PatternSpec pattern{};
     MembraneSpec membrane{};               ///< radius/height/base are taken from above
     ContactSettings contact{};
-    double density_scale = 1.0;            ///< multiplies every mass (quasi-static scaling)
+    /// s: multiplies every mass (quasi-static scaling). Inertia only: the
+    /// prepared specimen carries its real weight (see prepare_specimen).
+    double density_scale = 1.0;
+    /// M: extra inertia of wire and membrane nodes (masses s·M times the
+    /// model's), weights unchanged. The nodes' springs then no longer set
+    /// the time step (docs/model.md, "Quasi-static scaling").
+    double node_mass_scale = 1.0;
     /// Speed at which the fill height rises while pouring [m/s]; sets the
     /// pouring time and therefore the length of wire laid.
     double fill_rate_m_per_s = 0.04;
@@ -59,8 +65,34 @@ struct PreparationReport {
     std::size_t top_plate_wall = 0;        ///< index of the top plate in World::walls
 };
 
+/// Gravity on the scaled bodies: every body weighs `weight_factor` times its
+/// real (unscaled) weight. Grains: World::gravity_m_per_s2 = g · f / s; wire
+/// nodes (masses s·M times real): gravity_acts is off for them and each
+/// carries a point load f · m_real · g instead. Membrane nodes never weigh
+/// anything (the model spec §3). Call again after adding wire nodes.
+void set_weights(World& w, double density_scale, double node_mass_scale, double weight_factor);
+
+/// Standard gravity of the model (the model spec §3) [m/s²].
+inline constexpr double standard_gravity_m_per_s2 = 10.0;
+
 /// Stages reported to RunControl::progress are steps of the whole preparation
 /// (expected total estimated from the pouring time).
+///
+/// Weights. Pouring and the first settling run with every weight scaled like
+/// the masses (f = s): poured grains then fall, bounce and come to rest in
+/// real time while δt grows as √s, and the packing, set by friction and the
+/// pouring, does not depend on the weight scale while overlaps stay ≪ r_p.
+/// Then the weights return to their real values (f = 1), the packing settles
+/// again under them, and the top plate comes down: the specimen carries its
+/// real weight, as in the triaxial test that follows (gravity g/s).
+///
+/// Mould. While the membrane is rigid, a rigid cylinder just outside it
+/// (radius R + r_m) keeps the wire in: wire–membrane contact is not
+/// modelled (the model spec §3), and a wire laid along a curve springs
+/// outwards (it stores ½ k_rot ζ² per joint). Grains never reach it (they
+/// touch the membrane's nodes first). It is removed before the top plate
+/// comes down, so the prepared World has the bottom plate (wall 0) and the
+/// top plate (top_plate_wall = 1) only.
 /// @return the report, or an error message (pattern outside the membrane,
 ///         column taller than the membrane, cancelled, blew up)
 [[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(

@@ -5,6 +5,7 @@
 #include "energy.hpp"
 #include "forces/membrane_forces.hpp"
 #include "laws/hertz.hpp"
+#include "specimen/preparation.hpp"
 #include "timestep.hpp"
 
 #include <algorithm>
@@ -100,7 +101,6 @@ void TriaxialSeries::push_back(const TriaxialSample& s)
     sigma3_effective_pa.push_back(s.sigma3_effective_pa);
     deviatoric_stress_pa.push_back(s.deviatoric_stress_pa);
     stress_ratio.push_back(s.stress_ratio);
-    volumetric_strain.push_back(std::numeric_limits<double>::quiet_NaN());
     kinetic_energy_j.push_back(s.kinetic_energy_j);
     elastic_energy_j.push_back(s.elastic_energy_j);
     contacts.push_back(s.contacts);
@@ -109,6 +109,15 @@ void TriaxialSeries::push_back(const TriaxialSample& s)
     wire_strain_mean.push_back(s.wire_strain_mean);
     wire_strain_max.push_back(s.wire_strain_max);
     inertial_number.push_back(s.inertial_number);
+}
+
+std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3)
+{
+    std::vector<double> e(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i)
+        e[i] = analysis::volumetric_strain(
+            initial_volume_m3, analysis::cylinder_volume_m3(s.column_radius_m[i], s.height_m[i]));
+    return e;
 }
 
 TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
@@ -256,6 +265,8 @@ Result<TriaxialResult, std::string> run_triaxial(
         }
     }
     w.neighbours_dirty = true;
+    if (settings.real_weights)
+        set_weights(w, settings.real_weights->density_scale, settings.real_weights->node_mass_scale, 1.0);
     w.membrane.pressure_pa = 0.0;
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     const double dt = w.dt_s;
@@ -367,12 +378,11 @@ Result<TriaxialResult, std::string> run_triaxial(
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     if (last_sample_step != n) sample(); // the end of the test is always a row
 
-    // Volumetric strain against V₀ at loading start.
+    // Volumetric strain of every row against V₀ at loading start.
     TriaxialSeries& ts = result.series;
     const double v0 = analysis::cylinder_volume_m3(ts.column_radius_m[loading_start_sample], h0);
     result.initial_volume_m3 = v0;
-    for (std::size_t i = 0; i < ts.size(); ++i)
-        ts.volumetric_strain[i] = analysis::volumetric_strain(v0, analysis::cylinder_volume_m3(ts.column_radius_m[i], ts.height_m[i]));
+    ts.volumetric_strain = volumetric_strains(ts, v0);
 
     // Peak of q over the loading samples.
     const std::span<const double> q_loading(ts.deviatoric_stress_pa.data() + loading_start_sample, ts.size() - loading_start_sample);

@@ -28,6 +28,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,16 @@ struct TriaxialSettings {
     /// Axial strains at which to take snapshots; 0 (loading start) and the
     /// target are always added; values outside [0, target] are clamped.
     std::vector<double> snapshot_strains{};
+    /// How the World's masses are scaled (engine/specimen/preparation.hpp).
+    struct MassScaling {
+        double density_scale = 1.0;     ///< s, every mass
+        double node_mass_scale = 1.0;   ///< M, wire and membrane nodes on top of s
+    };
+    /// When set, the test starts by giving every body its real weight
+    /// (set_weights with factor 1: gravity g/s on the scaled masses): a
+    /// prepared specimen carries weights scaled like its masses. The
+    /// column unloads to its real weight while σ₃ ramps up.
+    std::optional<MassScaling> real_weights;
 };
 
 /// The phase a sample was taken in.
@@ -107,6 +118,8 @@ struct TriaxialSeries {
     std::vector<double> stress_ratio;
     /// ε_v relative to the volume at the start of loading (also for the
     /// samples before it, which then show the consolidation under σ₃).
+    /// Derived from column_radius_m and height_m when the test ends
+    /// (volumetric_strains); empty while it runs.
     std::vector<double> volumetric_strain;
     std::vector<double> kinetic_energy_j;
     std::vector<double> elastic_energy_j;
@@ -118,9 +131,12 @@ struct TriaxialSeries {
     std::vector<double> inertial_number;
 
     [[nodiscard]] std::size_t size() const { return time_s.size(); }
-    /// Appends a row; volumetric_strain gets NaN until the run fills it in.
+    /// Appends a row (every series but volumetric_strain).
     void push_back(const TriaxialSample& s);
 };
+
+/// ε_v = (V₀ − V)/V₀ of every row, V = π r² h from column_radius_m and height_m.
+[[nodiscard]] std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3);
 
 /// Contacts of one instant: every touching body pair and every body–wall contact.
 struct ForceNetwork {

@@ -1,0 +1,86 @@
+// JobSpec → engine inputs; see api/engine_settings.hpp.
+#include "api/engine_settings.hpp"
+
+#include "api/derived.hpp"
+
+namespace wiredem::api {
+
+engine::PatternKind pattern_kind(WirePattern p)
+{
+    switch (p) {
+    case WirePattern::none: return engine::PatternKind::none;
+    case WirePattern::helix: return engine::PatternKind::helix;
+    case WirePattern::spiral_helix: return engine::PatternKind::spiral_helix;
+    case WirePattern::radial_helix: return engine::PatternKind::radial_helix;
+    }
+    return engine::PatternKind::none;
+}
+
+engine::PreparationSpec preparation_spec(const JobSpec& spec)
+{
+    const SpecimenSpec& s = spec.specimen;
+    engine::PreparationSpec p;
+    p.membrane_radius_m = s.membrane_radius_m;
+    p.membrane_height_m = s.membrane_height_m;
+    p.grain_count = static_cast<std::size_t>(s.grain_count);
+    p.grain_radius_m = s.grain_radius_m;
+    p.grain_radius_spread = s.grain_radius_spread;
+    p.grain = engine::Material{s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3};
+    p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
+    p.plate.poisson_ratio = s.plate.poisson_ratio;
+
+    p.wire.radius_m = s.wire.radius_m;
+    p.wire.segment_length_m = s.wire.segment_length_m;
+    p.wire.youngs_modulus_pa = s.wire.youngs_modulus_pa;
+    p.wire.poisson_ratio = s.wire.poisson_ratio;
+    p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
+    p.wire.density_scale = spec.engine.density_scale * spec.engine.node_mass_scale;
+
+    p.pattern.kind = pattern_kind(s.wire.pattern);
+    p.pattern.helix_radius_m = s.wire.helix_radius_m;
+    p.pattern.inner_radius_m = s.wire.inner_radius_m;
+    p.pattern.period_angle_rad = s.wire.period_angle_rad;
+    p.pattern.angular_speed_rad_per_s = s.wire.angular_speed_rad_per_s;
+    p.pattern.rise_speed_m_per_s = s.wire.nozzle_rise_speed_m_per_s;
+    p.clearance_m = s.wire.clearance_m;
+
+    p.membrane.mesh_size_m = s.membrane.mesh_size_m;
+    p.membrane.thickness_m = s.membrane.thickness_m;
+    p.membrane.youngs_modulus_pa = s.membrane.youngs_modulus_pa;
+    p.membrane.poisson_ratio = s.membrane.poisson_ratio;
+    p.membrane.density_kg_per_m3 = s.membrane.density_kg_per_m3;
+    p.membrane.contact_radius_m = membrane_contact_radius_m(s.membrane);
+    p.membrane.density_scale = spec.engine.density_scale * spec.engine.node_mass_scale;
+
+    p.contact.normal_damping_s = resolved_normal_damping_s(spec);
+    p.contact.tangential.stiffness_per_m = spec.contact.tangential_stiffness_per_m;
+    p.contact.tangential.friction_coeff = spec.contact.friction_coeff;
+    p.contact.tangential.critical_slip_m = spec.contact.critical_slip_m;
+    p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
+
+    p.density_scale = spec.engine.density_scale;
+    p.node_mass_scale = spec.engine.node_mass_scale;
+    p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
+    p.max_time_s = s.pouring.max_preparation_time_s;
+    p.time_step_s = spec.engine.time_step_s.value_or(0.0);
+    p.seed = spec.seed;
+    return p;
+}
+
+engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa)
+{
+    engine::TriaxialSettings t;
+    t.confining_pressure_pa = pressure_pa;
+    t.target_axial_strain = spec.triaxial.target_axial_strain;
+    t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s;
+    t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
+    t.hold_time_s = spec.triaxial.hold_time_s;
+    t.sample_interval_s = spec.triaxial.sample_interval_s;
+    t.snapshot_strains = spec.triaxial.snapshot_strains;
+    // The prepared specimen carries weights scaled like its masses; the test
+    // gives it its real weight back (engine/specimen/preparation.hpp).
+    t.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.node_mass_scale};
+    return t;
+}
+
+} // namespace wiredem::api

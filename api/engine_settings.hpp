@@ -1,0 +1,27 @@
+// The engine's inputs from a job spec: the preparation spec and the settings
+// of each triaxial test. Kept here, next to the parser and the derived
+// quantities that validation uses (stable time step, damping time), so that
+// what the server validates and what the runner (`wiredem run`) executes
+// cannot drift apart. The input must be a valid spec (parse_job_spec). Pure
+// and thread-safe.
+#pragma once
+
+#include "api/job_spec.hpp"
+#include "specimen/preparation.hpp"
+#include "triaxial/triaxial.hpp"
+
+namespace wiredem::api {
+
+/// The preparation of the job's specimen (the model spec §5): geometry,
+/// materials, wire and pattern, membrane, contact law (γ_n resolved from the
+/// restitution if given so), density scaling, pouring end, δt (0 = auto), seed.
+[[nodiscard]] engine::PreparationSpec preparation_spec(const JobSpec& spec);
+
+/// The settings of the job's test at confining pressure `pressure_pa` (one of
+/// triaxial.confining_pressures_pa) (the model spec §6).
+[[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa);
+
+/// The engine's pattern kind for a job's pattern.
+[[nodiscard]] engine::PatternKind pattern_kind(WirePattern p);
+
+} // namespace wiredem::api
