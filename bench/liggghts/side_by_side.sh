@@ -11,11 +11,19 @@
 #
 # Builds nothing: it needs build/release (bash scripts/build.sh release).
 #
-# usage: bench/liggghts/side_by_side.sh [--steps N] [--settle-time S] [--grains G] [--no-mpi]
+# usage: bench/liggghts/side_by_side.sh [--steps N] [--settle-time S] [--grains G] [--packing FILE] [--no-mpi]
 #   defaults: 2000 steps, 8000 grains, 0.2 s settling. The bench's own default
 #   (0.03 s) leaves most grains still falling (~500 contacts instead of ~20000),
 #   which is not the static packing the comparison is about; 0.2 s gives a
 #   packing at rest (kinetic energy ~1e-5 J) but takes minutes to settle.
+#   --packing FILE times a packing saved earlier (the data file that
+#   `wiredem-bench --liggghts-data FILE` writes; KEEP=1 leaves one in the work
+#   directory) instead of settling a new one: both codes then start it at rest.
+#
+# Both wall time and CPU time are reported. On a machine that is busy with
+# other work, wall times mostly measure the waiting; the CPU time of a
+# one-thread run does not (LIGGGHTS' CPU time is that of an N-step run minus
+# that of a 0-step run, i.e. without reading the file and setting up).
 # environment: LIGGGHTS (binary, default: liggghts on PATH, else /usr/bin/liggghts),
 #              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory.
 set -euo pipefail
@@ -28,12 +36,14 @@ deck=$here/in.bench
 steps=2000
 settle=0.2
 grains=
+packing=
 use_mpi=1
 while [ $# -gt 0 ]; do
     case $1 in
         --steps) steps=$2; shift 2 ;;
         --settle-time) settle=$2; shift 2 ;;
         --grains) grains=$2; shift 2 ;;
+        --packing) packing=$(realpath "$2"); shift 2 ;;
         --no-mpi) use_mpi=0; shift ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "unknown argument: $1 (try --help)" >&2; exit 2 ;;
@@ -63,6 +73,7 @@ if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -r
 bench_args=(--json --threads 1,2 --steps "$steps" --liggghts-data "$work/packing.data")
 [ -n "$settle" ] && bench_args+=(--settle-time "$settle")
 [ -n "$grains" ] && bench_args+=(--grains "$grains")
+[ -n "$packing" ] && bench_args+=(--packing "$packing")
 echo "running: $bench ${bench_args[*]}" >&2
 "$bench" "${bench_args[@]}" > "$work/wiredem.json"
 
@@ -78,9 +89,9 @@ contacts=$(head -n1 "$work/wiredem.json" | field contacts)
 cp "$work/packing.data" "$work/packing2.data"
 grep -q '^2 atom types$' "$work/packing2.data" || { echo "unexpected data file header" >&2; exit 1; }
 
-run_liggghts() { # run_liggghts PROCS
-    local procs=$1 log=$work/liggghts.$1.log
-    local cmd=("$liggghts" -in "$deck" -var datafile "$work/packing2.data" -var dt "$dt" -var steps "$steps" -log "$log")
+run_liggghts() { # run_liggghts PROCS [STEPS]: prints "loop_wall procs steps atoms cpu"
+    local procs=$1 n=${2:-$steps} log=$work/liggghts.$1.${2:-$steps}.log
+    local cmd=(/usr/bin/time -f "%U %S" -o "$work/time.$procs.$n" "$liggghts" -in "$deck" -var datafile "$work/packing2.data" -var dt "$dt" -var steps "$n" -log "$log")
     if [ "$procs" -gt 1 ]; then
         # OMPI_ALLOW_RUN_AS_ROOT*: Open MPI refuses root otherwise (containers); harmless elsewhere.
         cmd=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "$mpirun" -np "$procs" "${cmd[@]}")
@@ -92,42 +103,48 @@ run_liggghts() { # run_liggghts PROCS
         exit 1
     }
     # "Loop time of X on P procs for N steps with M atoms[, finish time ...]"
+    local cpu
+    cpu=$(awk '{ print $1 + $2 }' "$work/time.$procs.$n")
     grep -m1 '^Loop time of' "$log" |
-        sed -n 's/^Loop time of \([0-9.eE+-]*\) on \([0-9]*\) procs for \([0-9]*\) steps with \([0-9]*\) atoms.*/\1 \2 \3 \4/p'
+        sed -n "s/^Loop time of \([0-9.eE+-]*\) on \([0-9]*\) procs for \([0-9]*\) steps with \([0-9]*\) atoms.*/\1 \2 \3 \4 $cpu/p"
 }
 
 rows=()
 while read -r line; do
-    rows+=("wiredem $(echo "$line" | field threads) $(echo "$line" | field steps) $(echo "$line" | field wall_time_s) $(echo "$line" | field bodies)")
-done < "$work/wiredem.json"
+    rows+=("wiredem/$(echo "$line" | field integrator) $(echo "$line" | field threads) $(echo "$line" | field steps) $(echo "$line" | field wall_time_s) $(echo "$line" | field cpu_time_s) $(echo "$line" | field bodies)")
+done < <(grep '"case":"settled_packing"' "$work/wiredem.json")
 procs_list=(1)
 [ "$use_mpi" = 1 ] && procs_list+=(2)
 for p in "${procs_list[@]}"; do
-    read -r wall np nsteps atoms < <(run_liggghts "$p")
+    read -r _ _ _ _ cpu0 < <(run_liggghts "$p" 0)
+    read -r wall np nsteps atoms cpu < <(run_liggghts "$p")
     [ -n "${wall:-}" ] || { echo "no 'Loop time' line in the LIGGGHTS log" >&2; exit 1; }
     [ "$atoms" = "$bodies" ] || echo "warning: LIGGGHTS has $atoms atoms, wiredem $bodies bodies" >&2
-    rows+=("LIGGGHTS $np $nsteps $wall $atoms")
+    rows+=("LIGGGHTS $np $nsteps $wall $(awk -v a="$cpu" -v b="$cpu0" 'BEGIN { print a - b }') $atoms")
 done
 
 # --- table -----------------------------------------------------------------
 echo
 echo "$(date -u '+%Y-%m-%d %H:%M UTC'); $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "$bodies grains, ${settle:-default} s settling, $contacts contacts, δt = $dt s, $steps steps on the settled packing"
+echo "$bodies grains, ${packing:-${settle:-default} s settling}, $contacts contacts, δt = $dt s, $steps steps on the packing"
+# per core: body-steps per second of wall time / cores; per CPU-s: body-steps per second of CPU time.
 printf '%s\n' "${rows[@]}" | awk '
-    { engine[NR] = $1; cores[NR] = $2; steps[NR] = $3; wall[NR] = $4; bodies[NR] = $5
-      rate[NR] = $5 * $3 / $4; per_core[NR] = rate[NR] / $2
-      if ($1 == "LIGGGHTS") lig[$2] = per_core[NR] }
+    { engine[NR] = $1; cores[NR] = $2; steps[NR] = $3; wall[NR] = $4; cpu[NR] = $5; bodies[NR] = $6
+      rate[NR] = $6 * $3 / $4; per_core[NR] = rate[NR] / $2; per_cpu[NR] = $6 * $3 / $5
+      if ($1 == "LIGGGHTS") { lig[$2] = per_core[NR]; lig_cpu[$2] = per_cpu[NR] } }
     END {
-      printf "%-9s %8s %7s %10s %14s %16s %22s\n", "engine", "cores", "steps", "wall [s]",
-             "body-steps/s", "per core", "wiredem/LIGGGHTS/core"
+      printf "%-15s %7s %6s %9s %8s %13s %13s %13s %11s %11s\n", "engine", "cores", "steps", "wall [s]", "cpu [s]",
+             "body-steps/s", "per core", "per CPU-s", "vs LIG wall", "vs LIG cpu"
       for (i = 1; i <= NR; ++i) {
-        ratio = "-"
-        if (engine[i] == "wiredem") {
+        ratio = "-"; ratio_cpu = "-"
+        if (engine[i] != "LIGGGHTS") {
           ref = (cores[i] in lig) ? lig[cores[i]] : lig[1]
-          tag = (cores[i] in lig) ? "" : " (vs 1 proc)"
-          ratio = sprintf("%.2fx%s", per_core[i] / ref, tag)
+          ref_cpu = (cores[i] in lig_cpu) ? lig_cpu[cores[i]] : lig_cpu[1]
+          ratio = sprintf("%.2fx", per_core[i] / ref)
+          ratio_cpu = sprintf("%.2fx", per_cpu[i] / ref_cpu)
         }
-        printf "%-9s %8s %7d %10.3f %14.4g %16.4g %22s\n", engine[i], cores[i] (engine[i] == "wiredem" ? " thr" : " proc"),
-               steps[i], wall[i], rate[i], per_core[i], ratio
+        printf "%-15s %7s %6d %9.3f %8.3f %13.4g %13.4g %13.4g %11s %11s\n", engine[i],
+               cores[i] (engine[i] == "LIGGGHTS" ? " proc" : " thr"), steps[i], wall[i], cpu[i], rate[i], per_core[i],
+               per_cpu[i], ratio, ratio_cpu
       }
     }'
