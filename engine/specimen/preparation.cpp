@@ -157,6 +157,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
 
     World& w = sim.world;
     w = World{};
+    w.integrator = spec.integrator;
     w.contact = spec.contact;
     Material grain = spec.grain;
     grain.density_kg_per_m3 *= spec.density_scale;

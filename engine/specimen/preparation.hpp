@@ -46,6 +46,9 @@ struct PreparationSpec {
     double max_time_s = 5.0;               ///< simulated time limit for the whole preparation
     double plate_speed_m_per_s = 0.05;     ///< the top plate's lowering speed
     double time_step_s = 0.0;              ///< 0: auto
+    /// Integrator of the preparation; the prepared World keeps it, so the
+    /// triaxial tests that start from it use it too.
+    Integrator integrator = Integrator::gear5;
     std::uint64_t seed = 1;
 };
 
