@@ -80,9 +80,11 @@ struct World {
     /// Whether gravity acts on a kind (never on membrane nodes: model spec §3).
     std::array<bool, body_kind_count> gravity_acts{true, true, false};
     /// Whether two kinds interact through contact (symmetric). Membrane–membrane
-    /// and membrane–wire contacts are not modelled (model spec §3).
+    /// contact is not modelled (model spec §3). Wire–membrane contact is, unlike
+    /// the model spec says: without it a laid coil, which springs outwards,
+    /// passes through the membrane (docs/model.md).
     std::array<std::array<bool, body_kind_count>, body_kind_count> kinds_interact{
-        {{true, true, true}, {true, true, false}, {true, false, false}}};
+        {{true, true, true}, {true, true, true}, {true, true, false}}};
 
     /// Change it with set_integrator, which keeps the stored derivatives consistent.
     Integrator integrator = Integrator::gear5;

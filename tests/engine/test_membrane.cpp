@@ -1,6 +1,7 @@
 // The membrane against thin-shell theory, and grains against the mesh.
 #include "energy.hpp"
 #include "forces/membrane_forces.hpp"
+#include "forces/wire_forces.hpp"
 #include "helpers.hpp"
 #include "laws/hertz.hpp"
 #include "timestep.hpp"
@@ -130,6 +131,32 @@ TEST(MembraneContact, GrainCannotPassThroughTheMesh)
     }
     EXPECT_LT(max_reach, centroid.dot(outward)); // its centre never reached the mesh
     EXPECT_LT(velocity_m_per_s(w, {BodyKind::grain, 0}).dot(outward), 0.0); // bounced back
+}
+
+TEST(MembraneContact, WireNodeCannotPassThroughTheMesh)
+{
+    // Wire–membrane contact is modelled (docs/model.md): a wire node (r_w =
+    // 0.5 mm) shot at the widest hole of the mesh, a triangle's centroid
+    // l_m/√3 ≈ 0.72 mm from its three node spheres (r_m = 0.5 mm), bounces off.
+    Simulation sim(1);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    build_membrane(w, small_membrane(10e-3, 15e-3));
+    configure_wire(w, WireSpec{});
+    const MembraneState& m = w.membrane;
+    const auto& t = m.triangles[m.triangles.size() / 2];
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    const Vec3 centroid = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
+    const Vec3 outward = Vec3(centroid.x(), centroid.y(), 0).normalized();
+    append_wire_node(w, centroid - outward * 3e-3, 2.0 * outward);
+    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    double max_reach = 0.0;
+    for (int s = 0; s < 20000; ++s) {
+        sim.step();
+        max_reach = std::max(max_reach, w.of(BodyKind::wire).x[0][0].dot(outward));
+    }
+    EXPECT_LT(max_reach, centroid.dot(outward)); // its centre never reached the mesh
+    EXPECT_LT(velocity_m_per_s(w, {BodyKind::wire, 0}).dot(outward), 0.0); // bounced back
 }
 
 TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEnergy)

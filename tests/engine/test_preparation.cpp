@@ -72,13 +72,14 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
                                                      << int(c.second[p].kind());
     }
     // The wire is continuous: every segment within 3 % of its rest length;
-    // its ends are free again once laid; it stayed inside the membrane (the
-    // mould of the preparation keeps it off the membrane's nodes).
+    // its ends are free again once laid; it stayed inside the membrane: a wire
+    // node touching the membrane's node spheres from inside has its centre at
+    // least √((r_m + r_w)² − (l_m/√3)²) inside the nodes' radius.
     for (double strain : w.wire.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
     const TranslationalState& wire = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < wire.size(); ++i) {
         EXPECT_GT(wire.inv_mass_per_kg[i], 0.0) << "wire node " << i << " still held";
-        EXPECT_LT(std::hypot(wire.x[0][i].x(), wire.x[0][i].y()), spec.membrane_radius_m + spec.membrane.contact_radius_m)
+        EXPECT_LT(std::hypot(wire.x[0][i].x(), wire.x[0][i].y()), spec.membrane_radius_m)
             << "wire node " << i << " outside the membrane";
         EXPECT_GT(wire.x[0][i].z(), 0.9 * spec.wire.radius_m) << "wire node " << i << " below the bottom plate";
         EXPECT_LT(wire.x[0][i].z(), lid) << "wire node " << i << " above the top plate";
@@ -87,8 +88,9 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
     EXPECT_EQ(w.walls.size(), 2u);
     EXPECT_EQ(r.top_plate_wall, 1u);
     // Physically possible fractions: loose random packings of spheres sit
-    // near 0.55–0.64; a few grains high, the rough top lowers it.
-    EXPECT_GT(r.grain_volume_fraction, 0.3);
+    // near 0.55–0.64; a few grains high, the rough top and the walls lower it,
+    // and the wire takes the place of grains (5–10 % of a small column).
+    EXPECT_GT(r.grain_volume_fraction + r.wire_volume_fraction, 0.3);
     EXPECT_LT(r.grain_volume_fraction, 0.65);
     EXPECT_LT(r.wire_volume_fraction, 0.2);
     EXPECT_NEAR(r.sample_volume_m3, std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m * r.pile_height_m, 1e-15);
@@ -109,12 +111,12 @@ TEST(Preparation, PoursASoundColumnWithoutWire)
 
 class PreparationWithWire : public ::testing::TestWithParam<PatternKind> {};
 
-// DISABLED until two measured failures are fixed (every pattern, 120 grains,
-// ~8 s each in Release): the grain volume fraction comes out 0.25–0.30 (the
-// densely laid wire takes ~5–10 % of the volume: check grain + wire
-// fractions instead?), and a few wire nodes end more than r_m beyond the
-// membrane radius (pressed through the preparation's mould by the coil's
-// bending). Overlaps, segment strains, settling and determinism pass.
+// DISABLED until the failure it shows is fixed (every pattern, 120 grains,
+// ~8 s each in Release; measured 2026-11-23 with wire–membrane contact and the
+// mould): grain + wire volume fraction 0.16–0.17, i.e. the top plate stops
+// about three times higher than the grains reach (the densely laid wire props
+// it up). Everything else passes: overlaps, segment strains, wire inside the
+// membrane, settling.
 TEST_P(PreparationWithWire, DISABLED_LaysTheWireWhilePouringASoundColumn)
 {
     const PreparationSpec spec = small_column(GetParam(), 120);
