@@ -7,10 +7,16 @@ variant=${1:-release}
 shift || true
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
+# The sanitizer builds compile at -O1 with line tables only (-g1): about half
+# the compile time of -O2 -g (measured on server/session.cpp under ASan:
+# 143 s → 75 s of CPU), still with file:line in every sanitizer report. They
+# build neither the benchmarks nor the demo, which no test runs.
+sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+  -DWIREDEM_BUILD_BENCH=OFF -DWIREDEM_BUILD_APPS=OFF)
 case "$variant" in
   release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
-  asan)    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DWIREDEM_SANITIZE=address,undefined -DWIREDEM_BUILD_BENCH=OFF) ;;
-  tsan)    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DWIREDEM_SANITIZE=thread -DWIREDEM_BUILD_BENCH=OFF) ;;
+  asan)    args=("${sanitizer_flags[@]}" -DWIREDEM_SANITIZE=address,undefined) ;;
+  tsan)    args=("${sanitizer_flags[@]}" -DWIREDEM_SANITIZE=thread) ;;
   *) echo "build.sh: unknown variant '$variant' (release, asan, tsan)" >&2; exit 2 ;;
 esac
 cmake -S . -B "build/$variant" -G Ninja "${args[@]}" >/dev/null
