@@ -90,11 +90,12 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// real weight, as in the triaxial test that follows (gravity g/s).
 ///
 /// Mould. While the membrane is rigid, a rigid cylinder just outside it
-/// (radius R + r_m) backs up the membrane: a wire laid along a curve springs
-/// outwards (it stores ½ k_rot ζ² per joint) and wire nodes touch the
-/// membrane's nodes first (wire–membrane contact, docs/model.md); in the
-/// small test columns some were still pushed out without it. Grains never
-/// reach it (they touch the membrane's nodes first). It is removed before the top plate
+/// (radius R + r_m) keeps the wire in: a wire laid along a curve springs
+/// outwards (it stores ½ k_rot ζ² per joint). Meanwhile wire–membrane contact
+/// (docs/model.md) is off: a wire node pressed into a hole of the rigid mesh
+/// against the mould is squeezed from four sides. It is back on when the
+/// mould goes, so in the triaxial test the deformable membrane holds the wire.
+/// Grains never reach the mould (they touch the membrane's nodes first). It is removed before the top plate
 /// comes down, so the prepared World has the bottom plate (wall 0) and the
 /// top plate (top_plate_wall = 1) only.
 /// @return the report, or an error message (pattern outside the membrane,
