@@ -87,6 +87,53 @@ double effective_skin_m(const World& w)
     return 0.2 * r_max;
 }
 
+namespace {
+
+/// Signed distance from a body's centre to a wall (positive inside the domain)
+/// and the unit normal from the body towards the wall.
+struct WallGap {
+    double gap_m;
+    Vec3 towards;
+};
+WallGap wall_gap(const Wall& wall, const Vec3& x)
+{
+    if (wall.shape == Wall::Shape::plane) return {(x - wall.point_m).dot(wall.normal), -wall.normal};
+    Vec3 radial = x - wall.point_m;
+    radial.z() = 0.0;
+    const double rho = radial.norm();
+    return {wall.radius_m - rho, rho > 0.0 ? Vec3(radial / rho) : Vec3(Vec3::UnitX())};
+}
+
+/// Every wall's candidate bodies (gap < r + skin, moving bodies only). A body
+/// that drops out while still marked touching has its slots cleared: it is
+/// more than the skin away, so it cannot touch before the next rebuild.
+void build_wall_candidates(World& w, double skin_m)
+{
+    for (Wall& wall : w.walls) {
+        for (int k = 0; k < body_kind_count; ++k) {
+            const TranslationalState& body = w.bodies[k];
+            std::vector<std::uint32_t>& list = wall.candidates[k];
+            list.clear();
+            for (std::uint32_t i = 0; i < body.size(); ++i) {
+                const bool near = body.inv_mass_per_kg[i] != 0.0
+                               && wall_gap(wall, body.x[0][i]).gap_m < body.radius_m[i] + skin_m;
+                if (near) {
+                    list.push_back(i);
+                } else if (wall.touching[k][i]) {
+                    wall.tangential[k][i] = TangentialState{};
+                    wall.force_on_body_n[k][i].setZero();
+                    wall.torque_on_body_n_m[k][i].setZero();
+                    wall.touching[k][i] = 0;
+                }
+            }
+        }
+        wall.point_at_build_m = wall.point_m;
+        wall.candidates_built = true;
+    }
+}
+
+} // namespace
+
 bool update_neighbours(World& w, ThreadPool& pool)
 {
     const double skin = effective_skin_m(w);
@@ -107,7 +154,12 @@ bool update_neighbours(World& w, ThreadPool& pool)
                     },
                     [](double a, double b) { return std::max(a, b); }));
         }
-        if (max_move2 < 0.25 * skin * skin) return false;
+        bool walls_ready = true;
+        for (const Wall& wall : w.walls) {
+            walls_ready = walls_ready && wall.candidates_built;
+            max_move2 = std::max(max_move2, (wall.point_m - wall.point_at_build_m).squaredNorm());
+        }
+        if (walls_ready && max_move2 < 0.25 * skin * skin) return false;
     }
 
     std::vector<Vec3> pos;
@@ -156,6 +208,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         c.hertz_coefficient[p] = (4.0 / 3.0) * e_star[A.material[ia] * n_mat + B.material[ib]]
                                * std::sqrt(effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
     });
+    build_wall_candidates(w, skin);
     w.position_at_build_m = std::move(pos);
     w.neighbours_dirty = false;
     ++w.neighbour_builds;
@@ -239,6 +292,9 @@ void compute_wall_forces(World& w, ThreadPool& pool)
         Vec3 force = Vec3::Zero();
         std::size_t contacts = 0;
     };
+    // A wall added since the last neighbour rebuild has no candidates yet.
+    if (std::any_of(w.walls.begin(), w.walls.end(), [](const Wall& wall) { return !wall.candidates_built; }))
+        update_neighbours(w, pool);
     for (Wall& wall : w.walls) {
         Total total;
         for (int k = 0; k < body_kind_count; ++k) {
@@ -248,28 +304,17 @@ void compute_wall_forces(World& w, ThreadPool& pool)
             auto& force = wall.force_on_body_n[k];
             auto& torque = wall.torque_on_body_n_m[k];
             auto& touching = wall.touching[k];
+            const std::vector<std::uint32_t>& near = wall.candidates[k];
             const Total part = reduce_blocks(
-                pool, body.size(), Total{},
+                pool, near.size(), Total{},
                 [&](std::size_t begin, std::size_t end) {
                     Total sum;
-                    for (std::size_t i = begin; i < end; ++i) {
-                        const Vec3& x = body.x[0][i];
+                    for (std::size_t c = begin; c < end; ++c) {
+                        const std::uint32_t i = near[c];
                         const double r = body.radius_m[i];
-                        // m: unit normal from the body towards the wall; gap: distance to it.
-                        Vec3 m;
-                        double gap;
-                        if (wall.shape == Wall::Shape::plane) {
-                            m = -wall.normal;
-                            gap = (x - wall.point_m).dot(wall.normal);
-                        } else {
-                            Vec3 radial = x - wall.point_m;
-                            radial.z() = 0.0;
-                            const double rho = radial.norm();
-                            m = rho > 0.0 ? Vec3(radial / rho) : Vec3(Vec3::UnitX());
-                            gap = wall.radius_m - rho;
-                        }
+                        const auto [gap, m] = wall_gap(wall, body.x[0][i]); // m: from the body towards the wall
                         const double overlap = r - gap;
-                        if (overlap <= 0.0 || body.inv_mass_per_kg[i] == 0.0) {
+                        if (overlap <= 0.0) {
                             if (touching[i]) {
                                 memory[i] = TangentialState{};
                                 force[i].setZero();

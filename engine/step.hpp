@@ -31,7 +31,8 @@ void move_walls(World& w);
 bool update_neighbours(World& w, ThreadPool& pool);
 /// Evaluates every pair of the neighbour list (one writer per pair slot).
 void compute_pair_forces(World& w, ThreadPool& pool);
-/// Evaluates every body against every wall and totals the wall forces.
+/// Evaluates each wall against the bodies near it (its candidates, rebuilt
+/// with the neighbour list) and totals the wall forces.
 void compute_wall_forces(World& w, ThreadPool& pool);
 /// Sums each body's pair, wall and gravity forces in a fixed order.
 void gather_forces(World& w, ThreadPool& pool);

@@ -53,7 +53,9 @@ std::size_t add_wall(World& w, Wall wall)
         wall.torque_on_body_n_m[k].assign(w.bodies[k].size(), Vec3::Zero());
         wall.touching[k].assign(w.bodies[k].size(), 0);
     }
+    wall.candidates_built = false;
     w.walls.push_back(std::move(wall));
+    w.neighbours_dirty = true;
     return w.walls.size() - 1;
 }
 

@@ -52,6 +52,13 @@ struct Wall {
     /// 1 where the body touches this wall this step; the three arrays above
     /// are zero (and not rewritten) wherever it is 0.
     std::array<std::vector<std::uint8_t>, body_kind_count> touching;
+    /// Bodies that may touch this wall before the next neighbour rebuild (gap
+    /// below r + skin at the rebuild), by kind, ascending; the wall stage
+    /// looks at these only. Rebuilt with the neighbour list, which is rebuilt
+    /// as soon as a wall has moved half the skin since (point_at_build_m).
+    std::array<std::vector<std::uint32_t>, body_kind_count> candidates;
+    Vec3 point_at_build_m = Vec3::Zero();
+    bool candidates_built = false;        ///< false until the first rebuild after add_wall
     Vec3 total_force_n = Vec3::Zero();    ///< force the bodies exert on the wall this step [N]
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
