@@ -10,7 +10,8 @@ for t in "$@"; do targets+=(--target "$t"); done
 # The sanitizer builds compile at -O1 with line tables only (-g1): about half
 # the compile time of -O2 -g (measured on server/session.cpp under ASan:
 # 143 s → 75 s of CPU), still with file:line in every sanitizer report. They
-# build neither the benchmarks nor the demo, which no test runs.
+# build neither the benchmarks nor the demo, which no test runs. The engine
+# library itself stays at -O2 (engine/CMakeLists.txt): the tests run in it.
 sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
   -DWIREDEM_BUILD_BENCH=OFF -DWIREDEM_BUILD_APPS=OFF)
 case "$variant" in
