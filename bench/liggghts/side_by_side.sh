@@ -70,7 +70,7 @@ work=$(mktemp -d /tmp/wiredem-side-by-side.XXXXXX)
 if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
 
 # --- wiredem ---------------------------------------------------------------
-bench_args=(--json --threads 1,2 --steps "$steps" --liggghts-data "$work/packing.data")
+bench_args=(--json --threads 1,2 --steps "$steps" --no-wire-membrane --liggghts-data "$work/packing.data")
 [ -n "$settle" ] && bench_args+=(--settle-time "$settle")
 [ -n "$grains" ] && bench_args+=(--grains "$grains")
 [ -n "$packing" ] && bench_args+=(--packing "$packing")
