@@ -25,7 +25,6 @@ std::vector<double> effective_moduli(const World& w)
     return e;
 }
 
-
 } // namespace
 
 void initialize_accelerations(World& w, ThreadPool& pool)
