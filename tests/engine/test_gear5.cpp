@@ -1,4 +1,4 @@
-// Gear-5 on problems with exact solutions: free fall, the harmonic oscillator.
+// Gear-5 on problems with exact solutions: free fall (both integrators), the harmonic oscillator.
 #include "helpers.hpp"
 #include "integrate/gear5.hpp"
 #include "timestep.hpp"
@@ -36,13 +36,19 @@ Vec3 integrate_single(double dt, int steps, const Vec3& x0, const Vec3& v0, Forc
 
 } // namespace
 
-TEST(Gear5, FreeFallMatchesParabolaAtThreeStepSizes)
+class FreeFall : public ::testing::TestWithParam<Integrator> {};
+
+INSTANTIATE_TEST_SUITE_P(Integrators, FreeFall, ::testing::Values(Integrator::gear5, Integrator::verlet),
+    [](const ::testing::TestParamInfo<Integrator>& i) { return i.param == Integrator::gear5 ? "Gear5" : "Verlet"; });
+
+TEST_P(FreeFall, MatchesTheParabolaAtThreeStepSizes)
 {
-    // Through the whole engine step, which must start Gear from the true
-    // acceleration: the scheme is then exact for a quadratic.
+    // Through the whole engine step, which must start the integrator from the
+    // true acceleration: both schemes are then exact for a quadratic.
     const Vec3 v0(0.3, 0.0, 1.0);
     for (double dt : {1e-3, 1e-4, 1e-5}) {
         Simulation sim(1);
+        sim.world.integrator = GetParam();
         sim.world.dt_s = dt;
         sim.world.gravity_m_per_s2 = Vec3(0.0, 0.0, -9.81);
         add_material(sim.world, Material{});
