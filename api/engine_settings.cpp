@@ -50,6 +50,8 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.membrane.poisson_ratio = s.membrane.poisson_ratio;
     p.membrane.density_kg_per_m3 = s.membrane.density_kg_per_m3;
     p.membrane.contact_radius_m = membrane_contact_radius_m(s.membrane);
+    p.membrane.edge_law = s.membrane.edges == MembraneEdges::linear ? engine::MembraneEdgeLaw::linear
+                                                                     : engine::MembraneEdgeLaw::tension_only;
     p.membrane.density_scale = spec.engine.density_scale * spec.engine.node_mass_scale;
 
     p.contact.normal_damping_s = resolved_normal_damping_s(spec);

@@ -392,6 +392,11 @@ constexpr std::array<std::pair<std::string_view, Integrator>, 2> integrators{{
     {"verlet", Integrator::verlet},
 }};
 
+constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edges{{
+    {"tension_only", MembraneEdges::tension_only},
+    {"linear", MembraneEdges::linear},
+}};
+
 void read_grain(ObjectReader& r, GrainMaterialSpec& g)
 {
     r.number("youngs_modulus_pa", modulus_range, g.youngs_modulus_pa);
@@ -428,6 +433,7 @@ void read_membrane(ObjectReader& r, MembraneSpec& m)
     r.number("youngs_modulus_pa", modulus_range, m.youngs_modulus_pa);
     r.number("poisson_ratio", poisson_range, m.poisson_ratio);
     r.number("density_kg_per_m3", density_range, m.density_kg_per_m3);
+    r.choice("edges", membrane_edges, m.edges);
     // null (or absent) means "follow the thickness": d/2.
     if (const json::value* j = r.take("contact_radius_m"); j != nullptr && !j->is_null()) {
         double radius = 0.0;
@@ -736,6 +742,7 @@ json::object specimen_json(const SpecimenSpec& s)
         {"youngs_modulus_pa", m.youngs_modulus_pa},
         {"poisson_ratio", m.poisson_ratio},
         {"density_kg_per_m3", m.density_kg_per_m3},
+        {"edges", to_string(m.edges)},
     };
     if (m.contact_radius_m)
         membrane["contact_radius_m"] = *m.contact_radius_m;
@@ -840,6 +847,13 @@ std::string_view to_string(Integrator i)
 {
     for (const auto& [name, value] : integrators)
         if (value == i) return name;
+    return "?";
+}
+
+std::string_view to_string(MembraneEdges e)
+{
+    for (const auto& [name, value] : membrane_edges)
+        if (value == e) return name;
     return "?";
 }
 

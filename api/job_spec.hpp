@@ -39,6 +39,13 @@ enum class Integrator : std::uint8_t {
     verlet,  ///< velocity Verlet: cheaper, symplectic
 };
 
+/// How a membrane edge acts when shorter than its rest length. JSON:
+/// "tension_only", "linear". See engine/state/membrane.hpp.
+enum class MembraneEdges : std::uint8_t {
+    tension_only,  ///< the sheet wrinkles: slack in compression (default)
+    linear,        ///< the model spec §3 as written: a spring both ways
+};
+
 /// Elastic properties of the grains (the model spec §2).
 struct GrainMaterialSpec {
     double youngs_modulus_pa = 10e9;     ///< E_p [Pa], (0, 1e13]
@@ -80,6 +87,7 @@ struct MembraneSpec {
     double youngs_modulus_pa = 1e8;            ///< E_m [Pa], (0, 1e13]
     double poisson_ratio = 0.0;                ///< ν_m, (-1, 0.5]
     double density_kg_per_m3 = 1000.0;         ///< ρ_m [kg/m³], (0, 1e5]
+    MembraneEdges edges = MembraneEdges::tension_only; ///< edge law
     /// r_m, contact radius of a node [m], (0, 0.01]; nullopt (JSON null or
     /// absent): thickness_m / 2, following the thickness. See
     /// membrane_contact_radius_m.
@@ -226,5 +234,6 @@ struct FieldError {
 /// JSON names of the enums.
 [[nodiscard]] std::string_view to_string(WirePattern p);
 [[nodiscard]] std::string_view to_string(Integrator i);
+[[nodiscard]] std::string_view to_string(MembraneEdges e);
 
 } // namespace wiredem::api

@@ -1,6 +1,7 @@
 #include "energy.hpp"
 
 #include "laws/hertz.hpp"
+#include "laws/membrane_edge.hpp"
 
 #include <cmath>
 
@@ -76,8 +77,8 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
     const MembraneState& m = w.membrane;
     const auto& xm = w.of(BodyKind::membrane).x[0];
     e.membrane_j = sum(pool, m.edges.size(), [&](std::size_t k) {
-        const double dl = (xm[m.edges[k][1]] - xm[m.edges[k][0]]).norm() - m.edge_rest_m[k];
-        return 0.5 * m.edge_stiffness_n_per_m * dl * dl;
+        const double length_m = (xm[m.edges[k][1]] - xm[m.edges[k][0]]).norm();
+        return membrane_edge_energy_j(length_m, m.edge_rest_m[k], m.edge_stiffness_n_per_m, m.edge_law);
     });
     return e;
 }

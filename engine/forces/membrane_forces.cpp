@@ -1,6 +1,6 @@
 #include "forces/membrane_forces.hpp"
 
-#include "laws/wire_bond.hpp"
+#include "laws/membrane_edge.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +17,7 @@ void build_membrane(World& w, const MembraneSpec& spec)
     m.height_m = spec.height_m;
     m.base_z_m = spec.base_z_m;
     m.edge_stiffness_n_per_m = std::sqrt(3.0) / 2.0 * spec.youngs_modulus_pa * spec.thickness_m;
+    m.edge_law = spec.edge_law;
     const std::uint8_t material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
 
     // Columns from the circumference, rows so that the row spacing is
@@ -129,7 +130,7 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
     if (x.empty()) return;
     const double k = m.edge_stiffness_n_per_m;
     parallel_for(pool, m.edges.size(), [&](std::size_t e) {
-        m.edge_force_n[e] = wire_stretch_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k);
+        m.edge_force_n[e] = membrane_edge_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k, m.edge_law);
     });
     const double p = m.pressure_pa;
     parallel_for(pool, m.triangles.size(), [&](std::size_t t) {

@@ -19,6 +19,7 @@ struct MembraneSpec {
     double poisson_ratio = 0.0;         ///< ν_m (for contacts only; see docs/model.md)
     double density_kg_per_m3 = 1000.0;  ///< ρ_m
     double contact_radius_m = 0.5e-3;   ///< r_m, default d/2
+    MembraneEdgeLaw edge_law = MembraneEdgeLaw::tension_only;
     double density_scale = 1.0;
 };
 

@@ -1,6 +1,6 @@
 // The membrane: a cylindrical triangular mesh of nodes (bodies of kind
-// membrane) with a linear spring on every edge and the confining pressure on
-// every triangle (the model spec §3).
+// membrane) with a spring on every edge and the confining pressure on every
+// triangle (the model spec §3).
 #pragma once
 
 #include "core/types.hpp"
@@ -11,11 +11,24 @@
 
 namespace wiredem::engine {
 
+/// How a membrane edge responds when it is shorter than its rest length.
+enum class MembraneEdgeLaw : std::uint8_t {
+    /// A thin sheet wrinkles rather than carry compression: an edge pulls when
+    /// stretched and is slack when shorter than its rest length. The default:
+    /// with linear edges the contracted membrane holds up part of σ₃ by hoop
+    /// compression, and the grains feel less than the applied pressure
+    /// (docs/model.md, "The membrane carries no compression").
+    tension_only,
+    /// The model spec §3 as written: a linear spring in tension and compression.
+    linear,
+};
+
 struct MembraneState {
     double radius_m = 0.0;                  ///< R of the undeformed cylinder [m]
     double height_m = 0.0;                  ///< H_m [m]
     double base_z_m = 0.0;                  ///< z of the bottom row [m]
     double edge_stiffness_n_per_m = 0.0;    ///< k_m = (√3/2) E_m d
+    MembraneEdgeLaw edge_law = MembraneEdgeLaw::tension_only;
     double node_area_m2 = 0.0;              ///< membrane area per node, (√3/2) l_m² [m²]
     double pressure_pa = 0.0;               ///< σ₃, acting inward on every triangle [Pa]
     bool rigid = true;                      ///< rigid: nodes are not integrated

@@ -24,6 +24,13 @@ TEST(EngineSettings, IntegratorReachesThePreparationAndSoEveryTest)
         engine::Integrator::verlet);
 }
 
+TEST(EngineSettings, MembraneEdgeLawReachesThePreparation)
+{
+    EXPECT_EQ(api::preparation_spec(parse("{}")).membrane.edge_law, engine::MembraneEdgeLaw::tension_only);
+    EXPECT_EQ(api::preparation_spec(parse(R"({"specimen": {"membrane": {"edges": "linear"}}})")).membrane.edge_law,
+        engine::MembraneEdgeLaw::linear);
+}
+
 TEST(EngineSettings, TimeStepSeedAndScalingArePassedThrough)
 {
     const api::JobSpec spec = parse(R"({"seed": 42, "engine": {"time_step_s": 2e-7, "density_scale": 10}})");

@@ -72,6 +72,7 @@ JobSpec everything_changed()
     s.triaxial.snapshot_strains = {0.0, 0.02, 0.15};
     s.engine.time_step_s = 5e-8;
     s.engine.integrator = Integrator::verlet;
+    s.specimen.membrane.edges = MembraneEdges::linear;
     s.engine.threads = 2;
     s.engine.density_scale = 4.0;
     s.engine.max_bodies = 50000;
@@ -111,6 +112,7 @@ TEST(JobSpec, DefaultsAreTheModelsParameters)
     EXPECT_EQ(s.triaxial.confining_pressures_pa, (std::vector<double>{20e3, 40e3, 60e3, 80e3}));
     EXPECT_FALSE(s.engine.time_step_s.has_value()); // "auto"
     EXPECT_EQ(s.engine.integrator, Integrator::gear5);
+    EXPECT_EQ(s.specimen.membrane.edges, MembraneEdges::tension_only);
 }
 
 TEST(JobSpec, DefaultJobRoundTrips)
@@ -341,6 +343,8 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         InvalidCase{"NegativeSeed", R"({"seed": -1})", "seed", "-1 is out of range [0, 18446744073709551615]"},
         InvalidCase{"UnknownPattern", R"({"specimen": {"wire": {"pattern": "zigzag"}}})", "specimen.wire.pattern",
             "\"zigzag\" is not one of \"none\", \"helix\", \"spiral_helix\", \"radial_helix\""},
+        InvalidCase{"UnknownMembraneEdges", R"({"specimen": {"membrane": {"edges": "elastic"}}})",
+            "specimen.membrane.edges", "\"elastic\" is not one of \"tension_only\", \"linear\""},
         InvalidCase{"UnknownIntegrator", R"({"engine": {"integrator": "rk4"}})", "engine.integrator",
             "\"rk4\" is not one of \"gear5\", \"verlet\""},
         InvalidCase{"TimeStepWord", R"({"engine": {"time_step_s": "fast"}})", "engine.time_step_s",

@@ -79,6 +79,87 @@ TEST(MembranePressure, RadialExpansionMatchesThinWalledCylinder)
     EXPECT_NEAR((mid_row_radius_m(w) - r0) / expected, 1.0, 0.05);
 }
 
+namespace {
+
+/// A pressurised membrane on a bed of held grains, one behind every free
+/// node, placed so that the node must move `gap_m` inwards to touch it. At
+/// rest, returns the share of the pressure on the middle row's nodes that
+/// their grain contacts carry (Σ contact force / Σ pressure force, radial),
+/// and the middle row's inward displacement [m].
+struct BedResult {
+    double contact_share = 0.0;
+    double displacement_m = 0.0;
+};
+BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressure_pa, double gap_m)
+{
+    Simulation sim(2);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    MembraneSpec spec = small_membrane(10e-3, 10e-3);
+    spec.edge_law = law;
+    build_membrane(w, spec);
+    const MembraneState& m = w.membrane;
+    const std::uint8_t grain_mat = add_material(w, Material{});
+    const double rg = 0.4e-3;
+    std::vector<std::uint32_t> grain_of_node(w.of(BodyKind::membrane).size());
+    for (std::uint32_t i = 0; i < grain_of_node.size(); ++i) {
+        if (m.node_fixed[i]) continue;
+        const Vec3 x = w.of(BodyKind::membrane).x[0][i];
+        const Vec3 inward = -Vec3(x.x(), x.y(), 0.0).normalized();
+        grain_of_node[i] = static_cast<std::uint32_t>(w.of(BodyKind::grain).size());
+        add_grain(w, x + inward * (gap_m + spec.contact_radius_m + rg), rg, grain_mat);
+        w.of(BodyKind::grain).inv_mass_per_kg.back() = 0.0; // held
+    }
+    set_membrane_rigid(w, false);
+    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    const double r0 = mid_row_radius_m(w);
+    w.membrane.pressure_pa = pressure_pa;
+    const double omega = std::sqrt(spec.youngs_modulus_pa / spec.density_kg_per_m3) / spec.radius_m;
+    relax(sim, static_cast<std::uint64_t>(60.0 / (omega * w.dt_s)), 2.0 * omega * w.dt_s);
+
+    // Radial balance of the middle row: pressure in, contacts out.
+    const std::size_t row = m.rows / 2;
+    const auto& x = w.of(BodyKind::membrane).x[0];
+    double pressure_n = 0.0, contact_n = 0.0;
+    for (std::size_t c = 0; c < m.columns; ++c) {
+        const std::size_t i = row * m.columns + c;
+        const Vec3 out = Vec3(x[i].x(), x[i].y(), 0.0).normalized();
+        for (std::uint32_t e = m.triangle_incidence_start[i]; e < m.triangle_incidence_start[i + 1]; ++e)
+            pressure_n -= m.triangle_force_n[m.triangle_incidence[e]].dot(out);
+        contact_n -= w.of(BodyKind::grain).force_n[grain_of_node[i]].dot(out); // reaction on the node
+    }
+    return {contact_n / pressure_n, r0 - mid_row_radius_m(w)};
+}
+
+} // namespace
+
+TEST(MembranePressure, SlackMembraneHandsTheWholePressureToTheGrains)
+{
+    // The membrane must contract by the gap (and the Hertz overlap) to reach
+    // the grains. Linear edges would then hold up (9/8) E d u / R² of σ₃ by
+    // hoop compression (the test below); the gap is chosen so that this is
+    // about half. A wrinkling, tension-only sheet carries none of it: the
+    // grains take the whole pressure (to the relaxation's residue, ≪ 1 %).
+    const double p = 20e3, e_d = 1e8 * 1e-3, radius = 10e-3;
+    const double gap = 0.5 * p * radius * radius / (9.0 / 8.0 * e_d);
+    const BedResult r = press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw::tension_only, p, gap);
+    EXPECT_GT(r.displacement_m, gap);
+    EXPECT_NEAR(r.contact_share, 1.0, 0.01);
+}
+
+TEST(MembranePressure, LinearMembraneHoldsUpPartOfThePressureByHoopCompression)
+{
+    // Thin-shell theory for the lattice (E, ν = 1/3, docs/model.md) with the
+    // rims held (ε_z = 0): a uniform inward displacement u carries
+    // p_hoop = E d u / ((1 − ν²) R²); the grains get the rest, 1 − p_hoop/σ₃.
+    const double p = 20e3, e_d = 1e8 * 1e-3, radius = 10e-3;
+    const double gap = 0.5 * p * radius * radius / (9.0 / 8.0 * e_d);
+    const BedResult r = press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw::linear, p, gap);
+    const double hoop_share = 9.0 / 8.0 * e_d * r.displacement_m / (radius * radius) / p;
+    EXPECT_GT(hoop_share, 0.4);
+    EXPECT_NEAR(r.contact_share, 1.0 - hoop_share, 0.05);
+}
+
 TEST(MembraneContact, GrainPressedAgainstRigidMembraneGetsTheHertzForce)
 {
     Simulation sim(1);
@@ -165,7 +246,10 @@ TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEne
     Simulation sim(2);
     World& w = sim.world;
     w.gravity_m_per_s2 = Vec3::Zero();
-    build_membrane(w, small_membrane(5e-3, 8e-3));
+    // Linear edges: a tension-only sheet with nothing inside would collapse.
+    MembraneSpec spec = small_membrane(5e-3, 8e-3);
+    spec.edge_law = MembraneEdgeLaw::linear;
+    build_membrane(w, spec);
     set_membrane_rigid(w, false);
     w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
     const double p = 20e3;
