@@ -21,9 +21,10 @@ namespace wiredem::engine::analysis {
 /// @param radius_m       column radius r [m], > 0
 [[nodiscard]] double axial_stress_pa(double plate_force_n, double radius_m) noexcept;
 
-/// Effective confining pressure σ₃,eff = Σ F_n / (2π r h) [Pa]: the grain–membrane
-/// normal contact forces spread over the lateral area in contact.
-/// @param membrane_normal_force_sum_n  Σ of the grain–membrane normal force magnitudes [N]
+/// Effective confining pressure σ₃,eff = Σ F_n / (2π r h) [Pa]: the normal
+/// forces of the specimen's (grains' and wire's) contacts with the membrane
+/// spread over the lateral area in contact.
+/// @param membrane_normal_force_sum_n  Σ of those normal force magnitudes [N]
 /// @param radius_m                     column radius r [m], > 0
 /// @param height_m                     plate distance h [m], > 0
 [[nodiscard]] double effective_confining_pressure_pa(

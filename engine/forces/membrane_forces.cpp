@@ -158,9 +158,11 @@ MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool)
         [&](std::size_t begin, std::size_t end) {
             MembraneLoad part;
             for (std::size_t p = begin; p < end; ++p) {
-                if (!c.touching[p] || c.first[p].kind() != BodyKind::grain || c.second[p].kind() != BodyKind::membrane)
+                // The specimen's contacts: grain– and wire–membrane (a membrane
+                // node is always `second`, BodyKind::membrane being the last kind).
+                if (!c.touching[p] || c.second[p].kind() != BodyKind::membrane || c.first[p].kind() == BodyKind::membrane)
                     continue;
-                // force_n is the force on the grain; the membrane node feels −force_n.
+                // force_n is the force on the grain or wire node; the membrane node feels −force_n.
                 Vec3 radial = w.of(BodyKind::membrane).x[0][c.second[p].index()];
                 radial.z() = 0.0;
                 const double rho = radial.norm();

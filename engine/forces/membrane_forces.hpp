@@ -1,6 +1,7 @@
 // The membrane's own forces: edge springs and the confining pressure, per
-// element then gathered per node in element order; plus the grain–membrane
-// contact load the triaxial test reads as its effective confining pressure.
+// element then gathered per node in element order; plus the load of the
+// specimen (grains and wire) on the membrane, which the triaxial test reads as
+// its effective confining pressure.
 #pragma once
 
 #include "parallel/thread_pool.hpp"
@@ -37,14 +38,14 @@ void compute_membrane_forces(World& w, ThreadPool& pool);
 
 /// What the grains do to the membrane this step.
 struct MembraneLoad {
-    double normal_force_n = 0.0;        ///< Σ |F_n| over grain–membrane contacts [N]
+    double normal_force_n = 0.0;        ///< Σ |F_n| over grain– and wire–membrane contacts [N]
     double radial_force_n = 0.0;        ///< Σ outward radial component of those forces [N]
-    std::size_t contacts = 0;           ///< grain–membrane contacts touching
-    std::size_t nodes_in_contact = 0;   ///< membrane nodes touched by ≥ 1 grain
+    std::size_t contacts = 0;           ///< grain– and wire–membrane contacts touching
+    std::size_t nodes_in_contact = 0;   ///< membrane nodes touched by ≥ 1 grain or wire node
     double area_in_contact_m2 = 0.0;    ///< nodes_in_contact × area per node [m²]
 };
 
-/// Sums the grain–membrane contacts of the current step, deterministically.
+/// Sums the grain– and wire–membrane contacts of the current step, deterministically.
 [[nodiscard]] MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool);
 
 /// Volume enclosed by the membrane between its rims [m³] (sum over triangles

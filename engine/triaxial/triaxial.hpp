@@ -85,7 +85,7 @@ struct TriaxialSample {
     double column_radius_m = 0.0;
     double confining_pressure_pa = 0.0;   ///< σ₃ applied on the membrane at this time [Pa]
     double sigma1_pa = 0.0;               ///< top plate force / (π r²) [Pa]
-    double sigma3_effective_pa = 0.0;     ///< Σ grain–membrane |F_n| / (2π r h) [Pa]
+    double sigma3_effective_pa = 0.0;     ///< Σ grain– and wire–membrane |F_n| / (2π r h) [Pa]
     double deviatoric_stress_pa = 0.0;    ///< q = σ₁ − σ₃,eff [Pa]
     double stress_ratio = 0.0;            ///< (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff)
     double volume_m3 = 0.0;               ///< π r² h [m³]
@@ -95,7 +95,7 @@ struct TriaxialSample {
     double elastic_energy_j = 0.0;
     std::uint64_t contacts = 0;           ///< touching pairs + body–wall contacts
     std::uint64_t sliding_contacts = 0;   ///< of those, the ones not sticking
-    std::uint64_t membrane_contacts = 0;  ///< touching grain–membrane pairs
+    std::uint64_t membrane_contacts = 0;  ///< touching grain– and wire–membrane pairs
     double wire_strain_mean = 0.0;        ///< mean segment strain (0 without wire)
     double wire_strain_max = 0.0;         ///< largest segment strain (0 without wire)
     /// I = ε̇ · 2 r_p · √(ρ_p/σ₃) with the applied σ₃; 0 while the plate is still.

@@ -188,6 +188,29 @@ TEST(MembraneContact, GrainPressedAgainstRigidMembraneGetsTheHertzForce)
     EXPECT_EQ((w.of(BodyKind::membrane).x[0][node] - xn).norm(), 0.0);
 }
 
+TEST(MembraneContact, WireNodePressingOnTheMembraneCountsInItsLoad)
+{
+    // The specimen is grains and wire; σ₃,eff must see the membrane's
+    // contacts with both.
+    Simulation sim(1);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    build_membrane(w, small_membrane(20e-3, 20e-3));
+    const MembraneState& m = w.membrane;
+    const Vec3 xn = w.of(BodyKind::membrane).x[0][m.rows / 2 * m.columns];
+    const Vec3 inward = -Vec3(xn.x(), xn.y(), 0).normalized();
+    const WireSpec wire{};
+    configure_wire(w, wire);
+    append_wire_node(w, xn + inward * (wire.radius_m + MembraneSpec{}.contact_radius_m - 1e-5), Vec3::Zero());
+    w.dt_s = 1e-8;
+    sim.step();
+    ASSERT_EQ(w.contacts.size(), 1u);
+    ASSERT_GT(w.contacts.normal_force_n[0], 0.0);
+    const MembraneLoad load = membrane_contact_load(w, sim.pool());
+    EXPECT_EQ(load.contacts, 1u);
+    EXPECT_EQ(load.normal_force_n, w.contacts.normal_force_n[0]);
+}
+
 namespace {
 
 /// Shoots one body of `kind` (added by `add_body(w, start, velocity)`) at 2 m/s
