@@ -31,16 +31,16 @@ StableStep stable_time_step(const JobSpec& spec)
 {
     const SpecimenSpec& s = spec.specimen;
     const double scale = spec.engine.density_scale;
-    const double node_scale = scale * spec.engine.node_mass_scale; // wire and membrane nodes
+    const double wire_scale = scale * spec.engine.wire_mass_scale;
     engine::World w;
     // Density scaling multiplies every mass: scale the grain density (add_grain
-    // derives the mass from it) and the node masses alike.
+    // derives the mass from it) and the node masses alike; the wire's once more.
     const std::uint8_t grain = engine::add_material(w,
         {s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3 * scale});
     const std::uint8_t wire = engine::add_material(w,
-        {s.wire.youngs_modulus_pa, s.wire.poisson_ratio, s.wire.density_kg_per_m3 * node_scale});
+        {s.wire.youngs_modulus_pa, s.wire.poisson_ratio, s.wire.density_kg_per_m3 * wire_scale});
     const std::uint8_t membrane = engine::add_material(w,
-        {s.membrane.youngs_modulus_pa, s.membrane.poisson_ratio, s.membrane.density_kg_per_m3 * node_scale});
+        {s.membrane.youngs_modulus_pa, s.membrane.poisson_ratio, s.membrane.density_kg_per_m3 * scale});
     const std::uint8_t plate = engine::add_material(w, {s.plate.youngs_modulus_pa, s.plate.poisson_ratio, 1.0});
 
     // One body of each kind, far apart: critical_time_step looks at the
@@ -50,9 +50,9 @@ StableStep stable_time_step(const JobSpec& spec)
     const bool has_wire = s.wire.pattern != WirePattern::none;
     if (has_wire)
         engine::add_node(w, engine::BodyKind::wire, engine::Vec3(0.0, 0.0, 2.0), s.wire.radius_m,
-            wire_node_mass_kg(s.wire) * node_scale, wire);
+            wire_node_mass_kg(s.wire) * wire_scale, wire);
     engine::add_node(w, engine::BodyKind::membrane, engine::Vec3(0.0, 0.0, 3.0),
-        membrane_contact_radius_m(s.membrane), membrane_node_mass_kg(s.membrane) * node_scale, membrane);
+        membrane_contact_radius_m(s.membrane), membrane_node_mass_kg(s.membrane) * scale, membrane);
     engine::add_wall(w, engine::make_plate(0.0, 1.0, plate));
 
     engine::CriticalStep c = engine::critical_time_step(w);
@@ -60,11 +60,11 @@ StableStep stable_time_step(const JobSpec& spec)
         // Highest mode of a free chain: ω² = 4 k_elo / m_w, k_elo = E_w π r_w² / l_w.
         const double k_elo = s.wire.youngs_modulus_pa * std::numbers::pi * s.wire.radius_m * s.wire.radius_m
                            / s.wire.segment_length_m;
-        engine::fold_spring_limit(c, 4.0 * k_elo / (wire_node_mass_kg(s.wire) * node_scale), "wire segments");
+        engine::fold_spring_limit(c, 4.0 * k_elo / (wire_node_mass_kg(s.wire) * wire_scale), "wire segments");
     }
     // Six edges per node (Gershgorin bound): ω² ≤ 12 k_m / m_m, k_m = (√3/2) E_m d.
     const double k_m = 0.5 * std::numbers::sqrt3 * s.membrane.youngs_modulus_pa * s.membrane.thickness_m;
-    engine::fold_spring_limit(c, 12.0 * k_m / (membrane_node_mass_kg(s.membrane) * node_scale), "membrane edges");
+    engine::fold_spring_limit(c, 12.0 * k_m / (membrane_node_mass_kg(s.membrane) * scale), "membrane edges");
 
     return {c.critical_s, engine::auto_time_step_fraction * c.critical_s, c.limited_by};
 }

@@ -22,7 +22,7 @@ struct StableStep {
 /// Builds a probe engine::World with one body of each kind present in the
 /// job (the smallest grain, a wire node unless the pattern is none, a
 /// membrane node) and the bottom plate, all masses multiplied by
-/// density_scale (wire and membrane nodes also by node_mass_scale), and calls engine::critical_time_step; then folds in the
+/// density_scale (wire nodes also by wire_mass_scale), and calls engine::critical_time_step; then folds in the
 /// springs: wire segments ω² = 4 k_elo / m_w, k_elo = E_w π r_w² / l_w,
 /// m_w = ρ_w π r_w² l_w, and membrane edges ω² = 12 k_m / m_m,
 /// k_m = (√3/2) E_m d, m_m = (√3/2) l_m² ρ_m d.

@@ -34,7 +34,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.wire.youngs_modulus_pa = s.wire.youngs_modulus_pa;
     p.wire.poisson_ratio = s.wire.poisson_ratio;
     p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
-    p.wire.density_scale = spec.engine.density_scale * spec.engine.node_mass_scale;
+    p.wire.density_scale = spec.engine.density_scale * spec.engine.wire_mass_scale;
 
     p.pattern.kind = pattern_kind(s.wire.pattern);
     p.pattern.helix_radius_m = s.wire.helix_radius_m;
@@ -52,7 +52,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.membrane.contact_radius_m = membrane_contact_radius_m(s.membrane);
     p.membrane.edge_law = s.membrane.edges == MembraneEdges::linear ? engine::MembraneEdgeLaw::linear
                                                                      : engine::MembraneEdgeLaw::tension_only;
-    p.membrane.density_scale = spec.engine.density_scale * spec.engine.node_mass_scale;
+    p.membrane.density_scale = spec.engine.density_scale;
 
     p.contact.normal_damping_s = resolved_normal_damping_s(spec);
     p.contact.tangential.stiffness_per_m = spec.contact.tangential_stiffness_per_m;
@@ -61,7 +61,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
 
     p.density_scale = spec.engine.density_scale;
-    p.node_mass_scale = spec.engine.node_mass_scale;
+    p.node_mass_scale = spec.engine.wire_mass_scale;
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
     p.time_step_s = spec.engine.time_step_s.value_or(0.0);
@@ -82,7 +82,7 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_
     t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test
     // gives it its real weight back (engine/specimen/preparation.hpp).
-    t.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.node_mass_scale};
+    t.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};
     return t;
 }
 

@@ -550,7 +550,7 @@ void read_engine(ObjectReader& r, EngineSpec& e)
     r.choice("integrator", integrators, e.integrator);
     r.integer("threads", IntRange{0, 256}, e.threads);
     r.number("density_scale", closed(1.0, 1e6), e.density_scale);
-    r.number("node_mass_scale", closed(1.0, 1e6), e.node_mass_scale);
+    r.number("wire_mass_scale", closed(1.0, 1e6), e.wire_mass_scale);
     // 1e9 < 2^30: every body index fits a BodyRef (engine/core/types.hpp).
     r.integer("max_bodies", IntRange{1, 1'000'000'000}, e.max_bodies);
 }
@@ -700,7 +700,7 @@ void check_snapshots(Validator& v, const TriaxialSpec& t)
 void check_time_step(Validator& v, const JobSpec& spec)
 {
     if (!spec.engine.time_step_s) return;
-    if (!v.clean({"engine.time_step_s", "engine.density_scale", "engine.node_mass_scale", "specimen.grain_radius_m",
+    if (!v.clean({"engine.time_step_s", "engine.density_scale", "engine.wire_mass_scale", "specimen.grain_radius_m",
             "specimen.grain_radius_spread", "specimen.grain", "specimen.plate", "specimen.wire", "specimen.membrane"}))
         return;
     const StableStep stable = stable_time_step(spec);
@@ -829,7 +829,7 @@ json::object engine_json(const EngineSpec& e)
     o["integrator"] = to_string(e.integrator);
     o["threads"] = e.threads;
     o["density_scale"] = e.density_scale;
-    o["node_mass_scale"] = e.node_mass_scale;
+    o["wire_mass_scale"] = e.wire_mass_scale;
     o["max_bodies"] = e.max_bodies;
     return o;
 }

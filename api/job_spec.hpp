@@ -180,10 +180,11 @@ struct EngineSpec {
     /// Mass scaling s of every body, [1, 1e6]: inertia only, weights stay
     /// real (gravity acts as g/s on the scaled masses; docs/model.md).
     double density_scale = 1.0;
-    /// Extra inertia M of wire and membrane nodes on top of density_scale,
-    /// [1, 1e6]: their masses are s·M times the model's, their weights stay
-    /// real. Lifts the time step set by the light nodes' springs.
-    double node_mass_scale = 1.0;
+    /// Extra inertia M of the wire nodes on top of density_scale, [1, 1e6]:
+    /// their masses are s·M times the model's, their weights stay real.
+    /// Lifts the time step set by the wire's axial springs. The membrane's
+    /// nodes are scaled by s only (docs/model.md, "Quasi-static scaling").
+    double wire_mass_scale = 1.0;
     /// Cap on grains + wire nodes + membrane nodes (estimated), [1, 1e9].
     std::uint64_t max_bodies = 200000;
     friend bool operator==(const EngineSpec&, const EngineSpec&) = default;

@@ -171,7 +171,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     membrane.radius_m = R;
     membrane.height_m = spec.membrane_height_m;
     membrane.base_z_m = 0.0;
-    membrane.density_scale = spec.density_scale * spec.node_mass_scale;
+    membrane.density_scale = spec.density_scale; // the wire alone takes node_mass_scale
     build_membrane(w, membrane);
     set_membrane_rigid(w, true);
     const std::size_t mould_wall = add_wall(w, make_cylinder(R + r_m, plate_mat));

@@ -33,9 +33,9 @@ struct PreparationSpec {
     /// s: multiplies every mass (quasi-static scaling). Inertia only: the
     /// prepared specimen carries its real weight (see prepare_specimen).
     double density_scale = 1.0;
-    /// M: extra inertia of wire and membrane nodes (masses s·M times the
-    /// model's), weights unchanged. The nodes' springs then no longer set
-    /// the time step (docs/model.md, "Quasi-static scaling").
+    /// M: extra inertia of the wire nodes (masses s·M times the model's),
+    /// weights unchanged. The wire's springs then no longer set the time
+    /// step; the membrane takes s only (docs/model.md, "Quasi-static scaling").
     double node_mass_scale = 1.0;
     /// Speed at which the fill height rises while pouring [m/s]; sets the
     /// pouring time and therefore the length of wire laid.

@@ -266,7 +266,7 @@ Result<TriaxialResult, std::string> run_triaxial(
     }
     w.neighbours_dirty = true;
     if (settings.real_weights)
-        set_weights(w, settings.real_weights->density_scale, settings.real_weights->node_mass_scale, 1.0);
+        set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
     w.membrane.pressure_pa = 0.0;
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     const double dt = w.dt_s;

@@ -59,7 +59,7 @@ struct TriaxialSettings {
     /// How the World's masses are scaled (engine/specimen/preparation.hpp).
     struct MassScaling {
         double density_scale = 1.0;     ///< s, every mass
-        double node_mass_scale = 1.0;   ///< M, wire and membrane nodes on top of s
+        double wire_mass_scale = 1.0;   ///< M, wire nodes on top of s
     };
     /// When set, the test starts by giving every body its real weight
     /// (set_weights with factor 1: gravity g/s on the scaled masses): a
