@@ -324,12 +324,32 @@ Result<TriaxialResult, std::string> run_triaxial(
         }
         return strain;
     };
+    // Consolidation: while σ₃ ramps and holds, the top plate is the cell's
+    // loading cap, a piston that the cell pressure pushes onto the column
+    // with σ₃ π r² (r from the latest sample). It moves as a free body of the
+    // column's mass under that force and the column's reaction: a passive
+    // mechanical system, damped by the contacts, which comes to rest where
+    // σ₁ = σ₃. Loading then starts from an isotropic state (q ≈ 0).
+    double column_radius_m = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, h0).column_radius_m;
+    // A quasi-static consolidation needs no faster motion than the loading;
+    // the cap at a few times that keeps a column that is still settling from
+    // throwing the piston.
+    const double max_piston_speed = max_piston_speed_factor * settings.plate_speed_m_per_s;
+    double piston_mass_kg = 0.0;
+    for (double m : grains.mass_kg) piston_mass_kg += m;
+    auto follow_the_pressure = [&] {
+        const double target_n = w.membrane.pressure_pa * std::numbers::pi * column_radius_m * column_radius_m;
+        const double net_down_n = target_n - plate_compression_n(w.walls[top_plate_wall]);
+        double& v = w.walls[top_plate_wall].velocity_m_per_s.z();
+        v = std::clamp(v - dt * net_down_n / piston_mass_kg, -max_piston_speed, max_piston_speed);
+    };
     // One step: σ₃ for the time reached, the cap nodes carried with the plate.
     auto advance = [&]() -> std::optional<std::string> {
         if (control.cancel && control.cancel->load(std::memory_order_relaxed))
             return "cancelled after " + std::to_string(n) + " steps of the triaxial test";
         w.membrane.pressure_pa = ramped_pressure_pa(
             settings.confining_pressure_pa, static_cast<double>(n + 1) * dt, settings.pressure_ramp_time_s);
+        if (!loading) follow_the_pressure();
         const Vec3 v = w.walls[top_plate_wall].velocity_m_per_s;
         for (std::uint32_t i : cap_nodes) {
             nodes.x[0][i] += v * dt;
@@ -342,7 +362,10 @@ Result<TriaxialResult, std::string> run_triaxial(
                  + " steps of the triaxial test (time step too large for the loading?)";
         if (control.progress && control.progress_every > 0 && n % control.progress_every == 0)
             control.progress(n, std::max(expected_steps, n));
-        if ((n - 1) % sample_every == 0) sample();
+        if ((n - 1) % sample_every == 0) {
+            sample();
+            column_radius_m = result.series.column_radius_m.back();
+        }
         return std::nullopt;
     };
 
@@ -363,6 +386,11 @@ Result<TriaxialResult, std::string> run_triaxial(
         sample();
     }
     loading_start_sample = result.series.size() - 1;
+    if (const double s1 = result.series.sigma1_pa[loading_start_sample], s3 = settings.confining_pressure_pa;
+        !(std::abs(s1 - s3) <= max_consolidation_mismatch * s3))
+        result.warnings.push_back("test at σ₃ = " + format_number(s3) + " Pa had not consolidated when loading started: σ₁ = "
+                                  + format_number(s1) + " Pa, more than " + format_number(100 * max_consolidation_mismatch)
+                                  + " % off σ₃; lengthen hold_time_s");
     snapshot_due();
     w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
     bool stopped_early = false;

@@ -1,7 +1,9 @@
 // The triaxial compression test (the model spec §6) on a prepared World:
 // the membrane is made deformable, the confining pressure σ₃ is ramped up and
-// held with the top plate still, then the top plate moves down at constant
-// speed to the target axial strain. Every sample_interval_s a row of
+// held while the top plate, like a cell's loading cap (a piston of the
+// column's mass pushed by σ₃), settles where σ₁ = σ₃ (isotropic
+// consolidation), then the top plate moves down at constant speed
+// to the target axial strain. Every sample_interval_s a row of
 // measurements is recorded; snapshots of the whole system are taken at chosen
 // axial strains.
 //
@@ -42,6 +44,12 @@ namespace wiredem::engine {
 /// elastic energy (1 %: the stored energy, not the motion, carries the load).
 inline constexpr double max_quasi_static_inertial_number = 1e-3;
 inline constexpr double max_quasi_static_energy_ratio = 1e-2;
+/// Consolidation check: loading should start from an isotropic state. A test
+/// warns when σ₁ differs from σ₃ by more than this fraction when loading starts.
+inline constexpr double max_consolidation_mismatch = 0.1;
+/// The top plate moves at most this many times the loading speed while it
+/// consolidates the column.
+inline constexpr double max_piston_speed_factor = 4.0;
 
 /// Parameters of one triaxial test. All SI.
 struct TriaxialSettings {
@@ -51,7 +59,7 @@ struct TriaxialSettings {
     /// σ₃ rises from 0 to the target over this time as ½(1 − cos(π t/T)), a
     /// ramp without a jump in rate at either end [s], ≥ 0 (0: a step).
     double pressure_ramp_time_s = 0.02;
-    double hold_time_s = 0.02;                ///< σ₃ held, plate still, before loading [s], ≥ 0
+    double hold_time_s = 0.02;                ///< σ₃ held (plate following σ₁ = σ₃) before loading [s], ≥ 0
     double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
     /// Axial strains at which to take snapshots; 0 (loading start) and the
     /// target are always added; values outside [0, target] are clamped.
