@@ -81,21 +81,28 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// Stages reported to RunControl::progress are steps of the whole preparation
 /// (expected total estimated from the pouring time).
 ///
-/// Weights. Pouring and the first settling run with every weight scaled like
-/// the masses (f = s): poured grains then fall, bounce and come to rest in
-/// real time while δt grows as √s, and the packing, set by friction and the
-/// pouring, does not depend on the weight scale while overlaps stay ≪ r_p.
-/// Then the weights return to their real values (f = 1), the packing settles
-/// again under them, and the top plate comes down: the specimen carries its
-/// real weight, as in the triaxial test that follows (gravity g/s).
+/// Sequence. Grains are poured above the pile while the nozzle walks the
+/// pattern, follows the top of the pile under it (at most v_z^w) and lays
+/// each node on the pile, where nothing overlaps it, holding the wire's end.
+/// Then the column settles, the mould goes, the top plate comes down until it
+/// rests on the grains (pushing wire that stands out of the pile back in), the
+/// nozzle lets go of the wire's end, the column settles again under the plate
+/// and the plate follows it down to the grains.
 ///
-/// Mould. While the membrane is rigid, a rigid cylinder just outside it
-/// (radius R + r_m) keeps the wire in: a wire laid along a curve springs
-/// outwards (it stores ½ k_rot ζ² per joint). Meanwhile wire–membrane contact
-/// (docs/model.md) is off: a wire node pressed into a hole of the rigid mesh
-/// against the mould is squeezed from four sides. It is back on when the
-/// mould goes, so in the triaxial test the deformable membrane holds the wire.
-/// Grains never reach the mould (they touch the membrane's nodes first). It is removed before the top plate
+/// Weights. The whole preparation runs with every weight scaled like the
+/// masses (f = s): poured grains then fall, bounce and come to rest in real
+/// time while δt grows as √s, and the packing, set by friction and the
+/// pouring, does not depend on the weight scale while overlaps stay ≪ r_p.
+/// The triaxial test gives every body its real weight (f = 1) when it starts.
+///
+/// Mould. While the membrane is rigid, a rigid cylinder on the inner surface
+/// of the membrane's node spheres (radius R − r_m) keeps the wire in: a wire
+/// laid along a curve springs outwards (it stores ½ k_rot ζ² per joint).
+/// Meanwhile wire–membrane contact (docs/model.md) is off: a wire node pressed
+/// into a hole of the rigid mesh against a mould is squeezed from four sides.
+/// It is back on when the mould goes; a wire node at the mould then just
+/// touches the node spheres, so in the triaxial test the deformable membrane
+/// holds the wire without a jolt. The mould is removed before the top plate
 /// comes down, so the prepared World has the bottom plate (wall 0) and the
 /// top plate (top_plate_wall = 1) only.
 /// @return the report, or an error message (pattern outside the membrane,
