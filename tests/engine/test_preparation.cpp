@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
+#include <vector>
 
 using namespace wiredem::engine;
 
@@ -45,12 +47,64 @@ std::uint64_t specimen_hash(const World& w)
     return h.value();
 }
 
+/// Fraction of the core of the column filled by grains and wire: the
+/// cylinder a grain diameter inside the membrane's inner surface (R − r_m),
+/// between a grain diameter above the bottom plate and one below the top
+/// plate, sampled on a grid of 0.1 r_p. The core leaves out the layers ordered
+/// by the walls and the rough top, whose fraction is lower; inside, a poured
+/// random packing of spheres fills 0.55–0.64 of the space (random loose to
+/// random close packing).
+double core_volume_fraction(const World& w, const PreparationSpec& spec, double lid_m)
+{
+    const double d = 2.0 * spec.grain_radius_m, h = 0.1 * spec.grain_radius_m;
+    const double rc = spec.membrane_radius_m - spec.membrane.contact_radius_m - d;
+    const double z0 = d, z1 = lid_m - d;
+    const int nxy = static_cast<int>(2.0 * rc / h) + 1, nz = static_cast<int>((z1 - z0) / h) + 1;
+    auto coord = [&](int i, double lo) { return lo + (i + 0.5) * h; };
+    std::vector<std::uint8_t> filled(static_cast<std::size_t>(nxy) * nxy * nz, 0);
+    for (int k = 0; k < 2; ++k) { // grains and wire; each marks the grid points inside it
+        const TranslationalState& b = w.bodies[k];
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            const Vec3& c = b.x[0][i];
+            const double r = b.radius_m[i];
+            auto range = [&](double centre, double lo, int n) {
+                return std::pair(std::max(0, static_cast<int>(std::floor((centre - r - lo) / h))),
+                    std::min(n - 1, static_cast<int>(std::ceil((centre + r - lo) / h))));
+            };
+            const auto [ix0, ix1] = range(c.x(), -rc, nxy);
+            const auto [iy0, iy1] = range(c.y(), -rc, nxy);
+            const auto [iz0, iz1] = range(c.z(), z0, nz);
+            for (int ix = ix0; ix <= ix1; ++ix)
+                for (int iy = iy0; iy <= iy1; ++iy)
+                    for (int iz = iz0; iz <= iz1; ++iz)
+                        if ((Vec3(coord(ix, -rc), coord(iy, -rc), coord(iz, z0)) - c).squaredNorm() < r * r)
+                            filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix] = 1;
+        }
+    }
+    std::size_t inside = 0, total = 0;
+    for (int iz = 0; iz < nz; ++iz)
+        for (int iy = 0; iy < nxy; ++iy)
+            for (int ix = 0; ix < nxy; ++ix) {
+                if (std::hypot(coord(ix, -rc), coord(iy, -rc)) >= rc || coord(iz, z0) >= z1) continue;
+                ++total;
+                inside += filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix];
+            }
+    return static_cast<double>(inside) / static_cast<double>(total);
+}
+
 /// Checks every property a prepared specimen must have.
 void expect_sound_specimen(const World& w, const PreparationSpec& spec, const PreparationReport& r)
 {
     EXPECT_EQ(r.grains, spec.grain_count);
+    // Only the plates are left: the mould is gone.
+    ASSERT_EQ(w.walls.size(), 2u);
+    ASSERT_EQ(r.top_plate_wall, 1u);
+    const Wall& top_plate = w.walls[r.top_plate_wall];
+    const double lid = top_plate.point_m.z();
+    // Inside the membrane: no centre beyond the inner surface of its node
+    // spheres (R − r_m), and no grain reaching past R.
+    const double inner_m = spec.membrane_radius_m - spec.membrane.contact_radius_m;
     const TranslationalState& g = w.of(BodyKind::grain);
-    const double lid = w.walls[r.top_plate_wall].point_m.z();
     for (std::size_t i = 0; i < g.size(); ++i) {
         const Vec3& x = g.x[0][i];
         const double r_i = g.radius_m[i];
@@ -58,10 +112,17 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
         EXPECT_GT(x.z(), 0.95 * r_i) << "grain " << i << " below the bottom plate";
         EXPECT_LT(x.z(), lid) << "grain " << i << " above the top plate";
         EXPECT_LT(std::hypot(x.x(), x.y()) + r_i, spec.membrane_radius_m) << "grain " << i << " outside the membrane";
+        EXPECT_LT(std::hypot(x.x(), x.y()), inner_m) << "grain " << i << " inside the membrane's wall";
     }
-    // At rest, no contact overlaps by more than 10 % of the grain radius. (With
-    // masses × 1000 the static overlaps under the column's weight are 100 ×
-    // those of real grains, (3 F/(4 E* √R*))^{2/3}: a few % of r_p.)
+    // The top plate rests on the grains (not on wire standing out of the pile).
+    const auto& on_grains = top_plate.touching[static_cast<int>(BodyKind::grain)];
+    EXPECT_TRUE(std::any_of(on_grains.begin(), on_grains.end(), [](std::uint8_t t) { return t != 0; }))
+        << "the top plate touches no grain";
+    // At rest, no contact overlaps by more than 10 % of the grain radius. The
+    // static overlaps are far smaller: the column's weight (masses × 100,
+    // weights alike while preparing) on the bottom layer gives
+    // (3 F/(4 E* √R*))^{2/3} ≈ 3 µm ≈ 0.3 % r_p; a wire node pressed by the
+    // bent wire with ~3 N, ~30 µm.
     const ContactList& c = w.contacts;
     for (std::size_t p = 0; p < c.size(); ++p) {
         if (!c.touching[p]) continue;
@@ -71,30 +132,26 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
         EXPECT_LT(overlap, 0.1 * spec.grain_radius_m) << "contact " << p << " kinds " << int(c.first[p].kind()) << "-"
                                                      << int(c.second[p].kind());
     }
-    // The wire is continuous: every segment within 3 % of its rest length;
-    // its ends are free again once laid; it stayed inside the membrane: a wire
-    // node touching the membrane's node spheres from inside has its centre at
-    // least √((r_m + r_w)² − (l_m/√3)²) inside the nodes' radius.
+    // The wire is continuous: every segment within 3 % of its rest length
+    // (a static 3 N stretches one by 0.4 %); its ends are free again once
+    // laid; every node is inside the membrane and between the plates.
     for (double strain : w.wire.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
     const TranslationalState& wire = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < wire.size(); ++i) {
         EXPECT_GT(wire.inv_mass_per_kg[i], 0.0) << "wire node " << i << " still held";
-        EXPECT_LT(std::hypot(wire.x[0][i].x(), wire.x[0][i].y()), spec.membrane_radius_m)
-            << "wire node " << i << " outside the membrane";
+        EXPECT_LT(std::hypot(wire.x[0][i].x(), wire.x[0][i].y()), inner_m) << "wire node " << i << " outside the membrane";
         EXPECT_GT(wire.x[0][i].z(), 0.9 * spec.wire.radius_m) << "wire node " << i << " below the bottom plate";
         EXPECT_LT(wire.x[0][i].z(), lid) << "wire node " << i << " above the top plate";
     }
-    // Only the plates are left: the mould is gone.
-    EXPECT_EQ(w.walls.size(), 2u);
-    EXPECT_EQ(r.top_plate_wall, 1u);
-    // Physically possible fractions: loose random packings of spheres sit
-    // near 0.55–0.64; a few grains high, the rough top and the walls lower it,
-    // and the wire takes the place of grains (5–10 % of a small column).
-    EXPECT_GT(r.grain_volume_fraction + r.wire_volume_fraction, 0.3);
-    EXPECT_LT(r.grain_volume_fraction, 0.65);
-    EXPECT_LT(r.wire_volume_fraction, 0.2);
+    // A poured random packing in the core of the column (see
+    // core_volume_fraction). Over the whole column (the report's fractions),
+    // the walls and the rough top make it lower, and it cannot be denser.
+    const double core = core_volume_fraction(w, spec, lid);
+    EXPECT_GT(core, 0.5);
+    EXPECT_LT(core, 0.64);
+    EXPECT_LT(r.grain_volume_fraction + r.wire_volume_fraction, 0.64);
     EXPECT_NEAR(r.sample_volume_m3, std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m * r.pile_height_m, 1e-15);
-    EXPECT_GT(w.walls[r.top_plate_wall].contacts, 0u);
+    EXPECT_NEAR(r.pile_height_m, lid, 1e-15);
 }
 
 } // namespace
@@ -102,7 +159,7 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
 TEST(Preparation, PoursASoundColumnWithoutWire)
 {
     const PreparationSpec spec = small_column(PatternKind::none, 100);
-    Simulation sim(2);
+    Simulation sim(1); // results do not depend on it (the determinism tests below)
     const auto r = prepare_specimen(sim, spec);
     ASSERT_TRUE(r.ok()) << r.error();
     expect_sound_specimen(sim.world, spec, r.value());
@@ -111,16 +168,10 @@ TEST(Preparation, PoursASoundColumnWithoutWire)
 
 class PreparationWithWire : public ::testing::TestWithParam<PatternKind> {};
 
-// DISABLED until the failure it shows is fixed (every pattern, 120 grains,
-// ~8 s each in Release; measured 2026-11-23 with wire–membrane contact and the
-// mould): grain + wire volume fraction 0.16–0.17, i.e. the top plate stops
-// about three times higher than the grains reach (the densely laid wire props
-// it up). Everything else passes: overlaps, segment strains, wire inside the
-// membrane, settling.
-TEST_P(PreparationWithWire, DISABLED_LaysTheWireWhilePouringASoundColumn)
+TEST_P(PreparationWithWire, LaysTheWireWhilePouringASoundColumn)
 {
     const PreparationSpec spec = small_column(GetParam(), 120);
-    Simulation sim(2);
+    Simulation sim(1); // results do not depend on it (the determinism tests below)
     const auto r = prepare_specimen(sim, spec);
     ASSERT_TRUE(r.ok()) << r.error();
     EXPECT_TRUE(r.value().settled);
@@ -134,38 +185,70 @@ TEST_P(PreparationWithWire, DISABLED_LaysTheWireWhilePouringASoundColumn)
     // Every segment near l_w, so the length is (nodes − 1) l_w within 3 %.
     EXPECT_NEAR(r.value().wire_length_m, (r.value().wire_nodes - 1) * spec.wire.segment_length_m,
         0.03 * r.value().wire_length_m);
+    // Embedded as the pile grew (the model spec §5): the nozzle starts on the
+    // bottom plate and the grains poured after bury what it lays, so part of
+    // the wire is still in the bottom layer of grains. (A wire that sprang
+    // out of the pile and was pushed back in by the top plate lies in the top
+    // layers.)
+    const auto& x = sim.world.of(BodyKind::wire).x[0];
+    const double lowest = std::min_element(x.begin(), x.end(), [](const Vec3& a, const Vec3& b) { return a.z() < b.z(); })->z();
+    EXPECT_LT(lowest, 2.0 * spec.grain_radius_m) << "the wire is not in the bottom layer of grains";
 }
 
+const auto pattern_label = [](const ::testing::TestParamInfo<PatternKind>& i) { return std::string(pattern_name(i.param)); };
 INSTANTIATE_TEST_SUITE_P(EveryPattern, PreparationWithWire,
-    ::testing::Values(PatternKind::helix, PatternKind::spiral_helix, PatternKind::radial_helix),
-    [](const ::testing::TestParamInfo<PatternKind>& i) { return std::string(pattern_name(i.param)); });
+    ::testing::Values(PatternKind::helix, PatternKind::spiral_helix), pattern_label);
+// DISABLED: the radial helix fails the embedding check, and the reason is the
+// wire model, not the preparation (docs/model.md, "Preparation"). Each radial
+// excursion turns the wire by π within two joints (legs 2.5 r_w apart), which
+// stores 2 · ½ k_rot (π/2)² ≈ 0.1 J, fifty times a helix joint's; nothing in
+// the pile holds that: the hairpins open as soon as the nozzle lets go, the
+// whole wire stood straight up to the top of the membrane (measured: nodes
+// from 8 to 40 mm, its first node pulled off the floor), and the top plate
+// pushes it back into the top layers (lowest node 6.8 mm, two grain layers
+// above the floor). Everything else passes. A wire formed plastically by the
+// nozzle (bending springs with a rest angle) would keep its hairpins.
+INSTANTIATE_TEST_SUITE_P(DISABLED_RadialHelix, PreparationWithWire, ::testing::Values(PatternKind::radial_helix), pattern_label);
+
+/// A short preparation for the determinism tests: the pour, the laying,
+/// some settling, the lid, the release of the wire's end and the lid again,
+/// on 30 grains in a membrane just tall enough (its rigid nodes are most of
+/// the bodies), for 0.06 s of simulated time (the sanitizer runs are slow).
+/// Poured slowly enough to come in three batches, so that the nozzle lays
+/// ~20 nodes while the grains land.
+PreparationSpec short_preparation(PatternKind kind)
+{
+    PreparationSpec spec = small_column(kind, 30);
+    spec.membrane_height_m = 0.02;
+    spec.fill_rate_m_per_s = 0.1;
+    spec.max_time_s = 0.06;
+    return spec;
+}
 
 TEST(Preparation, SameSeedGivesTheSameWireSpecimenOnAnyThreadCount)
 {
-    // Determinism needs the pour, the laying, some settling and the lid, not a
-    // settled column: 0.3 s of simulated time (the sanitizer runs are slow).
-    PreparationSpec spec = small_column(PatternKind::spiral_helix, 40);
-    spec.max_time_s = 0.3;
-    Simulation one(1), two(2);
+    const PreparationSpec spec = short_preparation(PatternKind::spiral_helix);
+    Simulation one(1), three(3);
     const auto r1 = prepare_specimen(one, spec);
     ASSERT_TRUE(r1.ok()) << r1.error();
-    ASSERT_TRUE(prepare_specimen(two, spec).ok());
-    EXPECT_EQ(specimen_hash(one.world), specimen_hash(two.world));
+    ASSERT_GT(r1.value().wire_nodes, 10u);
+    const auto r3 = prepare_specimen(three, spec);
+    ASSERT_TRUE(r3.ok()) << r3.error();
+    EXPECT_EQ(specimen_hash(one.world), specimen_hash(three.world));
 }
 
 TEST(Preparation, SameSeedGivesTheSameSpecimenOnAnyThreadCount)
 {
-    PreparationSpec spec = small_column(PatternKind::none, 40);
-    spec.max_time_s = 0.1; // as above; without a wire the pour is over sooner
-    Simulation one(1), two(2);
+    const PreparationSpec spec = short_preparation(PatternKind::none);
+    Simulation one(1), three(3);
     ASSERT_TRUE(prepare_specimen(one, spec).ok());
-    ASSERT_TRUE(prepare_specimen(two, spec).ok());
-    EXPECT_EQ(specimen_hash(one.world), specimen_hash(two.world));
+    ASSERT_TRUE(prepare_specimen(three, spec).ok());
+    EXPECT_EQ(specimen_hash(one.world), specimen_hash(three.world));
     PreparationSpec other = spec;
     other.seed = 2;
-    Simulation three(2);
-    ASSERT_TRUE(prepare_specimen(three, other).ok());
-    EXPECT_NE(specimen_hash(three.world), specimen_hash(one.world));
+    Simulation again(1);
+    ASSERT_TRUE(prepare_specimen(again, other).ok());
+    EXPECT_NE(specimen_hash(again.world), specimen_hash(one.world));
 }
 
 TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
