@@ -1,33 +1,74 @@
 #include "integrate/gear5.hpp"
 
+#include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wiredem::engine {
 namespace {
 
-/// x_k ← Σ_{j≥k} C(j,k) x_j, done in place from the top (Pascal triangle).
-inline void predict_one(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i)
+// The prediction x_k ← Σ_{j≥k} C(j,k) x_j (Pascal triangle) is split in two:
+// the predictor writes only x₀ and x₁, the derivatives the force stages read;
+// the corrector predicts x₂…x₅ from the stored values itself, on the fly.
+// That spares writing four arrays back and reading them again. (Between the
+// two, x₂…x₅ still hold the last corrected values.)
+//
+// The loops below treat the six derivative arrays of a run of consecutive
+// bodies as flat arrays of doubles (integrate/flat_runs.hpp). They never
+// overlap; passing them as __restrict parameters lets the compiler keep values
+// in registers across the stores and vectorise the loops. The arithmetic per
+// element is the one of the Vec3 expressions it replaces, operation for
+// operation, so the results are bit for bit the same.
+
+/// x₀ and x₁ predicted in place, over n doubles.
+void predict_flat(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
+    const double* __restrict x3, const double* __restrict x4, const double* __restrict x5, std::size_t n)
 {
-    Vec3& x0 = x[0][i];
-    Vec3& x1 = x[1][i];
-    Vec3& x2 = x[2][i];
-    Vec3& x3 = x[3][i];
-    Vec3& x4 = x[4][i];
-    const Vec3& x5 = x[5][i];
-    x0 += x1 + x2 + x3 + x4 + x5;
-    x1 += 2.0 * x2 + 3.0 * x3 + 4.0 * x4 + 5.0 * x5;
-    x2 += 3.0 * x3 + 6.0 * x4 + 10.0 * x5;
-    x3 += 4.0 * x4 + 10.0 * x5;
-    x4 += 5.0 * x5;
+    for (std::size_t j = 0; j < n; ++j) {
+        x0[j] += x1[j] + x2[j] + x3[j] + x4[j] + x5[j];
+        x1[j] += 2.0 * x2[j] + 3.0 * x3[j] + 4.0 * x4[j] + 5.0 * x5[j];
+    }
 }
 
-/// Applies the correction Δ = δt²/2 · a − x₂(predicted) to all derivatives.
-inline void correct_one(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i, const Vec3& half_a_dt2)
+/// x₂…x₅ predicted, then every derivative corrected by Δ = target − x₂(predicted), over n doubles.
+void correct_flat(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict x3,
+    double* __restrict x4, double* __restrict x5, const double* __restrict target, std::size_t n)
 {
-    const Vec3 delta = half_a_dt2 - x[2][i];
-    for (int k = 0; k < gear_order; ++k) x[k][i] += gear5_corrector[k] * delta;
+    constexpr const double* c = gear5_corrector;
+    for (std::size_t j = 0; j < n; ++j) {
+        const double p2 = x2[j] + (3.0 * x3[j] + 6.0 * x4[j] + 10.0 * x5[j]);
+        const double p3 = x3[j] + (4.0 * x4[j] + 10.0 * x5[j]);
+        const double p4 = x4[j] + 5.0 * x5[j];
+        const double delta = target[j] - p2;
+        x0[j] += c[0] * delta;
+        x1[j] += c[1] * delta;
+        x2[j] = p2 + c[2] * delta;
+        x3[j] = p3 + c[3] * delta;
+        x4[j] = p4 + c[4] * delta;
+        x5[j] += c[5] * delta;
+    }
+}
+
+/// Predicts x₀ and x₁ of bodies [b, e) in place.
+void predict_position_and_velocity(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e)
+{
+    predict_flat(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+        flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), 3 * (e - b));
+}
+
+/// Corrects bodies [b, e) (at most integrate_block) with the accelerations
+/// inv_mass · load (F/m, or τ/I): predicts x₂…x₅ from their values of the
+/// last step and applies Δ = δt²/2 · a − x₂(predicted) to every derivative.
+void correct(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
+    const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
+{
+    std::array<Vec3, integrate_block> half_a_dt2;
+    for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
+    correct_flat(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+        flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), half_a_dt2.data()->data(),
+        3 * (e - b));
 }
 
 } // namespace
@@ -35,12 +76,14 @@ inline void correct_one(std::array<std::vector<Vec3>, gear_order>& x, std::size_
 void gear5_predict(World& w, ThreadPool& pool)
 {
     for (auto& body : w.bodies) {
-        parallel_for(pool, body.size(), [&](std::size_t i) {
-            if (body.inv_mass_per_kg[i] != 0.0) predict_one(body.x, i);
+        parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+            for_each_moving_run(body.inv_mass_per_kg, begin, end,
+                [&](std::size_t b, std::size_t e) { predict_position_and_velocity(body.x, b, e); });
         });
     }
     RotationalState& rot = w.grain_rotation;
-    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) { predict_one(rot.w, i); });
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block,
+        [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.w, b, e); });
 }
 
 bool gear5_correct(World& w, ThreadPool& pool)
@@ -52,10 +95,12 @@ bool gear5_correct(World& w, ThreadPool& pool)
             pool, body.size(), true,
             [&](std::size_t begin, std::size_t end) {
                 bool ok = true;
-                for (std::size_t i = begin; i < end; ++i) {
-                    if (body.inv_mass_per_kg[i] == 0.0) continue; // held fixed
-                    correct_one(body.x, i, half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i]);
-                    ok = ok && body.x[0][i].allFinite();
+                for (std::size_t block = begin; block < end; block += integrate_block) {
+                    for_each_moving_run(body.inv_mass_per_kg, block, std::min(end, block + integrate_block),
+                        [&](std::size_t b, std::size_t e) {
+                            correct(body.x, b, e, body.inv_mass_per_kg, body.force_n, half_dt2);
+                            ok = ok && flat(body.x[0], b, e).allFinite();
+                        });
                 }
                 return ok;
             },
@@ -63,10 +108,10 @@ bool gear5_correct(World& w, ThreadPool& pool)
         finite = finite && body_finite;
     }
     RotationalState& rot = w.grain_rotation;
-    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        correct_one(rot.w, i, half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i]);
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t b, std::size_t e) {
+        correct(rot.w, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
         // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-        turn(rot.orientation[i], rot.w[1][i]);
+        for (std::size_t i = b; i < e; ++i) turn(rot.orientation[i], rot.w[1][i]);
     });
     return finite;
 }

@@ -20,7 +20,8 @@ namespace wiredem::engine {
 inline constexpr double gear5_corrector[gear_order] = {
     3.0 / 16.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0};
 
-/// Predicts every body's derivatives one step ahead (Taylor / Pascal triangle).
+/// Predicts every body's position x₀ and velocity x₁ one step ahead (Taylor /
+/// Pascal triangle); x₂…x₅ are predicted by gear5_correct, which must follow.
 void gear5_predict(World& w, ThreadPool& pool);
 
 /// Corrects every body with its acceleration F/m (and α = τ/I for grains),

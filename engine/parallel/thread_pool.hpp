@@ -68,6 +68,20 @@ void parallel_for(ThreadPool& pool, std::size_t n, F&& f, std::size_t chunk = 25
     pool.for_chunks(n, chunk, body);
 }
 
+/// Runs f(begin, end) on consecutive blocks [begin, end) of at most `block`
+/// items covering [0, n), spread over the threads (on the calling thread alone
+/// for one thread or one block). For loops whose body works a block at a time.
+template <class F>
+void parallel_for_blocks(ThreadPool& pool, std::size_t n, std::size_t block, F&& f)
+{
+    if (pool.size() == 1 || n <= block) {
+        for (std::size_t begin = 0; begin < n; begin += block) f(begin, begin + block < n ? begin + block : n);
+        return;
+    }
+    const std::function<void(std::size_t, std::size_t)> body = [&f](std::size_t b, std::size_t e) { f(b, e); };
+    pool.for_chunks(n, block, body);
+}
+
 /// Block size of every deterministic reduction in the engine. Fixed, so that
 /// the order of floating-point additions never depends on the thread count.
 inline constexpr std::size_t reduction_block = 1024;
