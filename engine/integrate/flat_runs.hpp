@@ -20,6 +20,8 @@ namespace wiredem::engine {
 /// derivative arrays (6 × 3 KB) and scratch stay in L1.
 inline constexpr std::size_t integrate_block = 128;
 
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three packed doubles");
+
 /// Components of bodies [begin, end) of `v` as one flat array of 3 (end − begin) doubles.
 [[nodiscard]] inline Eigen::Map<Eigen::ArrayXd> flat(std::vector<Vec3>& v, std::size_t begin, std::size_t end)
 {
