@@ -25,12 +25,13 @@
 # one-thread run does not (LIGGGHTS' CPU time is that of an N-step run minus
 # that of a 0-step run, i.e. without reading the file and setting up).
 # environment: LIGGGHTS (binary, default: liggghts on PATH, else /usr/bin/liggghts),
-#              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory.
+#              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory,
+#              WIREDEM_BENCH (default: build/release/bench/wiredem-bench).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
-bench=$root/build/release/bench/wiredem-bench
+bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
 deck=$here/in.bench
 
 steps=2000
