@@ -116,6 +116,31 @@ std::size_t build_lattice_specimen(Simulation& sim, int layers = 9)
     return add_wall(w, make_plate(top, -1.0, plate_mat));
 }
 
+/// Grains in the stack of build_grain_stack.
+constexpr int stack_grains = 5;
+
+/// A stack of `stack_grains` grains on the axis, touching, on the bottom plate,
+/// with strong contact damping; a rigid membrane of radius 8 mm around it,
+/// far away (it touches nothing); the top plate `press_m` into the top grain.
+/// Returns the top plate's wall index.
+std::size_t build_grain_stack(Simulation& sim, double press_m, MembraneEdgeLaw edges = MembraneEdgeLaw::tension_only)
+{
+    World& w = sim.world;
+    w.contact.normal_damping_s = 5e-5;
+    const std::uint8_t grain_mat = add_material(w, soft_grain);
+    const std::uint8_t plate_mat = add_material(w, plate);
+    add_wall(w, make_plate(0.0, +1.0, plate_mat));
+    const double r = grain_radius_m, top_m = 2.0 * r * stack_grains;
+    for (int k = 0; k < stack_grains; ++k) add_grain(w, Vec3(0, 0, r + 2.0 * r * k), r, grain_mat);
+    MembraneSpec membrane = test_membrane(8e-3, top_m + 2e-3);
+    membrane.edge_law = edges;
+    build_membrane(w, membrane);
+    set_membrane_rigid(w, true);
+    const std::size_t top = add_wall(w, make_plate(top_m - press_m, -1.0, plate_mat));
+    set_auto_time_step(w);
+    return top;
+}
+
 TriaxialSettings fast_settings(double confining_pressure_pa)
 {
     TriaxialSettings s;
@@ -225,17 +250,9 @@ TEST(TriaxialMeasurement, BottomPlateCarriesTopPlateLoadPlusWeightAtRest)
     // membrane contact: the enclosing radius).
     Simulation sim(1);
     World& w = sim.world;
-    w.contact.normal_damping_s = 5e-5;
-    const std::uint8_t grain_mat = add_material(w, soft_grain);
-    const std::uint8_t plate_mat = add_material(w, plate);
-    add_wall(w, make_plate(0.0, +1.0, plate_mat));
     const double r = grain_radius_m;
-    const int n = 5;
-    for (int k = 0; k < n; ++k) add_grain(w, Vec3(0, 0, r + 2.0 * r * k), r, grain_mat);
-    build_membrane(w, test_membrane(8e-3, 2.0 * r * n + 2e-3)); // far away: touches nothing
-    set_membrane_rigid(w, true);
-    const std::size_t top = add_wall(w, make_plate(2.0 * r * n - 30e-6, -1.0, plate_mat));
-    set_auto_time_step(w);
+    const int n = stack_grains;
+    const std::size_t top = build_grain_stack(sim, 30e-6);
     for (int s = 0; s < 20000; ++s) {
         sim.step();
         for (auto& v : w.of(BodyKind::grain).x[1]) v *= 0.99; // dynamic relaxation (test only)
@@ -298,20 +315,8 @@ TEST(TriaxialTest, TopPlateFollowsTheConfiningPressureDuringConsolidation)
     // would start loading from σ₁ ≈ 0. The membrane is linear and stays far
     // from the stack (it contracts by (8/9) σ₃ R²/(E d) ≈ 20 µm).
     Simulation sim(1);
-    World& w = sim.world;
-    w.contact.normal_damping_s = 5e-5;
-    const std::uint8_t grain_mat = add_material(w, soft_grain);
-    const std::uint8_t plate_mat = add_material(w, plate);
-    add_wall(w, make_plate(0.0, +1.0, plate_mat));
     const double r = grain_radius_m;
-    const int n = 5;
-    for (int k = 0; k < n; ++k) add_grain(w, Vec3(0, 0, r + 2.0 * r * k), r, grain_mat);
-    MembraneSpec membrane = test_membrane(8e-3, 2.0 * r * n + 2e-3);
-    membrane.edge_law = MembraneEdgeLaw::linear;
-    build_membrane(w, membrane);
-    set_membrane_rigid(w, true);
-    const std::size_t top = add_wall(w, make_plate(2.0 * r * n, -1.0, plate_mat));
-    set_auto_time_step(w);
+    const std::size_t top = build_grain_stack(sim, 0.0, MembraneEdgeLaw::linear);
     TriaxialSettings set = fast_settings(10e3);
     set.target_axial_strain = 1e-3;
     set.hold_time_s = 20e-3;
