@@ -3,6 +3,8 @@
 
 #include "api/derived.hpp"
 
+#include <limits>
+
 namespace wiredem::api {
 
 engine::PatternKind pattern_kind(WirePattern p)
@@ -34,6 +36,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.wire.youngs_modulus_pa = s.wire.youngs_modulus_pa;
     p.wire.poisson_ratio = s.wire.poisson_ratio;
     p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
+    p.wire.bending_yield_strain = s.wire.bending_yield_strain.value_or(std::numeric_limits<double>::infinity());
     p.wire.density_scale = spec.engine.density_scale * spec.engine.wire_mass_scale;
 
     p.pattern.kind = pattern_kind(s.wire.pattern);

@@ -424,6 +424,25 @@ void read_wire(ObjectReader& r, WireSpec& w)
     r.number("inner_radius_m", open_closed(0.0, 1.0), w.inner_radius_m);
     r.number("period_angle_rad", open_closed(0.0, two_pi), w.period_angle_rad);
     r.number("clearance_m", closed(0.0, 0.1), w.clearance_m);
+    // A number (the yield strain ε_y) or "elastic" (the model spec's wire).
+    if (const json::value* j = r.take("bending_yield_strain")) {
+        const std::string path = r.path_of("bending_yield_strain");
+        const Range range = open_closed(0.0, 1.0);
+        if (j->is_string()) {
+            const json::string& s = j->get_string();
+            if (s == "elastic")
+                w.bending_yield_strain.reset();
+            else
+                r.validator().fail(path, "\"" + std::string(s.data(), s.size()) + "\" is neither \"elastic\" nor a number in "
+                                             + range.text());
+        } else if (number_of(*j)) {
+            double strain = 0.0;
+            if (read_number(r.validator(), *j, path, range, strain)) w.bending_yield_strain = strain;
+        } else {
+            r.validator().fail(path, "expected a yield strain in " + range.text() + " or \"elastic\", got "
+                                         + std::string(kind_text(*j)));
+        }
+    }
 }
 
 void read_membrane(ObjectReader& r, MembraneSpec& m)
@@ -779,6 +798,8 @@ json::object specimen_json(const SpecimenSpec& s)
                 {"inner_radius_m", w.inner_radius_m},
                 {"period_angle_rad", w.period_angle_rad},
                 {"clearance_m", w.clearance_m},
+                {"bending_yield_strain",
+                    w.bending_yield_strain ? json::value(*w.bending_yield_strain) : json::value("elastic")},
             }},
         {"membrane", std::move(membrane)},
         {"pouring",

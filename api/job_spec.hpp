@@ -77,6 +77,11 @@ struct WireSpec {
     double inner_radius_m = 4e-3;              ///< R_i, spiral_helix only [m], (0, 1]
     double period_angle_rad = std::numbers::pi / 2; ///< φ_rs, spiral/radial only [rad], (0, 2π]
     double clearance_m = 1e-3;                 ///< gap kept to the membrane beyond r_w [m], [0, 0.1]
+    /// ε_y = σ_y/E_w, yield strain of the wire in bending, (0, 1]: every joint is an
+    /// elastic–perfectly-plastic hinge that yields at ζ_y = ε_y l_w / r_w, so the
+    /// nozzle forms the wire plastically (docs/model.md, "Wire"). nullopt
+    /// ("elastic" in JSON): the model spec's elastic wire, straight at rest.
+    std::optional<double> bending_yield_strain = 0.05;
     friend bool operator==(const WireSpec&, const WireSpec&) = default;
 };
 

@@ -254,6 +254,8 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     write_units(sp.write_dataset("grain_radius_m", std::span<const double>(g.radius_m)), "m");
     const eng::TranslationalState& wn = prepared.of(eng::BodyKind::wire);
     write_units(sp.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(wn.x[0])), "m");
+    // The plastic joints' rest angles are part of the wire's state (docs/model.md, "Wire").
+    write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(prepared.wire.rest_angle_rad)), "rad");
     const eng::TranslationalState& mn = prepared.of(eng::BodyKind::membrane);
     write_units(sp.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(mn.x[0])), "m");
 

@@ -43,6 +43,7 @@ void configure_wire(World& w, const WireSpec& spec)
     wire.segment_length_m = spec.segment_length_m;
     wire.axial_stiffness_n_per_m = wire_axial_stiffness_n_per_m(spec.youngs_modulus_pa, spec.radius_m, spec.segment_length_m);
     wire.bending_stiffness_n_m = wire_bending_stiffness_n_m(spec.youngs_modulus_pa, spec.radius_m, spec.segment_length_m);
+    wire.bending_yield_angle_rad = wire_bending_yield_angle_rad(spec.bending_yield_strain, spec.radius_m, spec.segment_length_m);
     wire.node_mass_kg = spec.density_scale * spec.density_kg_per_m3 * std::numbers::pi * spec.radius_m * spec.radius_m
                       * spec.segment_length_m;
     wire.material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
@@ -55,6 +56,7 @@ std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& vel
         velocity_m_per_s);
     const std::size_t nodes = id + 1;
     wire.node_force_n.resize(nodes, Vec3::Zero());
+    wire.rest_angle_rad.resize(nodes, 0.0); // the new joint starts straight and yields as it is laid
     if (nodes >= 2) {
         wire.segment_force_n.resize(nodes - 1, Vec3::Zero());
         wire.segment_strain.resize(nodes - 1, 0.0);
@@ -74,6 +76,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         return;
     }
     const double k = wire.axial_stiffness_n_per_m, l0 = wire.segment_length_m, k_rot = wire.bending_stiffness_n_m;
+    const double zeta_y = wire.bending_yield_angle_rad;
     // Dashpots: τ k (dΔl/dt) and τ k_rot ζ̇, with velocities x[1]/δt.
     const double tau_per_dt = wire_retardation_time_s(wire) / w.dt_s;
     parallel_for(pool, nodes - 1, [&](std::size_t s) {
@@ -89,7 +92,10 @@ void compute_wire_forces(World& w, ThreadPool& pool)
     });
     parallel_for(pool, nodes, [&](std::size_t i) {
         if (i == 0 || i + 1 == nodes) return; // ends are free: no bending spring
-        std::array<Vec3, 3> f = wire_bending_forces_n(x[i - 1], x[i], x[i + 1], k_rot);
+        // The joint yields, then pushes back elastically; only this task writes ζ₀[i].
+        const WireJoint joint = wire_joint(x[i - 1], x[i], x[i + 1], k_rot, wire.rest_angle_rad[i], zeta_y);
+        wire.rest_angle_rad[i] = joint.rest_angle_rad;
+        std::array<Vec3, 3> f = joint.force_n;
         if (tau_per_dt > 0.0) {
             const auto g = bend_angle_gradient_per_m(x[i - 1], x[i], x[i + 1]);
             const double zeta_dot_dt = g[0].dot(dx[i - 1]) + g[1].dot(dx[i]) + g[2].dot(dx[i + 1]); // δt · ζ̇

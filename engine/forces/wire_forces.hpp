@@ -1,9 +1,16 @@
 // The wire's own forces: stretch of every segment and bending at every
 // interior node, computed per element and gathered per node in chain order.
 //
+// Plastic joints. Each interior joint is an elastic–perfectly-plastic hinge,
+// E = ½ k_rot (ζ − ζ₀)², whose rest angle ζ₀ (WireState::rest_angle_rad) yields
+// when |ζ − ζ₀| exceeds ζ_y (engine/laws/wire_bond.hpp). Each joint's ζ₀ is
+// updated in the same parallel pass that computes its forces, by the one task
+// that owns the joint, so the update is thread-count independent. The work
+// done on yielding is dissipated (not counted anywhere).
+//
 // Material damping. The wire is a Kelvin–Voigt solid: every elastic force has
 // a dashpot in parallel with the same retardation time τ,
-//     F_seg = k_elo (Δl + τ dΔl/dt),   bending moment k_rot (ζ + τ dζ/dt),
+//     F_seg = k_elo (Δl + τ dΔl/dt),   bending moment k_rot (ζ − ζ₀ + τ dζ/dt),
 // the bending dashpot applied as −τ k_rot ζ̇ ∇ζ (the gradient of the Rayleigh
 // function ½ τ k_rot ζ̇²), so, like the springs, it exerts no net force and
 // no net torque and a rigidly moving wire feels nothing. τ is fixed by the
@@ -26,6 +33,11 @@ struct WireSpec {
     double poisson_ratio = 0.0;
     double density_kg_per_m3 = 1000.0;
     double density_scale = 1.0;
+    /// ε_y = σ_y/E_w, the wire's yield strain in bending; the joints are
+    /// elastic–perfectly-plastic hinges with ζ_y = ε_y l_w / r_w (docs/model.md,
+    /// "Wire"). 0.05 is a polyamide-like wire (σ_y = 50 MPa at E_w = 1 GPa);
+    /// +∞ is the specification's elastic wire (straight rest state).
+    double bending_yield_strain = 0.05;
 };
 
 /// Damping ratio ξ_w of the wire's highest axial mode (Kelvin–Voigt material
@@ -51,7 +63,9 @@ void configure_wire(World& w, const WireSpec& spec);
 std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& velocity_m_per_s = Vec3::Zero());
 
 /// Stage: stretch and bending forces (springs and their dashpots) into
-/// per-element slots, then per node. Also refreshes WireState::segment_strain.
+/// per-element slots, then per node. Also refreshes WireState::segment_strain
+/// and lets the joints' rest angles yield (WireState::rest_angle_rad; calling it
+/// twice at the same positions changes nothing more).
 /// Velocities are the integrator's current ones (x[1] / δt).
 void compute_wire_forces(World& w, ThreadPool& pool);
 

@@ -1,11 +1,16 @@
 // Wire bonds (the model spec §3): linear tension springs along the chain and
-// bending springs at interior nodes, as pure functions.
+// bending joints at interior nodes, as pure functions. A joint is an
+// elastic–perfectly-plastic hinge, E = ½ k_rot (ζ − ζ₀)² with a rest angle ζ₀
+// that yields (a documented departure from the spec's ½ k_rot ζ²,
+// docs/model.md, "Wire"); with ζ_y = ∞ it is the spec's spring.
 #pragma once
 
 #include "core/types.hpp"
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace wiredem::engine {
 
@@ -20,31 +25,91 @@ namespace wiredem::engine {
     return stiffness_n_per_m * (len - rest_length_m) / len * d;
 }
 
-/// Bending couple at an interior node i between nodes i−1 and i+1: the exact
-/// negative gradient of E = ½ k_rot ζ², ζ the angle between the segments
-/// a = x_i − x_{i−1} and b = x_{i+1} − x_i. With ∂ζ/∂b = −(â − cos ζ b̂)/(|b| sin ζ)
-/// and ∂ζ/∂a = −(b̂ − cos ζ â)/(|a| sin ζ), the forces are
-///   F_{i+1} = k ζ/sin ζ · (â − cos ζ b̂)/|b|,  F_{i−1} = −k ζ/sin ζ · (b̂ − cos ζ â)/|a|,
-///   F_i = −F_{i−1} − F_{i+1};
-/// they sum to zero and exert no net torque (the energy is invariant under
-/// translations and rotations). ζ/sin ζ → 1 for a straight chain.
-/// @return forces on nodes i−1, i, i+1 [N]
-[[nodiscard]] inline std::array<Vec3, 3> wire_bending_forces_n(const Vec3& x_prev_m, const Vec3& x_m,
-    const Vec3& x_next_m, double bending_stiffness_n_m) noexcept
+/// Rest angle ζ₀ of an elastic–perfectly-plastic joint after a step that bent
+/// it to ζ (docs/model.md, "Wire": the joint's moment k_rot (ζ − ζ₀) never
+/// exceeds the yield moment M_y = k_rot ζ_y). Return mapping: where
+/// |ζ − ζ₀| > ζ_y, ζ₀ moves to within ζ_y of ζ; ζ₀ ≥ 0 (an angle between two
+/// segments is never negative; the joint is isotropic, so the bending plane of
+/// the rest state is the current one). Idempotent: a second call at the same ζ
+/// changes nothing. ζ_y = ∞ keeps ζ₀ (the specification's elastic wire).
+/// @param zeta_rad        current angle ζ between the two segments, [0, π]
+/// @param rest_angle_rad  ζ₀ before the step, ≥ 0
+/// @param yield_angle_rad ζ_y > 0, or +∞ for an elastic joint
+/// @return ζ₀ after the step [rad]
+[[nodiscard]] inline double yielded_rest_angle_rad(double zeta_rad, double rest_angle_rad, double yield_angle_rad) noexcept
+{
+    // clamp(ζ₀, ζ − ζ_y, ζ + ζ_y): with ζ_y = ∞ the bounds are ∓∞ and ζ₀ stays.
+    return std::max(0.0, std::min(std::max(rest_angle_rad, zeta_rad - yield_angle_rad), zeta_rad + yield_angle_rad));
+}
+
+/// One interior joint i between nodes i−1 and i+1 after a step.
+struct WireJoint {
+    std::array<Vec3, 3> force_n;  ///< on nodes i−1, i, i+1 [N]
+    double rest_angle_rad;        ///< ζ₀ after the step (yielded_rest_angle_rad) [rad]
+};
+
+/// Below this sin ζ the bending direction is taken as undefined (see wire_joint).
+inline constexpr double wire_straight_sin = 1e-6;
+
+/// Elastic–perfectly-plastic bending joint at an interior node i: first the
+/// rest angle yields (yielded_rest_angle_rad), then the forces are the exact
+/// negative gradient of E = ½ k_rot (ζ − ζ₀)², ζ the angle between the
+/// segments a = x_i − x_{i−1} and b = x_{i+1} − x_i. With
+/// ∂ζ/∂x_{i+1} = −(â − cos ζ b̂)/(|b| sin ζ) and ∂ζ/∂x_{i−1} = (b̂ − cos ζ â)/(|a| sin ζ),
+///   F_{i+1} = k (ζ − ζ₀)/sin ζ · (â − cos ζ b̂)/|b|,
+///   F_{i−1} = −k (ζ − ζ₀)/sin ζ · (b̂ − cos ζ â)/|a|,   F_i = −F_{i−1} − F_{i+1};
+/// they sum to zero and exert no net torque (E is invariant under translations
+/// and rotations). |F_{i+1}| = k |ζ − ζ₀| / |b|: bounded.
+///
+/// Near sin ζ = 0. For ζ₀ = 0, ζ/sin ζ → 1 (its series below sin ζ = 10⁻⁶): the
+/// straight chain feels nothing, exactly the specification's spring. For
+/// ζ₀ > 0, E has a cone point at ζ = 0 (E = ½ k ζ₀² falls off linearly in every
+/// bending direction: the straight joint of a formed wire is an unstable
+/// equilibrium) and ∇ζ has no direction there. The ζ₀ part of the factor is
+/// then taken as ζ₀ / max(sin ζ, 10⁻⁶): exact above sin ζ = 10⁻⁶, below it the
+/// force falls linearly to zero at ζ = 0 (never more than k ζ₀/|b|), so it is
+/// finite and continuous; the same holds at a joint folded back to ζ = π.
+/// @param x_prev_m, x_m, x_next_m  nodes i−1, i, i+1 [m]
+/// @param bending_stiffness_n_m    k_rot [N·m]
+/// @param rest_angle_rad           ζ₀ before the step, ≥ 0 [rad]
+/// @param yield_angle_rad          ζ_y > 0, +∞ for an elastic joint [rad]
+[[nodiscard]] inline WireJoint wire_joint(const Vec3& x_prev_m, const Vec3& x_m, const Vec3& x_next_m,
+    double bending_stiffness_n_m, double rest_angle_rad, double yield_angle_rad) noexcept
 {
     const Vec3 a = x_m - x_prev_m, b = x_next_m - x_m;
     const double la = a.norm(), lb = b.norm();
-    if (la == 0.0 || lb == 0.0) return {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    if (la == 0.0 || lb == 0.0) return {{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}, rest_angle_rad};
     const Vec3 ua = a / la, ub = b / lb;
     const double cos_z = ua.dot(ub);
     const double sin_z = ua.cross(ub).norm();
     const double zeta = std::atan2(sin_z, cos_z);
-    // ζ / sin ζ, with its series near the straight chain (sin ζ → 0).
-    const double z_over_sin = sin_z > 1e-6 ? zeta / sin_z : 1.0 + zeta * zeta / 6.0;
-    const double k = bending_stiffness_n_m * z_over_sin;
+    const double rest = yielded_rest_angle_rad(zeta, rest_angle_rad, yield_angle_rad);
+    // (ζ − ζ₀)/sin ζ = ζ/sin ζ − ζ₀/sin ζ: the first with its series near the
+    // straight chain, the second regularised (see above).
+    const double z_over_sin = sin_z > wire_straight_sin ? zeta / sin_z : 1.0 + zeta * zeta / 6.0;
+    const double k = bending_stiffness_n_m * (z_over_sin - rest / std::max(sin_z, wire_straight_sin));
     const Vec3 f_next = k / lb * (ua - cos_z * ub);
     const Vec3 f_prev = -k / la * (ub - cos_z * ua);
-    return {f_prev, -(f_prev + f_next), f_next};
+    return {{f_prev, -(f_prev + f_next), f_next}, rest};
+}
+
+/// Bending couple of an elastic joint with rest angle ζ₀ (default 0: the
+/// specification's straight wire, E = ½ k_rot ζ²): wire_joint without yielding.
+/// @return forces on nodes i−1, i, i+1 [N]
+[[nodiscard]] inline std::array<Vec3, 3> wire_bending_forces_n(const Vec3& x_prev_m, const Vec3& x_m,
+    const Vec3& x_next_m, double bending_stiffness_n_m, double rest_angle_rad = 0.0) noexcept
+{
+    return wire_joint(x_prev_m, x_m, x_next_m, bending_stiffness_n_m, rest_angle_rad,
+        std::numeric_limits<double>::infinity()).force_n;
+}
+
+/// Yield angle of a joint, ζ_y = M_y / k_rot = ε_y l_w / r_w: the yield moment
+/// of a round section at its elastic limit, M_y = σ_y π r_w³/4, over
+/// k_rot = E_w π r_w⁴/(4 l_w), with ε_y = σ_y/E_w (the bending strain at a
+/// joint is r_w ζ / l_w). +∞ (elastic) for ε_y = +∞ [rad].
+[[nodiscard]] inline double wire_bending_yield_angle_rad(double yield_strain, double radius_m, double segment_m) noexcept
+{
+    return yield_strain * segment_m / radius_m;
 }
 
 /// Axial stiffness of a segment, k_elo = E_w π r_w² / l_w [N/m].

@@ -90,8 +90,8 @@ public:
         // its path (so the wire is laid at the path speed ω R_a), placed one
         // segment length from the wire's current end towards the nozzle: the
         // new segment is born unstrained even when the laid wire has moved
-        // (it springs back towards straight: its bending springs have no rest
-        // angle, the model spec §3).
+        // (it springs back towards its rest angles: ζ₀ = 0 for the model
+        // spec's elastic wire, the plastically formed ζ₀ otherwise).
         const Vec3 here = position();
         const auto& x = w.of(BodyKind::wire).x[0];
         if (x.empty()) {

@@ -5,6 +5,7 @@
 #include "core/types.hpp"
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace wiredem::engine {
@@ -15,6 +16,9 @@ struct WireState {
     double segment_length_m = 1.25e-3;      ///< l_w, rest length of every segment [m]
     double axial_stiffness_n_per_m = 0.0;   ///< k_elo
     double bending_stiffness_n_m = 0.0;     ///< k_rot
+    /// ζ_y = ε_y l_w / r_w, the angle at which a joint yields [rad]; +∞: the
+    /// specification's elastic wire (docs/model.md, "Wire").
+    double bending_yield_angle_rad = std::numeric_limits<double>::infinity();
     double node_mass_kg = 0.0;              ///< ρ_w π r_w² l_w (× density scaling)
     std::uint8_t material = 0;
 
@@ -22,6 +26,12 @@ struct WireState {
     std::vector<Vec3> segment_force_n;      ///< force of segment s on node s (node s+1 gets −)
     std::vector<std::array<Vec3, 3>> bending_force_n; ///< at interior node i: on i−1, i, i+1
     std::vector<Vec3> node_force_n;         ///< wire forces gathered per node
+
+    /// State, not a per-step slot: the rest angle ζ₀ ≥ 0 of the joint at every
+    /// node (0 at the two ends, which have no joint) [rad]. Starts at 0 (straight)
+    /// when the node is appended and yields in compute_wire_forces; it travels
+    /// with the specimen (copies of the World, result.h5's specimen group).
+    std::vector<double> rest_angle_rad;
 
     /// Current strain of every segment, (|x_{s+1} − x_s| − l_w)/l_w.
     std::vector<double> segment_strain;

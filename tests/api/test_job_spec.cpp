@@ -50,6 +50,7 @@ JobSpec everything_changed()
     p.wire.inner_radius_m = 3e-3;
     p.wire.period_angle_rad = 1.0471975511965976; // π/3
     p.wire.clearance_m = 1.5e-3;
+    p.wire.bending_yield_strain = 0.03;
     p.membrane.thickness_m = 0.8e-3;
     p.membrane.mesh_size_m = 1.2e-3;
     p.membrane.youngs_modulus_pa = 0.9e8;
@@ -157,7 +158,8 @@ TEST(JobSpec, ToJsonWritesEveryFieldIncludingDefaults)
         EXPECT_TRUE(o.contains(key)) << key;
     EXPECT_EQ(o.at("engine").at("time_step_s"), json::value("auto"));
     EXPECT_TRUE(o.at("specimen").at("membrane").at("contact_radius_m").is_null());
-    EXPECT_EQ(o.at("specimen").at("wire").as_object().size(), 12u);
+    EXPECT_EQ(o.at("specimen").at("wire").as_object().size(), 13u);
+    EXPECT_EQ(o.at("specimen").at("wire").at("bending_yield_strain"), json::value(0.05));
     EXPECT_EQ(o.at("specimen").at("wire").at("pattern"), json::value("helix"));
     EXPECT_TRUE(o.at("contact").as_object().contains("restitution"));
     EXPECT_FALSE(o.at("contact").as_object().contains("normal_damping_s"));
@@ -182,6 +184,22 @@ TEST(JobSpec, MembraneContactRadiusFollowsTheThicknessUnlessGiven)
     const auto given = parse_job_spec(R"({"specimen": {"membrane": {"thickness_m": 2e-3, "contact_radius_m": 7e-4}}})");
     ASSERT_TRUE(given.ok()) << describe(given.error());
     EXPECT_DOUBLE_EQ(membrane_contact_radius_m(given.value().specimen.membrane), 7e-4);
+}
+
+TEST(JobSpec, WireIsPlasticByDefaultAndElasticOnRequest)
+{
+    EXPECT_EQ(JobSpec{}.specimen.wire.bending_yield_strain, 0.05); // a polyamide-like wire, docs/model.md
+    const auto elastic = parse_job_spec(R"({"specimen": {"wire": {"bending_yield_strain": "elastic"}}})");
+    ASSERT_TRUE(elastic.ok()) << describe(elastic.error());
+    EXPECT_FALSE(elastic.value().specimen.wire.bending_yield_strain.has_value());
+    const json::value j = to_json(elastic.value());
+    EXPECT_EQ(j.at("specimen").at("wire").at("bending_yield_strain"), json::value("elastic"));
+    const auto back = parse_job_spec(json::serialize(j));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), elastic.value());
+    const auto given = parse_job_spec(R"({"specimen": {"wire": {"bending_yield_strain": 0.02}}})");
+    ASSERT_TRUE(given.ok()) << describe(given.error());
+    EXPECT_EQ(given.value().specimen.wire.bending_yield_strain, 0.02);
 }
 
 TEST(JobSpec, DefaultSnapshotsFollowTheTargetStrain)
@@ -351,6 +369,12 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
             "\"fast\" is neither \"auto\" nor a number"},
         InvalidCase{"TimeStepArray", R"({"engine": {"time_step_s": [1e-7]}})", "engine.time_step_s",
             "expected a number or \"auto\", got an array"},
+        InvalidCase{"YieldStrainWord", R"({"specimen": {"wire": {"bending_yield_strain": "plastic"}}})",
+            "specimen.wire.bending_yield_strain", "\"plastic\" is neither \"elastic\" nor a number in (0, 1]"},
+        InvalidCase{"YieldStrainNull", R"({"specimen": {"wire": {"bending_yield_strain": null}}})",
+            "specimen.wire.bending_yield_strain", "expected a yield strain in (0, 1] or \"elastic\", got null"},
+        InvalidCase{"YieldStrainZero", R"({"specimen": {"wire": {"bending_yield_strain": 0}}})",
+            "specimen.wire.bending_yield_strain", "0 is out of range (0, 1]"},
         InvalidCase{"MembraneContactRadiusWord", R"({"specimen": {"membrane": {"contact_radius_m": "half"}}})",
             "specimen.membrane.contact_radius_m", "expected a number, got a string"},
         // ranges
