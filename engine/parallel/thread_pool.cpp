@@ -1,12 +1,36 @@
 #include "parallel/thread_pool.hpp"
 
 #include <algorithm>
+#include <cassert>
+#include <limits>
 
 namespace wiredem::engine {
 namespace {
-/// Spins before a worker sleeps: long enough to bridge the gap between two
-/// parallel loops of one step, short enough not to burn a core between runs.
-constexpr int spin_before_sleep = 20000;
+
+/// Busy-wait hint: lets the sibling hyper-thread run and saves power, without
+/// giving the core away (no system call).
+inline void cpu_relax() noexcept
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    asm volatile("yield");
+#endif
+}
+
+/// Pause loops a worker spins for the next loop before it sleeps: ~0.1 ms,
+/// longer than the serial gaps between the loops of one step, short enough
+/// that an idle pool (between runs, or on a busy machine) leaves the core to
+/// others.
+constexpr int spin_before_sleep = 4000;
+
+constexpr std::uint64_t pack(std::uint32_t loop, std::uint32_t unclaimed) noexcept
+{
+    return static_cast<std::uint64_t>(loop) << 32 | unclaimed;
+}
+constexpr std::uint32_t loop_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket >> 32); }
+constexpr std::uint32_t unclaimed_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket); }
+
 } // namespace
 
 ThreadPool::ThreadPool(unsigned threads)
@@ -18,60 +42,73 @@ ThreadPool::ThreadPool(unsigned threads)
 
 ThreadPool::~ThreadPool()
 {
-    {
-        std::lock_guard lock(mutex_);
-        stop_.store(true);
-    }
-    wake_.notify_all();
+    stop_.store(true);
+    loop_.fetch_add(1); // wakes the spinners; notify_all the sleepers
+    loop_.notify_all();
     for (auto& w : workers_) w.join();
 }
 
-void ThreadPool::run_chunks()
+void ThreadPool::run_chunks(std::uint32_t loop)
 {
+    std::uint64_t ticket = ticket_.load(std::memory_order_acquire);
     for (;;) {
-        const std::size_t begin = next_.fetch_add(chunk_, std::memory_order_relaxed);
-        if (begin >= n_) return;
+        if (loop_of(ticket) != loop || unclaimed_of(ticket) == 0) return;
+        if (!ticket_.compare_exchange_weak(ticket, ticket - 1, std::memory_order_acquire, std::memory_order_acquire))
+            continue; // another thread claimed one, or a new loop began: look again
+        // Claimed: the caller waits for this chunk, so the loop's fields stay.
+        const std::size_t c = chunks_ - unclaimed_of(ticket);
+        const std::size_t begin = c * chunk_;
         (*body_)(begin, std::min(begin + chunk_, n_));
+        done_.fetch_add(1, std::memory_order_release);
+        ticket = ticket_.load(std::memory_order_acquire);
     }
 }
 
 void ThreadPool::worker_loop()
 {
-    std::uint64_t seen = 0;
+    std::uint32_t seen = 0;
     for (;;) {
-        int spins = 0;
-        while (generation_.load(std::memory_order_acquire) == seen && !stop_.load(std::memory_order_relaxed)) {
+        std::uint32_t loop = loop_.load(std::memory_order_acquire);
+        for (int spins = 0; loop == seen; loop = loop_.load(std::memory_order_acquire)) {
             if (++spins < spin_before_sleep) {
-                if (spins > 64) std::this_thread::yield();
+                cpu_relax();
                 continue;
             }
-            std::unique_lock lock(mutex_);
-            wake_.wait(lock, [&] { return stop_.load() || generation_.load() != seen; });
+            // Sleep. The caller stores loop_ before it reads sleepers_, and we
+            // count ourselves before we read loop_ (both sequentially
+            // consistent): either it sees us and notifies, or we see its loop.
+            sleepers_.fetch_add(1);
+            if (loop_.load() == seen) loop_.wait(seen);
+            sleepers_.fetch_sub(1);
+            spins = 0;
         }
         if (stop_.load()) return;
-        seen = generation_.load(std::memory_order_acquire);
-        run_chunks();
-        pending_.fetch_sub(1, std::memory_order_acq_rel);
+        seen = loop;
+        run_chunks(loop);
     }
 }
 
 void ThreadPool::for_chunks(std::size_t n, std::size_t chunk,
     const std::function<void(std::size_t, std::size_t)>& body)
 {
+    chunk = std::max<std::size_t>(chunk, 1);
+    const std::size_t chunks = (n + chunk - 1) / chunk;
+    assert(chunks < std::numeric_limits<std::uint32_t>::max());
+    if (chunks == 0) return;
     body_ = &body;
     n_ = n;
-    chunk_ = std::max<std::size_t>(chunk, 1);
-    next_.store(0, std::memory_order_relaxed);
-    pending_.store(static_cast<unsigned>(workers_.size()), std::memory_order_relaxed);
-    {
-        std::lock_guard lock(mutex_); // pairs with the sleeping workers' predicate check
-        generation_.fetch_add(1, std::memory_order_release);
-    }
-    wake_.notify_all();
-    run_chunks();
-    int spins = 0;
-    while (pending_.load(std::memory_order_acquire) != 0)
-        if (++spins > 64) std::this_thread::yield();
+    chunk_ = chunk;
+    chunks_ = static_cast<std::uint32_t>(chunks);
+    done_.store(0, std::memory_order_relaxed);
+    const std::uint32_t loop = loop_.load(std::memory_order_relaxed) + 1;
+    ticket_.store(pack(loop, chunks_), std::memory_order_release);
+    loop_.store(loop);
+    if (sleepers_.load() != 0) loop_.notify_all();
+    run_chunks(loop);
+    // Only chunks that a worker claimed can still be running.
+    for (int spins = 0; done_.load(std::memory_order_acquire) != chunks_;)
+        if (++spins < 64) cpu_relax();
+        else std::this_thread::yield();
 }
 
 } // namespace wiredem::engine

@@ -6,11 +6,9 @@
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -18,6 +16,13 @@ namespace wiredem::engine {
 
 /// Worker threads for parallel_for. Not copyable. One loop runs at a time: a
 /// pool must not be used from two threads at once.
+///
+/// A loop is a set of chunks that threads claim one at a time; the caller
+/// claims chunks too and waits only for chunks that another thread has
+/// claimed and not finished. A worker that has not woken up yet when the
+/// chunks run out (the machine is busy, or it was asleep) takes no part and
+/// costs the loop nothing: on a loaded machine a loop is never slower than on
+/// the caller alone.
 class ThreadPool {
 public:
     /// @param threads total threads taking part in a loop, the caller included;
@@ -37,20 +42,30 @@ public:
 
 private:
     void worker_loop();
-    void run_chunks();
+    /// Claims and runs chunks of loop `loop` until none is left (or another
+    /// loop has been published).
+    void run_chunks(std::uint32_t loop);
 
-    // A loop is published by bumping generation_; workers spin on it for a
-    // short while (steps come back to back) before sleeping on wake_. The
-    // caller spins (yielding) until pending_ reaches zero.
     std::vector<std::thread> workers_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
+
+    // The published loop. Written by the caller before it publishes the loop
+    // number in ticket_ and read by a thread only after it has claimed a
+    // chunk: the caller does not return (and write the next loop) until every
+    // claimed chunk is done, so these need no atomics.
     const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
     std::size_t n_ = 0;
     std::size_t chunk_ = 1;
-    std::atomic<std::size_t> next_{0};
-    std::atomic<std::uint64_t> generation_{0};
-    std::atomic<unsigned> pending_{0};
+    std::uint32_t chunks_ = 0;
+
+    // ticket_ = loop number << 32 | chunks not yet claimed; a chunk is claimed
+    // by a compare-exchange that checks both, so no thread can claim a chunk
+    // of a loop that has ended. done_ counts finished chunks.
+    alignas(64) std::atomic<std::uint64_t> ticket_{0};
+    alignas(64) std::atomic<std::uint32_t> done_{0};
+    // Workers spin on loop_ for a short while between loops (a step's loops
+    // come back to back), then sleep on it (atomic wait: a futex).
+    alignas(64) std::atomic<std::uint32_t> loop_{0};
+    std::atomic<unsigned> sleepers_{0};
     std::atomic<bool> stop_{false};
 };
 

@@ -3,8 +3,19 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <future>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <signal.h>
+#include <unistd.h>
 
 using namespace wiredem::engine;
 
@@ -48,4 +59,72 @@ TEST(ThreadPool, ManyBackToBackLoopsComplete)
     for (int loop = 0; loop < 2000; ++loop)
         parallel_for(pool, 1000, [&](std::size_t) { total.fetch_add(1, std::memory_order_relaxed); }, 64);
     EXPECT_EQ(total.load(), 2000L * 1000L);
+}
+
+namespace {
+// A worker held in a signal handler stands for one the system has not
+// scheduled (a busy machine, more threads than cores): the pool must not wait
+// for it.
+std::atomic<bool> hold_worker{false};
+std::atomic<bool> worker_held{false};
+extern "C" void hold_in_handler(int)
+{
+    worker_held.store(true);
+    while (hold_worker.load()) {
+    }
+    worker_held.store(false);
+}
+
+/// Thread ids of this process other than the calling thread.
+std::vector<pid_t> other_threads()
+{
+    std::vector<pid_t> tids;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) {
+        const pid_t tid = std::stoi(entry.path().filename().string());
+        if (tid != gettid()) tids.push_back(tid);
+    }
+    return tids;
+}
+} // namespace
+
+TEST(ThreadPool, LoopsFinishWhileAWorkerCannotRun)
+{
+    const std::vector<pid_t> before = other_threads(); // a sanitizer may have its own
+    ThreadPool pool(2);
+    std::vector<pid_t> workers = other_threads();
+    std::erase_if(workers, [&](pid_t t) { return std::find(before.begin(), before.end(), t) != before.end(); });
+    ASSERT_EQ(workers.size(), 1u) << "expected one new thread, the pool's worker";
+    struct sigaction action {}, previous {};
+    action.sa_handler = hold_in_handler;
+    ASSERT_EQ(sigaction(SIGUSR1, &action, &previous), 0);
+    hold_worker.store(true);
+    ASSERT_EQ(tgkill(getpid(), workers[0], SIGUSR1), 0);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!worker_held.load() && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    if (!worker_held.load()) { // a sanitizer runtime may defer the signal while the worker sleeps
+        hold_worker.store(false);
+        sigaction(SIGUSR1, &previous, nullptr);
+        GTEST_SKIP() << "the worker did not take the signal within 10 s";
+    }
+    // The loops run on the caller alone; an old pool waited for every worker
+    // to check in, and hung here until the worker was released.
+    auto loops = std::async(std::launch::async, [&pool] {
+        long visited = 0;
+        for (int loop = 0; loop < 100; ++loop) {
+            std::vector<char> seen(1000, 0);
+            parallel_for(pool, seen.size(), [&](std::size_t i) { seen[i] = 1; }, 10);
+            visited += std::count(seen.begin(), seen.end(), 1);
+        }
+        return visited;
+    });
+    const bool finished = loops.wait_for(std::chrono::seconds(10)) == std::future_status::ready;
+    hold_worker.store(false); // let the worker go (and a hung pool finish) either way
+    EXPECT_TRUE(finished) << "100 loops did not finish in 10 s while the worker was held";
+    EXPECT_EQ(loops.get(), 100L * 1000L);
+    while (worker_held.load()) std::this_thread::yield();
+    sigaction(SIGUSR1, &previous, nullptr);
+    // And the worker takes part again.
+    std::atomic<long> total{0};
+    parallel_for(pool, 100000, [&](std::size_t) { total.fetch_add(1, std::memory_order_relaxed); }, 64);
+    EXPECT_EQ(total.load(), 100000L);
 }
