@@ -11,7 +11,9 @@ for t in "$@"; do targets+=(--target "$t"); done
 # the compile time of -O2 -g (measured on server/session.cpp under ASan:
 # 143 s → 75 s of CPU), still with file:line in every sanitizer report. They
 # build neither the benchmarks nor the demo, which no test runs. The engine
-# library itself stays at -O2 (engine/CMakeLists.txt): the tests run in it.
+# library itself stays at -O2 (engine/CMakeLists.txt): the tests run in it;
+# the server and the client's network side go down to -O0 (CMakeLists.txt,
+# wiredem_compile_fast_under_sanitizers): they wait on sockets.
 sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
   -DWIREDEM_BUILD_BENCH=OFF -DWIREDEM_BUILD_APPS=OFF)
 case "$variant" in
