@@ -4,6 +4,8 @@
 #include <cassert>
 #include <limits>
 
+#include <pthread.h>
+
 namespace wiredem::engine {
 namespace {
 
@@ -37,7 +39,11 @@ ThreadPool::ThreadPool(unsigned threads)
 {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     workers_.reserve(threads - 1);
-    for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this] { worker_loop(); });
+    for (unsigned t = 1; t < threads; ++t) {
+        workers_.emplace_back([this] { worker_loop(); });
+        // Named, so that `top -H`, a debugger or a test can tell them apart.
+        pthread_setname_np(workers_.back().native_handle(), worker_thread_name);
+    }
 }
 
 ThreadPool::~ThreadPool()

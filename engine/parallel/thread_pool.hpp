@@ -14,6 +14,9 @@
 
 namespace wiredem::engine {
 
+/// Name of every worker thread (as /proc/<pid>/task/<tid>/comm shows it).
+inline constexpr char worker_thread_name[] = "wiredem-worker";
+
 /// Worker threads for parallel_for. Not copyable. One loop runs at a time: a
 /// pool must not be used from two threads at once.
 ///
