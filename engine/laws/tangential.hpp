@@ -3,8 +3,22 @@
 // reading), that breaks into dynamic sliding when |F_t| > μ F_n or
 // |δ_t| > d_cr. While sliding, F_t = −F_n min(μ, γ_t |v_t|) v̂_t: shear damping
 // below the Coulomb bound, Coulomb friction above it. A sliding contact sticks
-// again (a new spring, δ_t = 0) once γ_t |v_t| ≤ μ, i.e. once the relative
-// sliding speed has dropped below μ/γ_t.
+// again (a new spring, δ_t = 0) once the sliding has stopped: γ_t |v_t| ≤ μ
+// (the relative sliding speed has dropped below μ/γ_t), or the slip velocity
+// has turned back since the previous step (v_t · v_t,prev < 0), i.e. it went
+// through zero within the step.
+//
+// Why the second test: an explicit step of Coulomb friction changes the slip
+// velocity by Δv = μ F_n δt / m_t (1/m_t = Σ 1/m + r²/I, 3.5/m per solid
+// sphere), and the window |v_t| ≤ μ/γ_t is 2μ/γ_t wide. Once
+// Δv > 2μ/γ_t, i.e. γ_t F_n δt / m_t > 2 (the explicit stability number of
+// the F_n-normalised shear dashpot c = γ_t F_n), the slip velocity can step
+// over the window and the friction force flips every step: a limit cycle of
+// slip speed ~Δv that never sticks. With masses × 100 and the auto δt this
+// happens from F_n ≈ 0.2 N, i.e. under a few grains' weight: piles of ~300
+// grains chattered with ~90 % of their contacts "sliding" and did not settle
+// (docs/model.md, "Sliding contacts that chattered"). The reversal test catches the
+// stop in the step in which it happens, whatever δt; it puts no bound on δt.
 #pragma once
 
 #include "core/types.hpp"
@@ -15,8 +29,11 @@ namespace wiredem::engine {
 
 /// Memory of one tangential contact.
 struct TangentialState {
-    Vec3 spring_m = Vec3::Zero(); ///< δ_t, relative tangential displacement [m]
-    bool sticking = true;         ///< true: static spring; false: sliding
+    /// Sticking: δ_t, the spring's relative tangential displacement [m].
+    /// Sliding: v_t δt of the last step [m], the slip direction that tells a
+    /// reversal (zero when unknown: no reversal is detected).
+    Vec3 spring_m = Vec3::Zero();
+    bool sticking = true; ///< true: static spring; false: sliding
 };
 
 /// Parameters of the tangential law, shared by all contacts.
@@ -49,22 +66,29 @@ struct TangentialResult {
     // Dynamic friction: F_t = −F_n min(μ, γ_t |v_t|) v̂_t.
     auto sliding = [&](double speed) -> TangentialResult {
         const double f = normal_force_n * std::fmin(p.friction_coeff, p.damping_s_per_m * speed);
-        return {speed > 0.0 ? Vec3(-f / speed * vt) : Vec3(Vec3::Zero()), {Vec3::Zero(), false}};
+        return {speed > 0.0 ? Vec3(-f / speed * vt) : Vec3(Vec3::Zero()), {vt * dt_s, false}};
     };
+    Vec3 spring = Vec3::Zero();
     if (!prev.sticking) {
         const double speed = vt.norm();
-        // γ_t |v_t| ≤ μ: the sliding has stopped, attach a new spring.
-        if (p.damping_s_per_m * speed <= p.friction_coeff)
-            return {-p.stiffness_per_m * normal_force_n * (vt * dt_s), {vt * dt_s, true}};
-        return {-coulomb_n / speed * vt, {Vec3::Zero(), false}};
+        // Still sliding: Coulomb friction (damping cannot be the smaller
+        // term here, γ_t |v_t| > μ), and the slip of the step kept.
+        if (p.damping_s_per_m * speed > p.friction_coeff && vt.dot(prev.spring_m) >= 0.0)
+            return {-coulomb_n / speed * vt, {vt * dt_s, false}};
+        // The sliding has stopped (γ_t |v_t| ≤ μ, or v_t turned back: it went
+        // through zero within the step; see the top): a new spring from
+        // δ_t = 0 takes this step's slip, under the same Coulomb and d_cr
+        // bounds as any sticking step. (Without those bounds a contact whose
+        // slip turned back at speed got k_t F_n |v_t| δt, several F_n at
+        // 1 m/s: TriaxialTest.EndToEndRuns blew up.)
+    } else {
+        // Keep the spring in the current tangent plane as the contact turns:
+        // drop its normal component and restore its length. (One square
+        // root: the length ratio is √(|δ|²/|δ_⊥|²).)
+        spring = prev.spring_m - prev.spring_m.dot(normal) * normal;
+        const double new_len2 = spring.squaredNorm();
+        if (new_len2 > 0.0) spring *= std::sqrt(prev.spring_m.squaredNorm() / new_len2);
     }
-
-    // Keep the spring in the current tangent plane as the contact turns:
-    // drop its normal component and restore its length. (One square root:
-    // the length ratio is √(|δ|²/|δ_⊥|²).)
-    Vec3 spring = prev.spring_m - prev.spring_m.dot(normal) * normal;
-    const double new_len2 = spring.squaredNorm();
-    if (new_len2 > 0.0) spring *= std::sqrt(prev.spring_m.squaredNorm() / new_len2);
     spring += vt * dt_s;
 
     const Vec3 force = -p.stiffness_per_m * normal_force_n * spring;

@@ -104,6 +104,51 @@ TEST(TangentialSpring, SticksAgainWhenSlidingStops)
     EXPECT_NEAR(r.next.spring_m.x(), slow * 1e-6, 1e-18);
 }
 
+TEST(TangentialSpring, SticksAgainWhenTheSlipVelocityTurnsBackWhileSliding)
+{
+    // Sliding fast along +x (γ_t |v_t| = 2 > μ): Coulomb force along −x, and
+    // the state remembers the slip of the step, v_t δt.
+    TangentialParams p;
+    const Vec3 n = Vec3::UnitZ();
+    const double dt = 1e-6;
+    const TangentialResult r = tangential_force({Vec3::Zero(), false}, n, Vec3(2e-3, 0, 0), 1.0, p, dt);
+    EXPECT_FALSE(r.next.sticking);
+    EXPECT_NEAR(r.force_n.x(), -p.friction_coeff, 1e-15);
+    EXPECT_NEAR(r.next.spring_m.x(), 2e-3 * dt, 1e-21);
+    // Still fast, but turned back: the slip velocity went through zero within
+    // the step, so the sliding stopped; a new spring holds (δ_t = v_t δt).
+    const Vec3 back(-1.5e-3, 0.2e-3, 0);
+    const TangentialResult s = tangential_force(r.next, n, back, 1.0, p, dt);
+    EXPECT_TRUE(s.next.sticking);
+    EXPECT_NEAR((s.next.spring_m - back * dt).norm(), 0.0, 1e-21);
+    EXPECT_NEAR((s.force_n + p.stiffness_per_m * 1.0 * back * dt).norm(), 0.0, 1e-15);
+    // The same speed turned by less than 90° keeps sliding.
+    const TangentialResult t = tangential_force(r.next, n, Vec3(0.1e-3, 1.5e-3, 0), 1.0, p, dt);
+    EXPECT_FALSE(t.next.sticking);
+}
+
+TEST(TangentialSpring, ASlipThatTurnsBackFastStaysWithinTheCoulombBound)
+{
+    // Sliding along +x, then the slip turns back at 2 m/s within a 10 µs
+    // step: a new spring would take δ_t = v_t δt = 20 µm, whose force
+    // k_t F_n |δ_t| = 2 F_n is far above μ F_n. Like any sticking step it
+    // must break instead: the force stays at μ F_n against the new slip.
+    TangentialParams p;
+    const Vec3 n = Vec3::UnitZ();
+    const double dt = 1e-5, fn = 3.0;
+    const TangentialResult r = tangential_force({Vec3::Zero(), false}, n, Vec3(1.0, 0, 0), fn, p, dt);
+    ASSERT_FALSE(r.next.sticking);
+    const TangentialResult s = tangential_force(r.next, n, Vec3(-2.0, 0, 0), fn, p, dt);
+    EXPECT_FALSE(s.next.sticking);
+    EXPECT_NEAR(s.force_n.x(), p.friction_coeff * fn, 1e-12);
+    EXPECT_NEAR(s.force_n.norm(), p.friction_coeff * fn, 1e-12);
+    // Its slip is remembered: turning back again at a speed whose spring
+    // holds (1 mm/s: k_t |v_t| δt = 10⁻³ < μ) sticks.
+    const TangentialResult t = tangential_force(s.next, n, Vec3(1e-3, 0, 0), fn, p, dt);
+    EXPECT_TRUE(t.next.sticking);
+    EXPECT_NEAR(t.force_n.x(), -p.stiffness_per_m * fn * 1e-3 * dt, 1e-15);
+}
+
 TEST(TangentialSpring, FollowsTheTangentPlaneAndKeepsItsLength)
 {
     TangentialParams p;

@@ -215,7 +215,9 @@ TEST_P(PreparationWithWire, LaysTheWireWhilePouringASoundColumn)
         EXPECT_NEAR(mean_r, r_a, r_p) << "the helix did not keep its radius";
         EXPECT_LT(max_r, r_a + r_p + spec.wire.radius_m) << "the helix sprang out";
     }
-    if (GetParam() == PatternKind::radial_helix) EXPECT_LT(min_r, 0.5 * r_a) << "the hairpins sprang open";
+    if (GetParam() == PatternKind::radial_helix) {
+        EXPECT_LT(min_r, 0.5 * r_a) << "the hairpins sprang open";
+    }
 }
 
 const auto pattern_label = [](const ::testing::TestParamInfo<PatternKind>& i) { return std::string(pattern_name(i.param)); };

@@ -335,7 +335,16 @@ TEST(TriaxialTest, TopPlateFollowsTheConfiningPressureDuringConsolidation)
         EXPECT_EQ(warning.find("consolidated"), std::string::npos) << warning;
 }
 
-TEST(TriaxialTest, PeakDeviatoricStressComesAfterTheStartAndGrowsWithPressure)
+// Whether the peak grows with σ₃ is not asked of this fixture: its loading
+// is fast (not quasi-static, see FastLoadingIsFlaggedAsNotQuasiStatic) and
+// its column is short and nearly crystalline. Once sliding contacts stick
+// again when their slip turns back (engine/laws/tangential.hpp), the 10 kPa
+// run carries humps of q = 90–140 kPa for ~1 % of strain before the lattice
+// gives way, while the 40 kPa run, whose order the pressure ramp has already
+// broken, rises steadily to ~40 kPa (measured at 5, 15 and 25 %
+// polydispersity). Campaign.TinyJobWritesASaneSummaryAndResultFile asks it of
+// a poured specimen: φ > 0 across two pressures.
+TEST(TriaxialTest, PeakDeviatoricStressComesAfterTheStart)
 {
     const TriaxialResult& low = lattice_result(10e3);
     const TriaxialResult& high = lattice_result(40e3);
@@ -345,7 +354,6 @@ TEST(TriaxialTest, PeakDeviatoricStressComesAfterTheStartAndGrowsWithPressure)
         EXPECT_GT(r->peak_sigma1_pa, r->peak_sigma3_effective_pa);
         EXPECT_DOUBLE_EQ(r->series.deviatoric_stress_pa[r->peak_sample], r->peak_deviatoric_stress_pa);
     }
-    EXPECT_GT(high.peak_deviatoric_stress_pa, low.peak_deviatoric_stress_pa);
 }
 
 TEST(TriaxialTest, SnapshotsAtTheRequestedStrainsHoldTheWholeSystem)
