@@ -64,7 +64,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
 
     p.density_scale = spec.engine.density_scale;
-    p.node_mass_scale = spec.engine.wire_mass_scale;
+    p.wire_mass_scale = spec.engine.wire_mass_scale;
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
     p.time_step_s = spec.engine.time_step_s.value_or(0.0);

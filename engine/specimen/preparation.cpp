@@ -182,7 +182,7 @@ private:
 
 /// Kinetic energy of grains (translation and rotation) and wire nodes, the
 /// nodes' masses divided by their extra scale M [J]. Serial, in id order.
-double settling_energy_j(const World& w, double node_mass_scale)
+double settling_energy_j(const World& w, double wire_mass_scale)
 {
     double e = 0.0;
     const TranslationalState& g = w.of(BodyKind::grain);
@@ -195,20 +195,20 @@ double settling_energy_j(const World& w, double node_mass_scale)
     }
     const TranslationalState& n = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < n.size(); ++i)
-        if (n.inv_mass_per_kg[i] != 0.0) e += 0.5 * n.mass_kg[i] / node_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
+        if (n.inv_mass_per_kg[i] != 0.0) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
     return e;
 }
 
 } // namespace
 
-void set_weights(World& w, double density_scale, double node_mass_scale, double weight_factor)
+void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor)
 {
     const Vec3 g(0.0, 0.0, -standard_gravity_m_per_s2);
     w.gravity_m_per_s2 = g * (weight_factor / density_scale);
     w.gravity_acts[static_cast<int>(BodyKind::wire)] = false;
     const TranslationalState& wire = w.of(BodyKind::wire);
     w.point_loads.clear();
-    const double per_mass = weight_factor / (density_scale * node_mass_scale);
+    const double per_mass = weight_factor / (density_scale * wire_mass_scale);
     for (std::uint32_t i = 0; i < wire.size(); ++i)
         w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), wire.mass_kg[i] * per_mass * g);
 }
@@ -242,13 +242,13 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     const std::uint8_t plate_mat = add_material(w, spec.plate);
     add_wall(w, make_plate(0.0, +1.0, plate_mat));
     WireSpec wire = spec.wire;
-    wire.density_scale = spec.density_scale * spec.node_mass_scale;
+    wire.density_scale = spec.density_scale * spec.wire_mass_scale;
     configure_wire(w, wire);
     MembraneSpec membrane = spec.membrane;
     membrane.radius_m = R;
     membrane.height_m = spec.membrane_height_m;
     membrane.base_z_m = 0.0;
-    membrane.density_scale = spec.density_scale; // the wire alone takes node_mass_scale
+    membrane.density_scale = spec.density_scale; // the wire alone takes wire_mass_scale
     build_membrane(w, membrane);
     set_membrane_rigid(w, true);
     // The mould lies on the inner surface of the membrane's node spheres: a
@@ -263,7 +263,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     const bool wire_touches_membrane = w.kinds_interact[1][2];
     w.kinds_interact[1][2] = w.kinds_interact[2][1] = false;
     // Weights scaled like the masses while pouring (see preparation.hpp).
-    set_weights(w, spec.density_scale, spec.node_mass_scale, spec.density_scale);
+    set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
 
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
@@ -315,7 +315,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
         for (;;) {
             if (std::string e = step_once(); !e.empty()) return e;
             if (steps % check_every == 0) {
-                const double ke = settling_energy_j(w, spec.node_mass_scale);
+                const double ke = settling_energy_j(w, spec.wire_mass_scale);
                 if (ke / static_cast<double>(w.of(BodyKind::grain).size())
                     < spec.settle_kinetic_energy_per_grain_j * spec.density_scale) {
                     settled = true;
@@ -370,7 +370,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
             if (look) nozzle_target = resting_height_m(w, nozzle.position(), spec.wire.radius_m, in_pile, own_nodes);
             nozzle.advance(w, dt, nozzle_target);
             if (w.point_loads.size() != w.of(BodyKind::wire).size())
-                set_weights(w, spec.density_scale, spec.node_mass_scale, spec.density_scale);
+                set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
         }
         if (std::string e = step_once(); !e.empty()) return Err(e);
     }

@@ -36,7 +36,7 @@ struct PreparationSpec {
     /// M: extra inertia of the wire nodes (masses s·M times the model's),
     /// weights unchanged. The wire's springs then no longer set the time
     /// step; the membrane takes s only (docs/model.md, "Quasi-static scaling").
-    double node_mass_scale = 1.0;
+    double wire_mass_scale = 1.0;
     /// Speed at which the fill height rises while pouring [m/s]; sets the
     /// pouring time and therefore the length of wire laid.
     double fill_rate_m_per_s = 0.04;
@@ -73,7 +73,7 @@ struct PreparationReport {
 /// nodes (masses s·M times real): gravity_acts is off for them and each
 /// carries a point load f · m_real · g instead. Membrane nodes never weigh
 /// anything (the model spec §3). Call again after adding wire nodes.
-void set_weights(World& w, double density_scale, double node_mass_scale, double weight_factor);
+void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor);
 
 /// Standard gravity of the model (the model spec §3) [m/s²].
 inline constexpr double standard_gravity_m_per_s2 = 10.0;

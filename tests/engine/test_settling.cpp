@@ -35,7 +35,7 @@ PreparationSpec small_column(PatternKind kind, std::size_t grains)
     s.pattern.helix_radius_m = 4e-3;
     s.pattern.inner_radius_m = 1.5e-3;
     s.density_scale = 100.0;
-    s.node_mass_scale = 400.0;
+    s.wire_mass_scale = 400.0;
     s.fill_rate_m_per_s = 0.3;
     s.max_time_s = 1.5;
     const double grain_mass = s.density_scale * s.grain.density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi
