@@ -2,6 +2,8 @@
 // body estimate and the damping time (see api/derived.hpp).
 #include "api/derived.hpp"
 
+#include "api/engine_settings.hpp"
+
 #include "laws/hertz.hpp"
 #include "state/world.hpp"
 #include "timestep.hpp"
@@ -75,9 +77,9 @@ BodyCounts estimated_body_counts(const JobSpec& spec)
     BodyCounts n;
     n.grains = s.grain_count;
     if (s.wire.pattern != WirePattern::none) {
-        // Laid at ω R_a for the time the nozzle takes to rise H_m (the model spec §5).
-        const double laid_length_m = s.wire.angular_speed_rad_per_s * s.wire.helix_radius_m * s.membrane_height_m
-                                   / s.wire.nozzle_rise_speed_m_per_s;
+        // Laid at ω R_a while the grains are poured (fill height / fill rate),
+        // as the preparation paces it.
+        const double laid_length_m = engine::estimated_wire_length_m(preparation_spec(spec));
         n.wire_nodes = static_cast<std::uint64_t>(std::ceil(laid_length_m / s.wire.segment_length_m)) + 1;
     }
     // Rows of a triangular mesh are l_m √3/2 apart.

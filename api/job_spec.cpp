@@ -463,6 +463,7 @@ void read_membrane(ObjectReader& r, MembraneSpec& m)
 
 void read_pouring(ObjectReader& r, PouringSpec& p)
 {
+    r.number("fill_rate_m_per_s", open_closed(0.0, 100.0), p.fill_rate_m_per_s);
     r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), p.settle_kinetic_energy_per_grain_j);
     r.number("max_preparation_time_s", open_closed(0.0, 1e4), p.max_preparation_time_s);
 }
@@ -677,6 +678,19 @@ void check_wire_fits(Validator& v, const SpecimenSpec& s)
                 + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
 }
 
+void check_fill_rate(Validator& v, const SpecimenSpec& s)
+{
+    if (s.wire.pattern == WirePattern::none || !v.clean({"specimen.pouring.fill_rate_m_per_s", "specimen.wire"}))
+        return;
+    // The nozzle follows the top of the pile at most v_z^w (the model spec §5).
+    if (s.pouring.fill_rate_m_per_s > s.wire.nozzle_rise_speed_m_per_s)
+        v.note("specimen.pouring.fill_rate_m_per_s",
+            exact_text(s.pouring.fill_rate_m_per_s) + " is faster than specimen.wire.nozzle_rise_speed_m_per_s "
+                + exact_text(s.wire.nozzle_rise_speed_m_per_s)
+                + ": the nozzle, which rises at most that fast, would fall behind the pile; fill_rate_m_per_s "
+                  "must not exceed it");
+}
+
 void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
 {
     if (!v.clean({"specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.membrane"})) return;
@@ -695,8 +709,9 @@ void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
 
 void check_body_count(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen.grain_count", "specimen.membrane_radius_m", "specimen.membrane_height_m",
-            "specimen.membrane.mesh_size_m", "specimen.wire", "engine.max_bodies"}))
+    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
+            "specimen.membrane_radius_m", "specimen.membrane_height_m", "specimen.membrane.mesh_size_m",
+            "specimen.wire", "specimen.pouring.fill_rate_m_per_s", "engine.max_bodies"}))
         return;
     const BodyCounts n = estimated_body_counts(spec);
     if (n.total() > spec.engine.max_bodies)
@@ -735,6 +750,7 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_grain_size(v, spec.specimen);
     check_grain_volume(v, spec.specimen);
     check_wire_fits(v, spec.specimen);
+    check_fill_rate(v, spec.specimen);
     check_membrane_mesh(v, spec.specimen);
     check_body_count(v, spec);
     check_snapshots(v, spec.triaxial);
@@ -804,6 +820,7 @@ json::object specimen_json(const SpecimenSpec& s)
         {"membrane", std::move(membrane)},
         {"pouring",
             {
+                {"fill_rate_m_per_s", s.pouring.fill_rate_m_per_s},
                 {"settle_kinetic_energy_per_grain_j", s.pouring.settle_kinetic_energy_per_grain_j},
                 {"max_preparation_time_s", s.pouring.max_preparation_time_s},
             }},

@@ -186,6 +186,7 @@ void write_test(eng::io::Group g, double pressure_pa, const eng::TriaxialResult&
     g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
     g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
     g.write_double_attribute("max_inertial_number", r.verdict.max_inertial_number);
+    g.write_double_attribute("mean_kinetic_to_elastic", r.verdict.mean_kinetic_to_elastic);
     g.write_double_attribute("max_kinetic_to_elastic", r.verdict.max_kinetic_to_elastic);
     g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
     g.write_double_attribute("time_step_s", r.time_step_s);
@@ -415,6 +416,7 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
             o["sigma3_effective_pa"] = number_or_null(t.peak_sigma3_effective_pa);
             o["quasi_static"] = t.verdict.quasi_static;
             o["max_inertial_number"] = number_or_null(t.verdict.max_inertial_number);
+            o["mean_kinetic_to_elastic"] = number_or_null(t.verdict.mean_kinetic_to_elastic);
             o["max_kinetic_to_elastic"] = number_or_null(t.verdict.max_kinetic_to_elastic);
             o["steps"] = t.steps;
             o["wall_time_s"] = t.wall_time_s;

@@ -67,7 +67,7 @@ def behind(src):
     c = Clip(Input=src, **front)
     c.ClipType.Origin = [0.0, 0.0, 0.0]
     c.ClipType.Normal = [0.0, -1.0, 0.0]
-    c.Invert = 0
+    c.Invert = 1  # keep the side the normal points away from: y > 0, away from the camera
     return c
 
 

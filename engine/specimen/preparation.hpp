@@ -38,9 +38,17 @@ struct PreparationSpec {
     /// step; the membrane takes s only (docs/model.md, "Quasi-static scaling").
     double wire_mass_scale = 1.0;
     /// Speed at which the fill height rises while pouring [m/s]; sets the
-    /// pouring time and therefore the length of wire laid.
-    double fill_rate_m_per_s = 0.04;
-    double pour_speed_m_per_s = 0.5;       ///< grains enter the pouring zone moving down at this speed
+    /// pouring time and therefore the length of wire laid: a helix's pitch
+    /// is 2π v_fill / ω. At most pattern.rise_speed_m_per_s (the nozzle
+    /// keeps up with the pile); the job field's default, 0.5 m/s, is the
+    /// paper's v_z^w.
+    double fill_rate_m_per_s = 0.5;
+    /// Grains enter the pouring zone moving down at this speed, or at 2.5 ×
+    /// the fill rate if that is faster (pour_entry_speed_m_per_s) [m/s].
+    double pour_speed_m_per_s = 0.5;
+    /// Height of fill poured over the wire after the nozzle stops, so that
+    /// its last turn is buried [m]; < 0: one diameter of the largest grain.
+    double wire_cover_m = -1.0;
     double clearance_m = 1e-3;             ///< wire pattern keeps r_w + this inside the membrane
     double settle_kinetic_energy_per_grain_j = 1e-9;
     double max_time_s = 5.0;               ///< simulated time limit for the whole preparation
@@ -109,5 +117,23 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 ///         column taller than the membrane, cancelled, blew up)
 [[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(
     Simulation& sim, const PreparationSpec& spec, const RunControl& control = {});
+
+/// Height the grains fill, estimated before pouring at a packing fraction of
+/// 0.58 (prepare_specimen paces the pouring by it) [m].
+[[nodiscard]] double estimated_fill_height_m(const PreparationSpec& spec);
+
+/// Speed at which grains enter the pouring zone: pour_speed_m_per_s, or
+/// 2.5 × the fill rate if faster, so that the pour can keep to the fill
+/// rate (random placement fills the zone to only ~0.3) [m/s].
+[[nodiscard]] double pour_entry_speed_m_per_s(const PreparationSpec& spec);
+
+/// Height of fill poured over the wire after the nozzle has stopped [m]:
+/// spec.wire_cover_m, or by default one diameter of the largest grain.
+[[nodiscard]] double wire_cover_height_m(const PreparationSpec& spec);
+
+/// Length of wire prepare_specimen lays, estimated: ω R_a for the time the
+/// fill takes to rise to the wire cover, (fill height − cover) / fill rate
+/// [m]; 0 without a pattern.
+[[nodiscard]] double estimated_wire_length_m(const PreparationSpec& spec);
 
 } // namespace wiredem::engine

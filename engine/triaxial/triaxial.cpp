@@ -111,6 +111,30 @@ void TriaxialSeries::push_back(const TriaxialSample& s)
     inertial_number.push_back(s.inertial_number);
 }
 
+QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start)
+{
+    QuasiStaticVerdict v;
+    double ratio_sum = 0.0;
+    std::size_t rows = 0;
+    for (std::size_t i = loading_start; i < s.size(); ++i, ++rows) {
+        v.max_inertial_number = std::max(v.max_inertial_number, s.inertial_number[i]);
+        const double ratio = s.elastic_energy_j[i] > 0.0 ? s.kinetic_energy_j[i] / s.elastic_energy_j[i]
+                                                         : std::numeric_limits<double>::infinity();
+        v.max_kinetic_to_elastic = std::max(v.max_kinetic_to_elastic, ratio);
+        ratio_sum += ratio;
+    }
+    v.mean_kinetic_to_elastic = rows > 0 ? ratio_sum / static_cast<double>(rows) : 0.0;
+    if (v.max_inertial_number > max_quasi_static_inertial_number)
+        v.warning = "inertial number reached " + format_number(v.max_inertial_number) + " (quasi-static below "
+                  + format_number(max_quasi_static_inertial_number) + ")";
+    if (v.mean_kinetic_to_elastic > max_quasi_static_energy_ratio)
+        v.warning += std::string(v.warning.empty() ? "" : "; ") + "kinetic/elastic energy averaged "
+                   + format_number(v.mean_kinetic_to_elastic) + " over the loading (quasi-static below "
+                   + format_number(max_quasi_static_energy_ratio) + ")";
+    v.quasi_static = v.warning.empty();
+    return v;
+}
+
 std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3)
 {
     std::vector<double> e(s.size());
@@ -425,22 +449,8 @@ Result<TriaxialResult, std::string> run_triaxial(
         result.warnings.push_back("no valid deviatoric stress sample during loading: no peak");
     }
 
-    // Quasi-static verdict over the loading samples.
     QuasiStaticVerdict& v = result.verdict;
-    for (std::size_t i = loading_start_sample; i < ts.size(); ++i) {
-        v.max_inertial_number = std::max(v.max_inertial_number, ts.inertial_number[i]);
-        const double ratio = ts.elastic_energy_j[i] > 0.0 ? ts.kinetic_energy_j[i] / ts.elastic_energy_j[i]
-                                                          : std::numeric_limits<double>::infinity();
-        v.max_kinetic_to_elastic = std::max(v.max_kinetic_to_elastic, ratio);
-    }
-    if (v.max_inertial_number > max_quasi_static_inertial_number)
-        v.warning = "inertial number reached " + format_number(v.max_inertial_number) + " (quasi-static below "
-                  + format_number(max_quasi_static_inertial_number) + ")";
-    if (v.max_kinetic_to_elastic > max_quasi_static_energy_ratio)
-        v.warning += std::string(v.warning.empty() ? "" : "; ") + "kinetic/elastic energy reached "
-                   + format_number(v.max_kinetic_to_elastic) + " (quasi-static below "
-                   + format_number(max_quasi_static_energy_ratio) + ")";
-    v.quasi_static = v.warning.empty();
+    v = quasi_static_verdict(ts, loading_start_sample);
     if (!v.quasi_static) {
         v.warning = "test at σ₃ = " + format_number(settings.confining_pressure_pa) + " Pa was not quasi-static: " + v.warning
                   + "; lower the plate speed or the density scaling";

@@ -40,8 +40,14 @@ namespace wiredem::engine {
 /// quasi-static when, during loading, the inertial number exceeds
 /// `max_quasi_static_inertial_number` (I ≲ 10⁻³ is the usual quasi-static
 /// regime, GDR MiDi 2004; above it the stress depends on the loading rate) or
-/// the kinetic energy exceeds `max_quasi_static_energy_ratio` times the stored
-/// elastic energy (1 %: the stored energy, not the motion, carries the load).
+/// the kinetic energy, averaged over the loading, exceeds
+/// `max_quasi_static_energy_ratio` times the stored elastic energy (1 %: the
+/// stored energy, not the motion, carries the load). The average, not the
+/// largest sample: a slip event (q drops as a force chain buckles) turns
+/// stored energy into motion at any plate speed, and a slower plate does not
+/// make it smaller (measured on examples/main.json: the largest sample went
+/// from 0.003 to 0.0105 when the plate slowed from 1 to 0.6 mm/s, at a drop
+/// of q from 35.4 to 28.8 kPa; the mean stayed at 0.0015).
 inline constexpr double max_quasi_static_inertial_number = 1e-3;
 inline constexpr double max_quasi_static_energy_ratio = 1e-2;
 /// Consolidation check: loading should start from an isotropic state. A test
@@ -175,9 +181,16 @@ struct TriaxialSnapshot {
 struct QuasiStaticVerdict {
     bool quasi_static = true;
     double max_inertial_number = 0.0;     ///< over the loading samples
-    double max_kinetic_to_elastic = 0.0;  ///< max KE / elastic energy over the loading samples
+    double mean_kinetic_to_elastic = 0.0; ///< mean KE / elastic energy over the loading samples (the criterion)
+    double max_kinetic_to_elastic = 0.0;  ///< its largest sample (slip events; not a criterion)
     std::string warning;                  ///< empty when quasi-static; otherwise what was exceeded
 };
+
+/// The quasi-static verdict over the rows from `loading_start` on (rows
+/// evenly spaced in time): the largest inertial number, and the mean and
+/// largest kinetic/elastic energy ratio (a row without elastic energy counts
+/// as ∞). Flags the test when I or the mean ratio is above its threshold.
+[[nodiscard]] QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start);
 
 /// Everything one test produced.
 struct TriaxialResult {

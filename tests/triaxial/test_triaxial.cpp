@@ -392,6 +392,55 @@ TEST(TriaxialTest, FastLoadingIsFlaggedAsNotQuasiStatic)
     ASSERT_FALSE(r.warnings.empty());
 }
 
+namespace {
+
+/// A series of `rows` rows, evenly spaced in time, with I = 5·10⁻⁴, elastic
+/// energy 1 J and kinetic energy `ke(i)` J.
+template <class KineticEnergy>
+TriaxialSeries verdict_series(std::size_t rows, KineticEnergy ke)
+{
+    TriaxialSeries s;
+    for (std::size_t i = 0; i < rows; ++i) {
+        s.time_s.push_back(1e-2 * static_cast<double>(i));
+        s.inertial_number.push_back(5e-4);
+        s.elastic_energy_j.push_back(1.0);
+        s.kinetic_energy_j.push_back(ke(i));
+    }
+    return s;
+}
+
+} // namespace
+
+TEST(QuasiStaticVerdict, ASlipEventIsNotARateProblemButSustainedMotionIs)
+{
+    // 100 loading rows after 10 rows of consolidation (left out, whatever
+    // they hold). A slip event: one row at 5 % of the stored energy in a
+    // loading at 0.2 %: mean 0.0025, quasi-static; the max is reported.
+    auto burst = verdict_series(110, [](std::size_t i) { return i < 10 ? 1.0 : i == 60 ? 0.05 : 0.002; });
+    QuasiStaticVerdict v = quasi_static_verdict(burst, 10);
+    EXPECT_TRUE(v.quasi_static) << v.warning;
+    EXPECT_NEAR(v.mean_kinetic_to_elastic, (99 * 0.002 + 0.05) / 100.0, 1e-15);
+    EXPECT_DOUBLE_EQ(v.max_kinetic_to_elastic, 0.05);
+    EXPECT_DOUBLE_EQ(v.max_inertial_number, 5e-4);
+    // Sustained motion at 2 % of the stored energy: not quasi-static, and the
+    // warning names the averaged ratio.
+    auto fast = verdict_series(110, [](std::size_t) { return 0.02; });
+    v = quasi_static_verdict(fast, 10);
+    EXPECT_FALSE(v.quasi_static);
+    EXPECT_NE(v.warning.find("kinetic/elastic energy averaged 0.02"), std::string::npos) << v.warning;
+    // An inertial number above 10⁻³ in a single row is flagged (it measures
+    // the loading rate itself).
+    auto rate = verdict_series(110, [](std::size_t) { return 0.001; });
+    rate.inertial_number[50] = 2e-3;
+    v = quasi_static_verdict(rate, 10);
+    EXPECT_FALSE(v.quasi_static);
+    EXPECT_NE(v.warning.find("inertial number reached 0.002"), std::string::npos) << v.warning;
+    // A row without stored energy makes the ratio infinite: flagged.
+    auto empty = verdict_series(110, [](std::size_t) { return 0.001; });
+    empty.elastic_energy_j[70] = 0.0;
+    EXPECT_FALSE(quasi_static_verdict(empty, 10).quasi_static);
+}
+
 // (c) Determinism.
 
 TEST(TriaxialDeterminism, TimeSeriesBitIdenticalOnOneAndTwoThreads)
