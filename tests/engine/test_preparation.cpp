@@ -4,7 +4,7 @@
 // and membrane nodes another × 400, so that neither the nodes' springs nor
 // heavy grains' impacts make δt small.
 #include "core/hash.hpp"
-#include "laws/hertz.hpp"
+#include "small_column.hpp"
 #include "specimen/preparation.hpp"
 
 #include <gtest/gtest.h>
@@ -14,6 +14,7 @@
 #include <vector>
 
 using namespace wiredem::engine;
+using wiredem::engine::test::small_column;
 
 namespace {
 
@@ -21,29 +22,6 @@ namespace {
 /// tangential law's re-stick test (engine/laws/tangential.hpp) piles of more
 /// than ~120 did not settle at the auto δt (tests/engine/test_settling.cpp).
 constexpr std::size_t test_column_grains = 300;
-
-/// A small column; masses × 100 and nodes × 400 more (quasi-static scaling)
-/// so that a preparation takes ~10⁴ steps.
-PreparationSpec small_column(PatternKind kind, std::size_t grains)
-{
-    PreparationSpec s;
-    s.membrane_radius_m = 8e-3;
-    s.membrane_height_m = 0.04;
-    s.grain_count = grains;
-    s.pattern.kind = kind;
-    s.pattern.helix_radius_m = 4e-3;
-    s.pattern.inner_radius_m = 1.5e-3;
-    s.density_scale = 100.0;
-    s.wire_mass_scale = 400.0;
-    s.fill_rate_m_per_s = 0.3;
-    s.max_time_s = 1.5;
-    const double grain_mass = s.density_scale * s.grain.density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi
-                            * std::pow(s.grain_radius_m, 3);
-    const double e_star = effective_modulus_pa(s.grain.youngs_modulus_pa, s.grain.poisson_ratio,
-        s.grain.youngs_modulus_pa, s.grain.poisson_ratio);
-    s.contact.normal_damping_s = hertz_damping_for_restitution_s(0.3, 0.5 * grain_mass, 0.1, e_star, 0.5 * s.grain_radius_m);
-    return s;
-}
 
 std::uint64_t specimen_hash(const World& w)
 {

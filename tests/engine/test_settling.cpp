@@ -11,7 +11,7 @@
 // see it: under fewer grains' weight fewer contacts reach the normal force
 // (≈ 0.2 N) from which one step of Coulomb friction overshoots the stick
 // window.
-#include "laws/hertz.hpp"
+#include "small_column.hpp"
 #include "specimen/preparation.hpp"
 
 #include <gtest/gtest.h>
@@ -20,38 +20,12 @@
 #include <numbers>
 
 using namespace wiredem::engine;
-
-namespace {
-
-/// The small column of tests/engine/test_preparation.cpp (`small_column`):
-/// R = 8 mm, masses × 100 and wire nodes × 400 more, e_n = 0.3 at 0.1 m/s.
-PreparationSpec small_column(PatternKind kind, std::size_t grains)
-{
-    PreparationSpec s;
-    s.membrane_radius_m = 8e-3;
-    s.membrane_height_m = 0.04;
-    s.grain_count = grains;
-    s.pattern.kind = kind;
-    s.pattern.helix_radius_m = 4e-3;
-    s.pattern.inner_radius_m = 1.5e-3;
-    s.density_scale = 100.0;
-    s.wire_mass_scale = 400.0;
-    s.fill_rate_m_per_s = 0.3;
-    s.max_time_s = 1.5;
-    const double grain_mass = s.density_scale * s.grain.density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi
-                            * std::pow(s.grain_radius_m, 3);
-    const double e_star = effective_modulus_pa(s.grain.youngs_modulus_pa, s.grain.poisson_ratio,
-        s.grain.youngs_modulus_pa, s.grain.poisson_ratio);
-    s.contact.normal_damping_s = hertz_damping_for_restitution_s(0.3, 0.5 * grain_mass, 0.1, e_star, 0.5 * s.grain_radius_m);
-    return s;
-}
-
-} // namespace
+using wiredem::engine::test::small_column;
 
 TEST(Settling, APileOfThreeHundredGrainsSettlesAtTheAutoTimeStep)
 {
     PreparationSpec spec = small_column(PatternKind::none, 300);
-    // Poured in 0.08 s (fill ≈ 25 mm at 0.3 m/s); measured settled by 0.2 s
+    // Poured in ~0.07 s (fill ≈ 20 mm at 0.3 m/s); measured settled by 0.2 s
     // (both settling phases). Without the fix it ran to max_time_s unsettled:
     // stop it at 0.6 s rather than 1.5 s.
     spec.max_time_s = 0.6;
