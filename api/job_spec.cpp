@@ -10,6 +10,7 @@
 
 #include "api/derived.hpp"
 #include "api/json_text.hpp"
+#include "specimen/preparation.hpp"
 
 #include <boost/json.hpp>
 
@@ -683,12 +684,13 @@ void check_fill_rate(Validator& v, const SpecimenSpec& s)
     if (s.wire.pattern == WirePattern::none || !v.clean({"specimen.pouring.fill_rate_m_per_s", "specimen.wire"}))
         return;
     // The nozzle follows the top of the pile at most v_z^w (the model spec §5).
-    if (s.pouring.fill_rate_m_per_s > s.wire.nozzle_rise_speed_m_per_s)
+    const double limit = engine::max_fill_rate_per_rise_speed * s.wire.nozzle_rise_speed_m_per_s;
+    if (s.pouring.fill_rate_m_per_s > limit)
         v.note("specimen.pouring.fill_rate_m_per_s",
-            exact_text(s.pouring.fill_rate_m_per_s) + " is faster than specimen.wire.nozzle_rise_speed_m_per_s "
-                + exact_text(s.wire.nozzle_rise_speed_m_per_s)
-                + ": the nozzle, which rises at most that fast, would fall behind the pile; fill_rate_m_per_s "
-                  "must not exceed it");
+            exact_text(s.pouring.fill_rate_m_per_s) + " is too fast for the nozzle, which rises at most "
+                + "specimen.wire.nozzle_rise_speed_m_per_s " + exact_text(s.wire.nozzle_rise_speed_m_per_s)
+                + " and must follow the pile's uneven top: fill_rate_m_per_s must not exceed "
+                + exact_text(engine::max_fill_rate_per_rise_speed) + " × that = " + approx_text(limit));
 }
 
 void check_membrane_mesh(Validator& v, const SpecimenSpec& s)

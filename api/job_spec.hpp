@@ -109,11 +109,11 @@ struct MembraneSpec {
 /// When the preparation (the model spec §5) ends.
 struct PouringSpec {
     /// Speed at which the pile's fill height rises while pouring [m/s],
-    /// (0, 100], and at most the nozzle's rise speed v_z^w when a wire is laid.
-    /// With the wire laid at ω R_a it sets the wire per height of column: a
-    /// helix's pitch is 2π v_fill / ω. Default v_z^w's default, 0.5 m/s: the
-    /// paper's nozzle rising at v_z^w (pitch 10.5 mm at ω = 300 rad/s).
-    double fill_rate_m_per_s = 0.5;
+    /// (0, 100], and at most 0.6 v_z^w when a wire is laid (the nozzle must
+    /// be able to follow the pile's uneven top). With the wire laid at ω R_a
+    /// it sets the wire per height of column: a helix's pitch is 2π v_fill / ω.
+    /// Default 0.25 m/s = v_z^w/2: pitch 5.2 mm at ω = 300 rad/s.
+    double fill_rate_m_per_s = 0.25;
     /// Settled when the mean kinetic energy per grain falls below this [J], (0, 1].
     double settle_kinetic_energy_per_grain_j = 1e-9;
     /// The preparation fails if not settled after this much simulated time [s], (0, 1e4].

@@ -66,6 +66,18 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 /// A finite number, or JSON null.
 json::value number_or_null(double x) { return std::isfinite(x) ? json::value(x) : json::value(nullptr); }
 
+/// A length for a message, e.g. "0.105 m".
+std::string format_metres(double m)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g m", m);
+    return buf;
+}
+
+/// Below this fraction of its path laid as wire, the nozzle is reported as
+/// blocked (it feeds no wire where a grain or earlier wire is in the way).
+constexpr double min_laid_fraction = 0.8;
+
 /// Progress reports: JSON lines on stdout, or a plain line on stderr (a
 /// redrawn bar on a TTY).
 class Progress {
@@ -241,6 +253,7 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     sp.write_int_attribute("grains", static_cast<std::int64_t>(prep.grains));
     sp.write_int_attribute("wire_nodes", static_cast<std::int64_t>(prep.wire_nodes));
     sp.write_double_attribute("wire_length_m", prep.wire_length_m);
+    sp.write_double_attribute("nozzle_path_m", prep.nozzle_path_m);
     sp.write_double_attribute("pile_height_m", prep.pile_height_m);
     sp.write_double_attribute("sample_volume_m3", prep.sample_volume_m3);
     sp.write_double_attribute("grain_volume_fraction", prep.grain_volume_fraction);
@@ -337,6 +350,11 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     std::vector<std::string> warnings;
     if (!prep.settled)
         warnings.push_back("the specimen did not settle within max_preparation_time_s; it was tested as it was");
+    if (prep.wire_length_m < min_laid_fraction * prep.nozzle_path_m)
+        warnings.push_back("the nozzle laid " + format_metres(prep.wire_length_m) + " of wire along "
+                           + format_metres(prep.nozzle_path_m)
+                           + " of its path: it fell behind the pile and was blocked; lower "
+                             "specimen.pouring.fill_rate_m_per_s");
 
     // Time step of the tests: the given one, or the auto fraction of the
     // deformable system's critical step (the pouring's is set by impacts).
@@ -448,6 +466,7 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
         sp["grains"] = prep.grains;
         sp["wire_nodes"] = prep.wire_nodes;
         sp["wire_length_m"] = prep.wire_length_m;
+        sp["nozzle_path_m"] = prep.nozzle_path_m;
         sp["pile_height_m"] = prep.pile_height_m;
         sp["settled"] = prep.settled;
         sp["preparation_time_step_s"] = prep.time_step_s;

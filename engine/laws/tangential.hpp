@@ -17,8 +17,9 @@
 // slip speed ~Δv that never sticks. With masses × 100 and the auto δt this
 // happens from F_n ≈ 0.2 N, i.e. under a few grains' weight: piles of ~300
 // grains chattered with ~90 % of their contacts "sliding" and did not settle
-// (docs/model.md, "Sliding contacts that chattered"). The reversal test catches the
-// stop in the step in which it happens, whatever δt; it puts no bound on δt.
+// (docs/model.md, "Sliding contacts that chattered"). The reversal test
+// catches the stop in the step in which it happens, whatever δt; it puts no
+// bound on δt.
 #pragma once
 
 #include "core/types.hpp"

@@ -120,6 +120,8 @@ public:
     }
     [[nodiscard]] double z_m() const { return z_m_; }
     [[nodiscard]] Vec3 position() const { return path_.at(s_m_) + Vec3(0, 0, z_m_); }
+    /// Path length travelled so far [m].
+    [[nodiscard]] double path_m() const { return s_m_; }
 
 private:
     /// Where the next node goes: one segment length from the wire's end
@@ -232,10 +234,10 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
                    + std::to_string(R * 1e3) + " mm");
     if (!(spec.fill_rate_m_per_s > 0.0))
         return Err(std::string("the fill rate must be positive"));
-    if (with_wire && spec.fill_rate_m_per_s > spec.pattern.rise_speed_m_per_s)
-        return Err("the fill rate " + std::to_string(spec.fill_rate_m_per_s)
-                   + " m/s is faster than the nozzle can rise (" + std::to_string(spec.pattern.rise_speed_m_per_s)
-                   + " m/s): it would fall behind the pile");
+    if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.rise_speed_m_per_s)
+        return Err("the fill rate " + std::to_string(spec.fill_rate_m_per_s) + " m/s is too fast for the nozzle, which "
+                   + "rises at most " + std::to_string(spec.pattern.rise_speed_m_per_s)
+                   + " m/s and must follow the pile's uneven top: at most 0.6 times that");
     const double fill_height = estimated_fill_height_m(spec);
     const double wire_cover_m = wire_cover_height_m(spec);
     const double entry_speed = pour_entry_speed_m_per_s(spec);
@@ -436,6 +438,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.grains = g.size();
     report.wire_nodes = w.of(BodyKind::wire).size();
     report.wire_length_m = wire_length_m(w);
+    report.nozzle_path_m = with_wire ? nozzle.path_m() : 0.0;
     report.pile_height_m = w.walls[report.top_plate_wall].point_m.z();
     report.sample_volume_m3 = std::numbers::pi * R * R * report.pile_height_m;
     report.grain_volume_fraction = grain_volume / report.sample_volume_m3;

@@ -91,13 +91,13 @@ TEST(BodyCounts, DefaultColumnMatchesTheGeometry)
     EXPECT_EQ(n.grains, 8000u);
     // Laid at ω R_a while the grains are poured, up to one grain diameter
     // below the fill: 8000 grains of 1.23 mm at a packing fraction of 0.58
-    // fill 85.57 mm of a 20 mm-radius column; rising 83.11 mm takes 0.1662 s
-    // at 0.5 m/s; 300 rad/s × 12 mm × 0.1662 s = 0.5983 m of wire over
-    // 1.25 mm segments: ⌈478.6⌉ + 1 nodes.
-    EXPECT_EQ(n.wire_nodes, 480u);
+    // fill 85.57 mm of a 20 mm-radius column; rising 83.11 mm takes 0.3324 s
+    // at 0.25 m/s; 300 rad/s × 12 mm × 0.3324 s = 1.1966 m of wire over
+    // 1.25 mm segments: ⌈957.3⌉ + 1 nodes.
+    EXPECT_EQ(n.wire_nodes, 959u);
     // ⌈2π·20 mm / 1.25 mm⌉ = 101 around, ⌈0.12 / (1.25 mm·√3/2)⌉ + 1 = 112 rows.
     EXPECT_EQ(n.membrane_nodes, 101u * 112u);
-    EXPECT_EQ(n.total(), 8000u + 480u + 11312u);
+    EXPECT_EQ(n.total(), 8000u + 959u + 11312u);
 }
 
 TEST(BodyCounts, NoWireWithoutPattern)

@@ -165,6 +165,11 @@ TEST_P(PreparationWithWire, LaysTheWireWhilePouringASoundColumn)
     // engine.max_bodies is checked against within a few nodes.
     const double laid_m = estimated_wire_length_m(spec);
     EXPECT_NEAR(static_cast<double>(r.value().wire_nodes), laid_m / spec.wire.segment_length_m, 0.1 * laid_m / spec.wire.segment_length_m + 3.0);
+    // The nozzle fed wire along (nearly) all of its path: it kept up with
+    // the pile (at fill rate = v_z^w it does not: 85 nodes of 480 in a
+    // paper-size column, which the campaign reports as a warning).
+    EXPECT_GT(r.value().wire_length_m, 0.8 * r.value().nozzle_path_m);
+    EXPECT_LT(r.value().wire_length_m, r.value().nozzle_path_m + spec.wire.segment_length_m);
     // Every segment near l_w, so the length is (nodes − 1) l_w within 3 %.
     EXPECT_NEAR(r.value().wire_length_m, (r.value().wire_nodes - 1) * spec.wire.segment_length_m,
         0.03 * r.value().wire_length_m);
@@ -270,9 +275,9 @@ TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
 TEST(Preparation, RejectsAFillRateTheNozzleCannotFollow)
 {
     PreparationSpec spec = small_column(PatternKind::helix, 10);
-    spec.fill_rate_m_per_s = 1.5 * spec.pattern.rise_speed_m_per_s;
+    spec.fill_rate_m_per_s = 0.61 * spec.pattern.rise_speed_m_per_s; // at most 0.6 ×
     Simulation sim(1);
     const auto r = prepare_specimen(sim, spec);
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().find("faster than the nozzle can rise"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("too fast for the nozzle"), std::string::npos) << r.error();
 }
