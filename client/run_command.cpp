@@ -9,8 +9,9 @@
 //   4. writes OUT/result.h5 (layout: docs/results.md) and OUT/summary.json,
 //      each under a temporary name first, then renamed.
 //
-// Progress: overall fraction 0–1 (preparation 0–0.3, tests 0.3–0.95 shared
-// equally, analysis and writing the rest), at most every half second.
+// Progress: overall fraction 0–1 (preparation and tests share 0–0.95 in
+// proportion to their estimated steps, the tests equally; analysis and
+// writing the rest), at most every half second.
 // SIGTERM/SIGINT set a flag that the engine checks every step (exit 128 + sig).
 #include "run_command.hpp"
 
@@ -72,6 +73,17 @@ std::string format_metres(double m)
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g m", m);
     return buf;
+}
+
+/// Steps one triaxial test of the job is expected to take: ramp, hold and
+/// loading to the target strain of a column as tall as the grains' estimated
+/// fill, at the job's time step (or the auto step of the deformable system).
+double estimated_test_steps(const api::JobSpec& spec)
+{
+    const double dt = spec.engine.time_step_s ? *spec.engine.time_step_s : api::stable_time_step(spec).auto_s;
+    const api::TriaxialSpec& t = spec.triaxial;
+    const double height_m = eng::estimated_fill_height_m(api::preparation_spec(spec));
+    return (t.pressure_ramp_time_s + t.hold_time_s + t.target_axial_strain * height_m / t.plate_speed_m_per_s) / dt;
 }
 
 /// Below this fraction of its path laid as wire, the nozzle is reported as
@@ -327,7 +339,11 @@ int fail(Progress& progress, const std::string& reason)
 int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir, unsigned threads, Progress& progress)
 {
     const auto t_start = Clock::now();
-    constexpr double prep_share = 0.3, tests_end = 0.95;
+    constexpr double tests_end = 0.95;
+    // The preparation's share of the progress, set at its first report (which
+    // brings its estimated steps) against the tests' estimated steps.
+    double prep_share = 0.0;
+    const double test_steps_estimate = estimated_test_steps(spec);
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) return fail(progress, "cannot create " + out_dir.string() + ": " + ec.message());
@@ -339,7 +355,12 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     control.cancel = &g_cancel;
     control.progress_every = 500;
     control.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
+        if (prep_share == 0.0 && total > 0) {
+            const double tests = test_steps_estimate * static_cast<double>(spec.triaxial.confining_pressures_pa.size());
+            prep_share = std::clamp(tests_end * static_cast<double>(total) / (static_cast<double>(total) + tests), 0.01, 0.5);
+        }
+        // Settling may take longer than estimated: the share is not exceeded.
+        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
         progress.report("preparing", prep_share * f,
             "pouring " + std::to_string(prep_spec.grain_count) + " grains, step " + std::to_string(done));
     };

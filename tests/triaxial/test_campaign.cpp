@@ -84,16 +84,18 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
     ASSERT_TRUE(WIFEXITED(status)) << err;
     ASSERT_EQ(WEXITSTATUS(status), 0) << err;
 
-    // Progress: JSON lines with the four fields, ending at 1.
+    // Progress: JSON lines with the four fields, never going back, ending at 1.
     std::istringstream lines(read_text(dir / "log.stdout"));
     std::string line, last;
     int count = 0;
+    double previous = 0.0;
     while (std::getline(lines, line)) {
         const json::value p = json::parse(line);
         ASSERT_TRUE(p.as_object().contains("stage")) << line;
         const double f = p.at("progress").to_number<double>();
-        EXPECT_GE(f, 0.0);
+        EXPECT_GE(f, previous) << line;
         EXPECT_LE(f, 1.0);
+        previous = f;
         EXPECT_TRUE(p.at("eta_s").is_null() || p.at("eta_s").is_number()) << line;
         EXPECT_TRUE(p.at("message").is_string()) << line;
         last = line, ++count;
