@@ -81,9 +81,10 @@ std::string format_metres(double m)
 double estimated_test_steps(const api::JobSpec& spec)
 {
     const double dt = spec.engine.time_step_s ? *spec.engine.time_step_s : api::stable_time_step(spec).auto_s;
-    const api::TriaxialSpec& t = spec.triaxial;
     const double height_m = eng::estimated_fill_height_m(api::preparation_spec(spec));
-    return (t.pressure_ramp_time_s + t.hold_time_s + t.target_axial_strain * height_m / t.plate_speed_m_per_s) / dt;
+    const double any_pressure_pa = spec.triaxial.confining_pressures_pa.front(); // the step count does not depend on it
+    return static_cast<double>(
+        eng::expected_triaxial_steps(api::triaxial_settings(spec, any_pressure_pa), height_m, dt));
 }
 
 /// Below this fraction of its path laid as wire, the nozzle is reported as

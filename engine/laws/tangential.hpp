@@ -72,10 +72,8 @@ struct TangentialResult {
     Vec3 spring = Vec3::Zero();
     if (!prev.sticking) {
         const double speed = vt.norm();
-        // Still sliding: Coulomb friction (damping cannot be the smaller
-        // term here, γ_t |v_t| > μ), and the slip of the step kept.
-        if (p.damping_s_per_m * speed > p.friction_coeff && vt.dot(prev.spring_m) >= 0.0)
-            return {-coulomb_n / speed * vt, {vt * dt_s, false}};
+        // Still sliding (here γ_t |v_t| > μ: Coulomb friction).
+        if (p.damping_s_per_m * speed > p.friction_coeff && vt.dot(prev.spring_m) >= 0.0) return sliding(speed);
         // The sliding has stopped (γ_t |v_t| ≤ μ, or v_t turned back: it went
         // through zero within the step; see the top): a new spring from
         // δ_t = 0 takes this step's slip, under the same Coulomb and d_cr

@@ -21,6 +21,12 @@ constexpr double assumed_packing_fraction = 0.58; // for the fill-height estimat
 // laying ended 34 % late).
 constexpr double pour_speed_per_fill_rate = 2.5;
 
+/// Speed at which grains enter the pouring zone [m/s].
+double pour_entry_speed_m_per_s(const PreparationSpec& spec)
+{
+    return std::max(spec.pour_speed_m_per_s, pour_speed_per_fill_rate * spec.fill_rate_m_per_s);
+}
+
 /// Which grains rest on something this step (touch another body or a wall):
 /// the pile, as opposed to grains still falling.
 std::vector<std::uint8_t> grains_in_pile(const World& w)
@@ -451,15 +457,9 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     return report;
 }
 
-double pour_entry_speed_m_per_s(const PreparationSpec& spec)
-{
-    return std::max(spec.pour_speed_m_per_s, pour_speed_per_fill_rate * spec.fill_rate_m_per_s);
-}
-
 double wire_cover_height_m(const PreparationSpec& spec)
 {
-    if (spec.wire_cover_m >= 0.0) return spec.wire_cover_m;
-    return 2.0 * spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    return spec.wire_cover_m.value_or(2.0 * spec.grain_radius_m * (1.0 + spec.grain_radius_spread));
 }
 
 double estimated_fill_height_m(const PreparationSpec& spec)

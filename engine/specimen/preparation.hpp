@@ -14,6 +14,7 @@
 #include "specimen/pattern.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace wiredem::engine {
@@ -44,11 +45,12 @@ struct PreparationSpec {
     /// pile); the job field's default, 0.25 m/s, is half the paper's v_z^w.
     double fill_rate_m_per_s = 0.25;
     /// Grains enter the pouring zone moving down at this speed, or at 2.5 ×
-    /// the fill rate if that is faster (pour_entry_speed_m_per_s) [m/s].
+    /// the fill rate if that is faster, so that the pour keeps to the fill
+    /// rate (random placement fills the zone to only ~0.3) [m/s].
     double pour_speed_m_per_s = 0.5;
     /// Height of fill poured over the wire after the nozzle stops, so that
-    /// its last turn is buried [m]; < 0: one diameter of the largest grain.
-    double wire_cover_m = -1.0;
+    /// its last turn is buried [m]; unset: one diameter of the largest grain.
+    std::optional<double> wire_cover_m;
     double clearance_m = 1e-3;             ///< wire pattern keeps r_w + this inside the membrane
     double settle_kinetic_energy_per_grain_j = 1e-9;
     double max_time_s = 5.0;               ///< simulated time limit for the whole preparation
@@ -133,11 +135,6 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// Height the grains fill, estimated before pouring at a packing fraction of
 /// 0.58 (prepare_specimen paces the pouring by it) [m].
 [[nodiscard]] double estimated_fill_height_m(const PreparationSpec& spec);
-
-/// Speed at which grains enter the pouring zone: pour_speed_m_per_s, or
-/// 2.5 × the fill rate if faster, so that the pour can keep to the fill
-/// rate (random placement fills the zone to only ~0.3) [m/s].
-[[nodiscard]] double pour_entry_speed_m_per_s(const PreparationSpec& spec);
 
 /// Height of fill poured over the wire after the nozzle has stopped [m]:
 /// spec.wire_cover_m, or by default one diameter of the largest grain.

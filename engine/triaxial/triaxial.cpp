@@ -135,6 +135,12 @@ QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loa
     return v;
 }
 
+std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s)
+{
+    const auto pre_load = static_cast<std::uint64_t>(std::ceil((s.pressure_ramp_time_s + s.hold_time_s) / dt_s));
+    return pre_load + static_cast<std::uint64_t>(std::ceil(s.target_axial_strain * height_m / s.plate_speed_m_per_s / dt_s));
+}
+
 std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3)
 {
     std::vector<double> e(s.size());
@@ -309,8 +315,7 @@ Result<TriaxialResult, std::string> run_triaxial(
     const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil(pre_load_s / dt));
     const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
     const double height_now = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
-    std::uint64_t expected_steps = pre_load_steps
-        + static_cast<std::uint64_t>(std::ceil(settings.target_axial_strain * height_now / settings.plate_speed_m_per_s / dt));
+    std::uint64_t expected_steps = expected_triaxial_steps(settings, height_now, dt);
 
     TriaxialResult result;
     result.time_step_s = dt;

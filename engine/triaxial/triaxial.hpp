@@ -192,6 +192,11 @@ struct QuasiStaticVerdict {
 /// as ∞). Flags the test when I or the mean ratio is above its threshold.
 [[nodiscard]] QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start);
 
+/// Steps a test is expected to take at time step `dt_s` on a column of
+/// height `height_m`: the pressure ramp and the hold, then loading to the
+/// target strain (run_triaxial reports progress against it).
+[[nodiscard]] std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s);
+
 /// Everything one test produced.
 struct TriaxialResult {
     TriaxialSeries series;
