@@ -198,7 +198,7 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     return w;
 }
 
@@ -255,7 +255,7 @@ int main(int argc, char** argv)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     if (!packing.empty()) {
         read_liggghts_data(w, spec, packing);
         settle_s = 0.0;
@@ -286,7 +286,7 @@ int main(int argc, char** argv)
         if (!json)
             std::printf("wire_membrane: %zu grains, %zu wire nodes, %zu membrane nodes, δt = %.3g s (set by %s)\n",
                 column.bodies[0].size(), column.bodies[1].size(), column.bodies[2].size(), column.dt_s,
-                critical_time_step(column).limited_by.c_str());
+                stable_time_step(column).limited_by.c_str());
     }
     if (json)
         for (std::size_t i = 0; i < cases.size(); ++i) print_case_json(cases[i], dts[i]);

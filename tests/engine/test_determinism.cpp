@@ -37,7 +37,7 @@ std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = 
     spec.seed = 7;
     build_container(sim.world, spec);
     sim.world.contact.normal_damping_s = 1e-5;
-    sim.world.dt_s = auto_time_step_fraction * critical_time_step(sim.world).critical_s;
+    sim.world.dt_s = stable_time_step(sim.world).auto_s;
     // Kick the grains so that contacts form, slide and break early.
     SplitMix64 rng(3);
     for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i)
