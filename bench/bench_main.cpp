@@ -4,12 +4,12 @@
 // cylinder, then times steps on the static packing for each thread count.
 // Every case starts from the same settled state, and the final states are
 // hashed: equal hashes across thread counts show the run is deterministic.
-#include "core/hash.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
+#include "state/state_hash.hpp"
 #include "timestep.hpp"
 
 #include <CLI/CLI.hpp>
@@ -43,15 +43,6 @@ struct Case {
     [[nodiscard]] double body_steps_per_s() const { return static_cast<double>(bodies) * steps / wall_s; }
     [[nodiscard]] double ns_per_contact() const { return wall_s * 1e9 / (static_cast<double>(contacts) * steps); }
 };
-
-std::uint64_t hash_world(const World& w)
-{
-    Fnv1a h;
-    for (const auto& body : w.bodies)
-        for (const auto& x : body.x) h.add(x);
-    for (const auto& x : w.grain_rotation.w) h.add(x);
-    return h.value();
-}
 
 std::size_t touching(const World& w)
 {
@@ -144,7 +135,7 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         c.contacts = touching(sim.world);
         c.list_pairs = sim.world.contacts.size();
         c.steps = steps;
-        c.hash = hash_world(sim.world);
+        c.hash = state_hash(sim.world);
         cases.push_back(c);
     }
     return cases;
