@@ -46,8 +46,10 @@ StabilityInputs stability_inputs(const World& w, MembraneAs membrane)
     for (int k = 0; k < body_kind_count; ++k) {
         const TranslationalState& b = w.bodies[k];
         // A membrane made deformable gets its node masses, and only its rim
-        // rows stay held (set_membrane_rigid).
-        const bool as_deformable_membrane = k == static_cast<int>(BodyKind::membrane) && membrane == MembraneAs::deformable;
+        // rows stay held (set_membrane_rigid); nodes added by hand, without
+        // build_membrane, have no such masses and count as they are.
+        const bool as_deformable_membrane = k == static_cast<int>(BodyKind::membrane) && membrane == MembraneAs::deformable
+                                         && w.membrane.node_mass_kg.size() == b.size();
         for (std::size_t i = 0; i < b.size(); ++i) {
             const double modulus = plane_modulus_pa(w.materials[b.material[i]]);
             if (as_deformable_membrane)

@@ -8,11 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <set>
 #include <string>
 #include <unistd.h>
 
@@ -30,13 +29,11 @@ std::filesystem::path temp_path(const std::string& name)
     return std::filesystem::temp_directory_path() / ("wiredem_test_snapshot_" + std::to_string(::getpid()) + "_" + name);
 }
 
-/// The wired column after `steps_before` steps, on `threads` threads.
-Simulation& column_mid_test(Simulation& sim, Integrator integrator)
+/// Builds the wired column in `sim` and runs it `steps_before` steps.
+void run_column_to_mid_test(Simulation& sim, Integrator integrator)
 {
     build_wired_column(sim.world, integrator);
-    const RunOutcome out = sim.run(steps_before);
-    EXPECT_EQ(out.end, RunEnd::completed);
-    return sim;
+    ASSERT_EQ(sim.run(steps_before).end, RunEnd::completed);
 }
 
 /// What makes the column a hard case at the snapshot: plates moving and
@@ -72,7 +69,7 @@ class SnapshotRoundTrip : public ::testing::TestWithParam<Integrator> {};
 TEST_P(SnapshotRoundTrip, ContinuesBitIdenticallyInThisProcess)
 {
     Simulation original(2);
-    column_mid_test(original, GetParam());
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, GetParam()));
     expect_mid_test(original.world);
     const std::filesystem::path path = temp_path("in_process.h5");
     const auto saved = save_snapshot(original.world, path);
@@ -117,7 +114,7 @@ TEST(SnapshotChild, DISABLED_RestoreAndContinue)
 TEST_P(SnapshotRoundTrip, ContinuesBitIdenticallyInAFreshProcess)
 {
     Simulation original(2);
-    column_mid_test(original, GetParam());
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, GetParam()));
     const std::filesystem::path path = temp_path("fresh_process.h5");
     ASSERT_TRUE(save_snapshot(original.world, path).ok());
     original.run(steps_after);
