@@ -454,6 +454,22 @@ Result<TriaxialResult, std::string> run_triaxial(
         result.warnings.push_back("no valid deviatoric stress sample during loading: no peak");
     }
 
+    // The yield state and the shapes of the curves (analysis/strength.hpp).
+    {
+        const auto from = static_cast<std::ptrdiff_t>(loading_start_sample);
+        const std::span<const double> strain(ts.axial_strain.begin() + from, ts.axial_strain.end());
+        const std::span<const double> s1(ts.sigma1_pa.begin() + from, ts.sigma1_pa.end());
+        const std::span<const double> s3(ts.sigma3_effective_pa.begin() + from, ts.sigma3_effective_pa.end());
+        if (auto reading = analysis::read_strength(strain, s1, s3)) {
+            result.strength = reading.value();
+            result.strength->stress_ratio.index += loading_start_sample;
+            result.strength->deviatoric.index += loading_start_sample;
+        } else {
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
+                                      + " Pa: no yield state: " + reading.error());
+        }
+    }
+
     QuasiStaticVerdict& v = result.verdict;
     v = quasi_static_verdict(ts, loading_start_sample);
     if (!v.quasi_static) {

@@ -24,6 +24,7 @@
 // Nothing throws across this API.
 #pragma once
 
+#include "analysis/strength.hpp"
 #include "core/result.hpp"
 #include "simulation.hpp"
 
@@ -201,11 +202,19 @@ struct QuasiStaticVerdict {
 struct TriaxialResult {
     TriaxialSeries series;
     std::vector<TriaxialSnapshot> snapshots;  ///< in ascending strain
-    double peak_deviatoric_stress_pa = 0.0;   ///< max q over the loading samples [Pa]
+    /// The raw maximum of q over the loading samples [Pa], and the state
+    /// there. Not always a yield strength: a stiffening membrane can keep q
+    /// rising to the end (see `strength` for its shape and the yield state).
+    double peak_deviatoric_stress_pa = 0.0;
     double peak_axial_strain = 0.0;           ///< ε_a at that sample
     double peak_sigma1_pa = 0.0;              ///< σ₁ at that sample [Pa]
     double peak_sigma3_effective_pa = 0.0;    ///< σ₃,eff at that sample [Pa]
     std::size_t peak_sample = 0;              ///< index of that sample in the series
+    /// The yield state (maximum of the stress ratio) and the shapes of the
+    /// η and q curves (docs/model.md, "How yield is read"); empty, with a
+    /// warning, when the loading curves cannot be read. Its sample indices
+    /// are rows of `series`.
+    std::optional<analysis::StrengthReading> strength;
     double initial_height_m = 0.0;            ///< h₀ [m]
     double initial_volume_m3 = 0.0;           ///< V₀ = π r₀² h₀ [m³]
     QuasiStaticVerdict verdict;
