@@ -471,12 +471,27 @@ double estimated_fill_height_m(const PreparationSpec& spec)
     return grain_volume_m3 / (assumed_packing_fraction * std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m);
 }
 
+namespace {
+
+/// Height of fill during which the nozzle lays wire [m].
+double laying_height_m(const PreparationSpec& spec)
+{
+    return std::max(0.0, estimated_fill_height_m(spec) - wire_cover_height_m(spec));
+}
+
+} // namespace
+
 double estimated_wire_length_m(const PreparationSpec& spec)
 {
     if (spec.pattern.kind == PatternKind::none) return 0.0;
-    const double laying_height_m = std::max(0.0, estimated_fill_height_m(spec) - wire_cover_height_m(spec));
-    const double pour_time_s = laying_height_m / spec.fill_rate_m_per_s;
+    const double pour_time_s = laying_height_m(spec) / spec.fill_rate_m_per_s;
     return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * pour_time_s;
+}
+
+double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m)
+{
+    if (spec.pattern.kind == PatternKind::none) return 0.0;
+    return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * laying_height_m(spec) / wire_length_m;
 }
 
 } // namespace wiredem::engine

@@ -145,4 +145,9 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// [m]; 0 without a pattern.
 [[nodiscard]] double estimated_wire_length_m(const PreparationSpec& spec);
 
+/// The fill rate at which prepare_specimen lays `wire_length_m` of wire: the
+/// inverse of estimated_wire_length_m, ω R_a (fill height − cover) / L
+/// [m/s]; 0 without a pattern or a fill over the cover.
+[[nodiscard]] double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m);
+
 } // namespace wiredem::engine
