@@ -87,6 +87,7 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_
     t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s;
     t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
     t.hold_time_s = spec.triaxial.hold_time_s;
+    t.max_hold_time_s = spec.triaxial.max_hold_time_s;
     t.sample_interval_s = spec.triaxial.sample_interval_s;
     t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test

@@ -552,6 +552,7 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s);
     r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s);
     r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s);
+    optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s);
     r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s);
     // The default snapshots follow the target; a given list is checked
     // against the target by the cross-field checks.
@@ -761,6 +762,14 @@ void check_body_count(Validator& v, const JobSpec& spec)
                 + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
 }
 
+void check_hold(Validator& v, const TriaxialSpec& t)
+{
+    if (!v.clean({"triaxial.hold_time_s", "triaxial.max_hold_time_s"}) || !t.max_hold_time_s) return;
+    if (*t.max_hold_time_s < t.hold_time_s)
+        v.note("triaxial.max_hold_time_s", exact_text(*t.max_hold_time_s) + " is shorter than triaxial.hold_time_s "
+                                              + exact_text(t.hold_time_s) + ": it must be at least that");
+}
+
 void check_snapshots(Validator& v, const TriaxialSpec& t)
 {
     if (!v.clean({"triaxial.target_axial_strain", "triaxial.snapshot_strains"})) return;
@@ -793,6 +802,7 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_fill_rate(v, spec);
     check_membrane_mesh(v, spec.specimen);
     check_body_count(v, spec);
+    check_hold(v, spec.triaxial);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
 }
@@ -893,6 +903,7 @@ json::object triaxial_json(const TriaxialSpec& t)
         {"plate_speed_m_per_s", t.plate_speed_m_per_s},
         {"pressure_ramp_time_s", t.pressure_ramp_time_s},
         {"hold_time_s", t.hold_time_s},
+        {"max_hold_time_s", optional_json(t.max_hold_time_s)},
         {"sample_interval_s", t.sample_interval_s},
         {"snapshot_strains", numbers_json(t.snapshot_strains)},
     };

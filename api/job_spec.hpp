@@ -181,6 +181,9 @@ struct TriaxialSpec {
     double plate_speed_m_per_s = 2e-4;         ///< top plate speed v_z [m/s], (0, 10]
     double pressure_ramp_time_s = 0.05;        ///< σ_3 ramps linearly from 0 over this [s], [0, 1e3]
     double hold_time_s = 0.05;                 ///< then holds before loading [s], [0, 1e3]
+    /// The hold goes on past hold_time_s until the column has consolidated,
+    /// at most this long [s], [hold_time_s, 1e3]; nullopt: 4 × hold_time_s.
+    std::optional<double> max_hold_time_s;
     double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
     /// Axial strains at which the wire profile and force network are saved:
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When

@@ -219,6 +219,8 @@ void write_test(eng::io::Group g, double pressure_pa, const eng::TriaxialResult&
         g.write_int_attribute("yield_sample", static_cast<std::int64_t>(y.stress_ratio.index));
         g.write_double_attribute("residual_stress_ratio", y.residual_stress_ratio);
     }
+    g.write_double_attribute("hold_time_s", r.hold_time_s);
+    g.write_double_attribute("consolidated_sigma1_pa", r.consolidated_sigma1_pa);
     g.write_double_attribute("initial_height_m", r.initial_height_m);
     g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
     g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
@@ -283,6 +285,8 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     sp.write_double_attribute("sample_volume_m3", prep.sample_volume_m3);
     sp.write_double_attribute("grain_volume_fraction", prep.grain_volume_fraction);
     sp.write_double_attribute("wire_volume_fraction", prep.wire_volume_fraction);
+    sp.write_double_attribute("core_grain_volume_fraction", prep.core_grain_volume_fraction);
+    sp.write_double_attribute("core_wire_volume_fraction", prep.core_wire_volume_fraction);
     sp.write_double_attribute("simulated_time_s", prep.simulated_time_s);
     sp.write_double_attribute("wall_time_s", prep.wall_time_s);
     sp.write_int_attribute("steps", static_cast<std::int64_t>(prep.steps));
@@ -538,6 +542,8 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
                 o["yield"] = nullptr;
                 o["residual_stress_ratio"] = nullptr;
             }
+            o["hold_time_s"] = t.hold_time_s;
+            o["consolidated_sigma1_pa"] = number_or_null(t.consolidated_sigma1_pa);
             o["quasi_static"] = t.verdict.quasi_static;
             o["max_inertial_number"] = number_or_null(t.verdict.max_inertial_number);
             o["mean_kinetic_to_elastic"] = number_or_null(t.verdict.mean_kinetic_to_elastic);
@@ -556,6 +562,8 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
         json::object sp;
         sp["grain_volume_fraction"] = prep.grain_volume_fraction;
         sp["wire_volume_fraction"] = prep.wire_volume_fraction;
+        sp["core_grain_volume_fraction"] = prep.core_grain_volume_fraction;
+        sp["core_wire_volume_fraction"] = prep.core_wire_volume_fraction;
         sp["sample_volume_m3"] = prep.sample_volume_m3;
         sp["grains"] = prep.grains;
         sp["wire_nodes"] = prep.wire_nodes;

@@ -2,6 +2,7 @@
 
 #include "core/result.hpp"
 #include "scene.hpp"
+#include "specimen/packing.hpp"
 #include "timestep.hpp"
 
 #include <algorithm>
@@ -450,6 +451,11 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.grain_volume_fraction = grain_volume / report.sample_volume_m3;
     report.wire_volume_fraction = std::numbers::pi * spec.wire.radius_m * spec.wire.radius_m
                                 * report.wire_length_m / report.sample_volume_m3;
+    // The core: a grain diameter inside the membrane's inner surface and the
+    // plates, sampled every 0.1 r_p.
+    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, 0.1 * spec.grain_radius_m);
+    report.core_grain_volume_fraction = core.grain;
+    report.core_wire_volume_fraction = core.wire;
     report.simulated_time_s = w.time_s;
     report.steps = steps;
     report.time_step_s = dt;

@@ -74,6 +74,10 @@ struct PreparationReport {
     double sample_volume_m3 = 0.0;         ///< π R² h
     double grain_volume_fraction = 0.0;
     double wire_volume_fraction = 0.0;     ///< wire as a cylinder of radius r_w along its length
+    /// The same in the core of the column, a grain diameter away from the
+    /// membrane's inner surface and both plates (core_volume_fractions).
+    double core_grain_volume_fraction = 0.0;
+    double core_wire_volume_fraction = 0.0;
     double simulated_time_s = 0.0;
     double wall_time_s = 0.0;
     std::uint64_t steps = 0;
