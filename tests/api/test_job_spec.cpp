@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -169,6 +170,24 @@ TEST(JobSpec, ToJsonWritesEveryFieldIncludingDefaults)
     EXPECT_EQ(o.at("specimen").at("wire").at("pattern"), json::value("helix"));
     EXPECT_TRUE(o.at("contact").as_object().contains("restitution"));
     EXPECT_FALSE(o.at("contact").as_object().contains("normal_damping_s"));
+}
+
+TEST(JobSpec, EveryShippedJobFileIsValid)
+{
+    // examples/ and the pictures' jobs: what users run first must not be refused.
+    namespace fs = std::filesystem;
+    std::size_t files = 0;
+    for (const char* folder : {"examples", "docs/pictures"})
+        for (const fs::directory_entry& e : fs::directory_iterator(fs::path(WIREDEM_SOURCE_DIR) / folder)) {
+            if (e.path().extension() != ".json") continue;
+            std::ifstream in(e.path());
+            std::stringstream text;
+            text << in.rdbuf();
+            const auto parsed = parse_job_spec(text.str());
+            EXPECT_TRUE(parsed.ok()) << e.path() << "\n" << (parsed.ok() ? "" : describe(parsed.error()));
+            ++files;
+        }
+    EXPECT_GE(files, 8u);
 }
 
 TEST(JobSpec, AWireLengthSetsTheFillRateThatLaysIt)
