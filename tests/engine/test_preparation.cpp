@@ -23,51 +23,6 @@ namespace {
 /// than ~120 did not settle at the auto δt (tests/engine/test_settling.cpp).
 constexpr std::size_t test_column_grains = 300;
 
-/// Fraction of the core of the column filled by grains and wire: the
-/// cylinder a grain diameter inside the membrane's inner surface (R − r_m),
-/// between a grain diameter above the bottom plate and one below the top
-/// plate, sampled on a grid of 0.1 r_p. The core leaves out the layers ordered
-/// by the walls and the rough top, whose fraction is lower; inside, a poured
-/// random packing of spheres fills 0.55–0.64 of the space (random loose to
-/// random close packing).
-double core_volume_fraction(const World& w, const PreparationSpec& spec, double lid_m)
-{
-    const double d = 2.0 * spec.grain_radius_m, h = 0.1 * spec.grain_radius_m;
-    const double rc = spec.membrane_radius_m - spec.membrane.contact_radius_m - d;
-    const double z0 = d, z1 = lid_m - d;
-    const int nxy = static_cast<int>(2.0 * rc / h) + 1, nz = static_cast<int>((z1 - z0) / h) + 1;
-    auto coord = [&](int i, double lo) { return lo + (i + 0.5) * h; };
-    std::vector<std::uint8_t> filled(static_cast<std::size_t>(nxy) * nxy * nz, 0);
-    for (int k = 0; k < 2; ++k) { // grains and wire; each marks the grid points inside it
-        const TranslationalState& b = w.bodies[k];
-        for (std::size_t i = 0; i < b.size(); ++i) {
-            const Vec3& c = b.x[0][i];
-            const double r = b.radius_m[i];
-            auto range = [&](double centre, double lo, int n) {
-                return std::pair(std::max(0, static_cast<int>(std::floor((centre - r - lo) / h))),
-                    std::min(n - 1, static_cast<int>(std::ceil((centre + r - lo) / h))));
-            };
-            const auto [ix0, ix1] = range(c.x(), -rc, nxy);
-            const auto [iy0, iy1] = range(c.y(), -rc, nxy);
-            const auto [iz0, iz1] = range(c.z(), z0, nz);
-            for (int ix = ix0; ix <= ix1; ++ix)
-                for (int iy = iy0; iy <= iy1; ++iy)
-                    for (int iz = iz0; iz <= iz1; ++iz)
-                        if ((Vec3(coord(ix, -rc), coord(iy, -rc), coord(iz, z0)) - c).squaredNorm() < r * r)
-                            filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix] = 1;
-        }
-    }
-    std::size_t inside = 0, total = 0;
-    for (int iz = 0; iz < nz; ++iz)
-        for (int iy = 0; iy < nxy; ++iy)
-            for (int ix = 0; ix < nxy; ++ix) {
-                if (std::hypot(coord(ix, -rc), coord(iy, -rc)) >= rc || coord(iz, z0) >= z1) continue;
-                ++total;
-                inside += filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix];
-            }
-    return static_cast<double>(inside) / static_cast<double>(total);
-}
-
 /// Checks every property a prepared specimen must have.
 void expect_sound_specimen(const World& w, const PreparationSpec& spec, const PreparationReport& r)
 {
@@ -120,11 +75,12 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
         EXPECT_LT(wire.x[0][i].z(), lid) << "wire node " << i << " above the top plate";
     }
     // A poured random packing in the core of the column (see
-    // core_volume_fraction). Over the whole column (the report's fractions),
+    // core_volume_fractions). Over the whole column (the report's fractions),
     // the walls and the rough top make it lower, and it cannot be denser.
-    const double core = core_volume_fraction(w, spec, lid);
+    const double core = r.core_grain_volume_fraction + r.core_wire_volume_fraction;
     EXPECT_GT(core, 0.5);
     EXPECT_LT(core, 0.64);
+    EXPECT_GT(r.core_grain_volume_fraction, r.grain_volume_fraction);
     EXPECT_LT(r.grain_volume_fraction + r.wire_volume_fraction, 0.64);
     EXPECT_NEAR(r.sample_volume_m3, std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m * r.pile_height_m, 1e-15);
     EXPECT_NEAR(r.pile_height_m, lid, 1e-15);
