@@ -35,6 +35,8 @@ PATTERN_LABEL = {"none": "no wire", "helix": "helix", "spiral_helix": "spiral he
                  "radial_helix": "radial helix"}
 PATTERN_COLOUR = {"none": "#555555", "helix": "#1f77b4", "spiral_helix": "#d62728",
                   "radial_helix": "#2ca02c"}
+# Line styles too, so that envelopes that coincide stay distinguishable.
+PATTERN_STYLE = {"none": "-", "helix": "--", "spiral_helix": "-.", "radial_helix": (0, (1, 1))}
 CAMPAIGN_NAME = re.compile(r"^(none|helix|spiral_helix|radial_helix)-seed(\d+)(\.json)?$")
 LOADING = 2  # the `phase` of the loading rows (0 ramp, 1 hold, 2 loading)
 
@@ -440,8 +442,7 @@ def specimen_picture(p, c, out, made):
     if len(wp) > 1:
         front = (wp[:-1, 1] >= 0.0) & (wp[1:, 1] >= 0.0)
         segs = np.stack([wp[:-1, [0, 2]], wp[1:, [0, 2]]], axis=1)[front]
-        ax.add_collection(LineCollection(segs, colors=PATTERN_COLOUR[p], linewidths=2.0, label="wire (y ≥ 0)"))
-        ax.legend(loc="upper right", fontsize=8)
+        ax.add_collection(LineCollection(segs, colors=PATTERN_COLOUR[p], linewidths=2.0))
     ax.plot([-radius, -radius], [0, height], color="0.4", lw=1)
     ax.plot([radius, radius], [0, height], color="0.4", lw=1)
     ax.axhline(0.0, color="k", lw=2)
@@ -451,7 +452,8 @@ def specimen_picture(p, c, out, made):
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("z [mm]")
-    ax.set_title("cut-away column (half y < 0 removed), seen from −y")
+    ax.set_title("cut-away column: the half y < 0 removed, seen from −y\n"
+                 + ("the wire's half y ≥ 0 drawn over the grains" if len(wp) > 1 else "no wire"), fontsize=10)
     fig.tight_layout()
     save(fig, out, f"specimen_{p}.png", made)
 
@@ -590,7 +592,7 @@ def envelopes_figure(by_pattern, out, made):
         if len(lines) > 1:  # the band the seeds' envelopes span
             ax.fill_between(sigma, np.min(lines, axis=0), np.max(lines, axis=0), color=PATTERN_COLOUR[p], alpha=0.15)
         ax.plot(sigma, st["c"][0] / 1e3 + sigma * math.tan(math.radians(st["phi"][0])), color=PATTERN_COLOUR[p],
-                lw=2, label=f"{PATTERN_LABEL[p]}: φ = {fmt_mean(st['phi'], '.1f')}°, "
+                ls=PATTERN_STYLE[p], lw=2.2, label=f"{PATTERN_LABEL[p]}: φ = {fmt_mean(st['phi'], '.1f')}°, "
                             f"c = {fmt_mean((st['c'][0] / 1e3, st['c'][1] and st['c'][1] / 1e3, st['c'][2]), '.2f')}"
                             f" kPa (n = {st['phi'][2]})")
     ax.set_xlim(0, sigma[-1])
@@ -639,7 +641,7 @@ def strength_tables(by_pattern):
                                  fmt(delta, "+.2f") + (unit if delta is not None else ""),
                                  fmt(bound, ".2f") + (unit if bound is not None else ""),
                                  {True: "**yes**", False: "no", None: "not judged"}[verdict]])
-    text += table(["fit", "patterns", "", "Δ mean", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+    text += table(["fit", "patterns", "quantity", "Δ mean", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
     return text
 
 
@@ -664,8 +666,9 @@ def tests_table(by_pattern):
     return ("Every test. Yield: the maximum of the smoothed stress ratio η, its shape (peak, plateau, or "
             "rising: still rising at the end, a lower bound); max q: the largest raw q and the shape of the "
             "smoothed q curve; residual η: mean over the last 2 % of strain (summary `definitions`).\n\n"
-            + table(["campaign", "σ₃ [kPa]", "yield η", "ε_a [%]", "shape", "q [kPa]", "σ₃,eff [kPa]",
-                     "max q [kPa]", "ε_a [%]", "shape", "residual η", "quasi-static", "max I", "mean KE/E"], rows))
+            + table(["campaign", "σ₃ [kPa]", "yield η", "at ε_a [%]", "yield shape", "q at yield [kPa]",
+                     "σ₃,eff at yield [kPa]", "max q [kPa]", "at ε_a [%]", "max-q shape", "residual η",
+                     "quasi-static", "max I", "mean KE/E"], rows))
 
 
 # ---------------------------------------------------------------------------
