@@ -29,6 +29,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Line3DCollection  # noqa: E402
 
 PATTERNS = ("none", "helix", "spiral_helix", "radial_helix")
 PATTERN_LABEL = {"none": "no wire", "helix": "helix", "spiral_helix": "spiral helix",
@@ -400,36 +401,35 @@ def specimen_picture(p, c, out, made):
         gp, gr, wp = s["grain_position_m"][:] * 1e3, s["grain_radius_m"][:] * 1e3, s["wire_node_position_m"][:] * 1e3
         height = float(s.attrs["pile_height_m"]) * 1e3
     radius = c.job["specimen"]["membrane_radius_m"] * 1e3
-    # Tall enough for the column's aspect (the study's is 3:1, main.json's 2:3).
-    fig = plt.figure(figsize=(11, min(11.0, max(4.8, 1.6 + 4.4 * height / (2 * radius)))))
-    fig.suptitle(f"Prepared specimen, {PATTERN_LABEL[p]}, seed {c.seed}: {len(gr)} grains, "
-                 f"{len(wp)} wire nodes ({c.summary['specimen'].get('wire_length_m', 0):.3g} m)")
+    with_wire = len(wp) > 1
+    # Tall enough for the column's aspect (the study's is 3:1, main.json's 2:3);
+    # without wire only the cut-away.
+    fig = plt.figure(figsize=(11 if with_wire else 6, min(11.0, max(4.8, 1.6 + 4.4 * height / (2 * radius)))))
+    fig.suptitle(f"Prepared specimen, {PATTERN_LABEL[p]}, seed {c.seed}: {len(gr)} grains"
+                 + (f", {len(wp)} wire nodes ({c.summary['specimen'].get('wire_length_m', 0):.3g} m)"
+                    if with_wire else ""))
 
-    ax = fig.add_subplot(1, 2, 1, projection="3d")
-    if len(wp) > 1:
-        # Coloured by height, so that the loops at the back read as behind.
+    if with_wire:
+        ax = fig.add_subplot(1, 2, 1, projection="3d")
+        # Coloured by height: turns laid one above another stay apart in the view.
         segments = np.stack([wp[:-1], wp[1:]], axis=1)
-        z = 0.5 * (segments[:, 0, 2] + segments[:, 1, 2])
-        from mpl_toolkits.mplot3d.art3d import Line3DCollection
         lc = Line3DCollection(segments, cmap="viridis", linewidths=1.2)
-        lc.set_array(z)
+        lc.set_array(0.5 * (segments[:, 0, 2] + segments[:, 1, 2]))
         ax.add_collection3d(lc)
         fig.colorbar(lc, ax=ax, shrink=0.6, pad=0.15, label="height z [mm]")
-    else:
-        ax.text2D(0.5, 0.5, "no wire", transform=ax.transAxes, ha="center")
-    ang = np.linspace(0, 2 * np.pi, 90)
-    for zz in (0.0, height):  # the membrane's outline at both plates
-        ax.plot(radius * np.cos(ang), radius * np.sin(ang), zz, color="0.6", lw=0.8)
-    ax.set_xlim(-radius, radius)
-    ax.set_ylim(-radius, radius)
-    ax.set_zlim(0, height)
-    ax.set_box_aspect((2 * radius, 2 * radius, height))
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("y [mm]")
-    ax.set_zlabel("z [mm]")
-    ax.set_title("the wire alone")
+        ang = np.linspace(0, 2 * np.pi, 90)
+        for zz in (0.0, height):  # the membrane's outline at both plates
+            ax.plot(radius * np.cos(ang), radius * np.sin(ang), zz, color="0.6", lw=0.8)
+        ax.set_xlim(-radius, radius)
+        ax.set_ylim(-radius, radius)
+        ax.set_zlim(0, height)
+        ax.set_box_aspect((2 * radius, 2 * radius, height))
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_zlabel("z [mm]")
+        ax.set_title("the wire alone")
 
-    ax = fig.add_subplot(1, 2, 2)
+    ax = fig.add_subplot(1, 2, 2) if with_wire else fig.add_subplot(1, 1, 1)
     # Cut-away: the half y < 0 is removed and the rest seen from -y, so the grains
     # are discs in the x–z plane drawn from the back (large y) to the front, the
     # nearer ones darker; the wire's half y >= 0 is drawn over them.
@@ -439,7 +439,7 @@ def specimen_picture(p, c, out, made):
     shade = 0.55 + 0.35 * depth[:, None] * np.ones(3)
     ax.add_collection(PatchCollection([plt.Circle((x, z), r) for (x, _, z), r in zip(gp[keep][order], gr[keep][order])],
                                       facecolors=shade * np.array([1.0, 0.93, 0.8]), edgecolors="0.3", linewidths=0.3))
-    if len(wp) > 1:
+    if with_wire:
         front = (wp[:-1, 1] >= 0.0) & (wp[1:, 1] >= 0.0)
         segs = np.stack([wp[:-1, [0, 2]], wp[1:, [0, 2]]], axis=1)[front]
         ax.add_collection(LineCollection(segs, colors=PATTERN_COLOUR[p], linewidths=2.0))
@@ -453,7 +453,7 @@ def specimen_picture(p, c, out, made):
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("z [mm]")
     ax.set_title("cut-away column: the half y < 0 removed, seen from −y\n"
-                 + ("the wire's half y ≥ 0 drawn over the grains" if len(wp) > 1 else "no wire"), fontsize=10)
+                 + ("the wire's half y ≥ 0 drawn over the grains" if with_wire else "no wire"), fontsize=10)
     fig.tight_layout()
     save(fig, out, f"specimen_{p}.png", made)
 
