@@ -60,6 +60,12 @@ def mean_sd(values):
     return mean, sd, len(v)
 
 
+def scaled(stat, factor):
+    """A (mean, sd, n) in other units."""
+    m, s, n = stat
+    return (m * factor if m is not None else None, s * factor if s is not None else None, n)
+
+
 def difference_exceeds_scatter(a, b):
     """Whether two patterns' means differ by more than their scatter allows.
 
@@ -330,15 +336,16 @@ def save(fig, out_dir, name, made):
 # ---------------------------------------------------------------------------
 # 1. Specimen
 
-def specimen_figures(c):
-    """Whole-column and core figures of one campaign (dict of values, None when absent)."""
+def specimen_values(c):
+    """Whole-column and core values of one campaign (None when absent); volume fractions of wire in %."""
     sp = c.summary.get("specimen", {})
     v = {"volume_cm3": sp.get("sample_volume_m3") and sp["sample_volume_m3"] * 1e6,
-         "grain": sp.get("grain_volume_fraction"), "wire": sp.get("wire_volume_fraction"),
+         "grain": sp.get("grain_volume_fraction"),
+         "wire_pct": sp.get("wire_volume_fraction") and sp["wire_volume_fraction"] * 100,
          "wire_length_m": sp.get("wire_length_m"), "wire_nodes": sp.get("wire_nodes"),
          "nozzle_path_m": sp.get("nozzle_path_m"),
          "height_cm": sp.get("pile_height_m") and sp["pile_height_m"] * 100,
-         "grains": sp.get("grains"), "core_grain": None, "core_wire": None, "prep_wall_s": None}
+         "grains": sp.get("grains"), "core_grain": None, "core_wire_pct": None, "prep_wall_s": None}
     if v["wire_length_m"] is not None and v["nozzle_path_m"]:
         v["laid_pct"] = 100.0 * v["wire_length_m"] / v["nozzle_path_m"]
     else:
@@ -351,7 +358,7 @@ def specimen_figures(c):
                                   c.job["specimen"]["wire"]["radius_m"], c.job["specimen"]["membrane_radius_m"],
                                   float(s.attrs["pile_height_m"]))
         if core:
-            v["core_grain"], v["core_wire"] = core["grain"], core["wire"]
+            v["core_grain"], v["core_wire_pct"] = core["grain"], core["wire"] * 100
     if c.pattern == "none":  # "—" rather than rows of zeros
         v.update({k: None for k in WIRE_KEYS})
     return v
@@ -360,23 +367,20 @@ def specimen_figures(c):
 SPECIMEN_COLUMNS = [  # key, header, format
     ("volume_cm3", "sample volume [cm³]", ".2f"), ("grains", "grains", ".0f"),
     ("grain", "grain fraction, column", ".3f"), ("core_grain", "grain fraction, core", ".3f"),
-    ("wire", "wire fraction, column [%]", ".2f"), ("core_wire", "wire fraction, core [%]", ".2f"),
+    ("wire_pct", "wire fraction, column [%]", ".2f"), ("core_wire_pct", "wire fraction, core [%]", ".2f"),
     ("wire_length_m", "wire laid [m]", ".3f"), ("wire_nodes", "wire nodes", ".0f"),
     ("nozzle_path_m", "nozzle path [m]", ".3f"), ("laid_pct", "laid / path [%]", ".0f"),
     ("height_cm", "pile height [cm]", ".2f"), ("prep_wall_s", "preparation wall time [s]", ".1f")]
-WIRE_KEYS = {"wire", "core_wire", "wire_length_m", "wire_nodes", "nozzle_path_m", "laid_pct"}
-PERCENT_KEYS = {"wire", "core_wire"}
+WIRE_KEYS = {"wire_pct", "core_wire_pct", "wire_length_m", "wire_nodes", "nozzle_path_m", "laid_pct"}
 
 
 def specimen_tables(by_pattern):
-    per = {p: [(c, specimen_figures(c)) for c in cs] for p, cs in by_pattern.items()}
+    per = {p: [(c, specimen_values(c)) for c in cs] for p, cs in by_pattern.items()}
     rows = []
     for p, items in per.items():
         row = [PATTERN_LABEL[p], len(items)]
         for key, _, spec in SPECIMEN_COLUMNS:
-            scale = 100.0 if key in PERCENT_KEYS else 1.0
-            row.append(fmt_mean(mean_sd([v[key] * scale if v[key] is not None else None for _, v in items]),
-                                spec, len(items)))
+            row.append(fmt_mean(mean_sd([v[key] for _, v in items]), spec, len(items)))
         rows.append(row)
     text = ("Mean ± sample standard deviation over the seeds (n); (n=k) where fewer campaigns had a "
             "result.h5. The core is the column a mean grain diameter away from the membrane and both "
@@ -385,8 +389,7 @@ def specimen_tables(by_pattern):
     detail = []
     for p, items in per.items():
         for c, v in items:
-            detail.append([c.name] + [fmt(v[k] * (100.0 if k in PERCENT_KEYS and v[k] is not None else 1.0)
-                                          if v[k] is not None else None, s) for k, _, s in SPECIMEN_COLUMNS])
+            detail.append([c.name] + [fmt(v[k], spec) for k, _, spec in SPECIMEN_COLUMNS])
     text += "\n<details><summary>per campaign</summary>\n\n"
     text += table(["campaign"] + [h for _, h, _ in SPECIMEN_COLUMNS], detail) + "\n</details>\n"
     return text
@@ -550,7 +553,7 @@ def mohr_figure(p, campaigns, colours, out, made):
     if phi is not None:
         ax.plot(sigma, c_pa / 1e3 + sigma * math.tan(math.radians(phi)), color=PATTERN_COLOUR[p], lw=2.2,
                 label=f"tangent envelope τ = c + σ tan φ: φ = {fmt_mean(st['phi'], '.1f')}°, "
-                      f"c = {fmt_mean((c_pa / 1e3, st['c'][1] and st['c'][1] / 1e3, st['c'][2]), '.2f')} kPa")
+                      f"c = {fmt_mean(scaled(st['c'], 1e-3), '.2f')} kPa")
         # The line through the circle tops, t = a + p tan α with a = c cos φ (the
         # fit in engine/analysis/mohr_coulomb.hpp), from the means over seeds.
         fits = [c.summary.get("mohr_coulomb") or {} for c in campaigns]
@@ -593,7 +596,7 @@ def envelopes_figure(by_pattern, out, made):
             ax.fill_between(sigma, np.min(lines, axis=0), np.max(lines, axis=0), color=PATTERN_COLOUR[p], alpha=0.15)
         ax.plot(sigma, st["c"][0] / 1e3 + sigma * math.tan(math.radians(st["phi"][0])), color=PATTERN_COLOUR[p],
                 ls=PATTERN_STYLE[p], lw=2.2, label=f"{PATTERN_LABEL[p]}: φ = {fmt_mean(st['phi'], '.1f')}°, "
-                            f"c = {fmt_mean((st['c'][0] / 1e3, st['c'][1] and st['c'][1] / 1e3, st['c'][2]), '.2f')}"
+                            f"c = {fmt_mean(scaled(st['c'], 1e-3), '.2f')}"
                             f" kPa (n = {st['phi'][2]})")
     ax.set_xlim(0, sigma[-1])
     ax.set_ylim(0, None)
@@ -618,8 +621,8 @@ def strength_tables(by_pattern):
         for key, label in (("mohr_coulomb", "yield"), ("mohr_coulomb_max_q", "max q")):
             st = fit_stats(cs, key)
             stats[(p, label)] = st
-            c_kpa = tuple(x / 1e3 if x is not None else None for x in st["c"][:2]) + (st["c"][2],)
-            rows.append([PATTERN_LABEL[p], label, st["phi"][2], fmt_mean(st["phi"], ".2f"), fmt_mean(c_kpa, ".2f"),
+            rows.append([PATTERN_LABEL[p], label, st["phi"][2], fmt_mean(st["phi"], ".2f"),
+                         fmt_mean(scaled(st["c"], 1e-3), ".2f"),
                          fmt_mean(st["alpha"], ".2f"), fmt_mean(st["r2"], ".3f")])
     text += table(["pattern", "fit", "n", "φ [°]", "c [kPa]", "α [°]", "R²"], rows)
     text += ("\nDifferences between patterns. Criterion: a difference of means exceeds the scatter when "
@@ -632,11 +635,8 @@ def strength_tables(by_pattern):
         for i, p1 in enumerate(patterns):
             for p2 in patterns[i + 1:]:
                 for q, unit, scale in (("phi", "°", 1.0), ("c", " kPa", 1e-3)):
-                    a = tuple(x * scale if x is not None else None for x in stats[(p1, label)][q][:2]) + (
-                        stats[(p1, label)][q][2],)
-                    b = tuple(x * scale if x is not None else None for x in stats[(p2, label)][q][:2]) + (
-                        stats[(p2, label)][q][2],)
-                    delta, bound, verdict = difference_exceeds_scatter(a, b)
+                    delta, bound, verdict = difference_exceeds_scatter(scaled(stats[(p1, label)][q], scale),
+                                                                       scaled(stats[(p2, label)][q], scale))
                     rows.append([label, f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", "φ" if q == "phi" else "c",
                                  fmt(delta, "+.2f") + (unit if delta is not None else ""),
                                  fmt(bound, ".2f") + (unit if bound is not None else ""),
