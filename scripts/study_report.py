@@ -29,6 +29,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Line3DCollection  # noqa: E402
 
 PATTERNS = ("none", "helix", "spiral_helix", "radial_helix")
@@ -410,7 +411,10 @@ def specimen_picture(p, c, out, made):
     fig = plt.figure(figsize=(11 if with_wire else 6, min(11.0, max(4.8, 1.6 + 4.4 * height / (2 * radius)))))
     fig.suptitle(f"Prepared specimen, {PATTERN_LABEL[p]}, seed {c.seed}: {len(gr)} grains"
                  + (f", {len(wp)} wire nodes ({c.summary['specimen'].get('wire_length_m', 0):.3g} m)"
-                    if with_wire else ""))
+                    if with_wire else "")
+                 + ("\nleft: the wire alone, coloured by height; right: " if with_wire else "\n")
+                 + "the column cut away (the half y < 0 removed), seen from −y"
+                 + (", the wire's half y ≥ 0 drawn over the grains" if with_wire else ""), fontsize=10)
 
     if with_wire:
         ax = fig.add_subplot(1, 2, 1, projection="3d")
@@ -419,18 +423,20 @@ def specimen_picture(p, c, out, made):
         lc = Line3DCollection(segments, cmap="viridis", linewidths=1.2)
         lc.set_array(0.5 * (segments[:, 0, 2] + segments[:, 1, 2]))
         ax.add_collection3d(lc)
-        fig.colorbar(lc, ax=ax, shrink=0.6, pad=0.15, label="height z [mm]")
+        fig.colorbar(lc, ax=ax, shrink=0.5, pad=0.08, fraction=0.05, label="height z [mm]")
         ang = np.linspace(0, 2 * np.pi, 90)
         for zz in (0.0, height):  # the membrane's outline at both plates
             ax.plot(radius * np.cos(ang), radius * np.sin(ang), zz, color="0.6", lw=0.8)
         ax.set_xlim(-radius, radius)
         ax.set_ylim(-radius, radius)
         ax.set_zlim(0, height)
-        ax.set_box_aspect((2 * radius, 2 * radius, height))
+        # A tall column leaves a 3-D box little room: zoom in, fewer ticks.
+        ax.set_box_aspect((2 * radius, 2 * radius, height), zoom=1.0 + 0.12 * min(1.0, height / (2 * radius)))
+        ax.xaxis.set_major_locator(MaxNLocator(3))
+        ax.yaxis.set_major_locator(MaxNLocator(3))
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
         ax.set_zlabel("z [mm]")
-        ax.set_title("the wire alone")
 
     ax = fig.add_subplot(1, 2, 2) if with_wire else fig.add_subplot(1, 1, 1)
     # Cut-away: the half y < 0 is removed and the rest seen from -y, so the grains
@@ -455,8 +461,7 @@ def specimen_picture(p, c, out, made):
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("z [mm]")
-    ax.set_title("cut-away column: the half y < 0 removed, seen from −y\n"
-                 + ("the wire's half y ≥ 0 drawn over the grains" if with_wire else "no wire"), fontsize=10)
+
     fig.tight_layout()
     save(fig, out, f"specimen_{p}.png", made)
 
@@ -713,14 +718,14 @@ def wire_figure_and_rows(p, campaigns, out, made):
     head = next((d for d in done if d[0] is bold), done[0])
     c, s3, ea, strain, seg, r, lag_m, loops = head
     s = (np.arange(len(strain)) + 0.5) * seg
-    ax1.plot(s, strain * 100, color=PATTERN_COLOUR[p], lw=0.8, label="segment strain")
-    ax1.axhline(np.mean(strain) * 100, color="k", ls="--", lw=1, label=f"mean {np.mean(strain) * 100:.3f} %")
+    ax1.plot(s, strain * 100, color=PATTERN_COLOUR[p], lw=0.8)
+    ax1.axhline(np.mean(strain) * 100, color="k", ls="--", lw=1)
     i = int(np.argmax(strain))
-    ax1.plot(s[i], strain[i] * 100, "v", color="k", label=f"max {strain[i] * 100:.3f} %")
+    ax1.plot(s[i], strain[i] * 100, "v", color="k", ms=8)
     ax1.set_xlabel("position along the wire s [m] (from the end laid first)")
     ax1.set_ylabel("segment strain [%] (stretch > 0)")
-    ax1.set_title(f"{PATTERN_LABEL[p]}, seed {c.seed}: σ₃ = {kpa(s3)}, ε_a = {ea * 100:.1f} %", fontsize=10)
-    ax1.legend(fontsize=8, loc="upper right")
+    ax1.set_title(f"segment strain, {PATTERN_LABEL[p]}, seed {c.seed}: σ₃ = {kpa(s3)}, ε_a = {ea * 100:.1f} %; "
+                  f"mean {np.mean(strain) * 100:.3f} % (dashed), max {strain[i] * 100:.3f} % (▼)", fontsize=10)
     ax1.grid(alpha=0.3)
     longest = max([v for _, v in loops] + [lag_m or 0.0])
     shown = min(len(strain) * seg / 2, max(5 * longest, 20 * seg))
@@ -745,7 +750,7 @@ def wire_figure_and_rows(p, campaigns, out, made):
     ax2.set_xlabel("lag along the wire [m]")
     ax2.set_ylabel("autocorrelation R(lag)")
     ax2.set_title("autocorrelation of the segment strain (engine/analysis/autocorrelation.hpp)", fontsize=10)
-    ax2.legend(fontsize=8, loc="upper right")
+    ax2.legend(fontsize=8, loc="best")
     ax2.grid(alpha=0.3)
     fig.tight_layout()
     save(fig, out, f"wire_strain_{p}.png", made)
