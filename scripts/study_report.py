@@ -567,6 +567,7 @@ def mohr_figure(p, campaigns, colours, out, made):
         ax.plot(sigma, a / 1e3 + sigma * math.tan(math.radians(alpha)), color="k", lw=1.2, ls="--",
                 label=f"slope of the tops (the paper's reading): α = {fmt_mean(st['alpha'], '.1f')}°")
     ax.plot([], [], color=PATTERN_COLOUR[p], lw=0.6, alpha=0.5, label="each seed's tangent envelope")
+    ax.plot([], [], "o", color="0.4", ms=4, label="circle tops (p, t), through which α is fitted")
     for s3, col in colours.items():
         ax.plot([], [], color=col, lw=1.8, label=f"yield circle, σ₃ = {kpa(s3)}")
     # Circles stay circles (equal scales); the envelope is shown up to the
