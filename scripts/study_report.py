@@ -596,8 +596,9 @@ def envelopes_figure(by_pattern, out, made):
         st = fit_stats(cs, "mohr_coulomb")
         if st["phi"][0] is None:
             continue
-        lines = [mc["cohesion_pa"] / 1e3 + sigma * math.tan(math.radians(mc["friction_angle_deg"]))
-                 for mc in (c.summary.get("mohr_coulomb") or {} for c in cs) if mc.get("friction_angle_deg") is not None]
+        fits = [c.summary.get("mohr_coulomb") or {} for c in cs]
+        lines = [f["cohesion_pa"] / 1e3 + sigma * math.tan(math.radians(f["friction_angle_deg"]))
+                 for f in fits if f.get("friction_angle_deg") is not None]
         if len(lines) > 1:  # the band the seeds' envelopes span
             ax.fill_between(sigma, np.min(lines, axis=0), np.max(lines, axis=0), color=PATTERN_COLOUR[p], alpha=0.15)
         ax.plot(sigma, st["c"][0] / 1e3 + sigma * math.tan(math.radians(st["phi"][0])), color=PATTERN_COLOUR[p],
@@ -835,7 +836,8 @@ def force_network_figure(campaigns, out, made):
     ax.set_title(f"Force network, no wire, seed {c.seed}: σ₃ = {kpa(s3)}, ε_a = {ea * 100:.2f} %\n"
                  f"(yield at {target * 100:.2f} %); contacts with midpoint |y| ≤ {r_mean * 1e3:.2f} mm", fontsize=10)
     fig.legend(handles=[Line2D([], [], color="#b2182b", lw=3,
-                               label=f"strong: F_n above the mean {mean_force:.3g} N ({int(np.sum(strong))} in the slab)"),
+                               label=f"strong: F_n above the mean {mean_force:.3g} N "
+                                     f"({int(np.sum(strong))} in the slab)"),
                         Line2D([], [], color="#6a8fbf", lw=1, label=f"weak: below it ({int(np.sum(weak))})"),
                         Line2D([], [], color="k", lw=6.0, label=f"line width ∝ F_n: 6 pt = {f_max:.3g} N"),
                         Line2D([], [], color="0.45", marker=".", ls="none", label="membrane nodes in the slab")],
