@@ -151,62 +151,6 @@ def loop_lengths_m(wire):
     return []
 
 
-def core_fractions(grain_pos, grain_r, wire_pos, wire_radius_m, membrane_radius_m, height_m):
-    """Grain and wire volume fractions of the core of the column, or None.
-
-    The core is the cylinder a (mean) grain diameter d away from the membrane
-    (r <= R - d) and from both plates (d <= z <= H - d; the bottom plate is at
-    z = 0, the top plate at the pile height H): the layers against a wall are
-    ordered by it and looser than the bulk, so the whole-column fraction
-    underestimates the packing the wire actually sits in.
-    Grains: the fraction of the points of a cubic lattice in the core that lie
-    inside a grain, with spacing d/16 (coarser if the core would need more than
-    4 million points). This is the occupied volume itself, grains cut by the
-    core's boundary counted by their part inside, with no assumption of a
-    uniform packing; the lattice error is far below the scatter between seeds
-    (a sphere of 8 lattice spacings' radius is measured within about 1 %).
-    Overlaps of touching grains (below 1 % of a radius) are counted once.
-    Wire: pi r_w² times the length of the segments whose midpoint lies in the
-    core, over the core's volume: the wire is thin (r_w << d), so the
-    segments cut by the boundary make an error of order r_w/d.
-    """
-    grain_pos = np.asarray(grain_pos, dtype=float)
-    grain_r = np.asarray(grain_r, dtype=float)
-    if grain_r.size == 0:
-        return None
-    d = 2.0 * float(np.mean(grain_r))
-    rc, z0, z1 = membrane_radius_m - d, d, height_m - d
-    if rc <= 0.0 or z1 <= z0:
-        return None
-    core_volume = math.pi * rc * rc * (z1 - z0)
-    h = max(d / 16.0, ((2 * rc) * (2 * rc) * (z1 - z0) / 4e6) ** (1.0 / 3.0))
-    xs = np.arange(-rc + 0.5 * h, rc, h)
-    zs = np.arange(z0 + 0.5 * h, z1, h)
-    covered = np.zeros((xs.size, xs.size, zs.size), dtype=bool)
-    for (cx, cy, cz), r in zip(grain_pos, grain_r):
-        ix = slice(np.searchsorted(xs, cx - r), np.searchsorted(xs, cx + r, side="right"))
-        iy = slice(np.searchsorted(xs, cy - r), np.searchsorted(xs, cy + r, side="right"))
-        iz = slice(np.searchsorted(zs, cz - r), np.searchsorted(zs, cz + r, side="right"))
-        if ix.start == ix.stop or iy.start == iy.stop or iz.start == iz.stop:
-            continue
-        dx = (xs[ix] - cx)[:, None, None]
-        dy = (xs[iy] - cy)[None, :, None]
-        dz = (zs[iz] - cz)[None, None, :]
-        covered[ix, iy, iz] |= dx * dx + dy * dy + dz * dz <= r * r
-    in_core = (xs[:, None] ** 2 + xs[None, :] ** 2 <= rc * rc)[:, :, None]
-    grain_fraction = float(np.count_nonzero(covered & in_core)) / (np.count_nonzero(in_core) * zs.size)
-
-    wire_fraction = 0.0
-    wire_pos = np.asarray(wire_pos, dtype=float).reshape(-1, 3)
-    if len(wire_pos) > 1:
-        mid = 0.5 * (wire_pos[1:] + wire_pos[:-1])
-        length = np.linalg.norm(wire_pos[1:] - wire_pos[:-1], axis=1)
-        inside = (np.hypot(mid[:, 0], mid[:, 1]) <= rc) & (mid[:, 2] >= z0) & (mid[:, 2] <= z1)
-        wire_fraction = math.pi * wire_radius_m ** 2 * float(np.sum(length[inside])) / core_volume
-    return {"grain": grain_fraction, "wire": wire_fraction, "core_radius_m": rc,
-            "core_height_m": z1 - z0, "lattice_spacing_m": h}
-
-
 # ---------------------------------------------------------------------------
 # Campaigns
 
@@ -346,7 +290,11 @@ def specimen_values(c):
          "wire_length_m": sp.get("wire_length_m"), "wire_nodes": sp.get("wire_nodes"),
          "nozzle_path_m": sp.get("nozzle_path_m"),
          "height_cm": sp.get("pile_height_m") and sp["pile_height_m"] * 100,
-         "grains": sp.get("grains"), "core_grain": None, "core_wire_pct": None, "prep_wall_s": None}
+         "grains": sp.get("grains"),
+         # The core's fractions are the engine's (engine/specimen/packing.hpp), written by the runner.
+         "core_grain": sp.get("core_grain_volume_fraction"),
+         "core_wire_pct": sp.get("core_wire_volume_fraction") and sp["core_wire_volume_fraction"] * 100,
+         "prep_wall_s": None}
     if v["wire_length_m"] is not None and v["nozzle_path_m"]:
         v["laid_pct"] = 100.0 * v["wire_length_m"] / v["nozzle_path_m"]
     else:
@@ -355,11 +303,6 @@ def specimen_values(c):
         with h5py.File(c.h5, "r") as f:
             s = f["specimen"]
             v["prep_wall_s"] = float(s.attrs["wall_time_s"])
-            core = core_fractions(s["grain_position_m"][:], s["grain_radius_m"][:], s["wire_node_position_m"][:],
-                                  c.job["specimen"]["wire"]["radius_m"], c.job["specimen"]["membrane_radius_m"],
-                                  float(s.attrs["pile_height_m"]))
-        if core:
-            v["core_grain"], v["core_wire_pct"] = core["grain"], core["wire"] * 100
     if c.pattern == "none":  # "—" rather than rows of zeros
         v.update({k: None for k in WIRE_KEYS})
     return v
@@ -384,8 +327,8 @@ def specimen_tables(by_pattern):
             row.append(fmt_mean(mean_sd([v[key] for _, v in items]), spec, len(items)))
         rows.append(row)
     text = ("Mean ± sample standard deviation over the seeds (n); (n=k) where fewer campaigns had a "
-            "result.h5. The core is the column a mean grain diameter away from the membrane and both "
-            "plates (`core_fractions` in scripts/study_report.py explains the estimator).\n\n")
+            "result.h5. The core is the column a grain diameter away from the membrane and both "
+            "plates (the engine's estimate, `engine/specimen/packing.hpp`).\n\n")
     text += table(["pattern", "n"] + [h for _, h, _ in SPECIMEN_COLUMNS], rows)
     detail = []
     for p, items in per.items():

@@ -170,20 +170,6 @@ class StudyReport(unittest.TestCase):
         self.assertIsNone(report.autocorrelation(np.full(10, 0.3), 1.0)[0])  # constant: undefined
         self.assertIsNone(report.autocorrelation(np.exp(-np.arange(20.0)), 1.0)[1])  # no maximum
 
-    def test_core_fraction_counts_the_part_of_a_grain_inside(self):
-        radius, height, r = 0.02, 0.04, 2e-3
-        core_volume = math.pi * (radius - 2 * r) ** 2 * (height - 4 * r)
-        sphere = 4 / 3 * math.pi * r ** 3
-        whole = report.core_fractions([[0, 0, 0.02]], [r], [], 5e-4, radius, height)
-        self.assertAlmostEqual(whole["grain"] / (sphere / core_volume), 1.0, delta=0.02)
-        # centred on the core's bottom (z = d): half of it inside
-        half = report.core_fractions([[0, 0, 2 * r]], [r], [], 5e-4, radius, height)
-        self.assertAlmostEqual(half["grain"] / (0.5 * sphere / core_volume), 1.0, delta=0.03)
-        # a straight wire up the axis: the length between z = d and H - d
-        wire = [[0, 0, z] for z in np.arange(0, height + 1e-9, 1e-3)]
-        fr = report.core_fractions([[0, 0, 0.02]], [r], wire, 5e-4, radius, height)
-        self.assertAlmostEqual(fr["wire"], math.pi * 5e-4 ** 2 * (height - 4 * r) / core_volume, delta=1e-9)
-
     def test_loop_lengths(self):
         wire = {"pattern": "helix", "helix_radius_m": 0.012}
         self.assertAlmostEqual(report.loop_lengths_m(wire)[0][1], 2 * math.pi * 0.012)
