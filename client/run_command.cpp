@@ -5,7 +5,7 @@
 //      prepared World, one after another (deterministic),
 //   3. fits the Mohr–Coulomb envelope to the peak states (σ₁, σ₃,eff) and takes
 //      the autocorrelation of the wire's segment strains at the end of the
-//      first test,
+//      test at the highest pressure,
 //   4. writes OUT/result.h5 (layout: docs/results.md) and OUT/summary.json,
 //      each under a temporary name first, then renamed.
 //
@@ -493,9 +493,13 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
                              "bounds (raise triaxial.target_axial_strain)");
     std::optional<double> lag_m;
     const bool with_wire = spec.specimen.wire.pattern != api::WirePattern::none && prep.wire_nodes > 1;
-    if (with_wire && !tests.empty() && !tests.front().snapshots.empty()) {
+    // At the end of the test at the highest pressure (the first of equals):
+    // the wire's strain is largest and most developed there.
+    const std::size_t strained = static_cast<std::size_t>(
+        std::max_element(pressures.begin(), pressures.end()) - pressures.begin());
+    if (with_wire && strained < tests.size() && !tests[strained].snapshots.empty()) {
         const auto ac = eng::analysis::autocorrelation(
-            tests.front().snapshots.back().wire_segment_strain, spec.specimen.wire.segment_length_m);
+            tests[strained].snapshots.back().wire_segment_strain, spec.specimen.wire.segment_length_m);
         if (!ac.ok())
             warnings.push_back("wire autocorrelation: " + ac.error());
         else if (!ac.value().first_maximum_lag_m)
