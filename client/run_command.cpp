@@ -436,11 +436,9 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     // Time step of the tests: the given one, or the auto fraction of the
     // deformable system's critical step (the pouring's is set by impacts).
     eng::World prepared_world = prep_sim.world;
-    if (!spec.engine.time_step_s) {
-        eng::World probe = prepared_world;
-        eng::set_membrane_rigid(probe, false);
-        eng::set_time_step(prepared_world, eng::auto_time_step_fraction * eng::critical_time_step(probe).critical_s);
-    }
+    if (!spec.engine.time_step_s)
+        eng::set_time_step(prepared_world,
+            eng::stable_time_step(eng::stability_inputs(prepared_world, eng::MembraneAs::deformable)).auto_s);
     const std::size_t bodies = body_count(prepared_world);
     double body_steps = static_cast<double>(prep.steps) * static_cast<double>(bodies);
     double stepping_wall_s = prep.wall_time_s;

@@ -16,7 +16,7 @@ void build_membrane(World& w, const MembraneSpec& spec)
     m.radius_m = spec.radius_m;
     m.height_m = spec.height_m;
     m.base_z_m = spec.base_z_m;
-    m.edge_stiffness_n_per_m = std::sqrt(3.0) / 2.0 * spec.youngs_modulus_pa * spec.thickness_m;
+    m.edge_stiffness_n_per_m = membrane_edge_stiffness_n_per_m(spec.youngs_modulus_pa, spec.thickness_m);
     m.edge_law = spec.edge_law;
     const std::uint8_t material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
 

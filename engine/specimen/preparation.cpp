@@ -299,7 +299,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
         // through the zone and the gap above the pile (≤ 12 r_max).
         const double impact = entry_speed + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
         w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s
-                                        : auto_time_step_fraction * critical_time_step(probe, impact).critical_s;
+                                        : stable_time_step(probe, impact).auto_s;
     }
     const double dt = w.dt_s;
 

@@ -303,7 +303,7 @@ Result<TriaxialResult, std::string> run_triaxial(
     w.membrane.pressure_pa = 0.0;
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     const double dt = w.dt_s;
-    if (const CriticalStep crit = critical_time_step(w); dt > crit.critical_s)
+    if (const StableStep crit = stable_time_step(w); dt > crit.critical_s)
         return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
                    + " s set by the " + crit.limited_by + " of the deformable system");
 

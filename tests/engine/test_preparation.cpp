@@ -3,9 +3,9 @@
 // specimen. Quasi-static scaling as in the examples: masses × 100, the wire
 // and membrane nodes another × 400, so that neither the nodes' springs nor
 // heavy grains' impacts make δt small.
-#include "core/hash.hpp"
 #include "small_column.hpp"
 #include "specimen/preparation.hpp"
+#include "state/state_hash.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,14 +23,6 @@ namespace {
 /// tangential law's re-stick test (engine/laws/tangential.hpp) piles of more
 /// than ~120 did not settle at the auto δt (tests/engine/test_settling.cpp).
 constexpr std::size_t test_column_grains = 300;
-
-std::uint64_t specimen_hash(const World& w)
-{
-    Fnv1a h;
-    for (const auto& body : w.bodies) h.add(body.x[0]), h.add(body.x[1]), h.add(body.radius_m);
-    h.add(w.wire.rest_angle_rad); // the plastic joints' state
-    return h.value();
-}
 
 /// Checks every property a prepared specimen must have.
 void expect_sound_specimen(const World& w, const PreparationSpec& spec, const PreparationReport& r)
@@ -242,7 +234,7 @@ TEST(Preparation, SameSeedGivesTheSameWireSpecimenOnAnyThreadCount)
     ASSERT_GT(r1.value().wire_nodes, 10u);
     const auto r3 = prepare_specimen(three, spec);
     ASSERT_TRUE(r3.ok()) << r3.error();
-    EXPECT_EQ(specimen_hash(one.world), specimen_hash(three.world));
+    EXPECT_EQ(state_hash(one.world), state_hash(three.world));
 }
 
 TEST(Preparation, SameSeedGivesTheSameSpecimenOnAnyThreadCount)
@@ -251,12 +243,12 @@ TEST(Preparation, SameSeedGivesTheSameSpecimenOnAnyThreadCount)
     Simulation one(1), three(3);
     ASSERT_TRUE(prepare_specimen(one, spec).ok());
     ASSERT_TRUE(prepare_specimen(three, spec).ok());
-    EXPECT_EQ(specimen_hash(one.world), specimen_hash(three.world));
+    EXPECT_EQ(state_hash(one.world), state_hash(three.world));
     PreparationSpec other = spec;
     other.seed = 2;
     Simulation again(1);
     ASSERT_TRUE(prepare_specimen(again, other).ok());
-    EXPECT_NE(specimen_hash(again.world), specimen_hash(one.world));
+    EXPECT_NE(state_hash(again.world), state_hash(one.world));
 }
 
 TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)

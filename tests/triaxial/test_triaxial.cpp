@@ -46,9 +46,7 @@ MembraneSpec test_membrane(double radius_m, double height_m)
 /// Sets δt to the auto fraction of the critical step of the deformable system.
 void set_auto_time_step(World& w)
 {
-    World probe = w;
-    set_membrane_rigid(probe, false);
-    set_time_step(w, auto_time_step_fraction * critical_time_step(probe).critical_s);
+    set_time_step(w, stable_time_step(stability_inputs(w, MembraneAs::deformable)).auto_s);
 }
 
 /// Zeroes every body's motion and restarts the Gear derivatives from the
