@@ -80,6 +80,39 @@ TEST_F(HostileInput, HugeBodyIs413WhetherAnnouncedOrStreamed)
     EXPECT_EQ(streamed.status, 413);
 }
 
+TEST_F(HostileInput, TransferCodingsOtherThanChunkedAreRefusedAndTheConnectionClosed)
+{
+    // A body framed by a coding the server does not decode would otherwise be
+    // read as the next request on the connection (request smuggling). The
+    // refusal comes at once and the server closes the connection (the
+    // exchange, left open by the client, ends long before its timeout):
+    // 400 when chunked is not the final coding (RFC 9112 §6.3: the length
+    // cannot be determined), 501 for a coding before it that is not served.
+    const std::string smuggled = "GET /v1/health HTTP/1.1\r\nHost: x\r\n\r\n";
+    const struct {
+        const char* coding;
+        int status;
+    } cases[] = {{"gzip", 400}, {"gzip, chunked", 501}, {"chunked, gzip", 400}, {"identity", 400}, {"chunked ,", 400}};
+    for (const auto& c : cases) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto r = raw_exchange(port(),
+            std::string("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nTransfer-Encoding: ")
+                + c.coding + "\r\n\r\n" + smuggled,
+            std::chrono::milliseconds(6000), false);
+        EXPECT_EQ(r.status, c.status) << c.coding;
+        EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3)) << c.coding << ": connection left open";
+    }
+    // Both a length and a coding: ambiguous, refused.
+    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                                   "Content-Length: 2\r\nTransfer-Encoding: chunked\r\n\r\n2\r\n{}\r\n0\r\n\r\n")
+                  .status,
+        400);
+    // Chunked alone, in any case, is served.
+    const auto ok = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                                         "Transfer-Encoding: Chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n");
+    EXPECT_EQ(ok.status, 201) << ok.body;
+}
+
 TEST_F(HostileInput, HugeHeaderIs431)
 {
     const auto r = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: x\r\nX-Junk: " + std::string(100000, 'a') + "\r\n\r\n");
