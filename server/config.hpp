@@ -6,12 +6,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace wiredem::server {
 
 struct ServerConfig {
     std::string listen_host = "127.0.0.1";     ///< address to bind; loopback unless asked otherwise
-    std::uint16_t listen_port = 8080;          ///< 0: any free port (see port_file)
+    std::uint16_t listen_port = 8080;          ///< 0: any free port (see port_file); the bound port once listening
+    /// Names besides the listen address (and localhost on loopback) that a
+    /// request's Host may give (--allowed-host; server/origin.hpp).
+    std::vector<std::string> allowed_hosts;
     std::filesystem::path data_dir = "wiredem-data";  ///< database and job files
     std::filesystem::path runner;              ///< runner executable (absolute)
     std::filesystem::path port_file;           ///< if set, the bound port is written here once listening

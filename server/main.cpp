@@ -108,6 +108,8 @@ int main(int argc, char** argv)
 
     CLI::App app{"wiredem-server: queues triaxial campaigns and serves their results over HTTP (docs/api.md)"};
     app.add_option("--listen", listen, "address:port to listen on")->capture_default_str();
+    app.add_option("--allowed-host", cfg.allowed_hosts,
+        "a name the Host header may give besides the listen address (and localhost on loopback); repeatable");
     app.add_option("--data-dir", cfg.data_dir, "directory for the job database and result files")->capture_default_str();
     app.add_option("--runner", runner, "executable that runs one job (default: wiredem next to this binary)");
     app.add_option("--jobs", cfg.concurrent_jobs, "jobs run at the same time")->capture_default_str()->check(CLI::Range(1u, 256u));
@@ -178,6 +180,7 @@ int main(int argc, char** argv)
         queue.start();
         listener->run();
         const auto bound = listener->local_endpoint();
+        cfg.listen_port = bound.port(); // the Host check compares with it; no I/O thread runs yet
         if (!cfg.port_file.empty()) write_port_file(cfg.port_file, bound.port());
         spdlog::info("listening on {}:{}; data {}; runner {}; {} job(s) x {} thread(s){}", bound.address().to_string(),
             bound.port(), cfg.data_dir.string(), cfg.runner.string(), cfg.concurrent_jobs, cfg.threads_per_job,

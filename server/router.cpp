@@ -6,6 +6,8 @@
 // GET routes also answer HEAD.
 #include "router.hpp"
 
+#include "origin.hpp"
+
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
 
@@ -95,6 +97,18 @@ Response Router::route(const Request& req)
     const boost::urls::url_view url = *parsed;
     std::vector<std::string> seg;
     for (auto s : url.segments()) seg.push_back(s);
+
+    // The Host must be one of the server's names, and a browser's Origin the
+    // server's own (server/origin.hpp): no page of another site reaches it.
+    if (const auto host = req.find(http::field::host); host == req.end()) {
+        if (req.version() >= 11)
+            return error_response(req, http::status::bad_request, "bad_host", "HTTP/1.1 requests must name the Host", "Host");
+    } else if (auto problem = host_problem(host->value(), svc_.config)) {
+        return error_response(req, http::status::bad_request, "bad_host", *problem, "Host");
+    } else if (const auto origin = req.find(http::field::origin); origin != req.end()) {
+        if (auto refused = origin_problem(origin->value(), host->value()))
+            return error_response(req, http::status::forbidden, "forbidden_origin", *refused, "Origin");
+    }
 
     const bool is_v1 = !seg.empty() && seg[0] == "v1";
     if (is_v1 && !svc_.config.token.empty() && !authorized(req, svc_.config.token)) {

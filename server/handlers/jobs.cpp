@@ -132,9 +132,13 @@ Response not_succeeded(const Request& req, const JobRecord& r)
 
 Response handle_submit_job(const Request& req, Services& svc)
 {
-    if (auto ct = header_value(req, http::field::content_type); !ct.empty() && !is_json_media_type(ct))
+    // A missing Content-Type is refused too: it is what a browser sends for a
+    // Blob body, the one cross-site POST that needs no preflight.
+    if (auto ct = header_value(req, http::field::content_type); !is_json_media_type(ct))
         return error_response(req, http::status::unsupported_media_type, "unsupported_media_type",
-            "the job must be sent as application/json, not " + std::string(ct), "Content-Type");
+            ct.empty() ? std::string("the job must be sent with Content-Type: application/json")
+                       : "the job must be sent as application/json, not " + std::string(ct),
+            "Content-Type");
 
     const std::string_view key = header_value(req, "Idempotency-Key");
     if (req.find("Idempotency-Key") != req.end()) {

@@ -220,12 +220,14 @@ RawReply raw_exchange(std::uint16_t port, const std::string& bytes, std::chrono:
 RawReply http(std::uint16_t port, const std::string& method, const std::string& target, const std::string& body,
     const std::vector<std::pair<std::string, std::string>>& headers)
 {
-    std::string req = method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n";
-    bool has_type = false;
+    std::string req = method + " " + target + " HTTP/1.1\r\nConnection: close\r\n";
+    bool has_type = false, has_host = false;
     for (const auto& [k, v] : headers) {
         req += k + ": " + v + "\r\n";
         has_type = has_type || k == "Content-Type";
+        has_host = has_host || k == "Host";
     }
+    if (!has_host) req += "Host: 127.0.0.1\r\n";
     if (!body.empty() && !has_type) req += "Content-Type: application/json\r\n";
     if (!body.empty() || method == "POST") req += "Content-Length: " + std::to_string(body.size()) + "\r\n";
     req += "\r\n" + body;

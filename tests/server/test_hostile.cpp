@@ -35,7 +35,7 @@ TEST_F(HostileInput, MalformedJsonIs400InvalidJson)
         EXPECT_EQ(r.status, 400) << body;
         EXPECT_EQ(r.error_code(), "invalid_json") << body;
     }
-    EXPECT_EQ(http(port(), "POST", "/v1/jobs", "").error_code(), "invalid_json");
+    EXPECT_EQ(http(port(), "POST", "/v1/jobs", "", {{"Content-Type", "application/json"}}).error_code(), "invalid_json");
 }
 
 TEST_F(HostileInput, WrongTypesAndUnknownKeysAre400WithEveryFieldPath)
@@ -68,11 +68,11 @@ TEST_F(HostileInput, HugeBodyIs413WhetherAnnouncedOrStreamed)
 {
     // Announced: the limit applies as soon as the headers arrive.
     const auto announced = raw_exchange(port(),
-        "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 50000000\r\n\r\n{\"name\":");
+        "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 50000000\r\n\r\n{\"name\":");
     EXPECT_EQ(announced.status, 413);
     EXPECT_EQ(announced.error_code(), "body_too_large");
     // Streamed in chunks with no length given.
-    std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n";
+    std::string req = "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n";
     const std::string chunk(64 * 1024, ' ');
     for (int i = 0; i < 24; ++i) req += "10000\r\n" + chunk + "\r\n";
     req += "0\r\n\r\n";
@@ -88,7 +88,7 @@ TEST_F(HostileInput, TransferCodingsOtherThanChunkedAreRefusedAndTheConnectionCl
     // exchange, left open by the client, ends long before its timeout):
     // 400 when chunked is not the final coding (RFC 9112 §6.3: the length
     // cannot be determined), 501 for a coding before it that is not served.
-    const std::string smuggled = "GET /v1/health HTTP/1.1\r\nHost: x\r\n\r\n";
+    const std::string smuggled = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
     const struct {
         const char* coding;
         int status;
@@ -96,26 +96,61 @@ TEST_F(HostileInput, TransferCodingsOtherThanChunkedAreRefusedAndTheConnectionCl
     for (const auto& c : cases) {
         const auto t0 = std::chrono::steady_clock::now();
         const auto r = raw_exchange(port(),
-            std::string("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nTransfer-Encoding: ")
+            std::string("POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nTransfer-Encoding: ")
                 + c.coding + "\r\n\r\n" + smuggled,
             std::chrono::milliseconds(6000), false);
         EXPECT_EQ(r.status, c.status) << c.coding;
         EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3)) << c.coding << ": connection left open";
     }
     // Both a length and a coding: ambiguous, refused.
-    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
                                    "Content-Length: 2\r\nTransfer-Encoding: chunked\r\n\r\n2\r\n{}\r\n0\r\n\r\n")
                   .status,
         400);
     // Chunked alone, in any case, is served.
-    const auto ok = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+    const auto ok = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
                                          "Transfer-Encoding: Chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n");
     EXPECT_EQ(ok.status, 201) << ok.body;
 }
 
+TEST_F(HostileInput, AnotherSitesPageCannotReachTheServer)
+{
+    // DNS rebinding: a page of evil.example whose name now points at
+    // 127.0.0.1 sends Host: evil.example; refused on every route.
+    for (const char* target : {"/v1/health", "/v1/jobs", "/metrics"}) {
+        const auto r = raw_exchange(port(), std::string("GET ") + target + " HTTP/1.1\r\nHost: evil.example:" + std::to_string(port())
+                                                + "\r\nConnection: close\r\n\r\n");
+        EXPECT_EQ(r.status, 400) << target;
+        EXPECT_EQ(r.error_code(), "bad_host") << target;
+    }
+    // The server's own names, with its port or none, are served; another port is not.
+    for (const std::string& host : {std::string("127.0.0.1"), "127.0.0.1:" + std::to_string(port()), "LOCALHOST:" + std::to_string(port())})
+        EXPECT_EQ(http(port(), "GET", "/v1/health", {}, {{"Host", host}}).status, 200) << host;
+    EXPECT_EQ(raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1:1\r\nConnection: close\r\n\r\n").status, 400);
+    // HTTP/1.1 without Host is malformed (RFC 9112 §3.2).
+    EXPECT_EQ(raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nConnection: close\r\n\r\n").error_code(), "bad_host");
+
+    // A cross-site POST: a foreign Origin is refused (403) and creates no job,
+    // whatever the body's type; the server's own origin is served.
+    const auto before = http(port(), "GET", "/v1/jobs").json().at("jobs").as_array().size();
+    const std::string host = "127.0.0.1:" + std::to_string(port());
+    const auto foreign = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: " + host
+                                                  + "\r\nOrigin: http://evil.example\r\nContent-Type: application/json\r\n"
+                                                    "Content-Length: 2\r\nConnection: close\r\n\r\n{}");
+    EXPECT_EQ(foreign.status, 403);
+    EXPECT_EQ(foreign.error_code(), "forbidden_origin");
+    EXPECT_EQ(http(port(), "POST", "/v1/jobs", "{}", {{"Host", host}, {"Origin", "null"}}).status, 403);
+    // A Blob body from a page carries no Content-Type and needs no preflight: 415.
+    const auto untyped = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: " + host
+                                                  + "\r\nContent-Length: 2\r\nConnection: close\r\n\r\n{}");
+    EXPECT_EQ(untyped.status, 415);
+    EXPECT_EQ(http(port(), "GET", "/v1/jobs").json().at("jobs").as_array().size(), before);
+    EXPECT_EQ(http(port(), "POST", "/v1/jobs", "{}", {{"Host", host}, {"Origin", "http://" + host}}).status, 201);
+}
+
 TEST_F(HostileInput, HugeHeaderIs431)
 {
-    const auto r = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: x\r\nX-Junk: " + std::string(100000, 'a') + "\r\n\r\n");
+    const auto r = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Junk: " + std::string(100000, 'a') + "\r\n\r\n");
     EXPECT_EQ(r.status, 431);
 }
 
@@ -132,14 +167,14 @@ TEST_F(HostileInput, StalledClientIsCutOffAfterTheReadTimeout)
     // Half a request, then silence with the connection open: the server
     // closes it after the read timeout (2 s here).
     const auto t0 = std::chrono::steady_clock::now();
-    const auto r = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{",
+    const auto r = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100\r\n\r\n{",
         std::chrono::milliseconds(8000), false);
     const auto took = std::chrono::steady_clock::now() - t0;
     EXPECT_EQ(r.status, 0) << "closed without a reply";
     EXPECT_GT(took, std::chrono::milliseconds(1500));
     EXPECT_LT(took, std::chrono::seconds(5));
     // A truncated request (client went away mid-body) is a 400.
-    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Length: 100\r\n\r\n{").status, 400);
+    EXPECT_EQ(raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 100\r\n\r\n{").status, 400);
 }
 
 TEST_F(HostileInput, UnknownRoutesAre404AndWrongMethods405)
