@@ -9,8 +9,11 @@
 #include "laws/wire_bond.hpp"
 #include "state/world.hpp"
 #include "timestep.hpp"
+#include "triaxial/triaxial.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace wiredem::api {
@@ -65,6 +68,19 @@ StableStep stable_time_step(const JobSpec& spec)
     return engine::stable_time_step(stability_inputs(spec));
 }
 
+namespace {
+
+/// ⌈x⌉ as a count, saturating at the largest std::uint64_t (a hostile spec
+/// can ask for more than any integer holds; the cast would be undefined).
+std::uint64_t saturating_count(double x)
+{
+    constexpr double limit = 18446744073709549568.0; // the largest double below 2⁶⁴
+    if (!(x < limit)) return std::numeric_limits<std::uint64_t>::max();
+    return x > 0.0 ? static_cast<std::uint64_t>(std::ceil(x)) : 0;
+}
+
+} // namespace
+
 BodyCounts estimated_body_counts(const JobSpec& spec)
 {
     const SpecimenSpec& s = spec.specimen;
@@ -74,13 +90,30 @@ BodyCounts estimated_body_counts(const JobSpec& spec)
         // Laid at ω R_a while the grains are poured (fill height / fill rate),
         // as the preparation paces it.
         const double laid_length_m = engine::estimated_wire_length_m(preparation_spec(spec));
-        n.wire_nodes = static_cast<std::uint64_t>(std::ceil(laid_length_m / s.wire.segment_length_m)) + 1;
+        const std::uint64_t segments = saturating_count(laid_length_m / s.wire.segment_length_m);
+        n.wire_nodes = segments == std::numeric_limits<std::uint64_t>::max() ? segments : segments + 1;
     }
     // Rows of a triangular mesh are l_m √3/2 apart.
     const double around = std::ceil(2.0 * std::numbers::pi * s.membrane_radius_m / s.membrane.mesh_size_m);
     const double rows = std::ceil(s.membrane_height_m / s.membrane.mesh_size_m * 2.0 / std::numbers::sqrt3) + 1.0;
-    n.membrane_nodes = static_cast<std::uint64_t>(around * rows);
+    n.membrane_nodes = saturating_count(around * rows);
     return n;
+}
+
+WorkEstimate estimated_work(const JobSpec& spec)
+{
+    WorkEstimate w;
+    w.time_step_s = spec.engine.time_step_s ? *spec.engine.time_step_s : stable_time_step(spec).auto_s;
+    const TriaxialSpec& t = spec.triaxial;
+    const double height_m = engine::estimated_fill_height_m(preparation_spec(spec));
+    const double max_hold_s = t.max_hold_time_s.value_or(engine::default_max_hold_factor * t.hold_time_s);
+    const double test_s = t.pressure_ramp_time_s + max_hold_s + t.target_axial_strain * height_m / t.plate_speed_m_per_s;
+    w.preparation_steps = spec.specimen.pouring.max_preparation_time_s / w.time_step_s;
+    w.steps_per_test = test_s / w.time_step_s;
+    // A row every max(1, round(interval / δt)) steps, and the last one.
+    w.samples_per_test = w.steps_per_test / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
+    w.tests = t.confining_pressures_pa.size();
+    return w;
 }
 
 double resolved_normal_damping_s(const JobSpec& spec)

@@ -40,6 +40,26 @@ struct BodyCounts {
 /// exact wire length).
 [[nodiscard]] BodyCounts estimated_body_counts(const JobSpec& spec);
 
+/// The work a job asks for, estimated before it runs (the server refuses a
+/// job above its limits, docs/api.md). Counts are doubles: a hostile spec can
+/// ask for more steps than any integer holds (δt = 5e-324 s).
+struct WorkEstimate {
+    double time_step_s = 0.0;        ///< engine.time_step_s, or the auto step of the tests
+    /// At most max_preparation_time_s of simulated time, at that step (the
+    /// preparation's own auto step, set by impacts, is of the same order).
+    double preparation_steps = 0.0;
+    /// Ramp, the longest hold and loading to the target strain of a column as
+    /// tall as the grains' estimated fill, per test.
+    double steps_per_test = 0.0;
+    double samples_per_test = 0.0;   ///< rows of the time series of one test
+    std::size_t tests = 0;           ///< confining pressures
+    /// Preparation and every test.
+    [[nodiscard]] double total_steps() const { return preparation_steps + static_cast<double>(tests) * steps_per_test; }
+};
+
+/// Estimates the work of a job (inputs as for the functions above).
+[[nodiscard]] WorkEstimate estimated_work(const JobSpec& spec);
+
 /// γ_n [s] the engine uses: the given one, or the one that gives the
 /// requested restitution for a head-on collision of two grains of the mean
 /// radius (masses scaled by density_scale) at the reference speed

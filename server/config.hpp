@@ -24,6 +24,10 @@ struct ServerConfig {
     unsigned io_threads = 2;                   ///< threads serving HTTP
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
     std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
+    /// Estimated time steps of a job, preparation and tests (api::estimated_work):
+    /// 2·10⁷ is ~10 times a paper-size campaign's.
+    double max_steps_per_job = 2e7;
+    double max_samples_per_test = 1e6;         ///< estimated rows of one test's time series
     std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
     std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
     std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this

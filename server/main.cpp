@@ -118,6 +118,10 @@ int main(int argc, char** argv)
     app.add_option("--io-threads", cfg.io_threads, "threads serving HTTP")->capture_default_str()->check(CLI::Range(1u, 64u));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
+    app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    app.add_option("--max-samples-per-test", cfg.max_samples_per_test, "estimated rows of a test's time series")
+        ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
     app.add_option("--max-header-bytes", cfg.max_header_bytes, "request header limit")->capture_default_str()->check(CLI::Range(1024, 1 << 20));
     app.add_option("--read-timeout", read_timeout_s, "seconds a client has to send the next request")->capture_default_str()->check(CLI::Range(1u, 3600u));

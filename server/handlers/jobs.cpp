@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -98,6 +99,14 @@ std::string_view header_value(const Request& req, std::string_view name)
     return it == req.end() ? std::string_view() : std::string_view(it->value().data(), it->value().size());
 }
 
+/// A count or time for a message, e.g. "3.2e+07" or "7.7e-06".
+std::string approx(double x)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
+
 bool is_json_media_type(std::string_view ct)
 {
     const auto semi = ct.find(';');
@@ -170,6 +179,29 @@ Response handle_submit_job(const Request& req, Services& svc)
                 + " wire nodes, " + std::to_string(bodies.membrane_nodes)
                 + " membrane nodes); this server runs at most " + std::to_string(svc.config.max_bodies_per_job),
             "specimen.grain_count");
+    // Work: a valid-looking spec can ask for a job that never ends (δt =
+    // 5e-324 s, a plate at 1e-12 m/s, rows every 1e-300 s). The field named
+    // is the one that drives the estimate.
+    const api::WorkEstimate work = api::estimated_work(spec.value());
+    if (!(work.total_steps() <= svc.config.max_steps_per_job)) {
+        const api::JobSpec& s = spec.value();
+        const double prep = work.preparation_steps, tests = work.total_steps() - prep;
+        const std::string field = s.engine.time_step_s ? "engine.time_step_s"
+                                : prep > tests         ? "specimen.pouring.max_preparation_time_s"
+                                                       : "triaxial.plate_speed_m_per_s";
+        return error_response(req, http::status::bad_request, "invalid_job",
+            field + ": the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
+                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
+                + approx(work.steps_per_test) + "); this server runs at most " + approx(svc.config.max_steps_per_job)
+                + " (--max-steps-per-job)",
+            field);
+    }
+    if (!(work.samples_per_test <= svc.config.max_samples_per_test))
+        return error_response(req, http::status::bad_request, "invalid_job",
+            "triaxial.sample_interval_s: a test would record about " + approx(work.samples_per_test)
+                + " rows; this server keeps at most " + approx(svc.config.max_samples_per_test)
+                + " per test (--max-samples-per-test)",
+            "triaxial.sample_interval_s");
 
     JobRecord job;
     job.id = make_job_id();

@@ -62,6 +62,10 @@ ServerProcess::ServerProcess(const fs::path& data_dir, std::vector<std::string> 
 
     std::vector<std::string> args{WIREDEM_SERVER_BIN, "--listen", "127.0.0.1:0", "--port-file", port_file.string(),
         "--data-dir", data_dir.string(), "--runner", WIREDEM_FAKE_RUNNER, "--log-level", "debug"};
+    // The fake runner does no physics, so the tests' jobs (often the default,
+    // paper-literal spec: ~10⁹ steps) pass the work limit unless a test sets it.
+    if (std::find(extra_args.begin(), extra_args.end(), "--max-steps-per-job") == extra_args.end())
+        args.insert(args.end(), {"--max-steps-per-job", "1e15"});
     args.insert(args.end(), extra_args.begin(), extra_args.end());
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());

@@ -6,6 +6,9 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include <thread>
 
 namespace wiredem::test {
@@ -146,6 +149,40 @@ TEST_F(HostileInput, AnotherSitesPageCannotReachTheServer)
     EXPECT_EQ(untyped.status, 415);
     EXPECT_EQ(http(port(), "GET", "/v1/jobs").json().at("jobs").as_array().size(), before);
     EXPECT_EQ(http(port(), "POST", "/v1/jobs", "{}", {{"Host", host}, {"Origin", "http://" + host}}).status, 201);
+}
+
+TEST(WorkLimits, JobsThatWouldNeverEndAreRefusedNamingTheField)
+{
+    // The server's default limit on steps (2e7, ~10 paper-size campaigns),
+    // and a small limit on rows per test.
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data", {"--max-steps-per-job", "2e7", "--max-samples-per-test", "1000"});
+    const std::uint16_t port = server.port();
+    const auto refused = [&](const std::string& spec, const std::string& field, const std::string& fragment) {
+        const auto r = http(port, "POST", "/v1/jobs", spec);
+        EXPECT_EQ(r.status, 400) << spec;
+        EXPECT_EQ(r.error_code(), "invalid_job") << spec;
+        const std::string message(r.json().at("error").at("message").as_string());
+        EXPECT_EQ(message.rfind(field + ":", 0), 0u) << message;
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    };
+    std::ifstream in(std::filesystem::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json");
+    const std::string tiny((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto with = [&](const char* section, const char* key, const char* value) {
+        boost::json::value j = boost::json::parse(tiny);
+        j.at(section).as_object()[key] = boost::json::parse(value);
+        return boost::json::serialize(j);
+    };
+    // A valid δt far below the stable one: steps without end.
+    refused(with("engine", "time_step_s", "5e-324"), "engine.time_step_s", "at most 2e+07 (--max-steps-per-job)");
+    // A plate that barely moves.
+    refused(with("triaxial", "plate_speed_m_per_s", "1e-12"), "triaxial.plate_speed_m_per_s", "time steps");
+    // Rows every step of a test that is otherwise fine.
+    refused(with("triaxial", "sample_interval_s", "1e-300"), "triaxial.sample_interval_s", "(--max-samples-per-test)");
+    // The paper-literal default spec (no mass scaling, 0.2 mm/s): ~10⁹ steps.
+    refused("{}", "triaxial.plate_speed_m_per_s", "time steps");
+    // tiny.json itself is accepted.
+    EXPECT_EQ(http(port, "POST", "/v1/jobs", tiny).status, 201);
 }
 
 TEST_F(HostileInput, HugeHeaderIs431)
