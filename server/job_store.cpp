@@ -195,9 +195,16 @@ JobStore::JobStore(const std::filesystem::path& db_file)
             " idempotency_key TEXT UNIQUE,"
             " body_steps_per_second REAL)");
         exec(db_, "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, seq)");
-    } catch (...) {
+        // A damaged file must stop the server with a message, not abort it at
+        // the first read of a bad page (SQLITE_CORRUPT deep in a query).
+        Statement check(db_, "PRAGMA quick_check");
+        std::string verdict;
+        while (check.step()) verdict += (verdict.empty() ? "" : "; ") + check.text(0);
+        if (verdict != "ok") throw std::runtime_error("damaged (" + verdict + ")");
+    } catch (const std::exception& e) {
         sqlite3_close(db_);
-        throw;
+        throw std::runtime_error("the job store " + db_file.string() + " cannot be used: " + e.what()
+                                 + "; restore it from a backup");
     }
 }
 

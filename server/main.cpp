@@ -56,6 +56,25 @@ bool parse_listen(const std::string& text, std::string& host, std::uint16_t& por
     return !host.empty();
 }
 
+/// A data directory whose job folders outlived its database (a 0-byte or
+/// missing jobs.sqlite3) would start as an empty store and forget every job
+/// it holds: refuse, and say what to do.
+void refuse_lost_store(const fs::path& data_dir)
+{
+    const fs::path db = data_dir / "jobs.sqlite3";
+    std::error_code ec;
+    const bool empty_db = !fs::exists(db, ec) || fs::file_size(db, ec) == 0;
+    if (!empty_db) return;
+    std::size_t folders = 0;
+    for (const auto& entry : fs::directory_iterator(data_dir / "jobs", ec))
+        if (entry.is_directory(ec)) ++folders;
+    if (folders > 0)
+        throw std::runtime_error(db.string() + (fs::exists(db, ec) ? " is empty" : " is missing") + " but "
+                                 + (data_dir / "jobs").string() + " holds " + std::to_string(folders)
+                                 + " job folder(s): the job store was lost. Restore jobs.sqlite3 from a backup, or "
+                                   "move the job folders away to start an empty store");
+}
+
 std::string read_token(const fs::path& file)
 {
     std::ifstream in(file, std::ios::binary);
@@ -165,6 +184,7 @@ int main(int argc, char** argv)
         fs::create_directories(cfg.data_dir / "jobs");
         cfg.data_dir = fs::canonical(cfg.data_dir);
         lock_fd = lock_data_dir(cfg.data_dir);
+        refuse_lost_store(cfg.data_dir);
         store = std::make_unique<JobStore>(cfg.data_dir / "jobs.sqlite3");
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
@@ -172,7 +192,17 @@ int main(int argc, char** argv)
     }
 
     Metrics metrics;
-    JobQueue queue(*store, QueueConfig{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job});
+    // The queue reads the store as it starts: a store error there is a setup
+    // error too (exit 3 with the message), not an abort.
+    std::unique_ptr<JobQueue> queue_owner;
+    try {
+        queue_owner = std::make_unique<JobQueue>(
+            *store, QueueConfig{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job});
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return exit_setup;
+    }
+    JobQueue& queue = *queue_owner;
     Services services{cfg, *store, queue, metrics};
     Router router(services);
 

@@ -9,6 +9,8 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <cstdlib>
+#include <fstream>
 #include <thread>
 
 namespace wiredem::test {
@@ -92,6 +94,63 @@ TEST(Durability, SigtermRequeuesTheRunningJobAndExitsCleanly)
     const auto job = poll_job(restarted.port(), id, is_final);
     EXPECT_EQ(state_of(job), "succeeded") << restarted.log();
     EXPECT_EQ(job.at("attempts").to_number<int>(), 1) << "a graceful stop does not count as an attempt";
+}
+
+/// Starts the server on `data_dir` and waits for it to exit (at most 10 s:
+/// one that is still serving by then is stopped, exit code 124); returns the
+/// exit code, and the log in `log`.
+int exit_code_on(const fs::path& data_dir, std::string& log)
+{
+    const fs::path log_file = data_dir.parent_path() / "start.log";
+    const std::string command = std::string("timeout 10 '") + WIREDEM_SERVER_BIN + "' --listen 127.0.0.1:0 --data-dir '"
+                              + data_dir.string() + "' --runner /bin/true > '" + log_file.string() + "' 2>&1";
+    const int status = std::system(command.c_str());
+    log = read_file(log_file);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Durability, ADamagedStoreStopsTheServerWithExitCode3AndAMessage)
+{
+    // A store with a job in it, then a page in the middle overwritten (what a
+    // torn write or a bad disk leaves). The server must not abort at its
+    // first read of the bad page but refuse to start, naming the file.
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    {
+        ServerProcess server(data);
+        ASSERT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 201);
+        ASSERT_EQ(server.terminate(), 0);
+    }
+    const fs::path db = data / "jobs.sqlite3";
+    ASSERT_GT(fs::file_size(db), 8192u);
+    {
+        std::fstream f(db, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(4096); // page 2 (the jobs table's root), header and all
+        const std::string junk(4096, '\x55');
+        f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+    }
+    std::string log;
+    EXPECT_EQ(exit_code_on(data, log), 3) << log;
+    EXPECT_NE(log.find("jobs.sqlite3"), std::string::npos) << log;
+}
+
+TEST(Durability, AnEmptyStoreBesideJobFoldersIsRefused)
+{
+    // A 0-byte jobs.sqlite3 (or none) while job folders remain: starting an
+    // empty store would forget those jobs.
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    fs::create_directories(data / "jobs" / "0123456789abcdef01234567");
+    std::ofstream(data / "jobs.sqlite3").close();
+    std::string log;
+    EXPECT_EQ(exit_code_on(data, log), 3) << log;
+    EXPECT_NE(log.find("the job store was lost"), std::string::npos) << log;
+    fs::remove(data / "jobs.sqlite3");
+    EXPECT_EQ(exit_code_on(data, log), 3) << log;
+    EXPECT_NE(log.find("is missing"), std::string::npos) << log;
+    // Without job folders a fresh store starts (and serves until stopped).
+    fs::remove_all(data / "jobs");
+    EXPECT_NO_THROW(ServerProcess server(data));
 }
 
 TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
