@@ -88,15 +88,19 @@ std::string read_token(const fs::path& file)
     return token;
 }
 
-/// Holds an exclusive lock on <data-dir>/server.lock for the process's life:
-/// two servers on one data directory would run every job twice.
+/// Two servers on one data directory would run every job twice.
+/// Locks the data directory for this process: an exclusive flock on the
+/// directory itself, which (unlike a lock file, which anyone can delete from
+/// under a running server, and a second server then locks a new file) exists
+/// as long as the data does. Held until the process ends.
 int lock_data_dir(const fs::path& dir)
 {
-    const fs::path lock = dir / "server.lock";
-    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error("cannot open " + lock.string() + ": " + std::strerror(errno));
-    if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error("cannot open " + dir.string() + ": " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        ::close(fd);
         throw std::runtime_error("another wiredem-server uses " + dir.string());
+    }
     return fd;
 }
 

@@ -158,6 +158,13 @@ TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
     TempDir tmp;
     ServerProcess server(tmp.path() / "data");
     EXPECT_THROW(ServerProcess(tmp.path() / "data"), std::runtime_error);
+    // Deleting files in the directory does not release it (the lock is on
+    // the directory itself; a lock file could be deleted from under it).
+    for (const auto& entry : fs::directory_iterator(tmp.path() / "data"))
+        if (entry.is_regular_file() && entry.path().extension() == ".lock") fs::remove(entry.path());
+    std::string log;
+    EXPECT_EQ(exit_code_on(tmp.path() / "data", log), 3) << log;
+    EXPECT_NE(log.find("another wiredem-server uses"), std::string::npos) << log;
     EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
 }
 
