@@ -119,7 +119,6 @@ constexpr std::size_t max_snapshots = 64;
 constexpr double min_column_grain_diameters = 4.0;
 /// Densest random packing of spheres: more grain volume than this fraction of
 /// the membrane's cannot be poured into it.
-constexpr double random_close_packing = 0.64;
 
 // ----------------------------------------------------------------- validator
 
@@ -640,23 +639,22 @@ void check_grain_size(Validator& v, const SpecimenSpec& s)
                 + exact_text(min_column_grain_diameters) + " = " + approx_text(limit_m));
 }
 
-void check_grain_volume(Validator& v, const SpecimenSpec& s)
+void check_grain_volume(Validator& v, const JobSpec& spec)
 {
     if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
             "specimen.membrane_radius_m", "specimen.membrane_height_m"}))
         return;
-    // Radii uniform in r (1 ± s): E[r³] = r³ (1 + s²).
-    const double r = s.grain_radius_m;
-    const double mean_volume_m3 = 4.0 / 3.0 * std::numbers::pi * r * r * r
-                                * (1.0 + s.grain_radius_spread * s.grain_radius_spread);
-    const double grains_m3 = static_cast<double>(s.grain_count) * mean_volume_m3;
-    const double area_m2 = std::numbers::pi * s.membrane_radius_m * s.membrane_radius_m;
-    const double packed_height_m = grains_m3 / (random_close_packing * area_m2);
-    if (packed_height_m > s.membrane_height_m)
+    // The preparation's own requirement: the fill at the packing it paces
+    // the pour by, and room above it to pour from.
+    const SpecimenSpec& s = spec.specimen;
+    const engine::PreparationSpec p = preparation_spec(spec);
+    const double needed_m = engine::required_membrane_height_m(p);
+    if (needed_m > s.membrane_height_m)
         v.note("specimen.grain_count",
-            std::to_string(s.grain_count) + " grains do not fit in the membrane: even at random close packing "
-                + "(volume fraction " + exact_text(random_close_packing) + ") they fill a height of "
-                + approx_text(packed_height_m) + " m, more than membrane_height_m " + exact_text(s.membrane_height_m));
+            std::to_string(s.grain_count) + " grains do not fit in the membrane: they fill about "
+                + approx_text(engine::estimated_fill_height_m(p)) + " m, and pouring needs 8 largest grain radii above "
+                + "that: membrane_height_m must be at least " + approx_text(needed_m) + ", not "
+                + exact_text(s.membrane_height_m));
 }
 
 void check_wire_fits(Validator& v, const SpecimenSpec& s)
@@ -797,7 +795,7 @@ void check_time_step(Validator& v, const JobSpec& spec)
 void cross_check(Validator& v, const JobSpec& spec)
 {
     check_grain_size(v, spec.specimen);
-    check_grain_volume(v, spec.specimen);
+    check_grain_volume(v, spec);
     check_wire_fits(v, spec.specimen);
     check_fill_rate(v, spec);
     check_membrane_mesh(v, spec.specimen);

@@ -248,10 +248,10 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     const double fill_height = estimated_fill_height_m(spec);
     const double wire_cover_m = wire_cover_height_m(spec);
     const double entry_speed = pour_entry_speed_m_per_s(spec);
-    if (fill_height + 8.0 * r_max > spec.membrane_height_m)
+    if (required_membrane_height_m(spec) > spec.membrane_height_m)
         return Err(std::string("the grains fill about ") + std::to_string(fill_height * 1e3)
                    + " mm; the membrane must be taller than that plus room for pouring ("
-                   + std::to_string((fill_height + 8.0 * r_max) * 1e3) + " mm)");
+                   + std::to_string(required_membrane_height_m(spec) * 1e3) + " mm)");
 
     World& w = sim.world;
     w = World{};
@@ -461,6 +461,12 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.time_step_s = dt;
     report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return report;
+}
+
+double required_membrane_height_m(const PreparationSpec& spec)
+{
+    const double r_max = spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    return estimated_fill_height_m(spec) + 8.0 * r_max;
 }
 
 double wire_cover_height_m(const PreparationSpec& spec)

@@ -140,6 +140,11 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// 0.58 (prepare_specimen paces the pouring by it) [m].
 [[nodiscard]] double estimated_fill_height_m(const PreparationSpec& spec);
 
+/// Membrane height the preparation needs [m]: the estimated fill height and
+/// room above it for the pouring zone (8 r_max). prepare_specimen refuses a
+/// shorter membrane; job validation says so before a job is accepted.
+[[nodiscard]] double required_membrane_height_m(const PreparationSpec& spec);
+
 /// Height of fill poured over the wire after the nozzle has stopped [m]:
 /// spec.wire_cover_m, or by default one diameter of the largest grain.
 [[nodiscard]] double wire_cover_height_m(const PreparationSpec& spec);

@@ -324,7 +324,7 @@ TEST(JobSpec, FailedCrossChecksDoNotHideOtherCrossChecks)
     // Each value is in range; five independent cross-field checks fail, and
     // an unknown key does not silence the checks of its object either.
     const auto parsed = parse_job_spec(R"({
-        "specimen": {"grain_radius_m": 0.0055, "grain_count": 100,
+        "specimen": {"grain_radius_m": 0.0055, "grain_count": 50,
                      "wire": {"pattern": "spiral_helix", "helix_radius_m": 0.015, "colour": "red"},
                      "membrane": {"mesh_size_m": 0.012}},
         "engine": {"time_step_s": 1e-5, "max_bodies": 10}
@@ -503,6 +503,12 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
             "specimen.grain_radius_m", "0.006 is too big for the membrane"},
         InvalidCase{"GrainsDoNotFit", R"({"specimen": {"grain_count": 30000}})", "specimen.grain_count",
             "30000 grains do not fit in the membrane"},
+        // The widest spread: the largest grains (r (1 + s)) need more room to
+        // pour from. The preparation refused this job after it was accepted.
+        InvalidCase{"NoRoomToPourTheLargestGrains",
+            R"({"specimen": {"membrane_radius_m": 0.008, "membrane_height_m": 0.025, "grain_count": 150,
+                "grain_radius_spread": 0.4999, "wire": {"pattern": "none"}}})",
+            "specimen.grain_count", "membrane_height_m must be at least 0.0273, not 0.025"},
         InvalidCase{"MembraneMeshTooCoarse", R"({"specimen": {"membrane": {"mesh_size_m": 0.004}}})",
             "specimen.membrane.mesh_size_m", "0.004 is too coarse"},
         InvalidCase{"SnapshotBeyondTarget",
