@@ -320,26 +320,53 @@ int cmd_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir
     } catch (const std::exception&) {
         throw CommandError(exit_code::server_refused, "result of " + id + ": the server sent no Content-Length");
     }
-    const fs::path final_file = dir / "result.h5";
-    const fs::path part = dir / "result.h5.part";
+    // Which result this is: the server's ETag, kept beside the partial and
+    // the finished file. A partial is resumed (Range + If-Range) only if it is
+    // of this result, and a finished file is taken as complete only if it is:
+    // a .part left by another job must not be spliced with these bytes.
+    const std::string etag = head.header("etag");
+    if (etag.empty()) throw CommandError(exit_code::server_refused, "result of " + id + ": the server sent no ETag");
+    const fs::path final_file = dir / "result.h5", final_tag = dir / "result.h5.etag";
+    const fs::path part = dir / "result.h5.part", part_tag = dir / "result.h5.part.etag";
+    const auto tag_of = [&](const fs::path& f) {
+        std::ifstream in(f, std::ios::binary);
+        std::string t;
+        std::getline(in, t);
+        return t;
+    };
+    const auto write_tag = [&](const fs::path& f) {
+        std::ofstream out(f, std::ios::binary | std::ios::trunc);
+        out << etag << '\n';
+        out.close();
+        if (!out) throw CommandError(exit_code::local_io, "cannot write " + f.string());
+    };
     std::uint64_t resumed_from = 0;
-    const bool have_final = fs::is_regular_file(final_file, ec) && fs::file_size(final_file, ec) == total;
+    const bool have_final = fs::is_regular_file(final_file, ec) && fs::file_size(final_file, ec) == total
+                         && tag_of(final_tag) == etag;
     if (!have_final) {
-        std::uint64_t offset = fs::is_regular_file(part, ec) ? fs::file_size(part, ec) : 0;
+        const bool same_result = fs::is_regular_file(part, ec) && tag_of(part_tag) == etag;
+        std::uint64_t offset = same_result ? fs::file_size(part, ec) : 0;
         if (offset > total) offset = 0;
+        if (offset == 0) fs::remove(part, ec);
+        write_tag(part_tag);
         resumed_from = offset;
         if (offset < total || total == 0) {
             const bool tty = !g.json && ::isatty(STDERR_FILENO);
             auto show = [&](std::uint64_t bytes) {
                 if (tty) std::cerr << "\rresult.h5  " << bytes / 1024 << " / " << total / 1024 << " KiB" << std::flush;
             };
-            auto reply = client.download(base + "/result.h5", part, offset, show);
+            auto reply = client.download(base + "/result.h5", part, offset, etag, show);
             if (reply.status == 416) {  // the part file is not a prefix of this result: start again
                 resumed_from = 0;
-                reply = client.download(base + "/result.h5", part, 0, show);
+                reply = client.download(base + "/result.h5", part, 0, etag, show);
             }
+            if (reply.status == 200) resumed_from = 0; // the server sent it whole (If-Range did not match)
             if (tty) std::cerr << '\n';
             check_reply(reply, "result of " + id);
+            if (reply.header("etag") != etag)
+                throw CommandError(exit_code::server_refused, "result of " + id
+                        + " changed while it was downloaded (ETag " + reply.header("etag") + ", was " + etag
+                        + "); run fetch again");
         }
         const std::uint64_t got = fs::file_size(part, ec);
         if (ec || got != total)
@@ -347,6 +374,8 @@ int cmd_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir
                     + std::to_string(total) + " bytes; run fetch again to resume");
         fs::rename(part, final_file, ec);
         if (ec) throw CommandError(exit_code::local_io, "cannot write " + final_file.string() + ": " + ec.message());
+        fs::rename(part_tag, final_tag, ec);
+        if (ec) throw CommandError(exit_code::local_io, "cannot write " + final_tag.string() + ": " + ec.message());
     }
     if (g.json) {
         print_json(json::object{{"summary", summary_file.string()}, {"result", final_file.string()},

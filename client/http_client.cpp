@@ -228,11 +228,14 @@ HttpReply HttpClient::request(Method method, std::string_view target, std::strin
 }
 
 HttpReply HttpClient::download(std::string_view target, const std::filesystem::path& file, std::uint64_t offset,
-    const std::function<void(std::uint64_t)>& on_bytes)
+    const std::string& if_range, const std::function<void(std::uint64_t)>& on_bytes)
 {
     Impl& m = *impl_;
     std::vector<std::pair<std::string, std::string>> headers;
-    if (offset > 0) headers.emplace_back("Range", "bytes=" + std::to_string(offset) + "-");
+    if (offset > 0) {
+        headers.emplace_back("Range", "bytes=" + std::to_string(offset) + "-");
+        headers.emplace_back("If-Range", if_range);
+    }
     const auto req = m.make_request(http::verb::get, target, {}, headers);
     for (int attempt = 0;; ++attempt) {
         const bool reused = m.connected;

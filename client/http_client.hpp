@@ -62,13 +62,15 @@ public:
         const std::vector<std::pair<std::string, std::string>>& headers = {});
 
     /// GETs `target` into `file`. With `offset` > 0 asks for the bytes from
-    /// there on (Range) and appends when the server answers 206; a 200
-    /// rewrites the file from the start. Bytes are written as they arrive, so
-    /// an interrupted download keeps what it got. A reply other than 200/206
-    /// is returned with its body and the file untouched.
+    /// there on (Range, only if the representation is still `if_range`, an
+    /// ETag) and appends when the server answers 206; a 200 (also what a
+    /// changed representation gets) rewrites the file from the start. Bytes
+    /// are written as they arrive, so an interrupted download keeps what it
+    /// got. A reply other than 200/206 is returned with its body and the file
+    /// untouched.
     /// @param on_bytes called with the file's size after each chunk
     HttpReply download(std::string_view target, const std::filesystem::path& file, std::uint64_t offset,
-        const std::function<void(std::uint64_t)>& on_bytes);
+        const std::string& if_range, const std::function<void(std::uint64_t)>& on_bytes);
 
     /// The server this client talks to.
     [[nodiscard]] const ServerUrl& server() const { return server_; }

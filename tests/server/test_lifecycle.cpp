@@ -84,14 +84,36 @@ TEST(Lifecycle, FetchResumesAPartialDownloadWithARange)
     const std::string whole = read_file(tmp.path() / "data" / "jobs" / id / "result.h5");
     ASSERT_GT(whole.size(), 100000u);
 
-    // An interrupted download left the first 100 000 bytes behind.
+    // An interrupted download left the first 100 000 bytes behind, with the
+    // ETag of the result they came from.
+    const std::string etag = http(server.port(), "HEAD", "/v1/jobs/" + id + "/result.h5").headers.at("etag");
     const fs::path out = tmp.path() / "partial";
     fs::create_directories(out);
     write_file(out / "result.h5.part", whole.substr(0, 100000));
+    write_file(out / "result.h5.part.etag", etag + "\n");
     const auto fetch = run_client({"fetch", id, "-o", out.string(), "--json", "--server", server.url()});
     ASSERT_EQ(fetch.exit_code, 0) << fetch.err;
     const json::value report = json::parse(fetch.out);
     EXPECT_EQ(report.at("resumed_from").to_number<std::uint64_t>(), 100000u);
+    EXPECT_EQ(read_file(out / "result.h5"), whole);
+    EXPECT_EQ(read_file(out / "result.h5.etag"), etag + "\n");
+
+    // A partial of another result (another job's, or one whose ETag was not
+    // kept) is not spliced with this one's bytes: the download starts over.
+    for (const std::string other_tag : {std::string("\"another-job\"\n"), std::string()}) {
+        const fs::path spliced = tmp.path() / ("spliced" + std::to_string(other_tag.size()));
+        fs::create_directories(spliced);
+        write_file(spliced / "result.h5.part", std::string(100000, 'x'));
+        if (!other_tag.empty()) write_file(spliced / "result.h5.part.etag", other_tag);
+        const auto again = run_client({"fetch", id, "-o", spliced.string(), "--json", "--server", server.url()});
+        ASSERT_EQ(again.exit_code, 0) << again.err;
+        EXPECT_EQ(json::parse(again.out).at("resumed_from").to_number<std::uint64_t>(), 0u);
+        EXPECT_EQ(read_file(spliced / "result.h5"), whole) << "with a partial tagged '" << other_tag << "'";
+    }
+    // A result.h5 of the right size but not of this result is replaced.
+    write_file(out / "result.h5", std::string(whole.size(), 'y'));
+    write_file(out / "result.h5.etag", "\"another-job\"\n");
+    ASSERT_EQ(run_client({"fetch", id, "-o", out.string(), "--server", server.url()}).exit_code, 0);
     EXPECT_EQ(read_file(out / "result.h5"), whole);
 
     // The server side of it: 206 with Content-Range, 416 past the end, HEAD with the size.
