@@ -52,21 +52,31 @@ void initialize_accelerations(World& w, ThreadPool& pool)
     });
 }
 
-StepReport step(World& w, ThreadPool& pool)
+StepReport step(World& w, ThreadPool& pool, StepProfile* profile)
 {
     StepReport report;
     const bool gear = w.integrator == Integrator::gear5;
     if (w.step_count == 0) initialize_accelerations(w, pool); // a(0) from the forces
+    StageClock clock(profile);
     if (gear) gear5_predict(w, pool);                    // every moving body
     else verlet_first_half(w, pool);
+    clock.lap(Stage::predict);
     move_walls(w);                                       // prescribed plate motion
+    clock.lap(Stage::move_walls);
     report.neighbours_rebuilt = update_neighbours(w, pool); // cell grid + skin, only when needed
+    clock.lap(Stage::neighbours);
     compute_pair_forces(w, pool);                        // Hertz + tangential, one slot per pair
     compute_wall_forces(w, pool);                        // plates and cylinder, one slot per body
+    clock.lap(Stage::contacts);
     compute_wire_forces(w, pool);                        // stretch + bending, one slot per element
+    clock.lap(Stage::wire);
     compute_membrane_forces(w, pool);                    // edge springs + σ₃·A per triangle
+    clock.lap(Stage::membrane);
     gather_forces(w, pool);                              // per body, fixed order
+    clock.lap(Stage::gather);
     report.blew_up = !(gear ? gear5_correct(w, pool) : verlet_second_half(w, pool));
+    clock.lap(Stage::correct);
+    if (profile) ++profile->steps;
     w.time_s += w.dt_s;
     ++w.step_count;
     return report;

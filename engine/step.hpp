@@ -2,6 +2,7 @@
 #pragma once
 
 #include "parallel/thread_pool.hpp"
+#include "profile.hpp"
 #include "state/world.hpp"
 
 namespace wiredem::engine {
@@ -13,8 +14,10 @@ struct StepReport {
 };
 
 /// Advances `w` by w.dt_s. Thread-count independent: the same World gives
-/// bit-identical results with any pool size.
-StepReport step(World& w, ThreadPool& pool);
+/// bit-identical results with any pool size. With a profile, adds the time
+/// spent in each Stage to it (the first step's initial accelerations are not
+/// charged to any stage).
+StepReport step(World& w, ThreadPool& pool, StepProfile* profile = nullptr);
 
 /// Sets every body's second Gear derivative from the forces at the current
 /// state (x₂ = δt²/2 · F/m, likewise for rotation), leaving tangential springs
