@@ -29,15 +29,15 @@ void initialize_accelerations(World& w, ThreadPool& pool);
 
 /// Moves walls with their prescribed velocity by one step.
 void move_walls(World& w);
-/// Rebuilds the neighbour list if a body moved more than half the skin since
-/// the last build, or bodies were added. Returns true if it rebuilt.
+/// Rebuilds the contact list (body pairs and body–wall contacts) if a body or
+/// a wall moved more than half the skin since the last build, or bodies or
+/// walls were added. Returns true if it rebuilt.
 bool update_neighbours(World& w, ThreadPool& pool);
-/// Evaluates every pair of the neighbour list (one writer per pair slot).
-void compute_pair_forces(World& w, ThreadPool& pool);
-/// Evaluates each wall against the bodies near it (its candidates, rebuilt
-/// with the neighbour list) and totals the wall forces.
-void compute_wall_forces(World& w, ThreadPool& pool);
-/// Sums each body's pair, wall and gravity forces in a fixed order.
+/// Evaluates every contact of the list, body pairs and body–wall contacts,
+/// with one kernel (geometry adapters in contact/geometry.hpp, the laws of
+/// laws/; one writer per contact slot), then totals each wall's force.
+void compute_contact_forces(World& w, ThreadPool& pool);
+/// Sums each body's contact, element and gravity forces in a fixed order.
 void gather_forces(World& w, ThreadPool& pool);
 
 /// Effective skin actually used [m].
