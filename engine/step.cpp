@@ -215,8 +215,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
             if (c.touching[p]) {
                 c.tangential[p] = TangentialState{};
                 c.force_n[p].setZero();
-                c.shares[c.share_of_first[p]] = ContactShare{};
-                if (p < pairs) c.shares[c.share_of_second[p]] = ContactShare{};
+                c.normal_x_tangential_n[p].setZero();
                 c.normal_force_n[p] = 0.0;
                 c.touching[p] = 0;
             }
@@ -228,10 +227,9 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, tp, dt);
         c.tangential[p] = t.next;
         const Vec3 force = -fn * g.normal + t.force_n;
-        const Vec3 n_x_ft = g.normal.cross(t.force_n);
         c.force_n[p] = force;
-        c.shares[c.share_of_first[p]] = {force, g.arm_first_m * n_x_ft};
-        if (p < pairs) c.shares[c.share_of_second[p]] = {-force, g.arm_second_m * n_x_ft};
+        c.normal_x_tangential_n[p] = g.normal.cross(t.force_n);
+        c.overlap_m[p] = g.overlap_m;
         c.normal_force_n[p] = fn;
         c.touching[p] = 1;
     });
@@ -271,20 +269,30 @@ void gather_forces(World& w, ThreadPool& pool)
         TranslationalState& body = w.bodies[k];
         const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
         const Vec3 g = w.gravity_acts[k] ? w.gravity_m_per_s2 : Vec3(Vec3::Zero());
-        const bool rotates = k == static_cast<int>(BodyKind::grain);
-        parallel_for(pool, body.size(), [&](std::size_t i) {
-            Vec3 f = body.mass_kg[i] * g;
-            Vec3 tau = Vec3::Zero();
-            // Pairs, then walls in wall order (ascending contact index); zero while apart.
-            for (std::uint32_t e = c.incidence_start[off + i]; e < c.incidence_start[off + i + 1]; ++e) {
-                f += c.shares[e].force_n;
-                tau += c.shares[e].torque_n_m;
-            }
-            if (k == static_cast<int>(BodyKind::wire)) f += w.wire.node_force_n[i];
-            if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane.node_force_n[i];
-            body.force_n[i] = f;
-            if (rotates) w.grain_rotation.torque_n_m[i] = tau;
-        });
+        // Pairs, then walls in wall order (ascending contact index); zero
+        // while apart. The force on `second` is (−1)·F (and f + (−F) is f − F
+        // exactly); the lever arm r − ξ/2 is the kernel's own expression.
+        auto body_loop = [&]<bool rotates>(std::bool_constant<rotates>) {
+            parallel_for(pool, body.size(), [&](std::size_t i) {
+                Vec3 f = body.mass_kg[i] * g;
+                Vec3 tau = Vec3::Zero();
+                const std::uint32_t end = c.incidence_start[off + i + 1];
+                for (std::uint32_t e = c.incidence_start[off + i]; e < end; ++e) {
+                    const Incidence in = c.incidence[e];
+                    f += in.sign() * c.force_n[in.contact()];
+                    if constexpr (rotates)
+                        tau += (body.radius_m[i] - 0.5 * c.overlap_m[in.contact()]) * c.normal_x_tangential_n[in.contact()];
+                }
+                if (k == static_cast<int>(BodyKind::wire)) f += w.wire.node_force_n[i];
+                if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane.node_force_n[i];
+                body.force_n[i] = f;
+                if constexpr (rotates) w.grain_rotation.torque_n_m[i] = tau;
+            });
+        };
+        if (k == static_cast<int>(BodyKind::grain))
+            body_loop(std::true_type{});
+        else
+            body_loop(std::false_type{});
     }
     for (const auto& [body, f] : w.point_loads) w.of(body.kind()).force_n[body.index()] += f;
 }

@@ -55,6 +55,8 @@ void ContactList::rebuild(
     touching = std::move(was_touching);
     force_n.assign(n, Vec3::Zero());
     normal_force_n.assign(n, 0.0);
+    normal_x_tangential_n.assign(n, Vec3::Zero());
+    overlap_m.assign(n, 0.0);
 
     // Pairs first, then each wall's contacts, by wall.
     const auto pairs = std::find_if(second.begin(), second.end(), [](BodyRef b) { return is_wall(b); }) - second.begin();
@@ -72,17 +74,11 @@ void ContactList::rebuild(
     }
     for (std::size_t b = 0; b < bodies; ++b) incidence_start[b + 1] += incidence_start[b];
     incidence.resize(incidence_start[bodies]);
-    share_of_first.resize(n);
-    share_of_second.resize(n);
     std::vector<std::uint32_t> fill(incidence_start.begin(), incidence_start.end() - 1);
     for (std::size_t p = 0; p < n; ++p) { // ascending p: each body's list is in contact order
-        share_of_first[p] = fill[flat_of(first[p])]++;
-        incidence[share_of_first[p]] = {static_cast<std::uint32_t>(p), true};
-        if (is_wall(second[p])) continue;
-        share_of_second[p] = fill[flat_of(second[p])]++;
-        incidence[share_of_second[p]] = {static_cast<std::uint32_t>(p), false};
+        incidence[fill[flat_of(first[p])]++] = {static_cast<std::uint32_t>(p), true};
+        if (!is_wall(second[p])) incidence[fill[flat_of(second[p])]++] = {static_cast<std::uint32_t>(p), false};
     }
-    shares.assign(incidence.size(), ContactShare{});
 }
 
 } // namespace wiredem::engine

@@ -14,8 +14,9 @@
 //
 // The incidence list (CSR over flat body index, ascending contact index) lets
 // every body gather its contact forces in a fixed order: its pairs, then its
-// walls in wall order. The contact kernel writes each force straight into the
-// bodies' incidence slots, so the gather reads memory in order.
+// walls in wall order. The kernel writes each contact's force once; the
+// gather reads it for both bodies (with its sign) and forms each body's
+// torque from the contact's n × F_t and the body's own lever arm.
 #pragma once
 
 #include "core/types.hpp"
@@ -36,17 +37,16 @@ namespace wiredem::engine {
 }
 
 /// One body's link to a contact: contact index and whether the body is the
-/// contact's first side (a) or second (b).
+/// contact's first side (a) or second (b), in 32 bits.
 struct Incidence {
-    std::uint32_t pair = 0;
-    bool is_first = true;
-};
+    std::uint32_t bits = 0; ///< contact · 2 + (1 if the body is second)
 
-/// A contact's force and torque on one of its bodies, stored where that
-/// body's gather reads it: shares[e] belongs to incidence[e].
-struct ContactShare {
-    Vec3 force_n = Vec3::Zero();    ///< [N]
-    Vec3 torque_n_m = Vec3::Zero(); ///< [N·m]
+    Incidence() = default;
+    Incidence(std::uint32_t contact_index, bool is_first) : bits(contact_index << 1 | (is_first ? 0u : 1u)) {}
+    [[nodiscard]] std::uint32_t contact() const { return bits >> 1; }
+    [[nodiscard]] bool is_first() const { return (bits & 1u) == 0; }
+    /// +1 for first, −1 for second: the sign of the contact's force on the body.
+    [[nodiscard]] double sign() const { return 1.0 - 2.0 * static_cast<double>(bits & 1u); }
 };
 
 /// Flat index of the first body of each kind (grains, wire, membrane) and,
@@ -61,6 +61,10 @@ struct ContactList {
     std::vector<TangentialState> tangential;  ///< spring memory; reset when the contact opens
     std::vector<Vec3> force_n;                ///< this step's force on `first` (−force on a body `second`) [N]
     std::vector<double> normal_force_n;       ///< |F_n| this step, 0 when apart [N]
+    /// n × F_t this step (n from first to second), 0 when apart: a body's
+    /// torque from the contact is its lever arm r − ξ/2 times this [N].
+    std::vector<Vec3> normal_x_tangential_n;
+    std::vector<double> overlap_m;            ///< ξ this step, while touching [m]
     std::vector<std::uint8_t> touching;       ///< 1 when overlapping this step
     /// Contacts [0, pair_count) are body pairs; wall i's contacts are
     /// [wall_start[i], wall_start[i + 1]), with wall_start[0] = pair_count.
@@ -68,14 +72,6 @@ struct ContactList {
 
     std::vector<std::uint32_t> incidence_start; ///< CSR offsets per flat body, size bodies + 1
     std::vector<Incidence> incidence;
-    /// This step's force and torque on each body of each contact, in
-    /// incidence order: the kernel writes a contact's shares (one writer per
-    /// slot), and each body's gather then reads its own shares contiguously,
-    /// in ascending contact order. Zero while the contact is apart.
-    std::vector<ContactShare> shares;
-    /// Per contact: its slot in shares for `first` and for a body `second`
-    /// (unused for a wall contact).
-    std::vector<std::uint32_t> share_of_first, share_of_second;
 
     [[nodiscard]] std::size_t size() const { return first.size(); }
     /// Number of body pairs (they come first).
