@@ -173,6 +173,39 @@ bool update_neighbours(World& w, ThreadPool& pool)
     return true;
 }
 
+namespace {
+
+/// The contact kernel: from a contact's geometry (or its absence) to its
+/// force, spring and slots, with the laws of laws/. One writer per slot.
+[[gnu::always_inline]] inline void evaluate_contact(ContactList& c, std::size_t p, bool overlaps,
+    const ContactGeometry& g, double damping_s, const TangentialParams& tp, double dt)
+{
+    if (!overlaps) {
+        // Apart: the contact (and its spring) is gone. Slots of a contact
+        // that was apart already are zero: leave them alone.
+        if (c.touching[p]) {
+            c.tangential[p] = TangentialState{};
+            c.force_n[p].setZero();
+            c.normal_x_tangential_n[p].setZero();
+            c.normal_force_n[p] = 0.0;
+            c.touching[p] = 0;
+        }
+        return;
+    }
+    const double rate = g.velocity_m_per_s.dot(g.normal); // dξ/dt, > 0 while approaching
+    const Vec3 vt = g.velocity_m_per_s - rate * g.normal;
+    const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, damping_s);
+    const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, tp, dt);
+    c.tangential[p] = t.next;
+    c.force_n[p] = -fn * g.normal + t.force_n;
+    c.normal_x_tangential_n[p] = g.normal.cross(t.force_n);
+    c.overlap_m[p] = g.overlap_m;
+    c.normal_force_n[p] = fn;
+    c.touching[p] = 1;
+}
+
+} // namespace
+
 void compute_contact_forces(World& w, ThreadPool& pool)
 {
     ContactList& c = w.contacts;
@@ -180,7 +213,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
     const double inv_dt = 1.0 / dt;
     const double damping_s = w.contact.normal_damping_s;
     const TangentialParams& tp = w.contact.tangential;
-    // Raw views of what the loop reads, by kind, hoisted out of it.
+    // Raw views of what the loops read, by kind, hoisted out of them.
     struct KindView {
         const Vec3* x;       // x₀
         const Vec3* v_dt;    // x₁ = δt v
@@ -191,47 +224,28 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         view[k] = {w.bodies[k].x[0].data(), w.bodies[k].x[1].data(), w.bodies[k].radius_m.data()};
     const Vec3* spin_dt = w.grain_rotation.w[1].data(); // δt ω of the grains
     const Vec3 no_spin = Vec3::Zero();
-    const std::size_t pairs = c.pair_count();
+    auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? spin_dt[b.index()] : no_spin; };
 
-    parallel_for(pool, c.size(), [&](std::size_t p) {
+    // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
+    const std::size_t pairs = c.pair_count();
+    parallel_for(pool, pairs, [&](std::size_t p) {
         const BodyRef a = c.first[p], b = c.second[p];
+        const KindView &A = view[static_cast<int>(a.kind())], &B = view[static_cast<int>(b.kind())];
+        const std::uint32_t ia = a.index(), ib = b.index();
+        ContactGeometry g;
+        const bool overlaps = sphere_sphere_geometry(
+            A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_of(a), spin_of(b), inv_dt, g);
+        evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+    });
+    parallel_for(pool, c.size() - pairs, [&](std::size_t q) {
+        const std::size_t p = pairs + q;
+        const BodyRef a = c.first[p];
         const KindView& A = view[static_cast<int>(a.kind())];
         const std::uint32_t ia = a.index();
-        const Vec3& spin_a = a.kind() == BodyKind::grain ? spin_dt[ia] : no_spin;
         ContactGeometry g;
-        bool overlaps;
-        if (p < pairs) {
-            const KindView& B = view[static_cast<int>(b.kind())];
-            const std::uint32_t ib = b.index();
-            const Vec3& spin_b = b.kind() == BodyKind::grain ? spin_dt[ib] : no_spin;
-            overlaps = sphere_sphere_geometry(
-                A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_a, spin_b, inv_dt, g);
-        } else {
-            overlaps = sphere_wall_geometry(w.walls[b.index()], A.x[ia], A.radius[ia], A.v_dt[ia], spin_a, inv_dt, g);
-        }
-        if (!overlaps) {
-            // Apart: the contact (and its spring) is gone. Slots of a contact
-            // that was apart already are zero: leave them alone.
-            if (c.touching[p]) {
-                c.tangential[p] = TangentialState{};
-                c.force_n[p].setZero();
-                c.normal_x_tangential_n[p].setZero();
-                c.normal_force_n[p] = 0.0;
-                c.touching[p] = 0;
-            }
-            return;
-        }
-        const double rate = g.velocity_m_per_s.dot(g.normal); // dξ/dt, > 0 while approaching
-        const Vec3 vt = g.velocity_m_per_s - rate * g.normal;
-        const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, damping_s);
-        const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, tp, dt);
-        c.tangential[p] = t.next;
-        const Vec3 force = -fn * g.normal + t.force_n;
-        c.force_n[p] = force;
-        c.normal_x_tangential_n[p] = g.normal.cross(t.force_n);
-        c.overlap_m[p] = g.overlap_m;
-        c.normal_force_n[p] = fn;
-        c.touching[p] = 1;
+        const bool overlaps = sphere_wall_geometry(
+            w.walls[c.second[p].index()], A.x[ia], A.radius[ia], A.v_dt[ia], spin_of(a), inv_dt, g);
+        evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
     });
 
     // What the bodies exert on each wall, summed in contact order.
