@@ -1,10 +1,12 @@
-// Derived quantities of a job: the probe world for the stable step, the
-// body estimate and the damping time (see api/derived.hpp).
+// Derived quantities of a job: the stability inputs, the body estimate and
+// the damping time (see api/derived.hpp).
 #include "api/derived.hpp"
 
 #include "api/engine_settings.hpp"
 
 #include "laws/hertz.hpp"
+#include "laws/membrane_edge.hpp"
+#include "laws/wire_bond.hpp"
 #include "state/world.hpp"
 #include "timestep.hpp"
 
@@ -29,46 +31,38 @@ double membrane_node_mass_kg(const MembraneSpec& m)
 
 } // namespace
 
-StableStep stable_time_step(const JobSpec& spec)
+engine::StabilityInputs stability_inputs(const JobSpec& spec)
 {
     const SpecimenSpec& s = spec.specimen;
     const double scale = spec.engine.density_scale;
     const double wire_scale = scale * spec.engine.wire_mass_scale;
-    engine::World w;
-    // Density scaling multiplies every mass: scale the grain density (add_grain
-    // derives the mass from it) and the node masses alike; the wire's once more.
-    const std::uint8_t grain = engine::add_material(w,
-        {s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3 * scale});
-    const std::uint8_t wire = engine::add_material(w,
-        {s.wire.youngs_modulus_pa, s.wire.poisson_ratio, s.wire.density_kg_per_m3 * wire_scale});
-    const std::uint8_t membrane = engine::add_material(w,
-        {s.membrane.youngs_modulus_pa, s.membrane.poisson_ratio, s.membrane.density_kg_per_m3 * scale});
-    const std::uint8_t plate = engine::add_material(w, {s.plate.youngs_modulus_pa, s.plate.poisson_ratio, 1.0});
-
-    // One body of each kind, far apart: critical_time_step looks at the
-    // lightest body, the smallest radius and the stiffest material per kind.
+    auto plane_modulus_pa = [](const auto& material) {
+        return engine::plane_modulus_pa({material.youngs_modulus_pa, material.poisson_ratio});
+    };
+    engine::StabilityInputs in;
+    // Density scaling multiplies every mass; the wire's once more.
     const double smallest_grain_m = s.grain_radius_m * (1.0 - s.grain_radius_spread);
-    engine::add_grain(w, engine::Vec3(0.0, 0.0, 1.0), smallest_grain_m, grain);
-    const bool has_wire = s.wire.pattern != WirePattern::none;
-    if (has_wire)
-        engine::add_node(w, engine::BodyKind::wire, engine::Vec3(0.0, 0.0, 2.0), s.wire.radius_m,
-            wire_node_mass_kg(s.wire) * wire_scale, wire);
-    engine::add_node(w, engine::BodyKind::membrane, engine::Vec3(0.0, 0.0, 3.0),
-        membrane_contact_radius_m(s.membrane), membrane_node_mass_kg(s.membrane) * scale, membrane);
-    engine::add_wall(w, engine::make_plate(0.0, 1.0, plate));
-
-    engine::CriticalStep c = engine::critical_time_step(w);
-    if (has_wire) {
-        // Highest mode of a free chain: ω² = 4 k_elo / m_w, k_elo = E_w π r_w² / l_w.
-        const double k_elo = s.wire.youngs_modulus_pa * std::numbers::pi * s.wire.radius_m * s.wire.radius_m
-                           / s.wire.segment_length_m;
-        engine::fold_spring_limit(c, 4.0 * k_elo / (wire_node_mass_kg(s.wire) * wire_scale), "wire segments");
+    in.kinds[0].include(engine::sphere_mass_kg(s.grain.density_kg_per_m3 * scale, smallest_grain_m), false,
+        smallest_grain_m, plane_modulus_pa(s.grain));
+    if (s.wire.pattern != WirePattern::none) {
+        const double node_mass_kg = wire_node_mass_kg(s.wire) * wire_scale;
+        in.kinds[1].include(node_mass_kg, false, s.wire.radius_m, plane_modulus_pa(s.wire));
+        in.wire_segment_stiffness_n_per_m
+            = engine::wire_axial_stiffness_n_per_m(s.wire.youngs_modulus_pa, s.wire.radius_m, s.wire.segment_length_m);
+        in.wire_node_mass_kg = node_mass_kg;
     }
-    // Six edges per node (Gershgorin bound): ω² ≤ 12 k_m / m_m, k_m = (√3/2) E_m d.
-    const double k_m = 0.5 * std::numbers::sqrt3 * s.membrane.youngs_modulus_pa * s.membrane.thickness_m;
-    engine::fold_spring_limit(c, 12.0 * k_m / (membrane_node_mass_kg(s.membrane) * scale), "membrane edges");
+    const double membrane_node_kg = membrane_node_mass_kg(s.membrane) * scale;
+    in.kinds[2].include(membrane_node_kg, false, membrane_contact_radius_m(s.membrane), plane_modulus_pa(s.membrane));
+    in.membrane_edge_stiffness_n_per_m
+        = engine::membrane_edge_stiffness_n_per_m(s.membrane.youngs_modulus_pa, s.membrane.thickness_m);
+    in.membrane_node_mass_kg = membrane_node_kg;
+    in.wall_plane_moduli_pa.push_back(plane_modulus_pa(s.plate));
+    return in;
+}
 
-    return {c.critical_s, engine::auto_time_step_fraction * c.critical_s, c.limited_by};
+StableStep stable_time_step(const JobSpec& spec)
+{
+    return engine::stable_time_step(stability_inputs(spec));
 }
 
 BodyCounts estimated_body_counts(const JobSpec& spec)

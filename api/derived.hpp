@@ -6,26 +6,25 @@
 #pragma once
 
 #include "api/job_spec.hpp"
+#include "timestep.hpp"
 
 #include <cstdint>
 #include <string>
 
 namespace wiredem::api {
 
-/// The stable time step of a job (the model spec §4).
-struct StableStep {
-    double critical_s = 0.0;   ///< largest stable δt [s]
-    double auto_s = 0.0;       ///< what `"time_step_s": "auto"` uses: engine::auto_time_step_fraction × critical_s [s]
-    std::string limited_by;    ///< what sets critical_s, e.g. "wire segments", "grain–grain contacts"
-};
+/// The stable time step of a job (the model spec §4): engine::stable_time_step.
+using StableStep = engine::StableStep;
 
-/// Builds a probe engine::World with one body of each kind present in the
-/// job (the smallest grain, a wire node unless the pattern is none, a
-/// membrane node) and the bottom plate, all masses multiplied by
-/// density_scale (wire nodes also by wire_mass_scale), and calls engine::critical_time_step; then folds in the
-/// springs: wire segments ω² = 4 k_elo / m_w, k_elo = E_w π r_w² / l_w,
-/// m_w = ρ_w π r_w² l_w, and membrane edges ω² = 12 k_m / m_m,
-/// k_m = (√3/2) E_m d, m_m = (√3/2) l_m² ρ_m d.
+/// The stability inputs of a job's system before any World exists: one body
+/// of each kind present in the job (the smallest grain, a wire node unless
+/// the pattern is none, a membrane node) and the plates, all masses
+/// multiplied by density_scale (wire nodes also by wire_mass_scale); the
+/// wire's segments, k_elo = E_w π r_w² / l_w on m_w = ρ_w π r_w² l_w, and the
+/// deformable membrane's edges, k_m = (√3/2) E_m d on m_m = (√3/2) l_m² ρ_m d.
+[[nodiscard]] engine::StabilityInputs stability_inputs(const JobSpec& spec);
+
+/// engine::stable_time_step of stability_inputs(spec).
 [[nodiscard]] StableStep stable_time_step(const JobSpec& spec);
 
 /// Estimated numbers of bodies of a job (used against engine.max_bodies).

@@ -65,7 +65,12 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
 
     p.density_scale = spec.engine.density_scale;
     p.wire_mass_scale = spec.engine.wire_mass_scale;
-    p.fill_rate_m_per_s = s.pouring.fill_rate_m_per_s;
+    // The fill rate: given, or the one that lays the wire's given length,
+    // or the engine's default.
+    if (s.pouring.fill_rate_m_per_s)
+        p.fill_rate_m_per_s = *s.pouring.fill_rate_m_per_s;
+    else if (s.wire.length_m && p.pattern.kind != engine::PatternKind::none)
+        p.fill_rate_m_per_s = engine::fill_rate_for_wire_length_m_per_s(p, *s.wire.length_m);
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
     p.time_step_s = spec.engine.time_step_s.value_or(0.0);
@@ -82,6 +87,7 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_
     t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s;
     t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
     t.hold_time_s = spec.triaxial.hold_time_s;
+    t.max_hold_time_s = spec.triaxial.max_hold_time_s;
     t.sample_interval_s = spec.triaxial.sample_interval_s;
     t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test

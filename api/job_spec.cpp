@@ -9,6 +9,7 @@
 #include "api/job_spec.hpp"
 
 #include "api/derived.hpp"
+#include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
 #include "specimen/preparation.hpp"
 
@@ -398,6 +399,15 @@ constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edg
     {"linear", MembraneEdges::linear},
 }};
 
+/// An optional number: absent or null leaves `out` empty.
+void optional_number(ObjectReader& r, std::string_view key, const Range& range, std::optional<double>& out)
+{
+    if (const json::value* j = r.take(key); j != nullptr && !j->is_null()) {
+        double x = 0.0;
+        if (read_number(r.validator(), *j, r.path_of(key), range, x)) out = x;
+    }
+}
+
 void read_grain(ObjectReader& r, GrainMaterialSpec& g)
 {
     r.number("youngs_modulus_pa", modulus_range, g.youngs_modulus_pa);
@@ -425,6 +435,7 @@ void read_wire(ObjectReader& r, WireSpec& w)
     r.number("inner_radius_m", open_closed(0.0, 1.0), w.inner_radius_m);
     r.number("period_angle_rad", open_closed(0.0, two_pi), w.period_angle_rad);
     r.number("clearance_m", closed(0.0, 0.1), w.clearance_m);
+    optional_number(r, "length_m", open_closed(0.0, 1e4), w.length_m);
     // A number (the yield strain ε_y) or "elastic" (the model spec's wire).
     if (const json::value* j = r.take("bending_yield_strain")) {
         const std::string path = r.path_of("bending_yield_strain");
@@ -455,16 +466,12 @@ void read_membrane(ObjectReader& r, MembraneSpec& m)
     r.number("density_kg_per_m3", density_range, m.density_kg_per_m3);
     r.choice("edges", membrane_edges, m.edges);
     // null (or absent) means "follow the thickness": d/2.
-    if (const json::value* j = r.take("contact_radius_m"); j != nullptr && !j->is_null()) {
-        double radius = 0.0;
-        if (read_number(r.validator(), *j, r.path_of("contact_radius_m"), open_closed(0.0, 0.01), radius))
-            m.contact_radius_m = radius;
-    }
+    optional_number(r, "contact_radius_m", open_closed(0.0, 0.01), m.contact_radius_m);
 }
 
 void read_pouring(ObjectReader& r, PouringSpec& p)
 {
-    r.number("fill_rate_m_per_s", open_closed(0.0, 100.0), p.fill_rate_m_per_s);
+    optional_number(r, "fill_rate_m_per_s", open_closed(0.0, 100.0), p.fill_rate_m_per_s);
     r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), p.settle_kinetic_energy_per_grain_j);
     r.number("max_preparation_time_s", open_closed(0.0, 1e4), p.max_preparation_time_s);
 }
@@ -545,6 +552,7 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s);
     r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s);
     r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s);
+    optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s);
     r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s);
     // The default snapshots follow the target; a given list is checked
     // against the target by the cross-field checks.
@@ -679,18 +687,49 @@ void check_wire_fits(Validator& v, const SpecimenSpec& s)
                 + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
 }
 
-void check_fill_rate(Validator& v, const SpecimenSpec& s)
+void check_fill_rate(Validator& v, const JobSpec& spec)
 {
-    if (s.wire.pattern == WirePattern::none || !v.clean({"specimen.pouring.fill_rate_m_per_s", "specimen.wire"}))
+    const SpecimenSpec& s = spec.specimen;
+    if (!v.clean({"specimen.pouring", "specimen.wire", "specimen.grain_count", "specimen.grain_radius_m",
+            "specimen.grain_radius_spread", "specimen.membrane_radius_m"}))
         return;
+    const bool with_wire = s.wire.pattern != WirePattern::none;
+    if (with_wire && s.wire.length_m && s.pouring.fill_rate_m_per_s) {
+        v.note("specimen.wire.length_m", "set either specimen.wire.length_m or specimen.pouring.fill_rate_m_per_s: "
+                                         "the fill rate sets the length of wire laid, and the length the fill rate");
+        return;
+    }
+    const engine::PreparationSpec p = preparation_spec(spec);
+    const double fill_rate = p.fill_rate_m_per_s;
     // The nozzle follows the top of the pile at most v_z^w (the model spec §5).
     const double limit = engine::max_fill_rate_per_rise_speed * s.wire.nozzle_rise_speed_m_per_s;
-    if (s.pouring.fill_rate_m_per_s > limit)
-        v.note("specimen.pouring.fill_rate_m_per_s",
-            exact_text(s.pouring.fill_rate_m_per_s) + " is too fast for the nozzle, which rises at most "
-                + "specimen.wire.nozzle_rise_speed_m_per_s " + exact_text(s.wire.nozzle_rise_speed_m_per_s)
-                + " and must follow the pile's uneven top: fill_rate_m_per_s must not exceed "
-                + exact_text(engine::max_fill_rate_per_rise_speed) + " × that = " + approx_text(limit));
+    if (with_wire && fill_rate > limit) {
+        if (s.wire.length_m) {
+            // L = ω R_a t_lay: the shortest wire is laid at the fastest fill.
+            const double shortest_m = *s.wire.length_m * fill_rate / limit;
+            v.note("specimen.wire.length_m",
+                exact_text(*s.wire.length_m) + " needs a fill rate of " + approx_text(fill_rate)
+                    + " m/s, faster than the nozzle can follow (at most " + exact_text(engine::max_fill_rate_per_rise_speed)
+                    + " × specimen.wire.nozzle_rise_speed_m_per_s = " + approx_text(limit)
+                    + "): length_m must be at least " + approx_text(shortest_m));
+        } else {
+            v.note("specimen.pouring.fill_rate_m_per_s",
+                exact_text(fill_rate) + " is too fast for the nozzle, which rises at most "
+                    + "specimen.wire.nozzle_rise_speed_m_per_s " + exact_text(s.wire.nozzle_rise_speed_m_per_s)
+                    + " and must follow the pile's uneven top: fill_rate_m_per_s must not exceed "
+                    + exact_text(engine::max_fill_rate_per_rise_speed) + " × that = " + approx_text(limit));
+        }
+        return;
+    }
+    // The pour alone takes H_fill / v_fill; the preparation fails when it
+    // runs past max_preparation_time_s, so say so now.
+    const double pour_s = engine::estimated_fill_height_m(p) / fill_rate;
+    if (!(pour_s < s.pouring.max_preparation_time_s))
+        v.note("specimen.pouring.max_preparation_time_s",
+            exact_text(s.pouring.max_preparation_time_s) + " is too short: pouring "
+                + approx_text(engine::estimated_fill_height_m(p)) + " m of fill at " + approx_text(fill_rate)
+                + " m/s" + (with_wire && s.wire.length_m ? " (the rate that lays specimen.wire.length_m)" : "")
+                + " takes " + approx_text(pour_s) + " s; max_preparation_time_s must exceed that, with time to settle");
 }
 
 void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
@@ -713,7 +752,7 @@ void check_body_count(Validator& v, const JobSpec& spec)
 {
     if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
             "specimen.membrane_radius_m", "specimen.membrane_height_m", "specimen.membrane.mesh_size_m",
-            "specimen.wire", "specimen.pouring.fill_rate_m_per_s", "engine.max_bodies"}))
+            "specimen.wire", "specimen.pouring", "engine.max_bodies"}))
         return;
     const BodyCounts n = estimated_body_counts(spec);
     if (n.total() > spec.engine.max_bodies)
@@ -721,6 +760,14 @@ void check_body_count(Validator& v, const JobSpec& spec)
             "the job needs about " + std::to_string(n.total()) + " bodies (" + std::to_string(n.grains) + " grains, "
                 + std::to_string(n.wire_nodes) + " wire nodes, " + std::to_string(n.membrane_nodes)
                 + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
+}
+
+void check_hold(Validator& v, const TriaxialSpec& t)
+{
+    if (!v.clean({"triaxial.hold_time_s", "triaxial.max_hold_time_s"}) || !t.max_hold_time_s) return;
+    if (*t.max_hold_time_s < t.hold_time_s)
+        v.note("triaxial.max_hold_time_s", exact_text(*t.max_hold_time_s) + " is shorter than triaxial.hold_time_s "
+                                              + exact_text(t.hold_time_s) + ": it must be at least that");
 }
 
 void check_snapshots(Validator& v, const TriaxialSpec& t)
@@ -752,14 +799,18 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_grain_size(v, spec.specimen);
     check_grain_volume(v, spec.specimen);
     check_wire_fits(v, spec.specimen);
-    check_fill_rate(v, spec.specimen);
+    check_fill_rate(v, spec);
     check_membrane_mesh(v, spec.specimen);
     check_body_count(v, spec);
+    check_hold(v, spec.triaxial);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
 }
 
 // ------------------------------------------------------------------- writing
+
+/// A number, or null when unset.
+json::value optional_json(const std::optional<double>& x) { return x ? json::value(*x) : json::value(nullptr); }
 
 json::array numbers_json(const std::vector<double>& xs)
 {
@@ -781,10 +832,7 @@ json::object specimen_json(const SpecimenSpec& s)
         {"density_kg_per_m3", m.density_kg_per_m3},
         {"edges", to_string(m.edges)},
     };
-    if (m.contact_radius_m)
-        membrane["contact_radius_m"] = *m.contact_radius_m;
-    else
-        membrane["contact_radius_m"] = nullptr;
+    membrane["contact_radius_m"] = optional_json(m.contact_radius_m);
     return {
         {"membrane_radius_m", s.membrane_radius_m},
         {"membrane_height_m", s.membrane_height_m},
@@ -818,11 +866,12 @@ json::object specimen_json(const SpecimenSpec& s)
                 {"clearance_m", w.clearance_m},
                 {"bending_yield_strain",
                     w.bending_yield_strain ? json::value(*w.bending_yield_strain) : json::value("elastic")},
+                {"length_m", optional_json(w.length_m)},
             }},
         {"membrane", std::move(membrane)},
         {"pouring",
             {
-                {"fill_rate_m_per_s", s.pouring.fill_rate_m_per_s},
+                {"fill_rate_m_per_s", optional_json(s.pouring.fill_rate_m_per_s)},
                 {"settle_kinetic_energy_per_grain_j", s.pouring.settle_kinetic_energy_per_grain_j},
                 {"max_preparation_time_s", s.pouring.max_preparation_time_s},
             }},
@@ -854,6 +903,7 @@ json::object triaxial_json(const TriaxialSpec& t)
         {"plate_speed_m_per_s", t.plate_speed_m_per_s},
         {"pressure_ramp_time_s", t.pressure_ramp_time_s},
         {"hold_time_s", t.hold_time_s},
+        {"max_hold_time_s", optional_json(t.max_hold_time_s)},
         {"sample_interval_s", t.sample_interval_s},
         {"snapshot_strains", numbers_json(t.snapshot_strains)},
     };

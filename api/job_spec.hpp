@@ -82,6 +82,11 @@ struct WireSpec {
     /// nozzle forms the wire plastically (docs/model.md, "Wire"). nullopt
     /// ("elastic" in JSON): the model spec's elastic wire, straight at rest.
     std::optional<double> bending_yield_strain = 0.05;
+    /// L, the length of wire to lay [m], (0, 1e4]; the fill rate then follows
+    /// from it (the wire is laid at ω R_a while the fill rises: see
+    /// fill_rate_m_per_s below). nullopt: the fill rate sets the length. The
+    /// paper's column has about 10 m (the model spec §9).
+    std::optional<double> length_m;
     friend bool operator==(const WireSpec&, const WireSpec&) = default;
 };
 
@@ -112,8 +117,11 @@ struct PouringSpec {
     /// (0, 100], and at most 0.6 v_z^w when a wire is laid (the nozzle must
     /// be able to follow the pile's uneven top). With the wire laid at ω R_a
     /// it sets the wire per height of column: a helix's pitch is 2π v_fill / ω.
-    /// Default 0.25 m/s = v_z^w/2: pitch 5.2 mm at ω = 300 rad/s.
-    double fill_rate_m_per_s = 0.25;
+    /// nullopt: from specimen.wire.length_m when a wire of given length is
+    /// laid, otherwise 0.25 m/s = v_z^w/2 (pitch 5.2 mm at ω = 300 rad/s).
+    /// Setting both this and the wire's length is an error. Use
+    /// fill_rate_m_per_s(const JobSpec&) for the value in force.
+    std::optional<double> fill_rate_m_per_s;
     /// Settled when the mean kinetic energy per grain falls below this [J], (0, 1].
     double settle_kinetic_energy_per_grain_j = 1e-9;
     /// The preparation fails if not settled after this much simulated time [s], (0, 1e4].
@@ -173,6 +181,9 @@ struct TriaxialSpec {
     double plate_speed_m_per_s = 2e-4;         ///< top plate speed v_z [m/s], (0, 10]
     double pressure_ramp_time_s = 0.05;        ///< σ_3 ramps linearly from 0 over this [s], [0, 1e3]
     double hold_time_s = 0.05;                 ///< then holds before loading [s], [0, 1e3]
+    /// The hold goes on past hold_time_s until the column has consolidated,
+    /// at most this long [s], [hold_time_s, 1e3]; nullopt: 4 × hold_time_s.
+    std::optional<double> max_hold_time_s;
     double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
     /// Axial strains at which the wire profile and force network are saved:
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When

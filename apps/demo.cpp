@@ -34,8 +34,8 @@ int main(int argc, char** argv)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
-    const CriticalStep crit = critical_time_step(w);
-    w.dt_s = auto_time_step_fraction * crit.critical_s;
+    const StableStep crit = stable_time_step(w);
+    w.dt_s = crit.auto_s;
     std::printf("%zu grains (r = %.2f mm) in a %.0f mm-radius cylinder, %u threads\n", spec.grains,
         spec.grain_radius_m * 1e3, spec.container_radius_m * 1e3, sim.threads());
     std::printf("critical δt %.3g s (limited by %s), using %.3g s; γ_n = %.3g s for e_n = 0.5 at 0.1 m/s\n",

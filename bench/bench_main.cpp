@@ -4,12 +4,12 @@
 // cylinder, then times steps on the static packing for each thread count.
 // Every case starts from the same settled state, and the final states are
 // hashed: equal hashes across thread counts show the run is deterministic.
-#include "core/hash.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
+#include "state/state_hash.hpp"
 #include "timestep.hpp"
 
 #include <CLI/CLI.hpp>
@@ -44,15 +44,6 @@ struct Case {
     [[nodiscard]] double body_steps_per_s() const { return static_cast<double>(bodies) * steps / wall_s; }
     [[nodiscard]] double ns_per_contact() const { return wall_s * 1e9 / (static_cast<double>(contacts) * steps); }
 };
-
-std::uint64_t hash_world(const World& w)
-{
-    Fnv1a h;
-    for (const auto& body : w.bodies)
-        for (const auto& x : body.x) h.add(x);
-    for (const auto& x : w.grain_rotation.w) h.add(x);
-    return h.value();
-}
 
 std::size_t touching(const World& w)
 {
@@ -146,7 +137,7 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         c.contacts = touching(sim.world);
         c.list_pairs = sim.world.contacts.size();
         c.steps = steps;
-        c.hash = hash_world(sim.world);
+        c.hash = state_hash(sim.world);
         cases.push_back(c);
     }
     return cases;
@@ -200,7 +191,7 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     return w;
 }
 
@@ -271,7 +262,7 @@ int main(int argc, char** argv)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     if (!packing.empty()) {
         read_liggghts_data(w, spec, packing);
         settle_s = 0.0;
@@ -302,7 +293,7 @@ int main(int argc, char** argv)
         if (!json)
             std::printf("wire_membrane: %zu grains, %zu wire nodes, %zu membrane nodes, δt = %.3g s (set by %s)\n",
                 column.bodies[0].size(), column.bodies[1].size(), column.bodies[2].size(), column.dt_s,
-                critical_time_step(column).limited_by.c_str());
+                stable_time_step(column).limited_by.c_str());
     }
     if (json)
         for (std::size_t i = 0; i < cases.size(); ++i) print_case_json(cases[i], dts[i]);

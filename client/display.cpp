@@ -90,9 +90,13 @@ std::string format_summary(const json::value& summary)
     std::ostringstream out;
     const auto kpa = [](std::optional<double> pa) { return scaled(pa, 1e-3); };
 
-    out << "Triaxial tests\n";
-    const std::vector<std::pair<std::string, std::size_t>> cols{
-        {"sigma3 [kPa]", 12}, {"peak q [kPa]", 13}, {"strain at peak [%]", 19}, {"sigma1 [kPa]", 13}, {"sigma3' [kPa]", 14}};
+    // Yield (the maximum of the stress ratio, with its Mohr circle) first,
+    // the maximum of q beside it; each with the shape of its curve, since a
+    // maximum at the last sample of a rising curve is no strength.
+    out << "Triaxial tests (yield: maximum of the stress ratio eta; max q beside it)\n";
+    const std::vector<std::pair<std::string, std::size_t>> cols{{"sigma3 [kPa]", 12}, {"yield eta", 9},
+        {"shape", 8}, {"at [%]", 6}, {"sigma1 [kPa]", 12}, {"sigma3' [kPa]", 13}, {"max q [kPa]", 11}, {"shape", 8},
+        {"at [%]", 6}, {"residual eta", 12}};
     out << "  ";
     for (const auto& [name, w] : cols) out << pad_left(name, w) << "  ";
     out << '\n';
@@ -100,18 +104,29 @@ std::string format_summary(const json::value& summary)
     if (!tests || !tests->is_array() || tests->get_array().empty()) out << "  (no tests in the summary)\n";
     else
         for (const auto& t : tests->get_array()) {
-            out << "  " << pad_left(fmt("%.1f", kpa(number(at(t, {"confining_pressure_pa"})))), cols[0].second) << "  "
-                << pad_left(fmt("%.1f", kpa(number(at(t, {"peak_deviatoric_stress_pa"})))), cols[1].second) << "  "
-                << pad_left(fmt("%.2f", scaled(number(at(t, {"peak_axial_strain"})), 100.0)),
-                       cols[2].second)
-                << "  " << pad_left(fmt("%.1f", kpa(number(at(t, {"sigma1_pa"})))), cols[3].second) << "  "
-                << pad_left(fmt("%.1f", kpa(number(at(t, {"sigma3_effective_pa"})))), cols[4].second) << '\n';
+            const std::vector<std::string> cells{fmt("%.1f", kpa(number(at(t, {"confining_pressure_pa"})))),
+                fmt("%.3f", number(at(t, {"yield", "stress_ratio"}))), text(at(t, {"yield", "shape"})),
+                fmt("%.2f", scaled(number(at(t, {"yield", "axial_strain"})), 100.0)),
+                fmt("%.1f", kpa(number(at(t, {"yield", "sigma1_pa"})))),
+                fmt("%.1f", kpa(number(at(t, {"yield", "sigma3_effective_pa"})))),
+                fmt("%.1f", kpa(number(at(t, {"peak_deviatoric_stress_pa"})))), text(at(t, {"max_q_shape"})),
+                fmt("%.2f", scaled(number(at(t, {"peak_axial_strain"})), 100.0)),
+                fmt("%.3f", number(at(t, {"residual_stress_ratio"})))};
+            out << "  ";
+            for (std::size_t c = 0; c < cols.size(); ++c) out << pad_left(cells[c], cols[c].second) << "  ";
+            out << '\n';
         }
 
-    out << "\nMohr-Coulomb envelope\n"
-        << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {"mohr_coulomb", "friction_angle_deg"}))) << '\n'
-        << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {"mohr_coulomb", "cohesion_pa"})))) << '\n'
-        << "  fit R^2             " << fmt("%.4f", number(at(summary, {"mohr_coulomb", "r_squared"}))) << '\n';
+    const auto envelope = [&](const char* title, std::string_view key) {
+        out << '\n' << title << '\n'
+            << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {key, "friction_angle_deg"}))) << '\n'
+            << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {key, "cohesion_pa"})))) << '\n'
+            << "  fit R^2             " << fmt("%.4f", number(at(summary, {key, "r_squared"}))) << '\n'
+            << "  top-line angle      " << fmt("%.2f deg", number(at(summary, {key, "paper_top_line_angle_deg"})))
+            << "  (the paper's reading: atan of the circle tops' slope)\n";
+    };
+    envelope("Mohr-Coulomb envelope through the yield states", "mohr_coulomb");
+    if (at(summary, {"mohr_coulomb_max_q"})) envelope("Mohr-Coulomb envelope through the maxima of q", "mohr_coulomb_max_q");
 
     out << "\nSpecimen\n"
         << "  grain volume fraction  "

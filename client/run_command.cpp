@@ -5,7 +5,7 @@
 //      prepared World, one after another (deterministic),
 //   3. fits the Mohr–Coulomb envelope to the peak states (σ₁, σ₃,eff) and takes
 //      the autocorrelation of the wire's segment strains at the end of the
-//      first test,
+//      test at the highest pressure,
 //   4. writes OUT/result.h5 (layout: docs/results.md) and OUT/summary.json,
 //      each under a temporary name first, then renamed.
 //
@@ -17,6 +17,7 @@
 
 #include "analysis/autocorrelation.hpp"
 #include "analysis/mohr_coulomb.hpp"
+#include "analysis/strength.hpp"
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "forces/membrane_forces.hpp"
@@ -207,6 +208,19 @@ void write_test(eng::io::Group g, double pressure_pa, const eng::TriaxialResult&
     g.write_double_attribute("peak_sigma1_pa", r.peak_sigma1_pa);
     g.write_double_attribute("peak_sigma3_effective_pa", r.peak_sigma3_effective_pa);
     g.write_int_attribute("peak_sample", static_cast<std::int64_t>(r.peak_sample));
+    if (r.strength) {
+        const eng::analysis::StrengthReading& y = *r.strength;
+        g.write_string_attribute("max_q_shape", eng::analysis::to_string(y.deviatoric.shape));
+        g.write_string_attribute("yield_shape", eng::analysis::to_string(y.stress_ratio.shape));
+        g.write_double_attribute("yield_stress_ratio", y.stress_ratio.value);
+        g.write_double_attribute("yield_axial_strain", y.yield_axial_strain);
+        g.write_double_attribute("yield_sigma1_pa", y.yield_sigma1_pa);
+        g.write_double_attribute("yield_sigma3_effective_pa", y.yield_sigma3_pa);
+        g.write_int_attribute("yield_sample", static_cast<std::int64_t>(y.stress_ratio.index));
+        g.write_double_attribute("residual_stress_ratio", y.residual_stress_ratio);
+    }
+    g.write_double_attribute("hold_time_s", r.hold_time_s);
+    g.write_double_attribute("consolidated_sigma1_pa", r.consolidated_sigma1_pa);
     g.write_double_attribute("initial_height_m", r.initial_height_m);
     g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
     g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
@@ -271,6 +285,8 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     sp.write_double_attribute("sample_volume_m3", prep.sample_volume_m3);
     sp.write_double_attribute("grain_volume_fraction", prep.grain_volume_fraction);
     sp.write_double_attribute("wire_volume_fraction", prep.wire_volume_fraction);
+    sp.write_double_attribute("core_grain_volume_fraction", prep.core_grain_volume_fraction);
+    sp.write_double_attribute("core_wire_volume_fraction", prep.core_wire_volume_fraction);
     sp.write_double_attribute("simulated_time_s", prep.simulated_time_s);
     sp.write_double_attribute("wall_time_s", prep.wall_time_s);
     sp.write_int_attribute("steps", static_cast<std::int64_t>(prep.steps));
@@ -289,6 +305,45 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     eng::io::Group all = root.create_group("tests");
     for (std::size_t i = 0; i < tests.size(); ++i) write_test(all.create_group(pressure_name(pressures[i])), pressures[i], tests[i]);
     file.close();
+}
+
+/// A Mohr–Coulomb fit as the summary reports it, with the states it went through.
+json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::string_view states)
+{
+    json::object mc;
+    if (fit.ok()) {
+        const auto& f = fit.value();
+        mc["friction_angle_deg"] = number_or_null(f.friction_angle_rad * 180.0 / std::numbers::pi);
+        mc["cohesion_pa"] = number_or_null(f.cohesion_pa);
+        mc["cohesion_fixed_at_zero"] = f.cohesion_fixed_at_zero;
+        mc["r_squared"] = f.r_squared ? number_or_null(*f.r_squared) : json::value(nullptr);
+        mc["paper_top_line_angle_deg"] = number_or_null(f.paper_top_line_angle_rad * 180.0 / std::numbers::pi);
+    } else {
+        for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg"})
+            mc[k] = nullptr;
+        mc["error"] = fit.error();
+    }
+    mc["states"] = states;
+    return mc;
+}
+
+/// What the summary's strength figures mean, with the tolerances used.
+json::object definitions_json()
+{
+    const eng::analysis::CurveTolerances tol;
+    json::object d;
+    d["yield"] = "the maximum of the stress ratio (sigma1 - sigma3_eff)/(sigma1 + sigma3_eff) of sigma1 and sigma3_eff "
+                 "smoothed over smoothing_strain of axial strain, with the Mohr circle of that state";
+    d["max_q"] = "the largest raw sample of q = sigma1 - sigma3_eff during loading (tests[].peak_*)";
+    d["shape"] = "peak: the smoothed curve drops by more than shape_tolerance of its maximum after it; rising: it rose "
+                 "by more than that over the last end_window_strain (the value is a lower bound); plateau: neither";
+    d["residual_stress_ratio"] = "mean of the raw stress ratio over the last end_window_strain of axial strain";
+    d["smoothing_strain"] = tol.smoothing_strain;
+    d["shape_tolerance"] = tol.shape_tolerance;
+    d["end_window_strain"] = tol.end_window_strain;
+    d["friction_angle"] = "tangent fit: sin(phi) = slope of the least-squares line through the circle tops (p, t), "
+                          "c = intercept / cos(phi); paper_top_line_angle_deg = atan(slope), the paper's reading";
+    return d;
 }
 
 void write_text_file(const std::filesystem::path& path, const std::string& text)
@@ -381,11 +436,9 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
     // Time step of the tests: the given one, or the auto fraction of the
     // deformable system's critical step (the pouring's is set by impacts).
     eng::World prepared_world = prep_sim.world;
-    if (!spec.engine.time_step_s) {
-        eng::World probe = prepared_world;
-        eng::set_membrane_rigid(probe, false);
-        eng::set_time_step(prepared_world, eng::auto_time_step_fraction * eng::critical_time_step(probe).critical_s);
-    }
+    if (!spec.engine.time_step_s)
+        eng::set_time_step(prepared_world,
+            eng::stable_time_step(eng::stability_inputs(prepared_world, eng::MembraneAs::deformable)).auto_s);
     const std::size_t bodies = body_count(prepared_world);
     double body_steps = static_cast<double>(prep.steps) * static_cast<double>(bodies);
     double stepping_wall_s = prep.wall_time_s;
@@ -418,15 +471,35 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
 
     // 3. Analysis.
     progress.report("analysing", tests_end, "Mohr-Coulomb fit and wire autocorrelation", true);
-    std::vector<eng::analysis::PeakState> peaks;
-    for (const auto& t : tests) peaks.push_back({t.peak_sigma1_pa, t.peak_sigma3_effective_pa});
-    const auto fit = eng::analysis::fit_mohr_coulomb(peaks);
-    if (!fit.ok()) warnings.push_back("Mohr-Coulomb fit: " + fit.error());
+    // Two envelopes: through the yield states (the maximum of the stress
+    // ratio; docs/model.md, "How yield is read") and, beside it, through the
+    // states at the maximum of q.
+    std::vector<eng::analysis::PeakState> yield_states, max_q_states;
+    for (const auto& t : tests) {
+        max_q_states.push_back({t.peak_sigma1_pa, t.peak_sigma3_effective_pa});
+        if (t.strength) yield_states.push_back({t.strength->yield_sigma1_pa, t.strength->yield_sigma3_pa});
+    }
+    using Fit = eng::Result<eng::analysis::MohrCoulombFit, std::string>;
+    const Fit fit = yield_states.size() == tests.size() ? eng::analysis::fit_mohr_coulomb(yield_states)
+                                                        : Fit(eng::Err(std::string("a test has no yield state")));
+    if (!fit.ok()) warnings.push_back("Mohr-Coulomb fit (yield states): " + fit.error());
+    const auto fit_max_q = eng::analysis::fit_mohr_coulomb(max_q_states);
+    if (!fit_max_q.ok()) warnings.push_back("Mohr-Coulomb fit (maximum of q): " + fit_max_q.error());
+    std::size_t rising = 0;
+    for (const auto& t : tests) rising += t.strength && t.strength->stress_ratio.shape == eng::analysis::CurveShape::rising;
+    if (rising > 0)
+        warnings.push_back(std::to_string(rising) + " of " + std::to_string(tests.size())
+                           + " tests: the stress ratio was still rising at the end; their yield states are lower "
+                             "bounds (raise triaxial.target_axial_strain)");
     std::optional<double> lag_m;
     const bool with_wire = spec.specimen.wire.pattern != api::WirePattern::none && prep.wire_nodes > 1;
-    if (with_wire && !tests.empty() && !tests.front().snapshots.empty()) {
+    // At the end of the test at the highest pressure (the first of equals):
+    // the wire's strain is largest and most developed there.
+    const std::size_t strained = static_cast<std::size_t>(
+        std::max_element(pressures.begin(), pressures.end()) - pressures.begin());
+    if (with_wire && strained < tests.size() && !tests[strained].snapshots.empty()) {
         const auto ac = eng::analysis::autocorrelation(
-            tests.front().snapshots.back().wire_segment_strain, spec.specimen.wire.segment_length_m);
+            tests[strained].snapshots.back().wire_segment_strain, spec.specimen.wire.segment_length_m);
         if (!ac.ok())
             warnings.push_back("wire autocorrelation: " + ac.error());
         else if (!ac.value().first_maximum_lag_m)
@@ -454,6 +527,25 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
             o["peak_axial_strain"] = number_or_null(t.peak_axial_strain);
             o["sigma1_pa"] = number_or_null(t.peak_sigma1_pa);
             o["sigma3_effective_pa"] = number_or_null(t.peak_sigma3_effective_pa);
+            if (t.strength) {
+                const eng::analysis::StrengthReading& y = *t.strength;
+                o["max_q_shape"] = eng::analysis::to_string(y.deviatoric.shape);
+                json::object yo;
+                yo["shape"] = eng::analysis::to_string(y.stress_ratio.shape);
+                yo["stress_ratio"] = number_or_null(y.stress_ratio.value);
+                yo["axial_strain"] = number_or_null(y.yield_axial_strain);
+                yo["sigma1_pa"] = number_or_null(y.yield_sigma1_pa);
+                yo["sigma3_effective_pa"] = number_or_null(y.yield_sigma3_pa);
+                yo["deviatoric_stress_pa"] = number_or_null(y.yield_sigma1_pa - y.yield_sigma3_pa);
+                o["yield"] = std::move(yo);
+                o["residual_stress_ratio"] = number_or_null(y.residual_stress_ratio);
+            } else {
+                o["max_q_shape"] = nullptr;
+                o["yield"] = nullptr;
+                o["residual_stress_ratio"] = nullptr;
+            }
+            o["hold_time_s"] = t.hold_time_s;
+            o["consolidated_sigma1_pa"] = number_or_null(t.consolidated_sigma1_pa);
             o["quasi_static"] = t.verdict.quasi_static;
             o["max_inertial_number"] = number_or_null(t.verdict.max_inertial_number);
             o["mean_kinetic_to_elastic"] = number_or_null(t.verdict.mean_kinetic_to_elastic);
@@ -465,25 +557,15 @@ int run_campaign(const api::JobSpec& spec, const std::filesystem::path& out_dir,
         summary["name"] = spec.name;
         summary["tests"] = std::move(jt);
 
-        json::object mc;
-        if (fit.ok()) {
-            const auto& f = fit.value();
-            mc["friction_angle_deg"] = number_or_null(f.friction_angle_rad * 180.0 / std::numbers::pi);
-            mc["cohesion_pa"] = number_or_null(f.cohesion_pa);
-            mc["cohesion_fixed_at_zero"] = f.cohesion_fixed_at_zero;
-            mc["r_squared"] = f.r_squared ? number_or_null(*f.r_squared) : json::value(nullptr);
-            mc["paper_top_line_angle_deg"] = number_or_null(f.paper_top_line_angle_rad * 180.0 / std::numbers::pi);
-        } else {
-            for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg"})
-                mc[k] = nullptr;
-            mc["error"] = fit.error();
-        }
-        mc["sigma3"] = "sigma3_effective_pa at the peak";
-        summary["mohr_coulomb"] = std::move(mc);
+        summary["mohr_coulomb"] = mohr_coulomb_json(fit, "yield states: (sigma1, sigma3_effective) at the maximum of the smoothed stress ratio (tests[].yield)");
+        summary["mohr_coulomb_max_q"] = mohr_coulomb_json(fit_max_q, "(sigma1, sigma3_effective) at the maximum of q (tests[].peak_*)");
+        summary["definitions"] = definitions_json();
 
         json::object sp;
         sp["grain_volume_fraction"] = prep.grain_volume_fraction;
         sp["wire_volume_fraction"] = prep.wire_volume_fraction;
+        sp["core_grain_volume_fraction"] = prep.core_grain_volume_fraction;
+        sp["core_wire_volume_fraction"] = prep.core_wire_volume_fraction;
         sp["sample_volume_m3"] = prep.sample_volume_m3;
         sp["grains"] = prep.grains;
         sp["wire_nodes"] = prep.wire_nodes;

@@ -248,16 +248,25 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
     });
 
-    // What the bodies exert on each wall, summed in contact order.
+    // What the bodies exert on each wall, summed in contact order, one
+    // reduction per body kind (a wall's contacts are sorted by kind): the
+    // plate forces of the force-controlled triaxial test feed back into the
+    // motion, so the order of this sum is part of the results.
     struct Total {
         Vec3 force = Vec3::Zero();
         std::size_t contacts = 0;
     };
+    auto add = [](Total x, const Total& y) {
+        x.force += y.force;
+        x.contacts += y.contacts;
+        return x;
+    };
     for (std::size_t wi = 0; wi < w.walls.size(); ++wi) {
-        const std::size_t begin = c.wall_start[wi];
-        const Total total = reduce_blocks(
-            pool, c.wall_start[wi + 1] - begin, Total{},
-            [&](std::size_t b, std::size_t e) {
+        Total total;
+        for (std::size_t begin = c.wall_start[wi], end; begin < c.wall_start[wi + 1]; begin = end) {
+            const BodyKind kind = c.first[begin].kind();
+            for (end = begin; end < c.wall_start[wi + 1] && c.first[end].kind() == kind;) ++end;
+            total = add(total, reduce_blocks(pool, end - begin, Total{}, [&](std::size_t b, std::size_t e) {
                 Total sum;
                 for (std::size_t p = begin + b; p < begin + e; ++p) {
                     if (!c.touching[p]) continue;
@@ -265,12 +274,8 @@ void compute_contact_forces(World& w, ThreadPool& pool)
                     ++sum.contacts;
                 }
                 return sum;
-            },
-            [](Total x, const Total& y) {
-                x.force += y.force;
-                x.contacts += y.contacts;
-                return x;
-            });
+            }, add));
+        }
         w.walls[wi].total_force_n = total.force;
         w.walls[wi].contacts = total.contacts;
     }

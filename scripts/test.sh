@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, lints the container files, builds and runs the
 # test suite: every test in Release; then under AddressSanitizer +
-# UndefinedBehaviorSanitizer every test but the long physical runs (label
+# UndefinedBehaviorSanitizer every test but the report script's (label
+# scripts: Python) and the long physical runs (label
 # physics_long: whole column preparations and the end-to-end triaxial runs,
 # a minute or two each under ASan, whose code the sanitizer run still goes
 # through in the determinism and campaign tests); then under ThreadSanitizer
@@ -26,6 +27,6 @@ echo "== tests (release)"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 echo "== tests (address + undefined behaviour sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE physics_long
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts"
 echo "== tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# wiredem and LIGGGHTS side by side on one packing (issue 3).
+# wiredem, LIGGGHTS and LAMMPS side by side on one packing (issues 3, 15).
 #
 # 1. wiredem-bench settles the grains, writes the packing as a LIGGGHTS data
 #    file and times N steps on it at 1 and 2 threads;
-# 2. LIGGGHTS (bench/liggghts/in.bench) reads that packing and runs the same
-#    N steps with the same δt, on 1 process and, if it is built with MPI and
-#    mpirun exists, on 2;
+# 2. each peer reads that packing and runs the same N steps with the same δt,
+#    on 1 process and, if it is built with MPI and mpirun exists, on 2:
+#    LIGGGHTS (bench/liggghts/in.bench) and LAMMPS (bench/liggghts/in.lammps,
+#    pair_style granular; skipped with a note when no LAMMPS binary is found);
 # 3. one table: wall time, body-steps/s, body-steps/s per core, and
-#    wiredem/LIGGGHTS per core.
+#    wiredem (and LAMMPS) per core relative to each peer.
 #
 # Builds nothing: it needs build/release (bash scripts/build.sh release).
 #
@@ -25,6 +26,7 @@
 # one-thread run does not (LIGGGHTS' CPU time is that of an N-step run minus
 # that of a 0-step run, i.e. without reading the file and setting up).
 # environment: LIGGGHTS (binary, default: liggghts on PATH, else /usr/bin/liggghts),
+#              LAMMPS (binary, default: lmp on PATH, else /usr/bin/lmp; Debian: lammps),
 #              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory,
 #              WIREDEM_BENCH (default: build/release/bench/wiredem-bench).
 set -euo pipefail
@@ -32,7 +34,6 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
-deck=$here/in.bench
 
 steps=2000
 settle=0.2
@@ -60,12 +61,22 @@ if [ ! -x "$liggghts" ]; then
     echo "no LIGGGHTS binary ($liggghts): install it (Debian: apt-get install liggghts) or set LIGGGHTS=" >&2
     exit 1
 fi
-mpirun=${MPIRUN:-$(command -v mpirun || true)}
-# (not `ldd | grep -q`: grep -q quits early, ldd gets SIGPIPE, pipefail fails it)
-if [ "$use_mpi" = 1 ] && { [ -z "$mpirun" ] || [ "$(ldd "$liggghts" 2>/dev/null | grep -c libmpi)" = 0 ]; }; then
-    echo "note: LIGGGHTS runs on 1 process only (no mpirun, or $liggghts not built with MPI)" >&2
-    use_mpi=0
+lammps=${LAMMPS:-$(command -v lmp || echo /usr/bin/lmp)}
+if [ ! -x "$lammps" ]; then
+    echo "note: no LAMMPS binary ($lammps): LAMMPS is left out (Debian: apt-get install lammps, or set LAMMPS=)" >&2
+    lammps=
 fi
+mpirun=${MPIRUN:-$(command -v mpirun || true)}
+# mpi_procs BINARY: the process counts to run it on (2 only with mpirun and an MPI build).
+# (not `ldd | grep -q`: grep -q quits early, ldd gets SIGPIPE, pipefail fails it)
+mpi_procs() {
+    if [ "$use_mpi" = 1 ] && [ -n "$mpirun" ] && [ "$(ldd "$1" 2>/dev/null | grep -c libmpi)" != 0 ]; then
+        echo 1 2
+    else
+        [ "$use_mpi" = 1 ] && echo "note: $1 runs on 1 process only (no mpirun, or not built with MPI)" >&2
+        echo 1
+    fi
+}
 
 work=$(mktemp -d /tmp/wiredem-side-by-side.XXXXXX)
 if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
@@ -85,27 +96,28 @@ dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
 bodies=$(head -n1 "$work/wiredem.json" | field bodies)
 contacts=$(head -n1 "$work/wiredem.json" | field contacts)
 
-# --- LIGGGHTS --------------------------------------------------------------
+# --- the peers ------------------------------------------------------------
 # The bench writes "2 atom types": type 2 is the walls' own material.
 cp "$work/packing.data" "$work/packing2.data"
 grep -q '^2 atom types$' "$work/packing2.data" || { echo "unexpected data file header" >&2; exit 1; }
 
-run_liggghts() { # run_liggghts PROCS [STEPS]: prints "loop_wall procs steps atoms cpu"
-    local procs=$1 n=${2:-$steps} log=$work/liggghts.$1.${2:-$steps}.log
-    local cmd=(/usr/bin/time -f "%U %S" -o "$work/time.$procs.$n" "$liggghts" -in "$deck" -var datafile "$work/packing2.data" -var dt "$dt" -var steps "$n" -log "$log")
+run_peer() { # run_peer NAME BINARY DECK PROCS [STEPS]: prints "loop_wall procs steps atoms cpu"
+    local name=$1 binary=$2 deck=$3 procs=$4 n=${5:-$steps}
+    local log=$work/$name.$procs.$n.log
+    local cmd=(/usr/bin/time -f "%U %S" -o "$work/time.$name.$procs.$n" "$binary" -in "$deck" -var datafile "$work/packing2.data" -var dt "$dt" -var steps "$n" -log "$log")
     if [ "$procs" -gt 1 ]; then
         # OMPI_ALLOW_RUN_AS_ROOT*: Open MPI refuses root otherwise (containers); harmless elsewhere.
         cmd=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "$mpirun" -np "$procs" "${cmd[@]}")
     fi
     echo "running: ${cmd[*]}" >&2
-    (cd "$work" && "${cmd[@]}" > "$work/liggghts.$procs.out" 2>&1) || {
-        echo "LIGGGHTS failed on $procs process(es); its output:" >&2
-        tail -n 30 "$work/liggghts.$procs.out" >&2
+    (cd "$work" && "${cmd[@]}" > "$work/$name.$procs.out" 2>&1) || {
+        echo "$name failed on $procs process(es); its output:" >&2
+        tail -n 30 "$work/$name.$procs.out" >&2
         exit 1
     }
     # "Loop time of X on P procs for N steps with M atoms[, finish time ...]"
     local cpu
-    cpu=$(awk '{ print $1 + $2 }' "$work/time.$procs.$n")
+    cpu=$(awk '{ print $1 + $2 }' "$work/time.$name.$procs.$n")
     grep -m1 '^Loop time of' "$log" |
         sed -n "s/^Loop time of \([0-9.eE+-]*\) on \([0-9]*\) procs for \([0-9]*\) steps with \([0-9]*\) atoms.*/\1 \2 \3 \4 $cpu/p"
 }
@@ -114,38 +126,40 @@ rows=()
 while read -r line; do
     rows+=("wiredem/$(echo "$line" | field integrator) $(echo "$line" | field threads) $(echo "$line" | field steps) $(echo "$line" | field wall_time_s) $(echo "$line" | field cpu_time_s) $(echo "$line" | field bodies)")
 done < <(grep '"case":"settled_packing"' "$work/wiredem.json")
-procs_list=(1)
-[ "$use_mpi" = 1 ] && procs_list+=(2)
-for p in "${procs_list[@]}"; do
-    read -r _ _ _ _ cpu0 < <(run_liggghts "$p" 0)
-    read -r wall np nsteps atoms cpu < <(run_liggghts "$p")
-    [ -n "${wall:-}" ] || { echo "no 'Loop time' line in the LIGGGHTS log" >&2; exit 1; }
-    [ "$atoms" = "$bodies" ] || echo "warning: LIGGGHTS has $atoms atoms, wiredem $bodies bodies" >&2
-    rows+=("LIGGGHTS $np $nsteps $wall $(awk -v a="$cpu" -v b="$cpu0" 'BEGIN { print a - b }') $atoms")
-done
+time_peer() { # time_peer NAME BINARY DECK: appends its rows (CPU time without reading and set-up)
+    local name=$1 binary=$2 deck=$3 p wall np nsteps atoms cpu cpu0
+    for p in $(mpi_procs "$binary"); do
+        read -r _ _ _ _ cpu0 < <(run_peer "$name" "$binary" "$deck" "$p" 0)
+        read -r wall np nsteps atoms cpu < <(run_peer "$name" "$binary" "$deck" "$p")
+        [ -n "${wall:-}" ] || { echo "no 'Loop time' line in the $name log" >&2; exit 1; }
+        [ "$atoms" = "$bodies" ] || echo "warning: $name has $atoms atoms, wiredem $bodies bodies" >&2
+        rows+=("$name $np $nsteps $wall $(awk -v a="$cpu" -v b="$cpu0" 'BEGIN { print a - b }') $atoms")
+    done
+}
+time_peer LIGGGHTS "$liggghts" "$here/in.bench"
+[ -n "$lammps" ] && time_peer LAMMPS "$lammps" "$here/in.lammps"
 
 # --- table -----------------------------------------------------------------
 echo
 echo "$(date -u '+%Y-%m-%d %H:%M UTC'); $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "$bodies grains, ${packing:-${settle:-default} s settling}, $contacts contacts, δt = $dt s, $steps steps on the packing"
 # per core: body-steps per second of wall time / cores; per CPU-s: body-steps per second of CPU time.
+# vs PEER: per core (wall) and per CPU-s, relative to the peer on as many
+# cores (or on 1 if it ran on fewer).
 printf '%s\n' "${rows[@]}" | awk '
     { engine[NR] = $1; cores[NR] = $2; steps[NR] = $3; wall[NR] = $4; cpu[NR] = $5; bodies[NR] = $6
       rate[NR] = $6 * $3 / $4; per_core[NR] = rate[NR] / $2; per_cpu[NR] = $6 * $3 / $5
-      if ($1 == "LIGGGHTS") { lig[$2] = per_core[NR]; lig_cpu[$2] = per_cpu[NR] } }
+      if ($1 == "LIGGGHTS" || $1 == "LAMMPS") { peer[$1, $2] = per_core[NR]; peer_cpu[$1, $2] = per_cpu[NR]; has[$1] = 1 } }
+    function vs(i, name, cpu_based,   key) {
+      if (engine[i] == name || !(name in has)) return "-"
+      key = ((name, cores[i]) in peer) ? cores[i] : 1
+      return sprintf("%.2fx", cpu_based ? per_cpu[i] / peer_cpu[name, key] : per_core[i] / peer[name, key])
+    }
     END {
-      printf "%-15s %7s %6s %9s %8s %13s %13s %13s %11s %11s\n", "engine", "cores", "steps", "wall [s]", "cpu [s]",
-             "body-steps/s", "per core", "per CPU-s", "vs LIG wall", "vs LIG cpu"
-      for (i = 1; i <= NR; ++i) {
-        ratio = "-"; ratio_cpu = "-"
-        if (engine[i] != "LIGGGHTS") {
-          ref = (cores[i] in lig) ? lig[cores[i]] : lig[1]
-          ref_cpu = (cores[i] in lig_cpu) ? lig_cpu[cores[i]] : lig_cpu[1]
-          ratio = sprintf("%.2fx", per_core[i] / ref)
-          ratio_cpu = sprintf("%.2fx", per_cpu[i] / ref_cpu)
-        }
-        printf "%-15s %7s %6d %9.3f %8.3f %13.4g %13.4g %13.4g %11s %11s\n", engine[i],
-               cores[i] (engine[i] == "LIGGGHTS" ? " proc" : " thr"), steps[i], wall[i], cpu[i], rate[i], per_core[i],
-               per_cpu[i], ratio, ratio_cpu
-      }
+      printf "%-15s %7s %6s %9s %8s %13s %13s %13s %11s %11s %11s %11s\n", "engine", "cores", "steps", "wall [s]", "cpu [s]",
+             "body-steps/s", "per core", "per CPU-s", "vs LIG wall", "vs LIG cpu", "vs LMP wall", "vs LMP cpu"
+      for (i = 1; i <= NR; ++i)
+        printf "%-15s %7s %6d %9.3f %8.3f %13.4g %13.4g %13.4g %11s %11s %11s %11s\n", engine[i],
+               cores[i] (engine[i] ~ /^wiredem/ ? " thr" : " proc"), steps[i], wall[i], cpu[i], rate[i], per_core[i],
+               per_cpu[i], vs(i, "LIGGGHTS", 0), vs(i, "LIGGGHTS", 1), vs(i, "LAMMPS", 0), vs(i, "LAMMPS", 1)
     }'

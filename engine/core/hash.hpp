@@ -1,5 +1,5 @@
-// FNV-1a over raw bytes: a cheap fingerprint of body arrays, used to check that
-// runs are bit-identical (determinism tests, benchmarks).
+// FNV-1a over raw bytes: a cheap fingerprint, used by state_hash
+// (state/state_hash.hpp) to check that runs are bit-identical.
 #pragma once
 
 #include <cstddef>

@@ -6,7 +6,16 @@
 #include "core/types.hpp"
 #include "state/membrane.hpp"
 
+#include <numbers>
+
 namespace wiredem::engine {
+
+/// Stiffness of an edge of the triangular mesh, k_m = (√3/2) E_m d: a sheet
+/// of thickness d carried by equilateral triangles [N/m].
+[[nodiscard]] inline double membrane_edge_stiffness_n_per_m(double modulus_pa, double thickness_m) noexcept
+{
+    return std::numbers::sqrt3 / 2.0 * modulus_pa * thickness_m;
+}
 
 /// Force of the edge on node a, k (|b − a| − l₀) x̂_ab, or zero when a
 /// tension-only edge is not stretched [N] (node b receives the opposite).

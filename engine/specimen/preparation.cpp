@@ -2,6 +2,7 @@
 
 #include "core/result.hpp"
 #include "scene.hpp"
+#include "specimen/packing.hpp"
 #include "timestep.hpp"
 
 #include <algorithm>
@@ -294,7 +295,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
         // through the zone and the gap above the pile (≤ 12 r_max).
         const double impact = entry_speed + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
         w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s
-                                        : auto_time_step_fraction * critical_time_step(probe, impact).critical_s;
+                                        : stable_time_step(probe, impact).auto_s;
     }
     const double dt = w.dt_s;
 
@@ -445,6 +446,11 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.grain_volume_fraction = grain_volume / report.sample_volume_m3;
     report.wire_volume_fraction = std::numbers::pi * spec.wire.radius_m * spec.wire.radius_m
                                 * report.wire_length_m / report.sample_volume_m3;
+    // The core: a grain diameter inside the membrane's inner surface and the
+    // plates, sampled every 0.1 r_p.
+    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, 0.1 * spec.grain_radius_m);
+    report.core_grain_volume_fraction = core.grain;
+    report.core_wire_volume_fraction = core.wire;
     report.simulated_time_s = w.time_s;
     report.steps = steps;
     report.time_step_s = dt;
@@ -466,12 +472,27 @@ double estimated_fill_height_m(const PreparationSpec& spec)
     return grain_volume_m3 / (assumed_packing_fraction * std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m);
 }
 
+namespace {
+
+/// Height of fill during which the nozzle lays wire [m].
+double laying_height_m(const PreparationSpec& spec)
+{
+    return std::max(0.0, estimated_fill_height_m(spec) - wire_cover_height_m(spec));
+}
+
+} // namespace
+
 double estimated_wire_length_m(const PreparationSpec& spec)
 {
     if (spec.pattern.kind == PatternKind::none) return 0.0;
-    const double laying_height_m = std::max(0.0, estimated_fill_height_m(spec) - wire_cover_height_m(spec));
-    const double pour_time_s = laying_height_m / spec.fill_rate_m_per_s;
+    const double pour_time_s = laying_height_m(spec) / spec.fill_rate_m_per_s;
     return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * pour_time_s;
+}
+
+double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m)
+{
+    if (spec.pattern.kind == PatternKind::none) return 0.0;
+    return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * laying_height_m(spec) / wire_length_m;
 }
 
 } // namespace wiredem::engine

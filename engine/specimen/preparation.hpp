@@ -74,6 +74,10 @@ struct PreparationReport {
     double sample_volume_m3 = 0.0;         ///< π R² h
     double grain_volume_fraction = 0.0;
     double wire_volume_fraction = 0.0;     ///< wire as a cylinder of radius r_w along its length
+    /// The same in the core of the column, a grain diameter away from the
+    /// membrane's inner surface and both plates (core_volume_fractions).
+    double core_grain_volume_fraction = 0.0;
+    double core_wire_volume_fraction = 0.0;
     double simulated_time_s = 0.0;
     double wall_time_s = 0.0;
     std::uint64_t steps = 0;
@@ -144,5 +148,10 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 /// fill takes to rise to the wire cover, (fill height − cover) / fill rate
 /// [m]; 0 without a pattern.
 [[nodiscard]] double estimated_wire_length_m(const PreparationSpec& spec);
+
+/// The fill rate at which prepare_specimen lays `wire_length_m` of wire: the
+/// inverse of estimated_wire_length_m, ω R_a (fill height − cover) / L
+/// [m/s]; 0 without a pattern or a fill over the cover.
+[[nodiscard]] double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m);
 
 } // namespace wiredem::engine

@@ -5,6 +5,7 @@
 #include "laws/hertz.hpp"
 
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 namespace wiredem::engine {
@@ -15,6 +16,18 @@ struct Material {
     double poisson_ratio = 0.3;           ///< ν
     double density_kg_per_m3 = 7800.0;    ///< ρ [kg/m³]
 };
+
+/// The plane-strain modulus E/(1−ν²) of a material [Pa].
+[[nodiscard]] inline double plane_modulus_pa(const Material& m)
+{
+    return m.youngs_modulus_pa / (1 - m.poisson_ratio * m.poisson_ratio);
+}
+
+/// Mass of a solid sphere, ρ 4/3 π r³ [kg].
+[[nodiscard]] inline double sphere_mass_kg(double density_kg_per_m3, double radius_m)
+{
+    return density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
+}
 
 /// Materials by id, with E* of every pair. Materials are only added, never
 /// changed: the table stays valid.

@@ -13,7 +13,7 @@ std::uint8_t add_material(World& w, const Material& m)
 std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::uint8_t material,
     const Vec3& velocity_m_per_s, const Vec3& angular_velocity_rad_per_s)
 {
-    const double mass = w.materials[material].density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
+    const double mass = sphere_mass_kg(w.materials[material].density_kg_per_m3, radius_m);
     const std::uint32_t id = w.of(BodyKind::grain).add(position_m, velocity_m_per_s, radius_m, mass, material, w.dt_s);
     w.grain_rotation.add(0.4 * mass * radius_m * radius_m); // solid sphere: I = 2/5 m r²
     w.grain_rotation.w[1].back() = angular_velocity_rad_per_s * w.dt_s;

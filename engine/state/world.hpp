@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 namespace wiredem::engine {
@@ -48,6 +49,15 @@ struct Wall {
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
 
+/// A symmetric yes/no per pair of body kinds.
+using KindMatrix = std::array<std::array<bool, body_kind_count>, body_kind_count>;
+
+/// Which kinds touch by default. Membrane–membrane contact is not modelled
+/// (model spec §3). Wire–membrane contact is, unlike the model spec says:
+/// without it a laid coil, which springs outwards, passes through the
+/// membrane (docs/model.md).
+inline constexpr KindMatrix default_kinds_interact{{{true, true, true}, {true, true, true}, {true, true, false}}};
+
 /// Time integrator (the model spec §4).
 enum class Integrator : std::uint8_t {
     gear5,  ///< fifth-order Gear predictor–corrector: the reference
@@ -71,12 +81,8 @@ struct World {
     std::vector<std::pair<BodyRef, Vec3>> point_loads;
     /// Whether gravity acts on a kind (never on membrane nodes: model spec §3).
     std::array<bool, body_kind_count> gravity_acts{true, true, false};
-    /// Whether two kinds interact through contact (symmetric). Membrane–membrane
-    /// contact is not modelled (model spec §3). Wire–membrane contact is, unlike
-    /// the model spec says: without it a laid coil, which springs outwards,
-    /// passes through the membrane (docs/model.md).
-    std::array<std::array<bool, body_kind_count>, body_kind_count> kinds_interact{
-        {{true, true, true}, {true, true, true}, {true, true, false}}};
+    /// Whether two kinds interact through contact (symmetric).
+    KindMatrix kinds_interact = default_kinds_interact;
 
     /// Change it with set_integrator, which keeps the stored derivatives consistent.
     Integrator integrator = Integrator::gear5;

@@ -57,6 +57,9 @@ std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, 
     if (!non_negative(s.pressure_ramp_time_s))
         return "pressure_ramp_time_s: " + format_number(s.pressure_ramp_time_s) + " must be ≥ 0";
     if (!non_negative(s.hold_time_s)) return "hold_time_s: " + format_number(s.hold_time_s) + " must be ≥ 0";
+    if (s.max_hold_time_s && !(std::isfinite(*s.max_hold_time_s) && *s.max_hold_time_s >= s.hold_time_s))
+        return "max_hold_time_s: " + format_number(*s.max_hold_time_s) + " must be ≥ hold_time_s "
+             + format_number(s.hold_time_s);
     if (s.pressure_ramp_time_s + s.hold_time_s <= 0.0)
         return "pressure_ramp_time_s + hold_time_s must be > 0: the column needs time under σ₃ before loading";
     if (!positive(s.sample_interval_s))
@@ -289,7 +292,7 @@ Result<TriaxialResult, std::string> run_triaxial(
     w.membrane.pressure_pa = 0.0;
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     const double dt = w.dt_s;
-    if (const CriticalStep crit = critical_time_step(w); dt > crit.critical_s)
+    if (const StableStep crit = stable_time_step(w); dt > crit.critical_s)
         return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
                    + " s set by the " + crit.limited_by + " of the deformable system");
 
@@ -387,9 +390,33 @@ Result<TriaxialResult, std::string> run_triaxial(
         return std::nullopt;
     };
 
-    // 1. Ramp and hold, plate still.
-    while (n < pre_load_steps)
+    // 1. Ramp and hold, the plate following the pressure, for at least
+    // hold_time_s and then until the column has consolidated: σ₁ averaged
+    // over a window within consolidated_mismatch of σ₃ and the plate slower
+    // than the loading speed (a column still creeping under σ₃ keeps the
+    // piston moving, and the piston's inertia keeps σ₁ off σ₃ while it
+    // does). At most max_hold_time_s.
+    const double max_hold_s = settings.max_hold_time_s.value_or(default_max_hold_factor * settings.hold_time_s);
+    const auto max_pre_load_steps = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + max_hold_s) / dt));
+    const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
+    double window_force_n = 0.0;
+    std::uint64_t window_filled = 0;
+    std::optional<double> window_sigma1_pa; // the last full window's mean
+    auto consolidated = [&] {
+        const double s3 = settings.confining_pressure_pa;
+        return window_sigma1_pa && std::abs(*window_sigma1_pa - s3) <= consolidated_mismatch * s3
+            && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
+    };
+    while (n < pre_load_steps || (n < max_pre_load_steps && !consolidated())) {
         if (auto e = advance()) return Err(*e);
+        window_force_n += plate_compression_n(w.walls[top_plate_wall]);
+        if (++window_filled == window_steps) {
+            window_sigma1_pa = analysis::axial_stress_pa(window_force_n / static_cast<double>(window_steps), column_radius_m);
+            window_force_n = 0.0;
+            window_filled = 0;
+        }
+    }
+    result.hold_time_s = static_cast<double>(n) * dt - settings.pressure_ramp_time_s;
 
     // 2. Loading at constant plate speed.
     h0 = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
@@ -404,11 +431,14 @@ Result<TriaxialResult, std::string> run_triaxial(
         sample();
     }
     loading_start_sample = result.series.size() - 1;
-    if (const double s1 = result.series.sigma1_pa[loading_start_sample], s3 = settings.confining_pressure_pa;
+    result.consolidated_sigma1_pa = window_sigma1_pa.value_or(result.series.sigma1_pa[loading_start_sample]);
+    if (const double s1 = result.consolidated_sigma1_pa, s3 = settings.confining_pressure_pa;
         !(std::abs(s1 - s3) <= max_consolidation_mismatch * s3))
         result.warnings.push_back("test at σ₃ = " + format_number(s3) + " Pa had not consolidated when loading started: σ₁ = "
-                                  + format_number(s1) + " Pa, more than " + format_number(100 * max_consolidation_mismatch)
-                                  + " % off σ₃; lengthen hold_time_s");
+                                  + format_number(s1) + " Pa (mean over the last " + format_number(consolidation_window_s * 1e3)
+                                  + " ms), more than " + format_number(100 * max_consolidation_mismatch)
+                                  + " % off σ₃ after a hold of " + format_number(result.hold_time_s)
+                                  + " s; lengthen hold_time_s or max_hold_time_s");
     snapshot_due();
     w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
     bool stopped_early = false;
@@ -441,6 +471,22 @@ Result<TriaxialResult, std::string> run_triaxial(
         result.peak_sigma3_effective_pa = ts.sigma3_effective_pa[i];
     } else {
         result.warnings.push_back("no valid deviatoric stress sample during loading: no peak");
+    }
+
+    // The yield state and the shapes of the curves (analysis/strength.hpp).
+    {
+        const auto from = static_cast<std::ptrdiff_t>(loading_start_sample);
+        const std::span<const double> strain(ts.axial_strain.begin() + from, ts.axial_strain.end());
+        const std::span<const double> s1(ts.sigma1_pa.begin() + from, ts.sigma1_pa.end());
+        const std::span<const double> s3(ts.sigma3_effective_pa.begin() + from, ts.sigma3_effective_pa.end());
+        if (auto reading = analysis::read_strength(strain, s1, s3)) {
+            result.strength = reading.value();
+            result.strength->stress_ratio.index += loading_start_sample;
+            result.strength->deviatoric.index += loading_start_sample;
+        } else {
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
+                                      + " Pa: no yield state: " + reading.error());
+        }
     }
 
     QuasiStaticVerdict& v = result.verdict;

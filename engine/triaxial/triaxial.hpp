@@ -24,6 +24,7 @@
 // Nothing throws across this API.
 #pragma once
 
+#include "analysis/strength.hpp"
 #include "core/result.hpp"
 #include "simulation.hpp"
 
@@ -51,8 +52,18 @@ namespace wiredem::engine {
 inline constexpr double max_quasi_static_inertial_number = 1e-3;
 inline constexpr double max_quasi_static_energy_ratio = 1e-2;
 /// Consolidation check: loading should start from an isotropic state. A test
-/// warns when σ₁ differs from σ₃ by more than this fraction when loading starts.
+/// warns when σ₁ (averaged over the last consolidation window) differs from
+/// σ₃ by more than this fraction when loading starts.
 inline constexpr double max_consolidation_mismatch = 0.1;
+/// The hold goes on past hold_time_s (up to max_hold_time_s) until the column
+/// has consolidated: σ₁, averaged over a window of this length, within
+/// `consolidated_mismatch` of σ₃, and the top plate slower than the loading
+/// speed. The window averages out single grain impacts on the plate (one
+/// sample of σ₁ scatters by ±6 % at the paper's size, measured).
+inline constexpr double consolidation_window_s = 5e-3;
+inline constexpr double consolidated_mismatch = 0.05;
+/// max_hold_time_s when not given: this many times hold_time_s.
+inline constexpr double default_max_hold_factor = 4.0;
 /// The top plate moves at most this many times the loading speed while it
 /// consolidates the column.
 inline constexpr double max_piston_speed_factor = 4.0;
@@ -66,6 +77,10 @@ struct TriaxialSettings {
     /// ramp without a jump in rate at either end [s], ≥ 0 (0: a step).
     double pressure_ramp_time_s = 0.02;
     double hold_time_s = 0.02;                ///< σ₃ held (plate following σ₁ = σ₃) before loading [s], ≥ 0
+    /// The hold lasts at least hold_time_s and goes on until the column has
+    /// consolidated (see consolidated_mismatch), at most this long [s],
+    /// ≥ hold_time_s; nullopt: default_max_hold_factor × hold_time_s.
+    std::optional<double> max_hold_time_s;
     double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
     /// Axial strains at which to take snapshots; 0 (loading start) and the
     /// target are always added; values outside [0, target] are clamped.
@@ -201,15 +216,28 @@ struct QuasiStaticVerdict {
 struct TriaxialResult {
     TriaxialSeries series;
     std::vector<TriaxialSnapshot> snapshots;  ///< in ascending strain
-    double peak_deviatoric_stress_pa = 0.0;   ///< max q over the loading samples [Pa]
+    /// The raw maximum of q over the loading samples [Pa], and the state
+    /// there. Not always a yield strength: a stiffening membrane can keep q
+    /// rising to the end (see `strength` for its shape and the yield state).
+    double peak_deviatoric_stress_pa = 0.0;
     double peak_axial_strain = 0.0;           ///< ε_a at that sample
     double peak_sigma1_pa = 0.0;              ///< σ₁ at that sample [Pa]
     double peak_sigma3_effective_pa = 0.0;    ///< σ₃,eff at that sample [Pa]
     std::size_t peak_sample = 0;              ///< index of that sample in the series
+    /// The yield state (maximum of the stress ratio) and the shapes of the
+    /// η and q curves (docs/model.md, "How yield is read"); empty, with a
+    /// warning, when the loading curves cannot be read. Its sample indices
+    /// are rows of `series`.
+    std::optional<analysis::StrengthReading> strength;
     double initial_height_m = 0.0;            ///< h₀ [m]
     double initial_volume_m3 = 0.0;           ///< V₀ = π r₀² h₀ [m³]
     QuasiStaticVerdict verdict;
     std::vector<std::string> warnings;        ///< the verdict's warning and any other
+    /// How long σ₃ was held before loading [s]: hold_time_s, or longer until
+    /// the column had consolidated (at most max_hold_time_s).
+    double hold_time_s = 0.0;
+    /// σ₁ averaged over the last consolidation window before loading [Pa].
+    double consolidated_sigma1_pa = 0.0;
     std::uint64_t steps = 0;
     double time_step_s = 0.0;
     double simulated_time_s = 0.0;            ///< ramp + hold + loading [s]

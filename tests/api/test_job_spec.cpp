@@ -1,10 +1,14 @@
 // The job spec: defaults, the round trip, and one row per kind of invalid
 // document with the exact field path and a fragment of the message.
 #include "api/job_spec.hpp"
+#include "api/engine_settings.hpp"
+#include "specimen/preparation.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -159,11 +163,52 @@ TEST(JobSpec, ToJsonWritesEveryFieldIncludingDefaults)
         EXPECT_TRUE(o.contains(key)) << key;
     EXPECT_EQ(o.at("engine").at("time_step_s"), json::value("auto"));
     EXPECT_TRUE(o.at("specimen").at("membrane").at("contact_radius_m").is_null());
-    EXPECT_EQ(o.at("specimen").at("wire").as_object().size(), 13u);
+    EXPECT_EQ(o.at("specimen").at("wire").as_object().size(), 14u);
+    EXPECT_TRUE(o.at("specimen").at("wire").at("length_m").is_null());
+    EXPECT_TRUE(o.at("specimen").at("pouring").at("fill_rate_m_per_s").is_null());
     EXPECT_EQ(o.at("specimen").at("wire").at("bending_yield_strain"), json::value(0.05));
     EXPECT_EQ(o.at("specimen").at("wire").at("pattern"), json::value("helix"));
     EXPECT_TRUE(o.at("contact").as_object().contains("restitution"));
     EXPECT_FALSE(o.at("contact").as_object().contains("normal_damping_s"));
+}
+
+TEST(JobSpec, EveryShippedJobFileIsValid)
+{
+    // examples/ and the pictures' jobs: what users run first must not be refused.
+    namespace fs = std::filesystem;
+    std::size_t files = 0;
+    for (const char* folder : {"examples", "docs/pictures"})
+        for (const fs::directory_entry& e : fs::directory_iterator(fs::path(WIREDEM_SOURCE_DIR) / folder)) {
+            if (e.path().extension() != ".json") continue;
+            std::ifstream in(e.path());
+            std::stringstream text;
+            text << in.rdbuf();
+            const auto parsed = parse_job_spec(text.str());
+            EXPECT_TRUE(parsed.ok()) << e.path() << "\n" << (parsed.ok() ? "" : describe(parsed.error()));
+            ++files;
+        }
+    EXPECT_GE(files, 8u);
+}
+
+TEST(JobSpec, AWireLengthSetsTheFillRateThatLaysIt)
+{
+    const auto parsed = parse_job_spec(
+        R"({"specimen": {"wire": {"length_m": 10}, "pouring": {"max_preparation_time_s": 5}}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    const JobSpec& spec = parsed.value();
+    EXPECT_FALSE(spec.specimen.pouring.fill_rate_m_per_s.has_value());
+    const auto p = preparation_spec(spec);
+    // ω R_a (H_fill − 2 r_p) / L with H_fill = N (4/3) π r_p³ / (0.58 π R²).
+    const double fill_m = 8000 * 4.0 / 3.0 * std::pow(1.23e-3, 3) / (0.58 * 0.02 * 0.02);
+    EXPECT_NEAR(p.fill_rate_m_per_s, 300.0 * 12e-3 * (fill_m - 2 * 1.23e-3) / 10.0, 1e-15);
+    EXPECT_NEAR(wiredem::engine::estimated_wire_length_m(p), 10.0, 1e-12);
+    // Written and read back as it was; without a pattern the length is kept and ignored.
+    const auto again = parse_job_spec(json::serialize(to_json(spec)));
+    ASSERT_TRUE(again.ok()) << describe(again.error());
+    EXPECT_EQ(again.value(), spec);
+    const auto none = parse_job_spec(R"({"specimen": {"wire": {"pattern": "none", "length_m": 10}}})");
+    ASSERT_TRUE(none.ok()) << describe(none.error());
+    EXPECT_EQ(preparation_spec(none.value()).fill_rate_m_per_s, wiredem::engine::PreparationSpec{}.fill_rate_m_per_s);
 }
 
 TEST(JobSpec, NormalDampingMayBeGivenInSeconds)
@@ -434,6 +479,20 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
             "follow the pile's uneven top: fill_rate_m_per_s must not exceed 0.6 × that = 0.3"},
         InvalidCase{"ZeroFillRate", R"({"specimen": {"pouring": {"fill_rate_m_per_s": 0}}})",
             "specimen.pouring.fill_rate_m_per_s", "(0, 100]"},
+        InvalidCase{"ZeroWireLength", R"({"specimen": {"wire": {"length_m": 0}}})", "specimen.wire.length_m",
+            "(0, 10000]"},
+        InvalidCase{"WireLengthAndFillRateBoth",
+            R"({"specimen": {"wire": {"length_m": 10}, "pouring": {"fill_rate_m_per_s": 0.1, "max_preparation_time_s": 9}}})",
+            "specimen.wire.length_m", "set either specimen.wire.length_m or specimen.pouring.fill_rate_m_per_s"},
+        // 8000 grains fill 85.6 mm, of which 83.1 mm are laid at ω R_a = 3.6 m/s:
+        // 0.5 m needs 0.598 m/s, twice the nozzle's 0.3 m/s.
+        InvalidCase{"WireTooShortForTheNozzle", R"({"specimen": {"wire": {"length_m": 0.5}}})", "specimen.wire.length_m",
+            "0.5 needs a fill rate of 0.598 m/s, faster than the nozzle can follow (at most 0.6 × "
+            "specimen.wire.nozzle_rise_speed_m_per_s = 0.3): length_m must be at least 0.997"},
+        // 10 m is laid at 0.0299 m/s: 2.86 s of pouring.
+        InvalidCase{"PourLongerThanThePreparation", R"({"specimen": {"wire": {"length_m": 10}}})",
+            "specimen.pouring.max_preparation_time_s",
+            "2 is too short: pouring 0.0856 m of fill at 0.0299 m/s (the rate that lays specimen.wire.length_m) takes 2.86 s"},
         InvalidCase{"UnstableTimeStep", R"({"engine": {"time_step_s": 1e-5}})", "engine.time_step_s",
             "1e-05 exceeds the stable limit 1.88e-07 set by the wire segments"},
         InvalidCase{"UnstableTimeStepWithoutWire", R"({"specimen": {"wire": {"pattern": "none"}}, "engine": {"time_step_s": 1e-6}})",

@@ -93,7 +93,7 @@ TEST(ContactPipeline, AnObliqueImpactOnAWallWithFrictionGainsNoEnergy)
         add_wall(w, make_plate(0.0, +1.0, plate));
         const Vec3 v_in(std::cos(angle_rad), 0.0, -std::sin(angle_rad));
         add_grain(w, Vec3(0, 0, 1.01 * radius_m), radius_m, 0, v_in);
-        set_time_step(w, auto_time_step_fraction * critical_time_step(w, 1.0).critical_s);
+        set_time_step(w, stable_time_step(w, 1.0).auto_s);
         auto energy = [&] { return kinetic_energy_j(w, sim.pool()); };
         const double before = energy();
         bool touched = false;
@@ -132,7 +132,7 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
         add_grain(w, Vec3(0, 0, radius_m), radius_m, 0);
         w.grain_rotation.inv_inertia_per_kg_m2[0] = 0.0; // no rolling: the spring takes the shear
         w.point_loads.push_back({BodyRef(BodyKind::grain, 0), Vec3(0.05, 0.0, -1.0)}); // below μ F_n
-        set_time_step(w, auto_time_step_fraction * critical_time_step(w, 0.1).critical_s);
+        set_time_step(w, stable_time_step(w, 0.1).auto_s);
         w.contact.normal_damping_s = 1e-5;
     };
     Simulation a(1), b(1);

@@ -1,29 +1,15 @@
 // Bit-identical results whatever the number of threads.
-#include "core/hash.hpp"
 #include "helpers.hpp"
 #include "scene.hpp"
+#include "state/state_hash.hpp"
 #include "timestep.hpp"
+#include "wired_column.hpp"
 
 #include <gtest/gtest.h>
 
 using namespace wiredem::engine;
 
 namespace {
-
-/// FNV-1a of every body array, the orientations and the contact springs.
-std::uint64_t state_hash(const World& w)
-{
-    Fnv1a h;
-    for (const auto& body : w.bodies)
-        for (const auto& x : body.x) h.add(x);
-    for (const auto& x : w.grain_rotation.w) h.add(x);
-    h.add(w.grain_rotation.orientation);
-    for (const auto& s : w.contacts.tangential) {
-        h.add_bytes(s.spring_m.data(), sizeof(double) * 3);
-        h.add_bytes(&s.sticking, sizeof(bool));
-    }
-    return h.value();
-}
 
 /// A small column of grains falling into a cylinder, hashed every 250 steps.
 std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = Integrator::gear5)
@@ -37,7 +23,7 @@ std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = 
     spec.seed = 7;
     build_container(sim.world, spec);
     sim.world.contact.normal_damping_s = 1e-5;
-    sim.world.dt_s = auto_time_step_fraction * critical_time_step(sim.world).critical_s;
+    sim.world.dt_s = stable_time_step(sim.world).auto_s;
     // Kick the grains so that contacts form, slide and break early.
     SplitMix64 rng(3);
     for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i)
@@ -69,4 +55,24 @@ TEST(Determinism, VerletStateHashIdenticalFor1And3Threads)
 TEST(Determinism, SameSeedSameScene)
 {
     EXPECT_EQ(run_column(2), run_column(2));
+}
+
+/// The column with wire, membrane and a moving plate (wired_column.hpp):
+/// its state hash every 100 steps on 1 to 4 threads, for both integrators.
+TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
+{
+    for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
+        std::vector<std::uint64_t> reference;
+        for (unsigned threads : {1u, 2u, 3u, 4u}) {
+            Simulation sim(threads);
+            test::build_wired_column(sim.world, integrator);
+            std::vector<std::uint64_t> hashes;
+            for (int block = 0; block < 4; ++block) {
+                ASSERT_EQ(sim.run(100).end, RunEnd::completed);
+                hashes.push_back(state_hash(sim.world));
+            }
+            if (threads == 1) reference = hashes;
+            else EXPECT_EQ(hashes, reference) << threads << " threads";
+        }
+    }
 }

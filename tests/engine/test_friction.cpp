@@ -32,7 +32,7 @@ TEST(SlidingSphere, StopsAndSticksEvenWhenOneFrictionStepOvershootsTheStickWindo
     add_wall(w, make_plate(0.0, +1.0, plate));
     add_grain(w, Vec3(0, 0, 2.0 * radius_m), radius_m, 0);
     // The auto step of a preparation (impact at ~1 m/s), with the grain away from the floor.
-    set_time_step(w, auto_time_step_fraction * critical_time_step(w, 1.0).critical_s);
+    set_time_step(w, stable_time_step(w, 1.0).auto_s);
     const double dt = w.dt_s;
     const double m = w.bodies[0].mass_kg[0], m_t = m / 3.5;
     const TangentialParams& tp = w.contact.tangential;

@@ -20,7 +20,7 @@ const Material plate_material{1e9, 0.3, 7800.0};
 /// that it starts at its static overlap. `lock_rotation` gives it infinite inertia.
 struct Resting {
     Simulation sim{1};
-    double mass_kg = sphere_mass_kg(radius_m, grain_material.density_kg_per_m3);
+    double mass_kg = sphere_mass_kg(grain_material.density_kg_per_m3, radius_m);
     double e_star_pa = effective_modulus_pa(10e9, 0.3, 1e9, 0.3);
 
     explicit Resting(bool lock_rotation)
@@ -32,7 +32,7 @@ struct Resting {
         add_wall(w, make_plate(0.0, +1.0, 1));
         add_grain(w, Vec3(0, 0, radius_m), radius_m, 0);
         if (lock_rotation) w.grain_rotation.inv_inertia_per_kg_m2[0] = 0.0;
-        w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+        w.dt_s = stable_time_step(w).auto_s;
         const double tc = hertz_contact_time_s(mass_kg, 0.01, e_star_pa, radius_m);
         w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.1, mass_kg, 0.01, e_star_pa, radius_m);
         sim.run(static_cast<std::uint64_t>(200 * tc / w.dt_s));

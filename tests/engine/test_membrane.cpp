@@ -68,7 +68,7 @@ TEST(MembranePressure, RadialExpansionMatchesThinWalledCylinder)
     const MembraneSpec spec = small_membrane(10e-3, 30e-3);
     build_membrane(w, spec);
     set_membrane_rigid(w, false);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     const double r0 = mid_row_radius_m(w);
     const double p = 10e3;
     w.membrane.pressure_pa = -p;
@@ -111,7 +111,7 @@ BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressu
         w.of(BodyKind::grain).inv_mass_per_kg.back() = 0.0; // held
     }
     set_membrane_rigid(w, false);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     const double r0 = mid_row_radius_m(w);
     w.membrane.pressure_pa = pressure_pa;
     const double omega = std::sqrt(spec.youngs_modulus_pa / spec.density_kg_per_m3) / spec.radius_m;
@@ -230,7 +230,7 @@ void expect_bounces_off_the_mesh(BodyKind kind, AddBody add_body)
     const Vec3 centroid = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
     const Vec3 outward = Vec3(centroid.x(), centroid.y(), 0).normalized();
     add_body(w, centroid - outward * 3e-3, 2.0 * outward);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     double max_reach = 0.0;
     for (int s = 0; s < 20000; ++s) {
         sim.step();
@@ -274,7 +274,7 @@ TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEne
     spec.edge_law = MembraneEdgeLaw::linear;
     build_membrane(w, spec);
     set_membrane_rigid(w, false);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     const double p = 20e3;
     w.membrane.pressure_pa = p;
     const double v0 = membrane_volume_m3(w);

@@ -22,7 +22,7 @@ TEST(Pile, SettlesWithoutEscapeOrNaNAndLosesItsKineticEnergy)
     // e_n = 0.5 for a grain–grain impact at 0.3 m/s.
     const double e_star = effective_modulus_pa(1e8, 0.3, 1e8, 0.3);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.3, e_star, 0.5 * spec.grain_radius_m);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
 
     double peak_ke = 0.0, ke = 0.0;
     const auto steps_per_ms = static_cast<std::uint64_t>(1e-3 / w.dt_s);

@@ -33,7 +33,7 @@ TEST(Walls, ALidComingDownFromFarAwayPressesWithTheHertzForceFromItsFirstTouch)
     Wall lid = make_plate(2.0 * radius_m + 10.0 * skin, -1.0, plate);
     lid.velocity_m_per_s = Vec3(0, 0, -0.5);
     const std::size_t lid_index = add_wall(w, lid);
-    w.dt_s = auto_time_step_fraction * critical_time_step(w, 0.5).critical_s;
+    w.dt_s = stable_time_step(w, 0.5).auto_s;
     const int steps = static_cast<int>(10.0 * skin / 0.5 / w.dt_s) + 2000;
     const double e_star = effective_modulus_pa(10e9, 0.3, 1e9, 0.3);
     bool touched = false;

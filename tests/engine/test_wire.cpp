@@ -25,7 +25,7 @@ void straight_wire(Simulation& sim, int nodes)
     w.gravity_m_per_s2 = Vec3::Zero();
     configure_wire(w, paper_wire);
     for (int i = 0; i < nodes; ++i) append_wire_node(w, Vec3(i * paper_wire.segment_length_m, 0, 0));
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
 }
 
 void hold(World& w, std::uint32_t node) { w.of(BodyKind::wire).inv_mass_per_kg[node] = 0.0; }
@@ -233,7 +233,7 @@ TEST(WirePlasticJoint, FormedArcKeepsItsShapeInFreeSpace)
         configure_wire(w, spec);
         for (int i = 0; i < nodes; ++i)
             append_wire_node(w, radius * Vec3(std::cos(i * zeta), std::sin(i * zeta), 0.0));
-        w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+        w.dt_s = stable_time_step(w).auto_s;
         // Slowest bending mode of a free–free beam of length L: ω = 4.73² √(EI/(ρ A L⁴)).
         const double length = (nodes - 1) * l;
         const double omega = 4.73 * 4.73 * std::sqrt(paper_wire.youngs_modulus_pa * second_moment_m4()
@@ -313,7 +313,7 @@ TEST(WireDrop, StraightWireComesToRestFlatOnThePlateWithoutGainingEnergy)
     const int nodes = 40;
     const double drop = 0.2e-3;
     for (int i = 0; i < nodes; ++i) append_wire_node(w, Vec3(i * paper_wire.segment_length_m, 0, paper_wire.radius_m + drop));
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     const double m = w.wire.node_mass_kg;
     const double e_star = effective_modulus_pa(1e9, 0.0, 1e9, 0.3);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.3, m, 0.05, e_star, paper_wire.radius_m);
@@ -346,7 +346,7 @@ TEST(WireStability, AutomaticTimeStepLetsALoadedWireOnlyLoseEnergy)
     configure_wire(w, paper_wire);
     for (int i = 0; i < 30; ++i)
         append_wire_node(w, Vec3(i * 1.001 * paper_wire.segment_length_m, (i % 2) * 0.1e-3, 0));
-    w.dt_s = auto_time_step_fraction * critical_time_step(w).critical_s;
+    w.dt_s = stable_time_step(w).auto_s;
     auto energy = [&] { return kinetic_energy_j(w, sim.pool()) + elastic_energy(w, sim.pool()).total_j(); };
     const double e0 = energy();
     double previous = e0;
@@ -372,7 +372,7 @@ TEST(WireDamping, OneSegmentRingsDownAtTheKelvinVoigtRate)
     const double l0 = paper_wire.segment_length_m;
     append_wire_node(w, Vec3(0, 0, 0));
     append_wire_node(w, Vec3(1.001 * l0, 0, 0));
-    w.dt_s = 0.02 * auto_time_step_fraction * critical_time_step(w).critical_s; // fine steps: the rate, not the scheme
+    w.dt_s = 0.02 * stable_time_step(w).auto_s; // fine steps: the rate, not the scheme
     const double k = w.wire.axial_stiffness_n_per_m, m = w.wire.node_mass_kg;
     const double omega0 = std::sqrt(2.0 * k / m);
     const double xi = wire_damping_ratio / std::sqrt(2.0);

@@ -32,17 +32,21 @@ TEST(ClientDisplay, DurationsReadLikeAClock)
     EXPECT_EQ(format_duration(-1), "-");
 }
 
-TEST(ClientDisplay, SummaryTableGivesPeakStressPerPressureInKpaAndTheEnvelope)
+TEST(ClientDisplay, SummaryTableGivesYieldAndMaxQPerPressureInKpaAndBothEnvelopes)
 {
     const json::value summary = json::parse(R"({
       "tests": [{"confining_pressure_pa": 20000, "peak_deviatoric_stress_pa": 81234.5, "peak_axial_strain": 0.0412,
-                 "sigma1_pa": 101234.5, "sigma3_effective_pa": 19000}],
+                 "sigma1_pa": 101234.5, "sigma3_effective_pa": 19000, "max_q_shape": "rising",
+                 "yield": {"shape": "plateau", "stress_ratio": 0.4567, "axial_strain": 0.0311, "sigma1_pa": 77700,
+                           "sigma3_effective_pa": 28900},
+                 "residual_stress_ratio": 0.4321}],
       "mohr_coulomb": {"friction_angle_deg": 38.5, "cohesion_pa": 1500, "r_squared": 0.99},
+      "mohr_coulomb_max_q": {"friction_angle_deg": 41.75, "cohesion_pa": 2500, "paper_top_line_angle_deg": 33.3},
       "specimen": {"grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
       "warnings": ["fit used two points"]})");
     const std::string table = format_summary(summary);
-    for (const char* expected : {"20.0", "81.2", "4.12", "101.2", "19.0", "38.50 deg", "1.50 kPa", "0.6100", "0.00800",
-             "fit used two points"})
+    for (const char* expected : {"20.0", "0.457", "plateau", "3.11", "77.7", "28.9", "81.2", "rising", "4.12", "0.432",
+             "38.50 deg", "1.50 kPa", "41.75 deg", "2.50 kPa", "33.30 deg", "0.6100", "0.00800", "fit used two points"})
         EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
     EXPECT_NE(table.find("wire nodes             -"), std::string::npos) << "missing fields print as -\n" << table;
     EXPECT_NE(format_summary(json::object{}).find("(no tests in the summary)"), std::string::npos);

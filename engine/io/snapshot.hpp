@@ -1,0 +1,37 @@
+// Snapshot and restore of a whole World, to continue a run later or
+// elsewhere (the campaign's crash resume, the cluster fan-out).
+//
+// The file is HDF5 (engine/io/hdf5.hpp): one dataset per field of the table
+// in state/world_fields.hpp, rows × columns, doubles or 64-bit integers, and
+// on the root group the attributes format = "wiredem snapshot", version, the
+// number of walls and the state_hash of what was written.
+//
+// A restored run continues bit-identically: N steps, save, restore (in this
+// or another process, with any thread count), M more steps give the same
+// state_hash as N + M steps without interruption. Why, see snapshot.cpp.
+#pragma once
+
+#include "core/result.hpp"
+#include "state/world.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace wiredem::engine {
+
+/// Version of the snapshot layout; restore_snapshot reads this version only.
+/// Bump it whenever a field is added, removed or changes meaning.
+inline constexpr std::int64_t snapshot_version = 2;
+
+/// Writes every field of `w` to `path`, replacing the file. The file appears
+/// complete or not at all (written beside it, then renamed). Returns the
+/// state_hash of `w`, which the file also records.
+[[nodiscard]] Result<std::uint64_t, std::string> save_snapshot(const World& w, const std::filesystem::path& path);
+
+/// Reads a snapshot written by save_snapshot. Errors (no such file, not a
+/// snapshot, another version, a missing or misshapen field, a state that does
+/// not hash to the recorded value) are messages naming the file.
+[[nodiscard]] Result<World, std::string> restore_snapshot(const std::filesystem::path& path);
+
+} // namespace wiredem::engine

@@ -1,0 +1,29 @@
+// How densely a prepared column is filled, away from its walls (docs/model.md,
+// "What a sound specimen is"). Reads only; deterministic; no threads.
+#pragma once
+
+#include "state/world.hpp"
+
+namespace wiredem::engine {
+
+/// Volume fractions of the core of a column: the cylinder `margin_m` inside
+/// `inner_radius_m` around the z axis, between `margin_m` above `bottom_z_m`
+/// and `margin_m` below `top_z_m`. The layers next to the membrane and the
+/// plates are ordered by the walls and looser; inside, a poured random packing
+/// fills 0.55–0.64 (random loose to random close packing).
+struct CoreFractions {
+    double grain = 0.0;       ///< space inside grains, sampled on a grid
+    double wire = 0.0;        ///< wire as cylinders of radius r_w along its segments, over the core's volume
+    double volume_m3 = 0.0;   ///< π r_c² h_c of the core
+};
+
+/// The grains' fraction samples the core on a cubic grid of spacing
+/// `grid_m` (each point inside some grain or not: exact to the grid's
+/// resolution, ~1 % at 0.1 r_p); the wire's counts the segments whose
+/// midpoints lie in the core, each π r_w² times its length (a cylinder: the
+/// node spheres alone would miss half the wire's volume between them).
+/// Zero fractions for an empty core.
+[[nodiscard]] CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m,
+    double top_z_m, double margin_m, double grid_m);
+
+} // namespace wiredem::engine

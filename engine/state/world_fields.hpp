@@ -1,0 +1,370 @@
+// Every member of a World, listed once: the snapshot writes and reads these
+// fields, state_hash hashes the ones whose role is `state`. A new World member
+// is one line in for_each_field (the static_asserts in io/snapshot.cpp fail
+// until it is there); a member of a new type also needs a FieldCodec.
+//
+// Each field is flattened to a table of numbers, rows × columns, either
+// doubles (real quantities; also small integers and flags inside a mixed
+// record, which doubles hold exactly) or 64-bit integers (ids, counts,
+// flags, enums): a scalar is one row, a vector one row per element.
+#pragma once
+
+#include "state/world.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// What a field is to a step.
+enum class FieldRole : std::uint8_t {
+    model,   ///< the definition: materials, radii, masses, topology, parameters, loads
+    state,   ///< what the step advances: state_hash covers exactly these
+    cache,   ///< derived from model and state: the neighbour list and what it decides
+    output,  ///< written by every step before it is read (forces, per-step slots)
+};
+
+/// How a value of type T becomes `columns` numbers of type Number (double or
+/// std::int64_t) per row. Specialised below for every element type a World holds.
+template <class T, class Enable = void>
+struct FieldCodec;
+
+/// Integers, flags and enums: one integer column.
+template <class T>
+struct FieldCodec<T, std::enable_if_t<std::is_integral_v<T> || std::is_enum_v<T>>> {
+    using Number = std::int64_t;
+    static constexpr std::size_t columns = 1;
+    static void put(const T& v, Number* out) { out[0] = static_cast<Number>(v); }
+    static void get(const Number* in, T& v) { v = static_cast<T>(in[0]); }
+};
+
+template <>
+struct FieldCodec<double> {
+    using Number = double;
+    static constexpr std::size_t columns = 1;
+    static void put(double v, Number* out) { out[0] = v; }
+    static void get(const Number* in, double& v) { v = in[0]; }
+};
+
+template <>
+struct FieldCodec<Vec3> {
+    using Number = double;
+    static constexpr std::size_t columns = 3;
+    static void put(const Vec3& v, Number* out) { out[0] = v.x(), out[1] = v.y(), out[2] = v.z(); }
+    static void get(const Number* in, Vec3& v) { v = Vec3(in[0], in[1], in[2]); }
+};
+
+template <>
+struct FieldCodec<Quat> {
+    using Number = double;
+    static constexpr std::size_t columns = 4;
+    static void put(const Quat& q, Number* out) { out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z(); }
+    static void get(const Number* in, Quat& q) { q = Quat(in[0], in[1], in[2], in[3]); }
+};
+
+template <>
+struct FieldCodec<BodyRef> {
+    using Number = std::int64_t;
+    static constexpr std::size_t columns = 1;
+    static void put(const BodyRef& b, Number* out) { out[0] = b.bits; }
+    static void get(const Number* in, BodyRef& b) { b.bits = static_cast<std::uint32_t>(in[0]); }
+};
+
+/// Spring (x, y, z) and sticking (1/0).
+template <>
+struct FieldCodec<TangentialState> {
+    using Number = double;
+    static constexpr std::size_t columns = 4;
+    static void put(const TangentialState& s, Number* out)
+    {
+        FieldCodec<Vec3>::put(s.spring_m, out);
+        out[3] = s.sticking ? 1.0 : 0.0;
+    }
+    static void get(const Number* in, TangentialState& s)
+    {
+        FieldCodec<Vec3>::get(in, s.spring_m);
+        s.sticking = in[3] != 0.0;
+    }
+};
+
+/// E, ν, ρ.
+template <>
+struct FieldCodec<Material> {
+    using Number = double;
+    static constexpr std::size_t columns = 3;
+    static void put(const Material& m, Number* out)
+    {
+        out[0] = m.youngs_modulus_pa, out[1] = m.poisson_ratio, out[2] = m.density_kg_per_m3;
+    }
+    static void get(const Number* in, Material& m) { m = Material{in[0], in[1], in[2]}; }
+};
+
+/// Contact index · 2 + side (Incidence::bits).
+template <>
+struct FieldCodec<Incidence> {
+    using Number = std::int64_t;
+    static constexpr std::size_t columns = 1;
+    static void put(const Incidence& e, Number* out) { out[0] = e.bits; }
+    static void get(const Number* in, Incidence& e) { e.bits = static_cast<std::uint32_t>(in[0]); }
+};
+
+/// Body (its BodyRef bits, exact in a double) and force (x, y, z).
+template <>
+struct FieldCodec<std::pair<BodyRef, Vec3>> {
+    using Number = double;
+    static constexpr std::size_t columns = 4;
+    static void put(const std::pair<BodyRef, Vec3>& p, Number* out)
+    {
+        out[0] = p.first.bits;
+        FieldCodec<Vec3>::put(p.second, out + 1);
+    }
+    static void get(const Number* in, std::pair<BodyRef, Vec3>& p)
+    {
+        p.first.bits = static_cast<std::uint32_t>(in[0]);
+        FieldCodec<Vec3>::get(in + 1, p.second);
+    }
+};
+
+/// A fixed-size array of elements: their columns side by side (edge and
+/// triangle node ids, the bending forces on three nodes, the kind flags).
+template <class E, std::size_t N>
+struct FieldCodec<std::array<E, N>> {
+    using Number = typename FieldCodec<E>::Number;
+    static constexpr std::size_t columns = N * FieldCodec<E>::columns;
+    static void put(const std::array<E, N>& a, Number* out)
+    {
+        for (std::size_t i = 0; i < N; ++i) FieldCodec<E>::put(a[i], out + i * FieldCodec<E>::columns);
+    }
+    static void get(const Number* in, std::array<E, N>& a)
+    {
+        for (std::size_t i = 0; i < N; ++i) FieldCodec<E>::get(in + i * FieldCodec<E>::columns, a[i]);
+    }
+};
+
+/// A field flattened: rows × columns numbers of one type.
+struct FlatField {
+    std::vector<double> real;           ///< used when the codec's Number is double
+    std::vector<std::int64_t> integer;  ///< used when it is std::int64_t
+    std::size_t columns = 1;
+    bool is_real = true;
+};
+
+namespace detail {
+template <class T>
+struct IsVector : std::false_type {};
+template <class E, class A>
+struct IsVector<std::vector<E, A>> : std::true_type {};
+
+template <class T>
+struct ElementOf {
+    using type = T;
+};
+template <class E, class A>
+struct ElementOf<std::vector<E, A>> {
+    using type = E;
+};
+/// The material table is saved as its list of materials (flatten and
+/// unflatten below); the pair table follows from it.
+template <>
+struct ElementOf<MaterialTable> {
+    using type = Material;
+};
+} // namespace detail
+
+/// The element type of a field: E for std::vector<E>, T for a scalar.
+template <class T>
+using FieldElement = typename detail::ElementOf<T>::type;
+
+/// Flattens a scalar (one row) or a vector (one row per element).
+template <class T>
+FlatField flatten(const T& value)
+{
+    using E = FieldElement<T>;
+    using C = FieldCodec<E>;
+    FlatField f;
+    f.columns = C::columns;
+    f.is_real = std::is_same_v<typename C::Number, double>;
+    auto& out = [&]() -> std::vector<typename C::Number>& {
+        if constexpr (std::is_same_v<typename C::Number, double>) return f.real;
+        else return f.integer;
+    }();
+    if constexpr (detail::IsVector<T>::value) {
+        out.resize(value.size() * C::columns);
+        for (std::size_t i = 0; i < value.size(); ++i) C::put(value[i], out.data() + i * C::columns);
+    } else {
+        out.resize(C::columns);
+        C::put(value, out.data());
+    }
+    return f;
+}
+
+/// Restores a value from `rows` rows of numbers (C::columns each): a vector
+/// takes any number of rows, a scalar exactly one (false otherwise).
+template <class T, class Number>
+bool unflatten(const std::vector<Number>& numbers, std::size_t rows, T& value)
+{
+    using C = FieldCodec<FieldElement<T>>;
+    static_assert(std::is_same_v<typename C::Number, Number>);
+    if (numbers.size() != rows * C::columns) return false;
+    if constexpr (detail::IsVector<T>::value) {
+        value.resize(rows);
+        for (std::size_t i = 0; i < rows; ++i) C::get(numbers.data() + i * C::columns, value[i]);
+        return true;
+    } else {
+        if (rows != 1) return false;
+        C::get(numbers.data(), value);
+        return true;
+    }
+}
+
+/// The material table as a vector of materials, one row each.
+inline FlatField flatten(const MaterialTable& table)
+{
+    return flatten(std::vector<Material>(table.begin(), table.end()));
+}
+
+/// Refills a material table (and so its pair table) from its rows.
+template <class Number>
+bool unflatten(const std::vector<Number>& numbers, std::size_t rows, MaterialTable& table)
+{
+    std::vector<Material> list;
+    if (!unflatten(numbers, rows, list)) return false;
+    table = MaterialTable{};
+    for (const Material& m : list) table.add(m);
+    return true;
+}
+
+/// Names of the body kinds in field names, by BodyKind.
+inline constexpr std::array<const char*, body_kind_count> field_kind_names{"grain", "wire", "membrane"};
+
+/// Calls field(name, member, role) for every member of `w` (W = World or
+/// const World), in a fixed order. Walls are visited as "walls/<i>/…" for
+/// i < w.walls.size(): a reader sizes w.walls first.
+///
+/// Not listed: World::grid, whose arrays are scratch that find_pairs rebuilds
+/// from the positions before it reads them.
+template <class W, class Visit>
+void for_each_field(W& w, Visit&& field)
+{
+    using R = FieldRole;
+    // Clock and integrator.
+    field("integrator", w.integrator, R::model);
+    field("dt_s", w.dt_s, R::state); // the scaled derivatives are scaled by it
+    field("time_s", w.time_s, R::state);
+    field("step_count", w.step_count, R::state);
+
+    // What every contact and body shares.
+    field("materials", w.materials, R::model);
+    field("contact/normal_damping_s", w.contact.normal_damping_s, R::model);
+    field("contact/tangential_stiffness_per_m", w.contact.tangential.stiffness_per_m, R::model);
+    field("contact/friction_coeff", w.contact.tangential.friction_coeff, R::model);
+    field("contact/critical_slip_m", w.contact.tangential.critical_slip_m, R::model);
+    field("contact/tangential_damping_s_per_m", w.contact.tangential.damping_s_per_m, R::model);
+    field("wire_contact_skip", w.wire_contact_skip, R::model);
+    field("gravity_m_per_s2", w.gravity_m_per_s2, R::model);
+    field("gravity_acts", w.gravity_acts, R::model);
+    field("kinds_interact", w.kinds_interact, R::model);
+    field("point_loads", w.point_loads, R::model);
+    field("skin_m", w.skin_m, R::model);
+
+    // Bodies, by kind.
+    for (int k = 0; k < body_kind_count; ++k) {
+        auto& b = w.bodies[k];
+        const std::string at = std::string("bodies/") + field_kind_names[k] + "/";
+        for (int d = 0; d < gear_order; ++d) field(at + "x" + std::to_string(d), b.x[d], R::state);
+        field(at + "radius_m", b.radius_m, R::model);
+        field(at + "mass_kg", b.mass_kg, R::model);
+        field(at + "inv_mass_per_kg", b.inv_mass_per_kg, R::model);
+        field(at + "material", b.material, R::model);
+        field(at + "force_n", b.force_n, R::output);
+    }
+    auto& rot = w.grain_rotation;
+    for (int d = 0; d < gear_order; ++d) field("grain_rotation/w" + std::to_string(d), rot.w[d], R::state);
+    field("grain_rotation/orientation", rot.orientation, R::state);
+    field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
+    field("grain_rotation/torque_n_m", rot.torque_n_m, R::output);
+
+    // Walls. Their contacts (springs and touching flags) are in the contact
+    // list, below; where a wall was at the last rebuild is cache.
+    for (std::size_t i = 0; i < w.walls.size(); ++i) {
+        auto& wall = w.walls[i];
+        const std::string at = "walls/" + std::to_string(i) + "/";
+        field(at + "shape", wall.shape, R::model);
+        field(at + "normal", wall.normal, R::model);
+        field(at + "radius_m", wall.radius_m, R::model);
+        field(at + "material", wall.material, R::model);
+        field(at + "point_m", wall.point_m, R::state);
+        field(at + "velocity_m_per_s", wall.velocity_m_per_s, R::state);
+        field(at + "point_at_build_m", wall.point_at_build_m, R::cache);
+        field(at + "total_force_n", wall.total_force_n, R::output);
+        field(at + "contacts", wall.contacts, R::output);
+    }
+
+    // The wire: parameters, the plastic joints' rest angles, per-step slots.
+    auto& wire = w.wire;
+    field("wire/radius_m", wire.radius_m, R::model);
+    field("wire/segment_length_m", wire.segment_length_m, R::model);
+    field("wire/axial_stiffness_n_per_m", wire.axial_stiffness_n_per_m, R::model);
+    field("wire/bending_stiffness_n_m", wire.bending_stiffness_n_m, R::model);
+    field("wire/bending_yield_angle_rad", wire.bending_yield_angle_rad, R::model);
+    field("wire/node_mass_kg", wire.node_mass_kg, R::model);
+    field("wire/material", wire.material, R::model);
+    field("wire/rest_angle_rad", wire.rest_angle_rad, R::state);
+    field("wire/segment_force_n", wire.segment_force_n, R::output);
+    field("wire/bending_force_n", wire.bending_force_n, R::output);
+    field("wire/node_force_n", wire.node_force_n, R::output);
+    field("wire/segment_strain", wire.segment_strain, R::output);
+
+    // The membrane: parameters, mesh, incidence, per-step slots.
+    auto& m = w.membrane;
+    field("membrane/radius_m", m.radius_m, R::model);
+    field("membrane/height_m", m.height_m, R::model);
+    field("membrane/base_z_m", m.base_z_m, R::model);
+    field("membrane/edge_stiffness_n_per_m", m.edge_stiffness_n_per_m, R::model);
+    field("membrane/edge_law", m.edge_law, R::model);
+    field("membrane/node_area_m2", m.node_area_m2, R::model);
+    field("membrane/pressure_pa", m.pressure_pa, R::model);
+    field("membrane/rigid", m.rigid, R::model);
+    field("membrane/columns", m.columns, R::model);
+    field("membrane/rows", m.rows, R::model);
+    field("membrane/edges", m.edges, R::model);
+    field("membrane/edge_rest_m", m.edge_rest_m, R::model);
+    field("membrane/triangles", m.triangles, R::model);
+    field("membrane/node_fixed", m.node_fixed, R::model);
+    field("membrane/node_mass_kg", m.node_mass_kg, R::model);
+    field("membrane/edge_incidence_start", m.edge_incidence_start, R::model);
+    field("membrane/edge_incidence", m.edge_incidence, R::model);
+    field("membrane/triangle_incidence_start", m.triangle_incidence_start, R::model);
+    field("membrane/triangle_incidence", m.triangle_incidence, R::model);
+    field("membrane/edge_force_n", m.edge_force_n, R::output);
+    field("membrane/triangle_force_n", m.triangle_force_n, R::output);
+    field("membrane/node_force_n", m.node_force_n, R::output);
+
+    // Contacts, body pairs and body–wall: the springs and touching flags are
+    // state; the list itself (which contacts, in which order, and what
+    // follows from that) is cache, kept so that a restored run rebuilds it at
+    // the same steps. The per-step slots of a contact apart are zero, which
+    // the kernel relies on: they are saved too.
+    auto& c = w.contacts;
+    field("contacts/tangential", c.tangential, R::state);
+    field("contacts/touching", c.touching, R::state);
+    field("contacts/first", c.first, R::cache);
+    field("contacts/second", c.second, R::cache);
+    field("contacts/wall_start", c.wall_start, R::cache);
+    field("contacts/hertz_coefficient", c.hertz_coefficient, R::cache);
+    field("contacts/incidence_start", c.incidence_start, R::cache);
+    field("contacts/incidence", c.incidence, R::cache);
+    field("contacts/force_n", c.force_n, R::output);
+    field("contacts/normal_force_n", c.normal_force_n, R::output);
+    field("contacts/normal_x_tangential_n", c.normal_x_tangential_n, R::output);
+    field("contacts/overlap_m", c.overlap_m, R::output);
+    field("position_at_build_m", w.position_at_build_m, R::cache);
+    field("neighbours_dirty", w.neighbours_dirty, R::cache);
+    field("neighbour_builds", w.neighbour_builds, R::cache);
+}
+
+} // namespace wiredem::engine

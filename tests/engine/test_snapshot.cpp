@@ -1,0 +1,185 @@
+// A snapshot restores a run so that it continues bit-identically, in this
+// process or a fresh one, with any thread count; its errors are messages.
+#include "io/hdf5.hpp"
+#include "io/snapshot.hpp"
+#include "simulation.hpp"
+#include "state/state_hash.hpp"
+#include "wired_column.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+using namespace wiredem::engine;
+using wiredem::engine::test::build_wired_column;
+
+namespace {
+
+/// Steps before the snapshot and after it.
+constexpr std::uint64_t steps_before = 900, steps_after = 400;
+
+/// A fresh path in the test's temporary directory.
+std::filesystem::path temp_path(const std::string& name)
+{
+    return std::filesystem::temp_directory_path() / ("wiredem_test_snapshot_" + std::to_string(::getpid()) + "_" + name);
+}
+
+/// Builds the wired column in `sim` and runs it `steps_before` steps.
+void run_column_to_mid_test(Simulation& sim, Integrator integrator)
+{
+    build_wired_column(sim.world, integrator);
+    ASSERT_EQ(sim.run(steps_before).end, RunEnd::completed);
+}
+
+/// What makes the column a hard case at the snapshot: plates moving and
+/// pressed, pair and wall contacts sliding, yielded wire joints, a membrane
+/// that has moved.
+void expect_mid_test(const World& w)
+{
+    const ContactList& c = w.contacts;
+    std::size_t sliding_pairs = 0, touching_pairs = 0;
+    for (std::size_t p = 0; p < c.pair_count(); ++p) {
+        touching_pairs += c.touching[p];
+        sliding_pairs += c.touching[p] && !c.tangential[p].sticking;
+    }
+    EXPECT_GT(touching_pairs, 100u);
+    EXPECT_GT(sliding_pairs, 0u);
+    std::size_t sliding_on_walls = 0;
+    for (std::size_t p = c.pair_count(); p < c.size(); ++p) sliding_on_walls += c.touching[p] && !c.tangential[p].sticking;
+    EXPECT_GT(sliding_on_walls, 0u);
+    EXPECT_GT(w.walls[1].contacts, 0u) << "the moving top plate presses on the grains";
+    EXPECT_NE(w.walls[1].velocity_m_per_s.z(), 0.0);
+    double max_rest_angle = 0.0;
+    for (double a : w.wire.rest_angle_rad) max_rest_angle = std::max(max_rest_angle, a);
+    EXPECT_GT(max_rest_angle, 0.0) << "some joints have yielded";
+    EXPECT_FALSE(w.membrane.rigid);
+}
+
+class SnapshotRoundTrip : public ::testing::TestWithParam<Integrator> {};
+
+} // namespace
+
+TEST_P(SnapshotRoundTrip, ContinuesBitIdenticallyInThisProcess)
+{
+    Simulation original(2);
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, GetParam()));
+    expect_mid_test(original.world);
+    const std::filesystem::path path = temp_path("in_process.h5");
+    const auto saved = save_snapshot(original.world, path);
+    ASSERT_TRUE(saved.ok()) << saved.error();
+    EXPECT_EQ(saved.value(), state_hash(original.world));
+
+    auto restored = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(restored.ok()) << restored.error();
+    Simulation resumed(3); // another thread count: results do not depend on it
+    resumed.world = std::move(restored).value();
+    EXPECT_EQ(state_hash(resumed.world), saved.value());
+
+    // Compared every 100 steps: a run whose neighbour list was rebuilt at
+    // another step hashes differently until both lists are rebuilt at the same
+    // step again (seen: equal again 400 steps after a forced rebuild on restore).
+    for (std::uint64_t done = 0; done < steps_after; done += 100) {
+        original.run(100);
+        resumed.run(100);
+        ASSERT_EQ(state_hash(resumed.world), state_hash(original.world)) << "after " << done + 100 << " steps";
+        ASSERT_EQ(resumed.world.neighbour_builds, original.world.neighbour_builds);
+        ASSERT_EQ(resumed.world.walls[1].total_force_n, original.world.walls[1].total_force_n);
+    }
+    EXPECT_EQ(resumed.world.step_count, steps_before + steps_after);
+}
+
+/// The second half of ContinuesBitIdenticallyInAFreshProcess, run by it in a
+/// child process: restores WIREDEM_SNAPSHOT, runs steps_after steps and writes
+/// the state hash to WIREDEM_SNAPSHOT.hash. Disabled: ctest never runs it alone.
+TEST(SnapshotChild, DISABLED_RestoreAndContinue)
+{
+    const char* path = std::getenv("WIREDEM_SNAPSHOT");
+    ASSERT_NE(path, nullptr);
+    auto restored = restore_snapshot(path);
+    ASSERT_TRUE(restored.ok()) << restored.error();
+    Simulation resumed(1);
+    resumed.world = std::move(restored).value();
+    resumed.run(steps_after);
+    std::ofstream(std::string(path) + ".hash") << state_hash(resumed.world);
+}
+
+TEST_P(SnapshotRoundTrip, ContinuesBitIdenticallyInAFreshProcess)
+{
+    Simulation original(2);
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, GetParam()));
+    const std::filesystem::path path = temp_path("fresh_process.h5");
+    ASSERT_TRUE(save_snapshot(original.world, path).ok());
+    original.run(steps_after);
+
+    const std::string command = "WIREDEM_SNAPSHOT='" + path.string() + "' " + std::filesystem::read_symlink("/proc/self/exe").string()
+                              + " --gtest_also_run_disabled_tests --gtest_filter=SnapshotChild.* > /dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    std::uint64_t child_hash = 0;
+    std::ifstream(path.string() + ".hash") >> child_hash;
+    std::filesystem::remove(path);
+    std::filesystem::remove(path.string() + ".hash");
+    EXPECT_EQ(child_hash, state_hash(original.world));
+}
+
+INSTANTIATE_TEST_SUITE_P(BothIntegrators, SnapshotRoundTrip, ::testing::Values(Integrator::gear5, Integrator::verlet),
+    [](const auto& info) { return info.param == Integrator::gear5 ? "gear5" : "verlet"; });
+
+TEST(Snapshot, MissingFileIsAnError)
+{
+    const auto r = restore_snapshot(temp_path("does_not_exist.h5"));
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("no such file"), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AnotherHdf5FileIsNotASnapshot)
+{
+    const std::filesystem::path path = temp_path("other.h5");
+    io::File::create(path).root().write_int_attribute("version", snapshot_version);
+    const auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("not a wiredem snapshot"), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AnotherVersionIsAnError)
+{
+    World w;
+    build_wired_column(w, Integrator::gear5);
+    const std::filesystem::path path = temp_path("version.h5");
+    ASSERT_TRUE(save_snapshot(w, path).ok());
+    io::File::open_read_write(path).root().write_int_attribute("version", snapshot_version + 1);
+    const auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("version " + std::to_string(snapshot_version + 1)), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AMissingFieldIsNamed)
+{
+    const std::filesystem::path path = temp_path("truncated.h5");
+    {
+        io::File file = io::File::create(path);
+        io::Group root = file.root();
+        root.write_string_attribute("format", "wiredem snapshot");
+        root.write_int_attribute("version", snapshot_version);
+        root.write_int_attribute("wall_count", 0);
+        root.write_string_attribute("state_hash", "0");
+    }
+    const auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("field integrator is missing"), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AnUnwritableDirectoryIsAnError)
+{
+    const auto r = save_snapshot(World{}, "/nonexistent-directory/snapshot.h5");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("cannot write snapshot"), std::string::npos) << r.error();
+}

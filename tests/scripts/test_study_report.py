@@ -1,0 +1,195 @@
+#!/usr/bin/python3
+"""Tests of scripts/study_report.py on a small synthetic RUNS tree.
+
+    /usr/bin/python3 -m unittest discover -s tests/scripts -p 'test_study_report.py'
+    (or: bash tests/scripts/test_study_report.sh)
+
+The tree holds what scripts/study.sh leaves (docs/results.md's layout, only the
+fields the report reads): helix seeds 1 and 2 and none seed 1 with result.h5,
+radial_helix seed 1 as a gathered summary only, and an unfinished campaign.
+"""
+import importlib.util
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SCRIPT = os.path.join(ROOT, "scripts", "study_report.py")
+spec = importlib.util.spec_from_file_location("study_report", SCRIPT)
+report = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(report)
+
+SEGMENT_M = 1.25e-3
+PERIOD_SEGMENTS = 40  # the synthetic wire strain is a sine of this period
+
+
+def yield_state(s3_pa, phi_deg, c_pa):
+    """(σ₁, σ₃) on the envelope τ = c + σ tan φ: σ₁ = σ₃ (1 + sin φ)/(1 − sin φ) + 2c cos φ/(1 − sin φ)."""
+    s = math.sin(math.radians(phi_deg))
+    return s3_pa * (1 + s) / (1 - s) + 2 * c_pa * math.cos(math.radians(phi_deg)) / (1 - s), s3_pa
+
+
+def summary(pattern, seed, phi_deg, c_pa):
+    tests = []
+    for s3 in (20e3, 40e3):
+        s1, s3e = yield_state(s3, phi_deg, c_pa)
+        tests.append({"confining_pressure_pa": s3, "peak_deviatoric_stress_pa": s1 - s3e, "peak_axial_strain": 0.04,
+                      "sigma1_pa": s1, "sigma3_effective_pa": s3e, "max_q_shape": "rising",
+                      "yield": {"shape": "plateau", "stress_ratio": (s1 - s3e) / (s1 + s3e), "axial_strain": 0.03,
+                                "sigma1_pa": s1, "sigma3_effective_pa": s3e, "deviatoric_stress_pa": s1 - s3e},
+                      "residual_stress_ratio": 0.2, "quasi_static": True, "max_inertial_number": 5e-4,
+                      "mean_kinetic_to_elastic": 2e-3, "steps": 1000, "wall_time_s": 10.0})
+    mc = {"friction_angle_deg": phi_deg, "cohesion_pa": c_pa, "r_squared": 1.0,
+          "paper_top_line_angle_deg": math.degrees(math.atan(math.sin(math.radians(phi_deg))))}
+    return {"name": f"{pattern} {seed}", "tests": tests, "mohr_coulomb": mc, "mohr_coulomb_max_q": mc,
+            "specimen": {"grain_volume_fraction": 0.55, "wire_volume_fraction": 0.01 if pattern != "none" else 0.0,
+                         "sample_volume_m3": math.pi * 0.02 ** 2 * 0.04, "grains": 3,
+                         "wire_nodes": 401 if pattern != "none" else 0, "wire_length_m": 0.5,
+                         "nozzle_path_m": 0.5, "pile_height_m": 0.04},
+            "wire": {"pattern": pattern, "autocorrelation_lag_m": None},
+            "engine": {"time_step_s": 1e-5, "steps": 3000, "wall_time_s": 60.0, "body_steps_per_second": 1e7,
+                       "threads": 1, "density_scale": 100.0}}
+
+
+def write_h5(path, pattern):
+    radius, height = 0.02, 0.04
+    job = {"specimen": {"membrane_radius_m": radius,
+                        "wire": {"pattern": pattern, "radius_m": 5e-4, "segment_length_m": SEGMENT_M,
+                                 "helix_radius_m": 0.012, "inner_radius_m": 0.004,
+                                 "period_angle_rad": math.pi / 2}}}
+    grains = np.array([[0.0, 0.0, 0.01], [0.005, 0.0, 0.02], [-0.005, 0.0, 0.03]])
+    grain_r = np.full(3, 2e-3)
+    wire = np.zeros((401 if pattern != "none" else 0, 3))
+    if len(wire):
+        theta = np.arange(len(wire)) * SEGMENT_M / 0.012
+        wire = np.stack([0.012 * np.cos(theta), 0.012 * np.sin(theta), 0.005 + 1e-5 * np.arange(len(wire))], axis=1)
+    membrane = np.array([[radius * math.cos(a), radius * math.sin(a), z] for a in np.linspace(0, 6, 12)
+                         for z in (0.0, 0.02, 0.04)])
+    with h5py.File(path, "w") as f:
+        f["job_spec"] = json.dumps(job)
+        s = f.create_group("specimen")
+        s.attrs["pile_height_m"] = height
+        s.attrs["wall_time_s"] = 12.5
+        s["grain_position_m"], s["grain_radius_m"] = grains, grain_r
+        s["wire_node_position_m"], s["membrane_node_position_m"] = wire, membrane
+        for s3 in (20000, 40000):
+            g = f.create_group(f"tests/sigma3_{s3}")
+            g.attrs["confining_pressure_pa"] = float(s3)
+            n = 50
+            g["phase"] = np.array([0] * 5 + [2] * (n - 5), dtype=np.int32)
+            g["axial_strain"] = np.linspace(0, 0.05, n)
+            g["stress_ratio"] = np.tanh(np.linspace(0, 3, n)) * 0.3
+            g["deviatoric_stress_pa"] = np.tanh(np.linspace(0, 3, n)) * s3
+            g["volumetric_strain"] = np.linspace(0, 0.01, n)
+            g["time_s"] = np.linspace(0, 1, n)
+            g["height_m"] = height * (1 - np.linspace(0, 0.05, n))
+            k = g.create_group("snapshots/snapshot_0")
+            k.attrs["axial_strain"], k.attrs["requested_axial_strain"], k.attrs["time_s"] = 0.03, 0.03, 0.6
+            k["grain_position_m"], k["grain_radius_m"] = grains, grain_r
+            k["wire_node_position_m"], k["membrane_node_position_m"] = wire, membrane
+            segments = max(len(wire) - 1, 0)
+            k["wire_segment_strain"] = 1e-3 * np.sin(2 * np.pi * np.arange(segments) / PERIOD_SEGMENTS)
+            k["contact_bodies"] = np.array([[0, 0, 0, 1], [0, 1, 0, 2]], dtype=np.uint32)
+            k["contact_normal_force_n"] = np.array([1.0, 3.0])
+            k["contact_force_n"] = np.array([[0, 0, 1.0], [0, 0, 3.0]])
+            k["wall_contact_bodies"] = np.array([[0, 0, 0]], dtype=np.uint32)
+            k["wall_contact_force_n"] = np.array([[0.0, 0.0, 2.0]])
+
+
+class StudyReport(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        runs = os.path.join(cls.tmp.name, "runs")
+        cls.out = os.path.join(cls.tmp.name, "out")
+        campaigns = {("helix", 1): (30.0, 1e3), ("helix", 2): (34.0, 3e3), ("none", 1): (20.0, 0.0)}
+        for (pattern, seed), (phi, c) in campaigns.items():
+            d = os.path.join(runs, f"{pattern}-seed{seed}")
+            os.makedirs(d)
+            with open(os.path.join(d, "summary.json"), "w") as f:
+                json.dump(summary(pattern, seed, phi, c), f)
+            write_h5(os.path.join(d, "result.h5"), pattern)
+        with open(os.path.join(runs, "radial_helix-seed1.json"), "w") as f:  # a gathered summary
+            json.dump(summary("radial_helix", 1, 25.0, 2e3), f)
+        os.makedirs(os.path.join(runs, "spiral_helix-seed1"))  # unfinished: no summary.json
+        cls.proc = subprocess.run([sys.executable, SCRIPT, runs, "--out", cls.out], capture_output=True, text=True)
+        with open(os.path.join(cls.out, "tables.md")) as f:
+            cls.tables = f.read()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_makes_the_figures_and_tables(self):
+        self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
+        figures = os.path.join(self.out, "figures")
+        for name in ("specimen_none", "specimen_helix", "curves_none", "curves_helix", "mohr_none", "mohr_helix",
+                     "mohr_radial_helix", "envelopes", "wire_strain_helix", "force_network_none"):
+            path = os.path.join(figures, name + ".png")
+            self.assertTrue(os.path.getsize(path) > 1000, path)
+            self.assertIn(path, self.proc.stdout)
+        # radial_helix has no result.h5: no pictures, but it counts in the tables
+        self.assertFalse(os.path.exists(os.path.join(figures, "specimen_radial_helix.png")))
+        self.assertIn("| radial helix | yield | 1 | 25.00 |", self.tables)
+        self.assertIn("spiral_helix-seed1: no summary.json", self.proc.stdout)
+        self.assertIn("spiral_helix-seed1: no summary.json", self.tables)
+
+    def test_mean_and_spread_of_phi_and_c_over_seeds(self):
+        # φ = 30°, 34°: mean 32, sample sd 2√2 = 2.83; c = 1, 3 kPa: 2 ± √2
+        self.assertIn("| helix | yield | 2 | 32.00 ± 2.83 | 2.00 ± 1.41 |", self.tables)
+
+    def test_difference_criterion(self):
+        delta, bound, verdict = report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (20.0, 1.0, 2))
+        self.assertAlmostEqual(delta, 12.0)
+        self.assertAlmostEqual(bound, 2 * math.sqrt(8 / 2 + 1 / 2))
+        self.assertTrue(verdict)
+        self.assertFalse(report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (29.0, 1.0, 2))[2])
+        self.assertIsNone(report.difference_exceeds_scatter((32.0, 2.0, 2), (20.0, None, 1))[2])
+
+    def test_wire_lag_of_a_sine_is_its_period(self):
+        r, k, lag_m = report.autocorrelation(np.sin(2 * np.pi * np.arange(400) / PERIOD_SEGMENTS), SEGMENT_M)
+        self.assertEqual(k, PERIOD_SEGMENTS)
+        self.assertAlmostEqual(lag_m, PERIOD_SEGMENTS * SEGMENT_M)
+        # and the report's table has it for the synthetic wire
+        self.assertIn(f"| {PERIOD_SEGMENTS * SEGMENT_M * 1e3:.1f} |", self.tables)
+
+    def test_autocorrelation_matches_the_engine_formula(self):
+        x = np.random.default_rng(3).normal(size=60)
+        r, _, _ = report.autocorrelation(x, 1.0)
+        m, var = x.mean(), x.var()
+        for k in (0, 1, 7, 59):
+            direct = sum((x[t] - m) * (x[t + k] - m) for t in range(60 - k)) / ((60 - k) * var)
+            self.assertAlmostEqual(r[k], direct, places=12)
+        self.assertIsNone(report.autocorrelation(np.full(10, 0.3), 1.0)[0])  # constant: undefined
+        self.assertIsNone(report.autocorrelation(np.exp(-np.arange(20.0)), 1.0)[1])  # no maximum
+
+    def test_loop_lengths(self):
+        wire = {"pattern": "helix", "helix_radius_m": 0.012}
+        self.assertAlmostEqual(report.loop_lengths_m(wire)[0][1], 2 * math.pi * 0.012)
+        # spiral helix: the arc of a large turn against a fine polyline of P(Θ)
+        ra, ri, phi = 0.012, 0.004, math.pi / 2
+        th = np.linspace(0, 2 * math.pi, 400001)
+        p = np.stack([ra * np.cos(th) + ri * np.cos(4 * th), ra * np.sin(th) + ri * np.sin(4 * th)], axis=1)
+        polyline = float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
+        loops = dict(report.loop_lengths_m({"pattern": "spiral_helix", "helix_radius_m": ra, "inner_radius_m": ri,
+                                            "period_angle_rad": phi}))
+        self.assertAlmostEqual(loops["arc per large turn"], polyline, delta=1e-7)
+        self.assertAlmostEqual(loops["arc per small loop"], polyline / 4, delta=1e-7)
+        self.assertAlmostEqual(loops["2π R_i (small circle)"], 2 * math.pi * ri)
+        # radial helix, R_a = 7 mm, r_w = 0.5 mm, φ_rs = π/2, worked by hand: gap 1.25 mm,
+        # r_min = 1.25/sin 45° = 1.7678 mm, legs 5.2322 and √(49 − 1.5625) − 1.7678 = 5.1197 mm,
+        # β = asin(1.25/7) = 0.17953, arc (π/2 + β) 7 mm = 12.2523 mm: 23.854 mm
+        period = report.loop_lengths_m({"pattern": "radial_helix", "helix_radius_m": 0.007, "radius_m": 5e-4,
+                                        "period_angle_rad": math.pi / 2})[0][1]
+        self.assertAlmostEqual(period * 1e3, 23.854, delta=0.002)
+
+
+if __name__ == "__main__":
+    unittest.main()
