@@ -148,10 +148,8 @@ bool update_neighbours(World& w, ThreadPool& pool)
         }
         wall.point_at_build_m = wall.point_m;
     }
-    FlatOffsets flat{};
-    for (int k = 0; k < body_kind_count; ++k) flat[k + 1] = flat[k] + static_cast<std::uint32_t>(w.bodies[k].size());
     ContactList& c = w.contacts;
-    c.rebuild(std::move(first), std::move(second), w.walls.size(), flat);
+    c.rebuild(std::move(first), std::move(second), w.walls.size(), w.flat_offsets());
     c.hertz_coefficient.resize(c.size());
     parallel_for(pool, c.size(), [&](std::size_t p) {
         const TranslationalState& A = w.of(c.first[p].kind());

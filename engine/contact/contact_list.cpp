@@ -57,7 +57,35 @@ void ContactList::rebuild(
     normal_force_n.assign(n, 0.0);
     normal_x_tangential_n.assign(n, Vec3::Zero());
     overlap_m.assign(n, 0.0);
+    index(walls, flat);
+}
 
+void ContactList::append_wall()
+{
+    if (!wall_start.empty()) wall_start.push_back(static_cast<std::uint32_t>(size()));
+}
+
+void ContactList::remove_wall(std::size_t wall, const FlatOffsets& flat)
+{
+    if (wall + 1 >= wall_start.size()) return; // not listed yet
+    const auto begin = static_cast<std::ptrdiff_t>(wall_start[wall]), end = static_cast<std::ptrdiff_t>(wall_start[wall + 1]);
+    auto cut = [&](auto& v) { v.erase(v.begin() + begin, v.begin() + end); };
+    cut(first);
+    cut(second);
+    cut(hertz_coefficient);
+    cut(tangential);
+    cut(force_n);
+    cut(normal_force_n);
+    cut(normal_x_tangential_n);
+    cut(overlap_m);
+    cut(touching);
+    for (std::size_t p = static_cast<std::size_t>(begin); p < size(); ++p) second[p] = wall_ref(second[p].index() - 1);
+    index(wall_start.size() - 2, flat);
+}
+
+void ContactList::index(std::size_t walls, const FlatOffsets& flat)
+{
+    const std::size_t n = size();
     // Pairs first, then each wall's contacts, by wall.
     const auto pairs = std::find_if(second.begin(), second.end(), [](BodyRef b) { return is_wall(b); }) - second.begin();
     wall_start.assign(walls + 1, 0);

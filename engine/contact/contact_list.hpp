@@ -90,6 +90,17 @@ struct ContactList {
     /// in both, and rebuilds the incidence list.
     void rebuild(std::vector<BodyRef> new_first, std::vector<BodyRef> new_second, std::size_t walls,
         const FlatOffsets& flat);
+
+    /// A wall was added after the others: it has no contacts until the next
+    /// rebuild (add_wall calls this, so the list always names the world's walls).
+    void append_wall();
+    /// Wall `wall` was removed: drops its contacts and renumbers the later
+    /// walls', keeping every other contact and its memory (remove_wall).
+    void remove_wall(std::size_t wall, const FlatOffsets& flat);
+
+private:
+    /// wall_start and the incidence list, from first and second.
+    void index(std::size_t walls, const FlatOffsets& flat);
 };
 
 } // namespace wiredem::engine

@@ -397,7 +397,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     PreparationReport report;
     bool settled_before_lid = false;
     if (std::string e = settle(settled_before_lid); !e.empty()) return Err(e);
-    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(mould_wall)); // the mould goes before the lid
+    remove_wall(w, mould_wall); // the mould goes before the lid
     w.kinds_interact[1][2] = w.kinds_interact[2][1] = wire_touches_membrane;
     w.neighbours_dirty = true;
 

@@ -32,8 +32,16 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
 std::size_t add_wall(World& w, Wall wall)
 {
     w.walls.push_back(std::move(wall));
+    w.contacts.append_wall();
     w.neighbours_dirty = true;
     return w.walls.size() - 1;
+}
+
+void remove_wall(World& w, std::size_t wall)
+{
+    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(wall));
+    w.contacts.remove_wall(wall, w.flat_offsets());
+    w.neighbours_dirty = true;
 }
 
 Wall make_plate(double z_m, double normal_sign, std::uint8_t material)

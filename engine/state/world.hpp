@@ -103,6 +103,13 @@ struct World {
     {
         return bodies[0].size() + bodies[1].size() + bodies[2].size();
     }
+    /// Flat index of the first body of each kind, and the number of bodies.
+    [[nodiscard]] FlatOffsets flat_offsets() const
+    {
+        FlatOffsets flat{};
+        for (int k = 0; k < body_kind_count; ++k) flat[k + 1] = flat[k] + static_cast<std::uint32_t>(bodies[k].size());
+        return flat;
+    }
     /// Flat index of the first body of `kind` (grains, then wire, then membrane).
     [[nodiscard]] std::size_t flat_offset(BodyKind kind) const
     {
@@ -128,6 +135,8 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
 
 /// Adds a wall; returns its index.
 std::size_t add_wall(World& w, Wall wall);
+/// Removes a wall and its contacts; later walls' indices go down by one.
+void remove_wall(World& w, std::size_t wall);
 /// A horizontal plate at height z whose normal points up (+1, a floor) or down (−1, a lid).
 [[nodiscard]] Wall make_plate(double z_m, double normal_sign, std::uint8_t material);
 /// The inside of a vertical cylinder of radius r around the z axis.

@@ -170,3 +170,43 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     EXPECT_EQ(w.walls[0].contacts, 0u);
     EXPECT_EQ(w.walls[0].total_force_n, Vec3::Zero());
 }
+
+TEST(ContactPipeline, RemovingAWallKeepsTheOthersContactsAndANewWallStartsWithNone)
+{
+    // A grain resting on the floor against the mould (a cylinder), sheared so
+    // that its floor spring is loaded. Removing the mould and adding a lid
+    // (the preparation's order) must leave the floor's contact and spring as
+    // they were, and the lid, now wall 1 like the mould was, without
+    // contacts until the next rebuild finds some: the mould's contacts must
+    // not pass for the lid's. (They did, and the preparation's lid stopped
+    // where it started: Campaign.Tiny.)
+    Simulation sim(1);
+    World& w = sim.world;
+    reset_world(w, grain_material, 1e-7);
+    const std::uint8_t plate = add_material(w, plate_material);
+    add_wall(w, make_plate(0.0, +1.0, plate));
+    const std::size_t mould = add_wall(w, make_cylinder(10.0 * radius_m, plate));
+    add_grain(w, Vec3(9.0 * radius_m + 1e-3 * radius_m, 0, radius_m - 1e-3 * radius_m), radius_m, 0, Vec3(0, 0.01, 0));
+    set_time_step(w, stable_time_step(w, 0.1).auto_s);
+    for (int s = 0; s < 10; ++s) sim.step();
+    const BodyRef grain(BodyKind::grain, 0);
+    ASSERT_TRUE(w.contacts.wall_touches(0, BodyKind::grain));
+    ASSERT_TRUE(w.contacts.wall_touches(mould, BodyKind::grain));
+    const auto floor_before = w.contacts.find(grain, wall_ref(0));
+    ASSERT_TRUE(floor_before.has_value());
+    const TangentialState spring = w.contacts.tangential[*floor_before];
+    ASSERT_GT(spring.spring_m.norm(), 0.0);
+
+    remove_wall(w, mould);
+    const std::size_t lid = add_wall(w, make_plate(10.0 * radius_m, -1.0, plate));
+    ASSERT_EQ(lid, mould);
+    EXPECT_FALSE(w.contacts.wall_touches(lid, BodyKind::grain));
+    EXPECT_FALSE(w.contacts.find(grain, wall_ref(static_cast<std::uint32_t>(lid))).has_value());
+    const auto floor_after = w.contacts.find(grain, wall_ref(0));
+    ASSERT_TRUE(floor_after.has_value());
+    EXPECT_EQ(w.contacts.tangential[*floor_after].spring_m, spring.spring_m);
+    EXPECT_TRUE(w.contacts.touching[*floor_after]);
+    sim.step();
+    EXPECT_TRUE(w.contacts.wall_touches(0, BodyKind::grain));
+    EXPECT_FALSE(w.contacts.wall_touches(lid, BodyKind::grain)); // the lid is far above
+}
