@@ -40,6 +40,7 @@ struct Case {
     double wall_s = 0.0;
     double cpu_s = 0.0; ///< CPU time of the whole process over the timed steps (all threads)
     std::uint64_t hash = 0;
+    StepProfile profile; ///< time per stage over the timed steps
     [[nodiscard]] double body_steps_per_s() const { return static_cast<double>(bodies) * steps / wall_s; }
     [[nodiscard]] double ns_per_contact() const { return wall_s * 1e9 / (static_cast<double>(contacts) * steps); }
 };
@@ -122,10 +123,11 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         sim.world = start;
         set_integrator(sim.world, integrator);
         sim.step(); // warm-up outside the timing
+        Case c;
+        sim.profile = &c.profile;
         const double cpu0 = process_cpu_s();
         const auto t0 = std::chrono::steady_clock::now();
         sim.run(steps);
-        Case c;
         c.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         c.cpu_s = process_cpu_s() - cpu0;
         c.name = name;
@@ -195,14 +197,28 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
 
 const char* integrator_name(Integrator i) { return i == Integrator::gear5 ? "gear5" : "verlet"; }
 
+/// The per-stage profile as a JSON object: seconds per stage.
+std::string stages_json(const StepProfile& p)
+{
+    std::string out = "{";
+    for (std::size_t s = 0; s < stage_count; ++s) {
+        char item[96];
+        std::snprintf(item, sizeof item, "%s\"%s\":%.6f", s ? "," : "", stage_name(static_cast<Stage>(s)).data(),
+            p.seconds[s]);
+        out += item;
+    }
+    return out + "}";
+}
+
 void print_case_json(const Case& c, double dt)
 {
     std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"steps\":%llu,"
                 "\"wall_time_s\":%.6f,\"cpu_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
-                "\"ns_per_contact\":%.4g,\"state_hash\":\"%016llx\"}\n",
+                "\"ns_per_contact\":%.4g,\"state_hash\":\"%016llx\",\"stage_s\":%s}\n",
         c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs,
         static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
-        c.body_steps_per_s(), c.ns_per_contact(), static_cast<unsigned long long>(c.hash));
+        c.body_steps_per_s(), c.ns_per_contact(), static_cast<unsigned long long>(c.hash),
+        stages_json(c.profile).c_str());
 }
 
 } // namespace
@@ -299,6 +315,15 @@ int main(int argc, char** argv)
             same = same && c.hash == first_of(c).hash;
         }
         std::printf("final states %s across thread counts\n", same ? "bit-identical" : "DIFFER");
+        std::printf("\nper stage, seconds (share of the step):\n");
+        for (const Case& c : cases) {
+            std::printf("%-16s %-7s %2u:", c.name.c_str(), integrator_name(c.integrator), c.threads);
+            const double total = c.profile.total_s();
+            for (std::size_t s = 0; s < stage_count; ++s)
+                std::printf(" %s %.3f (%.0f%%)", stage_name(static_cast<Stage>(s)).data(), c.profile.seconds[s],
+                    total > 0.0 ? 100.0 * c.profile.seconds[s] / total : 0.0);
+            std::printf("\n");
+        }
     }
     return 0;
 }

@@ -1,5 +1,6 @@
 #include "energy.hpp"
 
+#include "contact/geometry.hpp"
 #include "laws/hertz.hpp"
 #include "laws/membrane_edge.hpp"
 
@@ -30,33 +31,23 @@ double sum(ThreadPool& pool, std::size_t n, const auto& term)
 ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
 {
     ElasticEnergy e;
-    auto modulus = [&](std::uint8_t a, std::uint8_t b) {
-        const Material &ma = w.materials[a], &mb = w.materials[b];
-        return effective_modulus_pa(ma.youngs_modulus_pa, ma.poisson_ratio, mb.youngs_modulus_pa, mb.poisson_ratio);
-    };
     const ContactList& c = w.contacts;
     e.contacts_j = sum(pool, c.size(), [&](std::size_t p) {
-        if (!c.touching[p]) return 0.0;
-        const TranslationalState &A = w.of(c.first[p].kind()), &B = w.of(c.second[p].kind());
-        const std::uint32_t ia = c.first[p].index(), ib = c.second[p].index();
-        const double overlap = A.radius_m[ia] + B.radius_m[ib] - (A.x[0][ia] - B.x[0][ib]).norm();
-        return hertz_energy_j(overlap, modulus(A.material[ia], B.material[ib]), effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
-    });
-    for (const Wall& wall : w.walls)
-        for (int k = 0; k < body_kind_count; ++k) {
-            const TranslationalState& body = w.bodies[k];
-            e.contacts_j += sum(pool, body.size(), [&](std::size_t i) {
-                if (body.inv_mass_per_kg[i] == 0.0) return 0.0; // held bodies do not touch walls (compute_wall_forces)
-                const Vec3& x = body.x[0][i];
-                double gap;
-                if (wall.shape == Wall::Shape::plane) {
-                    gap = (x - wall.point_m).dot(wall.normal);
-                } else {
-                    gap = wall.radius_m - std::hypot(x.x() - wall.point_m.x(), x.y() - wall.point_m.y());
-                }
-                return hertz_energy_j(body.radius_m[i] - gap, modulus(body.material[i], wall.material), body.radius_m[i]);
-            });
+        const TranslationalState& A = w.of(c.first[p].kind());
+        const std::uint32_t ia = c.first[p].index();
+        if (is_wall(c.second[p])) {
+            // Every body that can touch the wall is listed (held bodies never are).
+            const Wall& wall = w.walls[c.second[p].index()];
+            return hertz_energy_j(A.radius_m[ia] - wall_gap(wall, A.x[0][ia]).gap_m,
+                w.materials.effective_modulus_pa(A.material[ia], wall.material), A.radius_m[ia]);
         }
+        if (!c.touching[p]) return 0.0;
+        const TranslationalState& B = w.of(c.second[p].kind());
+        const std::uint32_t ib = c.second[p].index();
+        const double overlap = A.radius_m[ia] + B.radius_m[ib] - (A.x[0][ia] - B.x[0][ib]).norm();
+        return hertz_energy_j(overlap, w.materials.effective_modulus_pa(A.material[ia], B.material[ib]),
+            effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
+    });
     const auto& xw = w.of(BodyKind::wire).x[0];
     const WireState& wire = w.wire;
     if (xw.size() >= 2) {

@@ -39,12 +39,14 @@ public:
     explicit Simulation(unsigned threads = 0) : pool_(threads) {}
 
     World world;
+    /// When set, every step adds its time per stage to it (engine/profile.hpp).
+    StepProfile* profile = nullptr;
 
     [[nodiscard]] ThreadPool& pool() { return pool_; }
     [[nodiscard]] unsigned threads() const { return pool_.size(); }
 
     /// One step.
-    StepReport step() { return engine::step(world, pool_); }
+    StepReport step() { return engine::step(world, pool_, profile); }
 
     /// Up to `steps` steps; stops early on cancellation, on after_step
     /// returning false, or when the state blows up.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "parallel/thread_pool.hpp"
+#include "profile.hpp"
 #include "state/world.hpp"
 
 namespace wiredem::engine {
@@ -13,8 +14,10 @@ struct StepReport {
 };
 
 /// Advances `w` by w.dt_s. Thread-count independent: the same World gives
-/// bit-identical results with any pool size.
-StepReport step(World& w, ThreadPool& pool);
+/// bit-identical results with any pool size. With a profile, adds the time
+/// spent in each Stage to it (the first step's initial accelerations are not
+/// charged to any stage).
+StepReport step(World& w, ThreadPool& pool, StepProfile* profile = nullptr);
 
 /// Sets every body's second Gear derivative from the forces at the current
 /// state (x₂ = δt²/2 · F/m, likewise for rotation), leaving tangential springs
@@ -26,15 +29,15 @@ void initialize_accelerations(World& w, ThreadPool& pool);
 
 /// Moves walls with their prescribed velocity by one step.
 void move_walls(World& w);
-/// Rebuilds the neighbour list if a body moved more than half the skin since
-/// the last build, or bodies were added. Returns true if it rebuilt.
+/// Rebuilds the contact list (body pairs and body–wall contacts) if a body or
+/// a wall moved more than half the skin since the last build, or bodies or
+/// walls were added. Returns true if it rebuilt.
 bool update_neighbours(World& w, ThreadPool& pool);
-/// Evaluates every pair of the neighbour list (one writer per pair slot).
-void compute_pair_forces(World& w, ThreadPool& pool);
-/// Evaluates each wall against the bodies near it (its candidates, rebuilt
-/// with the neighbour list) and totals the wall forces.
-void compute_wall_forces(World& w, ThreadPool& pool);
-/// Sums each body's pair, wall and gravity forces in a fixed order.
+/// Evaluates every contact of the list, body pairs and body–wall contacts,
+/// with one kernel (geometry adapters in contact/geometry.hpp, the laws of
+/// laws/; one writer per contact slot), then totals each wall's force.
+void compute_contact_forces(World& w, ThreadPool& pool);
+/// Sums each body's contact, element and gravity forces in a fixed order.
 void gather_forces(World& w, ThreadPool& pool);
 
 /// Effective skin actually used [m].

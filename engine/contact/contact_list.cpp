@@ -1,19 +1,46 @@
 #include "contact/contact_list.hpp"
 
+#include <algorithm>
+
 namespace wiredem::engine {
 
-void ContactList::rebuild(const std::vector<std::uint64_t>& new_keys, const std::vector<BodyRef>& new_first,
-    const std::vector<BodyRef>& new_second, const std::vector<std::uint32_t>& new_flat_first,
-    const std::vector<std::uint32_t>& new_flat_second, std::size_t flat_body_count)
+std::optional<std::size_t> ContactList::find(BodyRef first_side, BodyRef second_side) const
 {
-    const std::size_t n = new_keys.size();
+    const std::uint64_t key = contact_key(first_side, second_side);
+    std::size_t lo = 0, hi = size();
+    while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        const std::uint64_t k = contact_key(first[mid], second[mid]);
+        if (k == key) return mid;
+        if (k < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return std::nullopt;
+}
+
+bool ContactList::wall_touches(std::size_t wall, BodyKind kind) const
+{
+    if (wall + 1 >= wall_start.size()) return false;
+    for (std::size_t p = wall_start[wall]; p < wall_start[wall + 1]; ++p)
+        if (touching[p] && first[p].kind() == kind) return true;
+    return false;
+}
+
+void ContactList::rebuild(
+    std::vector<BodyRef> new_first, std::vector<BodyRef> new_second, std::size_t walls, const FlatOffsets& flat)
+{
+    const std::size_t n = new_first.size();
     std::vector<TangentialState> carried(n);
     std::vector<std::uint8_t> was_touching(n, 0);
-    // Merge of two sorted key lists: springs follow their pair.
-    for (std::size_t i = 0, j = 0; i < n && j < key.size();) {
-        if (new_keys[i] < key[j]) {
+    // Merge of two sorted key lists: springs follow their contact.
+    for (std::size_t i = 0, j = 0; i < n && j < size();) {
+        const std::uint64_t new_key = contact_key(new_first[i], new_second[i]);
+        const std::uint64_t old_key = contact_key(first[j], second[j]);
+        if (new_key < old_key) {
             ++i;
-        } else if (key[j] < new_keys[i]) {
+        } else if (old_key < new_key) {
             ++j;
         } else {
             carried[i] = tangential[j];
@@ -22,33 +49,64 @@ void ContactList::rebuild(const std::vector<std::uint64_t>& new_keys, const std:
             ++j;
         }
     }
-    key = new_keys;
-    first = new_first;
-    second = new_second;
-    flat_first = new_flat_first;
-    flat_second = new_flat_second;
+    first = std::move(new_first);
+    second = std::move(new_second);
     tangential = std::move(carried);
     touching = std::move(was_touching);
     force_n.assign(n, Vec3::Zero());
     normal_force_n.assign(n, 0.0);
+    normal_x_tangential_n.assign(n, Vec3::Zero());
+    overlap_m.assign(n, 0.0);
+    index(walls, flat);
+}
 
-    incidence_start.assign(flat_body_count + 1, 0);
+void ContactList::append_wall()
+{
+    if (!wall_start.empty()) wall_start.push_back(static_cast<std::uint32_t>(size()));
+}
+
+void ContactList::remove_wall(std::size_t wall, const FlatOffsets& flat)
+{
+    if (wall + 1 >= wall_start.size()) return; // not listed yet
+    const auto begin = static_cast<std::ptrdiff_t>(wall_start[wall]), end = static_cast<std::ptrdiff_t>(wall_start[wall + 1]);
+    auto cut = [&](auto& v) { v.erase(v.begin() + begin, v.begin() + end); };
+    cut(first);
+    cut(second);
+    cut(hertz_coefficient);
+    cut(tangential);
+    cut(force_n);
+    cut(normal_force_n);
+    cut(normal_x_tangential_n);
+    cut(overlap_m);
+    cut(touching);
+    for (std::size_t p = static_cast<std::size_t>(begin); p < size(); ++p) second[p] = wall_ref(second[p].index() - 1);
+    index(wall_start.size() - 2, flat);
+}
+
+void ContactList::index(std::size_t walls, const FlatOffsets& flat)
+{
+    const std::size_t n = size();
+    // Pairs first, then each wall's contacts, by wall.
+    const auto pairs = std::find_if(second.begin(), second.end(), [](BodyRef b) { return is_wall(b); }) - second.begin();
+    wall_start.assign(walls + 1, 0);
+    wall_start[0] = static_cast<std::uint32_t>(pairs);
+    for (std::size_t p = static_cast<std::size_t>(pairs); p < n; ++p) ++wall_start[second[p].index() + 1];
+    for (std::size_t i = 0; i < walls; ++i) wall_start[i + 1] += wall_start[i];
+
+    auto flat_of = [&](BodyRef b) { return flat[static_cast<int>(b.kind())] + b.index(); };
+    const std::uint32_t bodies = flat[body_kind_count];
+    incidence_start.assign(bodies + 1, 0);
     for (std::size_t p = 0; p < n; ++p) {
-        ++incidence_start[flat_first[p] + 1];
-        ++incidence_start[flat_second[p] + 1];
+        ++incidence_start[flat_of(first[p]) + 1];
+        if (!is_wall(second[p])) ++incidence_start[flat_of(second[p]) + 1];
     }
-    for (std::size_t b = 0; b < flat_body_count; ++b) incidence_start[b + 1] += incidence_start[b];
-    incidence.resize(2 * n);
-    share_of_first.resize(n);
-    share_of_second.resize(n);
+    for (std::size_t b = 0; b < bodies; ++b) incidence_start[b + 1] += incidence_start[b];
+    incidence.resize(incidence_start[bodies]);
     std::vector<std::uint32_t> fill(incidence_start.begin(), incidence_start.end() - 1);
-    for (std::size_t p = 0; p < n; ++p) { // ascending p: each body's list is in pair order
-        share_of_first[p] = fill[flat_first[p]]++;
-        share_of_second[p] = fill[flat_second[p]]++;
-        incidence[share_of_first[p]] = {static_cast<std::uint32_t>(p), true};
-        incidence[share_of_second[p]] = {static_cast<std::uint32_t>(p), false};
+    for (std::size_t p = 0; p < n; ++p) { // ascending p: each body's list is in contact order
+        incidence[fill[flat_of(first[p])]++] = {static_cast<std::uint32_t>(p), true};
+        if (!is_wall(second[p])) incidence[fill[flat_of(second[p])]++] = {static_cast<std::uint32_t>(p), false};
     }
-    shares.assign(2 * n, ContactShare{});
 }
 
 } // namespace wiredem::engine

@@ -1,66 +1,106 @@
-// The persistent list of body pairs that may touch (a Verlet neighbour list),
-// with each pair's tangential spring and this step's forces.
+// The persistent list of contacts that may touch before the next rebuild (a
+// Verlet neighbour list): body pairs and body–wall contacts, each stored once,
+// with its tangential spring and this step's force.
 //
-// Pairs are sorted by pair_key (smaller body first), so iterating them is
-// canonical. A pair's slot is written by exactly one thread per step. The list
-// is rebuilt only when some body has moved more than half the skin since the
-// last build; a rebuild carries each surviving pair's tangential state across
-// by a merge of the two sorted key lists. The incidence list (CSR over flat body
-// index, ascending pair index) lets every body gather its pair forces in a
-// fixed order; the pair loop writes each force straight into the two bodies'
-// incidence slots, so the gather reads memory in order.
+// A contact has two sides: `first` is always a body; `second` is a later body
+// (a pair) or a wall (wall_ref). Contacts are sorted by contact_key: every
+// pair by (first, second), then every wall contact by (wall, body), so
+// iterating them is canonical and a wall's contacts are consecutive. A
+// contact's slot is written by exactly one thread per step. The list is
+// rebuilt only when some body or wall has moved more than half the skin since
+// the last build; a rebuild carries each surviving contact's tangential state
+// across by a merge of the two sorted key lists. So a wall's memory is O(its
+// contacts), not O(bodies).
+//
+// The incidence list (CSR over flat body index, ascending contact index) lets
+// every body gather its contact forces in a fixed order: its pairs, then its
+// walls in wall order. The kernel writes each contact's force once; the
+// gather reads it for both bodies (with its sign) and forms each body's
+// torque from the contact's n × F_t and the body's own lever arm.
 #pragma once
 
 #include "core/types.hpp"
 #include "laws/tangential.hpp"
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace wiredem::engine {
 
-/// One body's link to a pair: pair index and whether the body is the pair's
-/// first member (a) or second (b).
+/// Sort key of a contact: pair_key for two bodies; (wall, body) for a wall.
+[[nodiscard]] constexpr std::uint64_t contact_key(BodyRef first, BodyRef second)
+{
+    if (is_wall(second)) return (static_cast<std::uint64_t>(second.bits) << 32) | first.bits;
+    return pair_key(first, second);
+}
+
+/// One body's link to a contact: contact index and whether the body is the
+/// contact's first side (a) or second (b), in 32 bits.
 struct Incidence {
-    std::uint32_t pair = 0;
-    bool is_first = true;
+    std::uint32_t bits = 0; ///< contact · 2 + (1 if the body is second)
+
+    Incidence() = default;
+    Incidence(std::uint32_t contact_index, bool is_first) : bits(contact_index << 1 | (is_first ? 0u : 1u)) {}
+    [[nodiscard]] std::uint32_t contact() const { return bits >> 1; }
+    [[nodiscard]] bool is_first() const { return (bits & 1u) == 0; }
+    /// +1 for first, −1 for second: the sign of the contact's force on the body.
+    [[nodiscard]] double sign() const { return 1.0 - 2.0 * static_cast<double>(bits & 1u); }
 };
 
-/// A pair's force and torque on one of its two bodies, stored where that
-/// body's gather reads it: shares[e] belongs to incidence[e].
-struct ContactShare {
-    Vec3 force_n = Vec3::Zero();    ///< [N]
-    Vec3 torque_n_m = Vec3::Zero(); ///< [N·m]
-};
+/// Flat index of the first body of each kind (grains, wire, membrane) and,
+/// last, the number of bodies.
+using FlatOffsets = std::array<std::uint32_t, body_kind_count + 1>;
 
 struct ContactList {
-    std::vector<std::uint64_t> key;          ///< pair_key(a, b), ascending
-    std::vector<BodyRef> first, second;       ///< a < b
-    std::vector<std::uint32_t> flat_first, flat_second; ///< flat body indices of a, b
-    /// (4/3) E* √R* of the pair, set with the pair (materials and radii are fixed) [N/m^{3/2}]
+    std::vector<BodyRef> first, second;       ///< see the top; sorted by contact_key
+    /// (4/3) E* √R* of the contact, set at the rebuild (materials and radii
+    /// are fixed; R* = r against a wall) [N/m^{3/2}]
     std::vector<double> hertz_coefficient;
     std::vector<TangentialState> tangential;  ///< spring memory; reset when the contact opens
-    std::vector<Vec3> force_n;                ///< this step's force on a (−force on b) [N]
+    std::vector<Vec3> force_n;                ///< this step's force on `first` (−force on a body `second`) [N]
     std::vector<double> normal_force_n;       ///< |F_n| this step, 0 when apart [N]
+    /// n × F_t this step (n from first to second), 0 when apart: a body's
+    /// torque from the contact is its lever arm r − ξ/2 times this [N].
+    std::vector<Vec3> normal_x_tangential_n;
+    std::vector<double> overlap_m;            ///< ξ this step, while touching [m]
     std::vector<std::uint8_t> touching;       ///< 1 when overlapping this step
+    /// Contacts [0, pair_count) are body pairs; wall i's contacts are
+    /// [wall_start[i], wall_start[i + 1]), with wall_start[0] = pair_count.
+    std::vector<std::uint32_t> wall_start;
 
     std::vector<std::uint32_t> incidence_start; ///< CSR offsets per flat body, size bodies + 1
     std::vector<Incidence> incidence;
-    /// This step's force and torque on each body of each pair, in incidence
-    /// order: the pair loop writes a pair's two shares (one writer per slot),
-    /// and each body's gather then reads its own shares contiguously, in
-    /// ascending pair order. Zero while the pair is apart.
-    std::vector<ContactShare> shares;
-    std::vector<std::uint32_t> share_of_first, share_of_second; ///< per pair: slot in shares
 
-    [[nodiscard]] std::size_t size() const { return key.size(); }
+    [[nodiscard]] std::size_t size() const { return first.size(); }
+    /// Number of body pairs (they come first).
+    [[nodiscard]] std::size_t pair_count() const { return wall_start.empty() ? size() : wall_start.front(); }
 
-    /// Replaces the pair set with `pairs` (flat indices, sorted by key), keeping
-    /// the tangential state of pairs present in both, and rebuilds the incidence
-    /// list for `flat_body_count` bodies.
-    void rebuild(const std::vector<std::uint64_t>& new_keys, const std::vector<BodyRef>& new_first,
-        const std::vector<BodyRef>& new_second, const std::vector<std::uint32_t>& new_flat_first,
-        const std::vector<std::uint32_t>& new_flat_second, std::size_t flat_body_count);
+    /// Index of the contact (first, second), if it is in the list; `second`
+    /// may be a wall_ref.
+    [[nodiscard]] std::optional<std::size_t> find(BodyRef first_side, BodyRef second_side) const;
+
+    /// Whether a body of `kind` touches wall `wall` this step (false for a
+    /// wall added since the last rebuild).
+    [[nodiscard]] bool wall_touches(std::size_t wall, BodyKind kind) const;
+
+    /// Replaces the contacts with new ones (sorted by contact_key, pairs then
+    /// walls, `walls` walls), keeping the tangential state of contacts present
+    /// in both, and rebuilds the incidence list.
+    void rebuild(std::vector<BodyRef> new_first, std::vector<BodyRef> new_second, std::size_t walls,
+        const FlatOffsets& flat);
+
+    /// A wall was added after the others: it has no contacts until the next
+    /// rebuild (add_wall calls this, so the list always names the world's walls).
+    void append_wall();
+    /// Wall `wall` was removed: drops its contacts and renumbers the later
+    /// walls', keeping every other contact and its memory (remove_wall).
+    void remove_wall(std::size_t wall, const FlatOffsets& flat);
+
+private:
+    /// wall_start and the incidence list, from first and second.
+    void index(std::size_t walls, const FlatOffsets& flat);
 };
 
 } // namespace wiredem::engine

@@ -39,6 +39,17 @@ struct BodyRef {
     friend constexpr auto operator<=>(BodyRef a, BodyRef b) { return a.bits <=> b.bits; }
 };
 
+/// A wall as the second side of a contact: kind bits 3, past every BodyKind,
+/// so that contact keys put every body–wall contact after every body pair.
+[[nodiscard]] constexpr BodyRef wall_ref(std::uint32_t wall)
+{
+    BodyRef r;
+    r.bits = (3u << BodyRef::index_bits) | (wall & BodyRef::index_mask);
+    return r;
+}
+/// Whether a contact side names a wall (wall_ref) rather than a body.
+[[nodiscard]] constexpr bool is_wall(BodyRef r) { return (r.bits >> BodyRef::index_bits) == 3u; }
+
 /// Key of an unordered body pair, with the smaller reference in the high half:
 /// sorting keys sorts pairs by (first, second).
 [[nodiscard]] constexpr std::uint64_t pair_key(BodyRef a, BodyRef b)

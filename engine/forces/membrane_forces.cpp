@@ -195,7 +195,7 @@ MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool)
                 std::size_t count = 0;
                 for (std::size_t i = begin; i < end; ++i)
                     for (std::uint32_t e = c.incidence_start[off + i]; e < c.incidence_start[off + i + 1]; ++e)
-                        if (c.touching[c.incidence[e].pair]) {
+                        if (c.touching[c.incidence[e].contact()] && c.incidence[e].contact() < c.pair_count()) { // not a wall
                             ++count;
                             break;
                         }

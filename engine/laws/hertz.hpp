@@ -7,6 +7,28 @@
 
 namespace wiredem::engine {
 
+/// Prefactor (4/3) E* √R* of the Hertz law [N/m^{3/2}]: fixed for a contact,
+/// so the contact list computes it once per contact at its rebuild.
+[[nodiscard]] inline double hertz_prefactor(double eff_modulus_pa, double eff_radius_m) noexcept
+{
+    return (4.0 / 3.0) * eff_modulus_pa * std::sqrt(eff_radius_m);
+}
+
+/// Damped Hertz normal force from the prefactor k = (4/3) E* √R*. Never attractive.
+///   F_n = k ( ξ^{3/2} + γ_n √ξ dξ/dt ),  F_n ≥ 0
+/// @param prefactor             hertz_prefactor(E*, R*) [N/m^{3/2}]
+/// @param overlap_m             ξ > 0 [m]
+/// @param overlap_rate_m_per_s  dξ/dt, positive while approaching [m/s]
+/// @param damping_s             γ_n [s] (seconds, not 1/s: the model spec §3)
+/// @return force magnitude along the normal [N], ≥ 0
+[[nodiscard, gnu::always_inline]] inline double damped_hertz_force_n(
+    double prefactor, double overlap_m, double overlap_rate_m_per_s, double damping_s) noexcept
+{
+    // factored as √ξ (ξ + γ ξ̇)
+    const double f = prefactor * std::sqrt(overlap_m) * (overlap_m + damping_s * overlap_rate_m_per_s);
+    return std::max(f, 0.0); // fast separation would make damping pull; clamp
+}
+
 /// Damped Hertz normal force. Never attractive.
 ///   F_n = (4/3) E* √R* ( ξ^{3/2} + γ_n √ξ dξ/dt ),  F_n ≥ 0
 /// @param overlap_m             ξ > 0 [m]
@@ -18,10 +40,8 @@ namespace wiredem::engine {
 [[nodiscard]] inline double hertz_normal_force_n(double overlap_m, double overlap_rate_m_per_s,
     double eff_modulus_pa, double eff_radius_m, double damping_s) noexcept
 {
-    // factored as √ξ (ξ + γ ξ̇)
-    const double f = (4.0 / 3.0) * eff_modulus_pa * std::sqrt(eff_radius_m) * std::sqrt(overlap_m)
-                   * (overlap_m + damping_s * overlap_rate_m_per_s);
-    return std::max(f, 0.0); // fast separation would make damping pull; clamp
+    return damped_hertz_force_n(
+        hertz_prefactor(eff_modulus_pa, eff_radius_m), overlap_m, overlap_rate_m_per_s, damping_s);
 }
 
 /// Effective modulus E* of two bodies: 1/E* = (1−ν_i²)/E_i + (1−ν_j²)/E_j [Pa].

@@ -34,14 +34,10 @@ std::vector<std::uint8_t> grains_in_pile(const World& w)
 {
     std::vector<std::uint8_t> in(w.of(BodyKind::grain).size(), 0);
     const ContactList& c = w.contacts;
-    for (std::size_t p = 0; p < c.size(); ++p) {
+    for (std::size_t p = 0; p < c.size(); ++p) { // body pairs and body–wall contacts
         if (!c.touching[p]) continue;
         if (c.first[p].kind() == BodyKind::grain) in[c.first[p].index()] = 1;
         if (c.second[p].kind() == BodyKind::grain) in[c.second[p].index()] = 1;
-    }
-    for (const Wall& wall : w.walls) {
-        const auto& t = wall.touching[static_cast<int>(BodyKind::grain)];
-        for (std::size_t i = 0; i < std::min(t.size(), in.size()); ++i) in[i] |= t[i];
     }
     return in;
 }
@@ -401,7 +397,7 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     PreparationReport report;
     bool settled_before_lid = false;
     if (std::string e = settle(settled_before_lid); !e.empty()) return Err(e);
-    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(mould_wall)); // the mould goes before the lid
+    remove_wall(w, mould_wall); // the mould goes before the lid
     w.kinds_interact[1][2] = w.kinds_interact[2][1] = wire_touches_membrane;
     w.neighbours_dirty = true;
 
@@ -416,10 +412,9 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.top_plate_wall = add_wall(w, make_plate(top + 0.5 * r_max, -1.0, plate_mat));
     Wall& lid = w.walls[report.top_plate_wall];
     auto lower_lid = [&]() -> std::string {
-        const auto& touching = lid.touching[static_cast<int>(BodyKind::grain)];
         const auto& grains = w.of(BodyKind::grain).x[0];
         lid.velocity_m_per_s = Vec3(0, 0, -spec.plate_speed_m_per_s);
-        while (std::none_of(touching.begin(), touching.end(), [](std::uint8_t t) { return t != 0; })) {
+        while (!w.contacts.wall_touches(report.top_plate_wall, BodyKind::grain)) {
             if (std::string e = step_once(); !e.empty()) return e;
             // Compared with the grains' centres now: a grain still falling
             // away from the plate is no reason to stop.

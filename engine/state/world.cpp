@@ -7,22 +7,8 @@ namespace wiredem::engine {
 
 std::uint8_t add_material(World& w, const Material& m)
 {
-    w.materials.push_back(m);
-    return static_cast<std::uint8_t>(w.materials.size() - 1);
+    return w.materials.add(m);
 }
-
-namespace {
-void grow_wall_memory(World& w, BodyKind kind)
-{
-    const auto k = static_cast<int>(kind);
-    for (Wall& wall : w.walls) {
-        wall.tangential[k].resize(w.bodies[k].size());
-        wall.force_on_body_n[k].resize(w.bodies[k].size(), Vec3::Zero());
-        wall.torque_on_body_n_m[k].resize(w.bodies[k].size(), Vec3::Zero());
-        wall.touching[k].resize(w.bodies[k].size(), 0);
-    }
-}
-} // namespace
 
 std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::uint8_t material,
     const Vec3& velocity_m_per_s, const Vec3& angular_velocity_rad_per_s)
@@ -31,7 +17,6 @@ std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::
     const std::uint32_t id = w.of(BodyKind::grain).add(position_m, velocity_m_per_s, radius_m, mass, material, w.dt_s);
     w.grain_rotation.add(0.4 * mass * radius_m * radius_m); // solid sphere: I = 2/5 m r²
     w.grain_rotation.w[1].back() = angular_velocity_rad_per_s * w.dt_s;
-    grow_wall_memory(w, BodyKind::grain);
     w.neighbours_dirty = true;
     return id;
 }
@@ -40,23 +25,23 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
     std::uint8_t material, const Vec3& velocity_m_per_s)
 {
     const std::uint32_t id = w.of(kind).add(position_m, velocity_m_per_s, radius_m, mass_kg, material, w.dt_s);
-    grow_wall_memory(w, kind);
     w.neighbours_dirty = true;
     return id;
 }
 
 std::size_t add_wall(World& w, Wall wall)
 {
-    for (int k = 0; k < body_kind_count; ++k) {
-        wall.tangential[k].assign(w.bodies[k].size(), {});
-        wall.force_on_body_n[k].assign(w.bodies[k].size(), Vec3::Zero());
-        wall.torque_on_body_n_m[k].assign(w.bodies[k].size(), Vec3::Zero());
-        wall.touching[k].assign(w.bodies[k].size(), 0);
-    }
-    wall.candidates_built = false;
     w.walls.push_back(std::move(wall));
+    w.contacts.append_wall();
     w.neighbours_dirty = true;
     return w.walls.size() - 1;
+}
+
+void remove_wall(World& w, std::size_t wall)
+{
+    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(wall));
+    w.contacts.remove_wall(wall, w.flat_offsets());
+    w.neighbours_dirty = true;
 }
 
 Wall make_plate(double z_m, double normal_sign, std::uint8_t material)

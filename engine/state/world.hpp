@@ -11,6 +11,7 @@
 #include "core/types.hpp"
 #include "laws/tangential.hpp"
 #include "state/body_state.hpp"
+#include "state/materials.hpp"
 #include "state/membrane.hpp"
 #include "state/wire.hpp"
 
@@ -21,25 +22,6 @@
 #include <vector>
 
 namespace wiredem::engine {
-
-/// Elastic properties of a material.
-struct Material {
-    double youngs_modulus_pa = 10e9;      ///< E [Pa]
-    double poisson_ratio = 0.3;           ///< ν
-    double density_kg_per_m3 = 7800.0;    ///< ρ [kg/m³]
-};
-
-/// The plane-strain modulus E/(1−ν²) of a material [Pa].
-[[nodiscard]] inline double plane_modulus_pa(const Material& m)
-{
-    return m.youngs_modulus_pa / (1 - m.poisson_ratio * m.poisson_ratio);
-}
-
-/// Mass of a solid sphere, ρ 4/3 π r³ [kg].
-[[nodiscard]] inline double sphere_mass_kg(double density_kg_per_m3, double radius_m)
-{
-    return density_kg_per_m3 * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
-}
 
 /// The contact law shared by every pair (model spec §3).
 struct ContactSettings {
@@ -57,21 +39,12 @@ struct Wall {
     double radius_m = 0.0;                ///< cylinder radius (axis ∥ z) [m]
     Vec3 velocity_m_per_s = Vec3::Zero(); ///< prescribed velocity; point_m moves with it
     std::uint8_t material = 0;
-    /// Tangential memory of every body against this wall, by kind and index.
-    std::array<std::vector<TangentialState>, body_kind_count> tangential;
-    /// Force this wall exerts on each body this step, by kind and index [N].
-    std::array<std::vector<Vec3>, body_kind_count> force_on_body_n;
-    std::array<std::vector<Vec3>, body_kind_count> torque_on_body_n_m;
-    /// 1 where the body touches this wall this step; the three arrays above
-    /// are zero (and not rewritten) wherever it is 0.
-    std::array<std::vector<std::uint8_t>, body_kind_count> touching;
-    /// Bodies that may touch this wall before the next neighbour rebuild (gap
-    /// below r + skin at the rebuild), by kind, ascending; the wall stage
-    /// looks at these only. Rebuilt with the neighbour list, which is rebuilt
-    /// as soon as a wall has moved half the skin since (point_at_build_m).
-    std::array<std::vector<std::uint32_t>, body_kind_count> candidates;
+    /// Where the wall was at the last neighbour rebuild: it lists the bodies
+    /// that may touch the wall before the next one (gap below r + skin), so
+    /// the list is rebuilt as soon as the wall has moved half the skin.
     Vec3 point_at_build_m = Vec3::Zero();
-    bool candidates_built = false;        ///< false until the first rebuild after add_wall
+    // The wall's contacts (tangential memory, forces on the bodies) live in
+    // World::contacts, after the body pairs.
     Vec3 total_force_n = Vec3::Zero();    ///< force the bodies exert on the wall this step [N]
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
@@ -93,7 +66,7 @@ enum class Integrator : std::uint8_t {
 
 /// The whole simulated system.
 struct World {
-    std::vector<Material> materials;
+    MaterialTable materials;
     std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
     RotationalState grain_rotation;       ///< parallel to bodies[grain]
     std::vector<Wall> walls;
@@ -130,6 +103,13 @@ struct World {
     {
         return bodies[0].size() + bodies[1].size() + bodies[2].size();
     }
+    /// Flat index of the first body of each kind, and the number of bodies.
+    [[nodiscard]] FlatOffsets flat_offsets() const
+    {
+        FlatOffsets flat{};
+        for (int k = 0; k < body_kind_count; ++k) flat[k + 1] = flat[k] + static_cast<std::uint32_t>(bodies[k].size());
+        return flat;
+    }
     /// Flat index of the first body of `kind` (grains, then wire, then membrane).
     [[nodiscard]] std::size_t flat_offset(BodyKind kind) const
     {
@@ -155,6 +135,8 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
 
 /// Adds a wall; returns its index.
 std::size_t add_wall(World& w, Wall wall);
+/// Removes a wall and its contacts; later walls' indices go down by one.
+void remove_wall(World& w, std::size_t wall);
 /// A horizontal plate at height z whose normal points up (+1, a floor) or down (−1, a lid).
 [[nodiscard]] Wall make_plate(double z_m, double normal_sign, std::uint8_t material);
 /// The inside of a vertical cylinder of radius r around the z axis.

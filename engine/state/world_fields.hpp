@@ -103,30 +103,13 @@ struct FieldCodec<Material> {
     static void get(const Number* in, Material& m) { m = Material{in[0], in[1], in[2]}; }
 };
 
-/// Pair index and is_first (1/0).
+/// Contact index · 2 + side (Incidence::bits).
 template <>
 struct FieldCodec<Incidence> {
     using Number = std::int64_t;
-    static constexpr std::size_t columns = 2;
-    static void put(const Incidence& e, Number* out) { out[0] = e.pair, out[1] = e.is_first ? 1 : 0; }
-    static void get(const Number* in, Incidence& e) { e = {static_cast<std::uint32_t>(in[0]), in[1] != 0}; }
-};
-
-/// Force (x, y, z), torque (x, y, z).
-template <>
-struct FieldCodec<ContactShare> {
-    using Number = double;
-    static constexpr std::size_t columns = 6;
-    static void put(const ContactShare& s, Number* out)
-    {
-        FieldCodec<Vec3>::put(s.force_n, out);
-        FieldCodec<Vec3>::put(s.torque_n_m, out + 3);
-    }
-    static void get(const Number* in, ContactShare& s)
-    {
-        FieldCodec<Vec3>::get(in, s.force_n);
-        FieldCodec<Vec3>::get(in + 3, s.torque_n_m);
-    }
+    static constexpr std::size_t columns = 1;
+    static void put(const Incidence& e, Number* out) { out[0] = e.bits; }
+    static void get(const Number* in, Incidence& e) { e.bits = static_cast<std::uint32_t>(in[0]); }
 };
 
 /// Body (its BodyRef bits, exact in a double) and force (x, y, z).
@@ -184,6 +167,12 @@ template <class E, class A>
 struct ElementOf<std::vector<E, A>> {
     using type = E;
 };
+/// The material table is saved as its list of materials (flatten and
+/// unflatten below); the pair table follows from it.
+template <>
+struct ElementOf<MaterialTable> {
+    using type = Material;
+};
 } // namespace detail
 
 /// The element type of a field: E for std::vector<E>, T for a scalar.
@@ -230,6 +219,23 @@ bool unflatten(const std::vector<Number>& numbers, std::size_t rows, T& value)
         C::get(numbers.data(), value);
         return true;
     }
+}
+
+/// The material table as a vector of materials, one row each.
+inline FlatField flatten(const MaterialTable& table)
+{
+    return flatten(std::vector<Material>(table.begin(), table.end()));
+}
+
+/// Refills a material table (and so its pair table) from its rows.
+template <class Number>
+bool unflatten(const std::vector<Number>& numbers, std::size_t rows, MaterialTable& table)
+{
+    std::vector<Material> list;
+    if (!unflatten(numbers, rows, list)) return false;
+    table = MaterialTable{};
+    for (const Material& m : list) table.add(m);
+    return true;
 }
 
 /// Names of the body kinds in field names, by BodyKind.
@@ -282,8 +288,8 @@ void for_each_field(W& w, Visit&& field)
     field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
     field("grain_rotation/torque_n_m", rot.torque_n_m, R::output);
 
-    // Walls. Their contact memory (tangential springs and touching flags, per
-    // kind and body) is state; what the neighbour rebuild decides is cache.
+    // Walls. Their contacts (springs and touching flags) are in the contact
+    // list, below; where a wall was at the last rebuild is cache.
     for (std::size_t i = 0; i < w.walls.size(); ++i) {
         auto& wall = w.walls[i];
         const std::string at = "walls/" + std::to_string(i) + "/";
@@ -293,16 +299,7 @@ void for_each_field(W& w, Visit&& field)
         field(at + "material", wall.material, R::model);
         field(at + "point_m", wall.point_m, R::state);
         field(at + "velocity_m_per_s", wall.velocity_m_per_s, R::state);
-        for (int k = 0; k < body_kind_count; ++k) {
-            const std::string kind = std::string("/") + field_kind_names[k];
-            field(at + "tangential" + kind, wall.tangential[k], R::state);
-            field(at + "touching" + kind, wall.touching[k], R::state);
-            field(at + "candidates" + kind, wall.candidates[k], R::cache);
-            field(at + "force_on_body_n" + kind, wall.force_on_body_n[k], R::output);
-            field(at + "torque_on_body_n_m" + kind, wall.torque_on_body_n_m[k], R::output);
-        }
         field(at + "point_at_build_m", wall.point_at_build_m, R::cache);
-        field(at + "candidates_built", wall.candidates_built, R::cache);
         field(at + "total_force_n", wall.total_force_n, R::output);
         field(at + "contacts", wall.contacts, R::output);
     }
@@ -347,25 +344,24 @@ void for_each_field(W& w, Visit&& field)
     field("membrane/triangle_force_n", m.triangle_force_n, R::output);
     field("membrane/node_force_n", m.node_force_n, R::output);
 
-    // Pair contacts: the springs and touching flags are state; the list
-    // itself (which pairs, in which order, and what follows from that) is
-    // cache, kept so that a restored run rebuilds it at the same steps.
+    // Contacts, body pairs and body–wall: the springs and touching flags are
+    // state; the list itself (which contacts, in which order, and what
+    // follows from that) is cache, kept so that a restored run rebuilds it at
+    // the same steps. The per-step slots of a contact apart are zero, which
+    // the kernel relies on: they are saved too.
     auto& c = w.contacts;
     field("contacts/tangential", c.tangential, R::state);
     field("contacts/touching", c.touching, R::state);
-    field("contacts/key", c.key, R::cache);
     field("contacts/first", c.first, R::cache);
     field("contacts/second", c.second, R::cache);
-    field("contacts/flat_first", c.flat_first, R::cache);
-    field("contacts/flat_second", c.flat_second, R::cache);
+    field("contacts/wall_start", c.wall_start, R::cache);
     field("contacts/hertz_coefficient", c.hertz_coefficient, R::cache);
     field("contacts/incidence_start", c.incidence_start, R::cache);
     field("contacts/incidence", c.incidence, R::cache);
-    field("contacts/share_of_first", c.share_of_first, R::cache);
-    field("contacts/share_of_second", c.share_of_second, R::cache);
     field("contacts/force_n", c.force_n, R::output);
     field("contacts/normal_force_n", c.normal_force_n, R::output);
-    field("contacts/shares", c.shares, R::output);
+    field("contacts/normal_x_tangential_n", c.normal_x_tangential_n, R::output);
+    field("contacts/overlap_m", c.overlap_m, R::output);
     field("position_at_build_m", w.position_at_build_m, R::cache);
     field("neighbours_dirty", w.neighbours_dirty, R::cache);
     field("neighbour_builds", w.neighbour_builds, R::cache);

@@ -217,15 +217,8 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
             a.sliding += b.sliding;
             return a;
         });
-    s.contacts = pairs.touching;
+    s.contacts = pairs.touching; // body pairs and body–wall contacts
     s.sliding_contacts = pairs.sliding;
-    for (const Wall& wall : w.walls) {
-        s.contacts += wall.contacts;
-        // A wall's memory is reset to sticking when its body is not touching.
-        for (const auto& memory : wall.tangential)
-            for (const TangentialState& t : memory)
-                if (!t.sticking) ++s.sliding_contacts;
-    }
 
     const std::vector<double>& strain = w.wire.segment_strain;
     if (!strain.empty()) {
@@ -255,23 +248,19 @@ TriaxialSnapshot take_triaxial_snapshot(const World& w)
 
     ForceNetwork& f = snap.forces;
     const ContactList& c = w.contacts;
-    for (std::size_t p = 0; p < c.size(); ++p) {
+    for (std::size_t p = 0; p < c.pair_count(); ++p) {
         if (!c.touching[p]) continue;
         f.first.push_back(c.first[p]);
         f.second.push_back(c.second[p]);
         f.force_n.push_back(c.force_n[p]);
         f.normal_force_n.push_back(c.normal_force_n[p]);
     }
-    for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
-        for (int k = 0; k < body_kind_count; ++k) {
-            const auto& force = w.walls[wi].force_on_body_n[k];
-            for (std::size_t i = 0; i < force.size(); ++i) {
-                if (force[i].isZero(0.0)) continue;
-                f.wall.push_back(static_cast<std::uint32_t>(wi));
-                f.wall_body.emplace_back(static_cast<BodyKind>(k), static_cast<std::uint32_t>(i));
-                f.wall_force_n.push_back(force[i]);
-            }
-        }
+    for (std::size_t p = c.pair_count(); p < c.size(); ++p) { // by wall, then body
+        if (c.force_n[p].isZero(0.0)) continue;
+        f.wall.push_back(c.second[p].index());
+        f.wall_body.push_back(c.first[p]);
+        f.wall_force_n.push_back(c.force_n[p]);
+    }
     return snap;
 }
 

@@ -58,7 +58,7 @@ TEST(SlidingSphere, StopsAndSticksEvenWhenOneFrictionStepOvershootsTheStickWindo
         const Vec3 v = w.bodies[0].x[1][0] / dt, omega = w.grain_rotation.w[1][0] / dt;
         const Vec3 slip = v + omega.cross(Vec3(0, 0, -radius_m)); // contact point, floor at rest
         max_slip_m_per_s = std::max(max_slip_m_per_s, std::hypot(slip.x(), slip.y()));
-        sliding_steps += !w.walls[0].tangential[0][0].sticking;
+        sliding_steps += !w.contacts.tangential[w.contacts.find({BodyKind::grain, 0}, wall_ref(0)).value()].sticking;
     }
     EXPECT_EQ(sliding_steps, 0);
     // It stuck with a slip speed below Δv (the speed turned back within one

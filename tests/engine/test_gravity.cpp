@@ -92,7 +92,8 @@ TEST(SphereOnIncline, SticksWhileTanThetaBelowFriction)
     // The static spring holds m g sinθ at δ = tanθ / k_t; suddenly loaded it
     // oscillates up to twice that, and never slips.
     EXPECT_LE(max_shift, 2.0 * std::tan(theta) / k_t * 1.01);
-    EXPECT_TRUE(r.sim.world.walls[0].tangential[0][0].sticking);
+    const ContactList& c = r.sim.world.contacts;
+    EXPECT_TRUE(c.tangential[c.find({BodyKind::grain, 0}, wall_ref(0)).value()].sticking);
 }
 
 TEST(SphereOnIncline, SlidesWithCoulombAccelerationWhenTanThetaAboveFriction)

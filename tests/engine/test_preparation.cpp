@@ -47,16 +47,14 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
         EXPECT_LT(std::hypot(x.x(), x.y()), inner_m) << "grain " << i << " inside the membrane's wall";
     }
     // The top plate rests on the grains (not on wire standing out of the pile).
-    const auto& on_grains = top_plate.touching[static_cast<int>(BodyKind::grain)];
-    EXPECT_TRUE(std::any_of(on_grains.begin(), on_grains.end(), [](std::uint8_t t) { return t != 0; }))
-        << "the top plate touches no grain";
+    EXPECT_TRUE(w.contacts.wall_touches(r.top_plate_wall, BodyKind::grain)) << "the top plate touches no grain";
     // At rest, no contact overlaps by more than 10 % of the grain radius. The
     // static overlaps are far smaller: the column's weight (masses × 100,
     // weights alike while preparing) on the bottom layer gives
     // (3 F/(4 E* √R*))^{2/3} ≈ 3 µm ≈ 0.3 % r_p; a wire node pressed by the
     // bent wire with ~3 N, ~30 µm.
     const ContactList& c = w.contacts;
-    for (std::size_t p = 0; p < c.size(); ++p) {
+    for (std::size_t p = 0; p < c.pair_count(); ++p) {
         if (!c.touching[p]) continue;
         const TranslationalState &A = w.of(c.first[p].kind()), &B = w.of(c.second[p].kind());
         const std::uint32_t a = c.first[p].index(), b = c.second[p].index();

@@ -60,7 +60,7 @@ TEST(Settling, APileOfThreeHundredGrainsSettlesAtTheAutoTimeStep)
     // Coulomb bound; a chattering pile had ~90 % of them sliding (measured
     // with the fix: 0–5 %).
     std::size_t touching = 0, sliding = 0;
-    for (std::size_t p = 0; p < w.contacts.size(); ++p) {
+    for (std::size_t p = 0; p < w.contacts.pair_count(); ++p) {
         if (!w.contacts.touching[p]) continue;
         ++touching;
         sliding += !w.contacts.tangential[p].sticking;
