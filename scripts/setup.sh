@@ -9,6 +9,7 @@ packages=(
   libboost1.81-dev libboost-json1.81-dev libboost-url1.81-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libspdlog-dev libfmt-dev libsqlite3-dev
+  sqlite3                                         # the server tests forge a damaged store with it
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
 )
 

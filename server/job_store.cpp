@@ -201,6 +201,12 @@ JobStore::JobStore(const std::filesystem::path& db_file)
         std::string verdict;
         while (check.step()) verdict += (verdict.empty() ? "" : "; ") + check.text(0);
         if (verdict != "ok") throw std::runtime_error("damaged (" + verdict + ")");
+        // Every id names a folder under DATA_DIR/jobs: one that is not 24 hex
+        // digits (written by anything but this server) could point outside it.
+        Statement ids(db_, "SELECT id FROM jobs");
+        while (ids.step())
+            if (const std::string id = ids.text(0); !is_valid_job_id(id))
+                throw std::runtime_error("damaged (a job id '" + id.substr(0, 64) + "' is not 24 hex digits)");
     } catch (const std::exception& e) {
         sqlite3_close(db_);
         throw std::runtime_error("the job store " + db_file.string() + " cannot be used: " + e.what()

@@ -134,6 +134,25 @@ TEST(Durability, ADamagedStoreStopsTheServerWithExitCode3AndAMessage)
     EXPECT_NE(log.find("jobs.sqlite3"), std::string::npos) << log;
 }
 
+TEST(Durability, AStoreWithAForgedJobIdIsRefused)
+{
+    // Ids name folders under DATA_DIR/jobs; one written into the database by
+    // anything but the server (here: sqlite3 by hand) could lead outside it.
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    {
+        ServerProcess server(data);
+        ASSERT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 201);
+        ASSERT_EQ(server.terminate(), 0);
+    }
+    const std::string forge = "sqlite3 '" + (data / "jobs.sqlite3").string()
+                            + "' \"UPDATE jobs SET id = '../../x'\"";
+    ASSERT_EQ(std::system(forge.c_str()), 0) << "needs the sqlite3 command";
+    std::string log;
+    EXPECT_EQ(exit_code_on(data, log), 3) << log;
+    EXPECT_NE(log.find("'../../x' is not 24 hex digits"), std::string::npos) << log;
+}
+
 TEST(Durability, AnEmptyStoreBesideJobFoldersIsRefused)
 {
     // A 0-byte jobs.sqlite3 (or none) while job folders remain: starting an
