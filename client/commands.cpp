@@ -85,12 +85,12 @@ void check_reply(const HttpReply& r, const std::string& what)
                     const auto& o = item.get_object();
                     auto* f = o.if_contains("field");
                     auto* m = o.if_contains("message");
-                    details += "\n  " + (f && f->is_string() ? std::string(f->get_string()) + ": " : std::string())
-                        + (m && m->is_string() ? std::string(m->get_string()) : std::string());
+                    details += "\n  " + printable((f && f->is_string() ? std::string(f->get_string()) + ": " : std::string())
+                        + (m && m->is_string() ? std::string(m->get_string()) : std::string()));
                 }
     }
     if (message.empty()) message = "HTTP " + std::to_string(r.status);
-    std::string line = what + ": " + message + " (HTTP " + std::to_string(r.status) + ")";
+    std::string line = what + ": " + printable(message) + " (HTTP " + std::to_string(r.status) + ")";
     if (r.status == 429 && !r.header("retry-after").empty()) line += "; retry after " + r.header("retry-after") + " s";
     int exit = exit_code::server_refused;
     if (r.status == 400 && (code == "invalid_job" || code == "invalid_json")) exit = exit_code::invalid_job;
@@ -185,7 +185,7 @@ int wait_for(HttpClient& client, const GlobalOptions& g, const std::string& id, 
             if (g.json) print_json(job);
             else if (state == "succeeded") std::cout << "job " << id << " succeeded" << std::endl;
             else if (state == "cancelled") std::cerr << "wiredem: job " << id << " was cancelled" << std::endl;
-            else std::cerr << "wiredem: job " << id << " failed: " << str(job, "error") << std::endl;
+            else std::cerr << "wiredem: job " << id << " failed: " << printable(str(job, "error")) << std::endl;
             return exit_for_state(state);
         }
         if (w.timeout_s && std::chrono::duration<double>(clock_type::now() - started).count() > *w.timeout_s) {

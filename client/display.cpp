@@ -5,6 +5,7 @@
 #include <boost/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -40,7 +41,7 @@ std::optional<double> number(const json::value* v)
 std::string text(const json::value* v, std::string fallback = "-")
 {
     if (!v || !v->is_string() || v->get_string().empty()) return fallback;
-    return std::string(v->get_string());
+    return printable(v->get_string());
 }
 
 /// printf into a std::string; "-" when the value is missing.
@@ -73,6 +74,55 @@ std::string eta(const json::value& job)
 }
 
 } // namespace
+
+std::string printable(std::string_view text)
+{
+    std::string out;
+    out.reserve(text.size());
+    char buf[16];
+    for (std::size_t i = 0; i < text.size();) {
+        const auto b = static_cast<unsigned char>(text[i]);
+        if (b < 0x20 || b == 0x7f) { // C0 controls (tab included: it moves the cursor) and DEL
+            std::snprintf(buf, sizeof buf, "\\x%02x", b);
+            out += buf;
+            ++i;
+            continue;
+        }
+        if (b < 0x80) {
+            out += static_cast<char>(b);
+            ++i;
+            continue;
+        }
+        // A UTF-8 sequence: its length from the lead byte, every continuation 10xxxxxx.
+        const std::size_t n = (b & 0xe0) == 0xc0 ? 2 : (b & 0xf0) == 0xe0 ? 3 : (b & 0xf8) == 0xf0 ? 4 : 0;
+        bool valid = n > 0 && i + n <= text.size();
+        std::uint32_t cp = n == 2 ? b & 0x1fu : n == 3 ? b & 0x0fu : b & 0x07u;
+        for (std::size_t k = 1; valid && k < n; ++k) {
+            const auto c = static_cast<unsigned char>(text[i + k]);
+            valid = (c & 0xc0) == 0x80;
+            cp = (cp << 6) | (c & 0x3fu);
+        }
+        // Overlong forms and surrogates are not UTF-8 either.
+        valid = valid && !(n == 2 && cp < 0x80) && !(n == 3 && cp < 0x800) && !(n == 4 && (cp < 0x10000 || cp > 0x10ffff))
+             && !(cp >= 0xd800 && cp <= 0xdfff);
+        if (!valid) {
+            std::snprintf(buf, sizeof buf, "\\x%02x", b);
+            out += buf;
+            ++i;
+            continue;
+        }
+        const bool control = (cp >= 0x80 && cp <= 0x9f) || cp == 0x200e || cp == 0x200f || cp == 0x2028 || cp == 0x2029
+                          || (cp >= 0x202a && cp <= 0x202e) || (cp >= 0x2066 && cp <= 0x2069);
+        if (control) {
+            std::snprintf(buf, sizeof buf, "\\u{%04x}", static_cast<unsigned>(cp));
+            out += buf;
+        } else {
+            out.append(text.substr(i, n));
+        }
+        i += n;
+    }
+    return out;
+}
 
 std::string format_duration(double seconds)
 {
@@ -147,7 +197,7 @@ std::string format_summary(const json::value& summary)
 
     if (const auto* w = at(summary, {"warnings"}); w && w->is_array() && !w->get_array().empty()) {
         out << "\nWarnings\n";
-        for (const auto& item : w->get_array()) out << "  - " << (item.is_string() ? std::string(item.get_string()) : json::serialize(item)) << '\n';
+        for (const auto& item : w->get_array()) out << "  - " << printable(item.is_string() ? std::string(item.get_string()) : json::serialize(item)) << '\n';
     }
     return out.str();
 }

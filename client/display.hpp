@@ -7,6 +7,7 @@
 #include <boost/json/value.hpp>
 
 #include <string>
+#include <string_view>
 
 namespace wiredem::client {
 
@@ -27,6 +28,14 @@ namespace wiredem::client {
 
 /// One plain line for logs: `running  testing  45%  eta 1m20s  step 3 of 8`.
 [[nodiscard]] std::string format_progress_line(const boost::json::value& job);
+
+/// `text` safe to print on a terminal: C0 and C1 control characters, DEL,
+/// the line and paragraph separators U+2028/2029 and the bidirectional
+/// controls (U+200E/200F, U+202A–202E, U+2066–2069) become visible escapes
+/// (\x1b, \u{202e}), and bytes that are not UTF-8 become \xNN; everything
+/// else is kept. Job names and runner messages come from other people: a name
+/// must not move the cursor, clear the screen or reverse the text after it.
+[[nodiscard]] std::string printable(std::string_view text);
 
 /// 0 s → "0s", 80 → "1m20s", 4000 → "1h06m".
 [[nodiscard]] std::string format_duration(double seconds);

@@ -23,6 +23,28 @@ TEST(ClientDisplay, ProgressBarShowsFractionStageAndEta)
     EXPECT_EQ(q.find("eta"), std::string::npos) << q;
 }
 
+TEST(ClientDisplay, NamesAndMessagesCannotDriveTheTerminal)
+{
+    // Escape sequences, C1 controls, line separators and bidi overrides in a
+    // job's name or a runner's message print as visible escapes; ordinary
+    // UTF-8 (σ₃, accents) is kept; bytes that are not UTF-8 become \xNN.
+    EXPECT_EQ(printable("ok \x1b[2J\x07 bell"), "ok \\x1b[2J\\x07 bell");
+    EXPECT_EQ(printable("line\nbreak\ttab"), "line\\x0abreak\\x09tab");
+    EXPECT_EQ(printable("c1 \xc2\x9b csi"), "c1 \\u{009b} csi");
+    EXPECT_EQ(printable("ls \xe2\x80\xa8 ps \xe2\x80\xa9"), "ls \\u{2028} ps \\u{2029}");
+    EXPECT_EQ(printable("abc\xe2\x80\xae" "dcba \xe2\x81\xa6" "x\xe2\x81\xa9"), "abc\\u{202e}dcba \\u{2066}x\\u{2069}");
+    EXPECT_EQ(printable("σ₃ = 20 kPa, café"), "σ₃ = 20 kPa, café");
+    EXPECT_EQ(printable("bad \xff\xc3 end \xc0\xaf"), "bad \\xff\\xc3 end \\xc0\\xaf");
+    // Through the displays: a job list line and a summary's warning.
+    const json::value page = json::parse(R"({"jobs": [{"id": "0123456789abcdef01234567", "state": "queued",
+        "name": "<img src=x>\u001b]0;owned\u0007\u202e"}]})");
+    const std::string list = format_job_list(page);
+    EXPECT_EQ(list.find('\x1b'), std::string::npos) << list;
+    EXPECT_NE(list.find("\\x1b]0;owned\\x07\\u{202e}"), std::string::npos) << list;
+    const std::string table = format_summary(json::parse(R"({"warnings": ["x\u001b[31m"]})"));
+    EXPECT_NE(table.find("x\\x1b[31m"), std::string::npos) << table;
+}
+
 TEST(ClientDisplay, DurationsReadLikeAClock)
 {
     EXPECT_EQ(format_duration(0), "0s");
