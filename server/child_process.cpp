@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/syscall.h>
@@ -36,6 +37,12 @@ void write_all(int fd, const char* s)
 /// Child side of fork(); never returns.
 [[noreturn]] void exec_child(char* const* argv, const char* cwd, int out_w, int err_w, pid_t parent)
 {
+    // Signals are blocked (see spawn): drop the server's handlers before they
+    // can run here. Asio's handler writes to a pipe this process inherited, so
+    // a SIGTERM for the new runner, delivered before exec, reached the server
+    // as a second SIGTERM (it then exits 1 at once).
+    for (int sig = 1; sig < NSIG; ++sig)
+        if (sig != SIGKILL && sig != SIGSTOP) ::signal(sig, SIG_DFL);
     ::setpgid(0, 0);
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(143);  // the server died before prctl took effect
@@ -83,14 +90,20 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::file
         throw_errno("pipe");
     }
     const pid_t parent = ::getpid();
+    // Every signal blocked across fork: the child resets the server's handlers
+    // before it takes any (exec_child unblocks them).
+    sigset_t all, previous;
+    ::sigfillset(&all);
+    ::pthread_sigmask(SIG_BLOCK, &all, &previous);
     const pid_t pid = ::fork();
+    if (pid == 0) exec_child(cargv.data(), cwd_str.c_str(), out[1], err[1], parent);
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     if (pid < 0) {
         const int e = errno;
         for (int fd : {out[0], out[1], err[0], err[1]}) ::close(fd);
         errno = e;
         throw_errno("fork");
     }
-    if (pid == 0) exec_child(cargv.data(), cwd_str.c_str(), out[1], err[1], parent);
     ::setpgid(pid, pid);  // also in the parent: no window in which signal() misses the group
     ::close(out[1]);
     ::close(err[1]);

@@ -22,6 +22,8 @@ struct ServerConfig {
     unsigned concurrent_jobs = 1;              ///< jobs run at the same time
     unsigned threads_per_job = 1;              ///< engine threads of each job
     unsigned io_threads = 2;                   ///< threads serving HTTP
+    unsigned submit_threads = 1;               ///< threads validating submitted specs (off the I/O threads)
+    std::size_t max_pending_submits = 64;      ///< submits waiting for those; more get 503
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
     std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
     /// Estimated time steps of a job, preparation and tests (api::estimated_work):

@@ -139,6 +139,10 @@ int main(int argc, char** argv)
     app.add_option("--threads-per-job", threads_per_job, "engine threads per job (default: cores / jobs)")
         ->check(CLI::Range(1u, 1024u));
     app.add_option("--io-threads", cfg.io_threads, "threads serving HTTP")->capture_default_str()->check(CLI::Range(1u, 64u));
+    app.add_option("--submit-threads", cfg.submit_threads, "threads validating submitted jobs, off the HTTP threads")
+        ->capture_default_str()->check(CLI::Range(1u, 64u));
+    app.add_option("--max-pending-submits", cfg.max_pending_submits, "submits waiting for validation; more get 503")
+        ->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
@@ -246,6 +250,7 @@ int main(int argc, char** argv)
         if (!ec) std::_Exit(1);
     });
     listener->stop();
+    router.stop(); // its submit threads post replies to the I/O threads: stop them first
     queue.stop();
     const auto drain_until = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     while (metrics.connections_open.load() > 0 && std::chrono::steady_clock::now() < drain_until)

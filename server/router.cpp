@@ -11,6 +11,7 @@
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
 
+#include <boost/asio/post.hpp>
 #include <boost/url/parse.hpp>
 #include <boost/url/url_view.hpp>
 #include <spdlog/spdlog.h>
@@ -71,6 +72,36 @@ void strip_body(Response& res)
 }
 
 } // namespace
+
+Router::Router(Services& services) : svc_(services), submit_pool_(services.config.submit_threads) {}
+
+Router::~Router() { stop(); }
+
+void Router::stop() noexcept
+{
+    submit_pool_.stop();
+    submit_pool_.join();
+}
+
+bool Router::is_heavy(const Request& req) noexcept { return req.method() == http::verb::post; }
+
+void Router::dispatch_later(std::shared_ptr<const Request> req, std::function<void(std::shared_ptr<Response>)> done) noexcept
+{
+    if (pending_.fetch_add(1) >= svc_.config.max_pending_submits) {
+        pending_.fetch_sub(1);
+        auto res = error_response(*req, http::status::service_unavailable, "busy",
+            "too many submits are being validated; try again shortly");
+        res.set(http::field::retry_after, "1");
+        svc_.metrics.responses_by_class[5].fetch_add(1, std::memory_order_relaxed);
+        done(std::make_shared<Response>(std::move(res)));
+        return;
+    }
+    boost::asio::post(submit_pool_, [this, req = std::move(req), done = std::move(done)] {
+        auto res = std::make_shared<Response>(dispatch(*req));
+        pending_.fetch_sub(1);
+        done(std::move(res));
+    });
+}
 
 Response Router::dispatch(const Request& req) noexcept
 {

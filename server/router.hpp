@@ -4,24 +4,53 @@
 // crosses the async boundary: every exception becomes a 500.
 //
 // Thread-safe: dispatch() is called concurrently from every I/O thread.
+//
+// Submits (POST) validate a job spec, which can take a quarter of a second of
+// CPU (the restitution-to-damping fit integrates collisions): they run on the
+// router's own submit threads, at most --max-pending-submits waiting, so that
+// a flood of submits never holds up the I/O threads that answer status
+// requests.
 #pragma once
 
 #include "http.hpp"
 #include "services.hpp"
 
+#include <boost/asio/thread_pool.hpp>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+
 namespace wiredem::server {
 
-/// Dispatches requests to the handlers; holds nothing but the services.
+/// Dispatches requests to the handlers; holds the services and the submit threads.
 class Router {
 public:
-    explicit Router(Services& services) : svc_(services) {}
+    explicit Router(Services& services);
+    ~Router();
+    Router(const Router&) = delete;
+    Router& operator=(const Router&) = delete;
 
     /// The reply to `req`. Never throws; counts the reply in the metrics.
     [[nodiscard]] Response dispatch(const Request& req) noexcept;
 
+    /// Whether `req` is answered off the I/O threads (dispatch_later).
+    [[nodiscard]] static bool is_heavy(const Request& req) noexcept;
+
+    /// Answers `req` on a submit thread and calls `done` there with the reply;
+    /// when --max-pending-submits are already waiting, calls `done` at once
+    /// with a 503 (Retry-After). Never throws.
+    void dispatch_later(std::shared_ptr<const Request> req, std::function<void(std::shared_ptr<Response>)> done) noexcept;
+
+    /// Stops the submit threads (waiting ones are dropped, running ones
+    /// finish); call before the I/O threads stop.
+    void stop() noexcept;
+
 private:
     Response route(const Request& req);
     Services& svc_;
+    boost::asio::thread_pool submit_pool_;
+    std::atomic<std::size_t> pending_{0};
 };
 
 } // namespace wiredem::server

@@ -5,6 +5,7 @@
 #include "session.hpp"
 
 #include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/beast/core/bind_handler.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/core/tcp_stream.hpp>
@@ -97,6 +98,18 @@ private:
         if (ec) return log_failure(ec, "read");
 
         const auto t0 = std::chrono::steady_clock::now();
+        if (Router::is_heavy(parser_->get())) {
+            // Validated on a submit thread; the reply comes back to this
+            // session's strand. No read is pending meanwhile.
+            auto req = std::make_shared<const Request>(parser_->release());
+            router_.dispatch_later(req, [self = shared_from_this(), req, t0](std::shared_ptr<Response> res) {
+                asio::post(self->stream_.get_executor(), [self, req, t0, res = std::move(res)] {
+                    self->log_access(*req, status_of(*res), std::chrono::steady_clock::now() - t0);
+                    self->send(std::move(*res));
+                });
+            });
+            return;
+        }
         Request req = parser_->release();
         Response res = router_.dispatch(req);
         log_access(req, status_of(res), std::chrono::steady_clock::now() - t0);
