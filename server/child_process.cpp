@@ -128,6 +128,28 @@ void ChildProcess::signal(int sig) noexcept
     if (const pid_t pid = pid_.load(); pid > 0) ::kill(-pid, sig);
 }
 
+namespace {
+
+/// Once the runner has ended: kills what is left of its process group (a
+/// child it left running would otherwise outlive the job and hold the pipes),
+/// then reaps it. Until it is reaped the runner's pid, which names the group,
+/// cannot be taken by another process, so the kill reaches no stranger.
+/// Returns false when `block` is false and the runner is still running.
+bool reap_with_group(pid_t pid, int& status, bool block)
+{
+    siginfo_t info{};
+    const int options = WEXITED | WNOWAIT | (block ? 0 : WNOHANG);
+    while (::waitid(P_PID, static_cast<id_t>(pid), &info, options) != 0)
+        if (errno != EINTR) return false;
+    if (info.si_pid != pid) return false; // WNOHANG: still running
+    ::kill(-pid, SIGKILL);
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return true;
+}
+
+} // namespace
+
 int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_stdout_line,
     const std::function<void()>& on_tick, std::chrono::milliseconds tick)
 {
@@ -176,8 +198,7 @@ int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_
             on_tick();
             next_tick = clock::now() + tick;
             if (!reaped) {
-                const pid_t pid = pid_.load();
-                if (::waitpid(pid, &status, WNOHANG) == pid) {
+                if (reap_with_group(pid_.load(), status, false)) {
                     reaped = true;
                     reaped_at = clock::now();
                     pid_ = -1;
@@ -189,9 +210,7 @@ int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_
     }
     if (!line.empty()) on_stdout_line(line);
     if (!reaped) {
-        const pid_t pid = pid_.load();
-        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
+        reap_with_group(pid_.load(), status, true);
         pid_ = -1;
     }
     if (stderr_tail_.size() > stderr_tail_bytes) stderr_tail_.erase(0, stderr_tail_.size() - stderr_tail_bytes);

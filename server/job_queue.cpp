@@ -329,10 +329,26 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         fs::remove_all(work, ec);
         return;
     }
+    // SIGKILL that the server did not send is what the kernel's OOM killer
+    // sends: tried once more (the attempt counts, like a crash's), then failed
+    // with that said.
+    const bool killed = WIFSIGNALED(wait_status) && WTERMSIG(wait_status) == SIGKILL;
+    if (killed && job.attempts < config_.attempts_after_sigkill) {
+        spdlog::warn("job {}: runner killed by SIGKILL (likely out of memory), attempt {}; trying again", job.id,
+            job.attempts);
+        store_.retry(job.id);
+        fs::remove_all(work, ec);
+        notify();
+        return;
+    }
     if (!exited_ok) {
         std::string reason = last_line(stderr_tail);
         const std::string how = describe_wait_status(wait_status);
-        if (reason.empty()) reason = "runner " + how;
+        if (killed)
+            reason = "runner killed by SIGKILL in each of " + std::to_string(job.attempts)
+                   + " attempts, likely out of memory (the kernel's OOM killer sends SIGKILL): run it with fewer "
+                     "bodies, or on a machine with more memory";
+        else if (reason.empty()) reason = "runner " + how;
         else if (WIFSIGNALED(wait_status)) reason = "runner " + how + ": " + reason;
         spdlog::warn("job {}: failed, runner {}: {}", job.id, how, reason);
         std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;

@@ -39,6 +39,9 @@ struct QueueConfig {
     unsigned concurrent_jobs = 1;          ///< worker threads, ≥ 1
     unsigned threads_per_job = 1;          ///< passed to the runner as --threads
     int max_attempts = 5;                  ///< attempts interrupted by crashes before giving up
+    /// Attempts a job gets when its runner is killed by a SIGKILL the server
+    /// did not send (likely the OOM killer): one retry.
+    int attempts_after_sigkill = 2;
     std::chrono::milliseconds kill_grace{3000};  ///< SIGTERM → SIGKILL delay
 };
 

@@ -337,6 +337,16 @@ bool JobStore::requeue(const std::string& id)
     return sqlite3_changes(db_) > 0;
 }
 
+bool JobStore::retry(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_,
+        "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = ''"
+        " WHERE id = ? AND state IN ('preparing', 'running')");
+    s.bind(1, id).run();
+    return sqlite3_changes(db_) > 0;
+}
+
 std::vector<std::string> JobStore::requeue_interrupted()
 {
     std::lock_guard lock(mutex_);

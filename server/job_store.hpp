@@ -84,6 +84,10 @@ public:
     /// interrupted attempt is not counted. Returns false if it was not active.
     bool requeue(const std::string& id);
 
+    /// Puts an active job back into the queue to be tried again; unlike
+    /// requeue, the attempt counts. Returns false if it was not active.
+    bool retry(const std::string& id);
+
     /// At start-up: every job left preparing/running by a crash goes back to
     /// queued. Returns their ids.
     std::vector<std::string> requeue_interrupted();

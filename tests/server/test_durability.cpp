@@ -172,6 +172,60 @@ TEST(Durability, AnEmptyStoreBesideJobFoldersIsRefused)
     EXPECT_NO_THROW(ServerProcess server(data));
 }
 
+/// The pid of the process whose command line holds `needle` and names the
+/// fake runner (the runner of one job), or 0.
+pid_t runner_pid_with_arg(const std::string& needle)
+{
+    for (const auto& entry : fs::directory_iterator("/proc")) {
+        const auto name = entry.path().filename().string();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        const std::string cmdline = read_file(entry.path() / "cmdline");
+        if (cmdline.find(needle) != std::string::npos && cmdline.find("fake_runner.sh") != std::string::npos)
+            return static_cast<pid_t>(std::stoi(name));
+    }
+    return 0;
+}
+
+TEST(Durability, ARunnerKilledBySigkillIsTriedOnceMoreThenFailsSayingWhy)
+{
+    // What the kernel's OOM killer does: SIGKILL to the runner. The job goes
+    // back to the queue once (the attempt counts) and succeeds; killed in
+    // both attempts, it fails and says it was likely out of memory.
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data", {"--jobs", "1"}, 0.3);
+    auto kill_runner = [&](const std::string& id) {
+        poll_job(server.port(), id, is_running);
+        pid_t pid = 0;
+        for (int i = 0; i < 200 && pid == 0; ++i) {
+            pid = runner_pid_with_arg(id);
+            if (pid == 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        ASSERT_GT(pid, 0) << "no runner for job " << id;
+        ASSERT_EQ(::kill(pid, SIGKILL), 0);
+    };
+    const auto once = http(server.port(), "POST", "/v1/jobs", R"({"name": "killed once"})");
+    ASSERT_EQ(once.status, 201);
+    const std::string id1(once.json().at("id").as_string());
+    kill_runner(id1);
+    const json::value done = poll_job(server.port(), id1, is_final, std::chrono::milliseconds(30000));
+    EXPECT_EQ(state_of(done), "succeeded") << json::serialize(done);
+    EXPECT_EQ(done.at("attempts").to_number<int>(), 2);
+
+    const auto twice = http(server.port(), "POST", "/v1/jobs", R"({"name": "killed twice"})");
+    ASSERT_EQ(twice.status, 201);
+    const std::string id2(twice.json().at("id").as_string());
+    kill_runner(id2);
+    // The second attempt: wait until it has started (attempts 2), then kill it.
+    poll_job(server.port(), id2, [](const json::value& j) { return j.at("attempts").to_number<int>() == 2; },
+        std::chrono::milliseconds(20000));
+    kill_runner(id2);
+    const json::value failed = poll_job(server.port(), id2, is_final, std::chrono::milliseconds(30000));
+    EXPECT_EQ(state_of(failed), "failed") << json::serialize(failed);
+    const std::string error(failed.at("error").as_string());
+    EXPECT_NE(error.find("likely out of memory"), std::string::npos) << error;
+    EXPECT_FALSE(process_with_arg_exists(id2)) << "a process of the killed job is still there";
+}
+
 TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
 {
     TempDir tmp;
