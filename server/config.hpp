@@ -30,6 +30,9 @@ struct ServerConfig {
     /// 2·10⁷ is ~10 times a paper-size campaign's.
     double max_steps_per_job = 2e7;
     double max_samples_per_test = 1e6;         ///< estimated rows of one test's time series
+    /// Wall-clock limit of one attempt of a job (0: none): 48 h, ~20 paper-size
+    /// campaigns on 2 cores.
+    std::chrono::seconds max_job_duration{48 * 3600};
     std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
     std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
     std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this

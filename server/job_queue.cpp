@@ -251,24 +251,34 @@ void JobQueue::run_job(const JobRecord& job)
     }
 
     auto last_persist = clock_type::now();
+    const auto started = clock_type::now();
     const int status = child->run_to_exit(
         [&](const std::string& line) { on_progress_line(job.id, line, last_persist); },
         [&] {
             std::lock_guard lock(mutex_);
             Active& a = active_[job.id];
-            if (a.signalled && clock_type::now() - a.signalled_at > config_.kill_grace) child->signal(SIGKILL);
+            const auto now = clock_type::now();
+            if (!a.signalled && config_.max_job_duration.count() > 0 && now - started > config_.max_job_duration) {
+                a.timed_out = true;
+                a.signalled = true;
+                a.signalled_at = now;
+                child->signal(SIGTERM);
+            }
+            if (a.signalled && now - a.signalled_at > config_.kill_grace) child->signal(SIGKILL);
         },
         tick);
 
     bool cancelled = false;
     bool stopping = false;
+    bool timed_out = false;
     {
         std::lock_guard lock(mutex_);
         cancelled = active_[job.id].cancel_requested;
+        timed_out = active_[job.id].timed_out;
         stopping = stopping_;
         active_.erase(job.id);
     }
-    finish_attempt(job, status, child->stderr_tail(), cancelled, stopping);
+    finish_attempt(job, status, child->stderr_tail(), cancelled, stopping, timed_out);
 }
 
 void JobQueue::on_progress_line(const std::string& id, const std::string& line, clock_type::time_point& last_persist)
@@ -310,7 +320,7 @@ void JobQueue::on_progress_line(const std::string& id, const std::string& line, 
 }
 
 void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::string& stderr_tail,
-    bool cancelled, bool stopping)
+    bool cancelled, bool stopping, bool timed_out)
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const fs::path work = job_dir / "work";
@@ -326,6 +336,15 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
     if (stopping && !exited_ok) {
         store_.requeue(job.id);
         spdlog::info("job {}: stopped by shutdown, queued again", job.id);
+        fs::remove_all(work, ec);
+        return;
+    }
+    if (timed_out) {
+        const std::string reason = "stopped after running longer than this server's limit of "
+                                 + std::to_string(config_.max_job_duration.count()) + " s (--max-job-seconds)";
+        spdlog::warn("job {}: {}", job.id, reason);
+        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        store_.finish(job.id, JobState::failed, reason, std::nullopt);
         fs::remove_all(work, ec);
         return;
     }

@@ -43,6 +43,9 @@ struct QueueConfig {
     /// did not send (likely the OOM killer): one retry.
     int attempts_after_sigkill = 2;
     std::chrono::milliseconds kill_grace{3000};  ///< SIGTERM → SIGKILL delay
+    /// An attempt running longer than this is stopped (SIGTERM, then SIGKILL)
+    /// and its job fails saying so; 0: no limit.
+    std::chrono::seconds max_job_duration{0};
 };
 
 /// The freshest progress of a running job (kept in memory; the store gets a
@@ -98,6 +101,7 @@ private:
         bool cancel_requested = false;
         std::chrono::steady_clock::time_point signalled_at{};
         bool signalled = false;
+        bool timed_out = false;   ///< stopped for running past max_job_duration
     };
 
     void worker_loop(unsigned index);
@@ -105,7 +109,7 @@ private:
     void on_progress_line(const std::string& id, const std::string& line,
         std::chrono::steady_clock::time_point& last_persist);
     void finish_attempt(const JobRecord& job, int wait_status, const std::string& stderr_tail,
-        bool cancelled, bool stopping);
+        bool cancelled, bool stopping, bool timed_out);
 
     JobStore& store_;
     QueueConfig config_;

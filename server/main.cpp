@@ -147,6 +147,9 @@ int main(int argc, char** argv)
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
         ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+    std::uint64_t max_job_seconds = static_cast<std::uint64_t>(cfg.max_job_duration.count());
+    app.add_option("--max-job-seconds", max_job_seconds, "wall-clock seconds one attempt of a job may run (0: no limit)")
+        ->capture_default_str()->check(CLI::Range(std::uint64_t{0}, std::uint64_t{10'000'000'000}));
     app.add_option("--max-samples-per-test", cfg.max_samples_per_test, "estimated rows of a test's time series")
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
@@ -175,6 +178,7 @@ int main(int argc, char** argv)
         spdlog::error("--listen must be HOST:PORT, got '{}'", listen);
         return exit_usage;
     }
+    cfg.max_job_duration = std::chrono::seconds(max_job_seconds);
     cfg.read_timeout = std::chrono::seconds(read_timeout_s);
     cfg.write_timeout = std::chrono::seconds(write_timeout_s);
     cfg.retry_after = std::chrono::seconds(retry_after_s);
@@ -205,7 +209,11 @@ int main(int argc, char** argv)
     std::unique_ptr<JobQueue> queue_owner;
     try {
         queue_owner = std::make_unique<JobQueue>(
-            *store, QueueConfig{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job});
+            *store, [&] {
+                QueueConfig q{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job};
+                q.max_job_duration = cfg.max_job_duration;
+                return q;
+            }());
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return exit_setup;

@@ -226,6 +226,25 @@ TEST(Durability, ARunnerKilledBySigkillIsTriedOnceMoreThenFailsSayingWhy)
     EXPECT_FALSE(process_with_arg_exists(id2)) << "a process of the killed job is still there";
 }
 
+TEST(Durability, AJobRunningPastTheWallClockLimitIsStoppedAndFailsSayingWhy)
+{
+    // A job whose runner would take ~3 s, on a server that lets an attempt
+    // run 1 s: stopped (SIGTERM; the fake runner obeys), failed with the
+    // reason, not retried; the server goes on with the next job.
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data", {"--jobs", "1", "--max-job-seconds", "1"}, 0.3);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "too long"})");
+    ASSERT_EQ(r.status, 201);
+    const std::string id(r.json().at("id").as_string());
+    const json::value done = poll_job(server.port(), id, is_final, std::chrono::milliseconds(20000));
+    EXPECT_EQ(state_of(done), "failed") << json::serialize(done);
+    EXPECT_NE(std::string(done.at("error").as_string()).find("longer than this server's limit of 1 s"), std::string::npos)
+        << json::serialize(done);
+    EXPECT_EQ(done.at("attempts").to_number<int>(), 1);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(6));
+}
+
 TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
 {
     TempDir tmp;
