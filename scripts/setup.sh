@@ -11,7 +11,11 @@ packages=(
   libcli11-dev libspdlog-dev libfmt-dev libsqlite3-dev
   sqlite3                                         # the server tests forge a damaged store with it
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
+  python3-yaml                                    # scripts/lint-docker.sh checks compose.yaml
 )
+# scripts/lint-docker.sh runs dockerfilelint with npx: Debian's npm where no
+# npx is on the PATH (a machine may bring its own Node.js).
+command -v npx >/dev/null || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
