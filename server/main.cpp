@@ -158,7 +158,8 @@ int main(int argc, char** argv)
     app.add_option("--write-timeout", write_timeout_s, "seconds a client has to take each chunk of a reply")->capture_default_str()->check(CLI::Range(1u, 3600u));
     app.add_option("--max-connections", cfg.max_connections, "open connections")->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--retry-after", retry_after_s, "Retry-After seconds sent with 429")->capture_default_str()->check(CLI::Range(1u, 86400u));
-    app.add_option("--token-file", token_file, "file holding the bearer token every /v1 request must carry")->check(CLI::ExistingFile);
+    // Not checked by CLI11 (exit 2): an unreadable token file is a setup error (exit 3, read_token).
+    app.add_option("--token-file", token_file, "file holding the bearer token every /v1 request must carry");
     app.add_option("--port-file", cfg.port_file, "write the bound port here once listening (for --listen HOST:0)");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str()
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));

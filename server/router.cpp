@@ -123,8 +123,11 @@ Response Router::dispatch(const Request& req) noexcept
 Response Router::route(const Request& req)
 {
     auto parsed = boost::urls::parse_origin_form(req.target());
-    if (!parsed)
-        return error_response(req, http::status::bad_request, "bad_target", "the request target is not a valid path");
+    if (!parsed) { // as documented, a malformed request's connection is closed after the reply
+        auto res = error_response(req, http::status::bad_request, "bad_target", "the request target is not a valid path");
+        res.keep_alive(false);
+        return res;
+    }
     const boost::urls::url_view url = *parsed;
     std::vector<std::string> seg;
     for (auto s : url.segments()) seg.push_back(s);
@@ -155,6 +158,13 @@ Response Router::route(const Request& req)
         if (method == http::verb::head) strip_body(res);
         return res;
     };
+
+    // Only the job list takes query parameters; elsewhere one is a mistake
+    // the client should hear about, not one silently ignored.
+    if (!(is_v1 && seg.size() == 2 && seg[1] == "jobs") && !url.params().empty())
+        return error_response(req, http::status::bad_request, "bad_parameter",
+            "this route takes no query parameters, got '" + std::string(url.encoded_query()) + "'",
+            std::string((*url.params().begin()).key));
 
     if (seg.size() == 1 && seg[0] == "metrics") {
         if (!get) return method_not_allowed(req, "GET, HEAD");

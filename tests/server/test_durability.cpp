@@ -134,6 +134,17 @@ TEST(Durability, ADamagedStoreStopsTheServerWithExitCode3AndAMessage)
     EXPECT_NE(log.find("jobs.sqlite3"), std::string::npos) << log;
 }
 
+TEST(Durability, AMissingTokenFileIsASetupError)
+{
+    // Exit 3 (cannot set up), as documented, not 2 (bad command line).
+    TempDir tmp;
+    const std::string command = std::string("timeout 10 '") + WIREDEM_SERVER_BIN + "' --listen 127.0.0.1:0 --data-dir '"
+                              + (tmp.path() / "data").string() + "' --runner /bin/true --token-file '"
+                              + (tmp.path() / "no-such-token").string() + "' > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status;
+}
+
 TEST(Durability, AStoreWithAForgedJobIdIsRefused)
 {
     // Ids name folders under DATA_DIR/jobs; one written into the database by

@@ -228,6 +228,18 @@ TEST_F(HostileInput, UnknownRoutesAre404AndWrongMethods405)
     EXPECT_EQ(http(port(), "GET", "/v1/jobs?limit=0").status, 400);
     EXPECT_EQ(http(port(), "GET", "/v1/jobs?state=done").status, 400);
     EXPECT_EQ(http(port(), "GET", "/v1/jobs?limit=5&limit=6").status, 400);
+    // Other routes take no query parameters: refused, not ignored.
+    for (const char* target : {"/v1/jobs/0123456789abcdef01234567?verbose=1", "/v1/health?x", "/metrics?format=json"}) {
+        const auto r = http(port(), "GET", target);
+        EXPECT_EQ(r.status, 400) << target;
+        EXPECT_EQ(r.error_code(), "bad_parameter") << target;
+    }
+    // A malformed target is answered and the connection closed (the client
+    // keeps it open; the exchange ends long before its timeout).
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto bad = raw_exchange(port(), "GET /v1/%zz HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n", std::chrono::milliseconds(6000), false);
+    EXPECT_EQ(bad.error_code(), "bad_target");
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(3)) << "connection left open";
 }
 
 TEST_F(HostileInput, BadIdsAre400AndUnknownIds404)
