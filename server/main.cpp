@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -102,6 +103,21 @@ int lock_data_dir(const fs::path& dir)
         throw std::runtime_error("another wiredem-server uses " + dir.string());
     }
     return fd;
+}
+
+/// The address to bind: a literal address as it is, a name (localhost) as the
+/// resolver gives it, IPv4 first. @throws std::runtime_error when neither.
+asio::ip::address listen_address(asio::io_context& ioc, const std::string& host)
+{
+    boost::system::error_code ec;
+    const auto literal = asio::ip::make_address(host, ec);
+    if (!ec) return literal;
+    asio::ip::tcp::resolver resolver(ioc);
+    const auto results = resolver.resolve(host, "", ec);
+    if (ec || results.empty()) throw std::runtime_error("cannot resolve the --listen host '" + host + "'");
+    for (const auto& r : results)
+        if (r.endpoint().address().is_v4()) return r.endpoint().address();
+    return results.begin()->endpoint().address();
 }
 
 void write_port_file(const fs::path& file, std::uint16_t port)
@@ -226,7 +242,9 @@ int main(int argc, char** argv)
     asio::io_context ioc(static_cast<int>(cfg.io_threads));
     std::shared_ptr<Listener> listener;
     try {
-        const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(cfg.listen_host), cfg.listen_port);
+        const asio::ip::tcp::endpoint endpoint(listen_address(ioc, cfg.listen_host), cfg.listen_port);
+        // Listening on a name (localhost): its address is one of the server's names too.
+        if (endpoint.address().to_string() != cfg.listen_host) cfg.allowed_hosts.push_back(endpoint.address().to_string());
         listener = std::make_shared<Listener>(ioc, endpoint, router, cfg, metrics);
         queue.start();
         listener->run();

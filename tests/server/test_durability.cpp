@@ -145,6 +145,23 @@ TEST(Durability, AMissingTokenFileIsASetupError)
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status;
 }
 
+TEST(Durability, ListensOnAHostName)
+{
+    // --listen localhost:PORT (documented as HOST:PORT) binds the name's
+    // address, and requests naming either are served.
+    TempDir tmp;
+    const fs::path port_file = tmp.path() / "port";
+    const std::string command = std::string("timeout 5 '") + WIREDEM_SERVER_BIN + "' --listen localhost:0 --port-file '"
+                              + port_file.string() + "' --data-dir '" + (tmp.path() / "data").string()
+                              + "' --runner /bin/true > /dev/null 2>&1 &";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    for (int i = 0; i < 100 && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    ASSERT_TRUE(fs::exists(port_file)) << "the server did not start on localhost";
+    const auto port = static_cast<std::uint16_t>(std::stoi(read_file(port_file)));
+    EXPECT_EQ(http(port, "GET", "/v1/health", {}, {{"Host", "localhost:" + std::to_string(port)}}).status, 200);
+    EXPECT_EQ(http(port, "GET", "/v1/health").status, 200); // Host: 127.0.0.1
+}
+
 TEST(Durability, AStoreWithAForgedJobIdIsRefused)
 {
     // Ids name folders under DATA_DIR/jobs; one written into the database by
