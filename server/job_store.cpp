@@ -327,22 +327,18 @@ CancelOutcome JobStore::cancel(const std::string& id)
     return CancelOutcome::cancelled;
 }
 
-bool JobStore::requeue(const std::string& id)
-{
-    std::lock_guard lock(mutex_);
-    Statement s(db_,
-        "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = '',"
-        " attempts = MAX(attempts - 1, 0) WHERE id = ? AND state IN ('preparing', 'running')");
-    s.bind(1, id).run();
-    return sqlite3_changes(db_) > 0;
-}
+bool JobStore::requeue(const std::string& id) { return back_to_queue(id, false); }
 
-bool JobStore::retry(const std::string& id)
+bool JobStore::retry(const std::string& id) { return back_to_queue(id, true); }
+
+bool JobStore::back_to_queue(const std::string& id, bool count_attempt)
 {
     std::lock_guard lock(mutex_);
-    Statement s(db_,
-        "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = ''"
-        " WHERE id = ? AND state IN ('preparing', 'running')");
+    Statement s(db_, count_attempt
+            ? "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = ''"
+              " WHERE id = ? AND state IN ('preparing', 'running')"
+            : "UPDATE jobs SET state = 'queued', stage = '', progress = 0, eta_s = NULL, message = '',"
+              " attempts = MAX(attempts - 1, 0) WHERE id = ? AND state IN ('preparing', 'running')");
     s.bind(1, id).run();
     return sqlite3_changes(db_) > 0;
 }

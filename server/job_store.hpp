@@ -105,6 +105,8 @@ public:
     [[nodiscard]] std::optional<double> last_body_steps_per_second();
 
 private:
+    /// requeue (the attempt uncounted) and retry (counted): one statement.
+    bool back_to_queue(const std::string& id, bool count_attempt);
     std::mutex mutex_;
     sqlite3* db_ = nullptr;
 };

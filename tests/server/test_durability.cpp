@@ -109,6 +109,14 @@ int exit_code_on(const fs::path& data_dir, std::string& log)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// A data directory whose store holds one job, its server stopped cleanly.
+void make_store_with_one_job(const fs::path& data)
+{
+    ServerProcess server(data);
+    ASSERT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 201);
+    ASSERT_EQ(server.terminate(), 0);
+}
+
 TEST(Durability, ADamagedStoreStopsTheServerWithExitCode3AndAMessage)
 {
     // A store with a job in it, then a page in the middle overwritten (what a
@@ -116,11 +124,7 @@ TEST(Durability, ADamagedStoreStopsTheServerWithExitCode3AndAMessage)
     // first read of the bad page but refuse to start, naming the file.
     TempDir tmp;
     const fs::path data = tmp.path() / "data";
-    {
-        ServerProcess server(data);
-        ASSERT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 201);
-        ASSERT_EQ(server.terminate(), 0);
-    }
+    ASSERT_NO_FATAL_FAILURE(make_store_with_one_job(data));
     const fs::path db = data / "jobs.sqlite3";
     ASSERT_GT(fs::file_size(db), 8192u);
     {
@@ -168,11 +172,7 @@ TEST(Durability, AStoreWithAForgedJobIdIsRefused)
     // anything but the server (here: sqlite3 by hand) could lead outside it.
     TempDir tmp;
     const fs::path data = tmp.path() / "data";
-    {
-        ServerProcess server(data);
-        ASSERT_EQ(http(server.port(), "POST", "/v1/jobs", "{}").status, 201);
-        ASSERT_EQ(server.terminate(), 0);
-    }
+    ASSERT_NO_FATAL_FAILURE(make_store_with_one_job(data));
     const std::string forge = "sqlite3 '" + (data / "jobs.sqlite3").string()
                             + "' \"UPDATE jobs SET id = '../../x'\"";
     ASSERT_EQ(std::system(forge.c_str()), 0) << "needs the sqlite3 command";
