@@ -106,8 +106,9 @@ WorkEstimate estimated_work(const JobSpec& spec)
     w.time_step_s = spec.engine.time_step_s ? *spec.engine.time_step_s : stable_time_step(spec).auto_s;
     const TriaxialSpec& t = spec.triaxial;
     const double height_m = engine::estimated_fill_height_m(preparation_spec(spec));
-    const double max_hold_s = t.max_hold_time_s.value_or(engine::default_max_hold_factor * t.hold_time_s);
-    const double test_s = t.pressure_ramp_time_s + max_hold_s + t.target_axial_strain * height_m / t.plate_speed_m_per_s;
+    // Any pressure: the duration does not depend on it.
+    const engine::TriaxialSettings test = triaxial_settings(spec, t.confining_pressures_pa.front());
+    const double test_s = test.pressure_ramp_time_s + engine::longest_hold_s(test) + engine::loading_time_s(test, height_m);
     w.preparation_steps = spec.specimen.pouring.max_preparation_time_s / w.time_step_s;
     w.steps_per_test = test_s / w.time_step_s;
     // A row every max(1, round(interval / δt)) steps, and the last one.

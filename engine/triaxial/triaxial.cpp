@@ -138,10 +138,20 @@ QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loa
     return v;
 }
 
+double longest_hold_s(const TriaxialSettings& s)
+{
+    return s.max_hold_time_s.value_or(default_max_hold_factor * s.hold_time_s);
+}
+
+double loading_time_s(const TriaxialSettings& s, double height_m)
+{
+    return s.target_axial_strain * height_m / s.plate_speed_m_per_s;
+}
+
 std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s)
 {
     const auto pre_load = static_cast<std::uint64_t>(std::ceil((s.pressure_ramp_time_s + s.hold_time_s) / dt_s));
-    return pre_load + static_cast<std::uint64_t>(std::ceil(s.target_axial_strain * height_m / s.plate_speed_m_per_s / dt_s));
+    return pre_load + static_cast<std::uint64_t>(std::ceil(loading_time_s(s, height_m) / dt_s));
 }
 
 std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3)
@@ -396,7 +406,7 @@ Result<TriaxialResult, std::string> run_triaxial(
     // than the loading speed (a column still creeping under σ₃ keeps the
     // piston moving, and the piston's inertia keeps σ₁ off σ₃ while it
     // does). At most max_hold_time_s.
-    const double max_hold_s = settings.max_hold_time_s.value_or(default_max_hold_factor * settings.hold_time_s);
+    const double max_hold_s = longest_hold_s(settings);
     const auto max_pre_load_steps = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + max_hold_s) / dt));
     const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
     double window_force_n = 0.0;

@@ -207,6 +207,14 @@ struct QuasiStaticVerdict {
 /// as ∞). Flags the test when I or the mean ratio is above its threshold.
 [[nodiscard]] QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start);
 
+/// The longest σ₃ is held before loading [s]: max_hold_time_s, or
+/// default_max_hold_factor × hold_time_s.
+[[nodiscard]] double longest_hold_s(const TriaxialSettings& s);
+
+/// Simulated time of the loading to the target strain on a column of height
+/// `height_m` at the plate speed [s].
+[[nodiscard]] double loading_time_s(const TriaxialSettings& s, double height_m);
+
 /// Steps a test is expected to take at time step `dt_s` on a column of
 /// height `height_m`: the pressure ramp and the hold, then loading to the
 /// target strain (run_triaxial reports progress against it).
