@@ -400,14 +400,42 @@ int cmd_health(const GlobalOptions& g)
     return exit_code::ok;
 }
 
-int cmd_run(const fs::path& job_file, const fs::path& out_dir, unsigned threads, const std::string& progress)
+namespace {
+
+StageOptions stage_options(const LocalStage& s)
 {
-    const api::JobSpec spec = load_job(job_file);
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec) throw CommandError(exit_code::local_io, "cannot create " + out_dir.string() + ": " + ec.message());
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    return run_campaign_main(spec, out_dir, threads, progress == "json");
+    StageOptions o;
+    o.threads = s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
+    o.json_progress = s.progress == "json";
+    o.checkpoint_interval_s = s.checkpoint_interval_s;
+    return o;
 }
+
+void make_job_directory(const fs::path& dir)
+{
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());
+}
+
+} // namespace
+
+int cmd_run(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return run_campaign_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_prepare(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return prepare_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_test(const LocalStage& s) { return test_main(s.dir, s.index, s.pressure_pa, stage_options(s)); }
+
+int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(s)); }
 
 } // namespace wiredem::client
