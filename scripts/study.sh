@@ -13,8 +13,11 @@
 # with --base, that job file with its pattern and seed replaced); it runs in
 # DIR/<pattern>-seed<k>/ (default build/study), and its summary is copied to
 # --summaries (default docs/study). A campaign whose
-# summary.json already exists is not run again, so the command can be stopped
-# and started again; a failed one is reported and the others go on. --jobs
+# summary.json already exists is not run again, and one that was stopped
+# continues where it was (`wiredem run` resumes its directory: the specimen,
+# the finished tests, each running test's last checkpoint), so the command
+# can be stopped and started again; a failed one is reported and the others
+# go on. --jobs
 # campaigns run at once (default 1), each on --threads threads (default: the
 # cores divided among the jobs). The figures: /usr/bin/python3
 # scripts/study_report.py (reads DIR).
@@ -67,7 +70,9 @@ campaign() {
         echo "study: $name done already"
     else
         mkdir -p "$dir"
-        /usr/bin/python3 - "$job" "$seed" "$pattern" "$dir/job.json" <<'EOF'
+        # The campaign's input sits beside its directory: the directory's own
+        # job.json is the runner's (campaign/files.hpp), compared on resume.
+        /usr/bin/python3 - "$job" "$seed" "$pattern" "$runs/$name.json" <<'EOF'
 import json, sys
 job_file, seed, pattern, out = sys.argv[1:]
 job = json.load(open(job_file))
@@ -78,7 +83,7 @@ json.dump(job, open(out, "w"), indent=1)
 EOF
         echo "study: $name started $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
         local t0=$SECONDS
-        if ! "$wiredem" run "$dir/job.json" -o "$dir" --threads "$threads" > "$dir/run.log" 2>&1; then
+        if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
             echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
             return 1
         fi
