@@ -62,12 +62,18 @@ std::optional<std::string> set_at(json::object& doc, std::string_view path, cons
     }
 }
 
+/// A number as its shortest exact decimal text ("30", "0.99", "2.5e-05").
+std::string number_text(const json::value& v);
+
+/// A value in a label: numbers shortest, anything else as JSON ("helix" quoted).
+std::string value_text(const json::value& v) { return v.is_number() ? number_text(v) : json::serialize(v); }
+
 std::string label_of(const std::vector<std::pair<std::string, json::value>>& values)
 {
     std::string label;
     for (const auto& [path, value] : values) {
         if (!label.empty()) label += ' ';
-        label.append(path).append("=").append(json::serialize(value));
+        label.append(path).append("=").append(value_text(value));
     }
     return label;
 }

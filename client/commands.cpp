@@ -6,6 +6,7 @@
 #include "run_command.hpp"
 
 #include "api/job_spec.hpp"
+#include "api/study.hpp"
 
 #include <boost/json.hpp>
 
@@ -437,5 +438,19 @@ int cmd_prepare(const LocalStage& s)
 int cmd_test(const LocalStage& s) { return test_main(s.dir, s.index, s.pressure_pa, stage_options(s)); }
 
 int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(s)); }
+
+int cmd_study_run(const fs::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points)
+{
+    const std::string text = read_file(study_file, "study file");
+    auto study = api::parse_study(std::string_view(text), max_points);
+    if (!study) {
+        std::string msg = "study file " + study_file.string() + " is not a valid study:";
+        for (const auto& e : study.error())
+            msg += "\n  " + (e.path.empty() ? std::string() : printable(e.path) + ": ") + printable(e.message);
+        throw CommandError(exit_code::invalid_job, msg);
+    }
+    make_job_directory(s.dir);
+    return study_run_main(study.value(), s.dir, jobs, stage_options(s));
+}
 
 } // namespace wiredem::client

@@ -60,5 +60,8 @@ int cmd_run(const LocalStage& s);
 int cmd_prepare(const LocalStage& s);
 int cmd_test(const LocalStage& s);
 int cmd_analyse(const LocalStage& s);
+/// `wiredem study run`: validates the study (every point as a job), then runs
+/// it locally, `jobs` points at once.
+int cmd_study_run(const std::filesystem::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points);
 
 } // namespace wiredem::client

@@ -2,6 +2,7 @@
 // (`wiredem run`). Errors end as one line "wiredem: …" on stderr and an exit
 // code from exit_codes.hpp (table in docs/client.md).
 #include "commands.hpp"
+#include "api/study.hpp"
 #include "exit_codes.hpp"
 #include "export_command.hpp"
 
@@ -106,6 +107,20 @@ int main(int argc, char** argv)
     analyse->add_option("dir", local.dir, "job directory")->required();
     stage_options(analyse);
 
+    auto* study = app.add_subcommand("study", "parameter studies: a base job and the fields to vary (docs/studies.md)");
+    study->require_subcommand(1);
+    std::filesystem::path study_file;
+    std::size_t study_jobs = 1, max_points = wiredem::api::default_max_study_points;
+    auto* study_run = study->add_subcommand("run", "run a study here: each point's campaign in DIR/points/K, then DIR/summary.json and .csv");
+    study_run->add_option("study", study_file, "study document")->required();
+    study_run->add_option("-o,--output", local.dir, "study directory (run again to continue it)")->required();
+    study_run->add_option("--jobs", study_jobs, "points run at once, the threads shared among them")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1024}));
+    study_run->add_option("--max-points", max_points, "refuse a study with more points")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+    stage_options(study_run);
+    checkpoint_option(study_run);
+
     auto* export_xdmf = app.add_subcommand("export-xdmf", "write the XDMF sidecar of a result.h5, for ParaView");
     std::string h5_file, xdmf_file;
     export_xdmf->add_option("result", h5_file, "result file (docs/results.md)")->required();
@@ -133,6 +148,7 @@ int main(int argc, char** argv)
         if (*prepare) return cmd_prepare(local);
         if (*test) return cmd_test(local);
         if (*analyse) return cmd_analyse(local);
+        if (*study_run) return cmd_study_run(study_file, local, study_jobs, max_points);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;

@@ -8,7 +8,9 @@
 // last checkpoint when started again.
 #include "run_command.hpp"
 
+#include "display.hpp"
 #include "stages.hpp"
+#include "study_run.hpp"
 
 #include <boost/json.hpp>
 
@@ -199,4 +201,47 @@ int analyse_main(const std::filesystem::path& dir, const StageOptions& options)
     return run_stage(options.json_progress, options.control(), [&](const campaign::StageControl& c) {
         return campaign::analyse(campaign::JobDir{dir}, c);
     });
+}
+
+int study_run_main(const wiredem::api::Study& study, const std::filesystem::path& dir, std::size_t at_once,
+    const StageOptions& options)
+{
+    SignalGuard guard;
+    campaign::StageControl control = options.control();
+    control.cancel = &g_cancel;
+    const auto t0 = Clock::now();
+    const std::size_t n = study.points.size();
+    // One line per event: the points take minutes to hours each.
+    const auto event = [&](std::size_t k, const std::string& what, const std::string& detail) {
+        std::cerr << "study: point " << k + 1 << "/" << n << " (" << wiredem::client::printable(study.points[k].label)
+                  << ") " << what << (detail.empty() ? "" : ": " + wiredem::client::printable(detail)) << " at "
+                  << static_cast<long>(seconds_since(t0)) << " s\n";
+    };
+    std::vector<wiredem::api::PointOutcome> outcomes;
+    try {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+        outcomes = campaign::run_study(study, dir, at_once, control, event);
+    } catch (const std::exception& e) {
+        std::cerr << "wiredem: " << e.what() << '\n';
+        return 1;
+    }
+    const boost::json::value summary = wiredem::api::study_summary(study, outcomes);
+    if (options.json_progress)
+        std::cout << boost::json::serialize(summary) << '\n';
+    else
+        std::cout << wiredem::client::format_study_summary(summary) << "\nfiles: " << (dir / "summary.json").string()
+                  << ", " << (dir / "summary.csv").string() << '\n';
+    if (g_cancel.load()) {
+        const int sig = g_signal.load();
+        std::cerr << "stopped by signal " << sig << '\n';
+        return 128 + (sig ? sig : SIGTERM);
+    }
+    const auto failed = std::count_if(outcomes.begin(), outcomes.end(), [](const auto& o) { return o.state != "succeeded"; });
+    if (failed > 0) {
+        std::cerr << "wiredem: " << failed << " of " << n << " points failed (see their errors above)\n";
+        return 1;
+    }
+    return 0;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "api/job_spec.hpp"
+#include "api/study.hpp"
 #include "stages.hpp"
 
 #include <cstddef>
@@ -40,3 +41,8 @@ int test_main(const std::filesystem::path& dir, std::optional<std::size_t> index
     const StageOptions& options);
 /// Writes result.h5, result.xdmf and summary.json from the tests of a directory.
 int analyse_main(const std::filesystem::path& dir, const StageOptions& options);
+/// Runs a parameter study here (campaign/study_run.hpp), `at_once` points at a
+/// time, and prints its summary (JSON with json_progress); exit 1 when a
+/// point failed, its error printed.
+int study_run_main(const wiredem::api::Study& study, const std::filesystem::path& dir, std::size_t at_once,
+    const StageOptions& options);

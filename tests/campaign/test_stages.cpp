@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fcntl.h>
 #include <filesystem>
@@ -266,4 +267,58 @@ TEST(Stages, TheFileComparisonSeesAnotherSeed)
     const auto diffs = h5_differences(dir / "a/specimen.h5", dir / "b/specimen.h5", how_it_ran);
     EXPECT_FALSE(diffs.empty());
     EXPECT_TRUE(h5_differences(dir / "a/specimen.h5", dir / "a/specimen.h5", how_it_ran).empty());
+}
+
+// `wiredem study run`: every point's campaign, a failing point reported
+// without stopping the others, the summary grouping the seeds; run again, the
+// study continues (the done point is not run again).
+TEST(Stages, AStudyRunsItsPointsReportsAFailedOneAndContinuesWhenRunAgain)
+{
+    const fs::path dir = fresh_dir("study"), out = dir / "out";
+    json::object study{{"name", "seeds"}, {"base", json::parse(read_text(tiny_job))},
+        {"vary", json::object{{"seed", json::array{1, 2}}}}};
+    {
+        std::ofstream f(dir / "study.json");
+        f << json::serialize(study);
+    }
+    // Point 1's directory already holds another job: that point fails.
+    fs::create_directories(out / "points/1");
+    {
+        std::ofstream f(out / "points/1/job.json");
+        f << R"({"name": "someone else's"})";
+    }
+    Outcome o = run_wiredem({"study", "run", (dir / "study.json").string(), "-o", out.string(), "--jobs", "2",
+                                "--threads", "2"}, dir / "log");
+    EXPECT_EQ(o.code(), 1) << o.err;
+    EXPECT_NE(o.err.find("1 of 2 points failed"), std::string::npos) << o.err;
+    json::value s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s.at("points").as_array()[0].at("state"), "succeeded");
+    EXPECT_EQ(s.at("points").as_array()[1].at("state"), "failed");
+    EXPECT_NE(std::string(s.at("points").as_array()[1].at("error").as_string()).find("holds another job"), std::string::npos);
+    EXPECT_TRUE(fs::exists(out / "summary.csv"));
+    const auto first_done = fs::last_write_time(out / "points/0/summary.json");
+
+    fs::remove_all(out / "points/1");
+    o = run_wiredem({"study", "run", (dir / "study.json").string(), "-o", out.string(), "--threads", "2"}, dir / "log");
+    EXPECT_EQ(o.code(), 0) << o.err;
+    EXPECT_NE(o.err.find("point 1/2 (seed=1) done already"), std::string::npos) << o.err;
+    EXPECT_EQ(fs::last_write_time(out / "points/0/summary.json"), first_done);
+    s = json::parse(read_text(out / "summary.json"));
+    const json::object& group = s.at("groups").as_array().at(0).as_object();
+    EXPECT_EQ(group.at("succeeded").to_number<int>(), 2);
+    const double phi0 = s.at("points").as_array()[0].at("friction_angle_deg").to_number<double>();
+    const double phi1 = s.at("points").as_array()[1].at("friction_angle_deg").to_number<double>();
+    EXPECT_DOUBLE_EQ(group.at("friction_angle_deg").at("mean").to_number<double>(), 0.5 * (phi0 + phi1));
+    EXPECT_NEAR(group.at("friction_angle_deg").at("sd").to_number<double>(), std::abs(phi0 - phi1) / std::sqrt(2.0), 1e-9);
+
+    // A study with a bad point is refused before anything runs, naming it.
+    study["vary"] = json::object{{"seed", json::array{1, -2}}};
+    {
+        std::ofstream f(dir / "bad.json");
+        f << json::serialize(study);
+    }
+    o = run_wiredem({"study", "run", (dir / "bad.json").string(), "-o", (dir / "bad").string()}, dir / "log");
+    EXPECT_EQ(o.code(), 3) << o.err;
+    EXPECT_NE(o.err.find("points[1] (seed=-2): seed"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir / "bad/points"));
 }
