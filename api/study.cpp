@@ -1,5 +1,7 @@
 #include "api/study.hpp"
 
+#include "api/json_text.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -300,12 +302,9 @@ engine::Result<Study, std::vector<FieldError>> parse_study(const json::value& do
 
 engine::Result<Study, std::vector<FieldError>> parse_study(std::string_view text, std::size_t max_points)
 {
-    boost::system::error_code ec;
-    json::parse_options opt;
-    opt.max_depth = 64;
-    const json::value doc = json::parse(text, ec, {}, opt);
-    if (ec) return engine::Err(std::vector<FieldError>{{"", "not valid JSON: " + ec.message()}});
-    return parse_study(doc, max_points);
+    auto doc = parse_json_text(text); // numbers correctly rounded, as a job's
+    if (!doc) return engine::Err(std::vector<FieldError>{{"", "not valid JSON: " + doc.error()}});
+    return parse_study(doc.value(), max_points);
 }
 
 json::object study_summary(const Study& study, const std::vector<PointOutcome>& outcomes)

@@ -1,5 +1,7 @@
 #include "study_run.hpp"
 
+#include "api/json_text.hpp"
+
 #include <boost/json.hpp>
 
 #include <algorithm>
@@ -25,10 +27,10 @@ std::optional<json::value> read_summary(const std::filesystem::path& file)
     std::ifstream in(file, std::ios::binary);
     if (!in) return std::nullopt;
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    boost::system::error_code ec;
-    json::value v = json::parse(text, ec);
-    if (ec) return std::nullopt;
-    return v;
+    // Correctly rounded (Boost.JSON's parser may miss the last bit).
+    auto v = api::parse_json_text(text);
+    if (!v) return std::nullopt;
+    return std::move(v).value();
 }
 
 } // namespace

@@ -60,6 +60,21 @@ int cmd_run(const LocalStage& s);
 int cmd_prepare(const LocalStage& s);
 int cmd_test(const LocalStage& s);
 int cmd_analyse(const LocalStage& s);
+/// `study submit`: validates the study locally (every point as a job), POSTs
+/// it, prints the study id; with `wait`, then waits like cmd_study_wait.
+int cmd_study_submit(const GlobalOptions& g, const std::filesystem::path& study_file, bool wait, const WaitOptions& w);
+/// `study status`: the study, its jobs counted by state and one line per point.
+int cmd_study_status(const GlobalOptions& g, const std::string& id);
+/// `study wait`: polls until every job of the study has ended, a line per
+/// change of the counts; exit 0 when all succeeded, else the job_failed code.
+int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w);
+/// `study cancel`: cancels every job of the study that has not ended.
+int cmd_study_cancel(const GlobalOptions& g, const std::string& id);
+/// `study summary`: the table of φ and c over the seeds and per point (or CSV, or JSON).
+int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv);
+/// `study fetch`: DIR/summary.json, DIR/summary.csv and each succeeded
+/// point's files into DIR/points/K (like `fetch`, resuming).
+int cmd_study_fetch(const GlobalOptions& g, const std::string& id, const std::filesystem::path& dir);
 /// `wiredem study run`: validates the study (every point as a job), then runs
 /// it locally, `jobs` points at once.
 int cmd_study_run(const std::filesystem::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points);

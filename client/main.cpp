@@ -121,6 +121,26 @@ int main(int argc, char** argv)
     stage_options(study_run);
     checkpoint_option(study_run);
 
+    auto* study_submit = study->add_subcommand("submit", "validate STUDY.json (every point as a job), queue its jobs, print the study id");
+    study_submit->add_option("study", study_file, "study document")->required();
+    bool study_submit_wait = false;
+    study_submit->add_flag("--wait", study_submit_wait, "then wait for the study like `study wait`");
+    add_wait_options(study_submit);
+    auto* study_status = study->add_subcommand("status", "a study's jobs counted by state, and each point's job");
+    study_status->add_option("id", id, "study id")->required();
+    auto* study_wait = study->add_subcommand("wait", "follow a study until all its jobs have ended");
+    study_wait->add_option("id", id, "study id")->required();
+    add_wait_options(study_wait);
+    auto* study_cancel = study->add_subcommand("cancel", "cancel every job of a study that has not ended");
+    study_cancel->add_option("id", id, "study id")->required();
+    auto* study_summary = study->add_subcommand("summary", "phi and c over the seeds and per point");
+    study_summary->add_option("id", id, "study id")->required();
+    bool study_csv = false;
+    study_summary->add_flag("--csv", study_csv, "the points as CSV");
+    auto* study_fetch = study->add_subcommand("fetch", "summary.json, summary.csv and each succeeded point's files");
+    study_fetch->add_option("id", id, "study id")->required();
+    study_fetch->add_option("-o,--output", out_dir, "directory for the files")->required();
+
     auto* export_xdmf = app.add_subcommand("export-xdmf", "write the XDMF sidecar of a result.h5, for ParaView");
     std::string h5_file, xdmf_file;
     export_xdmf->add_option("result", h5_file, "result file (docs/results.md)")->required();
@@ -149,6 +169,12 @@ int main(int argc, char** argv)
         if (*test) return cmd_test(local);
         if (*analyse) return cmd_analyse(local);
         if (*study_run) return cmd_study_run(study_file, local, study_jobs, max_points);
+        if (*study_submit) return cmd_study_submit(g, study_file, study_submit_wait, wait_opts);
+        if (*study_status) return cmd_study_status(g, id);
+        if (*study_wait) return cmd_study_wait(g, id, wait_opts);
+        if (*study_cancel) return cmd_study_cancel(g, id);
+        if (*study_summary) return cmd_study_summary(g, id, study_csv);
+        if (*study_fetch) return cmd_study_fetch(g, id, out_dir);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;

@@ -25,6 +25,7 @@ struct ServerConfig {
     unsigned submit_threads = 1;               ///< threads validating submitted specs (off the I/O threads)
     std::size_t max_pending_submits = 64;      ///< submits waiting for those; more get 503
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
+    std::size_t max_study_points = 256;        ///< jobs one study may create (its grid's points)
     std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
     /// Estimated time steps of a job, preparation and tests (api::estimated_work):
     /// 2·10⁷ is ~10 times a paper-size campaign's.

@@ -160,6 +160,8 @@ int main(int argc, char** argv)
     app.add_option("--max-pending-submits", cfg.max_pending_submits, "submits waiting for validation; more get 503")
         ->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
+    app.add_option("--max-study-points", cfg.max_study_points, "jobs one parameter study may create")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
         ->capture_default_str()->check(CLI::Range(1.0, 1e15));

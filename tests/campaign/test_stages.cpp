@@ -308,7 +308,8 @@ TEST(Stages, AStudyRunsItsPointsReportsAFailedOneAndContinuesWhenRunAgain)
     EXPECT_EQ(group.at("succeeded").to_number<int>(), 2);
     const double phi0 = s.at("points").as_array()[0].at("friction_angle_deg").to_number<double>();
     const double phi1 = s.at("points").as_array()[1].at("friction_angle_deg").to_number<double>();
-    EXPECT_DOUBLE_EQ(group.at("friction_angle_deg").at("mean").to_number<double>(), 0.5 * (phi0 + phi1));
+    // (Read here with Boost.JSON's parser, which may miss the last bit.)
+    EXPECT_NEAR(group.at("friction_angle_deg").at("mean").to_number<double>(), 0.5 * (phi0 + phi1), 1e-12);
     EXPECT_NEAR(group.at("friction_angle_deg").at("sd").to_number<double>(), std::abs(phi0 - phi1) / std::sqrt(2.0), 1e-9);
 
     // A study with a bad point is refused before anything runs, naming it.

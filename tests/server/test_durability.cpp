@@ -322,7 +322,7 @@ boost::json::value computed_figures(const std::string& summary_text)
 // out; the restarted server runs the job again in the same work folder, the
 // runner continues from the specimen and the checkpoints, and the job ends
 // with exactly the figures of a run never interrupted.
-TEST(Durability, AJobInterruptedByKillNineContinuesFromItsCheckpointsToTheSameResult)
+TEST(DurabilityRealRunner, AJobInterruptedByKillNineContinuesFromItsCheckpointsToTheSameResult)
 {
     namespace fs = std::filesystem;
     TempDir tmp;
