@@ -488,6 +488,21 @@ std::pair<bool, bool> study_ended(const json::value& study)
 
 } // namespace
 
+int cmd_study_check(const GlobalOptions& g, const fs::path& study_file, std::size_t max_points)
+{
+    const api::Study study = load_study(study_file, max_points);
+    if (g.json) {
+        json::array points;
+        for (const auto& p : study.points) points.push_back(api::to_json(p.spec));
+        print_json(json::object{{"name", study.name}, {"jobs", std::move(points)}});
+        return exit_code::ok;
+    }
+    std::cout << "study " << printable(study.name) << ": " << study.points.size() << " points, every one a valid job\n";
+    for (std::size_t k = 0; k < study.points.size(); ++k)
+        std::cout << "  " << k << "  " << printable(study.points[k].label) << "\n";
+    return exit_code::ok;
+}
+
 int cmd_study_submit(const GlobalOptions& g, const fs::path& study_file, bool wait, const WaitOptions& w)
 {
     // The document as written goes to the server, after the same checks

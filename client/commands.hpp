@@ -60,6 +60,8 @@ int cmd_run(const LocalStage& s);
 int cmd_prepare(const LocalStage& s);
 int cmd_test(const LocalStage& s);
 int cmd_analyse(const LocalStage& s);
+/// `study check`: validates the study and prints its points (label, job name).
+int cmd_study_check(const GlobalOptions& g, const std::filesystem::path& study_file, std::size_t max_points);
 /// `study submit`: validates the study locally (every point as a job), POSTs
 /// it, prints the study id; with `wait`, then waits like cmd_study_wait.
 int cmd_study_submit(const GlobalOptions& g, const std::filesystem::path& study_file, bool wait, const WaitOptions& w);

@@ -121,6 +121,10 @@ int main(int argc, char** argv)
     stage_options(study_run);
     checkpoint_option(study_run);
 
+    auto* study_check = study->add_subcommand("check", "validate STUDY.json (every point as a job) and list its points; nothing runs");
+    study_check->add_option("study", study_file, "study document")->required();
+    study_check->add_option("--max-points", max_points, "refuse a study with more points")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
     auto* study_submit = study->add_subcommand("submit", "validate STUDY.json (every point as a job), queue its jobs, print the study id");
     study_submit->add_option("study", study_file, "study document")->required();
     bool study_submit_wait = false;
@@ -169,6 +173,7 @@ int main(int argc, char** argv)
         if (*test) return cmd_test(local);
         if (*analyse) return cmd_analyse(local);
         if (*study_run) return cmd_study_run(study_file, local, study_jobs, max_points);
+        if (*study_check) return cmd_study_check(g, study_file, max_points);
         if (*study_submit) return cmd_study_submit(g, study_file, study_submit_wait, wait_opts);
         if (*study_status) return cmd_study_status(g, id);
         if (*study_wait) return cmd_study_wait(g, id, wait_opts);
