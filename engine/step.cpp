@@ -1,6 +1,7 @@
 #include "step.hpp"
 
 #include "contact/geometry.hpp"
+#include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "integrate/gear5.hpp"
@@ -226,7 +227,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
 
     // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
     const std::size_t pairs = c.pair_count();
-    parallel_for(pool, pairs, [&](std::size_t p) {
+    auto pair = [&](std::size_t p) {
         const BodyRef a = c.first[p], b = c.second[p];
         const KindView &A = view[static_cast<int>(a.kind())], &B = view[static_cast<int>(b.kind())];
         const std::uint32_t ia = a.index(), ib = b.index();
@@ -234,6 +235,21 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         const bool overlaps = sphere_sphere_geometry(
             A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_of(a), spin_of(b), inv_dt, g);
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+    };
+    // Sticking grain pairs eight at a time where the CPU can (same bits,
+    // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
+    const SimdPairKernel simd = simd_pair_kernel();
+    const KindView& G = view[static_cast<int>(BodyKind::grain)];
+    const GrainPairInputs grains{G.x, G.v_dt, G.radius, spin_dt, inv_dt, dt, damping_s, tp};
+    parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
+        std::size_t p = begin;
+        if (simd)
+            for (; p + simd_pair_lanes <= end; p += simd_pair_lanes) {
+                const std::uint32_t done = simd(c, p, grains);
+                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+                    if (!(done >> l & 1u)) pair(p + l);
+            }
+        for (; p < end; ++p) pair(p);
     });
     parallel_for(pool, c.size() - pairs, [&](std::size_t q) {
         const std::size_t p = pairs + q;

@@ -1,0 +1,231 @@
+// Compiled with -ffp-contract=off (engine/CMakeLists.txt): see the header for
+// why the lanes give the scalar law's bits.
+#include "contact/pair_kernel_simd.hpp"
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+namespace wiredem::engine {
+namespace {
+
+std::atomic<ContactKernel> chosen_kernel{ContactKernel::automatic};
+
+#if defined(__x86_64__)
+
+// GCC 12's own intrinsics (gathers, square roots, max) start from an
+// "undefined" register that -Wmaybe-uninitialized reports when inlined.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+// The gathers below read Vec3 arrays as doubles with a stride of 3, the
+// contact list's ids as 32-bit words and its springs with a stride of 4.
+static_assert(sizeof(Vec3) == 3 * sizeof(double));
+static_assert(sizeof(BodyRef) == sizeof(std::uint32_t));
+static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(TangentialState, spring_m) == 0);
+
+// Eight lanes of doubles; GCC's vector extensions give __m512d the
+// arithmetic operators, lane by lane (no fusing: -ffp-contract=off).
+struct V3 {
+    __m512d x, y, z;
+};
+
+#define WIREDEM_AVX512 gnu::target("avx512f"), gnu::always_inline
+
+[[WIREDEM_AVX512]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+[[WIREDEM_AVX512]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+[[WIREDEM_AVX512]] inline V3 operator*(__m512d s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
+// Eigen's order for a 3-vector: (x + y) + z, as the scalar law sums.
+[[WIREDEM_AVX512]] inline __m512d dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+// Eigen's cross(): each component a product difference, as written here.
+[[WIREDEM_AVX512]] inline V3 cross(const V3& a, const V3& b)
+{
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+/// base[idx[l]] in lane l.
+[[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
+/// x, y and z of base[i] for the eight indices in idx3 = 3 i.
+[[WIREDEM_AVX512]] inline V3 gather(const Vec3* base, __m256i idx3)
+{
+    const double* b = base->data();
+    return {gather(b, idx3), gather(b + 1, idx3), gather(b + 2, idx3)};
+}
+
+/// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask, and bits
+/// 4l … 4l + 2: the doubles that a lane of a Vec3 array (stride 3) or of the
+/// springs (stride 4, the fourth word holds `sticking`) occupies.
+constexpr auto spread_lanes(unsigned stride)
+{
+    std::array<std::uint32_t, 256> spread{};
+    for (unsigned m = 0; m < 256; ++m)
+        for (unsigned l = 0; l < 8; ++l)
+            if (m >> l & 1u) spread[m] |= 7u << (stride * l);
+    return spread;
+}
+constexpr auto spread3 = spread_lanes(3);
+constexpr auto spread4 = spread_lanes(4);
+
+[[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
+    long long f, long long g, long long h)
+{
+    return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
+}
+
+/// Writes the lanes in `lanes` of v to dst[0 … 8) (x₀ y₀ z₀ x₁ … z₇, 24
+/// doubles): three masked stores of v transposed in registers (AVX-512 has
+/// scatters, but on this CPU they cost several times these permutes).
+[[WIREDEM_AVX512]] inline void store_vec3s(Vec3* dst, __mmask8 lanes, const V3& v)
+{
+    double* out = dst->data();
+    const std::uint32_t m = spread3[lanes];
+    // Each output register: x and y interleaved (index ≥ 8 picks the second
+    // operand), then z put into the gaps.
+    const __m512d o0 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 8, 0, 1, 9, 0, 2, 10), v.y), lanes_of(0, 1, 8, 3, 4, 9, 6, 7), v.z);
+    const __m512d o1 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 3, 11, 0, 4, 12, 0, 5), v.y), lanes_of(10, 1, 2, 11, 4, 5, 12, 7), v.z);
+    const __m512d o2 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(13, 0, 6, 14, 0, 7, 15, 0), v.y), lanes_of(0, 13, 2, 3, 14, 5, 6, 15), v.z);
+    _mm512_mask_storeu_pd(out, static_cast<__mmask8>(m), o0);
+    _mm512_mask_storeu_pd(out + 8, static_cast<__mmask8>(m >> 8), o1);
+    _mm512_mask_storeu_pd(out + 16, static_cast<__mmask8>(m >> 16), o2);
+}
+
+/// The springs δ of eight consecutive contacts (32 bytes each: x y z and the
+/// word holding `sticking`), transposed into lanes.
+[[WIREDEM_AVX512]] inline V3 load_springs(const TangentialState* t)
+{
+    const double* in = t->spring_m.data();
+    const __m512d l01 = _mm512_loadu_pd(in), l23 = _mm512_loadu_pd(in + 8);
+    const __m512d l45 = _mm512_loadu_pd(in + 16), l67 = _mm512_loadu_pd(in + 24);
+    const __m512i xy = lanes_of(0, 4, 8, 12, 1, 5, 9, 13), zz = lanes_of(2, 6, 10, 14, 2, 6, 10, 14);
+    const __m512d xy03 = _mm512_permutex2var_pd(l01, xy, l23), xy47 = _mm512_permutex2var_pd(l45, xy, l67);
+    const __m512d z03 = _mm512_permutex2var_pd(l01, zz, l23), z47 = _mm512_permutex2var_pd(l45, zz, l67);
+    const __m512i low = lanes_of(0, 1, 2, 3, 8, 9, 10, 11), high = lanes_of(4, 5, 6, 7, 12, 13, 14, 15);
+    return {_mm512_permutex2var_pd(xy03, low, xy47), _mm512_permutex2var_pd(xy03, high, xy47),
+        _mm512_permutex2var_pd(z03, low, z47)};
+}
+
+/// Writes the springs of the lanes in `lanes`, leaving every `sticking` word.
+[[WIREDEM_AVX512]] inline void store_springs(TangentialState* t, __mmask8 lanes, const V3& v)
+{
+    double* out = t->spring_m.data();
+    const std::uint32_t m = spread4[lanes];
+    const __m512i place_z = lanes_of(0, 1, 8, 0, 4, 5, 9, 0); // z of the register's two lanes
+    for (int pair = 0; pair < 4; ++pair) {
+        const long long a = 2 * pair, b = a + 1;
+        const __m512d xy = _mm512_permutex2var_pd(v.x, lanes_of(a, a + 8, 0, 0, b, b + 8, 0, 0), v.y);
+        const __m512d zz = _mm512_permutex2var_pd(v.z, lanes_of(a, b, a, b, a, b, a, b), v.z);
+        _mm512_mask_storeu_pd(out + 8 * pair, static_cast<__mmask8>(m >> (8 * pair)),
+            _mm512_permutex2var_pd(xy, place_z, zz));
+    }
+}
+
+[[gnu::target("avx512f")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+{
+    // Both sides grains: the kind bits of both references are zero.
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
+    const __m256i second = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.second[p]));
+    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
+    if (!_mm256_testz_si256(_mm256_or_si256(first, second), kind_bits)) return 0;
+
+    // Geometry: sphere_sphere_geometry, operation for operation.
+    const __m256i ia3 = _mm256_add_epi32(_mm256_add_epi32(first, first), first);
+    const __m256i ib3 = _mm256_add_epi32(_mm256_add_epi32(second, second), second);
+    const V3 xa = gather(in.x, ia3), xb = gather(in.x, ib3);
+    const __m512d ra = gather(in.radius, first), rb = gather(in.radius, second);
+    const V3 d = xb - xa;
+    const __m512d dist2 = dot(d, d);
+    const __m512d reach = ra + rb;
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d reach2 = reach * reach;
+
+    // Apart (dist² ≥ (r_a + r_b)² or coincident): evaluate_contact clears the
+    // slots of a contact that touched and leaves the others.
+    const __mmask8 apart = _mm512_cmp_pd_mask(dist2, reach2, _CMP_GE_OQ) | _mm512_cmp_pd_mask(dist2, zero, _CMP_EQ_OQ);
+    for (unsigned l = 0; l < simd_pair_lanes; ++l)
+        if ((apart >> l & 1u) && c.touching[p + l]) {
+            c.tangential[p + l] = TangentialState{};
+            c.force_n[p + l].setZero();
+            c.normal_x_tangential_n[p + l].setZero();
+            c.normal_force_n[p + l] = 0.0;
+            c.touching[p + l] = 0;
+        }
+    std::uint32_t sticking = 0;
+    for (unsigned l = 0; l < simd_pair_lanes; ++l)
+        sticking |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
+    __mmask8 lanes = static_cast<__mmask8>(sticking) & _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ)
+                   & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
+    if (lanes == 0) return apart;
+    const __m512d half = _mm512_set1_pd(0.5);
+    const __m512d dist = _mm512_sqrt_pd(dist2);
+    const __m512d overlap = reach - dist;
+    const V3 normal = (_mm512_set1_pd(1.0) / dist) * d;
+    const __m512d arm_a = ra - half * overlap, arm_b = rb - half * overlap;
+    const V3 va = gather(in.v_dt, ia3), vb = gather(in.v_dt, ib3);
+    const V3 wa = gather(in.spin_dt, ia3), wb = gather(in.spin_dt, ib3);
+    const V3 velocity = _mm512_set1_pd(in.inv_dt) * ((va - vb) + cross(arm_a * wa + arm_b * wb, normal));
+
+    // Normal force: damped_hertz_force_n; max(0, f) is std::max(f, 0.0).
+    const __m512d rate = dot(velocity, normal);
+    const V3 vt = velocity - rate * normal;
+    const __m512d k = _mm512_loadu_pd(&c.hertz_coefficient[p]);
+    const __m512d fn =
+        _mm512_max_pd(zero, k * _mm512_sqrt_pd(overlap) * (overlap + _mm512_set1_pd(in.damping_s) * rate));
+
+    // Tangential force, the sticking branch of tangential_force: the spring
+    // turned into the tangent plane at its length, plus this step's slip.
+    const TangentialParams& tp = in.tangential;
+    const V3 old_spring = load_springs(&c.tangential[p]);
+    V3 spring = old_spring - dot(old_spring, normal) * normal;
+    const __m512d new_len2 = dot(spring, spring);
+    const __mmask8 turned = _mm512_cmp_pd_mask(new_len2, zero, _CMP_GT_OQ);
+    const __m512d one = _mm512_set1_pd(1.0);
+    // × 1 leaves a lane that the scalar law does not rescale unchanged.
+    spring = _mm512_mask_sqrt_pd(one, turned, _mm512_mask_div_pd(one, turned, dot(old_spring, old_spring), new_len2))
+           * spring;
+    spring = spring + _mm512_set1_pd(in.dt) * vt;
+    const V3 tangential = (_mm512_set1_pd(-tp.stiffness_per_m) * fn) * spring;
+    const __m512d coulomb = _mm512_set1_pd(tp.friction_coeff) * fn;
+    const __m512d critical = _mm512_set1_pd(tp.critical_slip_m);
+    // Still sticking, for certain (ordered: a NaN goes to the scalar law).
+    lanes &= _mm512_cmp_pd_mask(dot(tangential, tangential), coulomb * coulomb, _CMP_LE_OQ)
+           & _mm512_cmp_pd_mask(dot(spring, spring), critical * critical, _CMP_LE_OQ);
+    if (lanes == 0) return apart;
+
+    // The slots, as evaluate_contact writes them (sticking stays true).
+    store_springs(&c.tangential[p], lanes, spring);
+    store_vec3s(&c.force_n[p], lanes, -fn * normal + tangential);
+    store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));
+    _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);
+    _mm512_mask_storeu_pd(&c.normal_force_n[p], lanes, fn);
+    for (unsigned l = 0; l < simd_pair_lanes; ++l)
+        if (lanes >> l & 1u) c.touching[p + l] = 1;
+    return apart | lanes;
+}
+
+#undef WIREDEM_AVX512
+#pragma GCC diagnostic pop
+
+#endif
+
+} // namespace
+
+void set_contact_kernel(ContactKernel kernel) { chosen_kernel.store(kernel, std::memory_order_relaxed); }
+
+SimdPairKernel simd_pair_kernel()
+{
+    if (chosen_kernel.load(std::memory_order_relaxed) == ContactKernel::scalar) return nullptr;
+#if defined(__x86_64__)
+    static const bool has_avx512 = __builtin_cpu_supports("avx512f");
+    if (has_avx512) return &pair_block_avx512;
+#endif
+    return nullptr;
+}
+
+} // namespace wiredem::engine

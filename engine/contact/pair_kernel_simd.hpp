@@ -1,0 +1,63 @@
+// An explicit SIMD path for the commonest contact of a packing: two grains
+// that were sticking and still stick. It evaluates eight consecutive
+// grain–grain pairs of the contact list per AVX-512 instruction and leaves
+// every other contact (apart, sliding, breaking, wire or membrane sides) to
+// the scalar kernel of compute_contact_forces (engine/step.cpp).
+//
+// Same bits as the scalar path. Each lane performs the scalar law's
+// operations (contact/geometry.hpp, laws/hertz.hpp, laws/tangential.hpp) in
+// the same order: IEEE additions, multiplications, divisions and square roots
+// are correctly rounded whatever the vector width, and the file is compiled
+// with -ffp-contract=off so that no multiply–add is fused (the baseline x86-64
+// build has no FMA, so the scalar path never fuses either). A lane is taken
+// only when the vector path is sure of its branch (ordered comparisons), so a
+// NaN or a boundary case goes to the scalar law. So states are the same with
+// and without this path, and the same for any thread count
+// (tests/engine/test_contact_pipeline.cpp, Determinism.*).
+#pragma once
+
+#include "contact/contact_list.hpp"
+#include "laws/tangential.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace wiredem::engine {
+
+/// Lanes of one call of the SIMD pair kernel.
+inline constexpr std::size_t simd_pair_lanes = 8;
+
+/// What the SIMD pair kernel reads besides the contact list: the grains'
+/// positions x₀, scaled velocities x₁ = δt v, radii and scaled spins δt ω,
+/// and the contact law.
+struct GrainPairInputs {
+    const Vec3* x = nullptr;
+    const Vec3* v_dt = nullptr;
+    const double* radius = nullptr;
+    const Vec3* spin_dt = nullptr;
+    double inv_dt = 0.0;
+    double dt = 0.0;
+    double damping_s = 0.0; ///< γ_n
+    TangentialParams tangential;
+};
+
+/// Evaluates the contacts [p, p + simd_pair_lanes) of `c` (all body pairs)
+/// that are grain–grain, overlapping and sticking before and after the step,
+/// writing their slots exactly as the scalar kernel would. Returns the lanes
+/// it did (bit l = contact p + l); the caller evaluates the others.
+using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const GrainPairInputs& in);
+
+/// Which contact kernel compute_contact_forces uses.
+enum class ContactKernel : std::uint8_t {
+    automatic, ///< AVX-512 when the CPU has it (and WIREDEM_SIMD is not "scalar"), else scalar
+    scalar,    ///< the scalar law for every contact
+};
+
+/// Chooses the kernel for every later step (tests compare the two; the
+/// results are bit-identical).
+void set_contact_kernel(ContactKernel kernel);
+
+/// The SIMD pair kernel in use, or nullptr for the scalar path only.
+[[nodiscard]] SimdPairKernel simd_pair_kernel();
+
+} // namespace wiredem::engine
