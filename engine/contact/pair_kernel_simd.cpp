@@ -34,7 +34,7 @@ struct V3 {
     __m512d x, y, z;
 };
 
-#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl"), gnu::always_inline
+#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl,avx512bw"), gnu::always_inline
 
 [[WIREDEM_AVX512]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 [[WIREDEM_AVX512]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
@@ -139,7 +139,7 @@ constexpr auto spread4 = spread_lanes(4);
     }
 }
 
-[[gnu::target("avx512f,avx512vl")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
 {
     // Both sides grains: the kind bits of both references are zero.
     const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
@@ -160,15 +160,20 @@ constexpr auto spread4 = spread_lanes(4);
 
     // Apart (dist² ≥ (r_a + r_b)² or coincident): evaluate_contact clears the
     // slots of a contact that touched and leaves the others.
+    // (Masks, not a branch per lane: which lanes are apart is a coin toss to
+    // the branch predictor, and its misses cost more than the arithmetic.)
     const __mmask8 apart = _mm512_cmp_pd_mask(dist2, reach2, _CMP_GE_OQ) | _mm512_cmp_pd_mask(dist2, zero, _CMP_EQ_OQ);
-    for (unsigned l = 0; l < simd_pair_lanes; ++l)
-        if ((apart >> l & 1u) && c.touching[p + l]) {
-            c.tangential[p + l] = TangentialState{};
-            c.force_n[p + l].setZero();
-            c.normal_x_tangential_n[p + l].setZero();
-            c.normal_force_n[p + l] = 0.0;
-            c.touching[p + l] = 0;
-        }
+    const __m128i touching = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.touching[p]));
+    const auto opened = static_cast<__mmask8>(apart & _mm_test_epi8_mask(touching, touching));
+    if (opened != 0)
+        for (unsigned l = 0; l < simd_pair_lanes; ++l)
+            if (opened >> l & 1u) {
+                c.tangential[p + l] = TangentialState{};
+                c.force_n[p + l].setZero();
+                c.normal_x_tangential_n[p + l].setZero();
+                c.normal_force_n[p + l] = 0.0;
+                c.touching[p + l] = 0;
+            }
     std::uint32_t sticking = 0;
     for (unsigned l = 0; l < simd_pair_lanes; ++l)
         sticking |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
@@ -217,8 +222,7 @@ constexpr auto spread4 = spread_lanes(4);
     store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));
     _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);
     _mm512_mask_storeu_pd(&c.normal_force_n[p], lanes, fn);
-    for (unsigned l = 0; l < simd_pair_lanes; ++l)
-        if (lanes >> l & 1u) c.touching[p + l] = 1;
+    _mm_mask_storeu_epi8(&c.touching[p], lanes, _mm_set1_epi8(1));
     return apart | lanes;
 }
 
@@ -235,7 +239,8 @@ SimdPairKernel simd_pair_kernel()
 {
     if (chosen_kernel.load(std::memory_order_relaxed) == ContactKernel::scalar) return nullptr;
 #if defined(__x86_64__)
-    static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+    static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")
+                                   && __builtin_cpu_supports("avx512bw");
     if (has_avx512) return &pair_block_avx512;
 #endif
     return nullptr;
