@@ -116,16 +116,24 @@ bool update_neighbours(World& w, ThreadPool& pool)
         radius.insert(radius.end(), body.radius_m.begin(), body.radius_m.end());
         for (std::uint32_t i = 0; i < body.size(); ++i) ref.emplace_back(static_cast<BodyKind>(k), i);
     }
+    // Flat order is kind order: each kind pairs with the later kinds it
+    // interacts with (and itself), and the grid looks nowhere else.
+    const FlatOffsets flat = w.flat_offsets();
+    PartnerRanges partners;
+    partners.group_start.assign(flat.begin(), flat.end());
+    partners.partner_ranges.resize(body_kind_count);
+    for (int k = 0; k < body_kind_count; ++k)
+        for (int m = k; m < body_kind_count; ++m)
+            if (w.kinds_interact[k][m]) partners.partner_ranges[k].emplace_back(flat[m], flat[m + 1]);
     const PairFilter filter = [&](std::uint32_t i, std::uint32_t j) {
         const BodyRef a = ref[i], b = ref[j];
-        if (!w.kinds_interact[static_cast<int>(a.kind())][static_cast<int>(b.kind())]) return false;
         // Neighbours along the wire are held by its springs, not by contact.
         if (a.kind() == BodyKind::wire && b.kind() == BodyKind::wire && b.index() - a.index() < w.wire_contact_skip)
             return false;
         // Two fixed bodies never need a contact.
         return w.of(a.kind()).inv_mass_per_kg[a.index()] != 0.0 || w.of(b.kind()).inv_mass_per_kg[b.index()] != 0.0;
     };
-    const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, filter);
+    const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, partners, filter);
 
     // Body pairs (flat order equals BodyRef order, so i < j is already
     // first < second), then each wall's candidates: moving bodies whose gap
@@ -150,7 +158,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         wall.point_at_build_m = wall.point_m;
     }
     ContactList& c = w.contacts;
-    c.rebuild(std::move(first), std::move(second), w.walls.size(), w.flat_offsets());
+    c.rebuild(std::move(first), std::move(second), w.walls.size(), flat);
     c.hertz_coefficient.resize(c.size());
     parallel_for(pool, c.size(), [&](std::size_t p) {
         const TranslationalState& A = w.of(c.first[p].kind());
