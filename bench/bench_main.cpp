@@ -256,14 +256,14 @@ int main(int argc, char** argv)
     app.add_option("--packing", packing,
            "time a packing read from a data file written by --liggghts-data instead of settling one (grains at rest)")
         ->check(CLI::ExistingFile);
-    ContactKernel kernel = ContactKernel::automatic;
-    app.add_option("--contact-kernel", kernel,
-           "auto: sticking grain pairs eight per AVX-512 instruction where the CPU has it; scalar: the scalar law "
-           "only (same results)")
+    SimdKernels kernels = SimdKernels::automatic;
+    app.add_option("--simd", kernels,
+           "auto: the AVX-512 paths (sticking grain pairs, grains' turn) where the CPU has them; scalar: the scalar "
+           "code only (same results)")
         ->transform(CLI::CheckedTransformer(
-            std::map<std::string, ContactKernel>{{"auto", ContactKernel::automatic}, {"scalar", ContactKernel::scalar}}));
+            std::map<std::string, SimdKernels>{{"auto", SimdKernels::automatic}, {"scalar", SimdKernels::scalar}}));
     CLI11_PARSE(app, argc, argv);
-    set_contact_kernel(kernel);
+    set_simd_kernels(kernels);
 
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);

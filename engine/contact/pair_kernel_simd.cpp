@@ -13,7 +13,7 @@
 namespace wiredem::engine {
 namespace {
 
-std::atomic<ContactKernel> chosen_kernel{ContactKernel::automatic};
+std::atomic<SimdKernels> chosen_kernels{SimdKernels::automatic};
 
 #if defined(__x86_64__)
 
@@ -233,15 +233,24 @@ constexpr auto spread4 = spread_lanes(4);
 
 } // namespace
 
-void set_contact_kernel(ContactKernel kernel) { chosen_kernel.store(kernel, std::memory_order_relaxed); }
+void set_simd_kernels(SimdKernels kernels) { chosen_kernels.store(kernels, std::memory_order_relaxed); }
 
-SimdPairKernel simd_pair_kernel()
+bool simd_kernels_in_use()
 {
-    if (chosen_kernel.load(std::memory_order_relaxed) == ContactKernel::scalar) return nullptr;
+    if (chosen_kernels.load(std::memory_order_relaxed) == SimdKernels::scalar) return false;
 #if defined(__x86_64__)
     static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")
                                    && __builtin_cpu_supports("avx512bw");
-    if (has_avx512) return &pair_block_avx512;
+    return has_avx512;
+#else
+    return false;
+#endif
+}
+
+SimdPairKernel simd_pair_kernel()
+{
+#if defined(__x86_64__)
+    if (simd_kernels_in_use()) return &pair_block_avx512;
 #endif
     return nullptr;
 }

@@ -47,15 +47,18 @@ struct GrainPairInputs {
 /// it did (bit l = contact p + l); the caller evaluates the others.
 using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const GrainPairInputs& in);
 
-/// Which contact kernel compute_contact_forces uses.
-enum class ContactKernel : std::uint8_t {
-    automatic, ///< AVX-512 when the CPU has it (and WIREDEM_SIMD is not "scalar"), else scalar
-    scalar,    ///< the scalar law for every contact
+/// Whether the explicit SIMD paths run: this pair kernel and the grains'
+/// turn (integrate/rotation.hpp, turn_all). Both give the scalar code's bits.
+enum class SimdKernels : std::uint8_t {
+    automatic, ///< AVX-512 (F, VL, BW) when the CPU has it, else scalar
+    scalar,    ///< the scalar code only
 };
 
-/// Chooses the kernel for every later step (tests compare the two; the
-/// results are bit-identical).
-void set_contact_kernel(ContactKernel kernel);
+/// Chooses for every later step (tests and the bench compare the two).
+void set_simd_kernels(SimdKernels kernels);
+
+/// Whether the AVX-512 paths run (chosen, and the CPU has them).
+[[nodiscard]] bool simd_kernels_in_use();
 
 /// The SIMD pair kernel in use, or nullptr for the scalar path only.
 [[nodiscard]] SimdPairKernel simd_pair_kernel();

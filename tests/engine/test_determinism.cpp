@@ -90,27 +90,27 @@ TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
 /// is sure of and gives the scalar law's bits: the kicked column (contacts
 /// forming, sliding, breaking) hashes the same with it and without it, on 1
 /// and 3 threads, and so does the wired column (grain–wire pairs in the list).
-TEST(Determinism, SimdAndScalarContactKernelsGiveTheSameBits)
+TEST(Determinism, SimdAndScalarSimdKernelssGiveTheSameBits)
 {
     if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
     struct Restore {
-        ~Restore() { set_contact_kernel(ContactKernel::automatic); }
+        ~Restore() { set_simd_kernels(SimdKernels::automatic); }
     } restore;
     for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
-        set_contact_kernel(ContactKernel::scalar);
+        set_simd_kernels(SimdKernels::scalar);
         const auto scalar = run_column(1, integrator);
-        set_contact_kernel(ContactKernel::automatic);
+        set_simd_kernels(SimdKernels::automatic);
         EXPECT_EQ(run_column(1, integrator), scalar);
         EXPECT_EQ(run_column(3, integrator), scalar);
     }
-    auto wired = [](ContactKernel kernel) {
-        set_contact_kernel(kernel);
+    auto wired = [](SimdKernels kernel) {
+        set_simd_kernels(kernel);
         Simulation sim(2);
         test::build_wired_column(sim.world, Integrator::gear5);
         EXPECT_EQ(sim.run(300).end, RunEnd::completed);
         return state_hash(sim.world);
     };
-    EXPECT_EQ(wired(ContactKernel::automatic), wired(ContactKernel::scalar));
+    EXPECT_EQ(wired(SimdKernels::automatic), wired(SimdKernels::scalar));
 
     // The SIMD path did take touching lanes, not only apart ones.
     Simulation sim(1);
