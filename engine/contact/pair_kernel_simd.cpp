@@ -174,11 +174,11 @@ constexpr auto spread4 = spread_lanes(4);
                 c.normal_force_n[p + l] = 0.0;
                 c.touching[p + l] = 0;
             }
-    std::uint32_t sticking = 0;
+    std::uint32_t sticking_bits = 0;
     for (unsigned l = 0; l < simd_pair_lanes; ++l)
-        sticking |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
-    __mmask8 lanes = static_cast<__mmask8>(sticking) & _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ)
-                   & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
+        sticking_bits |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
+    const auto sticking = static_cast<__mmask8>(sticking_bits);
+    __mmask8 lanes = _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ) & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
     if (lanes == 0) return apart;
     const __m512d half = _mm512_set1_pd(0.5);
     const __m512d dist = _mm512_sqrt_pd(dist2);
@@ -196,10 +196,17 @@ constexpr auto spread4 = spread_lanes(4);
     const __m512d fn =
         _mm512_max_pd(zero, k * _mm512_sqrt_pd(overlap) * (overlap + _mm512_set1_pd(in.damping_s) * rate));
 
-    // Tangential force, the sticking branch of tangential_force: the spring
-    // turned into the tangent plane at its length, plus this step's slip.
+    // Tangential force: tangential_force, every branch computed and blended.
     const TangentialParams& tp = in.tangential;
+    const __m512d mu = _mm512_set1_pd(tp.friction_coeff), gamma = _mm512_set1_pd(tp.damping_s_per_m);
+    const __m512d dt = _mm512_set1_pd(in.dt);
     const V3 old_spring = load_springs(&c.tangential[p]);
+    const __m512d speed = _mm512_sqrt_pd(dot(vt, vt));
+    // A sliding contact slides on while γ_t |v_t| > μ and v_t has not turned back.
+    const __mmask8 slides_on = static_cast<__mmask8>(~sticking) & _mm512_cmp_pd_mask(gamma * speed, mu, _CMP_GT_OQ)
+                             & _mm512_cmp_pd_mask(dot(vt, old_spring), zero, _CMP_GE_OQ);
+    // Sticking: the spring turned into the tangent plane at its length. A
+    // sliding contact that stops sticks with a new spring (δ_t = 0).
     V3 spring = old_spring - dot(old_spring, normal) * normal;
     const __m512d new_len2 = dot(spring, spring);
     const __mmask8 turned = _mm512_cmp_pd_mask(new_len2, zero, _CMP_GT_OQ);
@@ -207,16 +214,42 @@ constexpr auto spread4 = spread_lanes(4);
     // × 1 leaves a lane that the scalar law does not rescale unchanged.
     spring = _mm512_mask_sqrt_pd(one, turned, _mm512_mask_div_pd(one, turned, dot(old_spring, old_spring), new_len2))
            * spring;
-    spring = spring + _mm512_set1_pd(in.dt) * vt;
-    const V3 tangential = (_mm512_set1_pd(-tp.stiffness_per_m) * fn) * spring;
-    const __m512d coulomb = _mm512_set1_pd(tp.friction_coeff) * fn;
+    spring = {_mm512_maskz_mov_pd(sticking, spring.x), _mm512_maskz_mov_pd(sticking, spring.y),
+        _mm512_maskz_mov_pd(sticking, spring.z)};
+    spring = spring + dt * vt;
+    const V3 held = (_mm512_set1_pd(-tp.stiffness_per_m) * fn) * spring;
+    const __m512d coulomb = mu * fn;
     const __m512d critical = _mm512_set1_pd(tp.critical_slip_m);
-    // Still sticking, for certain (ordered: a NaN goes to the scalar law).
-    lanes &= _mm512_cmp_pd_mask(dot(tangential, tangential), coulomb * coulomb, _CMP_LE_OQ)
-           & _mm512_cmp_pd_mask(dot(spring, spring), critical * critical, _CMP_LE_OQ);
+    const __m512d held2 = dot(held, held), spring2 = dot(spring, spring);
+    const __mmask8 holds = _mm512_cmp_pd_mask(held2, coulomb * coulomb, _CMP_LE_OQ)
+                         & _mm512_cmp_pd_mask(spring2, critical * critical, _CMP_LE_OQ);
+    const __mmask8 breaks = _mm512_cmp_pd_mask(held2, coulomb * coulomb, _CMP_GT_OQ)
+                          | _mm512_cmp_pd_mask(spring2, critical * critical, _CMP_GT_OQ);
+    // Dynamic friction, F_t = −F_n min(μ, γ_t |v_t|) v̂_t (0 at rest); the
+    // slip v_t δt is kept to tell a reversal. min(γ|v|, μ) is std::fmin(μ, γ|v|).
+    const __mmask8 slides = slides_on | (static_cast<__mmask8>(~slides_on) & breaks);
+    const __m512d f = fn * _mm512_min_pd(gamma * speed, mu);
+    const __mmask8 moves = _mm512_cmp_pd_mask(speed, zero, _CMP_GT_OQ);
+    const __m512d per_speed = -f / speed;
+    const V3 dynamic = {_mm512_maskz_mov_pd(moves, per_speed * vt.x), _mm512_maskz_mov_pd(moves, per_speed * vt.y),
+        _mm512_maskz_mov_pd(moves, per_speed * vt.z)};
+    const V3 slip = dt * vt;
+    const V3 tangential = {_mm512_mask_blend_pd(slides, held.x, dynamic.x), _mm512_mask_blend_pd(slides, held.y, dynamic.y),
+        _mm512_mask_blend_pd(slides, held.z, dynamic.z)};
+    spring = {_mm512_mask_blend_pd(slides, spring.x, slip.x), _mm512_mask_blend_pd(slides, spring.y, slip.y),
+        _mm512_mask_blend_pd(slides, spring.z, slip.z)};
+    // Every lane whose branch is certain (ordered comparisons; a NaN or an
+    // unordered break test goes to the scalar law).
+    lanes &= slides_on | holds | breaks;
+    lanes &= _mm512_cmp_pd_mask(speed, speed, _CMP_ORD_Q);
     if (lanes == 0) return apart;
+    // Contacts that start or stop sliding change their flag.
+    const auto flips = static_cast<__mmask8>(lanes & (sticking ^ static_cast<__mmask8>(~slides)));
+    if (flips != 0)
+        for (unsigned l = 0; l < simd_pair_lanes; ++l)
+            if (flips >> l & 1u) c.tangential[p + l].sticking = !(slides >> l & 1u);
 
-    // The slots, as evaluate_contact writes them (sticking stays true).
+    // The slots, as evaluate_contact writes them.
     store_springs(&c.tangential[p], lanes, spring);
     store_vec3s(&c.force_n[p], lanes, -fn * normal + tangential);
     store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));

@@ -90,7 +90,7 @@ TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
 /// is sure of and gives the scalar law's bits: the kicked column (contacts
 /// forming, sliding, breaking) hashes the same with it and without it, on 1
 /// and 3 threads, and so does the wired column (grain–wire pairs in the list).
-TEST(Determinism, SimdAndScalarSimdKernelssGiveTheSameBits)
+TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
 {
     if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
     struct Restore {
