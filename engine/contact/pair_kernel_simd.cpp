@@ -7,7 +7,7 @@
 #include <cstddef>
 
 #if defined(__x86_64__)
-#include <immintrin.h>
+#include "contact/avx512.hpp"
 #endif
 
 namespace wiredem::engine {
@@ -22,30 +22,13 @@ std::atomic<SimdKernels> chosen_kernels{SimdKernels::automatic};
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-// The gathers below read Vec3 arrays as doubles with a stride of 3, the
+using namespace avx512;
+
+// The loads below read Vec3 arrays as doubles with a stride of 3, the
 // contact list's ids as 32-bit words and its springs with a stride of 4.
 static_assert(sizeof(Vec3) == 3 * sizeof(double));
 static_assert(sizeof(BodyRef) == sizeof(std::uint32_t));
 static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(TangentialState, spring_m) == 0);
-
-// Eight lanes of doubles; GCC's vector extensions give __m512d the
-// arithmetic operators, lane by lane (no fusing: -ffp-contract=off).
-struct V3 {
-    __m512d x, y, z;
-};
-
-#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl,avx512bw"), gnu::always_inline
-
-[[WIREDEM_AVX512]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-[[WIREDEM_AVX512]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-[[WIREDEM_AVX512]] inline V3 operator*(__m512d s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
-// Eigen's order for a 3-vector: (x + y) + z, as the scalar law sums.
-[[WIREDEM_AVX512]] inline __m512d dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-// Eigen's cross(): each component a product difference, as written here.
-[[WIREDEM_AVX512]] inline V3 cross(const V3& a, const V3& b)
-{
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
 
 /// base[idx[l]] in lane l.
 [[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
@@ -69,25 +52,15 @@ struct V3 {
         _mm512_permutex2var_pd(xz01, odd, xz23)};
 }
 
-/// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask, and bits
-/// 4l … 4l + 2: the doubles that a lane of a Vec3 array (stride 3) or of the
-/// springs (stride 4, the fourth word holds `sticking`) occupies.
-constexpr auto spread_lanes(unsigned stride)
-{
+/// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask: the
+/// doubles that a lane of a Vec3 array occupies.
+constexpr auto spread3 = [] {
     std::array<std::uint32_t, 256> spread{};
     for (unsigned m = 0; m < 256; ++m)
         for (unsigned l = 0; l < 8; ++l)
-            if (m >> l & 1u) spread[m] |= 7u << (stride * l);
+            if (m >> l & 1u) spread[m] |= 7u << (3 * l);
     return spread;
-}
-constexpr auto spread3 = spread_lanes(3);
-constexpr auto spread4 = spread_lanes(4);
-
-[[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
-    long long f, long long g, long long h)
-{
-    return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
-}
+}();
 
 /// Writes the lanes in `lanes` of v to dst[0 … 8) (x₀ y₀ z₀ x₁ … z₇, 24
 /// doubles): three masked stores of v transposed in registers (AVX-512 has
@@ -113,30 +86,14 @@ constexpr auto spread4 = spread_lanes(4);
 /// word holding `sticking`), transposed into lanes.
 [[WIREDEM_AVX512]] inline V3 load_springs(const TangentialState* t)
 {
-    const double* in = t->spring_m.data();
-    const __m512d l01 = _mm512_loadu_pd(in), l23 = _mm512_loadu_pd(in + 8);
-    const __m512d l45 = _mm512_loadu_pd(in + 16), l67 = _mm512_loadu_pd(in + 24);
-    const __m512i xy = lanes_of(0, 4, 8, 12, 1, 5, 9, 13), zz = lanes_of(2, 6, 10, 14, 2, 6, 10, 14);
-    const __m512d xy03 = _mm512_permutex2var_pd(l01, xy, l23), xy47 = _mm512_permutex2var_pd(l45, xy, l67);
-    const __m512d z03 = _mm512_permutex2var_pd(l01, zz, l23), z47 = _mm512_permutex2var_pd(l45, zz, l67);
-    const __m512i low = lanes_of(0, 1, 2, 3, 8, 9, 10, 11), high = lanes_of(4, 5, 6, 7, 12, 13, 14, 15);
-    return {_mm512_permutex2var_pd(xy03, low, xy47), _mm512_permutex2var_pd(xy03, high, xy47),
-        _mm512_permutex2var_pd(z03, low, z47)};
+    const Records4 r = load_records4(t->spring_m.data());
+    return {r.x, r.y, r.z};
 }
 
 /// Writes the springs of the lanes in `lanes`, leaving every `sticking` word.
 [[WIREDEM_AVX512]] inline void store_springs(TangentialState* t, __mmask8 lanes, const V3& v)
 {
-    double* out = t->spring_m.data();
-    const std::uint32_t m = spread4[lanes];
-    const __m512i place_z = lanes_of(0, 1, 8, 0, 4, 5, 9, 0); // z of the register's two lanes
-    for (int pair = 0; pair < 4; ++pair) {
-        const long long a = 2 * pair, b = a + 1;
-        const __m512d xy = _mm512_permutex2var_pd(v.x, lanes_of(a, a + 8, 0, 0, b, b + 8, 0, 0), v.y);
-        const __m512d zz = _mm512_permutex2var_pd(v.z, lanes_of(a, b, a, b, a, b, a, b), v.z);
-        _mm512_mask_storeu_pd(out + 8 * pair, static_cast<__mmask8>(m >> (8 * pair)),
-            _mm512_permutex2var_pd(xy, place_z, zz));
-    }
+    store_records4(t->spring_m.data(), lanes, {v.x, v.y, v.z, v.z}, 0x7);
 }
 
 [[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
@@ -259,7 +216,6 @@ constexpr auto spread4 = spread_lanes(4);
     return apart | lanes;
 }
 
-#undef WIREDEM_AVX512
 #pragma GCC diagnostic pop
 
 #endif

@@ -7,7 +7,7 @@
 #include "contact/pair_kernel_simd.hpp"
 
 #if defined(__x86_64__)
-#include <immintrin.h>
+#include "contact/avx512.hpp"
 #endif
 
 namespace wiredem::engine {
@@ -20,43 +20,7 @@ namespace {
 
 static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x y z w");
 
-#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl"), gnu::always_inline
-
-[[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
-    long long f, long long g, long long h)
-{
-    return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
-}
-
-/// Coefficients x y z w of eight quaternions, one register each.
-struct Lanes4 {
-    __m512d x, y, z, w;
-};
-/// The eight consecutive quaternions at `in` (x y z w each), transposed.
-[[WIREDEM_AVX512]] inline Lanes4 load_quats(const double* in)
-{
-    const __m512d l01 = _mm512_loadu_pd(in), l23 = _mm512_loadu_pd(in + 8);
-    const __m512d l45 = _mm512_loadu_pd(in + 16), l67 = _mm512_loadu_pd(in + 24);
-    const __m512i xy = lanes_of(0, 4, 8, 12, 1, 5, 9, 13), zw = lanes_of(2, 6, 10, 14, 3, 7, 11, 15);
-    const __m512d xy03 = _mm512_permutex2var_pd(l01, xy, l23), xy47 = _mm512_permutex2var_pd(l45, xy, l67);
-    const __m512d zw03 = _mm512_permutex2var_pd(l01, zw, l23), zw47 = _mm512_permutex2var_pd(l45, zw, l67);
-    const __m512i low = lanes_of(0, 1, 2, 3, 8, 9, 10, 11), high = lanes_of(4, 5, 6, 7, 12, 13, 14, 15);
-    return {_mm512_permutex2var_pd(xy03, low, xy47), _mm512_permutex2var_pd(xy03, high, xy47),
-        _mm512_permutex2var_pd(zw03, low, zw47), _mm512_permutex2var_pd(zw03, high, zw47)};
-}
-
-/// Writes the lanes in `lanes` of q back to the eight records at `out`.
-[[WIREDEM_AVX512]] inline void store_quats(double* out, __mmask8 lanes, const Lanes4& q)
-{
-    for (int pair = 0; pair < 4; ++pair) {
-        const long long a = 2 * pair, b = a + 1;
-        const __m512d xy = _mm512_permutex2var_pd(q.x, lanes_of(a, a + 8, 0, 0, b, b + 8, 0, 0), q.y);
-        const __m512d zw = _mm512_permutex2var_pd(q.z, lanes_of(0, 0, a, a + 8, 0, 0, b, b + 8), q.w);
-        const __m512d record = _mm512_mask_blend_pd(0xcc, xy, zw); // x y from xy, z w from zw
-        const auto mask = static_cast<__mmask8>(((lanes >> a & 1u) ? 0x0fu : 0u) | ((lanes >> b & 1u) ? 0xf0u : 0u));
-        _mm512_mask_storeu_pd(out + 8 * pair, mask, record);
-    }
-}
+using namespace avx512;
 
 /// x y z of the eight consecutive Vec3s at `in`.
 [[WIREDEM_AVX512]] inline void load_vec3s(const double* in, __m512d& x, __m512d& y, __m512d& z)
@@ -73,7 +37,7 @@ struct Lanes4 {
 
 /// turn(q[l], theta[l]) for eight consecutive grains; returns the lanes it
 /// did: not those with |θ|² ≥ 10⁻⁴ (the sine and cosine: the scalar code).
-[[gnu::target("avx512f,avx512vl")]] unsigned turn_block_avx512(Quat* q, const Vec3* theta)
+[[gnu::target("avx512f,avx512vl,avx512bw")]] unsigned turn_block_avx512(Quat* q, const Vec3* theta)
 {
     __m512d tx, ty, tz;
     load_vec3s(theta->data(), tx, ty, tz);
@@ -89,8 +53,8 @@ struct Lanes4 {
     const __m512d s = _mm512_set1_pd(0.5) - a2 / _mm512_set1_pd(48.0) + aa / _mm512_set1_pd(3840.0);
     const __m512d rx = s * tx, ry = s * ty, rz = s * tz;
     // r ⊗ q in Eigen's SSE2 order (Geometry_SIMD.h, quat_product for double).
-    const Lanes4 b = load_quats(q->coeffs().data());
-    Lanes4 p;
+    const Records4 b = load_records4(q->coeffs().data());
+    Records4 p;
     p.x = (cw * b.x + ry * b.z) - (rz * b.y - rx * b.w);
     p.y = (cw * b.y + ry * b.w) + (rz * b.x - rx * b.z);
     p.z = (cw * b.z - ry * b.x) + (rz * b.w + rx * b.y);
@@ -102,11 +66,10 @@ struct Lanes4 {
     const __m512d n = _mm512_sqrt_pd(n2);
     p = {_mm512_mask_div_pd(p.x, positive, p.x, n), _mm512_mask_div_pd(p.y, positive, p.y, n),
         _mm512_mask_div_pd(p.z, positive, p.z, n), _mm512_mask_div_pd(p.w, positive, p.w, n)};
-    store_quats(q->coeffs().data(), lanes, p);
+    store_records4(q->coeffs().data(), lanes, p, 0xf);
     return still | lanes;
 }
 
-#undef WIREDEM_AVX512
 #pragma GCC diagnostic pop
 
 #endif
