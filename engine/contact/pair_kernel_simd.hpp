@@ -1,19 +1,21 @@
-// An explicit SIMD path for the commonest contact of a packing: two grains
-// that were sticking and still stick. It evaluates eight consecutive
-// grain–grain pairs of the contact list per AVX-512 instruction and leaves
-// every other contact (apart, sliding, breaking, wire or membrane sides) to
-// the scalar kernel of compute_contact_forces (engine/step.cpp).
+// Explicit SIMD paths, chosen at run time: the grain–grain pairs of the
+// contact list eight per AVX-512 instruction (here), and the grains' turn
+// (integrate/rotation_simd.cpp). The pair kernel takes eight consecutive
+// pairs when all are grain–grain, and of those the lanes that are apart or
+// overlapping with a certain branch of the tangential law (sticking, sliding
+// on, re-sticking, breaking); everything else (wire or membrane sides, walls,
+// a NaN, a boundary case) goes to the scalar kernel of compute_contact_forces
+// (engine/step.cpp).
 //
-// Same bits as the scalar path. Each lane performs the scalar law's
+// Same bits as the scalar path. Each lane performs the scalar code's
 // operations (contact/geometry.hpp, laws/hertz.hpp, laws/tangential.hpp) in
 // the same order: IEEE additions, multiplications, divisions and square roots
-// are correctly rounded whatever the vector width, and the file is compiled
-// with -ffp-contract=off so that no multiply–add is fused (the baseline x86-64
-// build has no FMA, so the scalar path never fuses either). A lane is taken
-// only when the vector path is sure of its branch (ordered comparisons), so a
-// NaN or a boundary case goes to the scalar law. So states are the same with
-// and without this path, and the same for any thread count
-// (tests/engine/test_contact_pipeline.cpp, Determinism.*).
+// are correctly rounded whatever the vector width, and the files are compiled
+// with -ffp-contract=off so that no multiply–add is fused (the baseline
+// x86-64 build has no FMA, so the scalar path never fuses either). A lane is
+// taken only when the vector path is sure of its branch (ordered
+// comparisons). So states are the same with and without these paths, and the
+// same for any thread count (Determinism.SimdAndScalarKernelsGiveTheSameBits).
 #pragma once
 
 #include "contact/contact_list.hpp"
@@ -42,9 +44,9 @@ struct GrainPairInputs {
 };
 
 /// Evaluates the contacts [p, p + simd_pair_lanes) of `c` (all body pairs)
-/// that are grain–grain, overlapping and sticking before and after the step,
-/// writing their slots exactly as the scalar kernel would. Returns the lanes
-/// it did (bit l = contact p + l); the caller evaluates the others.
+/// that it can (above), writing their slots exactly as the scalar kernel
+/// would. Returns the lanes it did (bit l = contact p + l); the caller
+/// evaluates the others.
 using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const GrainPairInputs& in);
 
 /// Whether the explicit SIMD paths run: this pair kernel and the grains'
