@@ -259,8 +259,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
             }
         for (; p < end; ++p) pair(p);
     });
-    parallel_for(pool, c.size() - pairs, [&](std::size_t q) {
-        const std::size_t p = pairs + q;
+    auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
         const KindView& A = view[static_cast<int>(a.kind())];
         const std::uint32_t ia = a.index();
@@ -268,6 +267,21 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         const bool overlaps = sphere_wall_geometry(
             w.walls[c.second[p].index()], A.x[ia], A.radius[ia], A.v_dt[ia], spin_of(a), inv_dt, g);
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+    };
+    const SimdWallKernel simd_wall = simd_wall_kernel();
+    parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = pairs + begin; p < pairs + end;) {
+            // Eight contacts of one wall at a time, where the CPU can.
+            const std::uint32_t wall = c.second[p].index();
+            if (simd_wall && p + simd_pair_lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
+                const std::uint32_t done = simd_wall(c, p, w.walls[wall], grains);
+                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+                    if (!(done >> l & 1u)) wall_contact(p + l);
+                p += simd_pair_lanes;
+            } else {
+                wall_contact(p++);
+            }
+        }
     });
 
     // What the bodies exert on each wall, summed in contact order, one

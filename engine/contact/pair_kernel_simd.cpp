@@ -2,6 +2,8 @@
 // why the lanes give the scalar law's bits.
 #include "contact/pair_kernel_simd.hpp"
 
+#include "state/world.hpp"
+
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -96,30 +98,12 @@ constexpr auto spread3 = [] {
     store_records4(t->spring_m.data(), lanes, {v.x, v.y, v.z, v.z}, 0x7);
 }
 
-[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+/// What evaluate_contact does for a contact that is apart: the slots of the
+/// lanes in `apart` that touched are cleared (masks, not a branch per lane:
+/// which lanes are apart is a coin toss to the branch predictor, and its
+/// misses cost more than the arithmetic).
+[[WIREDEM_AVX512]] inline void clear_opened(ContactList& c, std::size_t p, __mmask8 apart)
 {
-    // Both sides grains: the kind bits of both references are zero.
-    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
-    const __m256i second = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.second[p]));
-    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
-    if (!_mm256_testz_si256(_mm256_or_si256(first, second), kind_bits)) return 0;
-
-    // Geometry: sphere_sphere_geometry, operation for operation.
-    const std::uint32_t* ia = &c.first[p].bits;
-    const std::uint32_t* ib = &c.second[p].bits;
-    const V3 xa = load_vec3s(in.x, ia), xb = load_vec3s(in.x, ib);
-    const __m512d ra = gather(in.radius, first), rb = gather(in.radius, second);
-    const V3 d = xb - xa;
-    const __m512d dist2 = dot(d, d);
-    const __m512d reach = ra + rb;
-    const __m512d zero = _mm512_setzero_pd();
-    const __m512d reach2 = reach * reach;
-
-    // Apart (dist² ≥ (r_a + r_b)² or coincident): evaluate_contact clears the
-    // slots of a contact that touched and leaves the others.
-    // (Masks, not a branch per lane: which lanes are apart is a coin toss to
-    // the branch predictor, and its misses cost more than the arithmetic.)
-    const __mmask8 apart = _mm512_cmp_pd_mask(dist2, reach2, _CMP_GE_OQ) | _mm512_cmp_pd_mask(dist2, zero, _CMP_EQ_OQ);
     const __m128i touching = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.touching[p]));
     const auto opened = static_cast<__mmask8>(apart & _mm_test_epi8_mask(touching, touching));
     if (opened != 0)
@@ -131,20 +115,20 @@ constexpr auto spread3 = [] {
                 c.normal_force_n[p + l] = 0.0;
                 c.touching[p + l] = 0;
             }
+}
+
+/// The rest of evaluate_contact for the overlapping lanes in `lanes`, from
+/// their geometry (normal from first to second, overlap ξ, velocity of
+/// first's contact point relative to second's): the laws, then the slots.
+/// Returns the lanes done: those whose branch was certain.
+[[WIREDEM_AVX512]] inline __mmask8 evaluate_lanes(ContactList& c, std::size_t p, __mmask8 lanes, const V3& normal,
+    __m512d overlap, const V3& velocity, const GrainPairInputs& in)
+{
+    const __m512d zero = _mm512_setzero_pd();
     std::uint32_t sticking_bits = 0;
     for (unsigned l = 0; l < simd_pair_lanes; ++l)
         sticking_bits |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
     const auto sticking = static_cast<__mmask8>(sticking_bits);
-    __mmask8 lanes = _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ) & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
-    if (lanes == 0) return apart;
-    const __m512d half = _mm512_set1_pd(0.5);
-    const __m512d dist = _mm512_sqrt_pd(dist2);
-    const __m512d overlap = reach - dist;
-    const V3 normal = (_mm512_set1_pd(1.0) / dist) * d;
-    const __m512d arm_a = ra - half * overlap, arm_b = rb - half * overlap;
-    const V3 va = load_vec3s(in.v_dt, ia), vb = load_vec3s(in.v_dt, ib);
-    const V3 wa = load_vec3s(in.spin_dt, ia), wb = load_vec3s(in.spin_dt, ib);
-    const V3 velocity = _mm512_set1_pd(in.inv_dt) * ((va - vb) + cross(arm_a * wa + arm_b * wb, normal));
 
     // Normal force: damped_hertz_force_n; max(0, f) is std::max(f, 0.0).
     const __m512d rate = dot(velocity, normal);
@@ -199,7 +183,7 @@ constexpr auto spread3 = [] {
     // unordered break test goes to the scalar law).
     lanes &= slides_on | holds | breaks;
     lanes &= _mm512_cmp_pd_mask(speed, speed, _CMP_ORD_Q);
-    if (lanes == 0) return apart;
+    if (lanes == 0) return 0;
     // Contacts that start or stop sliding change their flag.
     const auto flips = static_cast<__mmask8>(lanes & (sticking ^ static_cast<__mmask8>(~slides)));
     if (flips != 0)
@@ -213,7 +197,86 @@ constexpr auto spread3 = [] {
     _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);
     _mm512_mask_storeu_pd(&c.normal_force_n[p], lanes, fn);
     _mm_mask_storeu_epi8(&c.touching[p], lanes, _mm_set1_epi8(1));
-    return apart | lanes;
+    return lanes;
+}
+
+
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+{
+    // Both sides grains: the kind bits of both references are zero.
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
+    const __m256i second = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.second[p]));
+    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
+    if (!_mm256_testz_si256(_mm256_or_si256(first, second), kind_bits)) return 0;
+
+    // Geometry: sphere_sphere_geometry, operation for operation.
+    const std::uint32_t* ia = &c.first[p].bits;
+    const std::uint32_t* ib = &c.second[p].bits;
+    const V3 xa = load_vec3s(in.x, ia), xb = load_vec3s(in.x, ib);
+    const __m512d ra = gather(in.radius, first), rb = gather(in.radius, second);
+    const V3 d = xb - xa;
+    const __m512d dist2 = dot(d, d);
+    const __m512d reach = ra + rb;
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d reach2 = reach * reach;
+
+    // Apart (dist² ≥ (r_a + r_b)² or coincident).
+    const __mmask8 apart = _mm512_cmp_pd_mask(dist2, reach2, _CMP_GE_OQ) | _mm512_cmp_pd_mask(dist2, zero, _CMP_EQ_OQ);
+    clear_opened(c, p, apart);
+    const __mmask8 lanes = _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ) & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
+    if (lanes == 0) return apart;
+    const __m512d half = _mm512_set1_pd(0.5);
+    const __m512d dist = _mm512_sqrt_pd(dist2);
+    const __m512d overlap = reach - dist;
+    const V3 normal = (_mm512_set1_pd(1.0) / dist) * d;
+    const __m512d arm_a = ra - half * overlap, arm_b = rb - half * overlap;
+    const V3 va = load_vec3s(in.v_dt, ia), vb = load_vec3s(in.v_dt, ib);
+    const V3 wa = load_vec3s(in.spin_dt, ia), wb = load_vec3s(in.spin_dt, ib);
+    const V3 velocity = _mm512_set1_pd(in.inv_dt) * ((va - vb) + cross(arm_a * wa + arm_b * wb, normal));
+
+    return apart | evaluate_lanes(c, p, lanes, normal, overlap, velocity, in);
+}
+
+/// Sphere–wall geometry (wall_gap, sphere_wall_geometry) of eight contacts
+/// of one wall whose first sides are grains, then the same law.
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t wall_block_avx512(
+    ContactList& c, std::size_t p, const Wall& wall, const GrainPairInputs& in)
+{
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
+    if (!_mm256_testz_si256(first, _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)))) return 0;
+    const std::uint32_t* ia = &c.first[p].bits;
+    const V3 x = load_vec3s(in.x, ia);
+    const __m512d r = gather(in.radius, first);
+    const __m512d zero = _mm512_setzero_pd();
+    const V3 point = {_mm512_set1_pd(wall.point_m.x()), _mm512_set1_pd(wall.point_m.y()), _mm512_set1_pd(wall.point_m.z())};
+    __m512d gap;
+    V3 towards;
+    if (wall.shape == Wall::Shape::plane) {
+        const V3 n = {_mm512_set1_pd(wall.normal.x()), _mm512_set1_pd(wall.normal.y()), _mm512_set1_pd(wall.normal.z())};
+        gap = dot(x - point, n);
+        towards = {-n.x, -n.y, -n.z};
+    } else {
+        // |radial| with radial.z = 0: (x² + y²) + 0·0, as Eigen's norm sums.
+        const V3 radial = {x.x - point.x, x.y - point.y, zero};
+        const __m512d rho = _mm512_sqrt_pd(dot(radial, radial));
+        gap = _mm512_set1_pd(wall.radius_m) - rho;
+        const __mmask8 off_axis = _mm512_cmp_pd_mask(rho, zero, _CMP_GT_OQ);
+        towards = {_mm512_mask_div_pd(_mm512_set1_pd(1.0), off_axis, radial.x, rho),
+            _mm512_mask_div_pd(zero, off_axis, radial.y, rho), _mm512_mask_div_pd(zero, off_axis, radial.z, rho)};
+    }
+    const __m512d overlap = r - gap;
+    // Apart when r − gap ≤ 0 (ordered: a NaN goes to the scalar law).
+    const __mmask8 apart = _mm512_cmp_pd_mask(overlap, zero, _CMP_LE_OQ);
+    clear_opened(c, p, apart);
+    const __mmask8 lanes = _mm512_cmp_pd_mask(overlap, zero, _CMP_GT_OQ);
+    if (lanes == 0) return apart;
+    const __m512d arm = r - _mm512_set1_pd(0.5) * overlap;
+    const __m512d inv_dt = _mm512_set1_pd(in.inv_dt);
+    const V3 v = load_vec3s(in.v_dt, ia), spin = load_vec3s(in.spin_dt, ia);
+    const V3 wall_v = {_mm512_set1_pd(wall.velocity_m_per_s.x()), _mm512_set1_pd(wall.velocity_m_per_s.y()),
+        _mm512_set1_pd(wall.velocity_m_per_s.z())};
+    const V3 velocity = (inv_dt * v + arm * cross(inv_dt * spin, towards)) - wall_v;
+    return apart | evaluate_lanes(c, p, lanes, towards, overlap, velocity, in);
 }
 
 #pragma GCC diagnostic pop
@@ -240,6 +303,14 @@ SimdPairKernel simd_pair_kernel()
 {
 #if defined(__x86_64__)
     if (simd_kernels_in_use()) return &pair_block_avx512;
+#endif
+    return nullptr;
+}
+
+SimdWallKernel simd_wall_kernel()
+{
+#if defined(__x86_64__)
+    if (simd_kernels_in_use()) return &wall_block_avx512;
 #endif
     return nullptr;
 }

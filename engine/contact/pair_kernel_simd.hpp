@@ -1,5 +1,6 @@
-// Explicit SIMD paths, chosen at run time: the grain–grain pairs of the
-// contact list eight per AVX-512 instruction (here), and the grains' turn
+// Explicit SIMD paths, chosen at run time: the grain–grain pairs and the
+// grain–wall contacts of the contact list eight per AVX-512 instruction
+// (here; one law, two geometries, as in the scalar pipeline), and the grains' turn
 // (integrate/rotation_simd.cpp). The pair kernel takes eight consecutive
 // pairs when all are grain–grain, and of those the lanes that are apart or
 // overlapping with a certain branch of the tangential law (sticking, sliding
@@ -49,6 +50,13 @@ struct GrainPairInputs {
 /// evaluates the others.
 using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const GrainPairInputs& in);
 
+struct Wall;
+
+/// The same for the contacts [p, p + simd_pair_lanes), all of wall `wall`
+/// (plane or cylinder): the lanes whose first side is a grain and whose
+/// branch is certain.
+using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const GrainPairInputs& in);
+
 /// Whether the explicit SIMD paths run: this pair kernel and the grains'
 /// turn (integrate/rotation.hpp, turn_all). Both give the scalar code's bits.
 enum class SimdKernels : std::uint8_t {
@@ -64,5 +72,7 @@ void set_simd_kernels(SimdKernels kernels);
 
 /// The SIMD pair kernel in use, or nullptr for the scalar path only.
 [[nodiscard]] SimdPairKernel simd_pair_kernel();
+/// The SIMD wall kernel in use, or nullptr for the scalar path only.
+[[nodiscard]] SimdWallKernel simd_wall_kernel();
 
 } // namespace wiredem::engine
