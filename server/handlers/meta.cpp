@@ -1,6 +1,8 @@
 // Health, metrics, OpenAPI.
 #include "meta.hpp"
 
+#include "results.hpp"
+
 #include <boost/json.hpp>
 
 #include <sstream>
@@ -175,7 +177,14 @@ double uptime_s(const Metrics& m)
 
 const json::value& openapi_document()
 {
-    static const json::value doc = json::parse(openapi_text);
+    static const json::value doc = [] {
+        json::value d = json::parse(openapi_text);
+        // The result data routes describe themselves (handlers/results.cpp).
+        for (const auto& [path, item] : result_data_openapi_paths()) d.at("paths").as_object()[path] = item;
+        for (const auto& [kind, entries] : result_data_openapi_components())
+            for (const auto& [name, entry] : entries.as_object()) d.at("components").as_object()[kind].as_object()[name] = entry;
+        return d;
+    }();
     return doc;
 }
 
