@@ -2,7 +2,7 @@
 //   POST   /v1/jobs                     GET /v1/jobs
 //   GET    /v1/jobs/{id}                DELETE /v1/jobs/{id}
 //   GET    /v1/jobs/{id}/summary        GET /v1/jobs/{id}/result.h5
-//   GET    /v1/health   /v1/openapi.json   /metrics
+//   GET    /v1/health   /v1/openapi.json   /v1/job-spec/schema   /metrics
 //   GET    /v1/jobs/{id}/tests/…, /specimen/…, /result.xdmf   (handlers/results.hpp)
 //   GET    anything else: the web page's files (handlers/static_files.hpp)
 // GET routes also answer HEAD.
@@ -13,6 +13,7 @@
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
 #include "handlers/results.hpp"
+#include "handlers/spec_schema.hpp"
 #include "handlers/static_files.hpp"
 
 #include <boost/asio/post.hpp>
@@ -200,6 +201,10 @@ Response Router::route(const Request& req)
     if (seg.size() == 2 && seg[1] == "openapi.json") {
         if (!get) return method_not_allowed(req, "GET, HEAD");
         return finish(handle_openapi(req, svc_));
+    }
+    if (seg.size() == 3 && seg[1] == "job-spec" && seg[2] == "schema") {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_job_spec_schema(req, svc_));
     }
     if (seg[1] != "jobs" || seg.size() > 4)
         return error_response(req, http::status::not_found, "not_found", "no such route");

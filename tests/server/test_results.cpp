@@ -253,3 +253,32 @@ TEST_F(ResultData, TheOpenApiDocumentDescribesTheRoutes)
 
 } // namespace
 } // namespace wiredem::test
+
+namespace wiredem::test {
+namespace {
+
+TEST_F(ResultData, TheJobSpecSchemaIsServedAndInTheOpenApiDocumentInItsDialect)
+{
+    const auto res = http(server_->port(), "GET", "/v1/job-spec/schema");
+    ASSERT_EQ(res.status, 200);
+    EXPECT_EQ(res.headers.at("content-type"), "application/schema+json");
+    const json::value schema = res.json();
+    const json::value& radius = schema.at_pointer("/properties/specimen/properties/membrane_radius_m");
+    EXPECT_EQ(radius.at("exclusiveMinimum").to_number<double>(), 0.0);
+    EXPECT_EQ(radius.at("maximum").to_number<double>(), 1.0);
+
+    // OpenAPI 3.0: exclusive bounds are flags, nullable instead of a type list, no const.
+    const json::value doc = http(server_->port(), "GET", "/v1/openapi.json").json();
+    const json::value& spec = doc.at_pointer("/components/schemas/JobSpec");
+    const json::value& r30 = spec.at_pointer("/properties/specimen/properties/membrane_radius_m");
+    EXPECT_EQ(r30.at("minimum").to_number<double>(), 0.0);
+    EXPECT_EQ(r30.at("exclusiveMinimum"), true);
+    const json::value& length = spec.at_pointer("/properties/specimen/properties/wire/properties/length_m");
+    EXPECT_EQ(length.at("type"), "number");
+    EXPECT_EQ(length.at("nullable"), true);
+    EXPECT_EQ(json::serialize(spec).find("\"const\""), std::string::npos);
+    EXPECT_EQ(json::serialize(spec).find("$schema"), std::string::npos);
+}
+
+} // namespace
+} // namespace wiredem::test
