@@ -299,10 +299,18 @@ async function fractionChanged(a, b) {
   return n / (p.length / 4);
 }
 
-test('submit: an invalid spec shows each error next to its field; a valid one creates a job, which the job page cancels', async () => {
+test('submit: a form from the job spec\'s schema; an invalid spec shows each error next to its field; a valid one creates a job, which the job page cancels', async () => {
   const { page, w } = await newPage();
   await page.goto(`${server.url}/#/submit`);
-  await page.waitForSelector('#spec-editor');
+  await page.waitForSelector('tr[data-field="specimen.wire.pattern"] select');
+  // The form has a row for every field of the job spec's schema, and edits the JSON.
+  const schema = (await server.api('GET', '/v1/job-spec/schema')).json;
+  const countLeaves = (s) => Object.values(s.properties).reduce((n, f) => n + (f.type === 'object' ? countLeaves(f) : 1), 0);
+  assert.equal(await page.$$eval('#spec-fields tbody tr', (rows) => rows.length), countLeaves(schema));
+  await page.select('tr[data-field="specimen.wire.pattern"] select', 'radial_helix');
+  const edited = JSON.parse(await page.$eval('#spec-editor', (e) => e.value));
+  assert.equal(edited.specimen.wire.pattern, 'radial_helix');
+  assert.equal(edited.specimen.grain_count, 150, 'the rest of the JSON is kept');
   const bad = { name: 'bad', seed: -1, specimen: { grain_count: 0 } };
   const setSpec = (text) => page.$eval('#spec-editor', (e, t) => { e.value = t; e.dispatchEvent(new Event('change')); }, text);
   await setSpec(JSON.stringify(bad, null, 2));
