@@ -49,9 +49,4 @@ namespace wiredem::server {
 [[nodiscard]] const boost::json::object& result_data_openapi_paths();
 [[nodiscard]] const boost::json::object& result_data_openapi_components();
 
-/// Rows kept when a series of `rows` rows is thinned to at most `max_points`
-/// (≥ 2): evenly spaced, the first and the last always among them; every row
-/// when there are no more than `max_points`.
-[[nodiscard]] std::vector<std::size_t> decimated_rows(std::size_t rows, std::size_t max_points);
-
 } // namespace wiredem::server
