@@ -3,7 +3,7 @@
 //   GET    /v1/jobs/{id}                DELETE /v1/jobs/{id}
 //   GET    /v1/jobs/{id}/summary        GET /v1/jobs/{id}/result.h5
 //   GET    /v1/health   /v1/openapi.json   /v1/job-spec/schema   /metrics
-//   GET    /v1/jobs/{id}/tests/…, /specimen/…, /result.xdmf   (handlers/results.hpp)
+//   GET    /v1/jobs/{id}/tests/…, /specimen/…, /result.xdmf, /report.html   (handlers/results.hpp)
 //   GET    anything else: the web page's files (handlers/static_files.hpp)
 // GET routes also answer HEAD.
 #include "router.hpp"

@@ -4,6 +4,7 @@
 
 #include "api/job_spec.hpp"
 #include "api/json_text.hpp"
+#include "api/report.hpp"
 #include "api/result_data.hpp"
 #include "io/hdf5.hpp"
 
@@ -171,7 +172,8 @@ Response xdmf(const Request& req, const std::filesystem::path& dir, const std::s
 
 bool is_result_data_route(std::string_view fourth_segment) noexcept
 {
-    return fourth_segment == "tests" || fourth_segment == "specimen" || fourth_segment == "result.xdmf";
+    return fourth_segment == "tests" || fourth_segment == "specimen" || fourth_segment == "result.xdmf"
+        || fourth_segment == "report.html";
 }
 
 Response handle_result_data(const Request& req, const std::vector<std::string>& seg, const QueryParams& params, Services& svc)
@@ -203,6 +205,16 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     if (::lstat(h5.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
         return error_response(req, http::status::internal_server_error, "internal",
             "result of job " + id + " is missing or not a regular file");
+    if (seg[3] == "report.html") {
+        if (seg.size() != 4) return not_found(req, "no such route");
+        if (svc.config.web_dir.empty()) return not_found(req, "this server has no web page to draw the report with (--web-dir)");
+        auto res = text_response(req, http::status::ok,
+            api::report_html(dir / "summary.json", h5, svc.config.web_dir, "job " + id), "text/html; charset=utf-8");
+        // A file to save and open offline; shown here anyway, it runs in an opaque origin.
+        res.set(http::field::content_disposition, "attachment; filename=\"report.html\"");
+        res.set("Content-Security-Policy", "sandbox allow-scripts");
+        return res;
+    }
     const io::File file = io::File::open_read_only(h5);
     const io::Group root = file.root();
 
@@ -341,6 +353,17 @@ const boost::json::object& result_data_openapi_paths()
             "properties": {"segment_length_m": {"type": "number"}, "segments": {"type": "integer"},
               "lag_m": {"type": "array", "items": {"type": "number"}}, "coefficients": {"type": "array", "items": {"type": "number"}},
               "first_maximum_lag_m": {"type": "number", "nullable": true}, "error": {"type": "string", "nullable": true}}}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/report.html": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The offline report: one HTML file with the job page's results (summary, curves, Mohr circles, wire) that opens without a server (what wiredem report OUT/ writes)",
+        "responses": {
+          "200": {"description": "HTML, as an attachment", "content": {"text/html": {"schema": {"type": "string"}}}},
           "404": {"$ref": "#/components/responses/Error"},
           "409": {"$ref": "#/components/responses/Error"}
         }

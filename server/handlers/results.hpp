@@ -10,6 +10,7 @@
 //   GET /v1/jobs/{id}/tests/{test}/snapshots/{k}/{array}     one array (binary)
 //   GET /v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation
 //   GET /v1/jobs/{id}/result.xdmf                            the ParaView sidecar
+//   GET /v1/jobs/{id}/report.html                            the offline report (api/report.hpp)
 //
 // {test} is a group name of the file (e.g. "sigma3_20000"), {k} a snapshot
 // index; both must exist in the file, so no request names anything else.

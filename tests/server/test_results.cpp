@@ -38,6 +38,7 @@ void write_result(const fs::path& dir)
     io::File file = io::File::create(dir / "result.h5");
     io::Group root = file.root();
     root.write_string_attribute("format", "wiredem-result-1");
+    root.write_string_dataset("job_spec", R"({"name": "results", "specimen": {"wire": {"segment_length_m": 0.002}}})");
     io::Group sp = root.create_group("specimen");
     sp.write_int_attribute("grains", grains);
     std::vector<double> pos(grains * 3), radius(grains);
@@ -215,6 +216,22 @@ TEST_F(ResultData, ResultXdmfIsServedAndHeadGivesItsLength)
     EXPECT_EQ(head.headers.at("content-length"), std::to_string(x.body.size()));
 }
 
+TEST_F(ResultData, TheReportNeedsTheWebPageToDrawWith)
+{
+    // This server has the default web folder only in a build that made the page.
+    const auto res = get("/report.html");
+    if (res.status == 200) {
+        EXPECT_EQ(res.headers.at("content-disposition"), "attachment; filename=\"report.html\"");
+        EXPECT_NE(res.body.find("id=\"report-data\""), std::string::npos);
+        EXPECT_NE(res.body.find("\"sigma3_100000\""), std::string::npos) << "the tests are in it";
+    } else {
+        EXPECT_EQ(res.status, 404) << res.body;
+    }
+    TempDir tmp;
+    ServerProcess bare(tmp.path() / "data", {"--web-dir", "none"});
+    EXPECT_EQ(http(bare.port(), "GET", "/v1/jobs/" + id_ + "/report.html").status, 404) << "no such job there, and no page";
+}
+
 TEST_F(ResultData, AJobThatHasNotSucceededHasNoResultData)
 {
     const auto res = http(server_->port(), "POST", "/v1/jobs", R"({"name": "fail here"})");
@@ -231,7 +248,7 @@ TEST_F(ResultData, TheOpenApiDocumentDescribesTheRoutes)
     for (const char* p : {"/v1/jobs/{id}/tests", "/v1/jobs/{id}/tests/{test}/series", "/v1/jobs/{id}/specimen",
              "/v1/jobs/{id}/specimen/{array}", "/v1/jobs/{id}/tests/{test}/snapshots/{k}",
              "/v1/jobs/{id}/tests/{test}/snapshots/{k}/{array}", "/v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation",
-             "/v1/jobs/{id}/result.xdmf"})
+             "/v1/jobs/{id}/result.xdmf", "/v1/jobs/{id}/report.html"})
         EXPECT_TRUE(paths.contains(p)) << p;
     // Every $ref the merged document holds points at something it defines.
     std::vector<const json::value*> todo{&doc};

@@ -3,7 +3,7 @@
 import { json } from './api.js';
 import { el, replace, num, kpa } from './dom.js';
 import { linePlot, palette } from './plots.js';
-import { loadingRows, kPaLabel } from './job.js';
+import { loadingRows, kPaLabel } from './results_view.js';
 
 export function show(main, ids) {
   main.append(el('h1', {}, 'Compare jobs'));
