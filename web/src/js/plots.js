@@ -58,6 +58,8 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
         ctx.stroke();
         ctx.fillStyle = '#1d2330';
         ctx.font = `${12 * devicePixelRatio}px system-ui`;
+        ctx.textAlign = 'left';  // uPlot leaves the y axis's right alignment set
+        ctx.textBaseline = 'alphabetic';
         ctx.fillText(m.label, cx + 4, u.bbox.top + 14 * devicePixelRatio);
         ctx.restore();
       }
