@@ -1,5 +1,6 @@
 // Result data routes: result.h5 read through engine/io/hdf5 (read-only), as
-// JSON for figures and series, as raw little-endian arrays for the 3D view.
+// JSON for figures and series (api/result_data), as raw little-endian arrays
+// for the 3D view; the offline report (api/report).
 #include "results.hpp"
 
 #include "api/job_spec.hpp"
@@ -16,12 +17,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <charconv>
-#include <cmath>
-#include <cstring>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 namespace wiredem::server {
 namespace json = boost::json;
