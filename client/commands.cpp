@@ -6,6 +6,7 @@
 #include "run_command.hpp"
 
 #include "api/job_spec.hpp"
+#include "api/study.hpp"
 
 #include <boost/json.hpp>
 
@@ -400,14 +401,56 @@ int cmd_health(const GlobalOptions& g)
     return exit_code::ok;
 }
 
-int cmd_run(const fs::path& job_file, const fs::path& out_dir, unsigned threads, const std::string& progress)
+namespace {
+
+StageOptions stage_options(const LocalStage& s)
 {
-    const api::JobSpec spec = load_job(job_file);
+    StageOptions o;
+    o.threads = s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
+    o.json_progress = s.progress == "json";
+    o.checkpoint_interval_s = s.checkpoint_interval_s;
+    return o;
+}
+
+void make_job_directory(const fs::path& dir)
+{
     std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec) throw CommandError(exit_code::local_io, "cannot create " + out_dir.string() + ": " + ec.message());
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    return run_campaign_main(spec, out_dir, threads, progress == "json");
+    fs::create_directories(dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());
+}
+
+} // namespace
+
+int cmd_run(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return run_campaign_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_prepare(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return prepare_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_test(const LocalStage& s) { return test_main(s.dir, s.index, s.pressure_pa, stage_options(s)); }
+
+int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(s)); }
+
+int cmd_study_run(const fs::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points)
+{
+    const std::string text = read_file(study_file, "study file");
+    auto study = api::parse_study(std::string_view(text), max_points);
+    if (!study) {
+        std::string msg = "study file " + study_file.string() + " is not a valid study:";
+        for (const auto& e : study.error())
+            msg += "\n  " + (e.path.empty() ? std::string() : printable(e.path) + ": ") + printable(e.message);
+        throw CommandError(exit_code::invalid_job, msg);
+    }
+    make_job_directory(s.dir);
+    return study_run_main(study.value(), s.dir, jobs, stage_options(s));
 }
 
 } // namespace wiredem::client

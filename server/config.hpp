@@ -33,6 +33,9 @@ struct ServerConfig {
     /// Wall-clock limit of one attempt of a job (0: none): 48 h, ~20 paper-size
     /// campaigns on 2 cores.
     std::chrono::seconds max_job_duration{48 * 3600};
+    /// Wall time between a running test's checkpoints, passed to the runner
+    /// [s]; another attempt of the job continues from the last one.
+    double checkpoint_interval_s = 300.0;
     std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
     std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
     std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this

@@ -178,6 +178,10 @@ int main(int argc, char** argv)
     std::uint64_t max_job_seconds = static_cast<std::uint64_t>(cfg.max_job_duration.count());
     app.add_option("--max-job-seconds", max_job_seconds, "wall-clock seconds one attempt of a job may run (0: no limit)")
         ->capture_default_str()->check(CLI::Range(std::uint64_t{0}, std::uint64_t{10'000'000'000}));
+    app.add_option("--checkpoint-seconds", cfg.checkpoint_interval_s,
+           "wall-clock seconds between a running test's checkpoints; a job interrupted by a crash, a restart or a "
+           "SIGKILL continues from the last one")
+        ->capture_default_str()->check(CLI::Range(0.001, 86400.0));
     app.add_option("--max-samples-per-test", cfg.max_samples_per_test, "estimated rows of a test's time series")
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
@@ -249,6 +253,7 @@ int main(int argc, char** argv)
             *store, [&] {
                 QueueConfig q{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job};
                 q.max_job_duration = cfg.max_job_duration;
+                q.checkpoint_interval_s = cfg.checkpoint_interval_s;
                 return q;
             }());
     } catch (const std::exception& e) {

@@ -2,7 +2,7 @@
 # A stand-in for `wiredem run` that follows the runner contract (docs/api.md)
 # without the engine, so the server tests exercise queue, progress, cancel,
 # durability and downloads for real and in seconds:
-#   fake_runner.sh run JOB.json -o OUTDIR --threads N --progress json
+#   fake_runner.sh run JOB.json -o OUTDIR --threads N --progress json --checkpoint-interval S
 # prints progress lines, writes OUTDIR/summary.json and OUTDIR/result.h5
 # (temp names, then rename), exits 0; stops within a second on SIGTERM (143).
 # The job's "name" steers it: fail* exits 3 with a reason on stderr, slow*
@@ -20,6 +20,7 @@ while [ $# -gt 0 ]; do
     -o) out=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
     --progress) shift 2 ;;
+    --checkpoint-interval) shift 2 ;;
     *) echo "fake runner: unknown argument $1" >&2; exit 2 ;;
   esac
 done
