@@ -152,7 +152,38 @@ public:
     }
     [[nodiscard]] std::vector<FieldError>& errors() { return errors_; }
 
+    /// Schema mode (job_spec_json_schema): the readers describe every field
+    /// they take, with its type, range and default, instead of only reading it.
+    void record_schema() { schema_ = object_schema(); }
+    [[nodiscard]] bool recording() const { return schema_.has_value(); }
+    /// Sets the schema of the field at `path` (dots between keys); the objects above it are made as needed.
+    void describe(std::string_view path, json::object field)
+    {
+        if (!schema_) return;
+        json::object* node = &*schema_;
+        for (;;) {
+            const auto dot = path.find('.');
+            json::object& props = (*node)["properties"].as_object();
+            const std::string key(path.substr(0, dot));
+            if (dot == std::string_view::npos) {
+                props[key] = std::move(field);
+                return;
+            }
+            if (!props.contains(key)) props[key] = object_schema();
+            node = &props[key].as_object();
+            path.remove_prefix(dot + 1);
+        }
+    }
+    [[nodiscard]] json::object schema() const { return schema_ ? *schema_ : json::object(); }
+
+    /// An object with no field described yet; unknown keys are errors.
+    static json::object object_schema()
+    {
+        return json::object{{"type", "object"}, {"properties", json::object()}, {"additionalProperties", false}};
+    }
+
 private:
+    std::optional<json::object> schema_;
     void add(std::string path, std::string message, bool blocking)
     {
         errors_.push_back({std::move(path), std::move(message)});
@@ -170,6 +201,23 @@ std::string join_path(std::string_view parent, std::string_view key)
 std::string index_path(std::string_view parent, std::size_t i)
 {
     return std::string(parent) + "[" + std::to_string(i) + "]";
+}
+
+// ------------------------------------------------------------ schema pieces
+
+/// A number's bounds as JSON Schema (2020-12: exclusive bounds are numbers).
+json::object number_schema(const Range& range)
+{
+    json::object o{{"type", "number"}};
+    o[range.lo_open ? "exclusiveMinimum" : "minimum"] = range.lo;
+    o[range.hi_open ? "exclusiveMaximum" : "maximum"] = range.hi;
+    return o;
+}
+
+json::object with_default(json::object o, json::value d)
+{
+    o["default"] = std::move(d);
+    return o;
 }
 
 // --------------------------------------------------------- value-level reads
@@ -294,13 +342,20 @@ public:
         return obj_->if_contains(key);
     }
 
+    /// Describes the field `key` in schema mode (Validator::record_schema).
+    void describe(std::string_view key, json::object field) { v_.describe(path_of(key), std::move(field)); }
+
     void number(std::string_view key, Range range, double& out)
     {
+        if (v_.recording()) describe(key, with_default(number_schema(range), out));
         if (const json::value* j = take(key)) read_number(v_, *j, path_of(key), range, out);
     }
     template <class T>
     void integer(std::string_view key, IntRange range, T& out)
     {
+        if (v_.recording())
+            describe(key, json::object{{"type", "integer"}, {"minimum", range.lo}, {"maximum", range.hi},
+                              {"default", static_cast<std::uint64_t>(out)}});
         std::uint64_t n = 0;
         if (const json::value* j = take(key))
             if (read_integer(v_, *j, path_of(key), range, n)) out = static_cast<T>(n);
@@ -308,10 +363,20 @@ public:
     template <class E, std::size_t N>
     void choice(std::string_view key, const std::array<std::pair<std::string_view, E>, N>& choices, E& out)
     {
+        if (v_.recording()) {
+            json::array names;
+            json::value current;
+            for (const auto& [name, value] : choices) {
+                names.push_back(json::string(name));
+                if (value == out) current = json::string(name);
+            }
+            describe(key, json::object{{"type", "string"}, {"enum", std::move(names)}, {"default", std::move(current)}});
+        }
         if (const json::value* j = take(key)) read_choice(v_, *j, path_of(key), choices, out);
     }
     void text(std::string_view key, std::string& out)
     {
+        if (v_.recording()) describe(key, json::object{{"type", "string"}, {"default", out}});
         const json::value* j = take(key);
         if (j == nullptr) return;
         if (!j->is_string()) {
@@ -348,6 +413,13 @@ private:
 bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n,
     std::size_t max_n, std::string_view what, std::vector<double>& out)
 {
+    if (r.validator().recording()) {
+        json::array d;
+        for (double x : out) d.push_back(x);
+        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
+                            {"maxItems", max_n}, {"default", std::move(d)},
+                            {"description", std::string(what) + ": strictly increasing"}});
+    }
     const json::value* j = r.take(key);
     if (j == nullptr) return false;
     Validator& v = r.validator();
@@ -401,6 +473,11 @@ constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edg
 /// An optional number: absent or null leaves `out` empty.
 void optional_number(ObjectReader& r, std::string_view key, const Range& range, std::optional<double>& out)
 {
+    if (r.validator().recording()) {
+        json::object o = number_schema(range);
+        o["type"] = json::array{"number", "null"};
+        r.describe(key, with_default(std::move(o), out ? json::value(*out) : json::value(nullptr)));
+    }
     if (const json::value* j = r.take(key); j != nullptr && !j->is_null()) {
         double x = 0.0;
         if (read_number(r.validator(), *j, r.path_of(key), range, x)) out = x;
@@ -436,9 +513,14 @@ void read_wire(ObjectReader& r, WireSpec& w)
     r.number("clearance_m", closed(0.0, 0.1), w.clearance_m);
     optional_number(r, "length_m", open_closed(0.0, 1e4), w.length_m);
     // A number (the yield strain ε_y) or "elastic" (the model spec's wire).
+    const Range yield_range = open_closed(0.0, 1.0);
+    if (r.validator().recording())
+        r.describe("bending_yield_strain",
+            json::object{{"oneOf", json::array{number_schema(yield_range), json::object{{"const", "elastic"}}}},
+                {"default", w.bending_yield_strain ? json::value(*w.bending_yield_strain) : json::value("elastic")}});
     if (const json::value* j = r.take("bending_yield_strain")) {
         const std::string path = r.path_of("bending_yield_strain");
-        const Range range = open_closed(0.0, 1.0);
+        const Range range = yield_range;
         if (j->is_string()) {
             const json::string& s = j->get_string();
             if (s == "elastic")
@@ -512,6 +594,16 @@ void read_specimen(ObjectReader& r, SpecimenSpec& s)
 void read_contact(ObjectReader& r, ContactSpec& c)
 {
     Validator& v = r.validator();
+    const Range damping_range = closed(0.0, 1.0), restitution_range = open_closed(0.0, 1.0),
+                reference_speed_range = open_closed(0.0, 100.0);
+    if (v.recording()) {
+        const NormalRestitution e;
+        r.describe("normal_damping_s", json::object{{"type", "number"}, {"minimum", damping_range.lo}, {"maximum", damping_range.hi},
+                                           {"description", "gamma_n [s]; not together with restitution"}});
+        r.describe("restitution", with_default(number_schema(restitution_range), e.restitution));
+        r.describe("restitution_reference_speed_m_per_s",
+            with_default(number_schema(reference_speed_range), e.restitution_reference_speed_m_per_s));
+    }
     const json::value* damping = r.take("normal_damping_s");
     const json::value* restitution = r.take("restitution");
     const json::value* reference_speed = r.take("restitution_reference_speed_m_per_s");
@@ -526,11 +618,11 @@ void read_contact(ObjectReader& r, ContactSpec& c)
                 + r.path_of("normal_damping_s"));
 
     NormalDampingTime time;
-    if (damping != nullptr) read_number(v, *damping, r.path_of("normal_damping_s"), closed(0.0, 1.0), time.normal_damping_s);
+    if (damping != nullptr) read_number(v, *damping, r.path_of("normal_damping_s"), damping_range, time.normal_damping_s);
     NormalRestitution e;
-    if (restitution != nullptr) read_number(v, *restitution, r.path_of("restitution"), open_closed(0.0, 1.0), e.restitution);
+    if (restitution != nullptr) read_number(v, *restitution, r.path_of("restitution"), restitution_range, e.restitution);
     if (reference_speed != nullptr)
-        read_number(v, *reference_speed, r.path_of("restitution_reference_speed_m_per_s"), open_closed(0.0, 100.0),
+        read_number(v, *reference_speed, r.path_of("restitution_reference_speed_m_per_s"), reference_speed_range,
             e.restitution_reference_speed_m_per_s);
     if (damping != nullptr)
         c.normal_damping = time;
@@ -563,6 +655,11 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
 
 void read_engine(ObjectReader& r, EngineSpec& e)
 {
+    const Range time_step_range = open_closed(0.0, 1e-3);
+    if (r.validator().recording())
+        r.describe("time_step_s",
+            json::object{{"oneOf", json::array{number_schema(time_step_range), json::object{{"const", "auto"}}}},
+                {"default", e.time_step_s ? json::value(*e.time_step_s) : json::value("auto")}});
     if (const json::value* j = r.take("time_step_s")) {
         const std::string path = r.path_of("time_step_s");
         if (j->is_string()) {
@@ -570,7 +667,7 @@ void read_engine(ObjectReader& r, EngineSpec& e)
             if (s != "auto") r.validator().fail(path, "\"" + std::string(s.data(), s.size()) + "\" is neither \"auto\" nor a number");
         } else if (number_of(*j)) {
             double dt = 0.0;
-            if (read_number(r.validator(), *j, path, open_closed(0.0, 1e-3), dt)) e.time_step_s = dt;
+            if (read_number(r.validator(), *j, path, time_step_range, dt)) e.time_step_s = dt;
         } else {
             r.validator().fail(path, "expected a number or \"auto\", got " + std::string(kind_text(*j)));
         }
@@ -587,6 +684,9 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 {
     ObjectReader r(v, &doc, "");
     r.text("name", spec.name);
+    if (v.recording())
+        r.describe("name", json::object{{"type", "string"}, {"maxLength", max_name_chars}, {"default", spec.name},
+                               {"description", "one line of text (no control characters)"}});
     if (v.clean("name")) {
         const std::size_t n = utf8_length(spec.name);
         if (n > max_name_chars)
@@ -953,6 +1053,21 @@ engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const json::valu
     cross_check(v, spec);
     if (!v.errors().empty()) return engine::Err{std::move(v.errors())};
     return spec;
+}
+
+json::object job_spec_json_schema()
+{
+    Validator v;
+    v.record_schema();
+    JobSpec spec;
+    read_job(v, json::object(), spec);
+    json::object schema{{"$schema", "https://json-schema.org/draft/2020-12/schema"}, {"$id", "/v1/job-spec/schema"},
+        {"title", "wiredem job spec"},
+        {"description", "Every field the reader takes (api/job_spec.cpp), its type, allowed range or values and default; "
+                        "fields left out take their defaults. The checks across fields (the grains fit the membrane, "
+                        "the wire fits inside it, ...) are not in it: docs/job-spec.md lists them."}};
+    for (auto& [k, val] : v.schema()) schema[k] = val;
+    return schema;
 }
 
 engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(std::string_view text)

@@ -12,6 +12,7 @@
 
 #include "core/result.hpp"
 
+#include <boost/json/object.hpp>
 #include <boost/json/value.hpp>
 
 #include <cstdint>
@@ -253,6 +254,12 @@ struct FieldError {
 /// The complete document for a spec: every field, defaults included (an
 /// unset optional as null or "auto"). parse_job_spec(to_json(s)) == s.
 [[nodiscard]] boost::json::value to_json(const JobSpec& spec);
+
+/// The job spec as a JSON Schema (draft 2020-12), made by the reader itself
+/// walking an empty spec: every field it takes, with its type, allowed range
+/// or values and default (served at GET /v1/job-spec/schema). The checks
+/// across fields are not in it.
+[[nodiscard]] boost::json::object job_spec_json_schema();
 
 /// JSON names of the enums.
 [[nodiscard]] std::string_view to_string(WirePattern p);

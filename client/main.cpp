@@ -5,6 +5,7 @@
 #include "api/study.hpp"
 #include "exit_codes.hpp"
 #include "export_command.hpp"
+#include "report_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -150,6 +151,12 @@ int main(int argc, char** argv)
     export_xdmf->add_option("result", h5_file, "result file (docs/results.md)")->required();
     export_xdmf->add_option("-o,--output", xdmf_file, "XDMF file (default: RESULT with the extension .xdmf)");
 
+    auto* report = app.add_subcommand("report", "write OUT/report.html: the results of a run's output folder as one page that opens without a server");
+    std::string report_dir, report_file, web_dir;
+    report->add_option("out", report_dir, "output folder of wiredem run or wiredem fetch (summary.json, result.h5)")->required();
+    report->add_option("-o,--output", report_file, "HTML file (default: OUT/report.html)");
+    report->add_option("--web-dir", web_dir, "the installed web page (default: share/wiredem/web beside the binary's folder)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -181,6 +188,7 @@ int main(int argc, char** argv)
         if (*study_summary) return cmd_study_summary(g, id, study_csv);
         if (*study_fetch) return cmd_study_fetch(g, id, out_dir);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
+        if (*report) return cmd_report(report_dir, report_file, web_dir);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;
         return e.code;

@@ -12,9 +12,11 @@ packages=(
   sqlite3                                         # the server tests forge a damaged store with it
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
   python3-yaml                                    # scripts/lint-docker.sh checks compose.yaml
+  chromium                                        # the web page's browser test (tests/web/), headless
 )
-# scripts/lint-docker.sh runs dockerfilelint with npx: Debian's npm where no
-# npx is on the PATH (a machine may bring its own Node.js).
+# scripts/lint-docker.sh runs dockerfilelint with npx, and the build installs
+# the web page's libraries with npm ci (web/package-lock.json): Debian's npm
+# where no npx is on the PATH (a machine may bring its own Node.js).
 command -v npx >/dev/null || packages+=(npm)
 
 missing=()

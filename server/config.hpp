@@ -44,6 +44,8 @@ struct ServerConfig {
     std::size_t max_connections = 512;         ///< open connections; more are closed at once
     std::chrono::seconds retry_after{30};      ///< Retry-After sent with 429
     std::string token;                         ///< bearer token for /v1 routes; empty: no auth
+    /// The installed web page served at `/` (handlers/static_files.hpp); empty: none.
+    std::filesystem::path web_dir;
 };
 
 } // namespace wiredem::server

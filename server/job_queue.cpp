@@ -395,6 +395,12 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
     sync_path(out / "result.h5");
     sync_path(out / "summary.json");
     fs::rename(out / "result.h5", job_dir / "result.h5");
+    // result.xdmf (ParaView's view of result.h5, optional: older runners wrote
+    // none) is kept beside it, before the summary that marks success.
+    if (fs::is_regular_file(out / "result.xdmf", ec)) {
+        sync_path(out / "result.xdmf");
+        fs::rename(out / "result.xdmf", job_dir / "result.xdmf");
+    }
     fs::rename(out / "summary.json", job_dir / "summary.json");
     sync_path(job_dir);  // the renames are durable before the store says succeeded
     const auto bsps = number_at(summary, {"engine", "body_steps_per_second"});

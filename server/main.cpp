@@ -43,6 +43,17 @@ fs::path default_runner()
     return ec ? fs::path("wiredem") : self.parent_path() / "wiredem";
 }
 
+/// The web page as installed beside the binary (BIN/../share/wiredem/web, the
+/// build tree's layout too), or empty when it is not there.
+fs::path default_web_dir()
+{
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return {};
+    const fs::path dir = self.parent_path().parent_path() / "share" / "wiredem" / "web";
+    return fs::is_regular_file(dir / "index.html", ec) ? dir : fs::path();
+}
+
 bool parse_listen(const std::string& text, std::string& host, std::uint16_t& port)
 {
     const auto colon = text.rfind(':');
@@ -140,6 +151,7 @@ int main(int argc, char** argv)
     std::string token_file;
     std::string log_level = "info";
     std::string runner;
+    std::string web_dir;
     unsigned threads_per_job = 0;
     unsigned read_timeout_s = 30;
     unsigned write_timeout_s = 60;
@@ -182,6 +194,8 @@ int main(int argc, char** argv)
     app.add_option("--retry-after", retry_after_s, "Retry-After seconds sent with 429")->capture_default_str()->check(CLI::Range(1u, 86400u));
     // Not checked by CLI11 (exit 2): an unreadable token file is a setup error (exit 3, read_token).
     app.add_option("--token-file", token_file, "file holding the bearer token every /v1 request must carry");
+    app.add_option("--web-dir", web_dir,
+        "folder of the web page served at / (default: share/wiredem/web beside the binary's folder; 'none': no page)");
     app.add_option("--port-file", cfg.port_file, "write the bound port here once listening (for --listen HOST:0)");
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str()
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
@@ -216,6 +230,12 @@ int main(int argc, char** argv)
         if (::access(cfg.runner.c_str(), X_OK) != 0)
             throw std::runtime_error("runner " + cfg.runner.string() + " is not an executable file (see --runner)");
         if (!token_file.empty()) cfg.token = read_token(token_file);
+        if (web_dir.empty()) cfg.web_dir = default_web_dir();
+        else if (web_dir != "none") {
+            cfg.web_dir = fs::canonical(web_dir);
+            if (!fs::is_regular_file(cfg.web_dir / "index.html"))
+                throw std::runtime_error("--web-dir " + web_dir + " holds no index.html");
+        }
         fs::create_directories(cfg.data_dir / "jobs");
         cfg.data_dir = fs::canonical(cfg.data_dir);
         lock_fd = lock_data_dir(cfg.data_dir);

@@ -2,7 +2,9 @@
 //   POST   /v1/jobs                     GET /v1/jobs
 //   GET    /v1/jobs/{id}                DELETE /v1/jobs/{id}
 //   GET    /v1/jobs/{id}/summary        GET /v1/jobs/{id}/result.h5
-//   GET    /v1/health   /v1/openapi.json   /metrics
+//   GET    /v1/health   /v1/openapi.json   /v1/job-spec/schema   /metrics
+//   GET    /v1/jobs/{id}/tests/…, /specimen/…, /result.xdmf, /report.html   (handlers/results.hpp)
+//   GET    anything else: the web page's files (handlers/static_files.hpp)
 // GET routes also answer HEAD.
 #include "router.hpp"
 
@@ -10,6 +12,9 @@
 
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
+#include "handlers/results.hpp"
+#include "handlers/spec_schema.hpp"
+#include "handlers/static_files.hpp"
 #include "handlers/studies.hpp"
 
 #include <boost/asio/post.hpp>
@@ -155,10 +160,23 @@ Response Router::route(const Request& req)
 
     const auto method = req.method();
     const bool get = method == http::verb::get || method == http::verb::head;
+    auto bad_id = [&] {
+        return error_response(req, http::status::bad_request, "bad_id",
+            "a job id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
+    };
     auto finish = [&](Response res) {
         if (method == http::verb::head) strip_body(res);
         return res;
     };
+
+    // The result data routes check their own query parameters (max_points).
+    if (is_v1 && seg.size() >= 4 && seg[1] == "jobs" && is_result_data_route(seg[3])) {
+        if (!is_valid_job_id(seg[2])) return bad_id();
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        QueryParams params;
+        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
+        return finish(handle_result_data(req, seg, params, svc_));
+    }
 
     // Only the job and study lists take query parameters; elsewhere one is a
     // mistake the client should hear about, not one silently ignored.
@@ -171,8 +189,11 @@ Response Router::route(const Request& req)
         if (!get) return method_not_allowed(req, "GET, HEAD");
         return finish(handle_metrics(req, svc_));
     }
-    if (!is_v1 || seg.size() < 2)
-        return error_response(req, http::status::not_found, "not_found", "no such route");
+    if (!is_v1) {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_static(req, seg, svc_));
+    }
+    if (seg.size() < 2) return error_response(req, http::status::not_found, "not_found", "no such route");
 
     if (seg.size() == 2 && seg[1] == "health") {
         if (!get) return method_not_allowed(req, "GET, HEAD");
@@ -181,6 +202,10 @@ Response Router::route(const Request& req)
     if (seg.size() == 2 && seg[1] == "openapi.json") {
         if (!get) return method_not_allowed(req, "GET, HEAD");
         return finish(handle_openapi(req, svc_));
+    }
+    if (seg.size() == 3 && seg[1] == "job-spec" && seg[2] == "schema") {
+        if (!get) return method_not_allowed(req, "GET, HEAD");
+        return finish(handle_job_spec_schema(req, svc_));
     }
     if (seg[1] == "studies" && seg.size() <= 4) return finish(route_studies(req, url, seg, method));
     if (seg[1] != "jobs" || seg.size() > 4)
@@ -197,9 +222,7 @@ Response Router::route(const Request& req)
     const std::string& id = seg[2];
     if (id.empty() || (seg.size() == 4 && seg[3] != "summary" && seg[3] != "result.h5"))
         return error_response(req, http::status::not_found, "not_found", "no such route");
-    if (!is_valid_job_id(id))
-        return error_response(req, http::status::bad_request, "bad_id",
-            "a job id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
+    if (!is_valid_job_id(id)) return bad_id();
 
     if (seg.size() == 3) {
         if (method == http::verb::delete_) return handle_cancel_job(req, id, svc_);

@@ -1,6 +1,9 @@
 // Health, metrics, OpenAPI.
 #include "meta.hpp"
 
+#include "results.hpp"
+#include "spec_schema.hpp"
+
 #include <boost/json.hpp>
 
 #include <sstream>
@@ -10,8 +13,8 @@ namespace json = boost::json;
 
 namespace {
 
-/// The API described as OpenAPI 3.0. The job spec schema itself is
-/// docs/job-spec.md (api/ owns it); here it is an open object.
+/// The API described as OpenAPI 3.0. components.schemas.JobSpec is added by
+/// openapi_document(): the reader's own schema (api::job_spec_json_schema).
 constexpr const char* openapi_text = R"json({
   "openapi": "3.0.3",
   "info": {
@@ -192,6 +195,10 @@ constexpr const char* openapi_text = R"json({
     "/v1/openapi.json": {
       "get": {"summary": "This document", "responses": {"200": {"description": "OpenAPI 3", "content": {"application/json": {"schema": {"type": "object"}}}}}}
     },
+    "/v1/job-spec/schema": {
+      "get": {"summary": "The job spec as a JSON Schema (draft 2020-12), made by the reader itself: every field, its type, range or values and default; the checks across fields are not in it (docs/job-spec.md)",
+              "responses": {"200": {"description": "JSON Schema", "content": {"application/schema+json": {"schema": {"type": "object"}}}}}}
+    },
     "/metrics": {
       "get": {"summary": "Prometheus metrics (no authentication)", "security": [],
               "responses": {"200": {"description": "Text exposition format 0.0.4", "content": {"text/plain": {"schema": {"type": "string"}}}}}}
@@ -209,7 +216,6 @@ constexpr const char* openapi_text = R"json({
     },
     "schemas": {
       "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
-      "JobSpec": {"type": "object", "description": "The job spec of docs/job-spec.md; unknown keys are errors; {} is a valid job with every default."},
       "Study": {"type": "object", "required": ["name", "base"],
         "description": "docs/studies.md: the base job and either vary (field path -> list of values, a full grid) or points (a list of {field path: value}); every point is validated as a job; at most --max-study-points points.",
         "properties": {"name": {"type": "string", "maxLength": 200}, "comment": {"type": "string"},
@@ -267,7 +273,16 @@ double uptime_s(const Metrics& m)
 
 const json::value& openapi_document()
 {
-    static const json::value doc = json::parse(openapi_text);
+    static const json::value doc = [] {
+        json::value d = json::parse(openapi_text);
+        // The result data routes describe themselves (handlers/results.cpp).
+        for (const auto& [path, item] : result_data_openapi_paths()) d.at("paths").as_object()[path] = item;
+        for (const auto& [kind, entries] : result_data_openapi_components())
+            for (const auto& [name, entry] : entries.as_object()) d.at("components").as_object()[kind].as_object()[name] = entry;
+        // The job spec as the reader in api/ describes itself (handlers/spec_schema.hpp).
+        d.at("components").at("schemas").as_object()["JobSpec"] = job_spec_openapi_schema();
+        return d;
+    }();
     return doc;
 }
 

@@ -9,7 +9,8 @@
 # takes three times longer, *burn* keeps N cores busy while it runs; a
 # "comment" containing fail-this-point fails it like fail* (a study's points
 # differ in their fields, not their names).
-# WIREDEM_FAKE_STEP_S (default 0.2) is the pause between progress lines.
+# WIREDEM_FAKE_STEP_S (default 0.2) is the pause between progress lines;
+# WIREDEM_FAKE_RESULT_DIR (below) a folder whose result files it hands over.
 set -u
 if [ "${1:-}" != run ]; then echo "fake runner: usage: run JOB.json -o OUTDIR --threads N --progress json" >&2; exit 2; fi
 job=$2
@@ -65,7 +66,14 @@ nap "$step"
 emit writing 0.95 0.2 "writing result.h5"
 stop
 
-seq 1 50000 > "$out/result.h5.tmp"
+# WIREDEM_FAKE_RESULT_DIR: copy its result.h5 (and result.xdmf) instead of
+# writing a stand-in, so the result data routes read a real HDF5 file.
+if [ -n "${WIREDEM_FAKE_RESULT_DIR:-}" ]; then
+  cp "$WIREDEM_FAKE_RESULT_DIR/result.h5" "$out/result.h5.tmp"
+  [ -f "$WIREDEM_FAKE_RESULT_DIR/result.xdmf" ] && cp "$WIREDEM_FAKE_RESULT_DIR/result.xdmf" "$out/result.xdmf"
+else
+  seq 1 50000 > "$out/result.h5.tmp"
+fi
 cat > "$out/summary.json.tmp" <<JSON
 {"job": "${name//[\\\"]/}",
  "tests": [

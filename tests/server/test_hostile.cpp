@@ -216,7 +216,7 @@ TEST_F(HostileInput, StalledClientIsCutOffAfterTheReadTimeout)
 
 TEST_F(HostileInput, UnknownRoutesAre404AndWrongMethods405)
 {
-    EXPECT_EQ(http(port(), "GET", "/").status, 404);
+    EXPECT_EQ(http(port(), "GET", "/no-such-page.html").status, 404);  // "/" is the web page (test_static.cpp)
     EXPECT_EQ(http(port(), "GET", "/v2/jobs").status, 404);
     EXPECT_EQ(http(port(), "GET", "/v1/jobs/0123456789abcdef01234567/other").status, 404);
     EXPECT_EQ(http(port(), "GET", "/v1/jobs/").status, 404);

@@ -1,0 +1,224 @@
+// Result data as JSON (api/result_data.hpp).
+#include "api/result_data.hpp"
+
+#include "analysis/autocorrelation.hpp"
+
+#include <boost/json.hpp>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace wiredem::api {
+namespace json = boost::json;
+namespace io = engine::io;
+
+namespace {
+
+json::value number(double x) { return std::isfinite(x) ? json::value(x) : json::value(nullptr); }
+
+bool is_numeric_dataset(const io::Dataset& d, H5T_class_t* cls_out = nullptr)
+{
+    const hid_t type = H5Dget_type(static_cast<hid_t>(d.id()));
+    const H5T_class_t cls = H5Tget_class(type);
+    H5Tclose(type);
+    if (cls_out) *cls_out = cls;
+    return cls == H5T_INTEGER || cls == H5T_FLOAT;
+}
+
+json::value units_of(const io::Dataset& d)
+{
+    return d.has_attribute("units") ? json::value(d.read_string_attribute("units")) : json::value(nullptr);
+}
+
+} // namespace
+
+json::object attributes_of(const io::Object& o)
+{
+    json::object out;
+    const hid_t id = static_cast<hid_t>(o.id());
+    H5O_info_t info{};
+    if (H5Oget_info2(id, &info, H5O_INFO_NUM_ATTRS) < 0) return out;
+    for (hsize_t i = 0; i < info.num_attrs; ++i) {
+        const ssize_t len = H5Aget_name_by_idx(id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+        if (len <= 0) continue;
+        std::string name(static_cast<std::size_t>(len), '\0');
+        H5Aget_name_by_idx(id, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1, H5P_DEFAULT);
+        const hid_t attr = H5Aopen(id, name.c_str(), H5P_DEFAULT);
+        if (attr < 0) continue;
+        const hid_t type = H5Aget_type(attr);
+        const H5T_class_t cls = H5Tget_class(type);
+        H5Tclose(type);
+        H5Aclose(attr);
+        if (cls == H5T_STRING) out[name] = o.read_string_attribute(name);
+        else if (cls == H5T_INTEGER) out[name] = o.read_int_attribute(name);
+        else if (cls == H5T_FLOAT) out[name] = number(o.read_double_attribute(name));
+    }
+    return out;
+}
+
+std::vector<std::string> test_names(const io::Group& root)
+{
+    std::vector<std::pair<double, std::string>> found;
+    if (!root.exists("tests")) return {};
+    const io::Group all = root.open_group("tests");
+    for (const std::string& name : all.child_names()) {
+        const io::Group t = all.open_group(name);
+        found.emplace_back(t.has_attribute("confining_pressure_pa") ? t.read_double_attribute("confining_pressure_pa") : 0.0, name);
+    }
+    std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> names;
+    for (auto& f : found) names.push_back(std::move(f.second));
+    return names;
+}
+
+std::vector<std::size_t> snapshot_indices(const io::Group& test)
+{
+    std::vector<std::size_t> out;
+    if (!test.exists("snapshots")) return out;
+    for (const std::string& name : test.open_group("snapshots").child_names()) {
+        if (name.size() <= snapshot_prefix.size() || name.compare(0, snapshot_prefix.size(), snapshot_prefix) != 0) continue;
+        std::size_t k = 0;
+        const char* first = name.data() + snapshot_prefix.size();
+        const char* last = name.data() + name.size();
+        auto [p, ec] = std::from_chars(first, last, k);
+        if (ec == std::errc() && p == last) out.push_back(k);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<std::string> series_columns(const io::Group& test)
+{
+    std::vector<std::string> out;
+    for (const std::string& name : test.child_names()) {
+        H5O_info_t info{};
+        if (H5Oget_info_by_name2(static_cast<hid_t>(test.id()), name.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0
+            || info.type != H5O_TYPE_DATASET)
+            continue;
+        const io::Dataset d = test.open_dataset(name);
+        if (d.shape().size() == 1 && is_numeric_dataset(d)) out.push_back(name);
+    }
+    return out;
+}
+
+json::array arrays_of(const io::Group& g, const std::string& url_base)
+{
+    json::array out;
+    for (const std::string& name : g.child_names()) {
+        H5O_info_t info{};
+        if (H5Oget_info_by_name2(static_cast<hid_t>(g.id()), name.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0
+            || info.type != H5O_TYPE_DATASET)
+            continue;
+        const io::Dataset d = g.open_dataset(name);
+        H5T_class_t cls{};
+        if (!is_numeric_dataset(d, &cls)) continue;
+        json::array shape;
+        for (std::size_t n : d.shape()) shape.push_back(n);
+        json::object a{{"name", name}, {"shape", std::move(shape)}, {"dtype", cls == H5T_INTEGER ? "int32" : "float32"},
+            {"units", units_of(d)},
+            {"url", url_base + "/" + name}};
+        out.push_back(std::move(a));
+    }
+    return out;
+}
+
+std::vector<std::size_t> decimated_rows(std::size_t rows, std::size_t max_points)
+{
+    std::vector<std::size_t> keep;
+    if (rows <= max_points) {
+        keep.resize(rows);
+        for (std::size_t i = 0; i < rows; ++i) keep[i] = i;
+        return keep;
+    }
+    keep.resize(max_points);
+    // Row k·(rows−1)/(max_points−1), rounded to nearest, in integers: exact at both ends.
+    const std::size_t span = rows - 1, steps = max_points - 1;
+    for (std::size_t k = 0; k < max_points; ++k) keep[k] = (k * span + steps / 2) / steps;
+    return keep;
+}
+
+json::object tests_json(const io::Group& root, const std::string& url_base)
+{
+    json::array tests;
+    for (const std::string& name : test_names(root)) {
+        const io::Group t = root.open_group("tests/" + name);
+        json::array columns;
+        std::size_t rows = 0;
+        for (const std::string& c : series_columns(t)) {
+            const io::Dataset d = t.open_dataset(c);
+            rows = std::max(rows, d.shape()[0]);
+            columns.push_back(json::object{{"name", c}, {"units", units_of(d)}});
+        }
+        json::array snaps;
+        for (std::size_t k : snapshot_indices(t)) {
+            const io::Group s = t.open_group("snapshots/" + std::string(snapshot_prefix) + std::to_string(k));
+            json::object o = attributes_of(s);
+            o["index"] = k;
+            o["url"] = url_base + "/tests/" + name + "/snapshots/" + std::to_string(k);
+            snaps.push_back(std::move(o));
+        }
+        tests.push_back(json::object{{"name", name}, {"rows", rows}, {"attributes", attributes_of(t)},
+            {"columns", std::move(columns)}, {"snapshots", std::move(snaps)},
+            {"series_url", url_base + "/tests/" + name + "/series"}});
+    }
+    return json::object{{"tests", std::move(tests)}};
+}
+
+json::object series_json(const io::Group& t, const std::string& name, const std::vector<std::string>& columns,
+    std::size_t max_points)
+{
+    const std::vector<std::string> wanted = columns.empty() ? series_columns(t) : columns;
+    std::vector<std::vector<double>> data;
+    std::size_t rows = 0;
+    for (const auto& c : wanted) {
+        data.push_back(t.open_dataset(c).read_doubles());
+        rows = std::max(rows, data.back().size());
+    }
+    for (std::size_t i = 0; i < wanted.size(); ++i)
+        if (data[i].size() != rows)
+            throw std::runtime_error("test " + name + ": column " + wanted[i] + " has " + std::to_string(data[i].size())
+                                     + " rows, others " + std::to_string(rows));
+    const std::vector<std::size_t> keep = decimated_rows(rows, max_points);
+    json::object cols, units;
+    for (std::size_t i = 0; i < wanted.size(); ++i) {
+        json::array a;
+        a.reserve(keep.size());
+        for (std::size_t r : keep) a.push_back(number(data[i][r]));
+        cols[wanted[i]] = std::move(a);
+        units[wanted[i]] = units_of(t.open_dataset(wanted[i]));
+    }
+    json::array row_index;
+    for (std::size_t r : keep) row_index.push_back(r);
+    return json::object{{"test", name}, {"rows", rows}, {"returned_rows", keep.size()}, {"row_index", std::move(row_index)},
+        {"units", std::move(units)}, {"columns", std::move(cols)}};
+}
+
+json::object wire_autocorrelation_json(std::span<const double> strain, double l_w)
+{
+    json::object body{{"segment_length_m", l_w}, {"segments", strain.size()}};
+    const auto ac = engine::analysis::autocorrelation(strain, l_w);
+    if (!ac.ok()) {
+        body["error"] = ac.error();
+        body["lag_m"] = json::array();
+        body["coefficients"] = json::array();
+        body["first_maximum_lag_m"] = nullptr;
+        return body;
+    }
+    json::array lag, r;
+    for (std::size_t k = 0; k < ac.value().coefficients.size(); ++k) {
+        lag.push_back(static_cast<double>(k) * l_w);
+        r.push_back(number(ac.value().coefficients[k]));
+    }
+    body["error"] = nullptr;
+    body["lag_m"] = std::move(lag);
+    body["coefficients"] = std::move(r);
+    body["mean"] = number(ac.value().mean);
+    body["variance"] = number(ac.value().variance);
+    body["first_maximum_lag_m"] = ac.value().first_maximum_lag_m ? number(*ac.value().first_maximum_lag_m) : json::value(nullptr);
+    return body;
+}
+
+} // namespace wiredem::api

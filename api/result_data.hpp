@@ -1,0 +1,67 @@
+// What a result.h5 holds (docs/results.md), as JSON: the shapes of the result
+// data routes (server/handlers/results.hpp), shared by the server and
+// `wiredem report`, which embeds the same data in an offline page. Read from
+// the file as the runner wrote it; the only figures computed here are the
+// wire autocorrelation of a snapshot (engine::analysis::autocorrelation, the
+// function the summary's lag comes from) and the thinning of a series.
+// Throws engine::io::Hdf5Error when the file does not read.
+#pragma once
+
+#include "io/hdf5.hpp"
+
+#include <boost/json/object.hpp>
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace wiredem::api {
+
+/// Largest max_points of a series: more than any plot draws, fewer than a
+/// server should serialise per request by mistake.
+inline constexpr std::size_t max_series_points = 1'000'000;
+
+/// Name prefix of a test's snapshot groups (snapshot_0, snapshot_1, …).
+inline constexpr std::string_view snapshot_prefix = "snapshot_";
+
+/// The tests of a result file by ascending confining pressure (their group
+/// names sort as text: sigma3_100000 before sigma3_20000).
+[[nodiscard]] std::vector<std::string> test_names(const engine::io::Group& root);
+
+/// Snapshot indices of a test group, ascending.
+[[nodiscard]] std::vector<std::size_t> snapshot_indices(const engine::io::Group& test);
+
+/// The time-series columns of a test group: its 1-D numeric datasets.
+[[nodiscard]] std::vector<std::string> series_columns(const engine::io::Group& test);
+
+/// Every numeric or string attribute of a group or dataset (non-finite numbers as null).
+[[nodiscard]] boost::json::object attributes_of(const engine::io::Object& o);
+
+/// The numeric datasets of a group (specimen or snapshot): name, shape, dtype
+/// ("int32" for integers, "float32" otherwise: how the routes send them),
+/// units, and url = url_base + "/" + name.
+[[nodiscard]] boost::json::array arrays_of(const engine::io::Group& g, const std::string& url_base);
+
+/// {"tests": [{name, rows, attributes, columns: [{name, units}], snapshots:
+/// [{…attributes, index, url}], series_url}]}, by ascending pressure; urls
+/// under url_base ("/v1/jobs/{id}").
+[[nodiscard]] boost::json::object tests_json(const engine::io::Group& root, const std::string& url_base);
+
+/// {test, rows, returned_rows, row_index, units, columns: {name: [...]}} of the
+/// given columns (all of series_columns when empty; each must be one of them),
+/// thinned to at most max_points rows (decimated_rows).
+[[nodiscard]] boost::json::object series_json(const engine::io::Group& test, const std::string& name,
+    const std::vector<std::string>& columns, std::size_t max_points);
+
+/// {segment_length_m, segments, lag_m, coefficients, mean, variance,
+/// first_maximum_lag_m, error}: the autocorrelation of a wire's segment
+/// strains; error (and empty lists) when there is none.
+[[nodiscard]] boost::json::object wire_autocorrelation_json(std::span<const double> segment_strain, double segment_length_m);
+
+/// Rows kept when a series of `rows` rows is thinned to at most `max_points`
+/// (≥ 2): evenly spaced, the first and the last always among them; every row
+/// when there are no more than `max_points`.
+[[nodiscard]] std::vector<std::size_t> decimated_rows(std::size_t rows, std::size_t max_points);
+
+} // namespace wiredem::api

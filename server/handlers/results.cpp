@@ -1,0 +1,409 @@
+// Result data routes: result.h5 read through engine/io/hdf5 (read-only), as
+// JSON for figures and series (api/result_data), as raw little-endian arrays
+// for the 3D view; the offline report (api/report).
+#include "results.hpp"
+
+#include "api/job_spec.hpp"
+#include "api/json_text.hpp"
+#include "api/report.hpp"
+#include "api/result_data.hpp"
+#include "io/hdf5.hpp"
+
+#include <boost/json.hpp>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <limits>
+
+namespace wiredem::server {
+namespace json = boost::json;
+namespace io = engine::io;
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the binary arrays are sent in the host's byte order");
+
+Response not_found(const Request& req, const std::string& what)
+{
+    return error_response(req, http::status::not_found, "not_found", what);
+}
+
+Response bad_parameter(const Request& req, const std::string& message, const std::string& field)
+{
+    return error_response(req, http::status::bad_request, "bad_parameter", message, field);
+}
+
+/// The query parameter `name`, or nullopt; `known` are the route's parameters:
+/// any other, or one given twice, is reported through `problem`.
+struct Query {
+    const QueryParams& params;
+    std::optional<std::pair<std::string, std::string>> check(std::initializer_list<std::string_view> known) const
+    {
+        std::vector<std::string_view> seen;
+        for (const auto& [key, value] : params) {
+            if (std::find(known.begin(), known.end(), key) == known.end()) {
+                std::string list;
+                for (auto k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+                return std::pair{key, known.size() == 0 ? "this route takes no query parameters"
+                                                        : "unknown parameter (known: " + list + ")"};
+            }
+            if (std::find(seen.begin(), seen.end(), key) != seen.end()) return std::pair{key, std::string("parameter given twice")};
+            seen.push_back(key);
+        }
+        return std::nullopt;
+    }
+    std::optional<std::string> get(std::string_view name) const
+    {
+        for (const auto& [key, value] : params)
+            if (key == name) return value;
+        return std::nullopt;
+    }
+};
+
+std::string shape_text(const std::vector<std::size_t>& shape)
+{
+    std::string s;
+    for (std::size_t n : shape) {
+        if (!s.empty()) s += ',';  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "," + std::string&&
+        s += std::to_string(n);
+    }
+    return s;
+}
+
+/// One dataset of `g` as raw little-endian float32 or int32 rows (the dtype
+/// api::arrays_of lists it with).
+Response array_response(const Request& req, const io::Group& g, const std::string& name, const std::string& where)
+{
+    std::string dtype;
+    for (const auto& a : api::arrays_of(g, ""))
+        if (a.at("name").get_string() == name) dtype = std::string(a.at("dtype").get_string());
+    if (dtype.empty()) return not_found(req, where + " has no array '" + name + "'");
+    const io::Dataset d = g.open_dataset(name);
+    std::string body;
+    if (dtype == "int32") {
+        const std::vector<std::int64_t> v = d.read_int64s();
+        std::vector<std::int32_t> narrow(v.size());
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            if (v[i] < std::numeric_limits<std::int32_t>::min() || v[i] > std::numeric_limits<std::int32_t>::max())
+                throw std::runtime_error(where + "/" + name + ": value " + std::to_string(v[i]) + " does not fit int32");
+            narrow[i] = static_cast<std::int32_t>(v[i]);
+        }
+        body.assign(reinterpret_cast<const char*>(narrow.data()), narrow.size() * sizeof(std::int32_t));
+    } else {
+        const std::vector<double> v = d.read_doubles();
+        std::vector<float> narrow(v.begin(), v.end());
+        body.assign(reinterpret_cast<const char*>(narrow.data()), narrow.size() * sizeof(float));
+    }
+    auto res = text_response(req, http::status::ok, std::move(body), "application/octet-stream");
+    res.set("X-Wiredem-Shape", shape_text(d.shape()));
+    res.set("X-Wiredem-Dtype", dtype);
+    return res;
+}
+
+/// GET …/tests/{test}/series?max_points=N&columns=a,b
+Response series(const Request& req, const io::Group& t, const std::string& name, const Query& q)
+{
+    if (auto bad = q.check({"max_points", "columns"})) return bad_parameter(req, bad->second, bad->first);
+    std::vector<std::string> wanted;
+    if (auto c = q.get("columns")) {
+        const std::vector<std::string> available = api::series_columns(t);
+        std::string_view rest = *c;
+        while (true) {
+            const auto comma = rest.find(',');
+            const std::string one(rest.substr(0, comma));
+            if (std::find(available.begin(), available.end(), one) == available.end())
+                return bad_parameter(req, "test " + name + " has no column '" + one + "'", "columns");
+            if (std::find(wanted.begin(), wanted.end(), one) == wanted.end()) wanted.push_back(one);
+            if (comma == std::string_view::npos) break;
+            rest.remove_prefix(comma + 1);
+        }
+    }
+    std::size_t max_points = api::max_series_points;
+    if (auto m = q.get("max_points")) {
+        std::size_t v = 0;
+        auto [p, ec] = std::from_chars(m->data(), m->data() + m->size(), v);
+        if (m->empty() || ec != std::errc() || p != m->data() + m->size() || v < 2 || v > api::max_series_points)
+            return bad_parameter(req, "max_points must be an integer in [2, " + std::to_string(api::max_series_points) + "]",
+                "max_points");
+        max_points = v;
+    }
+    return json_response(req, http::status::ok, api::series_json(t, name, wanted, max_points));
+}
+
+/// GET …/snapshots/{k}/wire_autocorrelation, with the job's segment length.
+Response wire_autocorrelation(const Request& req, const io::Group& snap, const std::string& where, const std::string& spec_json)
+{
+    if (!snap.exists("wire_segment_strain")) return not_found(req, where + " has no wire");
+    const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
+    const auto doc = api::parse_json_text(spec_json);
+    if (!doc) throw std::runtime_error("stored spec is not JSON: " + doc.error());
+    const auto spec = api::parse_job_spec(doc.value());
+    if (!spec) throw std::runtime_error("stored spec does not parse: " + spec.error().front().message);
+    return json_response(req, http::status::ok, api::wire_autocorrelation_json(strain, spec.value().specimen.wire.segment_length_m));
+}
+
+/// result.xdmf: small XML, read whole.
+Response xdmf(const Request& req, const std::filesystem::path& dir, const std::string& id)
+{
+    const auto path = dir / "result.xdmf";
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    if (fd < 0) return not_found(req, "job " + id + " has no result.xdmf (finished before the server kept it)");
+    std::string text;
+    char buf[65536];
+    ssize_t got;
+    while ((got = ::read(fd, buf, sizeof buf)) > 0 || (got < 0 && errno == EINTR))
+        if (got > 0) text.append(buf, static_cast<std::size_t>(got));
+    ::close(fd);
+    if (got < 0) throw std::runtime_error("cannot read result.xdmf of job " + id);
+    auto res = text_response(req, http::status::ok, std::move(text), "application/xml");
+    res.set(http::field::content_disposition, "attachment; filename=\"result.xdmf\"");
+    return res;
+}
+
+} // namespace
+
+bool is_result_data_route(std::string_view fourth_segment) noexcept
+{
+    return fourth_segment == "tests" || fourth_segment == "specimen" || fourth_segment == "result.xdmf"
+        || fourth_segment == "report.html";
+}
+
+Response handle_result_data(const Request& req, const std::vector<std::string>& seg, const QueryParams& params, Services& svc)
+{
+    const std::string& id = seg[2];
+    const Query q{params};
+    const auto r = svc.store.get(id);
+    if (!r) return not_found(req, "no job " + id);
+    if (r->state != JobState::succeeded)
+        return error_response(req, http::status::conflict, "not_succeeded",
+            "job " + id + " is " + std::string(to_string(r->state)) + "; results exist only once it has succeeded", "id");
+    const std::filesystem::path dir = svc.config.data_dir / "jobs" / id;
+    const std::string base = "/v1/jobs/" + id;
+
+    // Only the series route takes query parameters.
+    const bool is_series = seg.size() == 6 && seg[3] == "tests" && seg[5] == "series";
+    if (!is_series)
+        if (auto bad = q.check({})) return bad_parameter(req, bad->second, bad->first);
+
+    if (seg[3] == "result.xdmf") {
+        if (seg.size() != 4) return not_found(req, "no such route");
+        return xdmf(req, dir, id);
+    }
+
+    // HDF5 opens by name and follows links: refuse anything but a regular file
+    // in the job's folder (the folder itself is the server's, named by a valid id).
+    const auto h5 = dir / "result.h5";
+    struct stat st{};
+    if (::lstat(h5.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+        return error_response(req, http::status::internal_server_error, "internal",
+            "result of job " + id + " is missing or not a regular file");
+    if (seg[3] == "report.html") {
+        if (seg.size() != 4) return not_found(req, "no such route");
+        if (svc.config.web_dir.empty()) return not_found(req, "this server has no web page to draw the report with (--web-dir)");
+        auto res = text_response(req, http::status::ok,
+            api::report_html(dir / "summary.json", h5, svc.config.web_dir, "job " + id), "text/html; charset=utf-8");
+        // A file to save and open offline; shown here anyway, it runs in an opaque origin.
+        res.set(http::field::content_disposition, "attachment; filename=\"report.html\"");
+        res.set("Content-Security-Policy", "sandbox allow-scripts");
+        return res;
+    }
+    const io::File file = io::File::open_read_only(h5);
+    const io::Group root = file.root();
+
+    if (seg[3] == "specimen") {
+        if (!root.exists("specimen")) return not_found(req, "the result holds no specimen");
+        const io::Group s = root.open_group("specimen");
+        if (seg.size() == 4)
+            return json_response(req, http::status::ok,
+                json::object{{"attributes", api::attributes_of(s)}, {"arrays", api::arrays_of(s, base + "/specimen")}});
+        if (seg.size() == 5) return array_response(req, s, seg[4], "the specimen");
+        return not_found(req, "no such route");
+    }
+
+    // tests
+    if (seg.size() == 4) return json_response(req, http::status::ok, api::tests_json(root, base));
+    const std::vector<std::string> names = api::test_names(root);
+    const std::string& test = seg[4];
+    if (std::find(names.begin(), names.end(), test) == names.end())
+        return not_found(req, "the result has no test '" + test + "'");
+    const io::Group t = root.open_group("tests/" + test);
+    if (seg.size() == 6 && seg[5] == "series") return series(req, t, test, q);
+    if (seg.size() < 7 || seg.size() > 8 || seg[5] != "snapshots") return not_found(req, "no such route");
+    const std::vector<std::size_t> ks = api::snapshot_indices(t);
+    std::size_t k = 0;
+    auto [p, ec] = std::from_chars(seg[6].data(), seg[6].data() + seg[6].size(), k);
+    if (seg[6].empty() || ec != std::errc() || p != seg[6].data() + seg[6].size() || std::find(ks.begin(), ks.end(), k) == ks.end())
+        return not_found(req, "test " + test + " has no snapshot '" + seg[6] + "'");
+    const io::Group snap = t.open_group("snapshots/" + std::string(api::snapshot_prefix) + std::to_string(k));
+    const std::string where = "snapshot " + std::to_string(k) + " of " + test;
+    const std::string url = base + "/tests/" + test + "/snapshots/" + std::to_string(k);
+    if (seg.size() == 7)
+        return json_response(req, http::status::ok,
+            json::object{{"test", test}, {"index", k}, {"attributes", api::attributes_of(snap)}, {"arrays", api::arrays_of(snap, url)},
+                {"wire_autocorrelation_url", url + "/wire_autocorrelation"}});
+    if (seg[7] == "wire_autocorrelation") return wire_autocorrelation(req, snap, where, r->spec_json);
+    return array_response(req, snap, seg[7], where);
+}
+
+} // namespace wiredem::server
+
+namespace wiredem::server {
+
+const boost::json::object& result_data_openapi_paths()
+{
+    // Merged into the OpenAPI document by handlers/meta.cpp.
+    static const json::object paths = json::parse(R"json({
+    "/v1/jobs/{id}/tests": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The tests of a succeeded job by ascending confining pressure: attributes (peak, yield, quasi-static figures), time-series columns with units, snapshots",
+        "responses": {
+          "200": {"description": "The tests", "content": {"application/json": {"schema": {"type": "object", "required": ["tests"],
+            "properties": {"tests": {"type": "array", "items": {"type": "object", "required": ["name", "rows", "attributes", "columns", "snapshots"],
+              "properties": {"name": {"type": "string", "example": "sigma3_20000"}, "rows": {"type": "integer"},
+                "attributes": {"type": "object"}, "series_url": {"type": "string"},
+                "columns": {"type": "array", "items": {"type": "object", "properties": {"name": {"type": "string"}, "units": {"type": "string", "nullable": true}}}},
+                "snapshots": {"type": "array", "items": {"type": "object", "properties": {"index": {"type": "integer"}, "url": {"type": "string"},
+                  "requested_axial_strain": {"type": "number"}, "axial_strain": {"type": "number"}, "time_s": {"type": "number"}}}}}}}}}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/tests/{test}/series": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"},
+        {"name": "max_points", "in": "query", "description": "at most this many rows, evenly spaced, the first and last among them (default: every row)",
+         "schema": {"type": "integer", "minimum": 2, "maximum": 1000000}},
+        {"name": "columns", "in": "query", "description": "comma-separated column names (default: every column)", "schema": {"type": "string", "example": "axial_strain,deviatoric_stress_pa"}}],
+      "get": {
+        "summary": "A test's time series as stored in result.h5, optionally thinned",
+        "responses": {
+          "200": {"description": "Columns of equal length", "content": {"application/json": {"schema": {"type": "object",
+            "required": ["test", "rows", "returned_rows", "row_index", "units", "columns"],
+            "properties": {"test": {"type": "string"}, "rows": {"type": "integer", "description": "rows stored"},
+              "returned_rows": {"type": "integer"}, "row_index": {"type": "array", "items": {"type": "integer"}},
+              "units": {"type": "object", "additionalProperties": {"type": "string"}},
+              "columns": {"type": "object", "additionalProperties": {"type": "array", "items": {"type": "number", "nullable": true}}}}}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/specimen": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The prepared specimen: its attributes and its arrays (shape, type, url)",
+        "responses": {
+          "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/specimen/{array}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Array"}],
+      "get": {
+        "summary": "One array of the specimen, binary",
+        "responses": {
+          "200": {"$ref": "#/components/responses/BinaryArray"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/tests/{test}/snapshots/{k}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"}, {"$ref": "#/components/parameters/Snapshot"}],
+      "get": {
+        "summary": "A snapshot of a test: its attributes (requested and measured axial strain, time) and arrays (positions, radii, wire strain, membrane triangles, contacts)",
+        "responses": {
+          "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/tests/{test}/snapshots/{k}/{array}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"}, {"$ref": "#/components/parameters/Snapshot"},
+        {"$ref": "#/components/parameters/Array"}],
+      "get": {
+        "summary": "One array of a snapshot, binary",
+        "responses": {
+          "200": {"$ref": "#/components/responses/BinaryArray"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"}, {"$ref": "#/components/parameters/Snapshot"}],
+      "get": {
+        "summary": "Autocorrelation of the snapshot's wire segment strains (the function summary.wire.autocorrelation_lag_m comes from), with its first maximum",
+        "responses": {
+          "200": {"description": "R(k) against lag k * segment length; error says why there is none", "content": {"application/json": {"schema": {"type": "object",
+            "required": ["segment_length_m", "segments", "lag_m", "coefficients", "first_maximum_lag_m", "error"],
+            "properties": {"segment_length_m": {"type": "number"}, "segments": {"type": "integer"},
+              "lag_m": {"type": "array", "items": {"type": "number"}}, "coefficients": {"type": "array", "items": {"type": "number"}},
+              "first_maximum_lag_m": {"type": "number", "nullable": true}, "error": {"type": "string", "nullable": true}}}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/report.html": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The offline report: one HTML file with the job page's results (summary, curves, Mohr circles, wire) that opens without a server (what wiredem report OUT/ writes)",
+        "responses": {
+          "200": {"description": "HTML, as an attachment", "content": {"text/html": {"schema": {"type": "string"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/result.xdmf": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The XDMF sidecar that describes result.h5 to ParaView (save both in one folder)",
+        "responses": {
+          "200": {"description": "XDMF 3 XML", "content": {"application/xml": {"schema": {"type": "string"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    }
+    })json").as_object();
+    return paths;
+}
+
+const boost::json::object& result_data_openapi_components()
+{
+    static const json::object components = json::parse(R"json({
+    "parameters": {
+      "Test": {"name": "test", "in": "path", "required": true, "description": "a test's name from /tests", "schema": {"type": "string", "example": "sigma3_20000"}},
+      "Snapshot": {"name": "k", "in": "path", "required": true, "description": "a snapshot's index from /tests", "schema": {"type": "integer", "minimum": 0}},
+      "Array": {"name": "array", "in": "path", "required": true, "description": "an array's name from the group's arrays", "schema": {"type": "string", "example": "grain_position_m"}}
+    },
+    "responses": {
+      "BinaryArray": {"description": "Row-major little-endian values; X-Wiredem-Shape gives the dimensions (e.g. 150,3), X-Wiredem-Dtype float32 or int32 (indices)",
+        "headers": {"X-Wiredem-Shape": {"schema": {"type": "string"}}, "X-Wiredem-Dtype": {"schema": {"type": "string", "enum": ["float32", "int32"]}}},
+        "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}}}
+    },
+    "schemas": {
+      "ArrayGroup": {"type": "object", "required": ["attributes", "arrays"], "properties": {
+        "attributes": {"type": "object"},
+        "arrays": {"type": "array", "items": {"type": "object", "required": ["name", "shape", "dtype", "url"], "properties": {
+          "name": {"type": "string"}, "shape": {"type": "array", "items": {"type": "integer"}},
+          "dtype": {"type": "string", "enum": ["float32", "int32"]}, "units": {"type": "string", "nullable": true}, "url": {"type": "string"}}}}}}
+    }
+    })json").as_object();
+    return components;
+}
+
+} // namespace wiredem::server

@@ -1,0 +1,213 @@
+// api::job_spec_json_schema: the reader describes itself. Checked against the
+// writer (every field to_json writes, with the same default), against the
+// reader (a value at a closed bound passes, one just outside fails, for every
+// number and integer), and against the schema table of docs/job-spec.md
+// (the same fields; the same interval and default where the table gives a
+// plain one): when one of them changes alone, a test here fails.
+#include "api/job_spec.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+namespace wiredem::api {
+namespace {
+namespace json = boost::json;
+
+/// Leaf fields of a schema object by dotted path.
+void leaves(const json::object& schema, const std::string& prefix, std::map<std::string, json::object>& out)
+{
+    for (const auto& [key, field] : schema.at("properties").as_object()) {
+        const std::string path = prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
+        const json::object& f = field.as_object();
+        if (auto t = f.find("type"); t != f.end() && t->value() == "object") leaves(f, path, out);
+        else out[path] = f;
+    }
+}
+
+std::map<std::string, json::object> schema_fields()
+{
+    std::map<std::string, json::object> out;
+    leaves(job_spec_json_schema(), "", out);
+    return out;
+}
+
+/// Sets `path` (dots) in a JSON object, making the objects on the way. The
+/// base spec gives the damping directly and lays no wire: parsing it then
+/// skips the restitution fit and the wire's checks (a quarter of a second
+/// each), which the range checks do not need.
+json::object with_field(const std::string& path, json::value v)
+{
+    json::object root{{"contact", json::object{{"normal_damping_s", 1e-5}}},
+        {"specimen", json::object{{"wire", json::object{{"pattern", "none"}}}}}};
+    json::object* node = &root;
+    std::string_view rest = path;
+    for (auto dot = rest.find('.'); dot != std::string_view::npos; dot = rest.find('.')) {
+        json::value& child = (*node)[rest.substr(0, dot)];
+        if (!child.is_object()) child.emplace_object();
+        node = &child.as_object();
+        rest.remove_prefix(dot + 1);
+    }
+    (*node)[rest] = std::move(v);
+    return root;
+}
+
+/// Whether the reader refuses v at `path` as out of range (the checks across
+/// fields may refuse an extreme value too, for another reason).
+bool refused(const std::string& path, json::value v)
+{
+    const auto r = parse_job_spec(json::value(with_field(path, std::move(v))));
+    if (r.ok()) return false;
+    for (const auto& e : r.error())
+        if ((e.path == path || e.path.rfind(path + "[", 0) == 0) && e.message.find("out of range") != std::string::npos)
+            return true;
+    return false;
+}
+
+TEST(JobSpecSchema, IsAnObjectSchemaThatRefusesUnknownKeys)
+{
+    const json::object s = job_spec_json_schema();
+    EXPECT_EQ(s.at("$schema"), "https://json-schema.org/draft/2020-12/schema");
+    EXPECT_EQ(s.at("type"), "object");
+    EXPECT_EQ(s.at("additionalProperties"), false);
+    EXPECT_EQ(s.at("properties").at("specimen").at("properties").at("wire").at("additionalProperties"), false);
+    EXPECT_EQ(s.at("properties").at("specimen").at("properties").at("wire").at("properties").at("pattern").at("enum"),
+        (json::array{"none", "helix", "spiral_helix", "radial_helix"}));
+}
+
+TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
+{
+    const auto fields = schema_fields();
+    std::map<std::string, json::value> written;
+    std::function<void(const json::object&, const std::string&)> walk = [&](const json::object& o, const std::string& prefix) {
+        for (const auto& [k, v] : o) {
+            const std::string path = prefix.empty() ? std::string(k) : prefix + "." + std::string(k);
+            if (v.is_object()) walk(v.as_object(), path);
+            else written[path] = v;
+        }
+    };
+    walk(to_json(JobSpec{}).as_object(), "");
+    for (const auto& [path, value] : written) {
+        ASSERT_TRUE(fields.count(path)) << path << " is written but not in the schema";
+        const json::value& d = fields.at(path).at("default");
+        if (value.is_number() && d.is_number())
+            EXPECT_EQ(value.to_number<double>(), d.to_number<double>()) << path;
+        else
+            EXPECT_EQ(value, d) << path;
+    }
+    // The damping form not taken by default (normal_damping_s) is the only field the writer leaves out.
+    for (const auto& [path, f] : fields)
+        if (!written.count(path)) EXPECT_EQ(path, "contact.normal_damping_s");
+}
+
+TEST(JobSpecSchema, TheReaderAcceptsEachBoundAndRefusesJustOutside)
+{
+    int checked = 0;
+    for (const auto& [path, f0] : schema_fields()) {
+        json::object f = f0;
+        if (auto one = f.find("oneOf"); one != f.end()) f = one->value().at(0).as_object();
+        if (auto items = f.find("items"); items != f.end()) {
+            // An array of numbers: check its entries through a one-entry array.
+            const json::object item = items->value().as_object();
+            for (const char* bound : {"minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum"}) {
+                if (!item.contains(bound)) continue;
+                const double b = item.at(bound).to_number<double>();
+                const bool low = bound[0] == 'm' ? std::string(bound) == "minimum" : std::string(bound) == "exclusiveMinimum";
+                const double outside = std::nextafter(b, low ? -INFINITY : INFINITY);
+                EXPECT_TRUE(refused(path, json::array{outside})) << path << " [" << outside << "]";
+                ++checked;
+            }
+            continue;
+        }
+        for (const char* bound : {"minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"}) {
+            if (!f.contains(bound)) continue;
+            const bool integer = f.at("type") == "integer";
+            const bool low = std::string(bound).find("inimum") != std::string::npos;
+            const bool exclusive = std::string(bound).rfind("exclusive", 0) == 0;
+            if (integer) {
+                const std::uint64_t b = f.at(bound).to_number<std::uint64_t>();
+                EXPECT_FALSE(refused(path, b)) << path << " = " << b;
+                if (low && b > 0) EXPECT_TRUE(refused(path, b - 1)) << path << " = " << b - 1;
+                if (!low && b < UINT64_MAX) EXPECT_TRUE(refused(path, b + 1)) << path << " = " << b + 1;
+            } else {
+                const double b = f.at(bound).to_number<double>();
+                const double outside = std::nextafter(b, low ? -INFINITY : INFINITY);
+                if (exclusive) EXPECT_TRUE(refused(path, b)) << path << " = " << b << " (excluded)";
+                else EXPECT_FALSE(refused(path, b)) << path << " = " << b;
+                EXPECT_TRUE(refused(path, outside)) << path << " = " << outside;
+            }
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 80);
+}
+
+/// "1e13", "−1", "10⁸", "2π", "π/2", "2⁶⁴ − 1" as numbers; nullopt for prose.
+std::optional<double> docs_number(std::string t)
+{
+    for (auto [from, to] : std::initializer_list<std::pair<std::string, std::string>>{
+             {"\u2212", "-"}, {"10\u2078", "1e8"}, {"10\u2079", "1e9"}, {"2\u2076\u2074 - 1", "18446744073709551615"}}) {
+        for (auto p = t.find(from); p != std::string::npos; p = t.find(from)) t.replace(p, from.size(), to);
+    }
+    if (t == "2\u03c0") return 2 * M_PI;
+    if (t == "\u03c0/2") return M_PI / 2;
+    try {
+        std::size_t used = 0;
+        const double x = std::stod(t, &used);
+        if (used == t.size()) return x;
+    } catch (...) {
+    }
+    return std::nullopt;
+}
+
+TEST(JobSpecSchema, MatchesTheTableOfDocsJobSpec)
+{
+    std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/docs/job-spec.md");
+    ASSERT_TRUE(in) << "docs/job-spec.md not found";
+    std::string line;
+    bool in_schema = false;
+    std::map<std::string, std::vector<std::string>> rows;
+    const std::regex row(R"(^\| `([a-z_.\[\]0-9]+)` \| ([^|]*) \| ([^|]*) \| ([^|]*) \| ([^|]*) \|)");
+    while (std::getline(in, line)) {
+        if (line.rfind("## ", 0) == 0) in_schema = line == "## Schema";
+        std::smatch m;
+        if (in_schema && std::regex_search(line, m, row) && m[2].str() != "object") rows[m[1]] = {m[2], m[3], m[4], m[5]};
+    }
+    const auto fields = schema_fields();
+    for (const auto& [path, f] : fields) EXPECT_TRUE(rows.count(path)) << path << " is in the schema, not in docs/job-spec.md";
+    for (const auto& [path, r] : rows) EXPECT_TRUE(fields.count(path)) << path << " is in docs/job-spec.md, not in the schema";
+
+    int intervals = 0, defaults = 0;
+    const std::regex interval(R"(^([\[(])([^,]+), ([^\])]+)([\])]))");
+    for (const auto& [path, r] : rows) {
+        if (!fields.count(path)) continue;
+        json::object f = fields.at(path);
+        if (auto one = f.find("oneOf"); one != f.end()) f = one->value().at(0).as_object();
+        if (auto items = f.find("items"); items != f.end()) f = items->value().as_object();
+        std::smatch m;
+        if (std::regex_search(r[3], m, interval)) {
+            const auto lo = docs_number(m[2]), hi = docs_number(m[3]);
+            if (!lo || !hi) continue;
+            const char* lo_key = m[1] == "(" ? "exclusiveMinimum" : "minimum";
+            const char* hi_key = m[4] == ")" ? "exclusiveMaximum" : "maximum";
+            ASSERT_TRUE(f.contains(lo_key) && f.contains(hi_key)) << path << ": docs say " << r[3] << ", schema " << json::serialize(f);
+            EXPECT_DOUBLE_EQ(f.at(lo_key).to_number<double>(), *lo) << path;
+            EXPECT_DOUBLE_EQ(f.at(hi_key).to_number<double>(), *hi) << path;
+            ++intervals;
+        }
+        if (auto d = docs_number(r[2]); d && fields.at(path).at("default").is_number()) {
+            EXPECT_DOUBLE_EQ(fields.at(path).at("default").to_number<double>(), *d) << path;
+            ++defaults;
+        }
+    }
+    EXPECT_GT(intervals, 45);
+    EXPECT_GT(defaults, 40);
+}
+
+} // namespace
+} // namespace wiredem::api

@@ -1,0 +1,301 @@
+// The result data routes (server/handlers/results.hpp) against a result.h5
+// written here with known values in wiredem's layout (docs/results.md): the
+// fake runner hands it over as the job's result (WIREDEM_FAKE_RESULT_DIR), so
+// every figure the routes return can be compared with what was written.
+#include "harness.hpp"
+
+#include "io/hdf5.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <numbers>
+
+namespace wiredem::test {
+namespace {
+namespace fs = std::filesystem;
+namespace json = boost::json;
+namespace io = engine::io;
+
+constexpr std::size_t rows = 101;
+constexpr std::size_t grains = 7;
+constexpr std::size_t segments = 64;
+constexpr std::size_t period_segments = 8;  ///< the wire strain's period, in segments
+constexpr double segment_length_m = 2e-3;   ///< the submitted spec's l_w
+
+/// Column `name` of the test at `sigma3`, row i: distinct per test, column and row.
+double value(double sigma3, int column, std::size_t i) { return sigma3 + 1000.0 * column + 0.25 * static_cast<double>(i); }
+
+const std::vector<std::string> column_names{"time_s", "axial_strain", "deviatoric_stress_pa"};
+
+/// Three tests named so that text order (100000, 20000, 5000) is not pressure order.
+void write_result(const fs::path& dir)
+{
+    fs::create_directories(dir);
+    io::File file = io::File::create(dir / "result.h5");
+    io::Group root = file.root();
+    root.write_string_attribute("format", "wiredem-result-1");
+    root.write_string_dataset("job_spec", R"({"name": "results", "specimen": {"wire": {"segment_length_m": 0.002}}})");
+    io::Group sp = root.create_group("specimen");
+    sp.write_int_attribute("grains", grains);
+    std::vector<double> pos(grains * 3), radius(grains);
+    for (std::size_t i = 0; i < pos.size(); ++i) pos[i] = 0.001 * static_cast<double>(i) + 1e-9;
+    for (std::size_t i = 0; i < grains; ++i) radius[i] = 1e-3 + 1e-5 * static_cast<double>(i);
+    sp.write_dataset("grain_position_m", std::span<const double>(pos), 3).write_string_attribute("units", "m");
+    sp.write_dataset("grain_radius_m", std::span<const double>(radius)).write_string_attribute("units", "m");
+    for (double sigma3 : {100000.0, 20000.0, 5000.0}) {
+        io::Group t = root.create_group("tests/sigma3_" + std::to_string(static_cast<long>(sigma3)));
+        t.write_double_attribute("confining_pressure_pa", sigma3);
+        t.write_double_attribute("peak_deviatoric_stress_pa", 3 * sigma3);
+        for (int c = 0; c < static_cast<int>(column_names.size()); ++c) {
+            std::vector<double> v(rows);
+            for (std::size_t i = 0; i < rows; ++i) v[i] = value(sigma3, c, i);
+            t.write_dataset(column_names[static_cast<std::size_t>(c)], std::span<const double>(v)).write_string_attribute("units", "1");
+        }
+        std::vector<std::int32_t> phase(rows, 2);
+        t.write_dataset("phase", std::span<const std::int32_t>(phase));
+        for (int k = 0; k < 2; ++k) {
+            io::Group s = t.create_group("snapshots/snapshot_" + std::to_string(k));
+            s.write_double_attribute("requested_axial_strain", 0.05 * k);
+            s.write_double_attribute("axial_strain", 0.05 * k + 1e-4);
+            s.write_dataset("grain_position_m", std::span<const double>(pos), 3);
+            std::vector<double> strain(segments);
+            for (std::size_t j = 0; j < segments; ++j)
+                strain[j] = 1e-3 * std::sin(2 * std::numbers::pi * static_cast<double>(j) / period_segments);
+            s.write_dataset("wire_segment_strain", std::span<const double>(strain));
+            const std::vector<std::uint32_t> tri{0, 1, 2, 2, 3, 4};
+            s.write_dataset("membrane_triangles", std::span<const std::uint32_t>(tri), 3);
+        }
+    }
+    write_file(dir / "result.xdmf", "<?xml version=\"1.0\"?><Xdmf/>\n");
+}
+
+class ResultData : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        tmp_ = new TempDir;
+        write_result(tmp_->path() / "made");
+        ::setenv("WIREDEM_FAKE_RESULT_DIR", (tmp_->path() / "made").c_str(), 1);
+        server_ = new ServerProcess(tmp_->path() / "data", {}, 0.02);
+        ::unsetenv("WIREDEM_FAKE_RESULT_DIR");
+        const auto res = http(server_->port(), "POST", "/v1/jobs",
+            R"({"name": "results", "specimen": {"wire": {"segment_length_m": )" + std::to_string(segment_length_m) + "}}}");
+        ASSERT_EQ(res.status, 201) << res.body;
+        id_ = std::string(res.json().at("id").get_string());
+        const auto job = poll_job(server_->port(), id_, [](const json::value& j) { return state_of(j) == "succeeded"; });
+        ASSERT_EQ(state_of(job), "succeeded") << server_->log();
+    }
+    static void TearDownTestSuite()
+    {
+        delete server_;
+        delete tmp_;
+    }
+    static RawReply get(const std::string& path) { return http(server_->port(), "GET", "/v1/jobs/" + id_ + path); }
+
+    static inline TempDir* tmp_ = nullptr;
+    static inline ServerProcess* server_ = nullptr;
+    static inline std::string id_;
+};
+
+TEST_F(ResultData, TestsAreListedByAscendingPressureWithColumnsAndSnapshots)
+{
+    const auto res = get("/tests");
+    ASSERT_EQ(res.status, 200) << res.body;
+    const json::value body = res.json();
+    const auto& tests = body.at("tests").as_array();
+    ASSERT_EQ(tests.size(), 3u);
+    const char* expected[] = {"sigma3_5000", "sigma3_20000", "sigma3_100000"};
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(tests[i].at("name").get_string(), expected[i]);
+        EXPECT_EQ(tests[i].at("rows").to_number<std::size_t>(), rows);
+        EXPECT_EQ(tests[i].at("columns").as_array().size(), column_names.size() + 1);  // + phase
+        EXPECT_EQ(tests[i].at("snapshots").as_array().size(), 2u);
+    }
+    EXPECT_DOUBLE_EQ(tests[1].at("attributes").at("peak_deviatoric_stress_pa").to_number<double>(), 60000.0);
+    EXPECT_DOUBLE_EQ(tests[2].at("snapshots").at(1).at("axial_strain").to_number<double>(), 0.05 + 1e-4);
+}
+
+TEST_F(ResultData, SeriesHoldTheStoredValuesAndThinEvenlyKeepingBothEnds)
+{
+    const auto all = get("/tests/sigma3_20000/series");
+    ASSERT_EQ(all.status, 200) << all.body;
+    const json::value body = all.json();
+    EXPECT_EQ(body.at("rows").to_number<std::size_t>(), rows);
+    const auto& q = body.at("columns").at("deviatoric_stress_pa").as_array();
+    ASSERT_EQ(q.size(), rows);
+    for (std::size_t i = 0; i < rows; ++i) EXPECT_EQ(q[i].to_number<double>(), value(20000, 2, i)) << i;
+
+    const auto thin = get("/tests/sigma3_20000/series?max_points=5&columns=axial_strain,time_s");
+    ASSERT_EQ(thin.status, 200) << thin.body;
+    const json::value t = thin.json();
+    EXPECT_EQ(t.at("returned_rows").to_number<std::size_t>(), 5u);
+    EXPECT_EQ(t.at("columns").as_object().size(), 2u);
+    const std::size_t want[] = {0, 25, 50, 75, 100};
+    for (std::size_t k = 0; k < 5; ++k) {
+        EXPECT_EQ(t.at("row_index").at(k).to_number<std::size_t>(), want[k]);
+        EXPECT_EQ(t.at("columns").at("axial_strain").at(k).to_number<double>(), value(20000, 1, want[k]));
+    }
+    // More points than rows: every row.
+    EXPECT_EQ(get("/tests/sigma3_20000/series?max_points=1000").json().at("returned_rows").to_number<std::size_t>(), rows);
+}
+
+TEST_F(ResultData, BadSeriesParametersAreClear400s)
+{
+    for (const char* query : {"?max_points=1", "?max_points=0", "?max_points=abc", "?max_points=", "?max_points=1000001",
+             "?max_points=5&max_points=6", "?columns=nope", "?columns=time_s,", "?limit=3"}) {
+        const auto res = get(std::string("/tests/sigma3_20000/series") + query);
+        EXPECT_EQ(res.status, 400) << query;
+        EXPECT_EQ(res.error_code(), "bad_parameter") << query;
+        EXPECT_FALSE(res.json().at("error").at("field").is_null()) << query;
+    }
+    EXPECT_EQ(get("/tests?max_points=5").status, 400) << "only the series route takes parameters";
+}
+
+TEST_F(ResultData, ArraysAreLittleEndianFloat32AndInt32WithTheirShape)
+{
+    const auto pos = get("/tests/sigma3_5000/snapshots/1/grain_position_m");
+    ASSERT_EQ(pos.status, 200) << pos.body;
+    EXPECT_EQ(pos.headers.at("x-wiredem-shape"), std::to_string(grains) + ",3");
+    EXPECT_EQ(pos.headers.at("x-wiredem-dtype"), "float32");
+    ASSERT_EQ(pos.body.size(), grains * 3 * sizeof(float));
+    for (std::size_t i = 0; i < grains * 3; ++i) {
+        float f;
+        std::memcpy(&f, pos.body.data() + i * sizeof f, sizeof f);
+        EXPECT_EQ(f, static_cast<float>(0.001 * static_cast<double>(i) + 1e-9)) << i;
+    }
+    const auto tri = get("/tests/sigma3_5000/snapshots/0/membrane_triangles");
+    ASSERT_EQ(tri.status, 200);
+    EXPECT_EQ(tri.headers.at("x-wiredem-shape"), "2,3");
+    EXPECT_EQ(tri.headers.at("x-wiredem-dtype"), "int32");
+    std::int32_t idx[6];
+    ASSERT_EQ(tri.body.size(), sizeof idx);
+    std::memcpy(idx, tri.body.data(), sizeof idx);
+    EXPECT_EQ(idx[3], 2);
+    EXPECT_EQ(idx[5], 4);
+
+    const auto specimen = get("/specimen");
+    ASSERT_EQ(specimen.status, 200);
+    EXPECT_EQ(specimen.json().at("attributes").at("grains").to_number<std::size_t>(), grains);
+    EXPECT_EQ(specimen.json().at("arrays").as_array().size(), 2u);
+    EXPECT_EQ(get("/specimen/grain_radius_m").body.size(), grains * sizeof(float));
+}
+
+TEST_F(ResultData, WireAutocorrelationFindsTheStrainsPeriodWithTheSpecsSegmentLength)
+{
+    const auto res = get("/tests/sigma3_100000/snapshots/0/wire_autocorrelation");
+    ASSERT_EQ(res.status, 200) << res.body;
+    const json::value b = res.json();
+    EXPECT_TRUE(b.at("error").is_null()) << res.body;
+    EXPECT_EQ(b.at("segments").to_number<std::size_t>(), segments);
+    EXPECT_DOUBLE_EQ(b.at("first_maximum_lag_m").to_number<double>(), period_segments * segment_length_m);
+    EXPECT_DOUBLE_EQ(b.at("coefficients").at(0).to_number<double>(), 1.0);
+}
+
+TEST_F(ResultData, WhatTheFileDoesNotHoldIs404)
+{
+    for (const char* path : {"/tests/sigma3_7", "/tests/sigma3_5000/snapshots/2", "/tests/sigma3_5000/snapshots/01x",
+             "/tests/sigma3_5000/snapshots/0/nope", "/tests/sigma3_5000/snapshots/0/..", "/specimen/nope",
+             "/tests/sigma3_5000/other", "/tests/sigma3_5000/snapshots/0/grain_position_m/x"})
+        EXPECT_EQ(get(path).status, 404) << path;
+    EXPECT_EQ(http(server_->port(), "GET", "/v1/jobs/xyz/tests").error_code(), "bad_id");
+    EXPECT_EQ(http(server_->port(), "GET", "/v1/jobs/0123456789abcdef01234567/tests").status, 404);
+    EXPECT_EQ(http(server_->port(), "DELETE", "/v1/jobs/" + id_ + "/tests").status, 405);
+}
+
+TEST_F(ResultData, ResultXdmfIsServedAndHeadGivesItsLength)
+{
+    const auto x = get("/result.xdmf");
+    ASSERT_EQ(x.status, 200) << x.body;
+    EXPECT_EQ(x.body, "<?xml version=\"1.0\"?><Xdmf/>\n");
+    EXPECT_EQ(x.headers.at("content-type"), "application/xml");
+    const auto head = http(server_->port(), "HEAD", "/v1/jobs/" + id_ + "/result.xdmf");
+    EXPECT_EQ(head.headers.at("content-length"), std::to_string(x.body.size()));
+}
+
+TEST_F(ResultData, TheReportNeedsTheWebPageToDrawWith)
+{
+    // This server has the default web folder only in a build that made the page.
+    const auto res = get("/report.html");
+    if (res.status == 200) {
+        EXPECT_EQ(res.headers.at("content-disposition"), "attachment; filename=\"report.html\"");
+        EXPECT_NE(res.body.find("id=\"report-data\""), std::string::npos);
+        EXPECT_NE(res.body.find("\"sigma3_100000\""), std::string::npos) << "the tests are in it";
+    } else {
+        EXPECT_EQ(res.status, 404) << res.body;
+    }
+    TempDir tmp;
+    ServerProcess bare(tmp.path() / "data", {"--web-dir", "none"});
+    EXPECT_EQ(http(bare.port(), "GET", "/v1/jobs/" + id_ + "/report.html").status, 404) << "no such job there, and no page";
+}
+
+TEST_F(ResultData, AJobThatHasNotSucceededHasNoResultData)
+{
+    const auto res = http(server_->port(), "POST", "/v1/jobs", R"({"name": "fail here"})");
+    ASSERT_EQ(res.status, 201);
+    const std::string id(res.json().at("id").get_string());
+    poll_job(server_->port(), id, [](const json::value& j) { return state_of(j) == "failed"; });
+    EXPECT_EQ(http(server_->port(), "GET", "/v1/jobs/" + id + "/tests").error_code(), "not_succeeded");
+}
+
+TEST_F(ResultData, TheOpenApiDocumentDescribesTheRoutes)
+{
+    const json::value doc = http(server_->port(), "GET", "/v1/openapi.json").json();
+    const auto& paths = doc.at("paths").as_object();
+    for (const char* p : {"/v1/jobs/{id}/tests", "/v1/jobs/{id}/tests/{test}/series", "/v1/jobs/{id}/specimen",
+             "/v1/jobs/{id}/specimen/{array}", "/v1/jobs/{id}/tests/{test}/snapshots/{k}",
+             "/v1/jobs/{id}/tests/{test}/snapshots/{k}/{array}", "/v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation",
+             "/v1/jobs/{id}/result.xdmf", "/v1/jobs/{id}/report.html"})
+        EXPECT_TRUE(paths.contains(p)) << p;
+    // Every $ref the merged document holds points at something it defines.
+    std::vector<const json::value*> todo{&doc};
+    while (!todo.empty()) {
+        const json::value* v = todo.back();
+        todo.pop_back();
+        if (const auto* o = v->if_object()) {
+            if (auto it = o->find("$ref"); it != o->end()) {
+                const std::string ref(it->value().get_string());
+                ASSERT_EQ(ref.rfind("#/", 0), 0u) << ref;
+                EXPECT_NO_THROW((void)doc.at_pointer(ref.substr(1))) << ref;
+            }
+            for (const auto& [k, child] : *o) todo.push_back(&child);
+        } else if (const auto* a = v->if_array()) {
+            for (const auto& child : *a) todo.push_back(&child);
+        }
+    }
+}
+
+} // namespace
+} // namespace wiredem::test
+
+namespace wiredem::test {
+namespace {
+
+TEST_F(ResultData, TheJobSpecSchemaIsServedAndInTheOpenApiDocumentInItsDialect)
+{
+    const auto res = http(server_->port(), "GET", "/v1/job-spec/schema");
+    ASSERT_EQ(res.status, 200);
+    EXPECT_EQ(res.headers.at("content-type"), "application/schema+json");
+    const json::value schema = res.json();
+    const json::value& radius = schema.at_pointer("/properties/specimen/properties/membrane_radius_m");
+    EXPECT_EQ(radius.at("exclusiveMinimum").to_number<double>(), 0.0);
+    EXPECT_EQ(radius.at("maximum").to_number<double>(), 1.0);
+
+    // OpenAPI 3.0: exclusive bounds are flags, nullable instead of a type list, no const.
+    const json::value doc = http(server_->port(), "GET", "/v1/openapi.json").json();
+    const json::value& spec = doc.at_pointer("/components/schemas/JobSpec");
+    const json::value& r30 = spec.at_pointer("/properties/specimen/properties/membrane_radius_m");
+    EXPECT_EQ(r30.at("minimum").to_number<double>(), 0.0);
+    EXPECT_EQ(r30.at("exclusiveMinimum"), true);
+    const json::value& length = spec.at_pointer("/properties/specimen/properties/wire/properties/length_m");
+    EXPECT_EQ(length.at("type"), "number");
+    EXPECT_EQ(length.at("nullable"), true);
+    EXPECT_EQ(json::serialize(spec).find("\"const\""), std::string::npos);
+    EXPECT_EQ(json::serialize(spec).find("$schema"), std::string::npos);
+}
+
+} // namespace
+} // namespace wiredem::test

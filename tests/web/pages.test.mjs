@@ -1,0 +1,422 @@
+// The web page in a real browser: Debian's Chromium, headless, driven by
+// puppeteer-core, against a real wiredem-server on loopback running a real
+// small job (tests/web/job.json: examples/tiny.json with a helix of wire).
+// What the page shows is compared with what the API and summary.json hold:
+// figures, the number of series and points of each plot (read from the data
+// the page drew, not from pixels), the Mohr envelope against φ and c, the
+// wire's autocorrelation lag against the summary's, and the 3D canvas against
+// its background in a screenshot. Every page must load without a console
+// error or a failed request; a job named like an HTML tag shows as text.
+//
+// Run through ctest (tests/web/run.sh). WIREDEM_WEB_SCREENSHOTS=DIR saves the
+// main pages as PNG into DIR (docs/pictures/ for the README).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { mkdtempSync, readFileSync, writeFileSync, rmSync, existsSync, openSync, closeSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+
+function env(name) {
+  const v = process.env[name];
+  if (!v) throw new Error(`${name} is not set: run this test through ctest (tests/web/run.sh)`);
+  return v;
+}
+const require = createRequire(path.join(env('WIREDEM_WEB_NODE_MODULES'), 'index.js'));
+const puppeteer = require('puppeteer-core');
+const serverBin = env('WIREDEM_SERVER_BIN');
+const sourceDir = env('WIREDEM_SOURCE_DIR');
+const screenshots = process.env.WIREDEM_WEB_SCREENSHOTS || '';
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const xssName = '<img src=x onerror=alert(1)>';
+
+/// A wiredem-server child on 127.0.0.1:<free port> with its own data directory.
+class Server {
+  static async start(dir, extra = []) {
+    const s = new Server();
+    s.dir = dir;
+    const portFile = path.join(dir, 'port');
+    const log = openSync(path.join(dir, 'server.log'), 'a');
+    s.proc = spawn(serverBin, ['--listen', '127.0.0.1:0', '--port-file', portFile, '--data-dir', path.join(dir, 'data'),
+      '--jobs', '1', '--threads-per-job', '2', ...extra], { stdio: ['ignore', log, log] });
+    closeSync(log);
+    s.exited = new Promise((resolve) => s.proc.on('exit', (code) => resolve(code)));
+    for (let i = 0; i < 200 && !existsSync(portFile); ++i) await sleep(50);
+    s.port = Number(readFileSync(portFile, 'utf8'));
+    s.url = `http://127.0.0.1:${s.port}`;
+    return s;
+  }
+  async api(method, route, { body, token } = {}) {
+    const headers = {};
+    if (body !== undefined) headers['Content-Type'] = 'application/json';
+    if (token) headers.Authorization = `Bearer ${token}`;
+    const res = await fetch(this.url + route, { method, headers, body });
+    const text = await res.text();
+    let json = null;
+    try { json = JSON.parse(text); } catch { /* not JSON */ }
+    return { status: res.status, json };
+  }
+  async waitFor(id, states, limitMs = 420000, token) {
+    const deadline = Date.now() + limitMs;
+    for (;;) {
+      const { json } = await this.api('GET', `/v1/jobs/${id}`, { token });
+      if (states.includes(json.state)) return json;
+      if (Date.now() > deadline) throw new Error(`job ${id} still ${json.state} after ${limitMs} ms: ${this.log()}`);
+      await sleep(200);
+    }
+  }
+  log() { return readFileSync(path.join(this.dir, 'server.log'), 'utf8').slice(-3000); }
+  async stop() {
+    this.proc.kill('SIGTERM');
+    const code = await Promise.race([this.exited, sleep(10000).then(() => 'timeout')]);
+    if (code === 'timeout') this.proc.kill('SIGKILL');
+    return code;
+  }
+}
+
+/// Everything that went wrong on a page: console errors, uncaught exceptions,
+/// failed requests, HTTP errors not announced with expect(), dialogs (an
+/// injected alert()).
+function watch(page) {
+  const w = { problems: [], expected: [], requests: [] };
+  w.expect = (status, urlPart) => w.expected.push({ status, urlPart });
+  const isExpected = (status, url) => w.expected.some((e) => e.status === status && url.includes(e.urlPart));
+  page.on('console', (m) => {
+    if (m.type() !== 'error') return;
+    // Chromium also logs each error status it received; those are judged by their response below.
+    const loc = m.location()?.url || '';
+    if (/Failed to load resource: the server responded with a status of \d+/.test(m.text())) {
+      const status = Number(m.text().match(/status of (\d+)/)[1]);
+      if (isExpected(status, loc)) return;
+    }
+    w.problems.push(`console error: ${m.text()} (${loc})`);
+  });
+  page.on('pageerror', (e) => w.problems.push(`uncaught: ${e.message}`));
+  page.on('requestfailed', (r) => w.problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`));
+  page.on('request', (r) => w.requests.push({ url: r.url(), headers: r.headers() }));
+  page.on('response', (r) => {
+    if (r.status() >= 400 && !isExpected(r.status(), r.url())) w.problems.push(`HTTP ${r.status()}: ${r.url()}`);
+  });
+  page.on('dialog', async (d) => { w.problems.push(`dialog: ${d.message()}`); await d.dismiss(); });
+  return w;
+}
+
+let browser, tmp, server, mainId, xssId, summary;
+
+async function newPage() {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1400, height: 1000 });
+  return { page, w: watch(page) };
+}
+
+async function shot(page, name, options = {}) {
+  if (screenshots) await page.screenshot({ path: path.join(screenshots, name), ...options });
+}
+
+/// A number as the page shows it (num(): 4 significant digits) matches `expected`.
+function assertShown(text, expected, what) {
+  const shown = Number(text);
+  assert.ok(Number.isFinite(shown), `${what}: '${text}' is not a number`);
+  assert.ok(Math.abs(shown - expected) <= 5e-4 * Math.abs(expected) + 1e-12, `${what}: page shows ${text}, expected ${expected}`);
+}
+
+before(async () => {
+  tmp = mkdtempSync(path.join(tmpdir(), 'wiredem-web-'));
+  server = await Server.start(tmp);
+  const spec = readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8');
+  const main = await server.api('POST', '/v1/jobs', { body: spec });
+  assert.equal(main.status, 201, JSON.stringify(main.json));
+  mainId = main.json.id;
+  // Queued behind the main job (one worker): the list shows it, and the page cancels it.
+  const xss = await server.api('POST', '/v1/jobs', { body: JSON.stringify({ ...JSON.parse(spec), name: xssName }) });
+  assert.equal(xss.status, 201);
+  xssId = xss.json.id;
+  browser = await puppeteer.launch({
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    headless: true,
+    // --no-sandbox: CI runs as root; SwiftShader: WebGL without a GPU.
+    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1400,1000'],
+  });
+});
+
+after(async () => {
+  if (browser) await browser.close();
+  if (server) assert.equal(await server.stop(), 0, 'the server stops cleanly');
+  if (tmp) rmSync(tmp, { recursive: true, force: true });
+});
+
+test('job list: the job appears, its progress moves, a tag-like name is text, the state filter and cancel work', async () => {
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/`);
+  await page.waitForSelector(`tr[data-id="${xssId}"]`);
+  const name = await page.$eval(`tr[data-id="${xssId}"] td.name`, (td) => td.textContent);
+  assert.equal(name, xssName);
+  assert.equal(await page.$$eval('#jobs img', (imgs) => imgs.length), 0, 'no element was made from the name');
+
+  await page.click(`tr[data-id="${xssId}"] button.cancel`);
+  await page.waitForSelector(`tr[data-id="${xssId}"][data-state="cancelled"]`);
+  assert.equal((await server.api('GET', `/v1/jobs/${xssId}`)).json.state, 'cancelled');
+
+  await page.select('#state-filter', 'cancelled');
+  await page.waitForFunction(() => [...document.querySelectorAll('#jobs tbody tr[data-id]')].every((r) => r.dataset.state === 'cancelled'));
+  assert.deepEqual(await page.$$eval('#jobs tbody tr[data-id]', (rows) => rows.map((r) => r.dataset.id)), [xssId]);
+  await page.select('#state-filter', '');
+
+  // The main job's progress bar, sampled as the list refreshes, until it has succeeded.
+  const seen = new Set();
+  const deadline = Date.now() + 420000;  // a few seconds alone; minutes on a loaded CI machine
+  for (;;) {
+    await sleep(300);
+    const row = await page.$eval(`tr[data-id="${mainId}"]`, (r) => ({ state: r.dataset.state, progress: r.querySelector('progress').value })).catch(() => null);
+    if (row && ['preparing', 'running'].includes(row.state)) seen.add(row.progress);
+    if (row && row.state === 'succeeded') break;
+    assert.ok(Date.now() < deadline, `job not finished: ${server.log()}`);
+  }
+  assert.ok(seen.size >= 2, `progress should move in the list, saw ${[...seen]}`);
+  summary = (await server.api('GET', `/v1/jobs/${mainId}/summary`)).json;
+  await page.waitForSelector(`tr[data-id="${mainId}"] input[type=checkbox]:not([disabled])`);
+  await shot(page, 'web-jobs.png');
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+test('job page: summary figures, every plot\'s series and points, the Mohr envelope, the wire, the 3D view', async () => {
+  assert.ok(summary, 'the job list test ran first');
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/jobs/${mainId}`);
+  await page.waitForFunction(() => document.querySelector('#view3d-canvas')?.wiredemView && document.querySelector('#plot-autocorrelation')?.wiredemPlot, { timeout: 60000 });
+
+  // Figures and the per-test table against summary.json.
+  const mc = summary.mohr_coulomb;
+  const figure = (key) => page.$eval(`[data-figure="${key}"] .value`, (e) => e.textContent);
+  assertShown(await figure('friction_angle_deg'), mc.friction_angle_deg, 'φ');
+  assertShown(await figure('cohesion_pa'), mc.cohesion_pa / 1000, 'c [kPa]');
+  assertShown(await figure('grain_volume_fraction'), summary.specimen.grain_volume_fraction, 'grain volume fraction');
+  assertShown(await figure('autocorrelation_lag_m'), summary.wire.autocorrelation_lag_m * 1000, 'lag [mm]');
+  for (const t of summary.tests) {
+    for (const key of ['peak_deviatoric_stress_pa', 'sigma1_pa', 'sigma3_effective_pa']) {
+      const text = await page.$eval(`tr[data-pressure="${t.confining_pressure_pa}"] td[data-key="${key}"]`, (e) => e.textContent);
+      assertShown(text, t[key] / 1000, `${key} at ${t.confining_pressure_pa}`);
+    }
+  }
+  assert.equal(await page.$$eval('#warnings li', (li) => li.length), summary.warnings.length, 'every warning is shown');
+
+  // Each curve plot: one series per test, as many points as the test's loading rows in the series route.
+  const { tests } = (await server.api('GET', `/v1/jobs/${mainId}/tests`)).json;
+  const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
+  for (const [id, column, scale] of [['plot-q', 'deviatoric_stress_pa', 1e-3], ['plot-ratio', 'stress_ratio', 1], ['plot-volumetric', 'volumetric_strain', 1]]) {
+    assert.equal(plots[id].series.length, tests.length, `${id}: one series per test`);
+    for (let i = 0; i < tests.length; ++i) {
+      const s = (await server.api('GET', `${tests[i].series_url}?max_points=1000&columns=axial_strain,${column},phase`)).json;
+      const loading = s.columns.phase.map((p, r) => r).filter((r) => s.columns.phase[r] === 2);
+      assert.ok(loading.length > 10, `${id}: test ${i} has loading rows`);
+      assert.equal(plots[id].series[i].x.length, loading.length, `${id}: points of test ${i}`);
+      assert.equal(plots[id].series[i].y[loading.length - 1], s.columns[column][loading.at(-1)] * scale, `${id}: last point of test ${i}`);
+    }
+  }
+
+  // Mohr: the envelope is τ = c + σ tan φ, and with two tests the fit is exact, so every yield circle touches it.
+  const mohr = plots['plot-mohr'];
+  const env = mohr.series.find((s) => s.label.startsWith('envelope'));
+  const tanPhi = Math.tan((mc.friction_angle_deg * Math.PI) / 180);
+  assert.ok(Math.abs(env.y[0] - (mc.cohesion_pa / 1000 + env.x[0] * tanPhi)) < 1e-9 * mc.cohesion_pa);
+  assert.ok(Math.abs((env.y[1] - env.y[0]) / (env.x[1] - env.x[0]) - tanPhi) < 1e-12);
+  const yieldStates = summary.tests.filter((t) => t.yield);
+  assert.equal(mohr.series.filter((s) => s.label.startsWith('yield')).length, yieldStates.length);
+  const cosPhi = Math.cos(Math.atan(tanPhi));
+  for (const t of yieldStates) {
+    const p = (t.yield.sigma1_pa + t.yield.sigma3_effective_pa) / 2000, r = (t.yield.sigma1_pa - t.yield.sigma3_effective_pa) / 2000;
+    const circle = mohr.series.find((s) => s.label === `yield at σ₃ = ${t.confining_pressure_pa / 1000} kPa`);
+    assert.ok(circle, `circle of ${t.confining_pressure_pa}`);
+    assert.ok(Math.abs(Math.max(...circle.y) - r) < 1e-9 * r, 'the circle\'s top is its radius');
+    if (summary.tests.length === 2) assert.ok(Math.abs((mc.cohesion_pa / 1000 + p * tanPhi) * cosPhi - r) < 1e-6 * r, 'the envelope touches the circle');
+  }
+  assert.ok(mohr.series.some((s) => s.label.startsWith('slope of the tops')), 'the slope-of-the-tops line is drawn and labelled');
+
+  // The wire: segments along its length, and the autocorrelation of the snapshot the summary's lag comes from.
+  assert.equal(plots['plot-wire-strain'].series[0].x.length, summary.specimen.wire_nodes - 1);
+  assert.equal(plots['plot-autocorrelation'].first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
+
+  // 3D: what was built, and pixels that are not the background.
+  const view = await page.$eval('#view3d-canvas', (c) => c.wiredemView);
+  assert.equal(view.grains, summary.specimen.grains);
+  assert.equal(view.wireSegments, summary.specimen.wire_nodes - 1);
+  assert.ok(view.contacts > 0 && view.membraneTriangles > 0, JSON.stringify(view));
+  const canvas = await page.$('#view3d-canvas');
+  await canvas.scrollIntoView();
+  const before = await canvas.screenshot({ encoding: 'base64' });
+  const notBackground = await page.evaluate(countNotBackground, before);
+  assert.ok(notBackground > 0.05, `the 3D view is blank: ${notBackground} of its pixels differ from the background`);
+  await page.click('#view3d-cut');
+  await sleep(300);
+  const cut = await canvas.screenshot({ encoding: 'base64' });
+  assert.ok(await page.evaluate(fractionChanged, before, cut) > 0.01, 'cutting half away changes the picture');
+  await page.click('#view3d-cut');
+  await shot(page, 'web-job.png', { fullPage: true });
+  if (screenshots) {
+    await page.click('#view3d-grains');
+    await sleep(300);
+    await canvas.screenshot({ path: path.join(screenshots, 'web-3d.png') });
+    await page.click('#view3d-grains');
+  }
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+/// In the page: the fraction of pixels of a PNG (base64) that differ from its corner pixel.
+async function countNotBackground(png) {
+  const img = new Image();
+  img.src = `data:image/png;base64,${png}`;
+  await img.decode();
+  const c = document.createElement('canvas');
+  c.width = img.width; c.height = img.height;
+  const ctx = c.getContext('2d');
+  ctx.drawImage(img, 0, 0);
+  const d = ctx.getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4)
+    if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 24) ++n;
+  return n / (d.length / 4);
+}
+
+/// In the page: the fraction of pixels that differ between two PNGs of one size.
+async function fractionChanged(a, b) {
+  const pixels = async (png) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${png}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(img, 0, 0);
+    return ctx.getImageData(0, 0, c.width, c.height).data;
+  };
+  const [p, q] = [await pixels(a), await pixels(b)];
+  let n = 0;
+  for (let i = 0; i < p.length; i += 4)
+    if (Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]) > 24) ++n;
+  return n / (p.length / 4);
+}
+
+test('submit: a form from the job spec\'s schema; an invalid spec shows each error next to its field; a valid one creates a job, which the job page cancels', async () => {
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/submit`);
+  await page.waitForSelector('tr[data-field="specimen.wire.pattern"] select');
+  // The form has a row for every field of the job spec's schema, and edits the JSON.
+  const schema = (await server.api('GET', '/v1/job-spec/schema')).json;
+  const countLeaves = (s) => Object.values(s.properties).reduce((n, f) => n + (f.type === 'object' ? countLeaves(f) : 1), 0);
+  assert.equal(await page.$$eval('#spec-fields tbody tr', (rows) => rows.length), countLeaves(schema));
+  await page.select('tr[data-field="specimen.wire.pattern"] select', 'radial_helix');
+  const edited = JSON.parse(await page.$eval('#spec-editor', (e) => e.value));
+  assert.equal(edited.specimen.wire.pattern, 'radial_helix');
+  assert.equal(edited.specimen.grain_count, 150, 'the rest of the JSON is kept');
+  const bad = { name: 'bad', seed: -1, specimen: { grain_count: 0 } };
+  const setSpec = (text) => page.$eval('#spec-editor', (e, t) => { e.value = t; e.dispatchEvent(new Event('change')); }, text);
+  await setSpec(JSON.stringify(bad, null, 2));
+  w.expect(400, '/v1/jobs');
+  await page.click('#submit-button');
+  await page.waitForSelector('tr[data-field="seed"] .field-error div');
+  const api = (await server.api('POST', '/v1/jobs', { body: JSON.stringify(bad) })).json.error;
+  assert.ok(api.details.length >= 2, JSON.stringify(api));
+  for (const d of api.details) {
+    const shown = await page.$eval(`tr[data-field="${d.field}"] .field-error`, (e) => e.textContent);
+    assert.ok(shown.includes(d.message), `${d.field}: shows '${shown}', the API says '${d.message}'`);
+  }
+  await shot(page, 'web-submit.png', { fullPage: true });
+
+  const good = { ...JSON.parse(readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8')), name: 'submitted from the page' };
+  await setSpec(JSON.stringify(good));
+  await page.click('#submit-button');
+  await page.waitForFunction(() => /^#\/jobs\/[0-9a-f]{24}$/.test(location.hash));
+  const id = (await page.evaluate(() => location.hash)).split('/')[2];
+  const created = await server.api('GET', `/v1/jobs/${id}`);
+  assert.equal(created.status, 200);
+  assert.equal(created.json.name, 'submitted from the page');
+  await page.waitForSelector('#cancel-job');
+  await page.click('#cancel-job');
+  await page.waitForFunction(() => document.querySelector('#job-state')?.textContent === 'cancelled');
+  assert.equal((await server.waitFor(id, ['cancelled'], 10000)).state, 'cancelled');
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+test('compare: the φ/c table and the overlaid envelopes and curves', async () => {
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/compare/${mainId}`);
+  await page.waitForSelector('#compare-q');
+  const phi = await page.$eval(`#compare-table tr[data-id="${mainId}"] td[data-key="friction_angle_deg"]`, (e) => e.textContent);
+  assertShown(phi, summary.mohr_coulomb.friction_angle_deg, 'φ');
+  const plots = await page.evaluate(() => ({ env: document.querySelector('#compare-envelopes').wiredemPlot, q: document.querySelector('#compare-q').wiredemPlot }));
+  assert.equal(plots.env.series.length, 1);
+  assert.equal(plots.q.series.length, summary.tests.length);
+  await shot(page, 'web-compare.png', { fullPage: true });
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+test('offline report: wiredem report OUT/ writes one page with the same figures and plots, which opens without a server', async () => {
+  const out = mkdtempSync(path.join(tmp, 'report-'));
+  for (const [route, file] of [['summary', 'summary.json'], ['result.h5', 'result.h5']]) {
+    const res = await fetch(`${server.url}/v1/jobs/${mainId}/${route}`);
+    assert.equal(res.status, 200);
+    writeFileSync(path.join(out, file), Buffer.from(await res.arrayBuffer()));
+  }
+  const client = path.join(path.dirname(serverBin), 'wiredem');
+  const run = spawn(client, ['report', out], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  run.stderr.on('data', (d) => { stderr += d; });
+  assert.equal(await new Promise((resolve) => run.on('exit', resolve)), 0, stderr);
+  const { page, w } = await newPage();
+  await page.goto(`file://${path.join(out, 'report.html')}`);
+  await page.waitForSelector('#main[data-rendered="true"]');
+  assert.equal(await page.$eval('#job-name', (e) => e.textContent), summary.name ?? (await server.api('GET', `/v1/jobs/${mainId}`)).json.name);
+  assertShown(await page.$eval('[data-figure="friction_angle_deg"] .value', (e) => e.textContent), summary.mohr_coulomb.friction_angle_deg, 'φ');
+  const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
+  for (const id of ['plot-q', 'plot-ratio', 'plot-volumetric']) assert.equal(plots[id].series.length, summary.tests.length, id);
+  const env = plots['plot-mohr'].series.find((s) => s.label.startsWith('envelope'));
+  assert.ok(Math.abs(env.y[0] - summary.mohr_coulomb.cohesion_pa / 1000) < 1e-9 * summary.mohr_coulomb.cohesion_pa);
+  assert.equal(plots['plot-autocorrelation'].first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
+  assert.equal(w.requests.filter((r) => !r.url.startsWith('file:')).length, 0, 'the report fetches nothing');
+  // The server offers the same report (the job page's download button).
+  const served = await fetch(`${server.url}/v1/jobs/${mainId}/report.html`);
+  assert.equal(served.status, 200);
+  assert.equal(served.headers.get('content-disposition'), 'attachment; filename="report.html"');
+  const servedText = await served.text();
+  const fileText = readFileSync(path.join(out, 'report.html'), 'utf8');
+  const dataOf = (html) => JSON.parse(html.match(/id="report-data">(.*?)<\/script>/s)[1]);
+  const [a, b] = [dataOf(servedText), dataOf(fileText)];
+  delete a.source; delete b.source;
+  assert.deepEqual(a, b, 'the served report holds the same data as wiredem report');
+  await shot(page, 'web-report.png', { fullPage: true });
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+test('token: the page asks for it, sends it as a bearer header only, and the API refuses requests without it', async () => {
+  const dir = mkdtempSync(path.join(tmp, 'token-'));
+  const token = 'web-test-token-7f3a';
+  writeFileSync(path.join(dir, 'token'), `${token}\n`);
+  const guarded = await Server.start(dir, ['--token-file', path.join(dir, 'token')]);
+  try {
+    assert.equal((await guarded.api('GET', '/v1/jobs')).status, 401);
+    const { page, w } = await newPage();
+    w.expect(401, '/v1/jobs');
+    await page.goto(`${guarded.url}/#/`);
+    await page.waitForSelector('#token-dialog[open]');
+    await page.type('#token-input', 'wrong');
+    await page.click('#token-form button');
+    await page.waitForFunction(() => document.querySelector('#token-error')?.textContent.includes('refused'));
+    await page.type('#token-input', token);
+    await page.click('#token-form button');
+    await page.waitForFunction(() => document.querySelector('#jobs tbody td')?.textContent === 'No jobs.');
+    assert.equal(await page.$('#token-dialog[open]'), null);
+    const api = w.requests.filter((r) => r.url.includes('/v1/'));
+    assert.ok(api.some((r) => r.headers.authorization === `Bearer ${token}`), 'the token goes in the Authorization header');
+    assert.ok(w.requests.every((r) => !r.url.includes(token) && !r.url.includes('wrong')), 'never in a URL');
+    assert.deepEqual(w.problems, []);
+    await page.close();
+  } finally {
+    assert.equal(await guarded.stop(), 0);
+  }
+});

@@ -1,0 +1,111 @@
+// One job: its state (polled while it runs), then the summary, the plots, the
+// 3D view and the downloads, all from the result data routes (docs/api.md).
+import { json, blob, array, cancelJob } from './api.js';
+import { el, replace, num, seconds, saveBlob } from './dom.js';
+import { renderSummary, renderCurves, renderWire, kPaLabel, curveColumns } from './results_view.js';
+import { View3d } from './view3d.js';
+
+const finalStates = new Set(['succeeded', 'failed', 'cancelled']);
+
+export function show(main, id) {
+  const head = el('div');
+  const body = el('div');
+  main.append(head, body);
+  let timer = null;
+  let stopped = false;
+  let view = null;
+  let shownResults = false;
+
+  async function poll() {
+    clearTimeout(timer);
+    let job;
+    try {
+      job = await json(`/v1/jobs/${encodeURIComponent(id)}`);
+    } catch (e) {
+      if (!stopped) replace(head, el('h1', {}, 'Job'), el('div', { class: 'error-box' }, e.message));
+      return;
+    }
+    if (stopped) return;
+    renderHead(job);
+    if (job.state === 'succeeded' && !shownResults) {
+      shownResults = true;
+      try { view = await renderResults(body, job); } catch (e) {
+        console.error(e);
+        body.append(el('div', { class: 'error-box' }, `Cannot show the results: ${e.message}`));
+      }
+    }
+    if (!finalStates.has(job.state)) timer = setTimeout(poll, 1000);
+  }
+
+  function renderHead(job) {
+    const cancel = finalStates.has(job.state) ? '' : el('button', { id: 'cancel-job', onclick: async () => {
+      try { await cancelJob(job.id); } catch (e) { head.append(el('div', { class: 'error-box' }, e.message)); }
+      poll();
+    } }, 'Cancel');
+    replace(head,
+      el('h1', { id: 'job-name' }, job.name || job.id),
+      el('div', { class: 'toolbar' },
+        el('span', { class: `state state-${job.state}`, id: 'job-state' }, job.state),
+        job.stage && !finalStates.has(job.state) ? el('span', {}, `stage: ${job.stage}`) : '',
+        finalStates.has(job.state) ? '' : el('progress', { max: 1, value: job.progress ?? 0 }),
+        finalStates.has(job.state) ? '' : el('span', {}, `ETA ${seconds(job.eta_s)}`),
+        finalStates.has(job.state) ? '' : el('span', { class: 'muted' }, job.message || ''),
+        cancel),
+      job.error ? el('div', { class: 'error-box', id: 'job-error' }, job.error) : '',
+      el('p', { class: 'muted' }, `id ${job.id} · created ${new Date(job.created_at).toLocaleString()} · attempts ${job.attempts}`),
+      finalStates.has(job.state) ? '' : el('p', { class: 'muted' }, 'Results appear here when the job has succeeded.'));
+  }
+
+  poll();
+  return () => { stopped = true; clearTimeout(timer); if (view) view.dispose(); };
+}
+
+async function download(path, name) {
+  saveBlob(await blob(path), name);
+}
+
+async function renderResults(body, job) {
+  const base = `/v1/jobs/${job.id}`;
+  const [summary, { tests }] = await Promise.all([json(`${base}/summary`), json(`${base}/tests`)]);
+  const series = await Promise.all(tests.map((t) => json(`${t.series_url}?max_points=1000&columns=${curveColumns}`)));
+
+  renderSummary(body, summary);
+
+  body.append(el('h2', {}, 'Downloads'), el('div', { class: 'toolbar', id: 'downloads' },
+    el('button', { onclick: () => download(`${base}/summary`, 'summary.json') }, 'summary.json'),
+    el('button', { onclick: () => download(`${base}/result.h5`, 'result.h5') }, 'result.h5'),
+    el('button', { onclick: () => download(`${base}/result.xdmf`, 'result.xdmf') }, 'result.xdmf (ParaView, beside result.h5)'),
+    el('button', { id: 'download-report', onclick: () => download(`${base}/report.html`, 'report.html') }, 'report.html (offline report)')));
+
+  renderCurves(body, summary, tests, series);
+
+  const withWire = (summary.specimen && summary.specimen.wire_nodes > 1) && tests.some((t) => t.snapshots.length);
+  const view = new View3d(body, job, tests);
+  if (withWire) await wireSection(body, tests, summary);
+  await view.ready;
+  return view;
+}
+
+async function wireSection(body, tests, summary) {
+  const section = el('div', { id: 'wire-section' });
+  body.append(el('h2', {}, 'Wire strain'), section);
+  const options = [];
+  tests.forEach((t, ti) => t.snapshots.forEach((s) => options.push({ ti, s, label: `${kPaLabel(t.attributes.confining_pressure_pa)}, ε₁ = ${num(s.axial_strain, 3)}` })));
+  // Default: the last snapshot of the highest pressure, the one summary.wire's lag is read from.
+  const select = el('select', { id: 'wire-snapshot', 'aria-label': 'snapshot' }, options.map((o, i) => el('option', { value: i }, o.label)));
+  select.value = String(options.length - 1);
+  const grid = el('div', { class: 'grid' });
+  section.append(el('div', { class: 'toolbar' }, el('label', {}, 'Snapshot ', select)), grid);
+  async function draw() {
+    const o = options[Number(select.value)];
+    const [strain, nodes, ac] = await Promise.all([
+      array(`${o.s.url}/wire_segment_strain`),
+      array(`${o.s.url}/wire_node_position_m`),
+      json(`${o.s.url}/wire_autocorrelation`)]);
+    replace(grid);
+    renderWire(grid, summary, o.label, nodes.data, strain.data, ac);
+  }
+  select.addEventListener('change', draw);
+  await draw();
+}
+

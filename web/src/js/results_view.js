@@ -1,0 +1,121 @@
+// What a succeeded job's results look like, from data in the shapes of the
+// result data routes (docs/api.md): the summary, the curves, the Mohr circles
+// and the wire's strain. Shared by the job page (job.js, data from the API)
+// and the offline report (report.js, data embedded by `wiredem report`), so
+// both draw the same plots. Imports only dom.js and plots.js (the report
+// inlines these four modules into one file).
+import { el, num, kpa, figure } from './dom.js';
+import { linePlot, mohrSemicircle } from './plots.js';
+
+/// Rows of the loading phase (phase 2): the curves against axial strain.
+export function loadingRows(series) {
+  const phase = series.columns.phase;
+  return series.columns.axial_strain.map((_, i) => i).filter((i) => !phase || phase[i] === 2);
+}
+
+export const kPaLabel = (pa) => `σ₃ = ${num(pa / 1000, 4)} kPa`;
+
+/// The columns the curves need (the series route's ?columns=).
+export const curveColumns = 'axial_strain,deviatoric_stress_pa,stress_ratio,volumetric_strain,phase';
+
+/// Warnings (first: a result that was not quasi-static or not settled must not
+/// be read as if it were), the summary figures and the per-test table.
+export function renderSummary(body, summary) {
+  if (summary.warnings && summary.warnings.length)
+    body.append(el('div', { class: 'warnings', id: 'warnings' }, el('h2', {}, `Warnings (${summary.warnings.length})`),
+      el('ul', {}, summary.warnings.map((w) => el('li', {}, w)))));
+
+  const mc = summary.mohr_coulomb || {};
+  const mcq = summary.mohr_coulomb_max_q || {};
+  const sp = summary.specimen || {};
+  body.append(el('h2', {}, 'Summary'),
+    el('div', { class: 'figures', id: 'figures' },
+      figure('φ (yield) [°]', num(mc.friction_angle_deg, 4), 'friction_angle_deg'),
+      figure('c (yield) [kPa]', kpa(mc.cohesion_pa), 'cohesion_pa'),
+      figure('R²', num(mc.r_squared, 4), 'r_squared'),
+      figure('α, slope of the tops [°]', num(mc.paper_top_line_angle_deg, 4), 'paper_top_line_angle_deg'),
+      figure('φ (max q) [°]', num(mcq.friction_angle_deg, 4), 'max_q_friction_angle_deg'),
+      figure('grain volume fraction', num(sp.grain_volume_fraction, 4), 'grain_volume_fraction'),
+      figure('wire volume fraction', num(sp.wire_volume_fraction, 4), 'wire_volume_fraction'),
+      figure('grains', sp.grains ?? '—', 'grains'),
+      figure('wire nodes', sp.wire_nodes ?? '—', 'wire_nodes'),
+      figure('wire autocorrelation lag [mm]', summary.wire && summary.wire.autocorrelation_lag_m != null ? num(summary.wire.autocorrelation_lag_m * 1000, 4) : '—', 'autocorrelation_lag_m')),
+    mc.error ? el('div', { class: 'error-box' }, `Mohr–Coulomb fit: ${mc.error}`) : '',
+    el('table', { id: 'tests-table' },
+      el('thead', {}, el('tr', {}, ['σ₃ [kPa]', 'peak q [kPa]', 'σ₁ at peak [kPa]', 'σ₃,eff at peak [kPa]', 'ε at peak', 'max q shape', 'yield η', 'yield ε', 'quasi-static'].map((h) => el('th', {}, h)))),
+      el('tbody', {}, (summary.tests || []).map((t) => el('tr', { 'data-pressure': t.confining_pressure_pa },
+        el('td', { class: 'num' }, kpa(t.confining_pressure_pa)),
+        el('td', { class: 'num', 'data-key': 'peak_deviatoric_stress_pa' }, kpa(t.peak_deviatoric_stress_pa)),
+        el('td', { class: 'num', 'data-key': 'sigma1_pa' }, kpa(t.sigma1_pa)),
+        el('td', { class: 'num', 'data-key': 'sigma3_effective_pa' }, kpa(t.sigma3_effective_pa)),
+        el('td', { class: 'num', 'data-key': 'peak_axial_strain' }, num(t.peak_axial_strain, 4)),
+        el('td', {}, t.max_q_shape || '—'),
+        el('td', { class: 'num' }, t.yield ? num(t.yield.stress_ratio, 4) : '—'),
+        el('td', { class: 'num' }, t.yield ? num(t.yield.axial_strain, 4) : '—'),
+        el('td', {}, t.quasi_static === false ? 'no' : t.quasi_static ? 'yes' : '—'))))));
+
+}
+
+/// q, the stress ratio and the volumetric strain against axial strain for
+/// every test, and the Mohr circles; `tests` as GET …/tests gives them,
+/// `series` one GET …/series reply per test (curveColumns).
+export function renderCurves(body, summary, tests, series) {
+  body.append(el('h2', {}, 'Curves'));
+  const grid = el('div', { class: 'grid' });
+  body.append(grid);
+  const curves = (column, scale = 1) => tests.map((t, i) => {
+    const rows = loadingRows(series[i]);
+    return { label: kPaLabel(t.attributes.confining_pressure_pa),
+      x: rows.map((r) => series[i].columns.axial_strain[r]), y: rows.map((r) => series[i].columns[column][r] * scale) };
+  });
+  linePlot(grid, { id: 'plot-q', title: 'Deviatoric stress q against axial strain (loading)', xLabel: 'axial strain ε₁', yLabel: 'q [kPa]', series: curves('deviatoric_stress_pa', 1e-3) });
+  linePlot(grid, { id: 'plot-ratio', title: 'Stress ratio (σ₁ − σ₃)/(σ₁ + σ₃) against axial strain', xLabel: 'axial strain ε₁', yLabel: 'stress ratio', series: curves('stress_ratio') });
+  linePlot(grid, { id: 'plot-volumetric', title: 'Volumetric strain against axial strain', xLabel: 'axial strain ε₁', yLabel: 'volumetric strain', series: curves('volumetric_strain') });
+  mohrPlot(grid, summary);
+
+}
+
+/// Mohr circles at yield (σ₃,eff and σ₁ of each test's yield state), the fitted
+/// envelope τ = c + σ tan φ and the line through the circle tops t = c cos φ + p tan α.
+export function mohrPlot(parent, summary, id = 'plot-mohr') {
+  const mc = summary.mohr_coulomb || {};
+  const states = (summary.tests || []).filter((t) => t.yield && t.yield.sigma1_pa != null);
+  const series = states.map((t) => {
+    const c = mohrSemicircle(t.yield.sigma3_effective_pa / 1000, t.yield.sigma1_pa / 1000);
+    return { label: `yield at ${kPaLabel(t.confining_pressure_pa)}`, ...c };
+  });
+  const sigmaMax = Math.max(1, ...states.map((t) => t.yield.sigma1_pa / 1000)) * 1.05;
+  if (mc.friction_angle_deg != null && mc.cohesion_pa != null) {
+    const tanPhi = Math.tan((mc.friction_angle_deg * Math.PI) / 180);
+    const c = mc.cohesion_pa / 1000;
+    series.push({ label: `envelope φ = ${num(mc.friction_angle_deg, 3)}°, c = ${num(c, 3)} kPa`, x: [0, sigmaMax], y: [c, c + sigmaMax * tanPhi], color: '#1d2330', width: 2, envelope: true });
+    if (mc.paper_top_line_angle_deg != null) {
+      const tanAlpha = Math.tan((mc.paper_top_line_angle_deg * Math.PI) / 180);
+      const a = c * Math.cos((mc.friction_angle_deg * Math.PI) / 180);
+      series.push({ label: `slope of the tops α = ${num(mc.paper_top_line_angle_deg, 3)}° (not φ)`, x: [0, sigmaMax], y: [a, a + sigmaMax * tanAlpha], color: '#8250df', dash: [6, 4] });
+    }
+  }
+  const box = linePlot(parent, { id, title: 'Mohr circles at yield', xLabel: 'σ [kPa]', yLabel: 'τ [kPa]', series, equalAspect: true,
+    note: mc.states || '' });
+  box.wiredemPlot.envelope = { friction_angle_deg: mc.friction_angle_deg, cohesion_pa: mc.cohesion_pa };
+  return box;
+}
+
+/// The wire's segment strain along its length and its autocorrelation (the
+/// …/wire_autocorrelation reply) with the first maximum marked.
+export function renderWire(grid, summary, label, nodePositions, strain, ac) {
+  const s = [0];
+  for (let k = 1; k < strain.length; ++k) {
+    const i = 3 * k;
+    s.push(s[k - 1] + Math.hypot(nodePositions[i] - nodePositions[i - 3], nodePositions[i + 1] - nodePositions[i - 2],
+      nodePositions[i + 2] - nodePositions[i - 1]) * 1000);
+  }
+  linePlot(grid, { id: 'plot-wire-strain', title: 'Segment strain along the wire', xLabel: 'distance along the wire [mm]', yLabel: 'segment strain [10⁻³]',
+    series: [{ label, x: s, y: Array.from(strain, (e) => e * 1000) }] });
+  const lag = ac.first_maximum_lag_m;
+  const box = linePlot(grid, { id: 'plot-autocorrelation', title: 'Autocorrelation of the segment strain', xLabel: 'lag [mm]', yLabel: 'R(k)',
+    series: [{ label: 'R(k)', x: ac.lag_m.map((l) => l * 1000), y: ac.coefficients }],
+    markers: lag != null ? [{ x: lag * 1000, label: `first maximum ${num(lag * 1000, 3)} mm` }] : [],
+    note: ac.error ? `No autocorrelation: ${ac.error}` : lag == null ? 'No local maximum after lag 0.' : `First maximum at ${num(lag * 1000, 4)} mm (summary: ${summary.wire && summary.wire.autocorrelation_lag_m != null ? num(summary.wire.autocorrelation_lag_m * 1000, 4) : '—'} mm, the end of the test at the highest pressure).` });
+  box.wiredemPlot.first_maximum_lag_m = lag;
+}

@@ -1,0 +1,236 @@
+// The specimen and each test's snapshots in 3D (three.js): grains as
+// instanced spheres, the wire as a chain of cylinders coloured by segment
+// strain, the membrane translucent, the force network as cylinders between
+// the bodies' centres with a radius proportional to the normal force, a
+// snapshot slider, orbit/zoom, and a cut-away half. Positions arrive as
+// float32 arrays from the result data routes; the scene is in millimetres.
+import * as THREE from '../vendor/three.module.js';
+import { OrbitControls } from '../vendor/OrbitControls.js';
+import { json, array } from './api.js';
+import { el, replace, num } from './dom.js';
+
+const mm = 1000;
+const zAxis = new THREE.Vector3(0, 1, 0);  // CylinderGeometry's axis
+
+/// Blue (most compressed) – white – red (most stretched), symmetric about 0.
+function strainColour(e, maxAbs, out) {
+  const t = maxAbs > 0 ? Math.max(-1, Math.min(1, e / maxAbs)) : 0;
+  if (t >= 0) out.setRGB(1, 1 - t, 1 - t);
+  else out.setRGB(1 + t, 1 + t, 1);
+  return out;
+}
+
+/// Instanced cylinders from a[i] to b[i] with radius r[i]; colour per instance.
+function cylinders(count, ends, radius, colour, material) {
+  const mesh = new THREE.InstancedMesh(new THREE.CylinderGeometry(1, 1, 1, 8, 1), material, Math.max(1, count));
+  mesh.count = count;
+  const m = new THREE.Matrix4(), q = new THREE.Quaternion(), dir = new THREE.Vector3(), mid = new THREE.Vector3(), s = new THREE.Vector3();
+  const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Color();
+  for (let i = 0; i < count; ++i) {
+    ends(i, a, b);
+    dir.subVectors(b, a);
+    const len = dir.length();
+    if (len > 0) q.setFromUnitVectors(zAxis, dir.divideScalar(len)); else q.identity();
+    mid.addVectors(a, b).multiplyScalar(0.5);
+    const r = radius(i);
+    m.compose(mid, q, s.set(r, len, r));
+    mesh.setMatrixAt(i, m);
+    if (colour) mesh.setColorAt(i, colour(i, c));
+  }
+  return mesh;
+}
+
+export class View3d {
+  constructor(parent, job, tests) {
+    this.job = job;
+    this.tests = tests;
+    this.canvas = el('canvas', { id: 'view3d-canvas', 'aria-label': '3D view of the specimen' });
+    this.source = el('select', { id: 'view3d-source', 'aria-label': 'what to show' },
+      el('option', { value: 'specimen' }, 'prepared specimen'),
+      tests.map((t, i) => el('option', { value: i }, `test at σ₃ = ${num(t.attributes.confining_pressure_pa / 1000, 4)} kPa`)));
+    this.slider = el('input', { type: 'range', id: 'view3d-snapshot', min: 0, max: 0, step: 1, value: 0, disabled: true, 'aria-label': 'snapshot' });
+    this.sliderLabel = el('span', { id: 'view3d-snapshot-label' }, '');
+    this.toggles = {};
+    const toggle = (key, label, on) => {
+      const box = el('input', { type: 'checkbox', checked: on, id: `view3d-${key}` });
+      box.addEventListener('change', () => this.applyToggles());
+      this.toggles[key] = box;
+      return el('label', {}, box, ` ${label}`);
+    };
+    this.info = el('span', { class: 'muted', id: 'view3d-info' });
+    this.error = el('div');
+    parent.append(el('h2', {}, '3D view'), el('div', { class: 'view3d' },
+      el('div', { class: 'controls' }, el('label', {}, 'Show ', this.source), el('label', {}, 'Snapshot ', this.slider), this.sliderLabel,
+        toggle('grains', 'grains', true), toggle('wire', 'wire', true), toggle('membrane', 'membrane', true),
+        toggle('forces', 'force network', true), toggle('cut', 'cut away half', false)),
+      this.error, this.canvas, this.info));
+
+    try {
+      this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: true, preserveDrawingBuffer: true });
+    } catch (e) {
+      replace(this.error, el('div', { class: 'error-box' }, `No WebGL here: ${e.message}`));
+      this.ready = Promise.resolve();
+      return;
+    }
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    this.renderer.setClearColor(0xf2f4f7);
+    this.scene = new THREE.Scene();
+    this.scene.add(new THREE.AmbientLight(0xffffff, 1.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 2.2);
+    sun.position.set(1, -2, 3);
+    this.scene.add(sun);
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.1, 1e5);
+    this.camera.up.set(0, 0, 1);
+    this.controls = new OrbitControls(this.camera, this.canvas);
+    this.controls.addEventListener('change', () => this.render());
+    this.group = new THREE.Group();
+    this.scene.add(this.group);
+    this.cut = new THREE.Plane(new THREE.Vector3(0, -1, 0), 0);
+    this.resize = () => this.fit();
+    window.addEventListener('resize', this.resize);
+    this.source.addEventListener('change', () => this.select());
+    this.slider.addEventListener('input', () => this.load());
+    this.framed = false;
+    // First the end of the test at the highest pressure: the wire strained most, the force network loaded.
+    if (tests.some((t) => t.snapshots.length)) this.source.value = String(tests.length - 1);
+    this.ready = this.select();
+  }
+
+  fit() {
+    const w = this.canvas.clientWidth || 800, h = this.canvas.clientHeight || 520;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  select() {
+    const t = this.source.value === 'specimen' ? null : this.tests[Number(this.source.value)];
+    this.slider.disabled = !t || t.snapshots.length < 2;
+    this.slider.max = t ? Math.max(0, t.snapshots.length - 1) : 0;
+    this.slider.value = t ? this.slider.max : 0;  // the end of the test: the most developed state
+    return this.load();
+  }
+
+  /// Fetches the arrays of the chosen specimen or snapshot and rebuilds the scene.
+  async load() {
+    const t = this.source.value === 'specimen' ? null : this.tests[Number(this.source.value)];
+    const snap = t ? t.snapshots[Number(this.slider.value)] : null;
+    const url = snap ? snap.url : `/v1/jobs/${this.job.id}/specimen`;
+    this.sliderLabel.textContent = snap ? `ε₁ = ${num(snap.axial_strain, 3)} (requested ${num(snap.requested_axial_strain, 3)})` : '';
+    const token = (this.loading = {});
+    try {
+      const group = await json(url);
+      const names = new Set(group.arrays.map((a) => a.name));
+      const get = (name) => (names.has(name) ? array(`${url}/${name}`) : Promise.resolve(null));
+      // The specimen has no triangles of its own: the membrane mesh is the same in every snapshot.
+      const firstSnap = this.tests.find((x) => x.snapshots.length)?.snapshots[0];
+      const triangles = names.has('membrane_triangles') ? get('membrane_triangles') : firstSnap ? array(`${firstSnap.url}/membrane_triangles`).catch(() => null) : null;
+      const [grains, radii, wire, strain, membrane, tri, bodies, force] = await Promise.all([
+        get('grain_position_m'), get('grain_radius_m'), get('wire_node_position_m'), get('wire_segment_strain'),
+        get('membrane_node_position_m'), triangles, get('contact_bodies'), get('contact_normal_force_n')]);
+      if (token !== this.loading) return;  // a later choice won
+      this.build({ grains, radii, wire, strain, membrane, tri, bodies, force });
+      replace(this.error);
+    } catch (e) {
+      replace(this.error, el('div', { class: 'error-box' }, `Cannot load the 3D view: ${e.message}`));
+    }
+  }
+
+  build({ grains, radii, wire, strain, membrane, tri, bodies, force }) {
+    for (const child of [...this.group.children]) {
+      this.group.remove(child);
+      child.geometry.dispose();
+      child.material.dispose();
+    }
+    const n = grains ? grains.shape[0] : 0;
+    const pos = (arr, i, out) => out.set(arr.data[3 * i] * mm, arr.data[3 * i + 1] * mm, arr.data[3 * i + 2] * mm);
+    const stats = { grains: n, wireSegments: 0, membraneTriangles: 0, contacts: 0 };
+    this.meshes = {};
+
+    if (n) {
+      const sphere = new THREE.InstancedMesh(new THREE.SphereGeometry(1, 20, 14),
+        new THREE.MeshStandardMaterial({ color: 0xb39b72, roughness: 0.85 }), n);
+      const m = new THREE.Matrix4(), p = new THREE.Vector3(), q = new THREE.Quaternion(), s = new THREE.Vector3();
+      for (let i = 0; i < n; ++i) {
+        const r = radii.data[i] * mm;
+        sphere.setMatrixAt(i, m.compose(pos(grains, i, p), q, s.set(r, r, r)));
+      }
+      this.meshes.grains = sphere;
+      this.group.add(sphere);
+    }
+    const wireRadius = (this.job.spec?.specimen?.wire?.radius_m ?? 5e-4) * mm;
+    if (wire && wire.shape[0] > 1) {
+      const segs = wire.shape[0] - 1;
+      let maxAbs = 0;
+      if (strain) for (const e of strain.data) maxAbs = Math.max(maxAbs, Math.abs(e));
+      this.meshes.wire = cylinders(segs, (i, x, y) => { pos(wire, i, x); pos(wire, i + 1, y); }, () => wireRadius,
+        (i, c) => (strain ? strainColour(strain.data[i], maxAbs, c) : c.set(0x3b4252)),
+        new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.5 }));
+      this.group.add(this.meshes.wire);
+      stats.wireSegments = segs;
+      stats.maxAbsStrain = maxAbs;
+    }
+    if (membrane && tri) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(membrane.data, (v) => v * mm), 3));
+      g.setIndex(new THREE.BufferAttribute(Uint32Array.from(tri.data), 1));
+      g.computeVertexNormals();
+      this.meshes.membrane = new THREE.Mesh(g, new THREE.MeshStandardMaterial({ color: 0x5b8fd6, transparent: true, opacity: 0.16,
+        side: THREE.DoubleSide, depthWrite: false }));
+      this.group.add(this.meshes.membrane);
+      stats.membraneTriangles = tri.shape[0];
+    }
+    if (bodies && force && n) {
+      const sources = [grains, wire, membrane];
+      let fmax = 0;
+      for (const f of force.data) fmax = Math.max(fmax, Math.abs(f));
+      let rmin = Infinity;
+      for (const r of radii.data) rmin = Math.min(rmin, r * mm);
+      const count = bodies.shape[0];
+      const end = (k, idx, out) => { const src = sources[k]; return src ? pos(src, idx, out) : out.set(0, 0, 0); };
+      this.meshes.forces = cylinders(count, (i, a, b) => {
+        end(bodies.data[4 * i], bodies.data[4 * i + 1], a);
+        end(bodies.data[4 * i + 2], bodies.data[4 * i + 3], b);
+      }, (i) => (fmax > 0 ? 0.45 * rmin * Math.abs(force.data[i]) / fmax : 0), null,
+      new THREE.MeshStandardMaterial({ color: 0x8b1a1a, roughness: 0.6 }));
+      this.group.add(this.meshes.forces);
+      stats.contacts = count;
+      stats.maxNormalForceN = fmax;
+    }
+    this.canvas.wiredemView = stats;
+    this.info.textContent = `${stats.grains} grains · ${stats.wireSegments} wire segments` +
+      (stats.maxAbsStrain ? ` (colour: segment strain, ±${num(stats.maxAbsStrain, 2)}, blue compressed, red stretched)` : '') +
+      ` · ${stats.membraneTriangles} membrane triangles · ${stats.contacts} contacts (radius ∝ normal force)`;
+
+    if (!this.framed && n) {
+      const box = new THREE.Box3().setFromObject(this.meshes.grains);
+      const centre = box.getCenter(new THREE.Vector3());
+      const size = box.getSize(new THREE.Vector3());
+      this.cut.constant = centre.y;
+      this.controls.target.copy(centre);
+      const d = Math.max(size.x, size.y, size.z) * 2.6;
+      this.camera.position.set(centre.x + d * 0.8, centre.y - d, centre.z + d * 0.35);
+      this.controls.update();
+      this.framed = true;
+    }
+    this.applyToggles();
+  }
+
+  applyToggles() {
+    if (!this.renderer) return;
+    for (const key of ['grains', 'wire', 'membrane', 'forces']) if (this.meshes?.[key]) this.meshes[key].visible = this.toggles[key].checked;
+    this.renderer.clippingPlanes = this.toggles.cut.checked ? [this.cut] : [];
+    this.fit();
+  }
+
+  render() {
+    if (this.renderer) this.renderer.render(this.scene, this.camera);
+  }
+
+  dispose() {
+    window.removeEventListener('resize', this.resize);
+    if (this.controls) this.controls.dispose();
+    if (this.renderer) { this.renderer.dispose(); this.renderer.forceContextLoss(); }
+  }
+}
