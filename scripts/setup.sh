@@ -12,6 +12,10 @@ packages=(
   sqlite3                                         # the server tests forge a damaged store with it
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
   python3-yaml                                    # scripts/lint-docker.sh checks compose.yaml
+  # scripts/build.sh clang and scripts/fuzz.sh: clang, and its libFuzzer and
+  # sanitizer runtimes (libclang_rt.fuzzer, .asan, .ubsan_standalone), which
+  # are only recommended by clang-14, and apt-get here skips recommendations.
+  clang libclang-rt-14-dev
 )
 # scripts/lint-docker.sh runs dockerfilelint with npx: Debian's npm where no
 # npx is on the PATH (a machine may bring its own Node.js).
