@@ -184,11 +184,8 @@ Response handle_submit_job(const Request& req, Services& svc)
     // is the one that drives the estimate.
     const api::WorkEstimate work = api::estimated_work(spec.value());
     if (!(work.total_steps() <= svc.config.max_steps_per_job)) {
-        const api::JobSpec& s = spec.value();
-        const double prep = work.preparation_steps, tests = work.total_steps() - prep;
-        const std::string field = s.engine.time_step_s ? "engine.time_step_s"
-                                : prep > tests         ? "specimen.pouring.max_preparation_time_s"
-                                                       : "triaxial.plate_speed_m_per_s";
+        const double prep = work.preparation_steps;
+        const std::string field = api::work_field(spec.value(), work);
         return error_response(req, http::status::bad_request, "invalid_job",
             field + ": the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
                 + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
