@@ -37,16 +37,17 @@ TEST(HostileSpecs, ValidationRunsNoCollisionFit)
     // Validation estimates the fill height and the wire's length from the
     // preparation spec, which used to resolve the restitution into a damping
     // time by bisecting on integrated collisions: 90-140 ms of CPU per spec in
-    // Release, 1-3 s under the fuzz build's sanitizers. Without the fit a
-    // spec with a wire validates in well under a millisecond; 20 ms leaves
-    // room for the sanitizer builds and stays below one fit.
+    // Release (this spec: 174 ms), 1-3 s under the fuzz build's sanitizers.
+    // Without the fit it validates in well under a millisecond in Release and
+    // at most ~16 ms in the fuzz build (the slowest of its hostile inputs);
+    // 50 ms leaves room for the sanitizer builds and stays below one fit.
     const std::string spec = R"({"specimen": {"wire": {"pattern": "spiral_helix"}},
                                  "contact": {"restitution": 0.3, "restitution_reference_speed_m_per_s": 0.05}})";
     const double t0 = thread_cpu_s();
     const auto parsed = parse_job_spec(std::string_view(spec));
     const double took_s = thread_cpu_s() - t0;
     ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
-    EXPECT_LT(took_s, 0.02);
+    EXPECT_LT(took_s, 0.05);
     // The runner still gets the fitted damping time.
     EXPECT_GT(resolved_normal_damping_s(parsed.value()), 0.0);
 }
