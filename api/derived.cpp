@@ -12,8 +12,11 @@
 #include "triaxial/triaxial.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <numbers>
 
 namespace wiredem::api {
@@ -134,8 +137,26 @@ double resolved_normal_damping_s(const JobSpec& spec)
     const double mass_kg = s.grain.density_kg_per_m3 * spec.engine.density_scale * 4.0 / 3.0 * std::numbers::pi * r * r * r;
     const double e_star = engine::effective_modulus_pa(
         s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.youngs_modulus_pa, s.grain.poisson_ratio);
-    return engine::hertz_damping_for_restitution_s(
-        e.restitution, 0.5 * mass_kg, e.restitution_reference_speed_m_per_s, e_star, engine::effective_radius_m(r, r));
+    const std::array<double, 5> inputs{
+        e.restitution, 0.5 * mass_kg, e.restitution_reference_speed_m_per_s, e_star, engine::effective_radius_m(r, r)};
+    // The fit integrates a contact for every bisection step (50–250 ms): a
+    // pure function of its inputs, remembered, so that the many jobs of a
+    // study or a flood of submits with the same grains pay it once. Bounded:
+    // a full table is emptied.
+    if (!std::all_of(inputs.begin(), inputs.end(), [](double x) { return std::isfinite(x); }))
+        return engine::hertz_damping_for_restitution_s(inputs[0], inputs[1], inputs[2], inputs[3], inputs[4]);
+    static std::mutex mutex;
+    static std::map<std::array<double, 5>, double> fits;
+    constexpr std::size_t max_fits = 4096;
+    {
+        std::lock_guard lock(mutex);
+        if (const auto it = fits.find(inputs); it != fits.end()) return it->second;
+    }
+    const double gamma = engine::hertz_damping_for_restitution_s(inputs[0], inputs[1], inputs[2], inputs[3], inputs[4]);
+    std::lock_guard lock(mutex);
+    if (fits.size() >= max_fits) fits.clear();
+    fits.emplace(inputs, gamma);
+    return gamma;
 }
 
 } // namespace wiredem::api

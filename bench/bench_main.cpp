@@ -4,6 +4,7 @@
 // cylinder, then times steps on the static packing for each thread count.
 // Every case starts from the same settled state, and the final states are
 // hashed: equal hashes across thread counts show the run is deterministic.
+#include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
@@ -36,6 +37,7 @@ struct Case {
     std::size_t bodies = 0;
     std::size_t contacts = 0;    ///< touching pairs and body–wall contacts at the end
     std::size_t list_pairs = 0;  ///< pairs in the neighbour list (touching or within the skin)
+    std::uint64_t rebuilds = 0;  ///< neighbour-list rebuilds during the timed steps
     std::uint64_t steps = 0;
     double wall_s = 0.0;
     double cpu_s = 0.0; ///< CPU time of the whole process over the timed steps (all threads)
@@ -125,6 +127,7 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         sim.step(); // warm-up outside the timing
         Case c;
         sim.profile = &c.profile;
+        const std::uint64_t builds0 = sim.world.neighbour_builds;
         const double cpu0 = process_cpu_s();
         const auto t0 = std::chrono::steady_clock::now();
         sim.run(steps);
@@ -136,6 +139,7 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         c.bodies = sim.world.body_count();
         c.contacts = touching(sim.world);
         c.list_pairs = sim.world.contacts.size();
+        c.rebuilds = sim.world.neighbour_builds - builds0;
         c.steps = steps;
         c.hash = state_hash(sim.world);
         cases.push_back(c);
@@ -212,12 +216,13 @@ std::string stages_json(const StepProfile& p)
 
 void print_case_json(const Case& c, double dt)
 {
-    std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"steps\":%llu,"
+    std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"rebuilds\":%llu,\"steps\":%llu,"
                 "\"wall_time_s\":%.6f,\"cpu_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
-                "\"ns_per_contact\":%.4g,\"state_hash\":\"%016llx\",\"stage_s\":%s}\n",
+                "\"ns_per_contact\":%s,\"state_hash\":\"%016llx\",\"stage_s\":%s}\n",
         c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs,
-        static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
-        c.body_steps_per_s(), c.ns_per_contact(), static_cast<unsigned long long>(c.hash),
+        static_cast<unsigned long long>(c.rebuilds), static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
+        c.body_steps_per_s(), c.contacts > 0 ? std::to_string(c.ns_per_contact()).c_str() : "null",
+        static_cast<unsigned long long>(c.hash),
         stages_json(c.profile).c_str());
 }
 
@@ -251,7 +256,14 @@ int main(int argc, char** argv)
     app.add_option("--packing", packing,
            "time a packing read from a data file written by --liggghts-data instead of settling one (grains at rest)")
         ->check(CLI::ExistingFile);
+    SimdKernels kernels = SimdKernels::automatic;
+    app.add_option("--simd", kernels,
+           "auto: the AVX-512 paths (sticking grain pairs, grains' turn) where the CPU has them; scalar: the scalar "
+           "code only (same results)")
+        ->transform(CLI::CheckedTransformer(
+            std::map<std::string, SimdKernels>{{"auto", SimdKernels::automatic}, {"scalar", SimdKernels::scalar}}));
     CLI11_PARSE(app, argc, argv);
+    set_simd_kernels(kernels);
 
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);

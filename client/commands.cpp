@@ -6,6 +6,8 @@
 #include "run_command.hpp"
 
 #include "api/job_spec.hpp"
+#include "api/json_text.hpp"
+#include "api/study.hpp"
 
 #include <boost/json.hpp>
 
@@ -13,6 +15,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -99,12 +102,14 @@ void check_reply(const HttpReply& r, const std::string& what)
     throw CommandError(exit, line + details);
 }
 
+/// The reply's JSON, numbers read correctly rounded (api::parse_json_text;
+/// Boost.JSON's own parser may miss the last bit, and a figure fetched must
+/// equal the figure computed).
 json::value parse_reply(const HttpReply& r, const std::string& what)
 {
-    boost::system::error_code ec;
-    json::value v = json::parse(r.body, ec);
-    if (ec) throw CommandError(exit_code::network, what + ": the server's reply is not JSON");
-    return v;
+    auto v = api::parse_json_text(r.body);
+    if (!v) throw CommandError(exit_code::network, what + ": the server's reply is not JSON");
+    return std::move(v).value();
 }
 
 std::string str(const json::value& v, std::string_view key)
@@ -400,14 +405,261 @@ int cmd_health(const GlobalOptions& g)
     return exit_code::ok;
 }
 
-int cmd_run(const fs::path& job_file, const fs::path& out_dir, unsigned threads, const std::string& progress)
+namespace {
+
+StageOptions stage_options(const LocalStage& s)
 {
-    const api::JobSpec spec = load_job(job_file);
+    StageOptions o;
+    o.threads = s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
+    o.json_progress = s.progress == "json";
+    o.checkpoint_interval_s = s.checkpoint_interval_s;
+    return o;
+}
+
+void make_job_directory(const fs::path& dir)
+{
     std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec) throw CommandError(exit_code::local_io, "cannot create " + out_dir.string() + ": " + ec.message());
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    return run_campaign_main(spec, out_dir, threads, progress == "json");
+    fs::create_directories(dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());
+}
+
+} // namespace
+
+int cmd_run(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return run_campaign_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_prepare(const LocalStage& s)
+{
+    const api::JobSpec spec = load_job(s.job_file);
+    make_job_directory(s.dir);
+    return prepare_main(spec, s.dir, stage_options(s));
+}
+
+int cmd_test(const LocalStage& s) { return test_main(s.dir, s.index, s.pressure_pa, stage_options(s)); }
+
+int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(s)); }
+
+namespace {
+
+api::Study load_study(const fs::path& file, std::size_t max_points)
+{
+    const std::string text = read_file(file, "study file");
+    auto study = api::parse_study(std::string_view(text), max_points);
+    if (!study) {
+        std::string msg = "study file " + file.string() + " is not a valid study:";
+        for (const auto& e : study.error())
+            msg += "\n  " + (e.path.empty() ? std::string() : printable(e.path) + ": ") + printable(e.message);
+        throw CommandError(exit_code::invalid_job, msg);
+    }
+    return std::move(study).value();
+}
+
+/// "3 succeeded, 1 running, 2 queued": the non-zero counts of a study.
+std::string counts_text(const json::value& study)
+{
+    std::string out;
+    const json::value* c = study.is_object() ? study.as_object().if_contains("jobs_by_state") : nullptr;
+    if (!c || !c->is_object()) return "-";
+    for (const auto& kv : c->as_object())
+        if (kv.value().is_number() && kv.value().to_number<double>() > 0) {
+            if (!out.empty()) out += ", ";
+            out += std::to_string(kv.value().to_number<long long>()) + " " + printable(kv.key());
+        }
+    return out.empty() ? "no jobs" : out;
+}
+
+/// Whether every job of the study has ended, and whether all succeeded.
+std::pair<bool, bool> study_ended(const json::value& study)
+{
+    const json::value* c = study.as_object().if_contains("jobs_by_state");
+    if (!c || !c->is_object()) return {false, false};
+    auto count = [&](const char* s) {
+        const json::value* v = c->as_object().if_contains(s);
+        return v && v->is_number() ? v->to_number<long long>() : 0;
+    };
+    const long long active = count("queued") + count("preparing") + count("running");
+    const long long bad = count("failed") + count("cancelled");
+    return {active == 0, active == 0 && bad == 0};
+}
+
+} // namespace
+
+int cmd_study_check(const GlobalOptions& g, const fs::path& study_file, std::size_t max_points)
+{
+    const api::Study study = load_study(study_file, max_points);
+    if (g.json) {
+        json::array points;
+        for (const auto& p : study.points) points.push_back(api::to_json(p.spec));
+        print_json(json::object{{"name", study.name}, {"jobs", std::move(points)}});
+        return exit_code::ok;
+    }
+    std::cout << "study " << printable(study.name) << ": " << study.points.size() << " points, every one a valid job\n";
+    for (std::size_t k = 0; k < study.points.size(); ++k)
+        std::cout << "  " << k << "  " << printable(study.points[k].label) << "\n";
+    return exit_code::ok;
+}
+
+int cmd_study_submit(const GlobalOptions& g, const fs::path& study_file, bool wait, const WaitOptions& w)
+{
+    // The document as written goes to the server, after the same checks
+    // (the server also applies its own limit on points).
+    (void)load_study(study_file, std::numeric_limits<std::size_t>::max());
+    const std::string body = read_file(study_file, "study file");
+    auto client = make_client(g);
+    const auto reply = client.request(Method::post, "/v1/studies", body);
+    check_reply(reply, "submit " + study_file.string());
+    const json::value study = parse_reply(reply, "submit");
+    const std::string id = str(study, "id");
+    if (g.json && !wait) print_json(study);
+    else if (!g.json) std::cout << id << std::endl;
+    return wait ? cmd_study_wait(g, id, w) : exit_code::ok;
+}
+
+int cmd_study_status(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/studies/" + id);
+    check_reply(reply, "study " + id);
+    const json::value study = parse_reply(reply, "study " + id);
+    if (g.json) {
+        print_json(study);
+        return exit_code::ok;
+    }
+    std::cout << "study  " << printable(str(study, "name")) << " (" << id << ")\njobs   " << counts_text(study) << "\n";
+    if (const auto* jobs = study.as_object().if_contains("jobs"); jobs && jobs->is_array())
+        for (const auto& p : jobs->as_array()) {
+            const json::value* job = p.as_object().if_contains("job");
+            std::cout << "  " << printable(str(p, "label")) << "  ";
+            if (job && job->is_object()) std::cout << str(*job, "id") << "  " << format_progress_line(*job);
+            else std::cout << "(job missing)";
+            std::cout << "\n";
+        }
+    return exit_code::ok;
+}
+
+int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto started = clock_type::now();
+    std::optional<clock_type::time_point> failing_since;
+    std::string last;
+    const auto interval = std::chrono::duration<double>(std::max(0.05, w.interval_s));
+    for (;;) {
+        HttpReply reply;
+        try {
+            reply = client.request(Method::get, "/v1/studies/" + id);
+            failing_since.reset();
+        } catch (const CommandError& e) {
+            if (e.code != exit_code::network) throw;  // a restarting server: retried for a minute
+            if (!failing_since) failing_since = clock_type::now();
+            if (clock_type::now() - *failing_since > std::chrono::seconds(60)) throw;
+            std::this_thread::sleep_for(interval);
+            continue;
+        }
+        check_reply(reply, "study " + id);
+        const json::value study = parse_reply(reply, "study " + id);
+        const std::string now = counts_text(study);
+        if (!g.json && now != last) std::cout << "study " << id << ": " << now << std::endl;
+        last = now;
+        if (const auto [ended, all_ok] = study_ended(study); ended) {
+            if (g.json) print_json(study);
+            if (!all_ok) std::cerr << "wiredem: study " << id << " ended with jobs that did not succeed: " << now << std::endl;
+            return all_ok ? exit_code::ok : exit_code::job_failed;
+        }
+        if (w.timeout_s && std::chrono::duration<double>(clock_type::now() - started).count() > *w.timeout_s)
+            throw CommandError(exit_code::wait_timeout, "study " + id + " still has jobs to run after "
+                                                            + format_duration(*w.timeout_s) + ": " + now);
+        std::this_thread::sleep_for(interval);
+    }
+}
+
+int cmd_study_cancel(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::del, "/v1/studies/" + id);
+    check_reply(reply, "cancel study " + id);
+    const json::value study = parse_reply(reply, "cancel study " + id);
+    if (g.json) print_json(study);
+    else std::cout << "study " << id << ": " << counts_text(study) << std::endl;
+    return exit_code::ok;
+}
+
+int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv)
+{
+    check_id(id);
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/studies/" + id + "/summary");
+    check_reply(reply, "summary of study " + id);
+    const json::value summary = parse_reply(reply, "summary of study " + id);
+    if (!summary.is_object()) throw CommandError(exit_code::network, "summary of study " + id + ": not a JSON object");
+    if (g.json) print_json(summary);
+    else if (csv) std::cout << api::study_summary_csv(summary.as_object());
+    else std::cout << format_study_summary(summary);
+    return exit_code::ok;
+}
+
+int cmd_study_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir)
+{
+    check_id(id);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());
+    auto client = make_client(g);
+    const auto reply = client.request(Method::get, "/v1/studies/" + id + "/summary");
+    check_reply(reply, "summary of study " + id);
+    const json::value summary = parse_reply(reply, "summary of study " + id);
+    if (!summary.is_object()) throw CommandError(exit_code::network, "summary of study " + id + ": not a JSON object");
+    const auto write = [&](const fs::path& file, const std::string& text) {
+        fs::path tmp = file;
+        tmp += ".part";
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.close();
+        if (!out) throw CommandError(exit_code::local_io, "cannot write " + tmp.string());
+        fs::rename(tmp, file, ec);
+        if (ec) throw CommandError(exit_code::local_io, "cannot write " + file.string() + ": " + ec.message());
+    };
+    write(dir / "summary.json", reply.body); // as the server sent it
+    write(dir / "summary.csv", api::study_summary_csv(summary.as_object()));
+    int fetched = 0, skipped = 0;
+    for (const auto& p : summary.at("points").as_array()) {
+        const std::string job_id = str(p, "job_id");
+        if (str(p, "state") != "succeeded" || job_id.empty()) {
+            ++skipped;
+            continue;
+        }
+        const auto index = p.at("index").to_number<std::int64_t>();
+        GlobalOptions quiet = g;
+        quiet.json = true; // fetch prints nothing but its JSON line then; ours follows
+        std::ostringstream sink;
+        auto* old = std::cout.rdbuf(sink.rdbuf());
+        try {
+            cmd_fetch(quiet, job_id, dir / "points" / std::to_string(index));
+        } catch (...) {
+            std::cout.rdbuf(old);
+            throw;
+        }
+        std::cout.rdbuf(old);
+        ++fetched;
+    }
+    if (!g.json)
+        std::cout << "study " << id << ": summary.json, summary.csv and " << fetched << " points' results in "
+                  << dir.string() << (skipped ? " (" + std::to_string(skipped) + " points not succeeded)" : "") << std::endl;
+    return exit_code::ok;
+}
+
+int cmd_study_run(const fs::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points)
+{
+    const api::Study study = load_study(study_file, max_points);
+    make_job_directory(s.dir);
+    return study_run_main(study, s.dir, jobs, stage_options(s));
 }
 
 } // namespace wiredem::client

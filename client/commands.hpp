@@ -43,8 +43,42 @@ int cmd_summary(const GlobalOptions& g, const std::string& id);
 int cmd_fetch(const GlobalOptions& g, const std::string& id, const std::filesystem::path& dir);
 /// `health`: GET /v1/health.
 int cmd_health(const GlobalOptions& g);
-/// `wiredem run`: validates the job file, then runs the campaign locally.
-int cmd_run(const std::filesystem::path& job_file, const std::filesystem::path& out_dir, unsigned threads,
-    const std::string& progress);
+/// What the local stage commands are asked to do.
+struct LocalStage {
+    std::filesystem::path job_file;             ///< run, prepare
+    std::filesystem::path dir;                  ///< the job directory
+    std::optional<std::size_t> index;           ///< test: by index …
+    std::optional<double> pressure_pa;          ///< … or by confining pressure
+    unsigned threads = 0;                       ///< 0: every core
+    std::string progress = "text";              ///< text or json
+    double checkpoint_interval_s = 300.0;       ///< run, test; ≤ 0: none
+};
+/// `wiredem run`: validates the job file, then runs the campaign locally
+/// (resuming what the directory holds).
+int cmd_run(const LocalStage& s);
+/// `wiredem prepare`, `test`, `analyse`: the campaign's stages (campaign/stages.hpp).
+int cmd_prepare(const LocalStage& s);
+int cmd_test(const LocalStage& s);
+int cmd_analyse(const LocalStage& s);
+/// `study check`: validates the study and prints its points (label, job name).
+int cmd_study_check(const GlobalOptions& g, const std::filesystem::path& study_file, std::size_t max_points);
+/// `study submit`: validates the study locally (every point as a job), POSTs
+/// it, prints the study id; with `wait`, then waits like cmd_study_wait.
+int cmd_study_submit(const GlobalOptions& g, const std::filesystem::path& study_file, bool wait, const WaitOptions& w);
+/// `study status`: the study, its jobs counted by state and one line per point.
+int cmd_study_status(const GlobalOptions& g, const std::string& id);
+/// `study wait`: polls until every job of the study has ended, a line per
+/// change of the counts; exit 0 when all succeeded, else the job_failed code.
+int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w);
+/// `study cancel`: cancels every job of the study that has not ended.
+int cmd_study_cancel(const GlobalOptions& g, const std::string& id);
+/// `study summary`: the table of φ and c over the seeds and per point (or CSV, or JSON).
+int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv);
+/// `study fetch`: DIR/summary.json, DIR/summary.csv and each succeeded
+/// point's files into DIR/points/K (like `fetch`, resuming).
+int cmd_study_fetch(const GlobalOptions& g, const std::string& id, const std::filesystem::path& dir);
+/// `wiredem study run`: validates the study (every point as a job), then runs
+/// it locally, `jobs` points at once.
+int cmd_study_run(const std::filesystem::path& study_file, const LocalStage& s, std::size_t jobs, std::size_t max_points);
 
 } // namespace wiredem::client

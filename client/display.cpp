@@ -6,6 +6,8 @@
 
 #include <boost/json.hpp>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -76,6 +78,86 @@ std::string eta(const json::value& job)
 }
 
 } // namespace
+
+namespace {
+
+/// "32.0 ± 2.0 (3)", "40.0 (1)", "- (0)": a spread object {mean, sd, n} scaled.
+std::string mean_sd(const json::value* spread, double factor, const char* format)
+{
+    const auto mean = scaled(number(at(*spread, {"mean"})), factor);
+    const auto sd = scaled(number(at(*spread, {"sd"})), factor);
+    const auto n = number(at(*spread, {"n"}));
+    std::string s = fmt(format, mean);
+    if (sd) s += " ± " + fmt(format, sd);
+    return s + " (" + fmt("%.0f", n.value_or(0.0)) + ")";
+}
+
+/// The values of a point or group: `specimen.wire.pattern=helix seed=1`.
+std::string values_text(const json::value* values)
+{
+    std::string s;
+    if (!values || !values->is_object()) return "-";
+    for (const auto& kv : values->as_object()) {
+        if (!s.empty()) s += ' ';
+        std::string value;
+        if (kv.value().is_string()) {
+            value = kv.value().as_string();
+        } else if (kv.value().is_double()) {
+            char buf[32];
+            value.assign(buf, std::to_chars(buf, buf + sizeof buf, kv.value().as_double()).ptr);
+        } else {
+            value = json::serialize(kv.value());
+        }
+        s += printable(kv.key()) + "=" + printable(value);
+    }
+    return s.empty() ? "(all)" : s;
+}
+
+} // namespace
+
+std::string format_study_summary(const json::value& summary)
+{
+    std::ostringstream out;
+    const json::value* points = at(summary, {"points"});
+    const json::value* groups = at(summary, {"groups"});
+    std::size_t n = 0, ok = 0;
+    if (points && points->is_array())
+        for (const json::value& p : points->as_array()) {
+            ++n;
+            ok += text(at(p, {"state"})) == "succeeded";
+        }
+    out << "study " << text(at(summary, {"name"})) << ": " << n << " points, " << ok << " succeeded\n";
+    if (groups && groups->is_array() && !groups->as_array().empty()) {
+        out << "\nover the seeds (mean ± sd (n), Mohr-Coulomb through the yield states)\n";
+        std::size_t w = 5;
+        for (const json::value& g : groups->as_array()) w = std::max(w, values_text(at(g, {"values"})).size());
+        out << "  " << pad_right("group", w) << "  " << pad_left("phi [deg]", 20) << "  " << pad_left("c [kPa]", 20) << "\n";
+        for (const json::value& g : groups->as_array()) {
+            const json::value* phi = at(g, {"friction_angle_deg"});
+            const json::value* c = at(g, {"cohesion_pa"});
+            out << "  " << pad_right(values_text(at(g, {"values"})), w) << "  "
+                << pad_left(phi ? mean_sd(phi, 1.0, "%.1f") : "-", 20) << "  "
+                << pad_left(c ? mean_sd(c, 1e-3, "%.2f") : "-", 20) << "\n";
+        }
+    }
+    if (points && points->is_array()) {
+        out << "\npoints\n";
+        std::size_t w = 6;
+        for (const json::value& p : points->as_array()) w = std::max(w, values_text(at(p, {"values"})).size());
+        out << "  " << pad_left("#", 4) << "  " << pad_right("values", w) << "  " << pad_right("state", 10) << "  "
+            << pad_left("phi [deg]", 9) << "  " << pad_left("c [kPa]", 8) << "  " << pad_left("R2", 5) << "\n";
+        for (const json::value& p : points->as_array()) {
+            out << "  " << pad_left(fmt("%.0f", number(at(p, {"index"}))), 4) << "  "
+                << pad_right(values_text(at(p, {"values"})), w) << "  " << pad_right(text(at(p, {"state"})), 10) << "  "
+                << pad_left(fmt("%.1f", number(at(p, {"friction_angle_deg"}))), 9) << "  "
+                << pad_left(fmt("%.2f", scaled(number(at(p, {"cohesion_pa"})), 1e-3)), 8) << "  "
+                << pad_left(fmt("%.3f", number(at(p, {"r_squared"}))), 5);
+            if (const std::string e = text(at(p, {"error"}), ""); !e.empty()) out << "  " << e;
+            out << "\n";
+        }
+    }
+    return out.str();
+}
 
 std::string printable(std::string_view text)
 {

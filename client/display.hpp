@@ -16,6 +16,11 @@ namespace wiredem::client {
 /// specimen's volume fractions; engine figures; warnings. Stresses in kPa.
 [[nodiscard]] std::string format_summary(const boost::json::value& summary);
 
+/// A study's summary (api/study.hpp: study_summary): per group of replicates
+/// φ and c as mean ± standard deviation (n), then one line per point with
+/// its state, φ, c and R², or why it failed. Stresses in kPa.
+[[nodiscard]] std::string format_study_summary(const boost::json::value& summary);
+
 /// A job (GET /v1/jobs/{id}) as aligned "key  value" lines.
 [[nodiscard]] std::string format_job(const boost::json::value& job);
 

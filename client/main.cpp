@@ -2,6 +2,7 @@
 // (`wiredem run`). Errors end as one line "wiredem: …" on stderr and an exit
 // code from exit_codes.hpp (table in docs/client.md).
 #include "commands.hpp"
+#include "api/study.hpp"
 #include "exit_codes.hpp"
 #include "export_command.hpp"
 
@@ -69,14 +70,80 @@ int main(int argc, char** argv)
 
     auto* health = app.add_subcommand("health", "check that the server answers");
 
-    auto* run = app.add_subcommand("run", "run a job here, without a server");
-    run->add_option("job", job_file, "job spec")->required();
-    run->add_option("-o,--output", out_dir, "directory for summary.json and result.h5")->required();
-    unsigned threads = 0;
-    std::string progress = "text";
-    run->add_option("--threads", threads, "engine threads (0: every core)")->capture_default_str();
-    run->add_option("--progress", progress, "progress on stdout: text or json (one object per line)")
-        ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
+    LocalStage local;
+    const auto stage_options = [&](CLI::App* sub) {
+        sub->add_option("--threads", local.threads, "engine threads (0: every core)")->capture_default_str();
+        sub->add_option("--progress", local.progress, "progress on stdout: text or json (one object per line)")
+            ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
+    };
+    const auto checkpoint_option = [&](CLI::App* sub) {
+        sub->add_option("--checkpoint-interval", local.checkpoint_interval_s,
+               "seconds of wall time between a test's checkpoints (0: none); a killed test continues from the last")
+            ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+    };
+    auto* run = app.add_subcommand("run", "run a job here, without a server (continues what DIR holds)");
+    run->add_option("job", local.job_file, "job spec")->required();
+    run->add_option("-o,--output", local.dir, "job directory: summary.json, result.h5 and the stages' files")->required();
+    stage_options(run);
+    checkpoint_option(run);
+
+    auto* prepare = app.add_subcommand("prepare", "prepare a job's specimen into a job directory (stage 1 of run)");
+    prepare->add_option("job", local.job_file, "job spec")->required();
+    prepare->add_option("-o,--output", local.dir, "job directory")->required();
+    stage_options(prepare);
+
+    auto* test = app.add_subcommand("test", "run one triaxial test of a prepared job directory (stage 2 of run)");
+    test->add_option("dir", local.dir, "job directory (wiredem prepare)")->required();
+    auto* by_index = test->add_option("--index", local.index, "the test: index of its confining pressure in the job (0 first)");
+    auto* by_pressure = test->add_option("--pressure", local.pressure_pa, "the test: its confining pressure [Pa]");
+    by_index->excludes(by_pressure);
+    test->callback([&] {
+        if (!local.index && !local.pressure_pa) throw CLI::ValidationError("test", "give --index or --pressure");
+    });
+    stage_options(test);
+    checkpoint_option(test);
+
+    auto* analyse = app.add_subcommand("analyse", "write result.h5 and summary.json from a job directory's tests (stage 3)");
+    analyse->add_option("dir", local.dir, "job directory")->required();
+    stage_options(analyse);
+
+    auto* study = app.add_subcommand("study", "parameter studies: a base job and the fields to vary (docs/studies.md)");
+    study->require_subcommand(1);
+    std::filesystem::path study_file;
+    std::size_t study_jobs = 1, max_points = wiredem::api::default_max_study_points;
+    auto* study_run = study->add_subcommand("run", "run a study here: each point's campaign in DIR/points/K, then DIR/summary.json and .csv");
+    study_run->add_option("study", study_file, "study document")->required();
+    study_run->add_option("-o,--output", local.dir, "study directory (run again to continue it)")->required();
+    study_run->add_option("--jobs", study_jobs, "points run at once, the threads shared among them")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1024}));
+    study_run->add_option("--max-points", max_points, "refuse a study with more points")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+    stage_options(study_run);
+    checkpoint_option(study_run);
+
+    auto* study_check = study->add_subcommand("check", "validate STUDY.json (every point as a job) and list its points; nothing runs");
+    study_check->add_option("study", study_file, "study document")->required();
+    study_check->add_option("--max-points", max_points, "refuse a study with more points")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+    auto* study_submit = study->add_subcommand("submit", "validate STUDY.json (every point as a job), queue its jobs, print the study id");
+    study_submit->add_option("study", study_file, "study document")->required();
+    bool study_submit_wait = false;
+    study_submit->add_flag("--wait", study_submit_wait, "then wait for the study like `study wait`");
+    add_wait_options(study_submit);
+    auto* study_status = study->add_subcommand("status", "a study's jobs counted by state, and each point's job");
+    study_status->add_option("id", id, "study id")->required();
+    auto* study_wait = study->add_subcommand("wait", "follow a study until all its jobs have ended");
+    study_wait->add_option("id", id, "study id")->required();
+    add_wait_options(study_wait);
+    auto* study_cancel = study->add_subcommand("cancel", "cancel every job of a study that has not ended");
+    study_cancel->add_option("id", id, "study id")->required();
+    auto* study_summary = study->add_subcommand("summary", "phi and c over the seeds and per point");
+    study_summary->add_option("id", id, "study id")->required();
+    bool study_csv = false;
+    study_summary->add_flag("--csv", study_csv, "the points as CSV");
+    auto* study_fetch = study->add_subcommand("fetch", "summary.json, summary.csv and each succeeded point's files");
+    study_fetch->add_option("id", id, "study id")->required();
+    study_fetch->add_option("-o,--output", out_dir, "directory for the files")->required();
 
     auto* export_xdmf = app.add_subcommand("export-xdmf", "write the XDMF sidecar of a result.h5, for ParaView");
     std::string h5_file, xdmf_file;
@@ -101,7 +168,18 @@ int main(int argc, char** argv)
         if (*summary) return cmd_summary(g, id);
         if (*fetch) return cmd_fetch(g, id, out_dir);
         if (*health) return cmd_health(g);
-        if (*run) return cmd_run(job_file, out_dir, threads, progress);
+        if (*run) return cmd_run(local);
+        if (*prepare) return cmd_prepare(local);
+        if (*test) return cmd_test(local);
+        if (*analyse) return cmd_analyse(local);
+        if (*study_run) return cmd_study_run(study_file, local, study_jobs, max_points);
+        if (*study_check) return cmd_study_check(g, study_file, max_points);
+        if (*study_submit) return cmd_study_submit(g, study_file, study_submit_wait, wait_opts);
+        if (*study_status) return cmd_study_status(g, id);
+        if (*study_wait) return cmd_study_wait(g, id, wait_opts);
+        if (*study_cancel) return cmd_study_cancel(g, id);
+        if (*study_summary) return cmd_study_summary(g, id, study_csv);
+        if (*study_fetch) return cmd_study_fetch(g, id, out_dir);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;

@@ -1,18 +1,48 @@
-// `wiredem run`: the local campaign runner, also what wiredem-server's workers
-// start for each job (the runner contract, docs/api.md):
-//   wiredem run JOB.json -o OUTDIR --threads N --progress json
+// The stage commands of the command line: `wiredem run` (the whole campaign;
+// also what wiredem-server's workers start for each job, the runner contract
+// of docs/api.md: wiredem run JOB.json -o OUTDIR --threads N --progress json),
+// and its stages `prepare`, `test`, `analyse` (campaign/stages.hpp).
 #pragma once
 
 #include "api/job_spec.hpp"
+#include "api/study.hpp"
+#include "stages.hpp"
 
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 
-/// Runs the whole triaxial campaign of `spec`, writing OUTDIR/summary.json and
-/// OUTDIR/result.h5 (temp names, then rename). With `json_progress`, prints
-/// one JSON progress object per line on stdout; otherwise readable progress.
-/// Stops within a second on SIGTERM.
-/// @param threads engine threads, ≥ 1
-/// @return the process exit code: 0 on success; non-zero with a one-line
-///         reason as the last line on stderr; 143 when stopped by SIGTERM
-int run_campaign_main(const wiredem::api::JobSpec& spec, const std::filesystem::path& out_dir, unsigned threads,
-    bool json_progress);
+/// Options every stage command takes.
+struct StageOptions {
+    unsigned threads = 1;          ///< engine threads, ≥ 1
+    bool json_progress = false;    ///< one JSON progress object per line on stdout; otherwise readable progress
+    double checkpoint_interval_s = wiredem::campaign::default_checkpoint_interval_s; ///< ≤ 0: none
+
+    [[nodiscard]] wiredem::campaign::StageControl control() const
+    {
+        wiredem::campaign::StageControl c;
+        c.threads = threads;
+        c.checkpoint_interval_s = checkpoint_interval_s;
+        return c;
+    }
+};
+
+// Each returns the process exit code: 0 on success; non-zero with a one-line
+// reason as the last line on stderr; 128 + signal when stopped by SIGTERM or
+// SIGINT (within a second).
+
+/// The whole campaign of `spec` in OUTDIR, resuming what is there: writes
+/// OUTDIR/summary.json and OUTDIR/result.h5 (temp names, then rename).
+int run_campaign_main(const wiredem::api::JobSpec& spec, const std::filesystem::path& out_dir, const StageOptions& options);
+/// Prepares the specimen into OUTDIR (job.json, specimen.h5).
+int prepare_main(const wiredem::api::JobSpec& spec, const std::filesystem::path& out_dir, const StageOptions& options);
+/// Runs one test of a prepared directory, chosen by index or by its confining pressure.
+int test_main(const std::filesystem::path& dir, std::optional<std::size_t> index, std::optional<double> pressure_pa,
+    const StageOptions& options);
+/// Writes result.h5, result.xdmf and summary.json from the tests of a directory.
+int analyse_main(const std::filesystem::path& dir, const StageOptions& options);
+/// Runs a parameter study here (campaign/study_run.hpp), `at_once` points at a
+/// time, and prints its summary (JSON with json_progress); exit 1 when a
+/// point failed, its error printed.
+int study_run_main(const wiredem::api::Study& study, const std::filesystem::path& dir, std::size_t at_once,
+    const StageOptions& options);

@@ -1,6 +1,7 @@
 #include "step.hpp"
 
 #include "contact/geometry.hpp"
+#include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "integrate/gear5.hpp"
@@ -115,16 +116,24 @@ bool update_neighbours(World& w, ThreadPool& pool)
         radius.insert(radius.end(), body.radius_m.begin(), body.radius_m.end());
         for (std::uint32_t i = 0; i < body.size(); ++i) ref.emplace_back(static_cast<BodyKind>(k), i);
     }
+    // Flat order is kind order: each kind pairs with the later kinds it
+    // interacts with (and itself), and the grid looks nowhere else.
+    const FlatOffsets flat = w.flat_offsets();
+    PartnerRanges partners;
+    partners.group_start.assign(flat.begin(), flat.end());
+    partners.partner_ranges.resize(body_kind_count);
+    for (int k = 0; k < body_kind_count; ++k)
+        for (int m = k; m < body_kind_count; ++m)
+            if (w.kinds_interact[k][m]) partners.partner_ranges[k].emplace_back(flat[m], flat[m + 1]);
     const PairFilter filter = [&](std::uint32_t i, std::uint32_t j) {
         const BodyRef a = ref[i], b = ref[j];
-        if (!w.kinds_interact[static_cast<int>(a.kind())][static_cast<int>(b.kind())]) return false;
         // Neighbours along the wire are held by its springs, not by contact.
         if (a.kind() == BodyKind::wire && b.kind() == BodyKind::wire && b.index() - a.index() < w.wire_contact_skip)
             return false;
         // Two fixed bodies never need a contact.
         return w.of(a.kind()).inv_mass_per_kg[a.index()] != 0.0 || w.of(b.kind()).inv_mass_per_kg[b.index()] != 0.0;
     };
-    const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, filter);
+    const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, partners, filter);
 
     // Body pairs (flat order equals BodyRef order, so i < j is already
     // first < second), then each wall's candidates: moving bodies whose gap
@@ -149,7 +158,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         wall.point_at_build_m = wall.point_m;
     }
     ContactList& c = w.contacts;
-    c.rebuild(std::move(first), std::move(second), w.walls.size(), w.flat_offsets());
+    c.rebuild(std::move(first), std::move(second), w.walls.size(), flat);
     c.hertz_coefficient.resize(c.size());
     parallel_for(pool, c.size(), [&](std::size_t p) {
         const TranslationalState& A = w.of(c.first[p].kind());
@@ -226,7 +235,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
 
     // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
     const std::size_t pairs = c.pair_count();
-    parallel_for(pool, pairs, [&](std::size_t p) {
+    auto pair = [&](std::size_t p) {
         const BodyRef a = c.first[p], b = c.second[p];
         const KindView &A = view[static_cast<int>(a.kind())], &B = view[static_cast<int>(b.kind())];
         const std::uint32_t ia = a.index(), ib = b.index();
@@ -234,9 +243,23 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         const bool overlaps = sphere_sphere_geometry(
             A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_of(a), spin_of(b), inv_dt, g);
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+    };
+    // Sticking grain pairs eight at a time where the CPU can (same bits,
+    // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
+    const SimdPairKernel simd = simd_pair_kernel();
+    const KindView& G = view[static_cast<int>(BodyKind::grain)];
+    const GrainPairInputs grains{G.x, G.v_dt, G.radius, spin_dt, inv_dt, dt, damping_s, tp};
+    parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
+        std::size_t p = begin;
+        if (simd)
+            for (; p + simd_pair_lanes <= end; p += simd_pair_lanes) {
+                const std::uint32_t done = simd(c, p, grains);
+                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+                    if (!(done >> l & 1u)) pair(p + l);
+            }
+        for (; p < end; ++p) pair(p);
     });
-    parallel_for(pool, c.size() - pairs, [&](std::size_t q) {
-        const std::size_t p = pairs + q;
+    auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
         const KindView& A = view[static_cast<int>(a.kind())];
         const std::uint32_t ia = a.index();
@@ -244,6 +267,21 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         const bool overlaps = sphere_wall_geometry(
             w.walls[c.second[p].index()], A.x[ia], A.radius[ia], A.v_dt[ia], spin_of(a), inv_dt, g);
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+    };
+    const SimdWallKernel simd_wall = simd_wall_kernel();
+    parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = pairs + begin; p < pairs + end;) {
+            // Eight contacts of one wall at a time, where the CPU can.
+            const std::uint32_t wall = c.second[p].index();
+            if (simd_wall && p + simd_pair_lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
+                const std::uint32_t done = simd_wall(c, p, w.walls[wall], grains);
+                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+                    if (!(done >> l & 1u)) wall_contact(p + l);
+                p += simd_pair_lanes;
+            } else {
+                wall_contact(p++);
+            }
+        }
     });
 
     // What the bodies exert on each wall, summed in contact order, one

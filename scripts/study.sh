@@ -7,16 +7,21 @@
 #
 #   bash scripts/study.sh [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH]
 #                         [--patterns "none helix ..."] [--seeds "1 2 3"]
-#                         [--base JOB.json] [--summaries DIR]
+#                         [--base JOB.json] [--summaries DIR] [--prepare-only]
 #
 # Each campaign is examples/paper-<pattern>.json with its seed replaced (or,
 # with --base, that job file with its pattern and seed replaced); it runs in
 # DIR/<pattern>-seed<k>/ (default build/study), and its summary is copied to
 # --summaries (default docs/study). A campaign whose
-# summary.json already exists is not run again, so the command can be stopped
-# and started again; a failed one is reported and the others go on. --jobs
+# summary.json already exists is not run again, and one that was stopped
+# continues where it was (`wiredem run` resumes its directory: the specimen,
+# the finished tests, each running test's last checkpoint), so the command
+# can be stopped and started again; a failed one is reported and the others
+# go on. --jobs
 # campaigns run at once (default 1), each on --threads threads (default: the
-# cores divided among the jobs). The figures: /usr/bin/python3
+# cores divided among the jobs). --prepare-only prepares the specimens
+# (`wiredem prepare`, docs/studies.md) and stops: the specimen table of the
+# report, and the campaigns continue from them later. The figures: /usr/bin/python3
 # scripts/study_report.py (reads DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,6 +34,7 @@ patterns="none helix spiral_helix radial_helix"
 seeds="1 2 3"
 base=""
 summaries=docs/study
+prepare_only=0
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --jobs) jobs="$2"; shift ;;
@@ -39,8 +45,9 @@ while [[ $# -gt 0 ]]; do
         --seeds) seeds="$2"; shift ;;
         --base) base="$2"; shift ;;
         --summaries) summaries="$2"; shift ;;
+        --prepare-only) prepare_only=1; shift; continue ;;
         *) echo "usage: $0 [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH] [--patterns LIST] [--seeds LIST]" \
-                "[--base JOB.json] [--summaries DIR]" >&2
+                "[--base JOB.json] [--summaries DIR] [--prepare-only]" >&2
            exit 2 ;;
     esac
     shift
@@ -67,7 +74,9 @@ campaign() {
         echo "study: $name done already"
     else
         mkdir -p "$dir"
-        /usr/bin/python3 - "$job" "$seed" "$pattern" "$dir/job.json" <<'EOF'
+        # The campaign's input sits beside its directory: the directory's own
+        # job.json is the runner's (campaign/files.hpp), compared on resume.
+        /usr/bin/python3 - "$job" "$seed" "$pattern" "$runs/$name.json" <<'EOF'
 import json, sys
 job_file, seed, pattern, out = sys.argv[1:]
 job = json.load(open(job_file))
@@ -76,9 +85,18 @@ job.setdefault("specimen", {}).setdefault("wire", {})["pattern"] = pattern
 job["name"] = f'{job.get("name", job_file)} ({pattern}, seed {seed})'
 json.dump(job, open(out, "w"), indent=1)
 EOF
-        echo "study: $name started $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
         local t0=$SECONDS
-        if ! "$wiredem" run "$dir/job.json" -o "$dir" --threads "$threads" > "$dir/run.log" 2>&1; then
+        if [[ $prepare_only -eq 1 ]]; then
+            echo "study: $name preparing $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
+            if ! "$wiredem" prepare "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
+                echo "study: $name preparation FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
+                return 1
+            fi
+            echo "study: $name prepared in $((SECONDS - t0)) s"
+            return 0
+        fi
+        echo "study: $name started $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
+        if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
             echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
             return 1
         fi

@@ -25,6 +25,7 @@ struct ServerConfig {
     unsigned submit_threads = 1;               ///< threads validating submitted specs (off the I/O threads)
     std::size_t max_pending_submits = 64;      ///< submits waiting for those; more get 503
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
+    std::size_t max_study_points = 256;        ///< jobs one study may create (its grid's points)
     std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
     /// Estimated time steps of a job, preparation and tests (api::estimated_work):
     /// 2·10⁷ is ~10 times a paper-size campaign's.
@@ -33,6 +34,9 @@ struct ServerConfig {
     /// Wall-clock limit of one attempt of a job (0: none): 48 h, ~20 paper-size
     /// campaigns on 2 cores.
     std::chrono::seconds max_job_duration{48 * 3600};
+    /// Wall time between a running test's checkpoints, passed to the runner
+    /// [s]; another attempt of the job continues from the last one.
+    double checkpoint_interval_s = 300.0;
     std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
     std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
     std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this

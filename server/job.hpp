@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 #include <string_view>
 
 namespace wiredem::server {
@@ -51,6 +52,16 @@ struct JobRecord {
     std::string spec_json;                 ///< the normalised job spec (api::to_json)
     std::string idempotency_key;           ///< empty when the client sent none
     std::optional<double> body_steps_per_second; ///< from the summary, once succeeded
+};
+
+/// A parameter study (api/study.hpp): its document and its jobs, one per point.
+struct StudyRecord {
+    std::int64_t seq = 0;                  ///< insertion order
+    std::string id;                        ///< 24 lower-case hex digits, like a job's
+    std::string name;
+    std::int64_t created_ms = 0;           ///< Unix time [ms]
+    std::string document_json;             ///< the study document as submitted (parsed and re-serialised)
+    std::vector<std::string> job_ids;      ///< the point's job, by point index
 };
 
 /// Job ids are 24 lower-case hex digits (96 random bits).

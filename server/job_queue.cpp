@@ -190,7 +190,9 @@ void JobQueue::run_job(const JobRecord& job)
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const fs::path work = job_dir / "work";
-    fs::remove_all(work);
+    // A work folder left by an earlier attempt (a crash, a shutdown, a
+    // SIGKILL) is kept: the runner continues from its specimen, finished
+    // tests and checkpoints (campaign/stages.hpp), with the same job.json.
     fs::create_directories(work / "out");
     {
         std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
@@ -198,7 +200,8 @@ void JobQueue::run_job(const JobRecord& job)
         if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
     }
     const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
-        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json"};
+        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
+        "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
 
     // Register first, then look at the store: a DELETE that came between the
     // claim and here is seen either in the store or as cancel_requested.
@@ -214,10 +217,11 @@ void JobQueue::run_job(const JobRecord& job)
         if (stop_now) active_.erase(job.id);
     }
     if (stop_now) {
-        if (current && current->state == JobState::preparing) store_.requeue(job.id);  // shutdown before the start
+        const bool requeued = current && current->state == JobState::preparing;
+        if (requeued) store_.requeue(job.id);  // shutdown before the start: its work folder is kept
         spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
         std::error_code ec;
-        fs::remove_all(work, ec);
+        if (!requeued) fs::remove_all(work, ec);
         return;
     }
 
@@ -308,8 +312,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
     }
     if (stopping && !exited_ok) {
         store_.requeue(job.id);
-        spdlog::info("job {}: stopped by shutdown, queued again", job.id);
-        fs::remove_all(work, ec);
+        spdlog::info("job {}: stopped by shutdown, queued again (its work folder is kept to continue from)", job.id);
         return;
     }
     if (timed_out) {
@@ -328,8 +331,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
     if (killed && job.attempts < config_.attempts_after_sigkill) {
         spdlog::warn("job {}: runner killed by SIGKILL (likely out of memory), attempt {}; trying again", job.id,
             job.attempts);
-        store_.retry(job.id);
-        fs::remove_all(work, ec);
+        store_.retry(job.id);  // from the work folder's checkpoints
         notify();
         return;
     }

@@ -46,6 +46,9 @@ struct QueueConfig {
     /// An attempt running longer than this is stopped (SIGTERM, then SIGKILL)
     /// and its job fails saying so; 0: no limit.
     std::chrono::seconds max_job_duration{0};
+    /// Passed to the runner as --checkpoint-interval: wall time between a
+    /// test's checkpoints [s]. Another attempt of a job continues from them.
+    double checkpoint_interval_s = 300.0;
 };
 
 /// The freshest progress of a running job (kept in memory; the store gets a

@@ -195,6 +195,21 @@ JobStore::JobStore(const std::filesystem::path& db_file)
             " idempotency_key TEXT UNIQUE,"
             " body_steps_per_second REAL)");
         exec(db_, "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, seq)");
+        // Studies: a document and its jobs, one per point (added to stores of
+        // earlier versions as they open: CREATE … IF NOT EXISTS).
+        exec(db_,
+            "CREATE TABLE IF NOT EXISTS studies ("
+            " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
+            " id TEXT NOT NULL UNIQUE,"
+            " name TEXT NOT NULL,"
+            " created_ms INTEGER NOT NULL,"
+            " document TEXT NOT NULL)");
+        exec(db_,
+            "CREATE TABLE IF NOT EXISTS study_jobs ("
+            " study_id TEXT NOT NULL REFERENCES studies(id),"
+            " point INTEGER NOT NULL,"
+            " job_id TEXT NOT NULL UNIQUE REFERENCES jobs(id),"
+            " PRIMARY KEY (study_id, point))");
         // A damaged file must stop the server with a message, not abort it at
         // the first read of a bad page (SQLITE_CORRUPT deep in a query).
         Statement check(db_, "PRAGMA quick_check");
@@ -203,7 +218,7 @@ JobStore::JobStore(const std::filesystem::path& db_file)
         if (verdict != "ok") throw std::runtime_error("damaged (" + verdict + ")");
         // Every id names a folder under DATA_DIR/jobs: one that is not 24 hex
         // digits (written by anything but this server) could point outside it.
-        Statement ids(db_, "SELECT id FROM jobs");
+        Statement ids(db_, "SELECT id FROM jobs UNION ALL SELECT id FROM studies");
         while (ids.step())
             if (const std::string id = ids.text(0); !is_valid_job_id(id))
                 throw std::runtime_error("damaged (a job id '" + id.substr(0, 64) + "' is not 24 hex digits)");
@@ -215,6 +230,74 @@ JobStore::JobStore(const std::filesystem::path& db_file)
 }
 
 JobStore::~JobStore() { sqlite3_close(db_); }
+
+namespace {
+
+std::optional<StudyRecord> get_study_locked(sqlite3* db, const std::string& id)
+{
+    Statement s(db, "SELECT seq, id, name, created_ms, document FROM studies WHERE id = ?");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    StudyRecord r;
+    r.seq = s.int64(0);
+    r.id = s.text(1);
+    r.name = s.text(2);
+    r.created_ms = s.int64(3);
+    r.document_json = s.text(4);
+    Statement j(db, "SELECT job_id FROM study_jobs WHERE study_id = ? ORDER BY point");
+    j.bind(1, id);
+    while (j.step()) r.job_ids.push_back(j.text(0));
+    return r;
+}
+
+} // namespace
+
+InsertOutcome JobStore::insert_study(
+    const StudyRecord& study, const std::vector<JobRecord>& jobs, std::size_t max_queued, StudyRecord& out)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    {
+        Statement s(db_, "SELECT COUNT(*) FROM jobs WHERE state = 'queued'");
+        s.step();
+        if (static_cast<std::size_t>(s.int64(0)) + jobs.size() > max_queued) return InsertOutcome::queue_full;
+    }
+    {
+        Statement s(db_, "INSERT INTO studies (id, name, created_ms, document) VALUES (?, ?, ?, ?)");
+        s.bind(1, study.id).bind(2, study.name).bind(3, study.created_ms).bind(4, study.document_json);
+        s.run();
+    }
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+        Statement j(db_, "INSERT INTO jobs (id, state, created_ms, spec) VALUES (?, 'queued', ?, ?)");
+        j.bind(1, jobs[k].id).bind(2, jobs[k].created_ms).bind(3, jobs[k].spec_json);
+        j.run();
+        Statement l(db_, "INSERT INTO study_jobs (study_id, point, job_id) VALUES (?, ?, ?)");
+        l.bind(1, study.id).bind(2, static_cast<std::int64_t>(k)).bind(3, jobs[k].id);
+        l.run();
+    }
+    out = *get_study_locked(db_, study.id);
+    tx.commit();
+    return InsertOutcome::created;
+}
+
+std::optional<StudyRecord> JobStore::get_study(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    return get_study_locked(db_, id);
+}
+
+std::vector<StudyRecord> JobStore::list_studies(std::int64_t before_seq, int limit)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT id FROM studies WHERE seq < ? ORDER BY seq DESC LIMIT ?");
+    s.bind(1, before_seq > 0 ? before_seq : std::numeric_limits<std::int64_t>::max()).bind(2, limit);
+    std::vector<std::string> ids;
+    while (s.step()) ids.push_back(s.text(0));
+    std::vector<StudyRecord> out;
+    for (const auto& id : ids)
+        if (auto r = get_study_locked(db_, id)) out.push_back(std::move(*r));
+    return out;
+}
 
 InsertOutcome JobStore::insert(const JobRecord& job, std::size_t max_queued, JobRecord& out)
 {

@@ -104,6 +104,19 @@ public:
     /// body_steps_per_second of the most recently finished job that has one.
     [[nodiscard]] std::optional<double> last_body_steps_per_second();
 
+    /// Adds a study and its jobs (queued, in point order) in one
+    /// transaction, unless the queue would then hold more than `max_queued`
+    /// jobs (queue_full, nothing added). `jobs` carry id, spec_json and
+    /// created_ms; `out` receives the stored study.
+    InsertOutcome insert_study(
+        const StudyRecord& study, const std::vector<JobRecord>& jobs, std::size_t max_queued, StudyRecord& out);
+
+    /// The study with this id, with its jobs' ids by point.
+    [[nodiscard]] std::optional<StudyRecord> get_study(const std::string& id);
+
+    /// Up to `limit` studies, newest first, with seq < `before_seq` (0: no bound).
+    [[nodiscard]] std::vector<StudyRecord> list_studies(std::int64_t before_seq, int limit);
+
 private:
     /// requeue (the attempt uncounted) and retry (counted): one statement.
     bool back_to_queue(const std::string& id, bool count_attempt);

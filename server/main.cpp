@@ -162,12 +162,18 @@ int main(int argc, char** argv)
     app.add_option("--max-pending-submits", cfg.max_pending_submits, "submits waiting for validation; more get 503")
         ->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
+    app.add_option("--max-study-points", cfg.max_study_points, "jobs one parameter study may create")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
         ->capture_default_str()->check(CLI::Range(1.0, wiredem::api::max_steps_of_any_job));
     std::uint64_t max_job_seconds = static_cast<std::uint64_t>(cfg.max_job_duration.count());
     app.add_option("--max-job-seconds", max_job_seconds, "wall-clock seconds one attempt of a job may run (0: no limit)")
         ->capture_default_str()->check(CLI::Range(std::uint64_t{0}, std::uint64_t{10'000'000'000}));
+    app.add_option("--checkpoint-seconds", cfg.checkpoint_interval_s,
+           "wall-clock seconds between a running test's checkpoints; a job interrupted by a crash, a restart or a "
+           "SIGKILL continues from the last one")
+        ->capture_default_str()->check(CLI::Range(0.001, 86400.0));
     app.add_option("--max-samples-per-test", cfg.max_samples_per_test, "estimated rows of a test's time series")
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
@@ -231,6 +237,7 @@ int main(int argc, char** argv)
             *store, [&] {
                 QueueConfig q{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job};
                 q.max_job_duration = cfg.max_job_duration;
+                q.checkpoint_interval_s = cfg.checkpoint_interval_s;
                 return q;
             }());
     } catch (const std::exception& e) {

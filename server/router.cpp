@@ -10,6 +10,7 @@
 
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
+#include "handlers/studies.hpp"
 
 #include <boost/asio/post.hpp>
 #include <boost/url/parse.hpp>
@@ -166,9 +167,9 @@ Response Router::route(const Request& req)
         return res;
     };
 
-    // Only the job list takes query parameters; elsewhere one is a mistake
-    // the client should hear about, not one silently ignored.
-    if (!(is_v1 && seg.size() == 2 && seg[1] == "jobs") && !url.params().empty())
+    // Only the job and study lists take query parameters; elsewhere one is a
+    // mistake the client should hear about, not one silently ignored.
+    if (!(is_v1 && seg.size() == 2 && (seg[1] == "jobs" || seg[1] == "studies")) && !url.params().empty())
         return error_response(req, http::status::bad_request, "bad_parameter",
             "this route takes no query parameters, got '" + std::string(url.encoded_query()) + "'",
             std::string((*url.params().begin()).key));
@@ -188,6 +189,7 @@ Response Router::route(const Request& req)
         if (!get) return method_not_allowed(req, "GET, HEAD");
         return finish(handle_openapi(req, svc_));
     }
+    if (seg[1] == "studies" && seg.size() <= 4) return finish(route_studies(req, url, seg, method));
     if (seg[1] != "jobs" || seg.size() > 4)
         return error_response(req, http::status::not_found, "not_found", "no such route");
 
@@ -214,6 +216,32 @@ Response Router::route(const Request& req)
     if (!get) return method_not_allowed(req, "GET, HEAD");
     if (seg[3] == "summary") return finish(handle_get_summary(req, id, svc_));
     return finish(handle_get_result(req, id, svc_));
+}
+
+Response Router::route_studies(
+    const Request& req, const boost::urls::url_view& url, const std::vector<std::string>& seg, http::verb method)
+{
+    const bool get = method == http::verb::get || method == http::verb::head;
+    if (seg.size() == 2) {
+        if (method == http::verb::post) return handle_submit_study(req, svc_);
+        if (!get) return method_not_allowed(req, "GET, HEAD, POST");
+        QueryParams params;
+        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
+        return handle_list_studies(req, params, svc_);
+    }
+    const std::string& id = seg[2];
+    if (id.empty() || (seg.size() == 4 && seg[3] != "summary"))
+        return error_response(req, http::status::not_found, "not_found", "no such route");
+    if (!is_valid_job_id(id))
+        return error_response(req, http::status::bad_request, "bad_id",
+            "a study id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
+    if (seg.size() == 3) {
+        if (method == http::verb::delete_) return handle_cancel_study(req, id, svc_);
+        if (!get) return method_not_allowed(req, "GET, HEAD, DELETE");
+        return handle_get_study(req, id, svc_);
+    }
+    if (!get) return method_not_allowed(req, "GET, HEAD");
+    return handle_get_study_summary(req, id, svc_);
 }
 
 } // namespace wiredem::server

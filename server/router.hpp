@@ -12,6 +12,8 @@
 // requests.
 #pragma once
 
+#include <boost/url/url_view.hpp>
+
 #include "http.hpp"
 #include "services.hpp"
 
@@ -48,6 +50,9 @@ public:
 
 private:
     Response route(const Request& req);
+    /// /v1/studies and below (seg: the path's segments, seg[1] == "studies").
+    Response route_studies(
+        const Request& req, const boost::urls::url_view& url, const std::vector<std::string>& seg, http::verb method);
     Services& svc_;
     boost::asio::thread_pool submit_pool_;
     std::atomic<std::size_t> pending_{0};

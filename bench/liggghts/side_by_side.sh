@@ -89,8 +89,9 @@ bench_args=(--json --threads 1,2 --steps "$steps" --no-wire-membrane --liggghts-
 echo "running: $bench ${bench_args[*]}" >&2
 "$bench" "${bench_args[@]}" > "$work/wiredem.json"
 
-field() { # field NAME < one JSON line: the value of a number or string field
-    sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"
+field() { # field NAME < one JSON line: the value of a top-level number or string field
+    # (the stage_s object goes first: its stage "contacts" would match)
+    sed 's/,"stage_s":{[^}]*}//' | sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"
 }
 dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
 bodies=$(head -n1 "$work/wiredem.json" | field bodies)

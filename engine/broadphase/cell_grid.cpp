@@ -7,7 +7,8 @@
 namespace wiredem::engine {
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(ThreadPool& pool,
-    const std::vector<Vec3>& pos, const std::vector<double>& radius, double skin_m, const PairFilter& filter)
+    const std::vector<Vec3>& pos, const std::vector<double>& radius, double skin_m, const PartnerRanges& partners,
+    const PairFilter& filter)
 {
     using Pair = std::pair<std::uint32_t, std::uint32_t>;
     const std::size_t n = pos.size();
@@ -70,26 +71,36 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         pool, chunks,
         [&](std::size_t ch) {
             std::vector<Pair>& out = found[ch];
-            std::vector<std::uint32_t> partners;
+            std::vector<std::uint32_t> found_j;
             const std::size_t end = std::min(n, (ch + 1) * chunk);
+            std::size_t group = 0;
             for (std::size_t i = ch * chunk; i < end; ++i) {
-                partners.clear();
+                while (group + 2 < partners.group_start.size() && i >= partners.group_start[group + 1]) ++group;
+                const auto& ranges = partners.partner_ranges[group];
+                found_j.clear();
                 const std::int64_t cx = coord(pos[i], 0), cy = coord(pos[i], 1), cz = coord(pos[i], 2);
                 for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min(cz + 1, dims[2] - 1); ++z)
                     for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min(cy + 1, dims[1] - 1); ++y)
                         for (std::int64_t x = std::max<std::int64_t>(cx - 1, 0); x <= std::min(cx + 1, dims[0] - 1); ++x) {
                             const std::size_t c = static_cast<std::size_t>((z * dims[1] + y) * dims[0] + x);
-                            for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-                                const std::uint32_t j = cell_bodies_[k];
-                                if (j <= i) continue;
-                                const double reach = radius[i] + radius[j] + skin_m;
-                                if ((pos[i] - pos[j]).squaredNorm() >= reach * reach) continue;
-                                if (filter && !filter(static_cast<std::uint32_t>(i), j)) continue;
-                                partners.push_back(j);
+                            const std::uint32_t* cell_begin = cell_bodies_.data() + cell_start_[c];
+                            const std::uint32_t* cell_end = cell_bodies_.data() + cell_start_[c + 1];
+                            // A cell's bodies ascend: each range of partners
+                            // j > i is a run found by bisection.
+                            for (const auto& [lo, hi] : ranges) {
+                                const auto first = std::max<std::size_t>(lo, i + 1);
+                                for (const std::uint32_t* k = std::lower_bound(cell_begin, cell_end, first);
+                                     k != cell_end && *k < hi; ++k) {
+                                    const std::uint32_t j = *k;
+                                    const double reach = radius[i] + radius[j] + skin_m;
+                                    if ((pos[i] - pos[j]).squaredNorm() >= reach * reach) continue;
+                                    if (filter && !filter(static_cast<std::uint32_t>(i), j)) continue;
+                                    found_j.push_back(j);
+                                }
                             }
                         }
-                std::sort(partners.begin(), partners.end());
-                for (std::uint32_t j : partners) out.emplace_back(static_cast<std::uint32_t>(i), j);
+                std::sort(found_j.begin(), found_j.end());
+                for (std::uint32_t j : found_j) out.emplace_back(static_cast<std::uint32_t>(i), j);
             }
         },
         1);

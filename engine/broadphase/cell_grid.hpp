@@ -21,14 +21,25 @@ namespace wiredem::engine {
 /// Decides whether two bodies (flat indices, i < j) may interact at all.
 using PairFilter = std::function<bool(std::uint32_t, std::uint32_t)>;
 
+/// Where a body's partners may be, by groups of consecutive indices (the
+/// body kinds): group g is the bodies [group_start[g], group_start[g + 1]),
+/// and a body of group g pairs only with indices in partner_ranges[g]
+/// ([begin, end) each, ascending). The search never looks at the others:
+/// membrane nodes, the last and largest group, pair with no later body.
+struct PartnerRanges {
+    std::vector<std::uint32_t> group_start;
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> partner_ranges;
+};
+
 /// Uniform grid over the bounding box of the bodies.
 class CellGrid {
 public:
-    /// Finds all pairs (i < j) with |x_i − x_j| < r_i + r_j + skin_m that pass
-    /// `filter`, sorted by (i, j). Cells are at least 2 max(r) + skin wide.
+    /// Finds all pairs (i < j) with |x_i − x_j| < r_i + r_j + skin_m, j in
+    /// the partner ranges of i's group, that pass `filter`, sorted by (i, j).
+    /// Cells are at least 2 max(r) + skin wide.
     [[nodiscard]] std::vector<std::pair<std::uint32_t, std::uint32_t>> find_pairs(ThreadPool& pool,
         const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double skin_m,
-        const PairFilter& filter);
+        const PartnerRanges& partners, const PairFilter& filter);
 
     /// Number of cells of the last build (for diagnostics).
     [[nodiscard]] std::size_t cell_count() const { return cell_start_.empty() ? 0 : cell_start_.size() - 1; }

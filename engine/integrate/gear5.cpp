@@ -111,7 +111,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t b, std::size_t e) {
         correct(rot.w, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
         // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-        for (std::size_t i = b; i < e; ++i) turn(rot.orientation[i], rot.w[1][i]);
+        turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
     });
     return finite;
 }

@@ -1,5 +1,6 @@
 #include "integrate/verlet.hpp"
 
+#include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
 namespace wiredem::engine {
@@ -14,10 +15,10 @@ void verlet_first_half(World& w, ThreadPool& pool)
         });
     }
     RotationalState& rot = w.grain_rotation;
-    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        rot.w[1][i] += rot.w[2][i];
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) rot.w[1][i] += rot.w[2][i];
         // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
-        turn(rot.orientation[i], rot.w[1][i]);
+        turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
     });
 }
 

@@ -65,6 +65,12 @@ std::string hex(std::uint64_t h)
 
 Result<std::uint64_t, std::string> save_snapshot(const World& w, const std::filesystem::path& path)
 {
+    return save_snapshot(w, path, {});
+}
+
+Result<std::uint64_t, std::string> save_snapshot(
+    const World& w, const std::filesystem::path& path, const std::function<void(io::Group&)>& write_host)
+{
     const std::uint64_t hash = state_hash(w);
     std::filesystem::path partial = path;
     partial += ".partial";
@@ -80,6 +86,10 @@ Result<std::uint64_t, std::string> save_snapshot(const World& w, const std::file
             if (f.is_real) root.write_dataset(name, std::span<const double>(f.real), f.columns);
             else root.write_dataset(name, std::span<const std::int64_t>(f.integer), f.columns);
         });
+        if (write_host) {
+            io::Group host = root.create_group("host");
+            write_host(host);
+        }
         file.close();
     } catch (const std::exception& e) {
         std::error_code ignored;
@@ -93,6 +103,12 @@ Result<std::uint64_t, std::string> save_snapshot(const World& w, const std::file
 }
 
 Result<World, std::string> restore_snapshot(const std::filesystem::path& path)
+{
+    return restore_snapshot(path, {});
+}
+
+Result<World, std::string> restore_snapshot(
+    const std::filesystem::path& path, const std::function<void(const io::Group&)>& read_host)
 {
     const std::string at = "snapshot " + path.string();
     std::error_code ec;
@@ -129,6 +145,10 @@ Result<World, std::string> restore_snapshot(const std::filesystem::path& path)
         const std::string recorded = root.read_string_attribute("state_hash");
         if (hex(state_hash(w)) != recorded)
             return Err(at + ": the restored state hashes to " + hex(state_hash(w)) + ", the file recorded " + recorded);
+        if (read_host) {
+            if (!root.exists("host")) return Err(at + ": it has no /host group (saved without the host's state)");
+            read_host(root.open_group("host"));
+        }
     } catch (const std::exception& e) {
         return Err(at + ": " + e.what());
     }

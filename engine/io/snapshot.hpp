@@ -12,10 +12,12 @@
 #pragma once
 
 #include "core/result.hpp"
+#include "io/hdf5.hpp"
 #include "state/world.hpp"
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace wiredem::engine {
@@ -29,9 +31,21 @@ inline constexpr std::int64_t snapshot_version = 2;
 /// state_hash of `w`, which the file also records.
 [[nodiscard]] Result<std::uint64_t, std::string> save_snapshot(const World& w, const std::filesystem::path& path);
 
+/// The same, with what the host needs besides the World (a test driver's
+/// state, a preparation report) written by `write_host` into the group
+/// "/host" of the same file, so that both appear together or not at all.
+/// An exception from `write_host` becomes the error.
+[[nodiscard]] Result<std::uint64_t, std::string> save_snapshot(
+    const World& w, const std::filesystem::path& path, const std::function<void(io::Group&)>& write_host);
+
 /// Reads a snapshot written by save_snapshot. Errors (no such file, not a
 /// snapshot, another version, a missing or misshapen field, a state that does
 /// not hash to the recorded value) are messages naming the file.
 [[nodiscard]] Result<World, std::string> restore_snapshot(const std::filesystem::path& path);
+
+/// The same, handing the group "/host" to `read_host` (an error when the file
+/// has none). An exception from `read_host` becomes the error.
+[[nodiscard]] Result<World, std::string> restore_snapshot(
+    const std::filesystem::path& path, const std::function<void(const io::Group&)>& read_host);
 
 } // namespace wiredem::engine

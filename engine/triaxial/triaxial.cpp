@@ -277,30 +277,46 @@ TriaxialSnapshot take_triaxial_snapshot(const World& w)
 Result<TriaxialResult, std::string> run_triaxial(
     Simulation& sim, std::size_t top_plate_wall, const TriaxialSettings& settings, const RunControl& control)
 {
+    return run_triaxial(sim, top_plate_wall, settings, control, {});
+}
+
+Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
+    const TriaxialSettings& settings, const RunControl& control, TriaxialContinuation continuation)
+{
     const auto wall_start = std::chrono::steady_clock::now();
     World& w = sim.world;
     ThreadPool& pool = sim.pool();
     if (auto e = validate(w, top_plate_wall, settings)) return Err(*e);
     constexpr std::size_t bottom_plate_wall = 0;
-
-    // 1. Deformable membrane; the part at and above the top plate is sealed to the cap.
-    set_membrane_rigid(w, false);
     TranslationalState& nodes = w.of(BodyKind::membrane);
-    std::vector<std::uint32_t> cap_nodes;
-    {
+    const auto plates_apart_m = [&] {
+        return w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
+    };
+
+    // Everything that changes from step to step outside the World; the
+    // lambdas below read and write it only (a checkpoint saves it).
+    const bool continued = continuation.from.has_value();
+    TriaxialDriverState st = continued ? std::move(*continuation.from) : TriaxialDriverState{};
+    TriaxialResult& result = st.result;
+    if (!continued) {
+        // 1. Deformable membrane; the part at and above the top plate is sealed to the cap.
+        set_membrane_rigid(w, false);
         const double plate_z = w.walls[top_plate_wall].point_m.z();
         for (std::uint32_t i = 0; i < nodes.size(); ++i) {
             if (nodes.x[0][i].z() + nodes.radius_m[i] <= plate_z) continue;
             nodes.inv_mass_per_kg[i] = 0.0;
             for (int k = 1; k < gear_order; ++k) nodes.x[k][i].setZero();
-            cap_nodes.push_back(i);
+            st.cap_nodes.push_back(i);
         }
+        w.neighbours_dirty = true;
+        if (settings.real_weights)
+            set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
+        w.membrane.pressure_pa = 0.0;
+        w.walls[top_plate_wall].velocity_m_per_s.setZero();
+    } else if (std::any_of(st.cap_nodes.begin(), st.cap_nodes.end(), [&](std::uint32_t i) { return i >= nodes.size(); })
+               || st.steps > std::numeric_limits<std::uint64_t>::max() / 2) {
+        return Err(std::string("the test's saved state does not belong to this World (a cap node is not a membrane node)"));
     }
-    w.neighbours_dirty = true;
-    if (settings.real_weights)
-        set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
-    w.membrane.pressure_pa = 0.0;
-    w.walls[top_plate_wall].velocity_m_per_s.setZero();
     const double dt = w.dt_s;
     if (const StableStep crit = stable_time_step(w); dt > crit.critical_s)
         return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
@@ -316,42 +332,40 @@ Result<TriaxialResult, std::string> run_triaxial(
     const double pre_load_s = settings.pressure_ramp_time_s + settings.hold_time_s;
     const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil(pre_load_s / dt));
     const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
-    const double height_now = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
-    std::uint64_t expected_steps = expected_triaxial_steps(settings, height_now, dt);
-
-    TriaxialResult result;
-    result.time_step_s = dt;
     const std::vector<double> plan = snapshot_plan(settings);
-    std::size_t next_snapshot = 0;
-    std::uint64_t n = 0;                 // steps of this test
-    std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
-    double h0 = height_now;
-    bool loading = false;
-    std::size_t loading_start_sample = 0;
+    if (continued
+        && (st.next_snapshot > plan.size() || (st.loading && st.loading_start_sample >= result.series.size())
+            || !(st.reference_height_m > 0.0) || !(st.column_radius_m > 0.0)))
+        return Err(std::string("the test's saved state is inconsistent (snapshot plan, loading start or heights)"));
+    if (!continued) {
+        st.reference_height_m = plates_apart_m();
+        st.expected_steps = expected_triaxial_steps(settings, st.reference_height_m, dt);
+        result.time_step_s = dt;
+    }
 
     auto sample = [&] {
-        TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, h0);
-        s.time_s = static_cast<double>(n) * dt;
-        s.phase = loading ? TriaxialPhase::loading
-                          : (s.time_s < settings.pressure_ramp_time_s ? TriaxialPhase::ramp : TriaxialPhase::hold);
+        TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, st.reference_height_m);
+        s.time_s = static_cast<double>(st.steps) * dt;
+        s.phase = st.loading ? TriaxialPhase::loading
+                             : (s.time_s < settings.pressure_ramp_time_s ? TriaxialPhase::ramp : TriaxialPhase::hold);
         s.confining_pressure_pa = w.membrane.pressure_pa;
-        if (loading) {
+        if (st.loading) {
             // ε̇ = v/h₀ (the model spec §4), with the applied σ₃.
             s.inertial_number = analysis::inertial_number(
-                settings.plate_speed_m_per_s / h0, grain_radius_m, grain_density, s.confining_pressure_pa);
+                settings.plate_speed_m_per_s / st.reference_height_m, grain_radius_m, grain_density, s.confining_pressure_pa);
         }
         result.series.push_back(s);
-        last_sample_step = n;
+        st.last_sample_step = st.steps;
     };
     auto snapshot_due = [&] {
-        const double strain = analysis::axial_strain(h0, w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z());
-        while (next_snapshot < plan.size() && strain >= plan[next_snapshot]) {
+        const double strain = analysis::axial_strain(st.reference_height_m, plates_apart_m());
+        while (st.next_snapshot < plan.size() && strain >= plan[st.next_snapshot]) {
             TriaxialSnapshot snap = take_triaxial_snapshot(w);
-            snap.requested_axial_strain = plan[next_snapshot];
+            snap.requested_axial_strain = plan[st.next_snapshot];
             snap.axial_strain = strain;
-            snap.time_s = static_cast<double>(n) * dt;
+            snap.time_s = static_cast<double>(st.steps) * dt;
             result.snapshots.push_back(std::move(snap));
-            ++next_snapshot;
+            ++st.next_snapshot;
         }
         return strain;
     };
@@ -361,7 +375,9 @@ Result<TriaxialResult, std::string> run_triaxial(
     // column's mass under that force and the column's reaction: a passive
     // mechanical system, damped by the contacts, which comes to rest where
     // σ₁ = σ₃. Loading then starts from an isotropic state (q ≈ 0).
-    double column_radius_m = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, h0).column_radius_m;
+    if (!continued)
+        st.column_radius_m
+            = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, st.reference_height_m).column_radius_m;
     // A quasi-static consolidation needs no faster motion than the loading;
     // the cap at a few times that keeps a column that is still settling from
     // throwing the piston.
@@ -369,33 +385,44 @@ Result<TriaxialResult, std::string> run_triaxial(
     double piston_mass_kg = 0.0;
     for (double m : grains.mass_kg) piston_mass_kg += m;
     auto follow_the_pressure = [&] {
-        const double target_n = w.membrane.pressure_pa * std::numbers::pi * column_radius_m * column_radius_m;
+        const double target_n = w.membrane.pressure_pa * std::numbers::pi * st.column_radius_m * st.column_radius_m;
         const double net_down_n = target_n - plate_compression_n(w.walls[top_plate_wall]);
         double& v = w.walls[top_plate_wall].velocity_m_per_s.z();
         v = std::clamp(v - dt * net_down_n / piston_mass_kg, -max_piston_speed, max_piston_speed);
     };
     // One step: σ₃ for the time reached, the cap nodes carried with the plate.
+    // A checkpoint may be taken before it (not before the first step of this
+    // run: that state is the one the run started from), also when the run is
+    // about to be cancelled: a host saves on its way out.
+    bool first_of_run = true;
     auto advance = [&]() -> std::optional<std::string> {
+        if (continuation.between_steps && !first_of_run) {
+            st.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+            continuation.between_steps(w, st);
+            st.wall_time_s -= std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+        }
+        first_of_run = false;
         if (control.cancel && control.cancel->load(std::memory_order_relaxed))
-            return "cancelled after " + std::to_string(n) + " steps of the triaxial test";
+            return "cancelled after " + std::to_string(st.steps) + " steps of the triaxial test";
+        const std::uint64_t n = st.steps;
         w.membrane.pressure_pa = ramped_pressure_pa(
             settings.confining_pressure_pa, static_cast<double>(n + 1) * dt, settings.pressure_ramp_time_s);
-        if (!loading) follow_the_pressure();
+        if (!st.loading) follow_the_pressure();
         const Vec3 v = w.walls[top_plate_wall].velocity_m_per_s;
-        for (std::uint32_t i : cap_nodes) {
+        for (std::uint32_t i : st.cap_nodes) {
             nodes.x[0][i] += v * dt;
             nodes.x[1][i] = v * dt;
         }
         const StepReport report = sim.step();
-        ++n;
+        ++st.steps;
         if (report.blew_up)
-            return "the simulation blew up after " + std::to_string(n)
+            return "the simulation blew up after " + std::to_string(st.steps)
                  + " steps of the triaxial test (time step too large for the loading?)";
-        if (control.progress && control.progress_every > 0 && n % control.progress_every == 0)
-            control.progress(n, std::max(expected_steps, n));
-        if ((n - 1) % sample_every == 0) {
+        if (control.progress && control.progress_every > 0 && st.steps % control.progress_every == 0)
+            control.progress(st.steps, std::max(st.expected_steps, st.steps));
+        if ((st.steps - 1) % sample_every == 0) {
             sample();
-            column_radius_m = result.series.column_radius_m.back();
+            st.column_radius_m = result.series.column_radius_m.back();
         }
         return std::nullopt;
     };
@@ -406,51 +433,55 @@ Result<TriaxialResult, std::string> run_triaxial(
     // than the loading speed (a column still creeping under σ₃ keeps the
     // piston moving, and the piston's inertia keeps σ₁ off σ₃ while it
     // does). At most max_hold_time_s.
-    const double max_hold_s = longest_hold_s(settings);
-    const auto max_pre_load_steps = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + max_hold_s) / dt));
-    const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
-    double window_force_n = 0.0;
-    std::uint64_t window_filled = 0;
-    std::optional<double> window_sigma1_pa; // the last full window's mean
-    auto consolidated = [&] {
-        const double s3 = settings.confining_pressure_pa;
-        return window_sigma1_pa && std::abs(*window_sigma1_pa - s3) <= consolidated_mismatch * s3
-            && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
-    };
-    while (n < pre_load_steps || (n < max_pre_load_steps && !consolidated())) {
-        if (auto e = advance()) return Err(*e);
-        window_force_n += plate_compression_n(w.walls[top_plate_wall]);
-        if (++window_filled == window_steps) {
-            window_sigma1_pa = analysis::axial_stress_pa(window_force_n / static_cast<double>(window_steps), column_radius_m);
-            window_force_n = 0.0;
-            window_filled = 0;
+    if (!st.loading) {
+        const double max_hold_s = longest_hold_s(settings);
+        const auto max_pre_load_steps
+            = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + max_hold_s) / dt));
+        const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
+        auto consolidated = [&] {
+            const double s3 = settings.confining_pressure_pa;
+            return st.window_sigma1_pa && std::abs(*st.window_sigma1_pa - s3) <= consolidated_mismatch * s3
+                && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
+        };
+        while (st.steps < pre_load_steps || (st.steps < max_pre_load_steps && !consolidated())) {
+            if (auto e = advance()) return Err(*e);
+            st.window_force_n += plate_compression_n(w.walls[top_plate_wall]);
+            if (++st.window_filled == window_steps) {
+                st.window_sigma1_pa = analysis::axial_stress_pa(
+                    st.window_force_n / static_cast<double>(window_steps), st.column_radius_m);
+                st.window_force_n = 0.0;
+                st.window_filled = 0;
+            }
         }
-    }
-    result.hold_time_s = static_cast<double>(n) * dt - settings.pressure_ramp_time_s;
+        result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
 
-    // 2. Loading at constant plate speed.
-    h0 = w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
-    result.initial_height_m = h0;
-    loading = true;
-    if (last_sample_step == n) { // the grid sample of this step belongs to the loading
-        result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
-        result.series.axial_strain.back() = 0.0;
-        result.series.inertial_number.back() = analysis::inertial_number(
-            settings.plate_speed_m_per_s / h0, grain_radius_m, grain_density, w.membrane.pressure_pa);
-    } else {
-        sample();
+        // 2. Loading at constant plate speed, from h₀ now.
+        st.reference_height_m = plates_apart_m();
+        result.initial_height_m = st.reference_height_m;
+        st.loading = true;
+        if (st.last_sample_step == st.steps) { // the grid sample of this step belongs to the loading
+            result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
+            result.series.axial_strain.back() = 0.0;
+            result.series.inertial_number.back() = analysis::inertial_number(settings.plate_speed_m_per_s
+                    / st.reference_height_m, grain_radius_m, grain_density, w.membrane.pressure_pa);
+        } else {
+            sample();
+        }
+        st.loading_start_sample = result.series.size() - 1;
+        result.consolidated_sigma1_pa = st.window_sigma1_pa.value_or(result.series.sigma1_pa[st.loading_start_sample]);
+        if (const double s1 = result.consolidated_sigma1_pa, s3 = settings.confining_pressure_pa;
+            !(std::abs(s1 - s3) <= max_consolidation_mismatch * s3))
+            result.warnings.push_back("test at σ₃ = " + format_number(s3)
+                                      + " Pa had not consolidated when loading started: σ₁ = " + format_number(s1)
+                                      + " Pa (mean over the last " + format_number(consolidation_window_s * 1e3)
+                                      + " ms), more than " + format_number(100 * max_consolidation_mismatch)
+                                      + " % off σ₃ after a hold of " + format_number(result.hold_time_s)
+                                      + " s; lengthen hold_time_s or max_hold_time_s");
+        snapshot_due();
+        w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
     }
-    loading_start_sample = result.series.size() - 1;
-    result.consolidated_sigma1_pa = window_sigma1_pa.value_or(result.series.sigma1_pa[loading_start_sample]);
-    if (const double s1 = result.consolidated_sigma1_pa, s3 = settings.confining_pressure_pa;
-        !(std::abs(s1 - s3) <= max_consolidation_mismatch * s3))
-        result.warnings.push_back("test at σ₃ = " + format_number(s3) + " Pa had not consolidated when loading started: σ₁ = "
-                                  + format_number(s1) + " Pa (mean over the last " + format_number(consolidation_window_s * 1e3)
-                                  + " ms), more than " + format_number(100 * max_consolidation_mismatch)
-                                  + " % off σ₃ after a hold of " + format_number(result.hold_time_s)
-                                  + " s; lengthen hold_time_s or max_hold_time_s");
-    snapshot_due();
-    w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
+    const double h0 = st.reference_height_m;
+    const std::size_t loading_start_sample = st.loading_start_sample;
     bool stopped_early = false;
     for (;;) {
         if (auto e = advance()) return Err(*e);
@@ -462,7 +493,7 @@ Result<TriaxialResult, std::string> run_triaxial(
         }
     }
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
-    if (last_sample_step != n) sample(); // the end of the test is always a row
+    if (st.last_sample_step != st.steps) sample(); // the end of the test is always a row
 
     // Volumetric strain of every row against V₀ at loading start.
     TriaxialSeries& ts = result.series;
@@ -510,10 +541,11 @@ Result<TriaxialResult, std::string> run_triaxial(
         result.warnings.push_back("stopped by the host at axial strain " + format_number(ts.axial_strain.back())
                                   + " before the target " + format_number(settings.target_axial_strain));
 
-    result.steps = n;
-    result.simulated_time_s = static_cast<double>(n) * dt;
-    result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    return result;
+    result.steps = st.steps;
+    result.simulated_time_s = static_cast<double>(st.steps) * dt;
+    result.wall_time_s
+        = st.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return std::move(result);
 }
 
 } // namespace wiredem::engine

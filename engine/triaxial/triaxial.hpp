@@ -31,6 +31,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -252,6 +254,32 @@ struct TriaxialResult {
     double wall_time_s = 0.0;
 };
 
+/// The test driver's own state between two steps: with the World, all a test
+/// needs to go on (a checkpoint saves both; run_triaxial continues from them).
+/// The phases follow from it: ramp and hold while !loading, then loading.
+struct TriaxialDriverState {
+    std::uint64_t steps = 0;              ///< steps of this test so far
+    std::uint64_t expected_steps = 0;     ///< the estimate progress is reported against
+    bool loading = false;                 ///< the plate has started to move at the loading speed
+    /// h₀ for ε_a: the height when the test started, then when loading started [m].
+    double reference_height_m = 0.0;
+    /// Step of the last row of the series (none yet: the largest value).
+    std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
+    std::size_t next_snapshot = 0;        ///< next entry of the snapshot plan
+    std::size_t loading_start_sample = 0; ///< row where loading started (valid when loading)
+    /// Consolidation window: the plate force summed over its steps so far, …
+    double window_force_n = 0.0;
+    std::uint64_t window_filled = 0;      ///< … how many steps that is, …
+    std::optional<double> window_sigma1_pa; ///< … and the last full window's mean σ₁ [Pa]
+    double column_radius_m = 0.0;         ///< of the latest row [m]
+    /// Membrane nodes clamped to the top cap (held, carried with the plate).
+    std::vector<std::uint32_t> cap_nodes;
+    double wall_time_s = 0.0;             ///< spent by the runs before this one [s]
+    /// What has been measured: series and snapshots so far, hold time, h₀,
+    /// consolidated σ₁ and warnings once loading has started.
+    TriaxialResult result;
+};
+
 /// Takes one row of measurements of `w` as it is after its last step (the
 /// contact and wall forces of that step). time_s, phase, confining_pressure_pa
 /// and inertial_number are left for the caller. Reads only; deterministic.
@@ -274,5 +302,23 @@ struct TriaxialResult {
 ///         deformable system, cancelled, blew up.
 [[nodiscard]] Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
     const TriaxialSettings& settings, const RunControl& control = {});
+
+/// How a host checkpoints a test and continues one.
+struct TriaxialContinuation {
+    /// Called between every two steps of this run (not before its first, not
+    /// after the last), also just before the run returns because it was
+    /// cancelled, with the World and the driver's state: a consistent point
+    /// to save both (io/snapshot.hpp). The host decides when to save; saving
+    /// changes nothing in the run.
+    std::function<void(const World&, const TriaxialDriverState&)> between_steps;
+    /// When set, the test continues from this state instead of starting:
+    /// sim.world must be the World saved with it. The result, and the World at
+    /// the end, are bit-identical to those of a test that was never stopped.
+    std::optional<TriaxialDriverState> from;
+};
+
+/// run_triaxial with checkpoints and continuation (see TriaxialContinuation).
+[[nodiscard]] Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
+    const TriaxialSettings& settings, const RunControl& control, TriaxialContinuation continuation);
 
 } // namespace wiredem::engine

@@ -139,6 +139,38 @@ Response not_succeeded(const Request& req, const JobRecord& r)
 
 } // namespace
 
+std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const ServerConfig& config)
+{
+    const api::BodyCounts bodies = api::estimated_body_counts(spec);
+    if (bodies.total() > config.max_bodies_per_job)
+        return FieldProblem{"specimen.grain_count",
+            "the job needs about " + std::to_string(bodies.total()) + " bodies ("
+                + std::to_string(bodies.grains) + " grains, " + std::to_string(bodies.wire_nodes) + " wire nodes, "
+                + std::to_string(bodies.membrane_nodes) + " membrane nodes); this server runs at most "
+                + std::to_string(config.max_bodies_per_job)};
+    // Work: a valid-looking spec can ask for a job that never ends (δt =
+    // 5e-324 s, a plate at 1e-12 m/s, rows every 1e-300 s). The field named
+    // is the one that drives the estimate.
+    const api::WorkEstimate work = api::estimated_work(spec);
+    if (!(work.total_steps() <= config.max_steps_per_job)) {
+        const double prep = work.preparation_steps;
+        return FieldProblem{api::work_field(spec, work),
+            "the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
+                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
+                + approx(work.steps_per_test) + "); this server runs at most " + approx(config.max_steps_per_job)
+                + " (--max-steps-per-job)"};
+    }
+    if (!(work.samples_per_test <= config.max_samples_per_test))
+        return FieldProblem{"triaxial.sample_interval_s",
+            "a test would record about " + approx(work.samples_per_test)
+                + " rows; this server keeps at most " + approx(config.max_samples_per_test) + " per test (--max-samples-per-test)"};
+    return std::nullopt;
+}
+
+bool is_json_content_type(const Request& req) { return is_json_media_type(header_value(req, http::field::content_type)); }
+
+json::object job_resource(const JobRecord& r, Services& svc) { return job_json(r, live_of(r, svc), false); }
+
 Response handle_submit_job(const Request& req, Services& svc)
 {
     // A missing Content-Type is refused too: it is what a browser sends for a
@@ -171,34 +203,9 @@ Response handle_submit_job(const Request& req, Services& svc)
         if (details.size() > 1) msg += " (and " + std::to_string(details.size() - 1) + " more)";
         return error_response(req, http::status::bad_request, "invalid_job", msg, first.path, details);
     }
-    const api::BodyCounts bodies = api::estimated_body_counts(spec.value());
-    if (bodies.total() > svc.config.max_bodies_per_job)
-        return error_response(req, http::status::bad_request, "invalid_job",
-            "specimen.grain_count: the job needs about " + std::to_string(bodies.total()) + " bodies ("
-                + std::to_string(bodies.grains) + " grains, " + std::to_string(bodies.wire_nodes)
-                + " wire nodes, " + std::to_string(bodies.membrane_nodes)
-                + " membrane nodes); this server runs at most " + std::to_string(svc.config.max_bodies_per_job),
-            "specimen.grain_count");
-    // Work: a valid-looking spec can ask for a job that never ends (δt =
-    // 5e-324 s, a plate at 1e-12 m/s, rows every 1e-300 s). The field named
-    // is the one that drives the estimate.
-    const api::WorkEstimate work = api::estimated_work(spec.value());
-    if (!(work.total_steps() <= svc.config.max_steps_per_job)) {
-        const double prep = work.preparation_steps;
-        const std::string field = api::work_field(spec.value(), work);
-        return error_response(req, http::status::bad_request, "invalid_job",
-            field + ": the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
-                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
-                + approx(work.steps_per_test) + "); this server runs at most " + approx(svc.config.max_steps_per_job)
-                + " (--max-steps-per-job)",
-            field);
-    }
-    if (!(work.samples_per_test <= svc.config.max_samples_per_test))
-        return error_response(req, http::status::bad_request, "invalid_job",
-            "triaxial.sample_interval_s: a test would record about " + approx(work.samples_per_test)
-                + " rows; this server keeps at most " + approx(svc.config.max_samples_per_test)
-                + " per test (--max-samples-per-test)",
-            "triaxial.sample_interval_s");
+    if (auto problem = job_limit_problem(spec.value(), svc.config))
+        return error_response(
+            req, http::status::bad_request, "invalid_job", problem->field + ": " + problem->message, problem->field);
 
     JobRecord job;
     job.id = make_job_id();

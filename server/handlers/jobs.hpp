@@ -7,6 +7,12 @@
 #include "../http.hpp"
 #include "../services.hpp"
 
+#include "api/job_spec.hpp"
+
+#include <boost/json/object.hpp>
+
+#include <optional>
+
 #include <string>
 #include <string_view>
 #include <utility>
@@ -20,6 +26,18 @@ using QueryParams = std::vector<std::pair<std::string, std::string>>;
 /// POST /v1/jobs: validate the spec, honour Idempotency-Key, queue the job.
 /// 201 + Location; 400 invalid_json / invalid_job; 409 idempotency_conflict;
 /// 415 when the body is not JSON; 429 + Retry-After when the queue is full.
+/// Why this server will not run a valid job: more bodies, time steps or
+/// samples than its limits (--max-bodies-per-job, --max-steps-per-job,
+/// --max-samples-per-test), with the field that drives the estimate.
+[[nodiscard]] std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const ServerConfig& config);
+
+/// Whether the request says its body is application/json (a POST without
+/// it is refused: a browser's cross-site Blob POST sends none).
+[[nodiscard]] bool is_json_content_type(const Request& req);
+
+/// A job as GET /v1/jobs lists it (live progress, no spec).
+[[nodiscard]] boost::json::object job_resource(const JobRecord& r, Services& svc);
+
 [[nodiscard]] Response handle_submit_job(const Request& req, Services& svc);
 
 /// GET /v1/jobs?state=&limit=&cursor=: newest first, `next_cursor` pages on.

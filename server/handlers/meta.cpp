@@ -107,6 +107,84 @@ constexpr const char* openapi_text = R"json({
         }
       }
     },
+    "/v1/studies": {
+      "post": {
+        "summary": "Submit a parameter study: a base job and the fields to vary; creates one job per point",
+        "requestBody": {"required": true, "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Study"}}}},
+        "responses": {
+          "201": {"description": "Its jobs are queued", "headers": {"Location": {"schema": {"type": "string"}}},
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/StudyInfo"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "413": {"$ref": "#/components/responses/Error"},
+          "415": {"$ref": "#/components/responses/Error"},
+          "429": {"description": "Its jobs do not fit in the queue", "headers": {"Retry-After": {"schema": {"type": "integer"}}},
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+        }
+      },
+      "get": {
+        "summary": "List studies, newest first, with their jobs counted by state",
+        "parameters": [
+          {"name": "limit", "in": "query", "schema": {"type": "integer", "minimum": 1, "maximum": 500, "default": 50}},
+          {"name": "cursor", "in": "query", "description": "next_cursor of the previous page", "schema": {"type": "string"}}
+        ],
+        "responses": {
+          "200": {"description": "A page of studies", "content": {"application/json": {"schema": {
+            "type": "object", "required": ["studies", "next_cursor"],
+            "properties": {"studies": {"type": "array", "items": {"$ref": "#/components/schemas/StudyInfo"}},
+                           "next_cursor": {"type": "string", "nullable": true}}}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/studies/{id}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "A study: each point's values and job (state, progress)",
+        "responses": {
+          "200": {"description": "The study", "content": {"application/json": {"schema": {"allOf": [
+            {"$ref": "#/components/schemas/StudyInfo"},
+            {"type": "object", "properties": {
+              "document": {"$ref": "#/components/schemas/Study"},
+              "jobs": {"type": "array", "items": {"type": "object", "properties": {
+                "index": {"type": "integer"}, "label": {"type": "string"}, "values": {"type": "object"},
+                "job": {"$ref": "#/components/schemas/Job"}}}}}}]}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"}
+        }
+      },
+      "delete": {
+        "summary": "Cancel every job of the study that has not ended",
+        "responses": {
+          "200": {"description": "The study", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/StudyInfo"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/studies/{id}/summary": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "One row per point (phi, c, R2, yield and max q per pressure, volume fractions, wire lag) and, over the seeds, mean, sd and n of phi and c per combination",
+        "responses": {
+          "200": {"description": "The study's summary as its jobs stand", "content": {"application/json": {"schema": {
+            "type": "object", "required": ["name", "paths", "points", "groups"],
+            "properties": {"id": {"type": "string"}, "name": {"type": "string"},
+              "paths": {"type": "array", "items": {"type": "string"}},
+              "points": {"type": "array", "items": {"type": "object"}},
+              "groups": {"type": "array", "items": {"type": "object", "properties": {
+                "values": {"type": "object"}, "points": {"type": "integer"}, "succeeded": {"type": "integer"},
+                "friction_angle_deg": {"$ref": "#/components/schemas/Spread"},
+                "cohesion_pa": {"$ref": "#/components/schemas/Spread"}}}}}}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "401": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
     "/v1/health": {
       "get": {"summary": "Liveness and queue figures",
               "responses": {"200": {"description": "Serving", "content": {"application/json": {"schema": {"type": "object"}}}}}}
@@ -132,6 +210,20 @@ constexpr const char* openapi_text = R"json({
     "schemas": {
       "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
       "JobSpec": {"type": "object", "description": "The job spec of docs/job-spec.md; unknown keys are errors; {} is a valid job with every default."},
+      "Study": {"type": "object", "required": ["name", "base"],
+        "description": "docs/studies.md: the base job and either vary (field path -> list of values, a full grid) or points (a list of {field path: value}); every point is validated as a job; at most --max-study-points points.",
+        "properties": {"name": {"type": "string", "maxLength": 200}, "comment": {"type": "string"},
+          "base": {"$ref": "#/components/schemas/JobSpec"},
+          "vary": {"type": "object", "additionalProperties": {"type": "array", "minItems": 1}},
+          "points": {"type": "array", "minItems": 1, "items": {"type": "object"}}}},
+      "StudyInfo": {"type": "object", "required": ["id", "url", "name", "created_at", "points", "jobs_by_state", "links"],
+        "properties": {"id": {"type": "string"}, "url": {"type": "string"}, "name": {"type": "string"},
+          "created_at": {"type": "string", "format": "date-time"}, "points": {"type": "integer"},
+          "jobs_by_state": {"type": "object", "additionalProperties": {"type": "integer"}},
+          "links": {"type": "object", "properties": {"self": {"type": "string"}, "summary": {"type": "string"}}}}},
+      "Spread": {"type": "object", "required": ["mean", "sd", "n"],
+        "properties": {"mean": {"type": "number", "nullable": true}, "sd": {"type": "number", "nullable": true,
+          "description": "sample standard deviation (n - 1); null below n = 2"}, "n": {"type": "integer"}}},
       "Job": {
         "type": "object",
         "required": ["id", "url", "state", "progress", "created_at", "links"],

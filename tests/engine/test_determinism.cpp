@@ -1,4 +1,5 @@
 // Bit-identical results whatever the number of threads.
+#include "contact/pair_kernel_simd.hpp"
 #include "helpers.hpp"
 #include "scene.hpp"
 #include "state/state_hash.hpp"
@@ -7,14 +8,16 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+
 using namespace wiredem::engine;
 
 namespace {
 
-/// A small column of grains falling into a cylinder, hashed every 250 steps.
-std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = Integrator::gear5)
+/// A small column of grains falling into a cylinder, kicked so that
+/// contacts form, slide and break early.
+void build_column(Simulation& sim, Integrator integrator)
 {
-    Simulation sim(threads);
     sim.world.integrator = integrator;
     ContainerSpec spec;
     spec.container_radius_m = 6e-3;
@@ -24,10 +27,16 @@ std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = 
     build_container(sim.world, spec);
     sim.world.contact.normal_damping_s = 1e-5;
     sim.world.dt_s = stable_time_step(sim.world).auto_s;
-    // Kick the grains so that contacts form, slide and break early.
     SplitMix64 rng(3);
     for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i)
         set_velocity(sim.world, {BodyKind::grain, i}, Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, -1.0));
+}
+
+/// That column's state hash every 250 steps.
+std::vector<std::uint64_t> run_column(unsigned threads, Integrator integrator = Integrator::gear5)
+{
+    Simulation sim(threads);
+    build_column(sim, integrator);
     std::vector<std::uint64_t> hashes;
     for (int block = 0; block < 8; ++block) {
         sim.run(250);
@@ -75,4 +84,45 @@ TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
             else EXPECT_EQ(hashes, reference) << threads << " threads";
         }
     }
+}
+
+/// The AVX-512 pair kernel (contact/pair_kernel_simd.hpp) takes the lanes it
+/// is sure of and gives the scalar law's bits: the kicked column (contacts
+/// forming, sliding, breaking) hashes the same with it and without it, on 1
+/// and 3 threads, and so does the wired column (grain–wire pairs in the list).
+TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
+{
+    if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
+    struct Restore {
+        ~Restore() { set_simd_kernels(SimdKernels::automatic); }
+    } restore;
+    for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
+        set_simd_kernels(SimdKernels::scalar);
+        const auto scalar = run_column(1, integrator);
+        set_simd_kernels(SimdKernels::automatic);
+        EXPECT_EQ(run_column(1, integrator), scalar);
+        EXPECT_EQ(run_column(3, integrator), scalar);
+    }
+    auto wired = [](SimdKernels kernel) {
+        set_simd_kernels(kernel);
+        Simulation sim(2);
+        test::build_wired_column(sim.world, Integrator::gear5);
+        EXPECT_EQ(sim.run(300).end, RunEnd::completed);
+        return state_hash(sim.world);
+    };
+    EXPECT_EQ(wired(SimdKernels::automatic), wired(SimdKernels::scalar));
+
+    // The SIMD path did take touching lanes, not only apart ones.
+    Simulation sim(1);
+    build_column(sim, Integrator::gear5);
+    ASSERT_EQ(sim.run(2000).end, RunEnd::completed);
+    World& w = sim.world;
+    const GrainPairInputs in{w.bodies[0].x[0].data(), w.bodies[0].x[1].data(), w.bodies[0].radius_m.data(),
+        w.grain_rotation.w[1].data(), 1.0 / w.dt_s, w.dt_s, w.contact.normal_damping_s, w.contact.tangential};
+    std::size_t touching_taken = 0;
+    for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
+        const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
+        for (std::size_t l = 0; l < simd_pair_lanes; ++l) touching_taken += (taken >> l & 1u) && w.contacts.touching[p + l];
+    }
+    EXPECT_GT(touching_taken, 0u);
 }

@@ -2,11 +2,13 @@
 # A stand-in for `wiredem run` that follows the runner contract (docs/api.md)
 # without the engine, so the server tests exercise queue, progress, cancel,
 # durability and downloads for real and in seconds:
-#   fake_runner.sh run JOB.json -o OUTDIR --threads N --progress json
+#   fake_runner.sh run JOB.json -o OUTDIR --threads N --progress json --checkpoint-interval S
 # prints progress lines, writes OUTDIR/summary.json and OUTDIR/result.h5
 # (temp names, then rename), exits 0; stops within a second on SIGTERM (143).
 # The job's "name" steers it: fail* exits 3 with a reason on stderr, slow*
-# takes three times longer, *burn* keeps N cores busy while it runs.
+# takes three times longer, *burn* keeps N cores busy while it runs; a
+# "comment" containing fail-this-point fails it like fail* (a study's points
+# differ in their fields, not their names).
 # WIREDEM_FAKE_STEP_S (default 0.2) is the pause between progress lines.
 set -u
 if [ "${1:-}" != run ]; then echo "fake runner: usage: run JOB.json -o OUTDIR --threads N --progress json" >&2; exit 2; fi
@@ -19,12 +21,15 @@ while [ $# -gt 0 ]; do
     -o) out=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
     --progress) shift 2 ;;
+    --checkpoint-interval) shift 2 ;;
     *) echo "fake runner: unknown argument $1" >&2; exit 2 ;;
   esac
 done
 [ -n "$out" ] && [ -r "$job" ] || { echo "fake runner: need JOB.json and -o OUTDIR" >&2; exit 2; }
 mkdir -p "$out"
 name=$(sed -n 's/.*"name":"\([^"]*\)".*/\1/p' "$job")
+comment=$(sed -n 's/.*"comment":"\([^"]*\)".*/\1/p' "$job")
+case $comment in *fail-this-point*) name="fail: $name" ;; esac
 step=${WIREDEM_FAKE_STEP_S:-0.2}
 steps=8
 case $name in slow*) steps=24 ;; esac
@@ -62,7 +67,7 @@ stop
 
 seq 1 50000 > "$out/result.h5.tmp"
 cat > "$out/summary.json.tmp" <<JSON
-{"job": "$name",
+{"job": "${name//[\\\"]/}",
  "tests": [
   {"confining_pressure_pa": 20000, "peak_deviatoric_stress_pa": 81234.5, "peak_axial_strain": 0.0412, "sigma1_pa": 101234.5, "sigma3_effective_pa": 20000},
   {"confining_pressure_pa": 40000, "peak_deviatoric_stress_pa": 152000.25, "peak_axial_strain": 0.0533, "sigma1_pa": 192000.25, "sigma3_effective_pa": 40000},

@@ -61,7 +61,10 @@ ServerProcess::ServerProcess(const fs::path& data_dir, std::vector<std::string> 
     log_file_ = data_dir.parent_path() / (data_dir.filename().string() + ".log");
 
     std::vector<std::string> args{WIREDEM_SERVER_BIN, "--listen", "127.0.0.1:0", "--port-file", port_file.string(),
-        "--data-dir", data_dir.string(), "--runner", WIREDEM_FAKE_RUNNER, "--log-level", "debug"};
+        "--data-dir", data_dir.string(), "--log-level", "debug"};
+    // The fake runner unless the test names another (the real one).
+    if (std::find(extra_args.begin(), extra_args.end(), "--runner") == extra_args.end())
+        args.insert(args.end(), {"--runner", WIREDEM_FAKE_RUNNER});
     // The fake runner does no physics, so the tests' jobs (often the default,
     // paper-literal spec: ~10⁹ steps) pass the work limit unless a test sets it.
     if (std::find(extra_args.begin(), extra_args.end(), "--max-steps-per-job") == extra_args.end())

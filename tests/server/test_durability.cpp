@@ -290,3 +290,73 @@ TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
 
 } // namespace
 } // namespace wiredem::test
+
+namespace wiredem::test {
+namespace {
+
+bool is_testing(const boost::json::value& j)
+{
+    const auto* stage = j.as_object().if_contains("stage");
+    return stage && stage->is_string() && stage->as_string() == "testing";
+}
+
+/// summary.json without what says how a run went rather than what it computed.
+boost::json::value computed_figures(const std::string& summary_text)
+{
+    boost::json::value v = boost::json::parse(summary_text);
+    for (boost::json::value& t : v.at("tests").as_array()) {
+        t.as_object().erase("wall_time_s");
+        t.as_object().erase("threads");
+    }
+    v.at("engine").as_object().erase("wall_time_s");
+    v.at("engine").as_object().erase("body_steps_per_second");
+    v.at("engine").as_object().erase("threads");
+    v.at("specimen").as_object().erase("preparation_wall_time_s");
+    return v;
+}
+
+} // namespace
+
+// With the real runner: kill -9 the server during a test. The runner, told by
+// the kernel (SIGTERM on its parent's death), saves a checkpoint on its way
+// out; the restarted server runs the job again in the same work folder, the
+// runner continues from the specimen and the checkpoints, and the job ends
+// with exactly the figures of a run never interrupted.
+TEST(DurabilityRealRunner, AJobInterruptedByKillNineContinuesFromItsCheckpointsToTheSameResult)
+{
+    namespace fs = std::filesystem;
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    const fs::path tiny = fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json";
+    const auto reference = run_client({"run", tiny.string(), "-o", (tmp.path() / "ref").string(), "--threads", "1"});
+    ASSERT_EQ(reference.exit_code, 0) << reference.err;
+
+    const std::vector<std::string> args{"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "1",
+        "--checkpoint-seconds", "0.05", "--max-steps-per-job", "1e8"};
+    std::string id;
+    {
+        ServerProcess server(data, args);
+        const auto r = http(server.port(), "POST", "/v1/jobs", read_file(tiny));
+        ASSERT_EQ(r.status, 201) << r.body;
+        id = std::string(r.json().at("id").as_string());
+        ASSERT_TRUE(is_testing(poll_job(server.port(), id, is_testing, std::chrono::seconds(60)))) << server.log();
+        std::this_thread::sleep_for(std::chrono::milliseconds(300)); // into the test
+        server.kill_hard();
+    }
+    const fs::path work = data / "jobs" / id / "work";
+    for (int i = 0; i < 250 && process_with_arg_exists(work.string()); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_FALSE(process_with_arg_exists(work.string()));
+    EXPECT_TRUE(fs::exists(work / "out/specimen.h5"));
+    EXPECT_TRUE(fs::exists(work / "out/tests/test_0.checkpoint.h5") || fs::exists(work / "out/tests/test_0.h5"))
+        << "the interrupted runner left nothing to continue from";
+
+    ServerProcess restarted(data, args);
+    const auto job = poll_job(restarted.port(), id, is_final, std::chrono::seconds(120));
+    ASSERT_EQ(state_of(job), "succeeded") << restarted.log();
+    EXPECT_EQ(job.at("attempts").to_number<int>(), 2);
+    EXPECT_EQ(computed_figures(read_file(data / "jobs" / id / "summary.json")),
+        computed_figures(read_file(tmp.path() / "ref/summary.json")));
+}
+
+} // namespace wiredem::test

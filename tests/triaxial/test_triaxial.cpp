@@ -12,6 +12,7 @@
 #include "scene.hpp"
 #include "step.hpp"
 #include "timestep.hpp"
+#include "state/state_hash.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <gtest/gtest.h>
@@ -537,3 +538,99 @@ TEST(TriaxialControl, RejectsSettingsOutOfRangeNamingTheField)
     EXPECT_NE(wrong_wall.error().find("top plate"), std::string::npos);
 }
 
+
+namespace {
+
+/// Every row of two series, compared bit for bit.
+void expect_same_series(const TriaxialSeries& a, const TriaxialSeries& b)
+{
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        SCOPED_TRACE("row " + std::to_string(i));
+        EXPECT_EQ(a.time_s[i], b.time_s[i]);
+        EXPECT_EQ(a.phase[i], b.phase[i]);
+        EXPECT_EQ(a.axial_strain[i], b.axial_strain[i]);
+        EXPECT_EQ(a.sigma1_pa[i], b.sigma1_pa[i]);
+        EXPECT_EQ(a.sigma3_effective_pa[i], b.sigma3_effective_pa[i]);
+        EXPECT_EQ(a.column_radius_m[i], b.column_radius_m[i]);
+        EXPECT_EQ(a.kinetic_energy_j[i], b.kinetic_energy_j[i]);
+        EXPECT_EQ(a.volumetric_strain[i], b.volumetric_strain[i]);
+    }
+}
+
+} // namespace
+
+// A test stopped between any two steps — in the ramp, the hold or the
+// loading — and continued from the World and the driver's state saved there
+// ends exactly as the test that was never stopped: the same series, peak,
+// hold time and final state, bit for bit (the campaign's crash resume rests
+// on this).
+TEST(TriaxialContinuation, ATestContinuedFromAnyStepEndsBitIdentically)
+{
+    const TriaxialSettings set = fast_settings(10e3);
+    Simulation whole(2);
+    const std::size_t top = build_grain_stack(whole, 0.0, MembraneEdgeLaw::linear);
+    const World start = whole.world;
+
+    // The uninterrupted run, saving World and state at three steps: in the
+    // ramp, in the hold and during loading.
+    std::vector<std::uint64_t> stops;
+    std::vector<std::pair<World, TriaxialDriverState>> saved;
+    TriaxialContinuation c;
+    c.between_steps = [&](const World& w, const TriaxialDriverState& st) {
+        const double t = static_cast<double>(st.steps) * w.dt_s;
+        const bool in_ramp = saved.empty() && t > 0.5 * set.pressure_ramp_time_s;
+        const bool in_hold = saved.size() == 1 && t > set.pressure_ramp_time_s + 0.5 * set.hold_time_s;
+        const bool loading = saved.size() == 2 && st.loading && st.result.series.size() > st.loading_start_sample + 3;
+        if (in_ramp || in_hold || loading) {
+            saved.emplace_back(w, st);
+            stops.push_back(st.steps);
+        }
+    };
+    const auto full = run_triaxial(whole, top, set, {}, c);
+    ASSERT_TRUE(full.ok()) << full.error();
+    ASSERT_EQ(saved.size(), 3u);
+    EXPECT_FALSE(saved[0].second.loading);
+    EXPECT_FALSE(saved[1].second.loading);
+    EXPECT_TRUE(saved[2].second.loading);
+    const std::uint64_t end_hash = state_hash(whole.world);
+
+    for (std::size_t k = 0; k < saved.size(); ++k) {
+        SCOPED_TRACE("continued from step " + std::to_string(stops[k]));
+        Simulation rest(1 + k % 3); // any thread count
+        rest.world = saved[k].first;
+        TriaxialContinuation from;
+        from.from = saved[k].second;
+        const auto r = run_triaxial(rest, top, set, {}, from);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_EQ(state_hash(rest.world), end_hash);
+        EXPECT_EQ(r.value().steps, full.value().steps);
+        EXPECT_EQ(r.value().hold_time_s, full.value().hold_time_s);
+        EXPECT_EQ(r.value().initial_height_m, full.value().initial_height_m);
+        EXPECT_EQ(r.value().peak_deviatoric_stress_pa, full.value().peak_deviatoric_stress_pa);
+        EXPECT_EQ(r.value().peak_sample, full.value().peak_sample);
+        EXPECT_EQ(r.value().snapshots.size(), full.value().snapshots.size());
+        expect_same_series(r.value().series, full.value().series);
+    }
+
+    // And a test never stopped, run again from the start, gives the same end.
+    Simulation again(3);
+    again.world = start;
+    ASSERT_TRUE(run_triaxial(again, top, set).ok());
+    EXPECT_EQ(state_hash(again.world), end_hash);
+}
+
+TEST(TriaxialContinuation, AStateFromAnotherWorldIsRefused)
+{
+    Simulation sim(1);
+    const std::size_t top = build_grain_stack(sim, 0.0);
+    TriaxialContinuation c;
+    TriaxialDriverState st;
+    st.cap_nodes = {static_cast<std::uint32_t>(sim.world.of(BodyKind::membrane).size())}; // one past the last node
+    st.reference_height_m = 1e-2;
+    st.column_radius_m = 1e-3;
+    c.from = st;
+    const auto r = run_triaxial(sim, top, fast_settings(10e3), {}, c);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("does not belong to this World"), std::string::npos) << r.error();
+}

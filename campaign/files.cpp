@@ -1,0 +1,437 @@
+#include "files.hpp"
+
+#include <boost/json.hpp>
+
+#include <cstdint>
+#include <fstream>
+#include <span>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+#include <vector>
+
+namespace wiredem::campaign {
+
+namespace eng = engine;
+namespace io = engine::io;
+namespace json = boost::json;
+
+std::filesystem::path JobDir::test(std::size_t k) const { return tests() / ("test_" + std::to_string(k) + ".h5"); }
+
+std::filesystem::path JobDir::checkpoint(std::size_t k) const
+{
+    return tests() / ("test_" + std::to_string(k) + ".checkpoint.h5");
+}
+
+namespace {
+
+void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
+
+/// The columns of a time series, with their names and units: the one list the
+/// writer and the reader go through. `phase` (bytes) is written apart.
+template <class Series, class F>
+void for_each_series_column(Series& s, F&& f)
+{
+    f("time_s", s.time_s, "s");
+    f("axial_strain", s.axial_strain, "1");
+    f("height_m", s.height_m, "m");
+    f("top_plate_force_n", s.top_plate_force_n, "N");
+    f("bottom_plate_force_n", s.bottom_plate_force_n, "N");
+    f("column_radius_m", s.column_radius_m, "m");
+    f("confining_pressure_pa", s.confining_pressure_pa, "Pa");
+    f("sigma1_pa", s.sigma1_pa, "Pa");
+    f("sigma3_effective_pa", s.sigma3_effective_pa, "Pa");
+    f("deviatoric_stress_pa", s.deviatoric_stress_pa, "Pa");
+    f("stress_ratio", s.stress_ratio, "1");
+    f("volumetric_strain", s.volumetric_strain, "1");
+    f("kinetic_energy_j", s.kinetic_energy_j, "J");
+    f("elastic_energy_j", s.elastic_energy_j, "J");
+    f("contacts", s.contacts, "1");
+    f("sliding_contacts", s.sliding_contacts, "1");
+    f("membrane_contacts", s.membrane_contacts, "1");
+    f("wire_strain_mean", s.wire_strain_mean, "1");
+    f("wire_strain_max", s.wire_strain_max, "1");
+    f("inertial_number", s.inertial_number, "1");
+}
+
+std::vector<eng::Vec3> read_vec3s(const io::Group& g, std::string_view name)
+{
+    const io::Dataset d = g.open_dataset(name);
+    const std::vector<std::size_t> shape = d.shape();
+    if (shape.size() != 2 || shape[1] != 3) throw std::runtime_error(d.path() + ": expected N x 3");
+    const std::vector<double> v = d.read_doubles();
+    std::vector<eng::Vec3> out(shape[0]);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = eng::Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+    return out;
+}
+
+/// Rows × `columns` unsigned 32-bit values, row-major (a 1-D dataset when columns is 1).
+std::vector<std::uint32_t> read_u32s(const io::Group& g, std::string_view name, std::size_t columns)
+{
+    const io::Dataset d = g.open_dataset(name);
+    const std::vector<std::size_t> shape = d.shape();
+    const bool ok = columns == 1 ? shape.size() == 1 : (shape.size() == 2 && shape[1] == columns);
+    if (!ok) throw std::runtime_error(d.path() + ": unexpected shape");
+    std::vector<std::uint32_t> out;
+    for (std::int64_t x : d.read_int64s()) {
+        if (x < 0 || x > static_cast<std::int64_t>(UINT32_MAX)) throw std::runtime_error(d.path() + ": value out of range");
+        out.push_back(static_cast<std::uint32_t>(x));
+    }
+    return out;
+}
+
+std::vector<double> read_doubles(const io::Group& g, std::string_view name)
+{
+    const io::Dataset d = g.open_dataset(name);
+    if (d.shape().size() != 1) throw std::runtime_error(d.path() + ": expected a 1-D dataset");
+    return d.read_doubles();
+}
+
+void write_snapshot(io::Group g, const eng::TriaxialSnapshot& s)
+{
+    g.write_double_attribute("requested_axial_strain", s.requested_axial_strain);
+    g.write_double_attribute("axial_strain", s.axial_strain);
+    g.write_double_attribute("time_s", s.time_s);
+    units(g.write_dataset("grain_position_m", std::span<const eng::Vec3>(s.grain_position_m)), "m");
+    units(g.write_dataset("grain_radius_m", std::span<const double>(s.grain_radius_m)), "m");
+    units(g.write_dataset("grain_velocity_m_per_s", std::span<const eng::Vec3>(s.grain_velocity_m_per_s)), "m/s");
+    units(g.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(s.wire_node_position_m)), "m");
+    units(g.write_dataset("wire_segment_strain", std::span<const double>(s.wire_segment_strain)), "1");
+    units(g.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(s.membrane_node_position_m)), "m");
+    std::vector<std::uint32_t> tri;
+    tri.reserve(3 * s.membrane_triangles.size());
+    for (const auto& t : s.membrane_triangles) tri.insert(tri.end(), t.begin(), t.end());
+    units(g.write_dataset("membrane_triangles", std::span<const std::uint32_t>(tri), 3), "1");
+
+    const eng::ForceNetwork& f = s.forces;
+    std::vector<std::uint32_t> pairs;
+    pairs.reserve(4 * f.first.size());
+    for (std::size_t i = 0; i < f.first.size(); ++i) {
+        pairs.push_back(static_cast<std::uint32_t>(f.first[i].kind()));
+        pairs.push_back(f.first[i].index());
+        pairs.push_back(static_cast<std::uint32_t>(f.second[i].kind()));
+        pairs.push_back(f.second[i].index());
+    }
+    units(g.write_dataset("contact_bodies", std::span<const std::uint32_t>(pairs), 4), "1");
+    units(g.write_dataset("contact_force_n", std::span<const eng::Vec3>(f.force_n)), "N");
+    units(g.write_dataset("contact_normal_force_n", std::span<const double>(f.normal_force_n)), "N");
+    std::vector<std::uint32_t> walls;
+    walls.reserve(3 * f.wall.size());
+    for (std::size_t i = 0; i < f.wall.size(); ++i) {
+        walls.push_back(f.wall[i]);
+        walls.push_back(static_cast<std::uint32_t>(f.wall_body[i].kind()));
+        walls.push_back(f.wall_body[i].index());
+    }
+    units(g.write_dataset("wall_contact_bodies", std::span<const std::uint32_t>(walls), 3), "1");
+    units(g.write_dataset("wall_contact_force_n", std::span<const eng::Vec3>(f.wall_force_n)), "N");
+}
+
+eng::BodyRef body(std::uint32_t kind, std::uint32_t index)
+{
+    if (kind > static_cast<std::uint32_t>(eng::BodyKind::membrane) || index > eng::BodyRef::max_index)
+        throw std::runtime_error("a contact names no body (kind " + std::to_string(kind) + ", index "
+                                 + std::to_string(index) + ")");
+    return {static_cast<eng::BodyKind>(kind), index};
+}
+
+eng::TriaxialSnapshot read_snapshot(const io::Group& g)
+{
+    eng::TriaxialSnapshot s;
+    s.requested_axial_strain = g.read_double_attribute("requested_axial_strain");
+    s.axial_strain = g.read_double_attribute("axial_strain");
+    s.time_s = g.read_double_attribute("time_s");
+    s.grain_position_m = read_vec3s(g, "grain_position_m");
+    s.grain_radius_m = read_doubles(g, "grain_radius_m");
+    s.grain_velocity_m_per_s = read_vec3s(g, "grain_velocity_m_per_s");
+    s.wire_node_position_m = read_vec3s(g, "wire_node_position_m");
+    s.wire_segment_strain = read_doubles(g, "wire_segment_strain");
+    s.membrane_node_position_m = read_vec3s(g, "membrane_node_position_m");
+    const std::vector<std::uint32_t> tri = read_u32s(g, "membrane_triangles", 3);
+    for (std::size_t i = 0; i + 2 < tri.size(); i += 3) s.membrane_triangles.push_back({tri[i], tri[i + 1], tri[i + 2]});
+
+    eng::ForceNetwork& f = s.forces;
+    const std::vector<std::uint32_t> pairs = read_u32s(g, "contact_bodies", 4);
+    for (std::size_t i = 0; i + 3 < pairs.size(); i += 4) {
+        f.first.push_back(body(pairs[i], pairs[i + 1]));
+        f.second.push_back(body(pairs[i + 2], pairs[i + 3]));
+    }
+    f.force_n = read_vec3s(g, "contact_force_n");
+    f.normal_force_n = read_doubles(g, "contact_normal_force_n");
+    const std::vector<std::uint32_t> walls = read_u32s(g, "wall_contact_bodies", 3);
+    for (std::size_t i = 0; i + 2 < walls.size(); i += 3) {
+        f.wall.push_back(walls[i]);
+        f.wall_body.push_back(body(walls[i + 1], walls[i + 2]));
+    }
+    f.wall_force_n = read_vec3s(g, "wall_contact_force_n");
+    if (f.force_n.size() != f.first.size() || f.normal_force_n.size() != f.first.size()
+        || f.wall_force_n.size() != f.wall.size())
+        throw std::runtime_error(g.path() + ": the force network's arrays differ in length");
+    return s;
+}
+
+void write_curve(io::Group& g, const std::string& prefix, const eng::analysis::CurveReading& c)
+{
+    g.write_string_attribute(prefix + "_shape", eng::analysis::to_string(c.shape));
+    g.write_int_attribute(prefix + "_sample", static_cast<std::int64_t>(c.index));
+    g.write_double_attribute(prefix + "_smoothed_maximum", c.value);
+    g.write_double_attribute(prefix + "_smoothed_end", c.end_value);
+    g.write_double_attribute(prefix + "_drop", c.drop);
+    g.write_double_attribute(prefix + "_end_rise", c.end_rise);
+}
+
+eng::analysis::CurveShape read_shape(const io::Group& g, const std::string& name)
+{
+    const std::string text = g.read_string_attribute(name);
+    for (auto shape : {eng::analysis::CurveShape::peak, eng::analysis::CurveShape::plateau, eng::analysis::CurveShape::rising})
+        if (text == eng::analysis::to_string(shape)) return shape;
+    throw std::runtime_error(g.path() + ": attribute " + name + " is \"" + text + "\", not peak, plateau or rising");
+}
+
+std::size_t read_index(const io::Group& g, const std::string& name)
+{
+    const std::int64_t v = g.read_int_attribute(name);
+    if (v < 0) throw std::runtime_error(g.path() + ": attribute " + name + " is negative");
+    return static_cast<std::size_t>(v);
+}
+
+eng::analysis::CurveReading read_curve(const io::Group& g, const std::string& prefix)
+{
+    eng::analysis::CurveReading c;
+    c.shape = read_shape(g, prefix + "_shape");
+    c.index = read_index(g, prefix + "_sample");
+    c.value = g.read_double_attribute(prefix + "_smoothed_maximum");
+    c.end_value = g.read_double_attribute(prefix + "_smoothed_end");
+    c.drop = g.read_double_attribute(prefix + "_drop");
+    c.end_rise = g.read_double_attribute(prefix + "_end_rise");
+    return c;
+}
+
+} // namespace
+
+void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
+{
+    g.write_double_attribute("peak_deviatoric_stress_pa", r.peak_deviatoric_stress_pa);
+    g.write_double_attribute("peak_axial_strain", r.peak_axial_strain);
+    g.write_double_attribute("peak_sigma1_pa", r.peak_sigma1_pa);
+    g.write_double_attribute("peak_sigma3_effective_pa", r.peak_sigma3_effective_pa);
+    g.write_int_attribute("peak_sample", static_cast<std::int64_t>(r.peak_sample));
+    if (r.strength) {
+        const eng::analysis::StrengthReading& y = *r.strength;
+        write_curve(g, "yield", y.stress_ratio);
+        write_curve(g, "max_q", y.deviatoric);
+        g.write_double_attribute("yield_stress_ratio", y.stress_ratio.value);
+        g.write_double_attribute("yield_axial_strain", y.yield_axial_strain);
+        g.write_double_attribute("yield_sigma1_pa", y.yield_sigma1_pa);
+        g.write_double_attribute("yield_sigma3_effective_pa", y.yield_sigma3_pa);
+        g.write_double_attribute("residual_stress_ratio", y.residual_stress_ratio);
+    }
+    g.write_double_attribute("hold_time_s", r.hold_time_s);
+    g.write_double_attribute("consolidated_sigma1_pa", r.consolidated_sigma1_pa);
+    g.write_double_attribute("initial_height_m", r.initial_height_m);
+    g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
+    g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
+    g.write_double_attribute("max_inertial_number", r.verdict.max_inertial_number);
+    g.write_double_attribute("mean_kinetic_to_elastic", r.verdict.mean_kinetic_to_elastic);
+    g.write_double_attribute("max_kinetic_to_elastic", r.verdict.max_kinetic_to_elastic);
+    g.write_string_attribute("quasi_static_warning", r.verdict.warning);
+    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute("time_step_s", r.time_step_s);
+    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
+    g.write_double_attribute("wall_time_s", r.wall_time_s);
+    json::array warnings;
+    for (const std::string& w : r.warnings) warnings.emplace_back(w);
+    g.write_string_attribute("warnings", json::serialize(warnings));
+
+    for_each_series_column(r.series, [&](const char* name, const auto& column, std::string_view u) {
+        units(g.write_dataset(name, std::span(column)), u);
+    });
+    std::vector<std::int32_t> phase(r.series.phase.begin(), r.series.phase.end());
+    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), "0 ramp, 1 hold, 2 loading");
+
+    io::Group snaps = g.create_group("snapshots");
+    for (std::size_t i = 0; i < r.snapshots.size(); ++i)
+        write_snapshot(snaps.create_group("snapshot_" + std::to_string(i)), r.snapshots[i]);
+}
+
+eng::TriaxialResult read_triaxial_result(const io::Group& g)
+{
+    eng::TriaxialResult r;
+    r.peak_deviatoric_stress_pa = g.read_double_attribute("peak_deviatoric_stress_pa");
+    r.peak_axial_strain = g.read_double_attribute("peak_axial_strain");
+    r.peak_sigma1_pa = g.read_double_attribute("peak_sigma1_pa");
+    r.peak_sigma3_effective_pa = g.read_double_attribute("peak_sigma3_effective_pa");
+    r.peak_sample = read_index(g, "peak_sample");
+    if (g.has_attribute("yield_shape")) {
+        eng::analysis::StrengthReading y;
+        y.stress_ratio = read_curve(g, "yield");
+        y.deviatoric = read_curve(g, "max_q");
+        y.yield_axial_strain = g.read_double_attribute("yield_axial_strain");
+        y.yield_sigma1_pa = g.read_double_attribute("yield_sigma1_pa");
+        y.yield_sigma3_pa = g.read_double_attribute("yield_sigma3_effective_pa");
+        y.residual_stress_ratio = g.read_double_attribute("residual_stress_ratio");
+        r.strength = y;
+    }
+    r.hold_time_s = g.read_double_attribute("hold_time_s");
+    r.consolidated_sigma1_pa = g.read_double_attribute("consolidated_sigma1_pa");
+    r.initial_height_m = g.read_double_attribute("initial_height_m");
+    r.initial_volume_m3 = g.read_double_attribute("initial_volume_m3");
+    r.verdict.quasi_static = g.read_int_attribute("quasi_static") != 0;
+    r.verdict.max_inertial_number = g.read_double_attribute("max_inertial_number");
+    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute("mean_kinetic_to_elastic");
+    r.verdict.max_kinetic_to_elastic = g.read_double_attribute("max_kinetic_to_elastic");
+    r.verdict.warning = g.read_string_attribute("quasi_static_warning");
+    const std::int64_t steps = g.read_int_attribute("steps");
+    if (steps < 0) throw std::runtime_error(g.path() + ": negative step count");
+    r.steps = static_cast<std::uint64_t>(steps);
+    r.time_step_s = g.read_double_attribute("time_step_s");
+    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
+    r.wall_time_s = g.read_double_attribute("wall_time_s");
+    const json::value warnings = json::parse(g.read_string_attribute("warnings"));
+    for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
+
+    for_each_series_column(r.series, [&](const char* name, auto& column, std::string_view) {
+        using T = typename std::remove_cvref_t<decltype(column)>::value_type;
+        if constexpr (std::is_same_v<T, double>) {
+            column = read_doubles(g, name);
+        } else {
+            const io::Dataset d = g.open_dataset(name);
+            column.clear();
+            for (std::int64_t x : d.read_int64s()) {
+                if (x < 0) throw std::runtime_error(d.path() + ": negative count");
+                column.push_back(static_cast<T>(x));
+            }
+        }
+    });
+    const io::Dataset phase = g.open_dataset("phase");
+    for (std::int64_t p : phase.read_int64s()) {
+        if (p < 0 || p > static_cast<std::int64_t>(eng::TriaxialPhase::loading))
+            throw std::runtime_error(phase.path() + ": a phase is not 0, 1 or 2");
+        r.series.phase.push_back(static_cast<std::uint8_t>(p));
+    }
+    const std::size_t rows = r.series.size();
+    bool same_length = r.series.phase.size() == rows;
+    for_each_series_column(r.series, [&](const char* name, const auto& column, std::string_view) {
+        // ε_v is derived when the test ends: empty in a running test's record.
+        if (column.size() != rows && !(std::string_view(name) == "volumetric_strain" && column.empty()))
+            same_length = false;
+    });
+    if (!same_length) throw std::runtime_error(g.path() + ": the time series differ in length");
+    if (rows > 0 && r.peak_sample >= rows) throw std::runtime_error(g.path() + ": peak_sample is past the series");
+
+    const io::Group snaps = g.open_group("snapshots");
+    const std::vector<std::string> names = snaps.child_names();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const std::string name = "snapshot_" + std::to_string(i);
+        if (!snaps.exists(name)) throw std::runtime_error(snaps.path() + ": " + name + " is missing");
+        r.snapshots.push_back(read_snapshot(snaps.open_group(name)));
+    }
+    return r;
+}
+
+void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
+{
+    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
+    g.write_int_attribute("expected_steps", static_cast<std::int64_t>(s.expected_steps));
+    g.write_int_attribute("loading", s.loading ? 1 : 0);
+    g.write_double_attribute("reference_height_m", s.reference_height_m);
+    // "none yet" (the largest value) is written as -1: the same bits.
+    g.write_int_attribute("last_sample_step", static_cast<std::int64_t>(s.last_sample_step));
+    g.write_int_attribute("next_snapshot", static_cast<std::int64_t>(s.next_snapshot));
+    g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(s.loading_start_sample));
+    g.write_double_attribute("window_force_n", s.window_force_n);
+    g.write_int_attribute("window_filled", static_cast<std::int64_t>(s.window_filled));
+    g.write_int_attribute("has_window_sigma1", s.window_sigma1_pa ? 1 : 0);
+    g.write_double_attribute("window_sigma1_pa", s.window_sigma1_pa.value_or(0.0));
+    g.write_double_attribute("column_radius_m", s.column_radius_m);
+    g.write_double_attribute("wall_time_s", s.wall_time_s);
+    g.write_dataset("cap_nodes", std::span<const std::uint32_t>(s.cap_nodes));
+    io::Group result = g.create_group("result");
+    write_triaxial_result(result, s.result);
+}
+
+eng::TriaxialDriverState read_driver_state(const io::Group& g)
+{
+    eng::TriaxialDriverState s;
+    const auto count = [&](const char* name) {
+        const std::int64_t v = g.read_int_attribute(name);
+        if (v < 0) throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is negative");
+        return static_cast<std::uint64_t>(v);
+    };
+    s.steps = count("steps");
+    s.expected_steps = count("expected_steps");
+    s.loading = g.read_int_attribute("loading") != 0;
+    s.reference_height_m = g.read_double_attribute("reference_height_m");
+    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
+    s.next_snapshot = count("next_snapshot");
+    s.loading_start_sample = count("loading_start_sample");
+    s.window_force_n = g.read_double_attribute("window_force_n");
+    s.window_filled = count("window_filled");
+    if (g.read_int_attribute("has_window_sigma1") != 0) s.window_sigma1_pa = g.read_double_attribute("window_sigma1_pa");
+    s.column_radius_m = g.read_double_attribute("column_radius_m");
+    s.wall_time_s = g.read_double_attribute("wall_time_s");
+    s.cap_nodes = read_u32s(g, "cap_nodes", 1);
+    s.result = read_triaxial_result(g.open_group("result"));
+    return s;
+}
+
+void write_preparation_report(io::Group& g, const eng::PreparationReport& r)
+{
+    g.write_int_attribute("grains", static_cast<std::int64_t>(r.grains));
+    g.write_int_attribute("wire_nodes", static_cast<std::int64_t>(r.wire_nodes));
+    g.write_double_attribute("wire_length_m", r.wire_length_m);
+    g.write_double_attribute("nozzle_path_m", r.nozzle_path_m);
+    g.write_double_attribute("pile_height_m", r.pile_height_m);
+    g.write_double_attribute("sample_volume_m3", r.sample_volume_m3);
+    g.write_double_attribute("grain_volume_fraction", r.grain_volume_fraction);
+    g.write_double_attribute("wire_volume_fraction", r.wire_volume_fraction);
+    g.write_double_attribute("core_grain_volume_fraction", r.core_grain_volume_fraction);
+    g.write_double_attribute("core_wire_volume_fraction", r.core_wire_volume_fraction);
+    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
+    g.write_double_attribute("wall_time_s", r.wall_time_s);
+    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute("time_step_s", r.time_step_s);
+    g.write_int_attribute("settled", r.settled ? 1 : 0);
+    g.write_int_attribute("top_plate_wall", static_cast<std::int64_t>(r.top_plate_wall));
+}
+
+eng::PreparationReport read_preparation_report(const io::Group& g)
+{
+    eng::PreparationReport r;
+    const auto count = [&](const char* name) {
+        const std::int64_t v = g.read_int_attribute(name);
+        if (v < 0) throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is negative");
+        return static_cast<std::uint64_t>(v);
+    };
+    r.grains = count("grains");
+    r.wire_nodes = count("wire_nodes");
+    r.wire_length_m = g.read_double_attribute("wire_length_m");
+    r.nozzle_path_m = g.read_double_attribute("nozzle_path_m");
+    r.pile_height_m = g.read_double_attribute("pile_height_m");
+    r.sample_volume_m3 = g.read_double_attribute("sample_volume_m3");
+    r.grain_volume_fraction = g.read_double_attribute("grain_volume_fraction");
+    r.wire_volume_fraction = g.read_double_attribute("wire_volume_fraction");
+    r.core_grain_volume_fraction = g.read_double_attribute("core_grain_volume_fraction");
+    r.core_wire_volume_fraction = g.read_double_attribute("core_wire_volume_fraction");
+    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
+    r.wall_time_s = g.read_double_attribute("wall_time_s");
+    r.steps = count("steps");
+    r.time_step_s = g.read_double_attribute("time_step_s");
+    r.settled = g.read_int_attribute("settled") != 0;
+    r.top_plate_wall = count("top_plate_wall");
+    return r;
+}
+
+void write_text_file_atomically(const std::filesystem::path& path, const std::string& text)
+{
+    std::filesystem::path partial = path;
+    partial += ".partial";
+    {
+        std::ofstream out(partial, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.close();
+        if (!out) throw std::runtime_error("cannot write " + partial.string());
+    }
+    std::filesystem::rename(partial, path);
+}
+
+} // namespace wiredem::campaign

@@ -1,0 +1,64 @@
+// The files of one job directory, and how the campaign's records are written
+// to and read from HDF5 (engine/io/hdf5.hpp).
+//
+//   DIR/job.json                   the job spec (api::to_json), written first by `prepare`
+//   DIR/specimen.h5                the prepared World (io/snapshot.hpp) and, in /host,
+//                                  the preparation report
+//   DIR/tests/test_K.h5            test K (K-th confining pressure of the job): /test,
+//                                  the group result.h5 holds for it
+//   DIR/tests/test_K.checkpoint.h5 a running test K: the World and, in /host, the
+//                                  driver's state (engine::TriaxialDriverState)
+//   DIR/result.h5, result.xdmf, summary.json   written by `analyse` (docs/results.md)
+//
+// Every file appears complete or not at all: written beside its name, then
+// renamed. Every number is written with its exact bits, so a record read back
+// equals the one written (tests/campaign/test_files.cpp) and `analyse`
+// writes the same result.h5 and summary.json whether the tests ran in this
+// process or in others.
+#pragma once
+
+#include "io/hdf5.hpp"
+#include "specimen/preparation.hpp"
+#include "triaxial/triaxial.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+namespace wiredem::campaign {
+
+/// Where each file of a job directory lives.
+struct JobDir {
+    std::filesystem::path root;
+
+    [[nodiscard]] std::filesystem::path job() const { return root / "job.json"; }
+    [[nodiscard]] std::filesystem::path specimen() const { return root / "specimen.h5"; }
+    [[nodiscard]] std::filesystem::path tests() const { return root / "tests"; }
+    [[nodiscard]] std::filesystem::path test(std::size_t k) const;
+    [[nodiscard]] std::filesystem::path checkpoint(std::size_t k) const;
+    [[nodiscard]] std::filesystem::path result_h5() const { return root / "result.h5"; }
+    [[nodiscard]] std::filesystem::path result_xdmf() const { return root / "result.xdmf"; }
+    [[nodiscard]] std::filesystem::path summary() const { return root / "summary.json"; }
+};
+
+/// A test's record: attributes (peak, yield, verdict, times, warnings), the
+/// time series and the snapshots, as result.h5 holds each test
+/// (docs/results.md). Also a partial record (a checkpoint's: no
+/// volumetric strain, no peak yet).
+void write_triaxial_result(engine::io::Group& g, const engine::TriaxialResult& r);
+/// Reads what write_triaxial_result wrote. Throws (engine::io::Hdf5Error,
+/// std::runtime_error) on a missing or misshapen member.
+[[nodiscard]] engine::TriaxialResult read_triaxial_result(const engine::io::Group& g);
+
+/// The test driver's state, its partial result in the subgroup "result".
+void write_driver_state(engine::io::Group& g, const engine::TriaxialDriverState& s);
+[[nodiscard]] engine::TriaxialDriverState read_driver_state(const engine::io::Group& g);
+
+/// The preparation report, as attributes (the specimen group of result.h5).
+void write_preparation_report(engine::io::Group& g, const engine::PreparationReport& r);
+[[nodiscard]] engine::PreparationReport read_preparation_report(const engine::io::Group& g);
+
+/// Writes `text` to `path` through a temporary file and a rename.
+void write_text_file_atomically(const std::filesystem::path& path, const std::string& text);
+
+} // namespace wiredem::campaign

@@ -1,0 +1,577 @@
+#include "stages.hpp"
+
+#include "analysis/autocorrelation.hpp"
+#include "analysis/mohr_coulomb.hpp"
+#include "analysis/strength.hpp"
+#include "api/derived.hpp"
+#include "api/engine_settings.hpp"
+#include "io/snapshot.hpp"
+#include "io/xdmf.hpp"
+#include "simulation.hpp"
+#include "timestep.hpp"
+
+#include <boost/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+namespace wiredem::campaign {
+
+namespace json = boost::json;
+namespace eng = engine;
+namespace io = engine::io;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Below this fraction of its path laid as wire, the nozzle is reported as
+/// blocked (it feeds no wire where a grain or earlier wire is in the way).
+constexpr double min_laid_fraction = 0.8;
+
+/// A finite number, or JSON null.
+json::value number_or_null(double x) { return std::isfinite(x) ? json::value(x) : json::value(nullptr); }
+
+std::string format_metres(double m)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g m", m);
+    return buf;
+}
+
+void report(const StageControl& c, const char* stage, double fraction, const std::string& message)
+{
+    if (c.progress) c.progress(stage, std::clamp(fraction, 0.0, 1.0), message);
+}
+
+std::size_t body_count(const eng::World& w)
+{
+    return w.of(eng::BodyKind::grain).size() + w.of(eng::BodyKind::wire).size() + w.of(eng::BodyKind::membrane).size();
+}
+
+/// "10000", "1500000", "12345.5": the pressure in a group name of result.h5.
+std::string pressure_name(double pa)
+{
+    std::ostringstream o;
+    o.precision(17);
+    o << pa;
+    return "sigma3_" + o.str();
+}
+
+std::string test_label(std::size_t k, std::size_t n, double pa)
+{
+    char label[96];
+    std::snprintf(label, sizeof label, "test %zu/%zu at sigma3 = %g Pa", k + 1, n, pa);
+    return label;
+}
+
+/// The specimen of a prepared directory: the World ready to test and its report.
+struct Specimen {
+    eng::World world;
+    eng::PreparationReport report;
+    std::int64_t threads = 0;   ///< the preparation's engine threads
+};
+
+eng::Result<Specimen, std::string> read_specimen(const JobDir& dir)
+{
+    Specimen s;
+    auto w = eng::restore_snapshot(dir.specimen(), [&](const io::Group& host) {
+        s.report = read_preparation_report(host);
+        s.threads = host.read_int_attribute("threads");
+    });
+    if (!w.ok()) return eng::Err(w.error() + " (is the directory prepared? `wiredem prepare JOB.json -o DIR`)");
+    s.world = std::move(w.value());
+    if (s.report.top_plate_wall >= s.world.walls.size())
+        return eng::Err(dir.specimen().string() + ": the top plate's wall index is past the walls");
+    return s;
+}
+
+std::string job_text(const api::JobSpec& spec) { return json::serialize(api::to_json(spec)) + "\n"; }
+
+} // namespace
+
+eng::Result<api::JobSpec, std::string> read_job(const JobDir& dir)
+{
+    std::ifstream in(dir.job(), std::ios::binary);
+    if (!in) return eng::Err(dir.job().string() + ": cannot read (not a job directory?)");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto spec = api::parse_job_spec(std::string_view(text));
+    if (!spec.ok()) {
+        std::string msg = dir.job().string() + ": not a valid job:";
+        for (const auto& e : spec.error()) {
+            msg += ' ';
+            if (!e.path.empty()) msg.append(e.path).append(": ");
+            msg.append(e.message).append(";");
+        }
+        return eng::Err(msg);
+    }
+    return spec.value();
+}
+
+StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
+{
+    std::error_code ec;
+    const std::string text = job_text(spec);
+    if (std::filesystem::exists(dir.job(), ec)) {
+        std::ifstream in(dir.job(), std::ios::binary);
+        const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (old != text)
+            return dir.root.string() + " holds another job (its job.json differs from this one); use another directory";
+        if (std::filesystem::exists(dir.specimen(), ec)) return std::nullopt; // prepared already
+    }
+    std::filesystem::create_directories(dir.tests(), ec);
+    if (ec) return "cannot create " + dir.tests().string() + ": " + ec.message();
+    try {
+        write_text_file_atomically(dir.job(), text);
+    } catch (const std::exception& e) {
+        return std::string(e.what());
+    }
+
+    const eng::PreparationSpec prep_spec = api::preparation_spec(spec);
+    eng::Simulation sim(control.threads);
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "preparing", f,
+            "pouring " + std::to_string(prep_spec.grain_count) + " grains, step " + std::to_string(done));
+    };
+    report(control, "preparing", 0.0, "preparing the specimen");
+    auto prepared = eng::prepare_specimen(sim, prep_spec, rc);
+    if (!prepared.ok()) return "preparation failed: " + prepared.error();
+    const eng::PreparationReport prep = prepared.value();
+
+    // Time step of the tests: the given one, or the auto fraction of the
+    // deformable system's critical step (the pouring's is set by impacts).
+    if (!spec.engine.time_step_s)
+        eng::set_time_step(
+            sim.world, eng::stable_time_step(eng::stability_inputs(sim.world, eng::MembraneAs::deformable)).auto_s);
+    auto saved = eng::save_snapshot(sim.world, dir.specimen(), [&](io::Group& host) {
+        write_preparation_report(host, prep);
+        host.write_int_attribute("threads", sim.threads());
+    });
+    if (!saved.ok()) return saved.error();
+    return std::nullopt;
+}
+
+StageError run_test(const JobDir& dir, std::size_t index, const StageControl& control)
+{
+    auto job = read_job(dir);
+    if (!job.ok()) return job.error();
+    const api::JobSpec& spec = job.value();
+    const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
+    if (index >= pressures.size())
+        return "test index " + std::to_string(index) + " is out of range: the job has " + std::to_string(pressures.size())
+             + " confining pressures (0 to " + std::to_string(pressures.size() - 1) + ")";
+    std::error_code ec;
+    if (std::filesystem::exists(dir.test(index), ec)) return std::nullopt; // done already
+    const std::string label = test_label(index, pressures.size(), pressures[index]);
+
+    auto specimen = read_specimen(dir);
+    if (!specimen.ok()) return specimen.error();
+    const std::size_t top_plate = specimen.value().report.top_plate_wall;
+    eng::Simulation sim(control.threads);
+    eng::TriaxialContinuation continuation;
+    if (std::filesystem::exists(dir.checkpoint(index), ec)) {
+        eng::TriaxialDriverState state;
+        auto w = eng::restore_snapshot(dir.checkpoint(index), [&](const io::Group& host) { state = read_driver_state(host); });
+        if (!w.ok()) return "cannot continue " + label + " from its checkpoint: " + w.error();
+        sim.world = std::move(w.value());
+        continuation.from = std::move(state);
+    } else {
+        sim.world = std::move(specimen.value().world);
+    }
+
+    auto last_save = Clock::now();
+    std::string checkpoint_error;
+    if (control.checkpoint_interval_s > 0.0) {
+        continuation.between_steps = [&](const eng::World& w, const eng::TriaxialDriverState& st) {
+            // Every interval, and once more when the test is stopped (SIGTERM:
+            // a server shutting down), so that the next start loses nothing.
+            const bool stopping = control.cancel && control.cancel->load(std::memory_order_relaxed);
+            if (!stopping && std::chrono::duration<double>(Clock::now() - last_save).count() < control.checkpoint_interval_s)
+                return;
+            auto saved = eng::save_snapshot(w, dir.checkpoint(index), [&](io::Group& host) { write_driver_state(host, st); });
+            if (!saved.ok() && checkpoint_error.empty()) {
+                // The test goes on; only its resumability is lost. Said once.
+                checkpoint_error = saved.error();
+                std::cerr << "wiredem: " << label << ": cannot write a checkpoint, the test goes on without: "
+                          << checkpoint_error << '\n';
+            }
+            last_save = Clock::now();
+        };
+    }
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "testing", f, label + ", step " + std::to_string(done));
+    };
+    report(control, "testing", 0.0, label);
+    auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, pressures[index]), rc, std::move(continuation));
+    if (!r.ok()) return label + " failed: " + r.error();
+
+    std::filesystem::path partial = dir.test(index);
+    partial += ".partial";
+    try {
+        io::File file = io::File::create(partial);
+        io::Group g = file.root().create_group("test");
+        g.write_double_attribute("confining_pressure_pa", pressures[index]);
+        g.write_int_attribute("threads", sim.threads());
+        write_triaxial_result(g, r.value());
+        file.close();
+        std::filesystem::rename(partial, dir.test(index));
+    } catch (const std::exception& e) {
+        std::filesystem::remove(partial, ec);
+        return "cannot write " + dir.test(index).string() + ": " + e.what();
+    }
+    std::filesystem::remove(dir.checkpoint(index), ec);
+    return std::nullopt;
+}
+
+namespace {
+
+/// A Mohr–Coulomb fit as the summary reports it, with the states it went through.
+json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::string_view states)
+{
+    json::object mc;
+    if (fit.ok()) {
+        const auto& f = fit.value();
+        mc["friction_angle_deg"] = number_or_null(f.friction_angle_rad * 180.0 / std::numbers::pi);
+        mc["cohesion_pa"] = number_or_null(f.cohesion_pa);
+        mc["cohesion_fixed_at_zero"] = f.cohesion_fixed_at_zero;
+        mc["r_squared"] = f.r_squared ? number_or_null(*f.r_squared) : json::value(nullptr);
+        mc["paper_top_line_angle_deg"] = number_or_null(f.paper_top_line_angle_rad * 180.0 / std::numbers::pi);
+    } else {
+        for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg"})
+            mc[k] = nullptr;
+        mc["error"] = fit.error();
+    }
+    mc["states"] = states;
+    return mc;
+}
+
+/// What the summary's strength figures mean, with the tolerances used.
+json::object definitions_json()
+{
+    const eng::analysis::CurveTolerances tol;
+    json::object d;
+    d["yield"] = "the maximum of the stress ratio (sigma1 - sigma3_eff)/(sigma1 + sigma3_eff) of sigma1 and sigma3_eff "
+                 "smoothed over smoothing_strain of axial strain, with the Mohr circle of that state";
+    d["max_q"] = "the largest raw sample of q = sigma1 - sigma3_eff during loading (tests[].peak_*)";
+    d["shape"] = "peak: the smoothed curve drops by more than shape_tolerance of its maximum after it; rising: it rose "
+                 "by more than that over the last end_window_strain (the value is a lower bound); plateau: neither";
+    d["residual_stress_ratio"] = "mean of the raw stress ratio over the last end_window_strain of axial strain";
+    d["smoothing_strain"] = tol.smoothing_strain;
+    d["shape_tolerance"] = tol.shape_tolerance;
+    d["end_window_strain"] = tol.end_window_strain;
+    d["friction_angle"] = "tangent fit: sin(phi) = slope of the least-squares line through the circle tops (p, t), "
+                          "c = intercept / cos(phi); paper_top_line_angle_deg = atan(slope), the paper's reading";
+    return d;
+}
+
+void write_units(io::Dataset d, std::string_view units) { d.write_string_attribute("units", units); }
+
+void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec, const Specimen& specimen,
+    const std::vector<eng::TriaxialResult>& tests)
+{
+    io::File file = io::File::create(path);
+    io::Group root = file.root();
+    root.write_string_attribute("format", "wiredem-result-1");
+    root.write_string_dataset("job_spec", json::serialize(api::to_json(spec)));
+
+    io::Group sp = root.create_group("specimen");
+    write_preparation_report(sp, specimen.report);
+    const eng::World& w = specimen.world;
+    const eng::TranslationalState& g = w.of(eng::BodyKind::grain);
+    write_units(sp.write_dataset("grain_position_m", std::span<const eng::Vec3>(g.x[0])), "m");
+    write_units(sp.write_dataset("grain_radius_m", std::span<const double>(g.radius_m)), "m");
+    const eng::TranslationalState& wn = w.of(eng::BodyKind::wire);
+    write_units(sp.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(wn.x[0])), "m");
+    // The plastic joints' rest angles are part of the wire's state (docs/model.md, "Wire").
+    write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(w.wire.rest_angle_rad)), "rad");
+    const eng::TranslationalState& mn = w.of(eng::BodyKind::membrane);
+    write_units(sp.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(mn.x[0])), "m");
+
+    io::Group all = root.create_group("tests");
+    const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
+    for (std::size_t i = 0; i < tests.size(); ++i) {
+        io::Group t = all.create_group(pressure_name(pressures[i]));
+        t.write_double_attribute("confining_pressure_pa", pressures[i]);
+        write_triaxial_result(t, tests[i]);
+    }
+    file.close();
+}
+
+} // namespace
+
+StageError analyse(const JobDir& dir, const StageControl& control)
+{
+    auto job = read_job(dir);
+    if (!job.ok()) return job.error();
+    const api::JobSpec& spec = job.value();
+    auto specimen_read = read_specimen(dir);
+    if (!specimen_read.ok()) return specimen_read.error();
+    const Specimen& specimen = specimen_read.value();
+    const eng::PreparationReport& prep = specimen.report;
+    const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
+    report(control, "analysing", 0.0, "reading the tests");
+
+    std::vector<eng::TriaxialResult> tests;
+    std::vector<std::int64_t> test_threads;
+    for (std::size_t k = 0; k < pressures.size(); ++k) {
+        std::error_code ec;
+        if (!std::filesystem::exists(dir.test(k), ec))
+            return test_label(k, pressures.size(), pressures[k]) + " has not run: `wiredem test " + dir.root.string()
+                 + " --index " + std::to_string(k) + "`";
+        try {
+            const io::File f = io::File::open_read_only(dir.test(k));
+            const io::Group g = f.root().open_group("test");
+            if (g.read_double_attribute("confining_pressure_pa") != pressures[k])
+                return dir.test(k).string() + " is a test at another confining pressure than the job's";
+            tests.push_back(read_triaxial_result(g));
+            test_threads.push_back(g.read_int_attribute("threads"));
+        } catch (const std::exception& e) {
+            return "cannot read " + dir.test(k).string() + ": " + e.what();
+        }
+    }
+
+    std::vector<std::string> warnings;
+    if (!prep.settled)
+        warnings.push_back("the specimen did not settle within max_preparation_time_s; it was tested as it was");
+    if (prep.wire_length_m < min_laid_fraction * prep.nozzle_path_m)
+        warnings.push_back("the nozzle laid " + format_metres(prep.wire_length_m) + " of wire along "
+                           + format_metres(prep.nozzle_path_m)
+                           + " of its path: it fell behind the pile and was blocked; lower "
+                             "specimen.pouring.fill_rate_m_per_s");
+    for (std::size_t k = 0; k < tests.size(); ++k)
+        for (const std::string& w : tests[k].warnings)
+            warnings.push_back(test_label(k, pressures.size(), pressures[k]) + ": " + w);
+
+    // Two envelopes: through the yield states (the maximum of the stress
+    // ratio; docs/model.md, "How yield is read") and, beside it, through the
+    // states at the maximum of q.
+    report(control, "analysing", 0.3, "Mohr-Coulomb fit and wire autocorrelation");
+    std::vector<eng::analysis::PeakState> yield_states, max_q_states;
+    for (const auto& t : tests) {
+        max_q_states.push_back({t.peak_sigma1_pa, t.peak_sigma3_effective_pa});
+        if (t.strength) yield_states.push_back({t.strength->yield_sigma1_pa, t.strength->yield_sigma3_pa});
+    }
+    using Fit = eng::Result<eng::analysis::MohrCoulombFit, std::string>;
+    const Fit fit = yield_states.size() == tests.size() ? eng::analysis::fit_mohr_coulomb(yield_states)
+                                                        : Fit(eng::Err(std::string("a test has no yield state")));
+    if (!fit.ok()) warnings.push_back("Mohr-Coulomb fit (yield states): " + fit.error());
+    const auto fit_max_q = eng::analysis::fit_mohr_coulomb(max_q_states);
+    if (!fit_max_q.ok()) warnings.push_back("Mohr-Coulomb fit (maximum of q): " + fit_max_q.error());
+    std::size_t rising = 0;
+    for (const auto& t : tests) rising += t.strength && t.strength->stress_ratio.shape == eng::analysis::CurveShape::rising;
+    if (rising > 0)
+        warnings.push_back(std::to_string(rising) + " of " + std::to_string(tests.size())
+                           + " tests: the stress ratio was still rising at the end; their yield states are lower "
+                             "bounds (raise triaxial.target_axial_strain)");
+    std::optional<double> lag_m;
+    const bool with_wire = spec.specimen.wire.pattern != api::WirePattern::none && prep.wire_nodes > 1;
+    // At the end of the test at the highest pressure (the first of equals):
+    // the wire's strain is largest and most developed there.
+    const auto strained = static_cast<std::size_t>(std::max_element(pressures.begin(), pressures.end()) - pressures.begin());
+    if (with_wire && strained < tests.size() && !tests[strained].snapshots.empty()) {
+        const auto ac = eng::analysis::autocorrelation(
+            tests[strained].snapshots.back().wire_segment_strain, spec.specimen.wire.segment_length_m);
+        if (!ac.ok())
+            warnings.push_back("wire autocorrelation: " + ac.error());
+        else if (!ac.value().first_maximum_lag_m)
+            warnings.push_back("wire autocorrelation: no local maximum after lag 0");
+        else
+            lag_m = ac.value().first_maximum_lag_m;
+    }
+
+    // Writing: result.h5, then summary.json (its presence marks success).
+    report(control, "writing", 0.6, "writing result.h5 and summary.json");
+    std::filesystem::path h5_tmp = dir.result_h5();
+    h5_tmp += ".partial";
+    std::error_code ec;
+    try {
+        write_result_h5(h5_tmp, spec, specimen, tests);
+        std::filesystem::rename(h5_tmp, dir.result_h5());
+        eng::io::write_xdmf(dir.result_h5(), dir.result_xdmf()); // ParaView's view of result.h5
+
+        json::object summary;
+        json::array jt;
+        const std::size_t bodies = body_count(specimen.world);
+        double body_steps = static_cast<double>(prep.steps) * static_cast<double>(bodies);
+        double stepping_wall_s = prep.wall_time_s;
+        std::uint64_t steps = prep.steps;
+        for (std::size_t i = 0; i < tests.size(); ++i) {
+            const auto& t = tests[i];
+            steps += t.steps;
+            body_steps += static_cast<double>(t.steps) * static_cast<double>(bodies);
+            stepping_wall_s += t.wall_time_s;
+            json::object o;
+            o["confining_pressure_pa"] = pressures[i];
+            o["peak_deviatoric_stress_pa"] = number_or_null(t.peak_deviatoric_stress_pa);
+            o["peak_axial_strain"] = number_or_null(t.peak_axial_strain);
+            o["sigma1_pa"] = number_or_null(t.peak_sigma1_pa);
+            o["sigma3_effective_pa"] = number_or_null(t.peak_sigma3_effective_pa);
+            if (t.strength) {
+                const eng::analysis::StrengthReading& y = *t.strength;
+                o["max_q_shape"] = eng::analysis::to_string(y.deviatoric.shape);
+                json::object yo;
+                yo["shape"] = eng::analysis::to_string(y.stress_ratio.shape);
+                yo["stress_ratio"] = number_or_null(y.stress_ratio.value);
+                yo["axial_strain"] = number_or_null(y.yield_axial_strain);
+                yo["sigma1_pa"] = number_or_null(y.yield_sigma1_pa);
+                yo["sigma3_effective_pa"] = number_or_null(y.yield_sigma3_pa);
+                yo["deviatoric_stress_pa"] = number_or_null(y.yield_sigma1_pa - y.yield_sigma3_pa);
+                o["yield"] = std::move(yo);
+                o["residual_stress_ratio"] = number_or_null(y.residual_stress_ratio);
+            } else {
+                o["max_q_shape"] = nullptr;
+                o["yield"] = nullptr;
+                o["residual_stress_ratio"] = nullptr;
+            }
+            o["hold_time_s"] = t.hold_time_s;
+            o["consolidated_sigma1_pa"] = number_or_null(t.consolidated_sigma1_pa);
+            o["quasi_static"] = t.verdict.quasi_static;
+            o["max_inertial_number"] = number_or_null(t.verdict.max_inertial_number);
+            o["mean_kinetic_to_elastic"] = number_or_null(t.verdict.mean_kinetic_to_elastic);
+            o["max_kinetic_to_elastic"] = number_or_null(t.verdict.max_kinetic_to_elastic);
+            o["steps"] = t.steps;
+            o["wall_time_s"] = t.wall_time_s;
+            o["threads"] = test_threads[i];
+            jt.push_back(std::move(o));
+        }
+        summary["name"] = spec.name;
+        summary["tests"] = std::move(jt);
+
+        summary["mohr_coulomb"] = mohr_coulomb_json(fit,
+            "yield states: (sigma1, sigma3_effective) at the maximum of the smoothed stress ratio (tests[].yield)");
+        summary["mohr_coulomb_max_q"]
+            = mohr_coulomb_json(fit_max_q, "(sigma1, sigma3_effective) at the maximum of q (tests[].peak_*)");
+        summary["definitions"] = definitions_json();
+
+        json::object sp;
+        sp["grain_volume_fraction"] = prep.grain_volume_fraction;
+        sp["wire_volume_fraction"] = prep.wire_volume_fraction;
+        sp["core_grain_volume_fraction"] = prep.core_grain_volume_fraction;
+        sp["core_wire_volume_fraction"] = prep.core_wire_volume_fraction;
+        sp["sample_volume_m3"] = prep.sample_volume_m3;
+        sp["grains"] = prep.grains;
+        sp["wire_nodes"] = prep.wire_nodes;
+        sp["wire_length_m"] = prep.wire_length_m;
+        sp["nozzle_path_m"] = prep.nozzle_path_m;
+        sp["pile_height_m"] = prep.pile_height_m;
+        sp["settled"] = prep.settled;
+        sp["preparation_time_step_s"] = prep.time_step_s;
+        sp["preparation_steps"] = prep.steps;
+        sp["preparation_wall_time_s"] = prep.wall_time_s;
+        summary["specimen"] = std::move(sp);
+
+        json::object wire;
+        wire["pattern"] = api::to_string(spec.specimen.wire.pattern);
+        wire["autocorrelation_lag_m"] = lag_m ? json::value(*lag_m) : json::value(nullptr);
+        summary["wire"] = std::move(wire);
+
+        json::array jw;
+        for (const auto& w : warnings) jw.emplace_back(w);
+        summary["warnings"] = std::move(jw);
+
+        json::object e;
+        e["time_step_s"] = specimen.world.dt_s;
+        e["steps"] = steps;
+        // The stages' own times, added: tests that ran at once overlap.
+        e["wall_time_s"] = stepping_wall_s;
+        e["body_steps_per_second"] = stepping_wall_s > 0.0 ? json::value(body_steps / stepping_wall_s) : json::value(nullptr);
+        e["threads"] = specimen.threads; // the preparation's; each test's is in tests[]
+        e["density_scale"] = spec.engine.density_scale;
+        summary["engine"] = std::move(e);
+
+        write_text_file_atomically(dir.summary(), json::serialize(summary) + "\n");
+    } catch (const std::exception& ex) {
+        std::filesystem::remove(h5_tmp, ec);
+        return std::string("writing the results failed: ") + ex.what();
+    }
+    report(control, "writing", 1.0, "done");
+    return std::nullopt;
+}
+
+StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
+{
+    // Overall progress: preparation and tests share 0–0.95 in proportion to
+    // their estimated steps, the tests equally; analysis and writing the rest.
+    constexpr double tests_end = 0.95;
+    const std::size_t n_tests = spec.triaxial.confining_pressures_pa.size();
+    // The shares come from the job's work estimate (api::estimated_work):
+    // the preparation's longest pour and settling against the tests' steps.
+    const api::WorkEstimate work = api::estimated_work(spec);
+    const double prep_share = std::clamp(tests_end * work.preparation_steps / work.total_steps(), 0.01, 0.5);
+    std::mutex report_mutex; // progress comes from several tests' threads
+    const auto overall = [&](const char* stage, double f, const std::string& m) {
+        std::lock_guard lock(report_mutex);
+        report(control, stage, f, m);
+    };
+
+    StageControl prep_control = control;
+    prep_control.progress = [&](const char* stage, double f, const std::string& m) {
+        overall(stage, prep_share * f, m);
+    };
+    if (auto e = prepare(spec, dir, prep_control)) return e;
+
+    std::vector<std::size_t> pending;
+    std::error_code ec;
+    for (std::size_t k = 0; k < n_tests; ++k)
+        if (!std::filesystem::exists(dir.test(k), ec)) pending.push_back(k);
+    const double per_test = (tests_end - prep_share) / static_cast<double>(n_tests);
+    std::vector<double> done(n_tests, 1.0);
+    for (std::size_t k : pending) done[k] = 0.0;
+
+    // Tests at once: as many as threads (each test is deterministic for any
+    // thread count, so the results do not depend on how they are shared).
+    const unsigned threads = control.threads ? control.threads : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t at_once = std::max<std::size_t>(1, std::min<std::size_t>(pending.size(), threads));
+    std::vector<StageError> errors(n_tests);
+    std::atomic<std::size_t> next{0};
+    const auto worker = [&](unsigned worker_threads) {
+        for (std::size_t i = next.fetch_add(1); i < pending.size(); i = next.fetch_add(1)) {
+            const std::size_t k = pending[i];
+            StageControl tc = control;
+            tc.threads = worker_threads;
+            tc.progress = [&, k](const char* stage, double f, const std::string& m) {
+                std::lock_guard lock(report_mutex);
+                done[k] = f;
+                double sum = 0.0;
+                for (double d : done) sum += d;
+                report(control, stage, prep_share + per_test * sum, m);
+            };
+            errors[k] = run_test(dir, k, tc);
+            if (control.cancel && control.cancel->load()) return;
+        }
+    };
+    std::vector<std::thread> workers;
+    for (std::size_t t = 1; t < at_once; ++t)
+        workers.emplace_back(worker, static_cast<unsigned>(threads / at_once + (t < threads % at_once ? 1 : 0)));
+    worker(static_cast<unsigned>(threads / at_once + (threads % at_once > 0 ? 1 : 0)));
+    for (auto& t : workers) t.join();
+    for (const StageError& e : errors)
+        if (e) return e;
+    if (control.cancel && control.cancel->load()) return std::string("cancelled");
+
+    StageControl analysis_control = control;
+    analysis_control.progress = [&](const char* stage, double f, const std::string& m) {
+        overall(stage, tests_end + (1.0 - tests_end) * f, m);
+    };
+    return analyse(dir, analysis_control);
+}
+
+} // namespace wiredem::campaign

@@ -1,0 +1,68 @@
+// A campaign in stages, each reading and writing files of one job directory
+// (files.hpp): prepare → one test per confining pressure → analyse. The
+// stages may run in one process (`run`), in several, one after another or at
+// once, or on other machines sharing the directory (a cluster's job steps);
+// the files they leave are the same bit for bit, and so are result.h5 and
+// summary.json.
+//
+// A test writes a checkpoint every `checkpoint_interval_s` of wall time;
+// started again after it was killed, it goes on from the last one and ends
+// with the result an uninterrupted test gives (engine::TriaxialContinuation).
+// `run` resumes a job directory at every level: a prepared specimen is not
+// prepared again, a finished test not run again.
+#pragma once
+
+#include "api/job_spec.hpp"
+#include "core/result.hpp"
+#include "files.hpp"
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace wiredem::campaign {
+
+/// Checkpoints of a running test, by default every few minutes of wall time:
+/// a killed test loses at most that much; a save of the paper's column costs
+/// well under a second.
+inline constexpr double default_checkpoint_interval_s = 300.0;
+
+/// How a host controls a stage. All members optional.
+struct StageControl {
+    unsigned threads = 0;                        ///< engine threads (0: every core)
+    const std::atomic<bool>* cancel = nullptr;   ///< set to stop at the next step
+    /// Progress of the stage: (stage name, fraction of the stage done 0–1,
+    /// message). `run` calls it with the campaign's overall fraction, from
+    /// the thread of whichever test moved, one call at a time.
+    std::function<void(const char* stage, double fraction, const std::string& message)> progress;
+    double checkpoint_interval_s = default_checkpoint_interval_s; ///< ≤ 0: no checkpoints
+};
+
+/// An error message, or nothing when the stage succeeded.
+using StageError = std::optional<std::string>;
+
+/// The job of a directory (DIR/job.json). Errors name the file.
+[[nodiscard]] engine::Result<api::JobSpec, std::string> read_job(const JobDir& dir);
+
+/// Prepares the specimen of `spec` into `dir` (job.json, specimen.h5), with
+/// the time step of the tests set. A directory already prepared for the same
+/// job is left as it is; one that holds another job is an error.
+[[nodiscard]] StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control);
+
+/// Runs test `index` (the index-th confining pressure) of a prepared
+/// directory, from its checkpoint if there is one. A test already done is not
+/// run again.
+[[nodiscard]] StageError run_test(const JobDir& dir, std::size_t index, const StageControl& control);
+
+/// Reads the specimen and every test, fits the envelopes and writes
+/// result.h5, result.xdmf and summary.json (summary.json last: its presence
+/// marks a finished campaign).
+[[nodiscard]] StageError analyse(const JobDir& dir, const StageControl& control);
+
+/// The whole campaign: prepare, the tests not yet done — up to `control.threads`
+/// of them at once, the threads shared among them —, analyse.
+[[nodiscard]] StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& control);
+
+} // namespace wiredem::campaign

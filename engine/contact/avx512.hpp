@@ -1,0 +1,73 @@
+// AVX-512 helpers shared by the SIMD kernels (contact/pair_kernel_simd.cpp,
+// integrate/rotation_simd.cpp): eight lanes of doubles with the arithmetic
+// of the scalar code, and transposes between arrays of small records and
+// lane registers. Include only in files built with -ffp-contract=off (see
+// pair_kernel_simd.hpp: no fused multiply–add, so the lanes keep the scalar
+// code's bits) and only on x86-64.
+#pragma once
+
+#include <immintrin.h>
+
+namespace wiredem::engine::avx512 {
+
+// Every helper is inlined into functions built for AVX-512 (F, VL, BW),
+// which the CPU is checked for at run time (simd_kernels_in_use).
+#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl,avx512bw"), gnu::always_inline
+
+// Eight lanes of doubles; GCC's vector extensions give __m512d the
+// arithmetic operators, lane by lane (no fusing: -ffp-contract=off).
+struct V3 {
+    __m512d x, y, z;
+};
+
+[[WIREDEM_AVX512]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+[[WIREDEM_AVX512]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+[[WIREDEM_AVX512]] inline V3 operator*(__m512d s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
+// Eigen's order for a 3-vector: (x + y) + z, as the scalar law sums.
+[[WIREDEM_AVX512]] inline __m512d dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+// Eigen's cross(): each component a product difference, as written here.
+[[WIREDEM_AVX512]] inline V3 cross(const V3& a, const V3& b)
+{
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+[[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
+    long long f, long long g, long long h)
+{
+    return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
+}
+
+/// Components of eight consecutive records of four doubles (a quaternion's
+/// x y z w; a spring's x y z and the word holding `sticking`), one register each.
+struct Records4 {
+    __m512d x, y, z, w;
+};
+
+/// The eight records at `in`, transposed into lanes.
+[[WIREDEM_AVX512]] inline Records4 load_records4(const double* in)
+{
+    const __m512d l01 = _mm512_loadu_pd(in), l23 = _mm512_loadu_pd(in + 8);
+    const __m512d l45 = _mm512_loadu_pd(in + 16), l67 = _mm512_loadu_pd(in + 24);
+    const __m512i xy = lanes_of(0, 4, 8, 12, 1, 5, 9, 13), zw = lanes_of(2, 6, 10, 14, 3, 7, 11, 15);
+    const __m512d xy03 = _mm512_permutex2var_pd(l01, xy, l23), xy47 = _mm512_permutex2var_pd(l45, xy, l67);
+    const __m512d zw03 = _mm512_permutex2var_pd(l01, zw, l23), zw47 = _mm512_permutex2var_pd(l45, zw, l67);
+    const __m512i low = lanes_of(0, 1, 2, 3, 8, 9, 10, 11), high = lanes_of(4, 5, 6, 7, 12, 13, 14, 15);
+    return {_mm512_permutex2var_pd(xy03, low, xy47), _mm512_permutex2var_pd(xy03, high, xy47),
+        _mm512_permutex2var_pd(zw03, low, zw47), _mm512_permutex2var_pd(zw03, high, zw47)};
+}
+
+/// Writes the records of the lanes in `lanes` back to `out`, only the
+/// components in `components` (bit 0 x … bit 3 w) of each.
+[[WIREDEM_AVX512]] inline void store_records4(double* out, __mmask8 lanes, const Records4& r, unsigned components)
+{
+    for (int pair = 0; pair < 4; ++pair) {
+        const long long a = 2 * pair, b = a + 1;
+        const __m512d xy = _mm512_permutex2var_pd(r.x, lanes_of(a, a + 8, 0, 0, b, b + 8, 0, 0), r.y);
+        const __m512d zw = _mm512_permutex2var_pd(r.z, lanes_of(0, 0, a, a + 8, 0, 0, b, b + 8), r.w);
+        const __m512d records = _mm512_mask_blend_pd(0xcc, xy, zw); // x y from xy, z w from zw
+        const auto mask = static_cast<__mmask8>(((lanes >> a & 1u) ? components : 0u) | ((lanes >> b & 1u) ? components << 4 : 0u));
+        _mm512_mask_storeu_pd(out + 8 * pair, mask, records);
+    }
+}
+
+} // namespace wiredem::engine::avx512

@@ -1,0 +1,318 @@
+// Compiled with -ffp-contract=off (engine/CMakeLists.txt): see the header for
+// why the lanes give the scalar law's bits.
+#include "contact/pair_kernel_simd.hpp"
+
+#include "state/world.hpp"
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+
+#if defined(__x86_64__)
+#include "contact/avx512.hpp"
+#endif
+
+namespace wiredem::engine {
+namespace {
+
+std::atomic<SimdKernels> chosen_kernels{SimdKernels::automatic};
+
+#if defined(__x86_64__)
+
+// GCC 12's own intrinsics (gathers, square roots, max) start from an
+// "undefined" register that -Wmaybe-uninitialized reports when inlined.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+using namespace avx512;
+
+// The loads below read Vec3 arrays as doubles with a stride of 3, the
+// contact list's ids as 32-bit words and its springs with a stride of 4.
+static_assert(sizeof(Vec3) == 3 * sizeof(double));
+static_assert(sizeof(BodyRef) == sizeof(std::uint32_t));
+static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(TangentialState, spring_m) == 0);
+
+/// base[idx[l]] in lane l.
+[[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
+
+/// x, y and z of base[i[l]] in lane l: eight loads of x y z (masked to three
+/// doubles, so the last body is not read past) transposed in registers,
+/// cheaper than three gathers on this CPU.
+[[WIREDEM_AVX512]] inline __m512d two_rows(const Vec3& low, const Vec3& high) // x y z 0 x y z 0
+{
+    return _mm512_insertf64x4(
+        _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low.data())), _mm256_maskz_loadu_pd(0x7, high.data()), 1);
+}
+[[WIREDEM_AVX512]] inline V3 load_vec3s(const Vec3* base, const std::uint32_t* i)
+{
+    const __m512d r04 = two_rows(base[i[0]], base[i[4]]), r15 = two_rows(base[i[1]], base[i[5]]);
+    const __m512d r26 = two_rows(base[i[2]], base[i[6]]), r37 = two_rows(base[i[3]], base[i[7]]);
+    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), y01 = _mm512_unpackhi_pd(r04, r15);
+    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), y23 = _mm512_unpackhi_pd(r26, r37);
+    const __m512i even = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), odd = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(y01, even, y23),
+        _mm512_permutex2var_pd(xz01, odd, xz23)};
+}
+
+/// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask: the
+/// doubles that a lane of a Vec3 array occupies.
+constexpr auto spread3 = [] {
+    std::array<std::uint32_t, 256> spread{};
+    for (unsigned m = 0; m < 256; ++m)
+        for (unsigned l = 0; l < 8; ++l)
+            if (m >> l & 1u) spread[m] |= 7u << (3 * l);
+    return spread;
+}();
+
+/// Writes the lanes in `lanes` of v to dst[0 … 8) (x₀ y₀ z₀ x₁ … z₇, 24
+/// doubles): three masked stores of v transposed in registers (AVX-512 has
+/// scatters, but on this CPU they cost several times these permutes).
+[[WIREDEM_AVX512]] inline void store_vec3s(Vec3* dst, __mmask8 lanes, const V3& v)
+{
+    double* out = dst->data();
+    const std::uint32_t m = spread3[lanes];
+    // Each output register: x and y interleaved (index ≥ 8 picks the second
+    // operand), then z put into the gaps.
+    const __m512d o0 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 8, 0, 1, 9, 0, 2, 10), v.y), lanes_of(0, 1, 8, 3, 4, 9, 6, 7), v.z);
+    const __m512d o1 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 3, 11, 0, 4, 12, 0, 5), v.y), lanes_of(10, 1, 2, 11, 4, 5, 12, 7), v.z);
+    const __m512d o2 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(13, 0, 6, 14, 0, 7, 15, 0), v.y), lanes_of(0, 13, 2, 3, 14, 5, 6, 15), v.z);
+    _mm512_mask_storeu_pd(out, static_cast<__mmask8>(m), o0);
+    _mm512_mask_storeu_pd(out + 8, static_cast<__mmask8>(m >> 8), o1);
+    _mm512_mask_storeu_pd(out + 16, static_cast<__mmask8>(m >> 16), o2);
+}
+
+/// The springs δ of eight consecutive contacts (32 bytes each: x y z and the
+/// word holding `sticking`), transposed into lanes.
+[[WIREDEM_AVX512]] inline V3 load_springs(const TangentialState* t)
+{
+    const Records4 r = load_records4(t->spring_m.data());
+    return {r.x, r.y, r.z};
+}
+
+/// Writes the springs of the lanes in `lanes`, leaving every `sticking` word.
+[[WIREDEM_AVX512]] inline void store_springs(TangentialState* t, __mmask8 lanes, const V3& v)
+{
+    store_records4(t->spring_m.data(), lanes, {v.x, v.y, v.z, v.z}, 0x7);
+}
+
+/// What evaluate_contact does for a contact that is apart: the slots of the
+/// lanes in `apart` that touched are cleared (masks, not a branch per lane:
+/// which lanes are apart is a coin toss to the branch predictor, and its
+/// misses cost more than the arithmetic).
+[[WIREDEM_AVX512]] inline void clear_opened(ContactList& c, std::size_t p, __mmask8 apart)
+{
+    const __m128i touching = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&c.touching[p]));
+    const auto opened = static_cast<__mmask8>(apart & _mm_test_epi8_mask(touching, touching));
+    if (opened != 0)
+        for (unsigned l = 0; l < simd_pair_lanes; ++l)
+            if (opened >> l & 1u) {
+                c.tangential[p + l] = TangentialState{};
+                c.force_n[p + l].setZero();
+                c.normal_x_tangential_n[p + l].setZero();
+                c.normal_force_n[p + l] = 0.0;
+                c.touching[p + l] = 0;
+            }
+}
+
+/// The rest of evaluate_contact for the overlapping lanes in `lanes`, from
+/// their geometry (normal from first to second, overlap ξ, velocity of
+/// first's contact point relative to second's): the laws, then the slots.
+/// Returns the lanes done: those whose branch was certain.
+[[WIREDEM_AVX512]] inline __mmask8 evaluate_lanes(ContactList& c, std::size_t p, __mmask8 lanes, const V3& normal,
+    __m512d overlap, const V3& velocity, const GrainPairInputs& in)
+{
+    const __m512d zero = _mm512_setzero_pd();
+    std::uint32_t sticking_bits = 0;
+    for (unsigned l = 0; l < simd_pair_lanes; ++l)
+        sticking_bits |= static_cast<std::uint32_t>(c.tangential[p + l].sticking) << l;
+    const auto sticking = static_cast<__mmask8>(sticking_bits);
+
+    // Normal force: damped_hertz_force_n; max(0, f) is std::max(f, 0.0).
+    const __m512d rate = dot(velocity, normal);
+    const V3 vt = velocity - rate * normal;
+    const __m512d k = _mm512_loadu_pd(&c.hertz_coefficient[p]);
+    const __m512d fn =
+        _mm512_max_pd(zero, k * _mm512_sqrt_pd(overlap) * (overlap + _mm512_set1_pd(in.damping_s) * rate));
+
+    // Tangential force: tangential_force, every branch computed and blended.
+    const TangentialParams& tp = in.tangential;
+    const __m512d mu = _mm512_set1_pd(tp.friction_coeff), gamma = _mm512_set1_pd(tp.damping_s_per_m);
+    const __m512d dt = _mm512_set1_pd(in.dt);
+    const V3 old_spring = load_springs(&c.tangential[p]);
+    const __m512d speed = _mm512_sqrt_pd(dot(vt, vt));
+    // A sliding contact slides on while γ_t |v_t| > μ and v_t has not turned back.
+    const __mmask8 slides_on = static_cast<__mmask8>(~sticking) & _mm512_cmp_pd_mask(gamma * speed, mu, _CMP_GT_OQ)
+                             & _mm512_cmp_pd_mask(dot(vt, old_spring), zero, _CMP_GE_OQ);
+    // Sticking: the spring turned into the tangent plane at its length. A
+    // sliding contact that stops sticks with a new spring (δ_t = 0).
+    V3 spring = old_spring - dot(old_spring, normal) * normal;
+    const __m512d new_len2 = dot(spring, spring);
+    const __mmask8 turned = _mm512_cmp_pd_mask(new_len2, zero, _CMP_GT_OQ);
+    const __m512d one = _mm512_set1_pd(1.0);
+    // × 1 leaves a lane that the scalar law does not rescale unchanged.
+    spring = _mm512_mask_sqrt_pd(one, turned, _mm512_mask_div_pd(one, turned, dot(old_spring, old_spring), new_len2))
+           * spring;
+    spring = {_mm512_maskz_mov_pd(sticking, spring.x), _mm512_maskz_mov_pd(sticking, spring.y),
+        _mm512_maskz_mov_pd(sticking, spring.z)};
+    spring = spring + dt * vt;
+    const V3 held = (_mm512_set1_pd(-tp.stiffness_per_m) * fn) * spring;
+    const __m512d coulomb = mu * fn;
+    const __m512d critical = _mm512_set1_pd(tp.critical_slip_m);
+    const __m512d held2 = dot(held, held), spring2 = dot(spring, spring);
+    const __mmask8 holds = _mm512_cmp_pd_mask(held2, coulomb * coulomb, _CMP_LE_OQ)
+                         & _mm512_cmp_pd_mask(spring2, critical * critical, _CMP_LE_OQ);
+    const __mmask8 breaks = _mm512_cmp_pd_mask(held2, coulomb * coulomb, _CMP_GT_OQ)
+                          | _mm512_cmp_pd_mask(spring2, critical * critical, _CMP_GT_OQ);
+    // Dynamic friction, F_t = −F_n min(μ, γ_t |v_t|) v̂_t (0 at rest); the
+    // slip v_t δt is kept to tell a reversal. min(γ|v|, μ) is std::fmin(μ, γ|v|).
+    const __mmask8 slides = slides_on | (static_cast<__mmask8>(~slides_on) & breaks);
+    const __m512d f = fn * _mm512_min_pd(gamma * speed, mu);
+    const __mmask8 moves = _mm512_cmp_pd_mask(speed, zero, _CMP_GT_OQ);
+    const __m512d per_speed = -f / speed;
+    const V3 dynamic = {_mm512_maskz_mov_pd(moves, per_speed * vt.x), _mm512_maskz_mov_pd(moves, per_speed * vt.y),
+        _mm512_maskz_mov_pd(moves, per_speed * vt.z)};
+    const V3 slip = dt * vt;
+    const V3 tangential = {_mm512_mask_blend_pd(slides, held.x, dynamic.x), _mm512_mask_blend_pd(slides, held.y, dynamic.y),
+        _mm512_mask_blend_pd(slides, held.z, dynamic.z)};
+    spring = {_mm512_mask_blend_pd(slides, spring.x, slip.x), _mm512_mask_blend_pd(slides, spring.y, slip.y),
+        _mm512_mask_blend_pd(slides, spring.z, slip.z)};
+    // Every lane whose branch is certain (ordered comparisons; a NaN or an
+    // unordered break test goes to the scalar law).
+    lanes &= slides_on | holds | breaks;
+    lanes &= _mm512_cmp_pd_mask(speed, speed, _CMP_ORD_Q);
+    if (lanes == 0) return 0;
+    // Contacts that start or stop sliding change their flag.
+    const auto flips = static_cast<__mmask8>(lanes & (sticking ^ static_cast<__mmask8>(~slides)));
+    if (flips != 0)
+        for (unsigned l = 0; l < simd_pair_lanes; ++l)
+            if (flips >> l & 1u) c.tangential[p + l].sticking = !(slides >> l & 1u);
+
+    // The slots, as evaluate_contact writes them.
+    store_springs(&c.tangential[p], lanes, spring);
+    store_vec3s(&c.force_n[p], lanes, -fn * normal + tangential);
+    store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));
+    _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);
+    _mm512_mask_storeu_pd(&c.normal_force_n[p], lanes, fn);
+    _mm_mask_storeu_epi8(&c.touching[p], lanes, _mm_set1_epi8(1));
+    return lanes;
+}
+
+
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+{
+    // Both sides grains: the kind bits of both references are zero.
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
+    const __m256i second = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.second[p]));
+    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
+    if (!_mm256_testz_si256(_mm256_or_si256(first, second), kind_bits)) return 0;
+
+    // Geometry: sphere_sphere_geometry, operation for operation.
+    const std::uint32_t* ia = &c.first[p].bits;
+    const std::uint32_t* ib = &c.second[p].bits;
+    const V3 xa = load_vec3s(in.x, ia), xb = load_vec3s(in.x, ib);
+    const __m512d ra = gather(in.radius, first), rb = gather(in.radius, second);
+    const V3 d = xb - xa;
+    const __m512d dist2 = dot(d, d);
+    const __m512d reach = ra + rb;
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d reach2 = reach * reach;
+
+    // Apart (dist² ≥ (r_a + r_b)² or coincident).
+    const __mmask8 apart = _mm512_cmp_pd_mask(dist2, reach2, _CMP_GE_OQ) | _mm512_cmp_pd_mask(dist2, zero, _CMP_EQ_OQ);
+    clear_opened(c, p, apart);
+    const __mmask8 lanes = _mm512_cmp_pd_mask(dist2, reach2, _CMP_LT_OQ) & _mm512_cmp_pd_mask(dist2, zero, _CMP_NEQ_OQ);
+    if (lanes == 0) return apart;
+    const __m512d half = _mm512_set1_pd(0.5);
+    const __m512d dist = _mm512_sqrt_pd(dist2);
+    const __m512d overlap = reach - dist;
+    const V3 normal = (_mm512_set1_pd(1.0) / dist) * d;
+    const __m512d arm_a = ra - half * overlap, arm_b = rb - half * overlap;
+    const V3 va = load_vec3s(in.v_dt, ia), vb = load_vec3s(in.v_dt, ib);
+    const V3 wa = load_vec3s(in.spin_dt, ia), wb = load_vec3s(in.spin_dt, ib);
+    const V3 velocity = _mm512_set1_pd(in.inv_dt) * ((va - vb) + cross(arm_a * wa + arm_b * wb, normal));
+
+    return apart | evaluate_lanes(c, p, lanes, normal, overlap, velocity, in);
+}
+
+/// Sphere–wall geometry (wall_gap, sphere_wall_geometry) of eight contacts
+/// of one wall whose first sides are grains, then the same law.
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t wall_block_avx512(
+    ContactList& c, std::size_t p, const Wall& wall, const GrainPairInputs& in)
+{
+    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
+    if (!_mm256_testz_si256(first, _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)))) return 0;
+    const std::uint32_t* ia = &c.first[p].bits;
+    const V3 x = load_vec3s(in.x, ia);
+    const __m512d r = gather(in.radius, first);
+    const __m512d zero = _mm512_setzero_pd();
+    const V3 point = {_mm512_set1_pd(wall.point_m.x()), _mm512_set1_pd(wall.point_m.y()), _mm512_set1_pd(wall.point_m.z())};
+    __m512d gap;
+    V3 towards;
+    if (wall.shape == Wall::Shape::plane) {
+        const V3 n = {_mm512_set1_pd(wall.normal.x()), _mm512_set1_pd(wall.normal.y()), _mm512_set1_pd(wall.normal.z())};
+        gap = dot(x - point, n);
+        towards = {-n.x, -n.y, -n.z};
+    } else {
+        // |radial| with radial.z = 0: (x² + y²) + 0·0, as Eigen's norm sums.
+        const V3 radial = {x.x - point.x, x.y - point.y, zero};
+        const __m512d rho = _mm512_sqrt_pd(dot(radial, radial));
+        gap = _mm512_set1_pd(wall.radius_m) - rho;
+        const __mmask8 off_axis = _mm512_cmp_pd_mask(rho, zero, _CMP_GT_OQ);
+        towards = {_mm512_mask_div_pd(_mm512_set1_pd(1.0), off_axis, radial.x, rho),
+            _mm512_mask_div_pd(zero, off_axis, radial.y, rho), _mm512_mask_div_pd(zero, off_axis, radial.z, rho)};
+    }
+    const __m512d overlap = r - gap;
+    // Apart when r − gap ≤ 0 (ordered: a NaN goes to the scalar law).
+    const __mmask8 apart = _mm512_cmp_pd_mask(overlap, zero, _CMP_LE_OQ);
+    clear_opened(c, p, apart);
+    const __mmask8 lanes = _mm512_cmp_pd_mask(overlap, zero, _CMP_GT_OQ);
+    if (lanes == 0) return apart;
+    const __m512d arm = r - _mm512_set1_pd(0.5) * overlap;
+    const __m512d inv_dt = _mm512_set1_pd(in.inv_dt);
+    const V3 v = load_vec3s(in.v_dt, ia), spin = load_vec3s(in.spin_dt, ia);
+    const V3 wall_v = {_mm512_set1_pd(wall.velocity_m_per_s.x()), _mm512_set1_pd(wall.velocity_m_per_s.y()),
+        _mm512_set1_pd(wall.velocity_m_per_s.z())};
+    const V3 velocity = (inv_dt * v + arm * cross(inv_dt * spin, towards)) - wall_v;
+    return apart | evaluate_lanes(c, p, lanes, towards, overlap, velocity, in);
+}
+
+#pragma GCC diagnostic pop
+
+#endif
+
+} // namespace
+
+void set_simd_kernels(SimdKernels kernels) { chosen_kernels.store(kernels, std::memory_order_relaxed); }
+
+bool simd_kernels_in_use()
+{
+    if (chosen_kernels.load(std::memory_order_relaxed) == SimdKernels::scalar) return false;
+#if defined(__x86_64__)
+    static const bool has_avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")
+                                   && __builtin_cpu_supports("avx512bw");
+    return has_avx512;
+#else
+    return false;
+#endif
+}
+
+SimdPairKernel simd_pair_kernel()
+{
+#if defined(__x86_64__)
+    if (simd_kernels_in_use()) return &pair_block_avx512;
+#endif
+    return nullptr;
+}
+
+SimdWallKernel simd_wall_kernel()
+{
+#if defined(__x86_64__)
+    if (simd_kernels_in_use()) return &wall_block_avx512;
+#endif
+    return nullptr;
+}
+
+} // namespace wiredem::engine

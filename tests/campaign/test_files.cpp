@@ -1,0 +1,328 @@
+// The campaign's records read back exactly what was written (files.hpp): a
+// test's result with its series, strength and snapshots, a driver state, a
+// preparation report; and a damaged record is an error, not a crash.
+#include "files.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+namespace eng = wiredem::engine;
+namespace io = wiredem::engine::io;
+using wiredem::campaign::read_driver_state;
+using wiredem::campaign::read_preparation_report;
+using wiredem::campaign::read_triaxial_result;
+using wiredem::campaign::write_driver_state;
+using wiredem::campaign::write_preparation_report;
+using wiredem::campaign::write_triaxial_result;
+
+namespace {
+
+fs::path temp_file(const std::string& name)
+{
+    return fs::temp_directory_path() / ("wiredem_files_" + name + "_" + std::to_string(::getpid()) + ".h5");
+}
+
+/// A value that differs for every call: a record whose fields are all
+/// different, so that a field read into another's place shows.
+double next_value()
+{
+    static double v = 0.1;
+    v = v * 1.37 + 0.011;
+    return v;
+}
+
+eng::TriaxialResult sample_result(std::size_t rows)
+{
+    eng::TriaxialResult r;
+    for (std::size_t i = 0; i < rows; ++i) {
+        eng::TriaxialSample s;
+        s.time_s = next_value();
+        s.phase = static_cast<eng::TriaxialPhase>(i % 3);
+        s.axial_strain = next_value();
+        s.height_m = next_value();
+        s.top_plate_force_n = next_value();
+        s.bottom_plate_force_n = next_value();
+        s.column_radius_m = next_value();
+        s.confining_pressure_pa = next_value();
+        s.sigma1_pa = next_value();
+        s.sigma3_effective_pa = next_value();
+        s.deviatoric_stress_pa = next_value();
+        s.stress_ratio = next_value();
+        s.kinetic_energy_j = next_value();
+        s.elastic_energy_j = next_value();
+        s.contacts = 100 + i;
+        s.sliding_contacts = 10 + i;
+        s.membrane_contacts = 20 + i;
+        s.wire_strain_mean = next_value();
+        s.wire_strain_max = next_value();
+        s.inertial_number = next_value();
+        r.series.push_back(s);
+    }
+    r.series.volumetric_strain.assign(rows, 0.0);
+    for (double& v : r.series.volumetric_strain) v = next_value();
+    for (int k = 0; k < 2; ++k) {
+        eng::TriaxialSnapshot snap;
+        snap.requested_axial_strain = next_value();
+        snap.axial_strain = next_value();
+        snap.time_s = next_value();
+        snap.grain_position_m = {eng::Vec3(next_value(), next_value(), next_value()), eng::Vec3(1, 2, 3)};
+        snap.grain_radius_m = {next_value(), next_value()};
+        snap.grain_velocity_m_per_s = {eng::Vec3(next_value(), -1, 0), eng::Vec3(0, 0, next_value())};
+        snap.wire_node_position_m = {eng::Vec3(next_value(), 0, 0)};
+        snap.wire_segment_strain = {};
+        snap.membrane_node_position_m = {eng::Vec3(0, next_value(), 0), eng::Vec3(1, 1, 1), eng::Vec3(2, 2, 2)};
+        snap.membrane_triangles = {{0, 1, 2}};
+        snap.forces.first = {eng::BodyRef(eng::BodyKind::grain, 0)};
+        snap.forces.second = {eng::BodyRef(eng::BodyKind::wire, 7)};
+        snap.forces.force_n = {eng::Vec3(next_value(), next_value(), next_value())};
+        snap.forces.normal_force_n = {next_value()};
+        snap.forces.wall = {1};
+        snap.forces.wall_body = {eng::BodyRef(eng::BodyKind::membrane, 2)};
+        snap.forces.wall_force_n = {eng::Vec3(0, 0, next_value())};
+        r.snapshots.push_back(snap);
+    }
+    r.peak_deviatoric_stress_pa = next_value();
+    r.peak_axial_strain = next_value();
+    r.peak_sigma1_pa = next_value();
+    r.peak_sigma3_effective_pa = next_value();
+    r.peak_sample = rows - 1;
+    eng::analysis::StrengthReading y;
+    y.stress_ratio = {eng::analysis::CurveShape::plateau, 1, next_value(), next_value(), next_value(), next_value()};
+    y.deviatoric = {eng::analysis::CurveShape::rising, 2, next_value(), next_value(), next_value(), next_value()};
+    y.yield_axial_strain = next_value();
+    y.yield_sigma1_pa = next_value();
+    y.yield_sigma3_pa = next_value();
+    y.residual_stress_ratio = next_value();
+    r.strength = y;
+    r.initial_height_m = next_value();
+    r.initial_volume_m3 = next_value();
+    r.verdict = {false, next_value(), next_value(), next_value(), "too fast"};
+    r.warnings = {"too fast", "a \"quoted\" warning, with σ₃"};
+    r.hold_time_s = next_value();
+    r.consolidated_sigma1_pa = next_value();
+    r.steps = 123456789;
+    r.time_step_s = next_value();
+    r.simulated_time_s = next_value();
+    r.wall_time_s = next_value();
+    return r;
+}
+
+void expect_same(const eng::analysis::CurveReading& a, const eng::analysis::CurveReading& b)
+{
+    EXPECT_EQ(a.shape, b.shape);
+    EXPECT_EQ(a.index, b.index);
+    EXPECT_EQ(a.value, b.value);
+    EXPECT_EQ(a.end_value, b.end_value);
+    EXPECT_EQ(a.drop, b.drop);
+    EXPECT_EQ(a.end_rise, b.end_rise);
+}
+
+void expect_same(const eng::TriaxialResult& a, const eng::TriaxialResult& b)
+{
+    const eng::TriaxialSeries &sa = a.series, &sb = b.series;
+    EXPECT_EQ(sa.time_s, sb.time_s);
+    EXPECT_EQ(sa.phase, sb.phase);
+    EXPECT_EQ(sa.axial_strain, sb.axial_strain);
+    EXPECT_EQ(sa.height_m, sb.height_m);
+    EXPECT_EQ(sa.top_plate_force_n, sb.top_plate_force_n);
+    EXPECT_EQ(sa.bottom_plate_force_n, sb.bottom_plate_force_n);
+    EXPECT_EQ(sa.column_radius_m, sb.column_radius_m);
+    EXPECT_EQ(sa.confining_pressure_pa, sb.confining_pressure_pa);
+    EXPECT_EQ(sa.sigma1_pa, sb.sigma1_pa);
+    EXPECT_EQ(sa.sigma3_effective_pa, sb.sigma3_effective_pa);
+    EXPECT_EQ(sa.deviatoric_stress_pa, sb.deviatoric_stress_pa);
+    EXPECT_EQ(sa.stress_ratio, sb.stress_ratio);
+    EXPECT_EQ(sa.volumetric_strain, sb.volumetric_strain);
+    EXPECT_EQ(sa.kinetic_energy_j, sb.kinetic_energy_j);
+    EXPECT_EQ(sa.elastic_energy_j, sb.elastic_energy_j);
+    EXPECT_EQ(sa.contacts, sb.contacts);
+    EXPECT_EQ(sa.sliding_contacts, sb.sliding_contacts);
+    EXPECT_EQ(sa.membrane_contacts, sb.membrane_contacts);
+    EXPECT_EQ(sa.wire_strain_mean, sb.wire_strain_mean);
+    EXPECT_EQ(sa.wire_strain_max, sb.wire_strain_max);
+    EXPECT_EQ(sa.inertial_number, sb.inertial_number);
+    ASSERT_EQ(a.snapshots.size(), b.snapshots.size());
+    for (std::size_t i = 0; i < a.snapshots.size(); ++i) {
+        const auto &x = a.snapshots[i], &y = b.snapshots[i];
+        EXPECT_EQ(x.requested_axial_strain, y.requested_axial_strain);
+        EXPECT_EQ(x.axial_strain, y.axial_strain);
+        EXPECT_EQ(x.time_s, y.time_s);
+        EXPECT_EQ(x.grain_position_m, y.grain_position_m);
+        EXPECT_EQ(x.grain_radius_m, y.grain_radius_m);
+        EXPECT_EQ(x.grain_velocity_m_per_s, y.grain_velocity_m_per_s);
+        EXPECT_EQ(x.wire_node_position_m, y.wire_node_position_m);
+        EXPECT_EQ(x.wire_segment_strain, y.wire_segment_strain);
+        EXPECT_EQ(x.membrane_node_position_m, y.membrane_node_position_m);
+        EXPECT_EQ(x.membrane_triangles, y.membrane_triangles);
+        EXPECT_EQ(x.forces.first, y.forces.first);
+        EXPECT_EQ(x.forces.second, y.forces.second);
+        EXPECT_EQ(x.forces.force_n, y.forces.force_n);
+        EXPECT_EQ(x.forces.normal_force_n, y.forces.normal_force_n);
+        EXPECT_EQ(x.forces.wall, y.forces.wall);
+        EXPECT_EQ(x.forces.wall_body, y.forces.wall_body);
+        EXPECT_EQ(x.forces.wall_force_n, y.forces.wall_force_n);
+    }
+    EXPECT_EQ(a.peak_deviatoric_stress_pa, b.peak_deviatoric_stress_pa);
+    EXPECT_EQ(a.peak_axial_strain, b.peak_axial_strain);
+    EXPECT_EQ(a.peak_sigma1_pa, b.peak_sigma1_pa);
+    EXPECT_EQ(a.peak_sigma3_effective_pa, b.peak_sigma3_effective_pa);
+    EXPECT_EQ(a.peak_sample, b.peak_sample);
+    ASSERT_EQ(a.strength.has_value(), b.strength.has_value());
+    if (a.strength) {
+        expect_same(a.strength->stress_ratio, b.strength->stress_ratio);
+        expect_same(a.strength->deviatoric, b.strength->deviatoric);
+        EXPECT_EQ(a.strength->yield_axial_strain, b.strength->yield_axial_strain);
+        EXPECT_EQ(a.strength->yield_sigma1_pa, b.strength->yield_sigma1_pa);
+        EXPECT_EQ(a.strength->yield_sigma3_pa, b.strength->yield_sigma3_pa);
+        EXPECT_EQ(a.strength->residual_stress_ratio, b.strength->residual_stress_ratio);
+    }
+    EXPECT_EQ(a.initial_height_m, b.initial_height_m);
+    EXPECT_EQ(a.initial_volume_m3, b.initial_volume_m3);
+    EXPECT_EQ(a.verdict.quasi_static, b.verdict.quasi_static);
+    EXPECT_EQ(a.verdict.max_inertial_number, b.verdict.max_inertial_number);
+    EXPECT_EQ(a.verdict.mean_kinetic_to_elastic, b.verdict.mean_kinetic_to_elastic);
+    EXPECT_EQ(a.verdict.max_kinetic_to_elastic, b.verdict.max_kinetic_to_elastic);
+    EXPECT_EQ(a.verdict.warning, b.verdict.warning);
+    EXPECT_EQ(a.warnings, b.warnings);
+    EXPECT_EQ(a.hold_time_s, b.hold_time_s);
+    EXPECT_EQ(a.consolidated_sigma1_pa, b.consolidated_sigma1_pa);
+    EXPECT_EQ(a.steps, b.steps);
+    EXPECT_EQ(a.time_step_s, b.time_step_s);
+    EXPECT_EQ(a.simulated_time_s, b.simulated_time_s);
+    EXPECT_EQ(a.wall_time_s, b.wall_time_s);
+}
+
+} // namespace
+
+TEST(CampaignFiles, ATestsRecordReadsBackExactly)
+{
+    const fs::path path = temp_file("result");
+    const eng::TriaxialResult written = sample_result(5);
+    {
+        io::File f = io::File::create(path);
+        io::Group g = f.root().create_group("test");
+        write_triaxial_result(g, written);
+        f.close();
+    }
+    const io::File f = io::File::open_read_only(path);
+    expect_same(read_triaxial_result(f.root().open_group("test")), written);
+    fs::remove(path);
+}
+
+TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
+{
+    const fs::path path = temp_file("driver");
+    eng::TriaxialDriverState s;
+    s.steps = 4242;
+    s.expected_steps = 99999;
+    s.loading = true;
+    s.reference_height_m = next_value();
+    s.next_snapshot = 2;
+    s.loading_start_sample = 1;
+    s.window_force_n = next_value();
+    s.window_filled = 17;
+    s.window_sigma1_pa = next_value();
+    s.column_radius_m = next_value();
+    s.cap_nodes = {3, 5, 8, 13};
+    s.wall_time_s = next_value();
+    s.result = sample_result(3);
+    s.result.series.volumetric_strain.clear(); // a running test has none yet
+    s.result.strength.reset();
+    for (const bool sampled : {true, false}) {
+        s.last_sample_step = sampled ? 4240 : std::numeric_limits<std::uint64_t>::max(); // "none yet" too
+        {
+            io::File f = io::File::create(path);
+            io::Group g = f.root().create_group("host");
+            write_driver_state(g, s);
+            f.close();
+        }
+        const io::File f = io::File::open_read_only(path);
+        const eng::TriaxialDriverState r = read_driver_state(f.root().open_group("host"));
+        EXPECT_EQ(r.steps, s.steps);
+        EXPECT_EQ(r.expected_steps, s.expected_steps);
+        EXPECT_EQ(r.loading, s.loading);
+        EXPECT_EQ(r.reference_height_m, s.reference_height_m);
+        EXPECT_EQ(r.last_sample_step, s.last_sample_step);
+        EXPECT_EQ(r.next_snapshot, s.next_snapshot);
+        EXPECT_EQ(r.loading_start_sample, s.loading_start_sample);
+        EXPECT_EQ(r.window_force_n, s.window_force_n);
+        EXPECT_EQ(r.window_filled, s.window_filled);
+        EXPECT_EQ(r.window_sigma1_pa, s.window_sigma1_pa);
+        EXPECT_EQ(r.column_radius_m, s.column_radius_m);
+        EXPECT_EQ(r.cap_nodes, s.cap_nodes);
+        EXPECT_EQ(r.wall_time_s, s.wall_time_s);
+        expect_same(r.result, s.result);
+    }
+    fs::remove(path);
+}
+
+TEST(CampaignFiles, APreparationReportReadsBackExactly)
+{
+    const fs::path path = temp_file("report");
+    eng::PreparationReport p;
+    p.grains = 8000;
+    p.wire_nodes = 7999;
+    p.wire_length_m = next_value();
+    p.nozzle_path_m = next_value();
+    p.pile_height_m = next_value();
+    p.sample_volume_m3 = next_value();
+    p.grain_volume_fraction = next_value();
+    p.wire_volume_fraction = next_value();
+    p.core_grain_volume_fraction = next_value();
+    p.core_wire_volume_fraction = next_value();
+    p.simulated_time_s = next_value();
+    p.wall_time_s = next_value();
+    p.steps = 360000;
+    p.time_step_s = next_value();
+    p.settled = true;
+    p.top_plate_wall = 3;
+    {
+        io::File f = io::File::create(path);
+        io::Group g = f.root();
+        write_preparation_report(g, p);
+        f.close();
+    }
+    const io::File f = io::File::open_read_only(path);
+    const eng::PreparationReport r = read_preparation_report(f.root());
+    EXPECT_EQ(r.grains, p.grains);
+    EXPECT_EQ(r.wire_nodes, p.wire_nodes);
+    EXPECT_EQ(r.wire_length_m, p.wire_length_m);
+    EXPECT_EQ(r.nozzle_path_m, p.nozzle_path_m);
+    EXPECT_EQ(r.pile_height_m, p.pile_height_m);
+    EXPECT_EQ(r.sample_volume_m3, p.sample_volume_m3);
+    EXPECT_EQ(r.grain_volume_fraction, p.grain_volume_fraction);
+    EXPECT_EQ(r.wire_volume_fraction, p.wire_volume_fraction);
+    EXPECT_EQ(r.core_grain_volume_fraction, p.core_grain_volume_fraction);
+    EXPECT_EQ(r.core_wire_volume_fraction, p.core_wire_volume_fraction);
+    EXPECT_EQ(r.simulated_time_s, p.simulated_time_s);
+    EXPECT_EQ(r.wall_time_s, p.wall_time_s);
+    EXPECT_EQ(r.steps, p.steps);
+    EXPECT_EQ(r.time_step_s, p.time_step_s);
+    EXPECT_EQ(r.settled, p.settled);
+    EXPECT_EQ(r.top_plate_wall, p.top_plate_wall);
+    fs::remove(path);
+}
+
+TEST(CampaignFiles, ADamagedRecordIsAnErrorNamingWhatIsWrong)
+{
+    const fs::path path = temp_file("damaged");
+    eng::TriaxialResult r = sample_result(4);
+    r.series.sigma1_pa.pop_back(); // one column a row short
+    {
+        io::File f = io::File::create(path);
+        io::Group g = f.root().create_group("test");
+        write_triaxial_result(g, r);
+        f.close();
+    }
+    const io::File f = io::File::open_read_only(path);
+    try {
+        (void)read_triaxial_result(f.root().open_group("test"));
+        ADD_FAILURE() << "a record with a short column was read";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("differ in length"), std::string::npos) << e.what();
+    }
+    fs::remove(path);
+}

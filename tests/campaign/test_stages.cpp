@@ -1,0 +1,325 @@
+// The campaign's stages through the real `wiredem` binary on examples/tiny.json:
+// prepare + test + analyse give the files `run` gives, bit for bit; tests run
+// at once give what tests run one after another give; a test killed with
+// SIGKILL at several points continues from its checkpoints to the same
+// result; and bad requests get clear errors.
+#include "h5_compare.hpp"
+
+#include <boost/json.hpp>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <spawn.h>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+extern char** environ;
+
+using wiredem::test::h5_differences;
+
+namespace fs = std::filesystem;
+namespace json = boost::json;
+
+namespace {
+
+const fs::path tiny_job = fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json";
+
+fs::path fresh_dir(const std::string& name)
+{
+    const fs::path dir = fs::temp_directory_path() / ("wiredem_stages_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string read_text(const fs::path& p)
+{
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+struct Outcome {
+    int status = -1;    ///< wait status
+    std::string err;    ///< stderr
+    [[nodiscard]] bool ok() const { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
+    [[nodiscard]] int code() const { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
+};
+
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log)
+{
+    std::vector<const char*> argv{WIREDEM_BIN};
+    for (const auto& a : args) argv.push_back(a.c_str());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, WIREDEM_BIN, &fa, nullptr, const_cast<char* const*>(argv.data()), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+Outcome run_wiredem(const std::vector<std::string>& args, const fs::path& log)
+{
+    Outcome o;
+    const pid_t pid = spawn(args, log);
+    if (pid > 0) waitpid(pid, &o.status, 0);
+    o.err = read_text(log);
+    return o;
+}
+
+/// summary.json without what says how a run went rather than what it computed.
+json::value computed(const fs::path& summary)
+{
+    json::value v = json::parse(read_text(summary));
+    for (json::value& t : v.at("tests").as_array()) {
+        t.as_object().erase("wall_time_s");
+        t.as_object().erase("threads");
+    }
+    v.at("engine").as_object().erase("wall_time_s");
+    v.at("engine").as_object().erase("body_steps_per_second");
+    v.at("engine").as_object().erase("threads");
+    v.at("specimen").as_object().erase("preparation_wall_time_s");
+    return v;
+}
+
+const std::set<std::string> how_it_ran{"wall_time_s", "threads"};
+
+std::string joined(const std::vector<std::string>& v)
+{
+    std::string s;
+    for (const auto& x : v) s += x + "\n";
+    return s;
+}
+
+/// The reference: `wiredem run` with one thread (tests one after another),
+/// computed once for the suite.
+const fs::path& reference_run()
+{
+    static const fs::path dir = [] {
+        const fs::path d = fresh_dir("reference");
+        const Outcome o = run_wiredem({"run", tiny_job.string(), "-o", (d / "out").string(), "--threads", "1"}, d / "log");
+        EXPECT_TRUE(o.ok()) << o.err;
+        return d / "out";
+    }();
+    return dir;
+}
+
+} // namespace
+
+TEST(Stages, PrepareTestAnalyseGiveTheFilesOfRun)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("composed"), out = dir / "out";
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string(), "--threads", "2"}, dir / "log").ok());
+    // In another order than run's, one by index and one by pressure.
+    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "1", "--threads", "1"}, dir / "log").ok());
+    const json::value job = json::parse(read_text(tiny_job));
+    const double p0 = job.at("triaxial").at("confining_pressures_pa").as_array().at(0).to_number<double>();
+    std::ostringstream p0_text;
+    p0_text.precision(17);
+    p0_text << p0;
+    const Outcome t0 = run_wiredem({"test", out.string(), "--pressure", p0_text.str(), "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(t0.ok()) << t0.err;
+    const Outcome a = run_wiredem({"analyse", out.string()}, dir / "log");
+    ASSERT_TRUE(a.ok()) << a.err;
+
+    EXPECT_EQ(computed(out / "summary.json"), computed(ref / "summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", ref / "result.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+    EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
+}
+
+TEST(Stages, TestsRunAtOnceGiveWhatTestsRunOneAfterAnotherGive)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("concurrent"), out = dir / "out";
+    // Two threads: the two tests at once, a thread each.
+    const Outcome o = run_wiredem({"run", tiny_job.string(), "-o", out.string(), "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    EXPECT_EQ(computed(out / "summary.json"), computed(ref / "summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", ref / "result.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
+// SIGKILL (what the OOM killer or a node failure does) at several points of a
+// test: each start continues from the last checkpoint (written every 20 ms
+// here), and the test ends with the file of an uninterrupted test.
+TEST(Stages, ATestKilledAtSeveralPointsContinuesToTheSameResult)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("killed"), out = dir / "out";
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    int kills_after_a_checkpoint = 0;
+    bool done = false;
+    for (int attempt = 0; attempt < 60 && !done; ++attempt) {
+        const pid_t pid = spawn({"test", out.string(), "--index", "0", "--threads", "1", "--checkpoint-interval", "0.02"},
+            dir / "log");
+        ASSERT_GT(pid, 0);
+        // Let it run a while longer each time, then kill it without warning.
+        std::this_thread::sleep_for(std::chrono::milliseconds(150 + 50 * attempt));
+        const bool had_checkpoint = fs::exists(out / "tests/test_0.checkpoint.h5");
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (WIFEXITED(status)) {
+            ASSERT_EQ(WEXITSTATUS(status), 0) << read_text(dir / "log");
+            done = true;
+        } else {
+            ASSERT_TRUE(WIFSIGNALED(status));
+            kills_after_a_checkpoint += had_checkpoint;
+        }
+    }
+    ASSERT_TRUE(done) << "the test did not finish in 60 starts";
+    EXPECT_GE(kills_after_a_checkpoint, 2) << "the test was not killed after a checkpoint at least twice";
+    EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
+    // The test's own file against the reference run's: the same record.
+    const auto diffs = h5_differences(out / "tests/test_0.h5", ref / "tests/test_0.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
+TEST(Stages, ARunStoppedHalfWayIsContinuedByRunningItAgain)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("rerun"), out = dir / "out";
+    // The specimen and the first test, then the whole campaign: run does
+    // only what is missing (test 1 and the analysis).
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log").ok());
+    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0"}, dir / "log").ok());
+    const auto first_test_written = fs::last_write_time(out / "tests/test_0.h5");
+    const Outcome o = run_wiredem({"run", tiny_job.string(), "-o", out.string(), "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    EXPECT_EQ(fs::last_write_time(out / "tests/test_0.h5"), first_test_written);
+    EXPECT_EQ(computed(out / "summary.json"), computed(ref / "summary.json"));
+}
+
+TEST(Stages, BadRequestsGetClearErrors)
+{
+    const fs::path dir = fresh_dir("bad"), out = dir / "out";
+    // A test or an analysis of a directory that was never prepared.
+    Outcome o = run_wiredem({"test", out.string(), "--index", "0"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
+    o = run_wiredem({"analyse", out.string()}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
+
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log").ok());
+    o = run_wiredem({"test", out.string(), "--index", "2"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("out of range"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("0 to 1"), std::string::npos) << o.err;
+    o = run_wiredem({"test", out.string(), "--pressure", "12345"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("not one of the job's confining pressures"), std::string::npos) << o.err;
+    o = run_wiredem({"test", out.string()}, dir / "log");
+    EXPECT_EQ(o.code(), 2) << o.err; // usage: neither --index nor --pressure
+    o = run_wiredem({"analyse", out.string()}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("has not run"), std::string::npos) << o.err;
+
+    // Another job into a prepared directory.
+    json::value other = json::parse(read_text(tiny_job));
+    other.as_object()["seed"] = 987654;
+    {
+        std::ofstream f(dir / "other.json");
+        f << json::serialize(other);
+    }
+    o = run_wiredem({"prepare", (dir / "other.json").string(), "-o", out.string()}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("holds another job"), std::string::npos) << o.err;
+
+    // A damaged specimen file is named, not a crash.
+    {
+        std::ofstream f(out / "specimen.h5", std::ios::trunc);
+        f << "not HDF5";
+    }
+    o = run_wiredem({"test", out.string(), "--index", "0"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("specimen.h5"), std::string::npos) << o.err;
+}
+
+// The comparison the cases above rest on sees a difference: two specimens
+// poured with different seeds.
+TEST(Stages, TheFileComparisonSeesAnotherSeed)
+{
+    const fs::path dir = fresh_dir("seeds");
+    json::value other = json::parse(read_text(tiny_job));
+    other.as_object()["seed"] = 987654;
+    {
+        std::ofstream f(dir / "other.json");
+        f << json::serialize(other);
+    }
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", (dir / "a").string()}, dir / "log").ok());
+    ASSERT_TRUE(run_wiredem({"prepare", (dir / "other.json").string(), "-o", (dir / "b").string()}, dir / "log").ok());
+    const auto diffs = h5_differences(dir / "a/specimen.h5", dir / "b/specimen.h5", how_it_ran);
+    EXPECT_FALSE(diffs.empty());
+    EXPECT_TRUE(h5_differences(dir / "a/specimen.h5", dir / "a/specimen.h5", how_it_ran).empty());
+}
+
+// `wiredem study run`: every point's campaign, a failing point reported
+// without stopping the others, the summary grouping the seeds; run again, the
+// study continues (the done point is not run again).
+TEST(Stages, AStudyRunsItsPointsReportsAFailedOneAndContinuesWhenRunAgain)
+{
+    const fs::path dir = fresh_dir("study"), out = dir / "out";
+    json::object study{{"name", "seeds"}, {"base", json::parse(read_text(tiny_job))},
+        {"vary", json::object{{"seed", json::array{1, 2}}}}};
+    {
+        std::ofstream f(dir / "study.json");
+        f << json::serialize(study);
+    }
+    // Point 1's directory already holds another job: that point fails.
+    fs::create_directories(out / "points/1");
+    {
+        std::ofstream f(out / "points/1/job.json");
+        f << R"({"name": "someone else's"})";
+    }
+    Outcome o = run_wiredem({"study", "run", (dir / "study.json").string(), "-o", out.string(), "--jobs", "2",
+                                "--threads", "2"}, dir / "log");
+    EXPECT_EQ(o.code(), 1) << o.err;
+    EXPECT_NE(o.err.find("1 of 2 points failed"), std::string::npos) << o.err;
+    json::value s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s.at("points").as_array()[0].at("state"), "succeeded");
+    EXPECT_EQ(s.at("points").as_array()[1].at("state"), "failed");
+    EXPECT_NE(std::string(s.at("points").as_array()[1].at("error").as_string()).find("holds another job"), std::string::npos);
+    EXPECT_TRUE(fs::exists(out / "summary.csv"));
+    const auto first_done = fs::last_write_time(out / "points/0/summary.json");
+
+    fs::remove_all(out / "points/1");
+    o = run_wiredem({"study", "run", (dir / "study.json").string(), "-o", out.string(), "--threads", "2"}, dir / "log");
+    EXPECT_EQ(o.code(), 0) << o.err;
+    EXPECT_NE(o.err.find("point 1/2 (seed=1) done already"), std::string::npos) << o.err;
+    EXPECT_EQ(fs::last_write_time(out / "points/0/summary.json"), first_done);
+    s = json::parse(read_text(out / "summary.json"));
+    const json::object& group = s.at("groups").as_array().at(0).as_object();
+    EXPECT_EQ(group.at("succeeded").to_number<int>(), 2);
+    const double phi0 = s.at("points").as_array()[0].at("friction_angle_deg").to_number<double>();
+    const double phi1 = s.at("points").as_array()[1].at("friction_angle_deg").to_number<double>();
+    // (Read here with Boost.JSON's parser, which may miss the last bit.)
+    EXPECT_NEAR(group.at("friction_angle_deg").at("mean").to_number<double>(), 0.5 * (phi0 + phi1), 1e-12);
+    EXPECT_NEAR(group.at("friction_angle_deg").at("sd").to_number<double>(), std::abs(phi0 - phi1) / std::sqrt(2.0), 1e-9);
+
+    // A study with a bad point is refused before anything runs, naming it.
+    study["vary"] = json::object{{"seed", json::array{1, -2}}};
+    {
+        std::ofstream f(dir / "bad.json");
+        f << json::serialize(study);
+    }
+    o = run_wiredem({"study", "run", (dir / "bad.json").string(), "-o", (dir / "bad").string()}, dir / "log");
+    EXPECT_EQ(o.code(), 3) << o.err;
+    EXPECT_NE(o.err.find("points[1] (seed=-2): seed"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir / "bad/points"));
+}
