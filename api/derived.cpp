@@ -92,7 +92,7 @@ BodyCounts estimated_body_counts(const JobSpec& spec)
     if (s.wire.pattern != WirePattern::none) {
         // Laid at ω R_a while the grains are poured (fill height / fill rate),
         // as the preparation paces it.
-        const double laid_length_m = engine::estimated_wire_length_m(preparation_spec(spec));
+        const double laid_length_m = engine::estimated_wire_length_m(preparation_geometry(spec));
         const std::uint64_t segments = saturating_count(laid_length_m / s.wire.segment_length_m);
         n.wire_nodes = segments == std::numeric_limits<std::uint64_t>::max() ? segments : segments + 1;
     }
@@ -108,7 +108,7 @@ WorkEstimate estimated_work(const JobSpec& spec)
     WorkEstimate w;
     w.time_step_s = spec.engine.time_step_s ? *spec.engine.time_step_s : stable_time_step(spec).auto_s;
     const TriaxialSpec& t = spec.triaxial;
-    const double height_m = engine::estimated_fill_height_m(preparation_spec(spec));
+    const double height_m = engine::estimated_fill_height_m(preparation_geometry(spec));
     // Any pressure: the duration does not depend on it.
     const engine::TriaxialSettings test = triaxial_settings(spec, t.confining_pressures_pa.front());
     const double test_s = test.pressure_ramp_time_s + engine::longest_hold_s(test) + engine::loading_time_s(test, height_m);
@@ -118,6 +118,13 @@ WorkEstimate estimated_work(const JobSpec& spec)
     w.samples_per_test = w.steps_per_test / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
     w.tests = t.confining_pressures_pa.size();
     return w;
+}
+
+std::string work_field(const JobSpec& spec, const WorkEstimate& work)
+{
+    if (spec.engine.time_step_s) return "engine.time_step_s";
+    const double tests = work.total_steps() - work.preparation_steps;
+    return work.preparation_steps > tests ? "specimen.pouring.max_preparation_time_s" : "triaxial.plate_speed_m_per_s";
 }
 
 double resolved_normal_damping_s(const JobSpec& spec)

@@ -9,6 +9,7 @@
 #include "timestep.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace wiredem::api {
@@ -32,8 +33,16 @@ struct BodyCounts {
     std::uint64_t grains = 0;          ///< specimen.grain_count
     std::uint64_t wire_nodes = 0;      ///< laid length ω R_a · H_m / v_z over l_w; 0 without wire
     std::uint64_t membrane_nodes = 0;  ///< (2πR / l_m) · (H_m / l_m · 2/√3), rounded up per factor
-    /// All bodies together.
-    [[nodiscard]] std::uint64_t total() const { return grains + wire_nodes + membrane_nodes; }
+    /// All bodies together, saturating like the counts: a hostile spec's
+    /// count is the largest std::uint64_t, and a plain sum would wrap round
+    /// to a small total that passes every limit (mesh_size_m = 1e-227).
+    [[nodiscard]] std::uint64_t total() const
+    {
+        constexpr std::uint64_t most = std::numeric_limits<std::uint64_t>::max();
+        std::uint64_t sum = grains;
+        for (const std::uint64_t n : {wire_nodes, membrane_nodes}) sum = n > most - sum ? most : sum + n;
+        return sum;
+    }
 };
 
 /// Estimates the body counts from the geometry (the preparation decides the
@@ -59,6 +68,17 @@ struct WorkEstimate {
 
 /// Estimates the work of a job (inputs as for the functions above).
 [[nodiscard]] WorkEstimate estimated_work(const JobSpec& spec);
+
+/// The most time steps any job may take, preparation and tests together
+/// (10¹⁵: three centuries at 10⁵ steps/s). Validation refuses a spec above
+/// it, so `wiredem run` never meets a step count that no integer holds
+/// (δt = 1e-83 s); servers limit jobs further (--max-steps-per-job, at most this).
+inline constexpr double max_steps_of_any_job = 1e15;
+
+/// The field a job's work is reported at when it is too much: the time step
+/// when one is given, else what drives the larger part of the work, the
+/// preparation's time limit or the plate speed.
+[[nodiscard]] std::string work_field(const JobSpec& spec, const WorkEstimate& work);
 
 /// γ_n [s] the engine uses: the given one, or the one that gives the
 /// requested restitution for a head-on collision of two grains of the mean

@@ -18,7 +18,10 @@ engine::PatternKind pattern_kind(WirePattern p)
     return engine::PatternKind::none;
 }
 
-engine::PreparationSpec preparation_spec(const JobSpec& spec)
+namespace {
+
+/// The preparation of a job; the normal damping resolved only when asked.
+engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
 {
     const SpecimenSpec& s = spec.specimen;
     engine::PreparationSpec p;
@@ -57,7 +60,7 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
                                                                      : engine::MembraneEdgeLaw::tension_only;
     p.membrane.density_scale = spec.engine.density_scale;
 
-    p.contact.normal_damping_s = resolved_normal_damping_s(spec);
+    p.contact.normal_damping_s = resolve_damping ? resolved_normal_damping_s(spec) : 0.0;
     p.contact.tangential.stiffness_per_m = spec.contact.tangential_stiffness_per_m;
     p.contact.tangential.friction_coeff = spec.contact.friction_coeff;
     p.contact.tangential.critical_slip_m = spec.contact.critical_slip_m;
@@ -78,6 +81,12 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec)
     p.seed = spec.seed;
     return p;
 }
+
+} // namespace
+
+engine::PreparationSpec preparation_spec(const JobSpec& spec) { return preparation(spec, true); }
+
+engine::PreparationSpec preparation_geometry(const JobSpec& spec) { return preparation(spec, false); }
 
 engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa)
 {

@@ -17,6 +17,13 @@ namespace wiredem::api {
 /// restitution if given so), density scaling, pouring end, δt (0 = auto), seed.
 [[nodiscard]] engine::PreparationSpec preparation_spec(const JobSpec& spec);
 
+/// preparation_spec with the normal damping left at 0, not resolved: all
+/// that the estimates of a job's fill height, wire length and work read
+/// (engine::estimated_fill_height_m, estimated_wire_length_m), which
+/// validation computes several times per spec, without the collision fit a
+/// restitution costs (tens to hundreds of ms: resolved_normal_damping_s).
+[[nodiscard]] engine::PreparationSpec preparation_geometry(const JobSpec& spec);
+
 /// The settings of the job's test at confining pressure `pressure_pa` (one of
 /// triaxial.confining_pressures_pa) (the model spec §6).
 [[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa);

@@ -747,7 +747,7 @@ void check_grain_volume(Validator& v, const JobSpec& spec)
     // The preparation's own requirement: the fill at the packing it paces
     // the pour by, and room above it to pour from.
     const SpecimenSpec& s = spec.specimen;
-    const engine::PreparationSpec p = preparation_spec(spec);
+    const engine::PreparationSpec p = preparation_geometry(spec);
     const double needed_m = engine::required_membrane_height_m(p);
     if (needed_m > s.membrane_height_m)
         v.note("specimen.grain_count",
@@ -797,7 +797,7 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
                                          "the fill rate sets the length of wire laid, and the length the fill rate");
         return;
     }
-    const engine::PreparationSpec p = preparation_spec(spec);
+    const engine::PreparationSpec p = preparation_geometry(spec);
     const double fill_rate = p.fill_rate_m_per_s;
     // The nozzle follows the top of the pile at most v_z^w (the model spec §5).
     const double limit = engine::max_fill_rate_per_rise_speed * s.wire.nozzle_rise_speed_m_per_s;
@@ -892,6 +892,17 @@ void check_time_step(Validator& v, const JobSpec& spec)
                                          + approx_text(stable.auto_s) + ")");
 }
 
+void check_work(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen", "triaxial", "engine"})) return;
+    const WorkEstimate work = estimated_work(spec);
+    if (work.total_steps() <= max_steps_of_any_job) return;
+    v.note(work_field(spec, work),
+        "the job needs about " + approx_text(work.total_steps()) + " time steps of " + approx_text(work.time_step_s)
+            + " s" + (spec.engine.time_step_s ? "" : " (the auto step, set by the " + stable_time_step(spec).limited_by + ")")
+            + "; no job may take more than " + approx_text(max_steps_of_any_job));
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
     check_grain_size(v, spec.specimen);
@@ -903,6 +914,7 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_hold(v, spec.triaxial);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
+    check_work(v, spec);
 }
 
 // ------------------------------------------------------------------- writing

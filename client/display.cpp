@@ -2,6 +2,8 @@
 // because a summary from an older or newer runner must still print.
 #include "display.hpp"
 
+#include "api/utf8.hpp"
+
 #include <boost/json.hpp>
 
 #include <algorithm>
@@ -175,19 +177,9 @@ std::string printable(std::string_view text)
             ++i;
             continue;
         }
-        // A UTF-8 sequence: its length from the lead byte, every continuation 10xxxxxx.
-        const std::size_t n = (b & 0xe0) == 0xc0 ? 2 : (b & 0xf0) == 0xe0 ? 3 : (b & 0xf8) == 0xf0 ? 4 : 0;
-        bool valid = n > 0 && i + n <= text.size();
-        std::uint32_t cp = n == 2 ? b & 0x1fu : n == 3 ? b & 0x0fu : b & 0x07u;
-        for (std::size_t k = 1; valid && k < n; ++k) {
-            const auto c = static_cast<unsigned char>(text[i + k]);
-            valid = (c & 0xc0) == 0x80;
-            cp = (cp << 6) | (c & 0x3fu);
-        }
-        // Overlong forms and surrogates are not UTF-8 either.
-        valid = valid && !(n == 2 && cp < 0x80) && !(n == 3 && cp < 0x800) && !(n == 4 && (cp < 0x10000 || cp > 0x10ffff))
-             && !(cp >= 0xd800 && cp <= 0xdfff);
-        if (!valid) {
+        char32_t cp = 0;
+        const std::size_t n = api::utf8_sequence_at(text, i, cp);
+        if (n == 0) {
             std::snprintf(buf, sizeof buf, "\\x%02x", b);
             out += buf;
             ++i;

@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Configures and builds one variant into build/<variant>.
-#   scripts/build.sh release|asan|tsan [target ...]
+#   scripts/build.sh release|asan|tsan|clang [target ...]
+# clang: a Release build with Debian's clang (/usr/bin/clang++) instead of
+# GCC, into build/clang, with -Werror: both compilers must build the project
+# -Wall -Wextra clean, and this variant is there to keep it so (the fuzz
+# targets, scripts/fuzz.sh, need clang's libFuzzer).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 variant=${1:-release}
@@ -21,7 +25,8 @@ case "$variant" in
   release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
   asan)    args=("${sanitizer_flags[@]}" -DWIREDEM_SANITIZE=address,undefined) ;;
   tsan)    args=("${sanitizer_flags[@]}" -DWIREDEM_SANITIZE=thread) ;;
-  *) echo "build.sh: unknown variant '$variant' (release, asan, tsan)" >&2; exit 2 ;;
+  clang)   args=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS=-Werror) ;;
+  *) echo "build.sh: unknown variant '$variant' (release, asan, tsan, clang)" >&2; exit 2 ;;
 esac
 cmake -S . -B "build/$variant" -G Ninja "${args[@]}" >/dev/null
 cmake --build "build/$variant" --parallel "$(nproc)" "${targets[@]}"

@@ -6,7 +6,8 @@
 # physics_long: whole column preparations and the end-to-end triaxial runs,
 # a minute or two each under ASan, whose code the sanitizer run still goes
 # through in the determinism and campaign tests); then under ThreadSanitizer
-# the threaded engine tests and the server.
+# the threaded engine tests and the server; then the fuzz targets, each for
+# 30 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -18,6 +19,10 @@ for variant in release asan; do
   echo "== $variant"
   bash scripts/build.sh "$variant"
 done
+# The clang build (Debian 12's clang 14): the project must compile -Wall
+# -Wextra clean with it as with GCC; its tests run in the GCC builds.
+echo "== clang"
+bash scripts/build.sh clang
 # ThreadSanitizer only for the threaded code: the engine's thread pool and
 # determinism tests, and the server with the client it is driven through.
 echo "== tsan"
@@ -30,3 +35,5 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts"
 echo "== tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
+echo "== fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"
+bash scripts/fuzz.sh

@@ -1,6 +1,8 @@
 // Reply builders.
 #include "http.hpp"
 
+#include "api/utf8.hpp"
+
 #include <boost/json.hpp>
 
 namespace wiredem::server {
@@ -28,10 +30,13 @@ StringResponse json_response(const Request& req, http::status status, const boos
 StringResponse error_response(const Request& req, http::status status, std::string_view code,
     std::string_view message, std::string_view field, const std::vector<FieldProblem>& details)
 {
+    // The message and the field may echo what the client sent (a Host
+    // header, a decoded query parameter), which need not be UTF-8; a JSON
+    // text must be (RFC 8259 §8.1), and Boost.JSON writes strings unchecked.
     boost::json::object err;
     err["code"] = code;
-    err["message"] = message;
-    err["field"] = field.empty() ? boost::json::value(nullptr) : boost::json::value(field);
+    err["message"] = api::valid_utf8(message);
+    err["field"] = field.empty() ? boost::json::value(nullptr) : boost::json::value(api::valid_utf8(field));
     if (!details.empty()) {
         boost::json::array list;
         for (const auto& d : details) list.push_back(boost::json::object{{"field", d.field}, {"message", d.message}});

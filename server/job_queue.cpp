@@ -4,6 +4,7 @@
 #include "job_queue.hpp"
 
 #include "child_process.hpp"
+#include "progress_line.hpp"
 
 #include <boost/json.hpp>
 #include <spdlog/spdlog.h>
@@ -49,22 +50,6 @@ std::optional<std::string> read_small_file(const fs::path& p, std::uintmax_t max
     ss << in.rdbuf();
     if (!in) return std::nullopt;
     return ss.str();
-}
-
-std::optional<double> number_at(const json::value& v, std::initializer_list<const char*> path)
-{
-    const json::value* cur = &v;
-    for (const char* key : path) {
-        const auto* obj = cur->if_object();
-        if (!obj) return std::nullopt;
-        auto it = obj->find(key);
-        if (it == obj->end()) return std::nullopt;
-        cur = &it->value();
-    }
-    if (cur->is_double()) return cur->get_double();
-    if (cur->is_int64()) return static_cast<double>(cur->get_int64());
-    if (cur->is_uint64()) return static_cast<double>(cur->get_uint64());
-    return std::nullopt;
 }
 
 } // namespace
@@ -287,10 +272,8 @@ void JobQueue::run_job(const JobRecord& job)
 
 void JobQueue::on_progress_line(const std::string& id, const std::string& line, clock_type::time_point& last_persist)
 {
-    boost::system::error_code ec;
-    const json::value v = json::parse(line, ec);
-    const auto* obj = ec ? nullptr : v.if_object();
-    if (!obj) {
+    const auto parsed = parse_progress_line(line);
+    if (!parsed) {
         spdlog::debug("job {}: runner: {}", id, line);  // not a progress line; keep it in the log
         return;
     }
@@ -301,19 +284,9 @@ void JobQueue::on_progress_line(const std::string& id, const std::string& line, 
         auto it = active_.find(id);
         if (it == active_.end()) return;
         p = it->second.live;
-        if (auto s = obj->find("stage"); s != obj->end() && s->value().is_string()) {
-            const std::string stage(s->value().get_string());
-            stage_changed = stage != p.stage;
-            p.stage = stage.substr(0, 64);
-        }
-        if (auto f = number_at(v, {"progress"})) p.progress = std::clamp(*f, 0.0, 1.0);
-        if (auto e = obj->find("eta_s"); e != obj->end())
-            p.eta_s = e->value().is_null() ? std::nullopt : number_at(v, {"eta_s"});
-        if (auto m = obj->find("message"); m != obj->end() && m->value().is_string())
-            p.message = std::string(m->value().get_string()).substr(0, 512);
-        if (auto b = number_at(v, {"body_steps_per_second"})) body_steps_per_second_ = *b;
-        // preparing until the runner reports a later stage; running from then on
-        if (p.state == JobState::preparing && !p.stage.empty() && p.stage != "preparing") p.state = JobState::running;
+        apply_progress_line(*parsed, p);
+        stage_changed = p.stage != it->second.live.stage;
+        if (parsed->body_steps_per_second) body_steps_per_second_ = parsed->body_steps_per_second;
         it->second.live = p;
     }
     const auto now = clock_type::now();

@@ -9,6 +9,8 @@
 #include "router.hpp"
 #include "services.hpp"
 
+#include "api/derived.hpp"
+
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -176,7 +178,7 @@ int main(int argc, char** argv)
         ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--max-steps-per-job", cfg.max_steps_per_job, "estimated time steps a job may take (preparation and tests)")
-        ->capture_default_str()->check(CLI::Range(1.0, 1e15));
+        ->capture_default_str()->check(CLI::Range(1.0, wiredem::api::max_steps_of_any_job));
     std::uint64_t max_job_seconds = static_cast<std::uint64_t>(cfg.max_job_duration.count());
     app.add_option("--max-job-seconds", max_job_seconds, "wall-clock seconds one attempt of a job may run (0: no limit)")
         ->capture_default_str()->check(CLI::Range(std::uint64_t{0}, std::uint64_t{10'000'000'000}));

@@ -60,6 +60,9 @@ Response method_not_allowed(const Request& req, std::string_view allow)
     return res;
 }
 
+std::uint64_t body_bytes(const StringResponse& r) { return r.body().size(); }
+std::uint64_t body_bytes(const FileResponse& r) { return r.body().length; }
+
 /// HEAD: the GET reply's headers (Content-Length included) with no body.
 void strip_body(Response& res)
 {
@@ -121,6 +124,10 @@ Response Router::dispatch(const Request& req) noexcept
             return error_response(req, http::status::internal_server_error, "internal", "unknown error");
         }
     }();
+    // HEAD: no body on the wire, errors included (routes answered with
+    // finish() are stripped already: their body is empty).
+    if (req.method() == http::verb::head && std::visit([](const auto& r) { return body_bytes(r) > 0; }, res))
+        strip_body(res);
     const unsigned cls = status_of(res) / 100;
     if (cls >= 1 && cls <= 5) svc_.metrics.responses_by_class[cls].fetch_add(1, std::memory_order_relaxed);
     return res;

@@ -4,6 +4,8 @@
 // reply instead of a reset.
 #include "session.hpp"
 
+#include "framing.hpp"
+
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/bind_handler.hpp>
@@ -49,35 +51,14 @@ private:
         http::async_read_header(stream_, buffer_, *parser_, beast::bind_front_handler(&Session::on_header, shared_from_this()));
     }
 
-    /// The headers are in: a request whose body would be framed by anything
-    /// but a single `chunked` coding is refused before its body is read, and
-    /// the connection closed. Beast frames a request with, say,
-    /// `Transfer-Encoding: gzip` as having no body, and what the client meant
-    /// as the body would then be read as the next request (smuggling).
+    /// The headers are in: a request whose body framing cannot be trusted
+    /// (server/framing.hpp) is refused before its body is read, and the
+    /// connection closed.
     void on_header(beast::error_code ec, std::size_t bytes)
     {
         if (ec) return on_read(ec, bytes);
-        const auto& req = parser_->get();
-        if (const auto te = req.find(http::field::transfer_encoding); te != req.end()) {
-            if (req.find(http::field::content_length) != req.end())
-                return reply_and_close(http::status::bad_request, "bad_request",
-                    "Transfer-Encoding and Content-Length together are ambiguous framing");
-            const std::string_view codings = te->value();
-            std::string_view last = codings.substr(codings.find_last_of(',') == std::string_view::npos
-                                                       ? 0 : codings.find_last_of(',') + 1);
-            const auto trim = [](std::string_view v) {
-                while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
-                while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
-                return v;
-            };
-            last = trim(last);
-            if (!beast::iequals(last, "chunked")) // RFC 9112 §6.3: the length cannot be determined
-                return reply_and_close(http::status::bad_request, "bad_request",
-                    "Transfer-Encoding must end in chunked: the body's framing is unknown");
-            if (!beast::iequals(trim(codings), "chunked"))
-                return reply_and_close(http::status::not_implemented, "unsupported_transfer_coding",
-                    "the only transfer coding served is chunked");
-        }
+        if (auto problem = framing_problem(parser_->get()))
+            return reply_and_close(problem->status, problem->code, problem->message);
         http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Session::on_read, shared_from_this()));
     }
 

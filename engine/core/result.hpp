@@ -7,8 +7,11 @@
 namespace wiredem::engine {
 
 /// Wraps an error value so that Result can be built from it unambiguously.
+/// The constructor lets `Err(x)` compile on clang 14 too, which lacks C++20's
+/// parenthesized initialization of aggregates (P0960).
 template <class E>
 struct Err {
+    explicit Err(E v) : value(std::move(v)) {}
     E value;
 };
 template <class E>

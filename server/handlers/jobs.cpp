@@ -153,11 +153,8 @@ std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const Se
     // is the one that drives the estimate.
     const api::WorkEstimate work = api::estimated_work(spec);
     if (!(work.total_steps() <= config.max_steps_per_job)) {
-        const double prep = work.preparation_steps, tests = work.total_steps() - prep;
-        const std::string field = spec.engine.time_step_s ? "engine.time_step_s"
-                                : prep > tests            ? "specimen.pouring.max_preparation_time_s"
-                                                          : "triaxial.plate_speed_m_per_s";
-        return FieldProblem{field,
+        const double prep = work.preparation_steps;
+        return FieldProblem{api::work_field(spec, work),
             "the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
                 + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
                 + approx(work.steps_per_test) + "); this server runs at most " + approx(config.max_steps_per_job)

@@ -127,7 +127,8 @@ TEST(ReadCurve, TheToleranceDecidesBetweenPeakAndPlateau)
     // 2.5 % of the fall: drops of 3.9 % and 5.85 %.
     const auto e = strains();
     for (const auto& [end, shape] : {std::pair{0.96, CurveShape::plateau}, std::pair{0.94, CurveShape::peak}}) {
-        const auto y = curve(e, [&](double x) {
+        // An init-capture: clang 14 cannot capture a structured binding itself.
+        const auto y = curve(e, [end = end](double x) {
             return x < 0.04 ? x / 0.04 : x < 0.05 ? 1.0 : 1.0 - (1.0 - end) * (x - 0.05) / 0.05;
         });
         EXPECT_EQ(read(e, y).shape, shape) << end;

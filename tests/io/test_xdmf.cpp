@@ -289,7 +289,8 @@ TEST(XdmfSidecar, TopologySizesMatchGeometryAndAttributes)
     ASSERT_EQ(grids.size(), 3u + 13u * 4u);
     for (const auto& [key, grid] : grids) {
         const ptree& topo = grid->get_child("Topology");
-        const std::size_t nodes = [&] {
+        // Init-captures: clang 14 cannot capture a structured binding itself.
+        const std::size_t nodes = [&key = key, &grid = grid] {
             const ptree& item = data_item_of(grid->get_child("Geometry"));
             EXPECT_EQ(numbers(attr(item, "Dimensions")).at(1), 3u) << key;
             EXPECT_EQ(attr(grid->get_child("Geometry"), "GeometryType"), "XYZ") << key;

@@ -116,6 +116,33 @@ TEST_F(HostileInput, TransferCodingsOtherThanChunkedAreRefusedAndTheConnectionCl
     EXPECT_EQ(ok.status, 201) << ok.body;
 }
 
+TEST_F(HostileInput, AnErrorReplyToHeadHasNoBodySoTheNextReplyIsNotShifted)
+{
+    // fuzz_http_request (tests/fuzz): a HEAD that matched no route, or was
+    // refused before routing, got its error body on the wire, which a client
+    // reads as the start of the next reply on the connection.
+    for (const std::string target : {"/v1/nope", "/v1/jobs/not-an-id", "/v1/health?x=1"}) {
+        const auto r = raw_exchange(port(), "HEAD " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+                                              "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+        EXPECT_GE(r.status, 400) << target;
+        EXPECT_EQ(r.body.rfind("HTTP/1.1 200", 0), 0u) << target << ": after the HEAD reply's headers came\n" << r.body;
+    }
+}
+
+TEST_F(HostileInput, ErrorsThatEchoTheRequestAreStillValidUtf8Json)
+{
+    // fuzz_http_request (tests/fuzz): a Host header, or a percent-decoded
+    // query parameter, that is not UTF-8 went into the error message as it
+    // was, and the reply was not JSON any client would read.
+    const auto host = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\nHost: 1\xff" "27.0.0.1\r\nConnection: close\r\n\r\n");
+    EXPECT_EQ(host.status, 400);
+    EXPECT_EQ(host.error_code(), "bad_host") << host.body;
+    EXPECT_NE(host.body.find("1\\\\xff27.0.0.1"), std::string::npos) << host.body;  // written as \xff
+    const auto param = http(port(), "GET", "/v1/jobs?%FF%C3=1");
+    EXPECT_EQ(param.status, 400);
+    EXPECT_EQ(param.error_code(), "bad_parameter") << param.body;
+}
+
 TEST_F(HostileInput, AnotherSitesPageCannotReachTheServer)
 {
     // DNS rebinding: a page of evil.example whose name now points at
@@ -174,7 +201,9 @@ TEST(WorkLimits, JobsThatWouldNeverEndAreRefusedNamingTheField)
         return boost::json::serialize(j);
     };
     // A valid δt far below the stable one: steps without end.
-    refused(with("engine", "time_step_s", "5e-324"), "engine.time_step_s", "at most 2e+07 (--max-steps-per-job)");
+    refused(with("engine", "time_step_s", "1e-12"), "engine.time_step_s", "at most 2e+07 (--max-steps-per-job)");
+    // One so small that no server may run it (docs/job-spec.md: 1e15 steps at most).
+    refused(with("engine", "time_step_s", "5e-324"), "engine.time_step_s", "no job may take more than 1e+15");
     // A plate that barely moves.
     refused(with("triaxial", "plate_speed_m_per_s", "1e-12"), "triaxial.plate_speed_m_per_s", "time steps");
     // Rows every step of a test that is otherwise fine.

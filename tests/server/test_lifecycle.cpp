@@ -100,7 +100,7 @@ TEST(Lifecycle, FetchResumesAPartialDownloadWithARange)
 
     // A partial of another result (another job's, or one whose ETag was not
     // kept) is not spliced with this one's bytes: the download starts over.
-    for (const std::string other_tag : {std::string("\"another-job\"\n"), std::string()}) {
+    for (const std::string& other_tag : {std::string("\"another-job\"\n"), std::string()}) {
         const fs::path spliced = tmp.path() / ("spliced" + std::to_string(other_tag.size()));
         fs::create_directories(spliced);
         write_file(spliced / "result.h5.part", std::string(100000, 'x'));

@@ -1,0 +1,96 @@
+// A wiredem-server without sockets for the fuzz targets: the real Router
+// over a real job store (SQLite, in memory) and a queue whose workers never
+// start, configured with ServerConfig's defaults. The store holds one job in
+// each final state and a queued one, and the succeeded job's files exist, so
+// that requests reach every handler (summaries, byte ranges of result.h5).
+#pragma once
+
+#include "fuzz_check.hpp"
+
+#include "job_queue.hpp"
+#include "job_store.hpp"
+#include "router.hpp"
+#include "services.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace wiredem::fuzz {
+
+/// Ids of the jobs the fixture's store holds (also in tests/fuzz/http.dict).
+inline constexpr const char* succeeded_job_id = "0123456789abcdef01234567";
+inline constexpr const char* failed_job_id = "00000000000000000000000f";
+inline constexpr const char* queued_job_id = "aaaaaaaaaaaaaaaaaaaaaaaa";
+/// Size of the succeeded job's result.h5 [bytes].
+inline constexpr std::size_t result_bytes = 1000;
+
+class ServerFixture {
+public:
+    ServerFixture()
+    {
+        spdlog::set_level(spdlog::level::off);  // a 500 is a failed check here, not a log line
+        char dir[] = "/tmp/wiredem-fuzz-XXXXXX";
+        if (!::mkdtemp(dir)) std::abort();
+        data_dir_ = dir;
+        config_.data_dir = data_dir_;
+        config_.listen_port = 8080;
+        config_.runner = "/bin/false";
+        store_ = std::make_unique<server::JobStore>(":memory:");
+        add_job(succeeded_job_id, server::JobState::succeeded);
+        add_job(failed_job_id, server::JobState::failed);
+        add_job(queued_job_id, server::JobState::queued);
+        const auto job_dir = data_dir_ / "jobs" / succeeded_job_id;
+        std::filesystem::create_directories(job_dir);
+        std::ofstream(job_dir / "summary.json") << R"({"tests":[],"engine":{"body_steps_per_second":1e6}})" << '\n';
+        std::ofstream(job_dir / "result.h5") << std::string(result_bytes, 'x');
+        queue_ = std::make_unique<server::JobQueue>(*store_, server::QueueConfig{data_dir_, config_.runner});
+        services_ = std::make_unique<server::Services>(server::Services{config_, *store_, *queue_, metrics_});
+        router_ = std::make_unique<server::Router>(*services_);
+    }
+    ~ServerFixture()
+    {
+        router_.reset();
+        services_.reset();
+        queue_.reset();
+        store_.reset();
+        std::error_code ec;
+        std::filesystem::remove_all(data_dir_, ec);
+    }
+    ServerFixture(const ServerFixture&) = delete;
+    ServerFixture& operator=(const ServerFixture&) = delete;
+
+    [[nodiscard]] server::Router& router() { return *router_; }
+    [[nodiscard]] const server::ServerConfig& config() const { return config_; }
+    [[nodiscard]] server::JobStore& store() { return *store_; }
+
+private:
+    void add_job(const std::string& id, server::JobState state)
+    {
+        server::JobRecord job;
+        job.id = id;
+        job.created_ms = 1;
+        job.spec_json = "{}";
+        server::JobRecord stored;
+        store_->insert(job, 1000, stored);
+        if (state == server::JobState::queued) return;
+        const auto claimed = store_->claim_next();
+        if (!claimed || claimed->id != id) std::abort();
+        store_->finish(id, state, state == server::JobState::failed ? "runner exited 1" : "", std::nullopt);
+    }
+
+    std::filesystem::path data_dir_;
+    server::ServerConfig config_;
+    server::Metrics metrics_;
+    std::unique_ptr<server::JobStore> store_;
+    std::unique_ptr<server::JobQueue> queue_;
+    std::unique_ptr<server::Services> services_;
+    std::unique_ptr<server::Router> router_;
+};
+
+} // namespace wiredem::fuzz
