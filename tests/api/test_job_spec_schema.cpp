@@ -102,7 +102,9 @@ TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
     }
     // The damping form not taken by default (normal_damping_s) is the only field the writer leaves out.
     for (const auto& [path, f] : fields)
-        if (!written.count(path)) EXPECT_EQ(path, "contact.normal_damping_s");
+        if (!written.count(path)) {
+            EXPECT_EQ(path, "contact.normal_damping_s");
+        }
 }
 
 TEST(JobSpecSchema, TheReaderAcceptsEachBoundAndRefusesJustOutside)
@@ -132,13 +134,20 @@ TEST(JobSpecSchema, TheReaderAcceptsEachBoundAndRefusesJustOutside)
             if (integer) {
                 const std::uint64_t b = f.at(bound).to_number<std::uint64_t>();
                 EXPECT_FALSE(refused(path, b)) << path << " = " << b;
-                if (low && b > 0) EXPECT_TRUE(refused(path, b - 1)) << path << " = " << b - 1;
-                if (!low && b < UINT64_MAX) EXPECT_TRUE(refused(path, b + 1)) << path << " = " << b + 1;
+                if (low && b > 0) {
+                    EXPECT_TRUE(refused(path, b - 1)) << path << " = " << b - 1;
+                }
+                if (!low && b < UINT64_MAX) {
+                    EXPECT_TRUE(refused(path, b + 1)) << path << " = " << b + 1;
+                }
             } else {
                 const double b = f.at(bound).to_number<double>();
                 const double outside = std::nextafter(b, low ? -INFINITY : INFINITY);
-                if (exclusive) EXPECT_TRUE(refused(path, b)) << path << " = " << b << " (excluded)";
-                else EXPECT_FALSE(refused(path, b)) << path << " = " << b;
+                if (exclusive) {
+                    EXPECT_TRUE(refused(path, b)) << path << " = " << b << " (excluded)";
+                } else {
+                    EXPECT_FALSE(refused(path, b)) << path << " = " << b;
+                }
                 EXPECT_TRUE(refused(path, outside)) << path << " = " << outside;
             }
             ++checked;
