@@ -352,20 +352,15 @@ void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
 eng::TriaxialDriverState read_driver_state(const io::Group& g)
 {
     eng::TriaxialDriverState s;
-    const auto count = [&](const char* name) {
-        const std::int64_t v = g.read_int_attribute(name);
-        if (v < 0) throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is negative");
-        return static_cast<std::uint64_t>(v);
-    };
-    s.steps = count("steps");
-    s.expected_steps = count("expected_steps");
+    s.steps = read_index(g, "steps");
+    s.expected_steps = read_index(g, "expected_steps");
     s.loading = g.read_int_attribute("loading") != 0;
     s.reference_height_m = g.read_double_attribute("reference_height_m");
     s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
-    s.next_snapshot = count("next_snapshot");
-    s.loading_start_sample = count("loading_start_sample");
+    s.next_snapshot = read_index(g, "next_snapshot");
+    s.loading_start_sample = read_index(g, "loading_start_sample");
     s.window_force_n = g.read_double_attribute("window_force_n");
-    s.window_filled = count("window_filled");
+    s.window_filled = read_index(g, "window_filled");
     if (g.read_int_attribute("has_window_sigma1") != 0) s.window_sigma1_pa = g.read_double_attribute("window_sigma1_pa");
     s.column_radius_m = g.read_double_attribute("column_radius_m");
     s.wall_time_s = g.read_double_attribute("wall_time_s");
@@ -397,13 +392,8 @@ void write_preparation_report(io::Group& g, const eng::PreparationReport& r)
 eng::PreparationReport read_preparation_report(const io::Group& g)
 {
     eng::PreparationReport r;
-    const auto count = [&](const char* name) {
-        const std::int64_t v = g.read_int_attribute(name);
-        if (v < 0) throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is negative");
-        return static_cast<std::uint64_t>(v);
-    };
-    r.grains = count("grains");
-    r.wire_nodes = count("wire_nodes");
+    r.grains = read_index(g, "grains");
+    r.wire_nodes = read_index(g, "wire_nodes");
     r.wire_length_m = g.read_double_attribute("wire_length_m");
     r.nozzle_path_m = g.read_double_attribute("nozzle_path_m");
     r.pile_height_m = g.read_double_attribute("pile_height_m");
@@ -414,10 +404,10 @@ eng::PreparationReport read_preparation_report(const io::Group& g)
     r.core_wire_volume_fraction = g.read_double_attribute("core_wire_volume_fraction");
     r.simulated_time_s = g.read_double_attribute("simulated_time_s");
     r.wall_time_s = g.read_double_attribute("wall_time_s");
-    r.steps = count("steps");
+    r.steps = read_index(g, "steps");
     r.time_step_s = g.read_double_attribute("time_step_s");
     r.settled = g.read_int_attribute("settled") != 0;
-    r.top_plate_wall = count("top_plate_wall");
+    r.top_plate_wall = read_index(g, "top_plate_wall");
     return r;
 }
 

@@ -23,8 +23,6 @@ namespace json = boost::json;
 
 namespace {
 
-constexpr int default_page_size = 50;
-constexpr int max_page_size = 500;
 constexpr std::size_t max_idempotency_key_bytes = 255;
 
 std::string job_url(const std::string& id) { return "/v1/jobs/" + id; }
@@ -117,14 +115,6 @@ bool is_json_media_type(std::string_view ct)
     return lower == "application/json";
 }
 
-std::optional<std::int64_t> parse_positive(std::string_view s)
-{
-    std::int64_t v = 0;
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size() || v <= 0) return std::nullopt;
-    return v;
-}
-
 Response job_not_found(const Request& req, const std::string& id)
 {
     return error_response(req, http::status::not_found, "not_found", "no job " + id, "id");
@@ -138,6 +128,14 @@ Response not_succeeded(const Request& req, const JobRecord& r)
 }
 
 } // namespace
+
+std::optional<std::int64_t> parse_positive(std::string_view s)
+{
+    std::int64_t v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size() || v <= 0) return std::nullopt;
+    return v;
+}
 
 std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const ServerConfig& config)
 {

@@ -11,6 +11,7 @@
 
 #include <boost/json/object.hpp>
 
+#include <cstdint>
 #include <optional>
 
 #include <string>
@@ -22,6 +23,13 @@ namespace wiredem::server {
 
 /// Decoded query parameters in request order.
 using QueryParams = std::vector<std::pair<std::string, std::string>>;
+
+/// Pages of the job and study lists: `limit` by default and at most.
+inline constexpr int default_page_size = 50;
+inline constexpr int max_page_size = 500;
+
+/// A whole decimal number > 0 (limit, cursor), or nothing.
+[[nodiscard]] std::optional<std::int64_t> parse_positive(std::string_view s);
 
 /// POST /v1/jobs: validate the spec, honour Idempotency-Key, queue the job.
 /// 201 + Location; 400 invalid_json / invalid_job; 409 idempotency_conflict;

@@ -14,8 +14,6 @@ namespace json = boost::json;
 
 namespace {
 
-constexpr int default_page_size = 50;
-constexpr int max_page_size = 500;
 /// A stored summary.json is read whole for the study summary; one larger than
 /// this is not a runner's (they are a few kB).
 constexpr std::uintmax_t max_summary_bytes = 16 * 1024 * 1024;
@@ -65,14 +63,6 @@ json::object study_json(const StudyRecord& r, const std::vector<std::optional<Jo
     o["jobs_by_state"] = counts(jobs);
     o["links"] = json::object{{"self", study_url(r.id)}, {"summary", study_url(r.id) + "/summary"}};
     return o;
-}
-
-std::optional<std::int64_t> parse_positive(std::string_view s)
-{
-    std::int64_t v = 0;
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || p != s.data() + s.size() || v <= 0) return std::nullopt;
-    return v;
 }
 
 std::optional<json::value> read_summary(const std::filesystem::path& file)
