@@ -7,6 +7,7 @@
 #include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
+#include "io/snapshot.hpp"
 #include "laws/hertz.hpp"
 #include "scene.hpp"
 #include "simulation.hpp"
@@ -226,6 +227,67 @@ void print_case_json(const Case& c, double dt)
         stages_json(c.profile).c_str());
 }
 
+/// The cases as a table: throughput, the speed-up and bit-identity against
+/// the first thread count of the same case, and the per-stage profile.
+void print_table(const std::vector<Case>& cases)
+{
+    std::printf("\n%-16s %-7s %7s %7s %9s %7s %10s %9s %16s %14s %10s\n", "case", "method", "threads", "bodies",
+        "contacts", "steps", "wall [s]", "cpu [s]", "body-steps/s", "ns/contact", "speed-up");
+    // Speed-up and bit-identity against the first run of the same case.
+    auto first_of = [&](const Case& c) -> const Case& {
+        for (const Case& f : cases)
+            if (f.name == c.name && f.integrator == c.integrator) return f;
+        return c;
+    };
+    bool same = true;
+    for (const Case& c : cases) {
+        std::printf("%-16s %-7s %7u %7zu %9zu %7llu %10.3f %9.3f %16.4g %14.4g %9.2fx\n", c.name.c_str(),
+            integrator_name(c.integrator), c.threads, c.bodies, c.contacts,
+            static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, c.body_steps_per_s(), c.ns_per_contact(),
+            first_of(c).wall_s / c.wall_s);
+        same = same && c.hash == first_of(c).hash;
+    }
+    std::printf("final states %s across thread counts\n", same ? "bit-identical" : "DIFFER");
+    std::printf("\nper stage, seconds (share of the step):\n");
+    for (const Case& c : cases) {
+        std::printf("%-16s %-7s %2u:", c.name.c_str(), integrator_name(c.integrator), c.threads);
+        const double total = c.profile.total_s();
+        for (std::size_t s = 0; s < stage_count; ++s)
+            std::printf(" %s %.3f (%.0f%%)", stage_name(static_cast<Stage>(s)).data(), c.profile.seconds[s],
+                total > 0.0 ? 100.0 * c.profile.seconds[s] / total : 0.0);
+        std::printf("\n");
+    }
+}
+
+/// Times the World saved in a snapshot file: a prepared specimen or a test's
+/// checkpoint. Its walls keep the velocities and the membrane the pressure
+/// they had when it was saved (no driver runs), which is what a test step
+/// costs; each integrator starts from the same saved state.
+int time_specimen(const std::string& path, std::uint64_t steps, const std::vector<unsigned>& thread_counts,
+    const std::vector<Integrator>& integrators, bool json)
+{
+    auto restored = restore_snapshot(path);
+    if (!restored) {
+        std::fprintf(stderr, "wiredem-bench: %s\n", restored.error().c_str());
+        return 1;
+    }
+    const World& w = restored.value();
+    std::vector<Case> cases;
+    for (Integrator integrator : integrators) {
+        const auto more = time_cases("specimen", w, steps, thread_counts, integrator);
+        cases.insert(cases.end(), more.begin(), more.end());
+    }
+    if (json) {
+        for (const Case& c : cases) print_case_json(c, w.dt_s);
+        return 0;
+    }
+    std::printf("specimen %s: %zu grains, %zu wire nodes, %zu membrane nodes, %zu walls, δt = %.3g s, step %llu\n",
+        path.c_str(), w.bodies[0].size(), w.bodies[1].size(), w.bodies[2].size(), w.walls.size(), w.dt_s,
+        static_cast<unsigned long long>(w.step_count));
+    print_table(cases);
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -256,6 +318,11 @@ int main(int argc, char** argv)
     app.add_option("--packing", packing,
            "time a packing read from a data file written by --liggghts-data instead of settling one (grains at rest)")
         ->check(CLI::ExistingFile);
+    std::string specimen;
+    app.add_option("--specimen", specimen,
+           "time the World saved in FILE (a prepared specimen.h5 or a test's checkpoint, `wiredem prepare` / "
+           "`wiredem test`) instead of the built-in cases: the paper's column as the study runs it")
+        ->check(CLI::ExistingFile);
     SimdKernels kernels = SimdKernels::automatic;
     app.add_option("--simd", kernels,
            "auto: the AVX-512 paths (sticking grain pairs, grains' turn) where the CPU has them; scalar: the scalar "
@@ -264,6 +331,8 @@ int main(int argc, char** argv)
             std::map<std::string, SimdKernels>{{"auto", SimdKernels::automatic}, {"scalar", SimdKernels::scalar}}));
     CLI11_PARSE(app, argc, argv);
     set_simd_kernels(kernels);
+
+    if (!specimen.empty()) return time_specimen(specimen, steps, thread_counts, integrators, json);
 
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);
@@ -309,33 +378,6 @@ int main(int argc, char** argv)
     }
     if (json)
         for (std::size_t i = 0; i < cases.size(); ++i) print_case_json(cases[i], dts[i]);
-    if (!json) {
-        std::printf("\n%-16s %-7s %7s %7s %9s %7s %10s %9s %16s %14s %10s\n", "case", "method", "threads", "bodies",
-            "contacts", "steps", "wall [s]", "cpu [s]", "body-steps/s", "ns/contact", "speed-up");
-        // Speed-up and bit-identity against the first run of the same case.
-        auto first_of = [&](const Case& c) -> const Case& {
-            for (const Case& f : cases)
-                if (f.name == c.name && f.integrator == c.integrator) return f;
-            return c;
-        };
-        bool same = true;
-        for (const Case& c : cases) {
-            std::printf("%-16s %-7s %7u %7zu %9zu %7llu %10.3f %9.3f %16.4g %14.4g %9.2fx\n", c.name.c_str(),
-                integrator_name(c.integrator), c.threads, c.bodies, c.contacts,
-                static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, c.body_steps_per_s(), c.ns_per_contact(),
-                first_of(c).wall_s / c.wall_s);
-            same = same && c.hash == first_of(c).hash;
-        }
-        std::printf("final states %s across thread counts\n", same ? "bit-identical" : "DIFFER");
-        std::printf("\nper stage, seconds (share of the step):\n");
-        for (const Case& c : cases) {
-            std::printf("%-16s %-7s %2u:", c.name.c_str(), integrator_name(c.integrator), c.threads);
-            const double total = c.profile.total_s();
-            for (std::size_t s = 0; s < stage_count; ++s)
-                std::printf(" %s %.3f (%.0f%%)", stage_name(static_cast<Stage>(s)).data(), c.profile.seconds[s],
-                    total > 0.0 ? 100.0 * c.profile.seconds[s] / total : 0.0);
-            std::printf("\n");
-        }
-    }
+    if (!json) print_table(cases);
     return 0;
 }

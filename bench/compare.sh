@@ -8,9 +8,12 @@
 # first binary's, and the median of the per-run 2-thread speed-ups (one-thread
 # wall time / two-thread wall time of the same run).
 #
-# usage: bench/compare.sh --packing FILE [--reps N] [--steps N] [--integrators gear5,verlet] [--quiet] BIN...
-#   --packing FILE  a data file written by `wiredem-bench --liggghts-data FILE` (required: settling
-#                   a packing per run would take minutes)
+# usage: bench/compare.sh (--packing FILE | --specimen FILE) [--reps N] [--steps N] [--integrators gear5,verlet]
+#                         [--quiet] BIN...
+#   --packing FILE  a data file written by `wiredem-bench --liggghts-data FILE` (settling a packing
+#                   per run would take minutes)
+#   --specimen FILE a snapshot (a prepared specimen.h5 or a test's checkpoint): the study's column
+#                   with wire and membrane (`wiredem-bench --specimen`); one of the two is required
 #   --reps N        alternations (default 5)
 #   --steps N       timed steps per case (default 1000)
 #   --quiet         before each run, wait (up to 10 min) until the CPUs are ≥ 85 % idle over 2 s
@@ -19,6 +22,7 @@ set -euo pipefail
 reps=5
 steps=1000
 packing=
+specimen=
 integrators=gear5,verlet
 quiet=0
 bins=()
@@ -27,6 +31,7 @@ while [ $# -gt 0 ]; do
         --reps) reps=$2; shift 2 ;;
         --steps) steps=$2; shift 2 ;;
         --packing) packing=$2; shift 2 ;;
+        --specimen) specimen=$2; shift 2 ;;
         --integrators) integrators=$2; shift 2 ;;
         --quiet) quiet=1; shift ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
@@ -34,7 +39,9 @@ while [ $# -gt 0 ]; do
         *) bins+=("$1"); shift ;;
     esac
 done
-[ -n "$packing" ] || { echo "--packing FILE is required (try --help)" >&2; exit 2; }
+if [ -n "$packing" ] && [ -z "$specimen" ]; then input=(--packing "$packing" --no-wire-membrane)
+elif [ -n "$specimen" ] && [ -z "$packing" ]; then input=(--specimen "$specimen")
+else echo "give one of --packing FILE and --specimen FILE (try --help)" >&2; exit 2; fi
 [ ${#bins[@]} -gt 0 ] || { echo "no binaries given (try --help)" >&2; exit 2; }
 
 wait_for_quiet() { # idle share of all CPUs over 2 s, from /proc/stat
@@ -52,7 +59,7 @@ trap 'rm -f "$out"' EXIT
 for r in $(seq "$reps"); do
     for i in "${!bins[@]}"; do
         [ "$quiet" = 1 ] && wait_for_quiet
-        "${bins[$i]}" --json --packing "$packing" --no-wire-membrane --steps "$steps" --threads 1,2 \
+        "${bins[$i]}" --json "${input[@]}" --steps "$steps" --threads 1,2 \
             --integrators "$integrators" | sed "s/^/$i $r /" >> "$out"
     done
     echo "run $r of $reps done" >&2

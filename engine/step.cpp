@@ -244,16 +244,15 @@ void compute_contact_forces(World& w, ThreadPool& pool)
             A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_of(a), spin_of(b), inv_dt, g);
         evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
     };
-    // Sticking grain pairs eight at a time where the CPU can (same bits,
+    // Eight pairs at a time where the CPU can (same bits,
     // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
     const SimdPairKernel simd = simd_pair_kernel();
-    const KindView& G = view[static_cast<int>(BodyKind::grain)];
-    const GrainPairInputs grains{G.x, G.v_dt, G.radius, spin_dt, inv_dt, dt, damping_s, tp};
+    const PairKernelInputs bodies = pair_kernel_inputs(w);
     parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
         std::size_t p = begin;
         if (simd)
             for (; p + simd_pair_lanes <= end; p += simd_pair_lanes) {
-                const std::uint32_t done = simd(c, p, grains);
+                const std::uint32_t done = simd(c, p, bodies);
                 for (std::size_t l = 0; l < simd_pair_lanes; ++l)
                     if (!(done >> l & 1u)) pair(p + l);
             }
@@ -274,7 +273,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
             // Eight contacts of one wall at a time, where the CPU can.
             const std::uint32_t wall = c.second[p].index();
             if (simd_wall && p + simd_pair_lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
-                const std::uint32_t done = simd_wall(c, p, w.walls[wall], grains);
+                const std::uint32_t done = simd_wall(c, p, w.walls[wall], bodies);
                 for (std::size_t l = 0; l < simd_pair_lanes; ++l)
                     if (!(done >> l & 1u)) wall_contact(p + l);
                 p += simd_pair_lanes;

@@ -19,10 +19,12 @@ std::atomic<SimdKernels> chosen_kernels{SimdKernels::automatic};
 
 #if defined(__x86_64__)
 
-// GCC 12's own intrinsics (gathers, square roots, max) start from an
-// "undefined" register that -Wmaybe-uninitialized reports when inlined.
+// GCC 12's own intrinsics (gathers, square roots, max, unpacks, inserts)
+// start from an "undefined" register that -W(maybe-)uninitialized reports
+// when inlined.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 
 using namespace avx512;
 
@@ -32,26 +34,88 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double));
 static_assert(sizeof(BodyRef) == sizeof(std::uint32_t));
 static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(TangentialState, spring_m) == 0);
 
-/// base[idx[l]] in lane l.
-[[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
-
-/// x, y and z of base[i[l]] in lane l: eight loads of x y z (masked to three
-/// doubles, so the last body is not read past) transposed in registers,
-/// cheaper than three gathers on this CPU.
-[[WIREDEM_AVX512]] inline __m512d two_rows(const Vec3& low, const Vec3& high) // x y z 0 x y z 0
+/// x, y and z of the Vec3 at p[l] in lane l: eight loads of x y z (masked to
+/// three doubles, so the last body of an array is not read past) transposed
+/// in registers, cheaper than three gathers on this CPU.
+[[WIREDEM_AVX512]] inline __m512d two_rows(const double* low, const double* high) // x y z 0 x y z 0
 {
     return _mm512_insertf64x4(
-        _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low.data())), _mm256_maskz_loadu_pd(0x7, high.data()), 1);
+        _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low)), _mm256_maskz_loadu_pd(0x7, high), 1);
 }
-[[WIREDEM_AVX512]] inline V3 load_vec3s(const Vec3* base, const std::uint32_t* i)
+[[WIREDEM_AVX512]] inline V3 load_vec3s(const std::array<const double*, simd_pair_lanes>& p)
 {
-    const __m512d r04 = two_rows(base[i[0]], base[i[4]]), r15 = two_rows(base[i[1]], base[i[5]]);
-    const __m512d r26 = two_rows(base[i[2]], base[i[6]]), r37 = two_rows(base[i[3]], base[i[7]]);
+    const __m512d r04 = two_rows(p[0], p[4]), r15 = two_rows(p[1], p[5]);
+    const __m512d r26 = two_rows(p[2], p[6]), r37 = two_rows(p[3], p[7]);
     const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), y01 = _mm512_unpackhi_pd(r04, r15);
     const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), y23 = _mm512_unpackhi_pd(r26, r37);
     const __m512i even = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), odd = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
     return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(y01, even, y23),
         _mm512_permutex2var_pd(xz01, odd, xz23)};
+}
+
+/// base[idx[l]] in lane l.
+[[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
+
+/// The spin of a body that does not turn: the scalar path's zero vector.
+constexpr double no_spin[3] = {0.0, 0.0, 0.0};
+
+/// One side of eight contacts whose bodies are all grains (the common case,
+/// read by index as one array).
+struct GrainLanes {
+    const BodyRef* refs;
+    const PairKernelInputs& in;
+
+    [[WIREDEM_AVX512]] V3 vec3s(const Vec3* base) const
+    {
+        std::array<const double*, simd_pair_lanes> at;
+        for (std::size_t l = 0; l < simd_pair_lanes; ++l) at[l] = base[refs[l].index()].data();
+        return load_vec3s(at);
+    }
+    [[WIREDEM_AVX512]] V3 x() const { return vec3s(in.x[0]); }
+    [[WIREDEM_AVX512]] V3 v_dt() const { return vec3s(in.v_dt[0]); }
+    [[WIREDEM_AVX512]] V3 spin_dt() const { return vec3s(in.spin_dt); }
+    [[WIREDEM_AVX512]] __m512d radius() const
+    {
+        return gather(in.radius[0], _mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)));
+    }
+};
+
+/// One side of eight contacts whose bodies may be of any kind (grains, wire
+/// nodes, membrane nodes): each lane read from its kind's arrays.
+struct AnyLanes {
+    const BodyRef* refs;
+    const PairKernelInputs& in;
+
+    [[WIREDEM_AVX512]] V3 vec3s(const std::array<const Vec3*, body_kind_count>& base) const
+    {
+        std::array<const double*, simd_pair_lanes> at;
+        for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+            at[l] = base[static_cast<std::size_t>(refs[l].kind())][refs[l].index()].data();
+        return load_vec3s(at);
+    }
+    [[WIREDEM_AVX512]] V3 x() const { return vec3s(in.x); }
+    [[WIREDEM_AVX512]] V3 v_dt() const { return vec3s(in.v_dt); }
+    [[WIREDEM_AVX512]] V3 spin_dt() const
+    {
+        std::array<const double*, simd_pair_lanes> at;
+        for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+            at[l] = refs[l].kind() == BodyKind::grain ? in.spin_dt[refs[l].index()].data() : no_spin;
+        return load_vec3s(at);
+    }
+    [[WIREDEM_AVX512]] __m512d radius() const
+    {
+        alignas(64) std::array<double, simd_pair_lanes> r;
+        for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+            r[l] = in.radius[static_cast<std::size_t>(refs[l].kind())][refs[l].index()];
+        return _mm512_load_pd(r.data());
+    }
+};
+
+/// Whether the eight references at `refs` are all grains (kind bits zero).
+[[WIREDEM_AVX512]] inline bool all_grains(const BodyRef* refs)
+{
+    return _mm256_testz_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)),
+        _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)));
 }
 
 /// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask: the
@@ -122,7 +186,7 @@ constexpr auto spread3 = [] {
 /// first's contact point relative to second's): the laws, then the slots.
 /// Returns the lanes done: those whose branch was certain.
 [[WIREDEM_AVX512]] inline __mmask8 evaluate_lanes(ContactList& c, std::size_t p, __mmask8 lanes, const V3& normal,
-    __m512d overlap, const V3& velocity, const GrainPairInputs& in)
+    __m512d overlap, const V3& velocity, const PairKernelInputs& in)
 {
     const __m512d zero = _mm512_setzero_pd();
     std::uint32_t sticking_bits = 0;
@@ -201,19 +265,14 @@ constexpr auto spread3 = [] {
 }
 
 
-[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const GrainPairInputs& in)
+/// Sphere–sphere geometry (sphere_sphere_geometry, operation for operation)
+/// of eight body pairs, then the law.
+template <class Lanes>
+[[WIREDEM_AVX512]] inline std::uint32_t pair_lanes(ContactList& c, std::size_t p, const Lanes& a, const Lanes& b,
+    const PairKernelInputs& in)
 {
-    // Both sides grains: the kind bits of both references are zero.
-    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
-    const __m256i second = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.second[p]));
-    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
-    if (!_mm256_testz_si256(_mm256_or_si256(first, second), kind_bits)) return 0;
-
-    // Geometry: sphere_sphere_geometry, operation for operation.
-    const std::uint32_t* ia = &c.first[p].bits;
-    const std::uint32_t* ib = &c.second[p].bits;
-    const V3 xa = load_vec3s(in.x, ia), xb = load_vec3s(in.x, ib);
-    const __m512d ra = gather(in.radius, first), rb = gather(in.radius, second);
+    const V3 xa = a.x(), xb = b.x();
+    const __m512d ra = a.radius(), rb = b.radius();
     const V3 d = xb - xa;
     const __m512d dist2 = dot(d, d);
     const __m512d reach = ra + rb;
@@ -230,23 +289,29 @@ constexpr auto spread3 = [] {
     const __m512d overlap = reach - dist;
     const V3 normal = (_mm512_set1_pd(1.0) / dist) * d;
     const __m512d arm_a = ra - half * overlap, arm_b = rb - half * overlap;
-    const V3 va = load_vec3s(in.v_dt, ia), vb = load_vec3s(in.v_dt, ib);
-    const V3 wa = load_vec3s(in.spin_dt, ia), wb = load_vec3s(in.spin_dt, ib);
+    const V3 va = a.v_dt(), vb = b.v_dt();
+    const V3 wa = a.spin_dt(), wb = b.spin_dt();
     const V3 velocity = _mm512_set1_pd(in.inv_dt) * ((va - vb) + cross(arm_a * wa + arm_b * wb, normal));
 
     return apart | evaluate_lanes(c, p, lanes, normal, overlap, velocity, in);
 }
 
-/// Sphere–wall geometry (wall_gap, sphere_wall_geometry) of eight contacts
-/// of one wall whose first sides are grains, then the same law.
-[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t wall_block_avx512(
-    ContactList& c, std::size_t p, const Wall& wall, const GrainPairInputs& in)
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const PairKernelInputs& in)
 {
-    const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&c.first[p]));
-    if (!_mm256_testz_si256(first, _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)))) return 0;
-    const std::uint32_t* ia = &c.first[p].bits;
-    const V3 x = load_vec3s(in.x, ia);
-    const __m512d r = gather(in.radius, first);
+    const BodyRef *first = &c.first[p], *second = &c.second[p];
+    if (all_grains(first) && all_grains(second))
+        return pair_lanes(c, p, GrainLanes{first, in}, GrainLanes{second, in}, in);
+    return pair_lanes(c, p, AnyLanes{first, in}, AnyLanes{second, in}, in);
+}
+
+/// Sphere–wall geometry (wall_gap, sphere_wall_geometry) of eight contacts
+/// of one wall, then the same law.
+template <class Lanes>
+[[WIREDEM_AVX512]] inline std::uint32_t wall_lanes(
+    ContactList& c, std::size_t p, const Wall& wall, const Lanes& body, const PairKernelInputs& in)
+{
+    const V3 x = body.x();
+    const __m512d r = body.radius();
     const __m512d zero = _mm512_setzero_pd();
     const V3 point = {_mm512_set1_pd(wall.point_m.x()), _mm512_set1_pd(wall.point_m.y()), _mm512_set1_pd(wall.point_m.z())};
     __m512d gap;
@@ -272,11 +337,19 @@ constexpr auto spread3 = [] {
     if (lanes == 0) return apart;
     const __m512d arm = r - _mm512_set1_pd(0.5) * overlap;
     const __m512d inv_dt = _mm512_set1_pd(in.inv_dt);
-    const V3 v = load_vec3s(in.v_dt, ia), spin = load_vec3s(in.spin_dt, ia);
+    const V3 v = body.v_dt(), spin = body.spin_dt();
     const V3 wall_v = {_mm512_set1_pd(wall.velocity_m_per_s.x()), _mm512_set1_pd(wall.velocity_m_per_s.y()),
         _mm512_set1_pd(wall.velocity_m_per_s.z())};
     const V3 velocity = (inv_dt * v + arm * cross(inv_dt * spin, towards)) - wall_v;
     return apart | evaluate_lanes(c, p, lanes, towards, overlap, velocity, in);
+}
+
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t wall_block_avx512(
+    ContactList& c, std::size_t p, const Wall& wall, const PairKernelInputs& in)
+{
+    const BodyRef* first = &c.first[p];
+    if (all_grains(first)) return wall_lanes(c, p, wall, GrainLanes{first, in}, in);
+    return wall_lanes(c, p, wall, AnyLanes{first, in}, in);
 }
 
 #pragma GCC diagnostic pop
@@ -284,6 +357,22 @@ constexpr auto spread3 = [] {
 #endif
 
 } // namespace
+
+PairKernelInputs pair_kernel_inputs(const World& w)
+{
+    PairKernelInputs in;
+    for (int k = 0; k < body_kind_count; ++k) {
+        in.x[k] = w.bodies[k].x[0].data();
+        in.v_dt[k] = w.bodies[k].x[1].data();
+        in.radius[k] = w.bodies[k].radius_m.data();
+    }
+    in.spin_dt = w.grain_rotation.w[1].data();
+    in.inv_dt = 1.0 / w.dt_s;
+    in.dt = w.dt_s;
+    in.damping_s = w.contact.normal_damping_s;
+    in.tangential = w.contact.tangential;
+    return in;
+}
 
 void set_simd_kernels(SimdKernels kernels) { chosen_kernels.store(kernels, std::memory_order_relaxed); }
 

@@ -1,20 +1,21 @@
-// Explicit SIMD paths, chosen at run time: the grain–grain pairs and the
-// grain–wall contacts of the contact list eight per AVX-512 instruction
-// (here; one law, two geometries, as in the scalar pipeline), and the grains' turn
-// (integrate/rotation_simd.cpp). The pair kernel takes eight consecutive
-// pairs when all are grain–grain, and of those the lanes that are apart or
-// overlapping with a certain branch of the tangential law (sticking, sliding
-// on, re-sticking, breaking); everything else (wire or membrane sides, walls,
-// a NaN, a boundary case) goes to the scalar kernel of compute_contact_forces
-// (engine/step.cpp).
+// Explicit SIMD paths, chosen at run time: the body pairs and the body–wall
+// contacts of the contact list eight per AVX-512 instruction (here; one law,
+// two geometries, as in the scalar pipeline), and the grains' turn
+// (integrate/rotation_simd.cpp). The pair kernel takes any eight consecutive
+// pairs, of any kinds (grains, wire nodes, membrane nodes: the same
+// sphere–sphere law), and of those the lanes that are apart or overlapping
+// with a certain branch of the tangential law (sticking, sliding on,
+// re-sticking, breaking); the other lanes (a NaN, a boundary case) go to the
+// scalar kernel of compute_contact_forces (engine/step.cpp).
 //
 // Same bits as the scalar path. Each lane performs the scalar code's
 // operations (contact/geometry.hpp, laws/hertz.hpp, laws/tangential.hpp) in
-// the same order: IEEE additions, multiplications, divisions and square roots
-// are correctly rounded whatever the vector width, and the files are compiled
-// with -ffp-contract=off so that no multiply–add is fused (the baseline
-// x86-64 build has no FMA, so the scalar path never fuses either). A lane is
-// taken only when the vector path is sure of its branch (ordered
+// the same order, on the same inputs (a body that does not turn has the
+// scalar path's zero spin): IEEE additions, multiplications, divisions and
+// square roots are correctly rounded whatever the vector width, and the files
+// are compiled with -ffp-contract=off so that no multiply–add is fused (the
+// baseline x86-64 build has no FMA, so the scalar path never fuses either). A
+// lane is taken only when the vector path is sure of its branch (ordered
 // comparisons). So states are the same with and without these paths, and the
 // same for any thread count (Determinism.SimdAndScalarKernelsGiveTheSameBits).
 #pragma once
@@ -22,40 +23,45 @@
 #include "contact/contact_list.hpp"
 #include "laws/tangential.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
 namespace wiredem::engine {
 
+struct Wall;
+struct World;
+
 /// Lanes of one call of the SIMD pair kernel.
 inline constexpr std::size_t simd_pair_lanes = 8;
 
-/// What the SIMD pair kernel reads besides the contact list: the grains'
-/// positions x₀, scaled velocities x₁ = δt v, radii and scaled spins δt ω,
-/// and the contact law.
-struct GrainPairInputs {
-    const Vec3* x = nullptr;
-    const Vec3* v_dt = nullptr;
-    const double* radius = nullptr;
-    const Vec3* spin_dt = nullptr;
+/// What the SIMD kernels read besides the contact list: per body kind the
+/// positions x₀, scaled velocities x₁ = δt v and radii; the grains' scaled
+/// spins δt ω (the other kinds do not turn); and the contact law.
+struct PairKernelInputs {
+    std::array<const Vec3*, body_kind_count> x{};
+    std::array<const Vec3*, body_kind_count> v_dt{};
+    std::array<const double*, body_kind_count> radius{};
+    const Vec3* spin_dt = nullptr; ///< grains only
     double inv_dt = 0.0;
     double dt = 0.0;
     double damping_s = 0.0; ///< γ_n
     TangentialParams tangential;
 };
 
+/// The inputs of the world's current state (valid until its bodies change).
+[[nodiscard]] PairKernelInputs pair_kernel_inputs(const World& w);
+
 /// Evaluates the contacts [p, p + simd_pair_lanes) of `c` (all body pairs)
 /// that it can (above), writing their slots exactly as the scalar kernel
 /// would. Returns the lanes it did (bit l = contact p + l); the caller
 /// evaluates the others.
-using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const GrainPairInputs& in);
+using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const PairKernelInputs& in);
 
-struct Wall;
 
 /// The same for the contacts [p, p + simd_pair_lanes), all of wall `wall`
-/// (plane or cylinder): the lanes whose first side is a grain and whose
-/// branch is certain.
-using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const GrainPairInputs& in);
+/// (plane or cylinder): the lanes whose branch is certain.
+using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const PairKernelInputs& in);
 
 /// Whether the explicit SIMD paths run: this pair kernel and the grains'
 /// turn (integrate/rotation.hpp, turn_all). Both give the scalar code's bits.

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <map>
 
 using namespace wiredem::engine;
 
@@ -112,13 +113,30 @@ TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
     };
     EXPECT_EQ(wired(SimdKernels::automatic), wired(SimdKernels::scalar));
 
-    // The SIMD path did take touching lanes, not only apart ones.
+    // The SIMD path took touching lanes of every kind of pair in the wired
+    // column (grain–grain, grain–wire, grain–membrane), not only apart ones.
+    {
+        Simulation wired_sim(1);
+        test::build_wired_column(wired_sim.world, Integrator::gear5);
+        ASSERT_EQ(wired_sim.run(300).end, RunEnd::completed);
+        World& w = wired_sim.world;
+        const PairKernelInputs in = pair_kernel_inputs(w);
+        std::map<std::pair<BodyKind, BodyKind>, std::size_t> taken_by_kinds;
+        for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
+            const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
+            for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+                if ((taken >> l & 1u) && w.contacts.touching[p + l])
+                    ++taken_by_kinds[{w.contacts.first[p + l].kind(), w.contacts.second[p + l].kind()}];
+        }
+        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::grain}]), 0u);
+        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::wire}]), 0u);
+        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::membrane}]), 0u);
+    }
     Simulation sim(1);
     build_column(sim, Integrator::gear5);
     ASSERT_EQ(sim.run(2000).end, RunEnd::completed);
     World& w = sim.world;
-    const GrainPairInputs in{w.bodies[0].x[0].data(), w.bodies[0].x[1].data(), w.bodies[0].radius_m.data(),
-        w.grain_rotation.w[1].data(), 1.0 / w.dt_s, w.dt_s, w.contact.normal_damping_s, w.contact.tangential};
+    const PairKernelInputs in = pair_kernel_inputs(w);
     std::size_t touching_taken = 0;
     for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
         const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
