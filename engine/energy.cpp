@@ -82,7 +82,7 @@ double gravitational_energy_j(const World& w)
         if (!w.gravity_acts[k]) continue;
         const TranslationalState& body = w.bodies[k];
         for (std::size_t i = 0; i < body.size(); ++i)
-            if (body.inv_mass_per_kg[i] != 0.0) e -= body.mass_kg[i] * w.gravity_m_per_s2.dot(body.x[0][i]);
+            if (is_dynamic(body, i)) e -= body.mass_kg[i] * w.gravity_m_per_s2.dot(body.x[0][i]);
     }
     return e;
 }

@@ -37,7 +37,7 @@ double kinetic_energy_j(const World& w, ThreadPool& pool)
             [&](std::size_t b, std::size_t end) {
                 double s = 0.0;
                 for (std::size_t i = b; i < end; ++i)
-                    if (body.inv_mass_per_kg[i] != 0.0) s += 0.5 * body.mass_kg[i] * body.x[1][i].squaredNorm() * inv_dt2;
+                    if (is_dynamic(body, i)) s += 0.5 * body.mass_kg[i] * body.x[1][i].squaredNorm() * inv_dt2;
                 return s;
             },
             [](double a, double b) { return a + b; });

@@ -26,11 +26,11 @@ void initialize_accelerations(World& w, ThreadPool& pool)
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     for (auto& body : w.bodies)
         parallel_for(pool, body.size(), [&](std::size_t i) {
-            body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
+            if (is_dynamic(body, i)) body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
         });
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        if (is_dynamic(w.of(BodyKind::grain), i)) rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
     });
 }
 
@@ -130,8 +130,8 @@ bool update_neighbours(World& w, ThreadPool& pool)
         // Neighbours along the wire are held by its springs, not by contact.
         if (a.kind() == BodyKind::wire && b.kind() == BodyKind::wire && b.index() - a.index() < w.wire_contact_skip)
             return false;
-        // Two fixed bodies never need a contact.
-        return w.of(a.kind()).inv_mass_per_kg[a.index()] != 0.0 || w.of(b.kind()).inv_mass_per_kg[b.index()] != 0.0;
+        // Two bodies whose motion is prescribed never need a contact.
+        return is_dynamic(w.of(a.kind()), a.index()) || is_dynamic(w.of(b.kind()), b.index());
     };
     const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, partners, filter);
 
@@ -150,7 +150,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         for (std::uint32_t i = 0; i < n; ++i) {
             const TranslationalState& body = w.of(ref[i].kind());
             const std::uint32_t b = ref[i].index();
-            if (body.inv_mass_per_kg[b] != 0.0 && wall_gap(wall, pos[i]).gap_m < radius[i] + skin) {
+            if (is_dynamic(body, b) && wall_gap(wall, pos[i]).gap_m < radius[i] + skin) {
                 first.push_back(ref[i]);
                 second.push_back(wall_ref(wi));
             }

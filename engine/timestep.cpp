@@ -55,7 +55,7 @@ StabilityInputs stability_inputs(const World& w, MembraneAs membrane)
             if (as_deformable_membrane)
                 in.kinds[k].include(w.membrane.node_mass_kg[i], w.membrane.node_fixed[i] != 0, b.radius_m[i], modulus);
             else
-                in.kinds[k].include(b.mass_kg[i], b.inv_mass_per_kg[i] == 0.0, b.radius_m[i], modulus);
+                in.kinds[k].include(b.mass_kg[i], !is_dynamic(b, i), b.radius_m[i], modulus);
         }
     }
     in.kinds_interact = w.kinds_interact;

@@ -39,7 +39,7 @@ void build_membrane(World& w, const MembraneSpec& spec)
         for (std::size_t c = 0; c < columns; ++c) {
             const double phi = 2.0 * std::numbers::pi * (static_cast<double>(c) + 0.5 * static_cast<double>(r % 2)) / columns;
             const Vec3 x(spec.radius_m * std::cos(phi), spec.radius_m * std::sin(phi), spec.base_z_m + r * dz);
-            add_node(w, BodyKind::membrane, x, spec.contact_radius_m, 0.0, material); // rigid: no mass yet
+            add_node(w, BodyKind::membrane, x, spec.contact_radius_m, 0.0, material); // rigid: no mass yet, so fixed
             m.node_fixed.push_back(r == 0 || r + 1 == rows ? 1 : 0);
             m.node_mass_kg.push_back(node_mass);
         }
@@ -112,12 +112,10 @@ void set_membrane_rigid(World& w, bool rigid)
 {
     MembraneState& m = w.membrane;
     TranslationalState& nodes = w.of(BodyKind::membrane);
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-        const bool held = rigid || m.node_fixed[i];
+    for (std::uint32_t i = 0; i < nodes.size(); ++i) {
         nodes.mass_kg[i] = m.node_mass_kg[i];
-        nodes.inv_mass_per_kg[i] = held ? 0.0 : 1.0 / m.node_mass_kg[i];
-        if (held)
-            for (int k = 1; k < gear_order; ++k) nodes.x[k][i].setZero();
+        nodes.inv_mass_per_kg[i] = 1.0 / m.node_mass_kg[i];
+        set_motion(w, {BodyKind::membrane, i}, rigid || m.node_fixed[i] ? Motion::fixed : Motion::dynamic);
     }
     m.rigid = rigid;
     if (rigid) { // compute_membrane_forces skips a rigid membrane: nothing it holds moves
@@ -125,7 +123,7 @@ void set_membrane_rigid(World& w, bool rigid)
         std::fill(m.triangle_force_n.begin(), m.triangle_force_n.end(), Vec3::Zero());
         std::fill(m.node_force_n.begin(), m.node_force_n.end(), Vec3::Zero());
     }
-    w.neighbours_dirty = true; // the pair filter skips pairs of two held bodies
+    w.neighbours_dirty = true; // the pair filter skips pairs of two bodies that are not dynamic
 }
 
 void compute_membrane_forces(World& w, ThreadPool& pool)

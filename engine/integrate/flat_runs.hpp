@@ -1,5 +1,6 @@
 // Helpers for the integrators: a run of consecutive bodies' vectors seen as
-// one flat array of doubles, and the runs of bodies that move.
+// one flat array of doubles, the runs of bodies of one motion type, and the
+// kinematic bodies' move.
 //
 // Integrating is elementwise: x, y and z of every body get the same update.
 // A std::vector<Vec3> stores them contiguously (x₀ y₀ z₀ x₁ y₁ z₁ …), so an
@@ -10,6 +11,9 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "state/body_state.hpp"
+
+#include <array>
 
 #include <cstddef>
 #include <vector>
@@ -29,18 +33,27 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three
 }
 
 /// Calls f(b, e) for each maximal run [b, e) within [begin, end) of bodies
-/// that move (inv_mass_per_kg ≠ 0), in order; bodies held fixed are skipped.
+/// whose motion is `which`, in order; the others are skipped.
 template <class F>
-void for_each_moving_run(const std::vector<double>& inv_mass_per_kg, std::size_t begin, std::size_t end, F&& f)
+void for_each_run(const std::vector<Motion>& motion, Motion which, std::size_t begin, std::size_t end, F&& f)
 {
     std::size_t b = begin;
     while (b < end) {
-        while (b < end && inv_mass_per_kg[b] == 0.0) ++b;
+        while (b < end && motion[b] != which) ++b;
         std::size_t e = b;
-        while (e < end && inv_mass_per_kg[e] != 0.0) ++e;
+        while (e < end && motion[e] == which) ++e;
         if (e > b) f(b, e);
         b = e;
     }
+}
+
+/// The kinematic bodies of [begin, end) move by their prescribed x₁ = δt v
+/// (their higher derivatives stay zero): x₀ ← x₀ + x₁.
+inline void move_kinematic(std::array<std::vector<Vec3>, gear_order>& x, const std::vector<Motion>& motion,
+    std::size_t begin, std::size_t end)
+{
+    for (std::size_t i = begin; i < end; ++i)
+        if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
 }
 
 } // namespace wiredem::engine

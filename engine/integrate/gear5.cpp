@@ -77,13 +77,18 @@ void gear5_predict(World& w, ThreadPool& pool)
 {
     for (auto& body : w.bodies) {
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-            for_each_moving_run(body.inv_mass_per_kg, begin, end,
+            for_each_run(body.motion, Motion::dynamic, begin, end,
                 [&](std::size_t b, std::size_t e) { predict_position_and_velocity(body.x, b, e); });
+            move_kinematic(body.x, body.motion, begin, end);
         });
     }
+    // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
-    parallel_for_blocks(pool, rot.orientation.size(), integrate_block,
-        [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.w, b, e); });
+    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+        for_each_run(grain_motion, Motion::dynamic, begin, end,
+            [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.w, b, e); });
+    });
 }
 
 bool gear5_correct(World& w, ThreadPool& pool)
@@ -96,7 +101,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
             [&](std::size_t begin, std::size_t end) {
                 bool ok = true;
                 for (std::size_t block = begin; block < end; block += integrate_block) {
-                    for_each_moving_run(body.inv_mass_per_kg, block, std::min(end, block + integrate_block),
+                    for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
                             correct(body.x, b, e, body.inv_mass_per_kg, body.force_n, half_dt2);
                             ok = ok && flat(body.x[0], b, e).allFinite();
@@ -108,10 +113,13 @@ bool gear5_correct(World& w, ThreadPool& pool)
         finite = finite && body_finite;
     }
     RotationalState& rot = w.grain_rotation;
-    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t b, std::size_t e) {
-        correct(rot.w, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
-        // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-        turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+        for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+            correct(rot.w, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
+            // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
+            turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+        });
     });
     return finite;
 }

@@ -9,16 +9,25 @@ void verlet_first_half(World& w, ThreadPool& pool)
 {
     for (auto& body : w.bodies) {
         parallel_for(pool, body.size(), [&](std::size_t i) {
-            if (body.inv_mass_per_kg[i] == 0.0) return; // held fixed
-            body.x[0][i] += body.x[1][i] + body.x[2][i];
-            body.x[1][i] += body.x[2][i];
+            switch (body.motion[i]) {
+            case Motion::dynamic:
+                body.x[0][i] += body.x[1][i] + body.x[2][i];
+                body.x[1][i] += body.x[2][i];
+                break;
+            case Motion::kinematic: body.x[0][i] += body.x[1][i]; break; // as move_kinematic
+            case Motion::fixed: break;
+            }
         });
     }
+    // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
-    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) rot.w[1][i] += rot.w[2][i];
-        // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
-        turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+        for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) rot.w[1][i] += rot.w[2][i];
+            // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
+            turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+        });
     });
 }
 
@@ -32,7 +41,7 @@ bool verlet_second_half(World& w, ThreadPool& pool)
             [&](std::size_t begin, std::size_t end) {
                 bool ok = true;
                 for (std::size_t i = begin; i < end; ++i) {
-                    if (body.inv_mass_per_kg[i] == 0.0) continue;
+                    if (!is_dynamic(body, i)) continue;
                     body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
                     body.x[1][i] += body.x[2][i];
                     ok = ok && body.x[0][i].allFinite() && body.x[1][i].allFinite();
@@ -44,6 +53,7 @@ bool verlet_second_half(World& w, ThreadPool& pool)
     }
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
+        if (!is_dynamic(w.of(BodyKind::grain), i)) return;
         rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
         rot.w[1][i] += rot.w[2][i];
     });

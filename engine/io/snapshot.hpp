@@ -24,7 +24,7 @@ namespace wiredem::engine {
 
 /// Version of the snapshot layout; restore_snapshot reads this version only.
 /// Bump it whenever a field is added, removed or changes meaning.
-inline constexpr std::int64_t snapshot_version = 2;
+inline constexpr std::int64_t snapshot_version = 3; // 3: bodies' motion types
 
 /// Writes every field of `w` to `path`, replacing the file. The file appears
 /// complete or not at all (written beside it, then renamed). Returns the

@@ -126,17 +126,20 @@ public:
     {
         TranslationalState& wire = w.of(BodyKind::wire);
         const std::size_t n = wire.size();
-        if (n < 2 || wire.inv_mass_per_kg[n - 1] != 0.0) return; // not held
+        if (n < 2 || is_dynamic(wire, n - 1)) return; // not held
         const Vec3 along = wire.x[0][n - 1] - wire.x[0][n - 2];
         const double length = along.norm();
         if (!(length > 0.0)) return;
-        wire.x[0][n - 1] = wire.x[0][n - 2] + along * (spec_.wire.segment_length_m / length);
+        // Kinematic for the next step, with the velocity that takes it there.
+        const auto end = static_cast<std::uint32_t>(n - 1);
+        set_motion(w, {BodyKind::wire, end}, Motion::kinematic);
+        wire.x[1][end] = wire.x[0][n - 2] + along * (spec_.wire.segment_length_m / length) - wire.x[0][end];
     }
     /// Lets go of the wire's end: both ends free.
     static void release_end(World& w)
     {
         TranslationalState& wire = w.of(BodyKind::wire);
-        if (wire.size() > 0) wire.inv_mass_per_kg.back() = 1.0 / wire.mass_kg.back();
+        if (wire.size() > 0) set_motion(w, {BodyKind::wire, static_cast<std::uint32_t>(wire.size() - 1)}, Motion::dynamic);
     }
     [[nodiscard]] double z_m() const { return z_m_; }
     [[nodiscard]] Vec3 position() const { return path_.at(s_m_) + Vec3(0, 0, z_m_); }
@@ -198,7 +201,7 @@ private:
     {
         release_end(w);
         const std::uint32_t id = append_wire_node(w, at);
-        w.of(BodyKind::wire).inv_mass_per_kg[id] = 0.0;
+        set_motion(w, {BodyKind::wire, id}, Motion::fixed);
     }
 
     NozzlePath path_;
@@ -223,7 +226,7 @@ double settling_energy_j(const World& w, double wire_mass_scale)
     }
     const TranslationalState& n = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < n.size(); ++i)
-        if (n.inv_mass_per_kg[i] != 0.0) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
+        if (is_dynamic(n, i)) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
     return e;
 }
 

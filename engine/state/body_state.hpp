@@ -13,6 +13,14 @@ namespace wiredem::engine {
 /// Number of Gear-5 scaled derivatives kept per degree of freedom (x₀ … x₅).
 inline constexpr int gear_order = 6;
 
+/// How a body moves. One stage of the integrator moves every body by its
+/// motion type, so no driver moves bodies by hand or edits their masses.
+enum class Motion : std::uint8_t {
+    dynamic,   ///< integrated from its forces
+    kinematic, ///< moves at its prescribed velocity x₁/δt (set_velocity) whatever the forces; they are still gathered into force_n
+    fixed,     ///< does not move
+};
+
 /// Translational state of a set of spheres of one kind (grains, wire nodes or
 /// membrane nodes). All arrays have size() entries.
 struct TranslationalState {
@@ -20,14 +28,16 @@ struct TranslationalState {
     std::array<std::vector<Vec3>, gear_order> x;
     std::vector<double> radius_m;          ///< contact radius [m]
     std::vector<double> mass_kg;           ///< [kg]
-    std::vector<double> inv_mass_per_kg;   ///< 0 for a body held fixed [1/kg]
+    std::vector<double> inv_mass_per_kg;   ///< 1/m [1/kg]
+    std::vector<Motion> motion;            ///< dynamic (fixed when added without mass) unless set_motion says otherwise
     std::vector<std::uint8_t> material;    ///< index into World::materials
     std::vector<Vec3> force_n;             ///< total force, rebuilt every step [N]
 
     [[nodiscard]] std::size_t size() const { return radius_m.size(); }
 
     /// Appends one body at rest at `position_m` moving with `velocity_m_per_s`
-    /// (scaled by δt into x[1]); returns its index.
+    /// (scaled by δt into x[1]); returns its index. A body without mass is
+    /// fixed (the rigid membrane's nodes, until set_membrane_rigid).
     std::uint32_t add(const Vec3& position_m, const Vec3& velocity_m_per_s, double radius_m_, double mass_kg_,
         std::uint8_t material_id, double dt_s)
     {
@@ -37,6 +47,7 @@ struct TranslationalState {
         radius_m.push_back(radius_m_);
         mass_kg.push_back(mass_kg_);
         inv_mass_per_kg.push_back(mass_kg_ > 0.0 ? 1.0 / mass_kg_ : 0.0);
+        motion.push_back(mass_kg_ > 0.0 ? Motion::dynamic : Motion::fixed); // nothing to integrate without a mass
         material.push_back(material_id);
         force_n.push_back(Vec3::Zero());
         return static_cast<std::uint32_t>(size() - 1);

@@ -102,4 +102,17 @@ void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
     w.of(b.kind()).x[1][b.index()] = v_m_per_s * w.dt_s;
 }
 
+void set_motion(World& w, BodyRef b, Motion motion)
+{
+    TranslationalState& body = w.of(b.kind());
+    const std::uint32_t i = b.index();
+    if (body.motion[i] == motion) return;
+    body.motion[i] = motion;
+    const int first_zeroed = motion == Motion::fixed ? 1 : motion == Motion::kinematic ? 2 : gear_order;
+    for (int k = first_zeroed; k < gear_order; ++k) body.x[k][i].setZero();
+    if (b.kind() == BodyKind::grain && motion != Motion::dynamic) // it does not turn
+        for (int k = 1; k < gear_order; ++k) w.grain_rotation.w[k][i].setZero();
+    w.neighbours_dirty = true;
+}
+
 } // namespace wiredem::engine

@@ -3,7 +3,7 @@
 //
 // Invariants: body ids follow creation order and never change; the scaled
 // Gear derivatives are scaled by the current dt_s (set_time_step rescales
-// them); a body with inv_mass_per_kg == 0 is held fixed.
+// them); how a body moves is its Motion (set_motion).
 #pragma once
 
 #include "broadphase/cell_grid.hpp"
@@ -153,7 +153,17 @@ void set_integrator(World& w, Integrator integrator);
 [[nodiscard]] Vec3 velocity_m_per_s(const World& w, BodyRef b);
 /// Angular velocity of a grain [rad/s].
 [[nodiscard]] Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain);
-/// Sets a body's velocity.
+/// Sets a body's velocity (a kinematic body's prescribed velocity).
 void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s);
+/// Sets how a body moves. A fixed body stops (x₁ … x₅ = 0); a kinematic one
+/// keeps its velocity x₁, which set_velocity prescribes, and loses its
+/// acceleration (x₂ … x₅ = 0); a dynamic one starts from its velocity. The
+/// neighbour list is rebuilt (two bodies that are not dynamic need no contact).
+void set_motion(World& w, BodyRef b, Motion motion);
+/// Whether the integrator moves the body by its forces.
+[[nodiscard]] inline bool is_dynamic(const TranslationalState& body, std::size_t i)
+{
+    return body.motion[i] == Motion::dynamic;
+}
 
 } // namespace wiredem::engine

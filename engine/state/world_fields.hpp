@@ -279,6 +279,7 @@ void for_each_field(W& w, Visit&& field)
         field(at + "radius_m", b.radius_m, R::model);
         field(at + "mass_kg", b.mass_kg, R::model);
         field(at + "inv_mass_per_kg", b.inv_mass_per_kg, R::model);
+        field(at + "motion", b.motion, R::model);
         field(at + "material", b.material, R::model);
         field(at + "force_n", b.force_n, R::output);
     }

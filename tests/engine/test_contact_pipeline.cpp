@@ -35,8 +35,7 @@ Evaluated contact_on_grain(double z_m, const Vec3& v, const Vec3& omega, double 
     add_grain(w, Vec3(0, 0, z_m), radius_m, 0, v, omega);
     if (big_radius_m > 0.0) {
         const std::uint32_t big = add_grain(w, Vec3(0, 0, -big_radius_m), big_radius_m, plate);
-        w.bodies[0].inv_mass_per_kg[big] = 0.0; // held, like the plate
-        w.grain_rotation.inv_inertia_per_kg_m2[big] = 0.0;
+        set_motion(w, {BodyKind::grain, big}, Motion::fixed); // held, like the plate
     } else {
         add_wall(w, make_plate(0.0, +1.0, plate));
     }

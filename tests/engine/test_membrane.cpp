@@ -108,7 +108,7 @@ BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressu
         const Vec3 inward = -Vec3(x.x(), x.y(), 0.0).normalized();
         grain_of_node[i] = static_cast<std::uint32_t>(w.of(BodyKind::grain).size());
         add_grain(w, x + inward * (gap_m + spec.contact_radius_m + rg), rg, grain_mat);
-        w.of(BodyKind::grain).inv_mass_per_kg.back() = 0.0; // held
+        set_motion(w, {BodyKind::grain, grain_of_node[i]}, Motion::fixed); // held
     }
     set_membrane_rigid(w, false);
     w.dt_s = stable_time_step(w).auto_s;

@@ -28,7 +28,7 @@ void straight_wire(Simulation& sim, int nodes)
     w.dt_s = stable_time_step(w).auto_s;
 }
 
-void hold(World& w, std::uint32_t node) { w.of(BodyKind::wire).inv_mass_per_kg[node] = 0.0; }
+void hold(World& w, std::uint32_t node) { set_motion(w, {BodyKind::wire, node}, Motion::fixed); }
 
 double area_m2() { return M_PI * paper_wire.radius_m * paper_wire.radius_m; }
 double second_moment_m4() { return M_PI * std::pow(paper_wire.radius_m, 4) / 4.0; }
