@@ -220,6 +220,22 @@ json::object with_default(json::object o, json::value d)
     return o;
 }
 
+/// What a field means and its unit: every reader takes one, and the schema
+/// carries them ("description", and "x-unit" for a number: "1" when it has
+/// none; a JSON Schema keyword of its own, as OpenAPI wants extensions named).
+/// docs/job-spec.md's table gives the same (tests/api/test_job_spec_schema.cpp).
+struct Meaning {
+    const char* unit;  ///< nullptr: not a quantity (a string, a choice)
+    const char* text;
+};
+
+json::object with_meaning(json::object o, const Meaning& m)
+{
+    o["description"] = m.text;
+    if (m.unit) o["x-unit"] = m.unit;
+    return o;
+}
+
 // --------------------------------------------------------- value-level reads
 
 /// A JSON number as a double, or nullopt for any other kind.
@@ -343,25 +359,28 @@ public:
     }
 
     /// Describes the field `key` in schema mode (Validator::record_schema).
-    void describe(std::string_view key, json::object field) { v_.describe(path_of(key), std::move(field)); }
-
-    void number(std::string_view key, Range range, double& out)
+    void describe(std::string_view key, json::object field, const Meaning& m)
     {
-        if (v_.recording()) describe(key, with_default(number_schema(range), out));
+        v_.describe(path_of(key), with_meaning(std::move(field), m));
+    }
+
+    void number(std::string_view key, Range range, double& out, const Meaning& m)
+    {
+        if (v_.recording()) describe(key, with_default(number_schema(range), out), m);
         if (const json::value* j = take(key)) read_number(v_, *j, path_of(key), range, out);
     }
     template <class T>
-    void integer(std::string_view key, IntRange range, T& out)
+    void integer(std::string_view key, IntRange range, T& out, const Meaning& m)
     {
         if (v_.recording())
             describe(key, json::object{{"type", "integer"}, {"minimum", range.lo}, {"maximum", range.hi},
-                              {"default", static_cast<std::uint64_t>(out)}});
+                              {"default", static_cast<std::uint64_t>(out)}}, m);
         std::uint64_t n = 0;
         if (const json::value* j = take(key))
             if (read_integer(v_, *j, path_of(key), range, n)) out = static_cast<T>(n);
     }
     template <class E, std::size_t N>
-    void choice(std::string_view key, const std::array<std::pair<std::string_view, E>, N>& choices, E& out)
+    void choice(std::string_view key, const std::array<std::pair<std::string_view, E>, N>& choices, E& out, const Meaning& m)
     {
         if (v_.recording()) {
             json::array names;
@@ -370,13 +389,13 @@ public:
                 names.push_back(json::string(name));
                 if (value == out) current = json::string(name);
             }
-            describe(key, json::object{{"type", "string"}, {"enum", std::move(names)}, {"default", std::move(current)}});
+            describe(key, json::object{{"type", "string"}, {"enum", std::move(names)}, {"default", std::move(current)}}, m);
         }
         if (const json::value* j = take(key)) read_choice(v_, *j, path_of(key), choices, out);
     }
-    void text(std::string_view key, std::string& out)
+    void text(std::string_view key, std::string& out, const Meaning& m)
     {
-        if (v_.recording()) describe(key, json::object{{"type", "string"}, {"default", out}});
+        if (v_.recording()) describe(key, json::object{{"type", "string"}, {"default", out}}, m);
         const json::value* j = take(key);
         if (j == nullptr) return;
         if (!j->is_string()) {
@@ -411,14 +430,13 @@ private:
 /// Reads an array of numbers, each in `range`, strictly increasing, with
 /// `min_n`–`max_n` entries. Returns false (leaving `out`) on any problem.
 bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n,
-    std::size_t max_n, std::string_view what, std::vector<double>& out)
+    std::size_t max_n, std::string_view what, std::vector<double>& out, const Meaning& m)
 {
     if (r.validator().recording()) {
         json::array d;
         for (double x : out) d.push_back(x);
         r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
-                            {"maxItems", max_n}, {"default", std::move(d)},
-                            {"description", std::string(what) + ": strictly increasing"}});
+                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
     }
     const json::value* j = r.take(key);
     if (j == nullptr) return false;
@@ -471,12 +489,12 @@ constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edg
 }};
 
 /// An optional number: absent or null leaves `out` empty.
-void optional_number(ObjectReader& r, std::string_view key, const Range& range, std::optional<double>& out)
+void optional_number(ObjectReader& r, std::string_view key, const Range& range, std::optional<double>& out, const Meaning& m)
 {
     if (r.validator().recording()) {
         json::object o = number_schema(range);
         o["type"] = json::array{"number", "null"};
-        r.describe(key, with_default(std::move(o), out ? json::value(*out) : json::value(nullptr)));
+        r.describe(key, with_default(std::move(o), out ? json::value(*out) : json::value(nullptr)), m);
     }
     if (const json::value* j = r.take(key); j != nullptr && !j->is_null()) {
         double x = 0.0;
@@ -486,38 +504,57 @@ void optional_number(ObjectReader& r, std::string_view key, const Range& range, 
 
 void read_grain(ObjectReader& r, GrainMaterialSpec& g)
 {
-    r.number("youngs_modulus_pa", modulus_range, g.youngs_modulus_pa);
-    r.number("poisson_ratio", poisson_range, g.poisson_ratio);
-    r.number("density_kg_per_m3", density_range, g.density_kg_per_m3);
+    r.number("youngs_modulus_pa", modulus_range, g.youngs_modulus_pa,
+        {"Pa", "E_p, Young's modulus of the grains"});
+    r.number("poisson_ratio", poisson_range, g.poisson_ratio,
+        {"1", "ν_p, Poisson's ratio of the grains"});
+    r.number("density_kg_per_m3", density_range, g.density_kg_per_m3,
+        {"kg/m³", "ρ_p, density of the grains"});
 }
 
 void read_plate(ObjectReader& r, PlateMaterialSpec& p)
 {
-    r.number("youngs_modulus_pa", modulus_range, p.youngs_modulus_pa);
-    r.number("poisson_ratio", poisson_range, p.poisson_ratio);
+    r.number("youngs_modulus_pa", modulus_range, p.youngs_modulus_pa,
+        {"Pa", "E_b, Young's modulus of both plates"});
+    r.number("poisson_ratio", poisson_range, p.poisson_ratio,
+        {"1", "ν_b, Poisson's ratio of the plates"});
 }
 
 void read_wire(ObjectReader& r, WireSpec& w)
 {
-    r.choice("pattern", wire_patterns, w.pattern);
-    r.number("radius_m", open_closed(0.0, 0.01), w.radius_m);
-    r.number("segment_length_m", open_closed(0.0, 0.1), w.segment_length_m);
-    r.number("youngs_modulus_pa", modulus_range, w.youngs_modulus_pa);
-    r.number("poisson_ratio", poisson_range, w.poisson_ratio);
-    r.number("density_kg_per_m3", density_range, w.density_kg_per_m3);
-    r.number("nozzle_rise_speed_m_per_s", open_closed(0.0, 100.0), w.nozzle_rise_speed_m_per_s);
-    r.number("angular_speed_rad_per_s", open_closed(0.0, 1e5), w.angular_speed_rad_per_s);
-    r.number("helix_radius_m", open_closed(0.0, 1.0), w.helix_radius_m);
-    r.number("inner_radius_m", open_closed(0.0, 1.0), w.inner_radius_m);
-    r.number("period_angle_rad", open_closed(0.0, two_pi), w.period_angle_rad);
-    r.number("clearance_m", closed(0.0, 0.1), w.clearance_m);
-    optional_number(r, "length_m", open_closed(0.0, 1e4), w.length_m);
+    r.choice("pattern", wire_patterns, w.pattern,
+        {nullptr, "deployment pattern (model spec §5)"});
+    r.number("radius_m", open_closed(0.0, 0.01), w.radius_m,
+        {"m", "r_w, contact radius of a wire node"});
+    r.number("segment_length_m", open_closed(0.0, 0.1), w.segment_length_m,
+        {"m", "l_w, rest length of a segment"});
+    r.number("youngs_modulus_pa", modulus_range, w.youngs_modulus_pa,
+        {"Pa", "E_w, Young's modulus of the wire"});
+    r.number("poisson_ratio", poisson_range, w.poisson_ratio,
+        {"1", "ν_w, Poisson's ratio of the wire"});
+    r.number("density_kg_per_m3", density_range, w.density_kg_per_m3,
+        {"kg/m³", "ρ_w, density of the wire; node mass ρ_w π r_w² l_w"});
+    r.number("nozzle_rise_speed_m_per_s", open_closed(0.0, 100.0), w.nozzle_rise_speed_m_per_s,
+        {"m/s", "v_z^w, rise speed of the nozzle that lays the wire"});
+    r.number("angular_speed_rad_per_s", open_closed(0.0, 1e5), w.angular_speed_rad_per_s,
+        {"rad/s", "ω; the wire is laid at ω·R_a for every pattern"});
+    r.number("helix_radius_m", open_closed(0.0, 1.0), w.helix_radius_m,
+        {"m", "R_a, radius of the (outer) circle: 0.6 R for the 20 mm column"});
+    r.number("inner_radius_m", open_closed(0.0, 1.0), w.inner_radius_m,
+        {"m", "R_i, small circle of spiral_helix (ignored otherwise); must be < R_a"});
+    r.number("period_angle_rad", open_closed(0.0, two_pi), w.period_angle_rad,
+        {"rad", "φ_rs: one small circle (spiral_helix) or one radial excursion (radial_helix) per φ_rs around the axis; four per turn by default"});
+    r.number("clearance_m", closed(0.0, 0.1), w.clearance_m,
+        {"m", "gap kept between the wire surface and the membrane"});
+    optional_number(r, "length_m", open_closed(0.0, 1e4), w.length_m,
+        {"m", "the length of wire to lay; the fill rate then follows: v_fill = ω R_a (H_fill − 2 r_max) / L (the wire is laid at ω R_a while the fill rises through all but its last grain diameter). The paper's column has about 10 m (0.030 m/s for 8000 grains in R = 20 mm). null: specimen.pouring.fill_rate_m_per_s sets the length. Ignored without a pattern"});
     // A number (the yield strain ε_y) or "elastic" (the model spec's wire).
     const Range yield_range = open_closed(0.0, 1.0);
     if (r.validator().recording())
         r.describe("bending_yield_strain",
             json::object{{"oneOf", json::array{number_schema(yield_range), json::object{{"const", "elastic"}}}},
-                {"default", w.bending_yield_strain ? json::value(*w.bending_yield_strain) : json::value("elastic")}});
+                {"default", w.bending_yield_strain ? json::value(*w.bending_yield_strain) : json::value("elastic")}},
+            {"1", "ε_y = σ_y/E_w, the wire's yield strain in bending. Every joint is an elastic–perfectly-plastic hinge that yields at ζ_y = ε_y l_w/r_w (0.125 rad at the defaults), so the nozzle forms the wire plastically and a laid coil or hairpin keeps its shape; 0.05 is a polyamide-like wire (σ_y = 50 MPa at E_w = 1 GPa). \"elastic\": the model spec's wire, straight at rest, which springs back from any curve (docs/model.md, \"Wire\")"});
     if (const json::value* j = r.take("bending_yield_strain")) {
         const std::string path = r.path_of("bending_yield_strain");
         const Range range = yield_range;
@@ -540,30 +577,45 @@ void read_wire(ObjectReader& r, WireSpec& w)
 
 void read_membrane(ObjectReader& r, MembraneSpec& m)
 {
-    r.number("thickness_m", open_closed(0.0, 0.01), m.thickness_m);
-    r.number("mesh_size_m", open_closed(0.0, 0.1), m.mesh_size_m);
-    r.number("youngs_modulus_pa", modulus_range, m.youngs_modulus_pa);
-    r.number("poisson_ratio", poisson_range, m.poisson_ratio);
-    r.number("density_kg_per_m3", density_range, m.density_kg_per_m3);
-    r.choice("edges", membrane_edges, m.edges);
+    r.number("thickness_m", open_closed(0.0, 0.01), m.thickness_m,
+        {"m", "d, thickness of the membrane"});
+    r.number("mesh_size_m", open_closed(0.0, 0.1), m.mesh_size_m,
+        {"m", "l_m, edge of the triangular mesh"});
+    r.number("youngs_modulus_pa", modulus_range, m.youngs_modulus_pa,
+        {"Pa", "E_m, Young's modulus of the membrane; edge stiffness k_m = (√3/2) E_m d"});
+    r.number("poisson_ratio", poisson_range, m.poisson_ratio,
+        {"1", "ν_m (enters the Hertz E* of grain–membrane contacts)"});
+    r.number("density_kg_per_m3", density_range, m.density_kg_per_m3,
+        {"kg/m³", "ρ_m; node mass (√3/2) l_m² ρ_m d"});
+    r.choice("edges", membrane_edges, m.edges,
+        {nullptr, "edge law: slack when shorter than its rest length (the sheet wrinkles), or the model spec's linear spring both ways (docs/model.md, \"The membrane carries no compression\")"});
     // null (or absent) means "follow the thickness": d/2.
-    optional_number(r, "contact_radius_m", open_closed(0.0, 0.01), m.contact_radius_m);
+    optional_number(r, "contact_radius_m", open_closed(0.0, 0.01), m.contact_radius_m,
+        {"m", "r_m, contact radius of a membrane node; null (or absent) = d/2, following the thickness"});
 }
 
 void read_pouring(ObjectReader& r, PouringSpec& p)
 {
-    optional_number(r, "fill_rate_m_per_s", open_closed(0.0, 100.0), p.fill_rate_m_per_s);
-    r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), p.settle_kinetic_energy_per_grain_j);
-    r.number("max_preparation_time_s", open_closed(0.0, 1e4), p.max_preparation_time_s);
+    optional_number(r, "fill_rate_m_per_s", open_closed(0.0, 100.0), p.fill_rate_m_per_s,
+        {"m/s", "how fast the pile's fill height rises while pouring. The nozzle lays wire at ω R_a for the whole pour, so this sets the wire per height of column: a helix's pitch is 2π v_fill / ω (5.2 mm at the defaults; 0.1 m/s gives 2.1 mm)"});
+    r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), p.settle_kinetic_energy_per_grain_j,
+        {"J", "the packing has settled when the mean kinetic energy per grain is below this"});
+    r.number("max_preparation_time_s", open_closed(0.0, 1e4), p.max_preparation_time_s,
+        {"s", "simulated time after which an unsettled preparation fails"});
 }
 
 void read_specimen(ObjectReader& r, SpecimenSpec& s)
 {
-    r.number("membrane_radius_m", open_closed(0.0, 1.0), s.membrane_radius_m);
-    r.number("membrane_height_m", open_closed(0.0, 10.0), s.membrane_height_m);
-    r.integer("grain_count", IntRange{1, 100'000'000}, s.grain_count);
-    r.number("grain_radius_m", open_closed(0.0, 0.1), s.grain_radius_m);
-    r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread);
+    r.number("membrane_radius_m", open_closed(0.0, 1.0), s.membrane_radius_m,
+        {"m", "R, radius of the membrane cylinder"});
+    r.number("membrane_height_m", open_closed(0.0, 10.0), s.membrane_height_m,
+        {"m", "H_m, height of the membrane"});
+    r.integer("grain_count", IntRange{1, 100'000'000}, s.grain_count,
+        {"1", "N_p. Not the paper's 1000, which fills only a few percent of the column (model spec §8)"});
+    r.number("grain_radius_m", open_closed(0.0, 0.1), s.grain_radius_m,
+        {"m", "r_p, mean grain radius"});
+    r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread,
+        {"1", "s: radii uniform in r_p·(1 ± s); 0 = monodisperse"});
     {
         ObjectReader g(r.validator(), r.take("grain"), r.path_of("grain"));
         read_grain(g, s.grain);
@@ -598,11 +650,13 @@ void read_contact(ObjectReader& r, ContactSpec& c)
                 reference_speed_range = open_closed(0.0, 100.0);
     if (v.recording()) {
         const NormalRestitution e;
-        r.describe("normal_damping_s", json::object{{"type", "number"}, {"minimum", damping_range.lo}, {"maximum", damping_range.hi},
-                                           {"description", "gamma_n [s]; not together with restitution"}});
-        r.describe("restitution", with_default(number_schema(restitution_range), e.restitution));
+        r.describe("normal_damping_s", json::object{{"type", "number"}, {"minimum", damping_range.lo}, {"maximum", damping_range.hi}},
+            {"s", "γ_n in F_n = (4/3) E* √R* (ξ^{3/2} + γ_n √ξ dξ/dt)"});
+        r.describe("restitution", with_default(number_schema(restitution_range), e.restitution),
+            {"1", "e_n, coefficient of normal restitution"});
         r.describe("restitution_reference_speed_m_per_s",
-            with_default(number_schema(reference_speed_range), e.restitution_reference_speed_m_per_s));
+            with_default(number_schema(reference_speed_range), e.restitution_reference_speed_m_per_s),
+            {"m/s", "impact speed at which e_n holds (for this law e_n varies weakly with speed)"});
     }
     const json::value* damping = r.take("normal_damping_s");
     const json::value* restitution = r.take("restitution");
@@ -629,28 +683,40 @@ void read_contact(ObjectReader& r, ContactSpec& c)
     else
         c.normal_damping = e;
 
-    r.number("tangential_stiffness_per_m", open_closed(0.0, 1e9), c.tangential_stiffness_per_m);
-    r.number("friction_coeff", closed(0.0, 10.0), c.friction_coeff);
-    r.number("critical_slip_m", open_closed(0.0, 1.0), c.critical_slip_m);
-    r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential_damping_s_per_m);
+    r.number("tangential_stiffness_per_m", open_closed(0.0, 1e9), c.tangential_stiffness_per_m,
+        {"1/m", "k_t in F_t = −k_t F_n δ_t (the paper's reading, model spec §8)"});
+    r.number("friction_coeff", closed(0.0, 10.0), c.friction_coeff,
+        {"1", "μ, Coulomb friction coefficient of the contacts"});
+    r.number("critical_slip_m", open_closed(0.0, 1.0), c.critical_slip_m,
+        {"m", "d_cr, the spring breaks beyond this slip"});
+    r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential_damping_s_per_m,
+        {"s/m", "γ_t: sliding force F_n·min(μ, γ_t·|v_t|) (engine/laws/tangential.hpp)"});
 }
 
 void read_triaxial(ObjectReader& r, TriaxialSpec& t)
 {
     read_increasing_numbers(r, "confining_pressures_pa", open_closed(0.0, 1e7), 1, max_pressures, "the pressures",
-        t.confining_pressures_pa);
-    r.number("target_axial_strain", open_closed(0.0, 0.5), t.target_axial_strain);
-    r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s);
-    r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s);
-    r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s);
-    optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s);
-    r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s);
+        t.confining_pressures_pa,
+        {"Pa", "σ_3 of each test"});
+    r.number("target_axial_strain", open_closed(0.0, 0.5), t.target_axial_strain,
+        {"1", "a test ends at this ε_a"});
+    r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s,
+        {"m/s", "v_z of the top plate"});
+    r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s,
+        {"s", "σ_3 rises linearly from 0 over this time"});
+    r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s,
+        {"s", "σ_3 is then held at least this long before loading, while the top plate consolidates the column to σ_1 = σ_3 (docs/model.md)"});
+    optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s,
+        {"s", "the hold goes on past hold_time_s until the column has consolidated (σ_1 averaged over 5 ms within 5 % of σ_3, the top plate slower than the loading speed), at most this long; a warning says when that was not enough"});
+    r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s,
+        {"s", "time between samples of the test record"});
     // The default snapshots follow the target; a given list is checked
     // against the target by the cross-field checks.
     if (r.validator().clean(r.path_of("target_axial_strain")))
         t.snapshot_strains = {0.0, 0.5 * t.target_axial_strain, t.target_axial_strain};
     read_increasing_numbers(r, "snapshot_strains", closed(0.0, 0.5), 0, max_snapshots, "the snapshot strains",
-        t.snapshot_strains);
+        t.snapshot_strains,
+        {"1", "axial strains at which the wire elongation profile and the force network are saved; the default follows the target"});
 }
 
 void read_engine(ObjectReader& r, EngineSpec& e)
@@ -659,7 +725,8 @@ void read_engine(ObjectReader& r, EngineSpec& e)
     if (r.validator().recording())
         r.describe("time_step_s",
             json::object{{"oneOf", json::array{number_schema(time_step_range), json::object{{"const", "auto"}}}},
-                {"default", e.time_step_s ? json::value(*e.time_step_s) : json::value("auto")}});
+                {"default", e.time_step_s ? json::value(*e.time_step_s) : json::value("auto")}},
+            {"s", "δt; \"auto\" uses engine::auto_time_step_fraction (0.5) × the critical step (auto_s of engine::stable_time_step)"});
     if (const json::value* j = r.take("time_step_s")) {
         const std::string path = r.path_of("time_step_s");
         if (j->is_string()) {
@@ -672,21 +739,27 @@ void read_engine(ObjectReader& r, EngineSpec& e)
             r.validator().fail(path, "expected a number or \"auto\", got " + std::string(kind_text(*j)));
         }
     }
-    r.choice("integrator", integrators, e.integrator);
-    r.integer("threads", IntRange{0, 256}, e.threads);
-    r.number("density_scale", closed(1.0, 1e6), e.density_scale);
-    r.number("wire_mass_scale", closed(1.0, 1e6), e.wire_mass_scale);
+    r.choice("integrator", integrators, e.integrator,
+        {nullptr, "Gear-5 predictor–corrector (reference) or velocity Verlet"});
+    r.integer("threads", IntRange{0, 256}, e.threads,
+        {"1", "worker threads; 0 = all cores. Results do not depend on it"});
+    r.number("density_scale", closed(1.0, 1e6), e.density_scale,
+        {"1", "s, mass scaling: every mass (grains, wire and membrane nodes) is multiplied by it; inertia only, weights stay real (gravity g/s on the scaled masses in the test; docs/model.md, \"Quasi-static scaling\"); δt grows as its square root"});
+    r.number("wire_mass_scale", closed(1.0, 1e6), e.wire_mass_scale,
+        {"1", "M, extra inertia of the wire nodes (masses s·M times the model's), weights unchanged: lifts the δt set by the wire's axial springs. The membrane's nodes take s only"});
     // 1e9 < 2^30: every body index fits a BodyRef (engine/core/types.hpp).
-    r.integer("max_bodies", IntRange{1, 1'000'000'000}, e.max_bodies);
+    r.integer("max_bodies", IntRange{1, 1'000'000'000}, e.max_bodies,
+        {"1", "refuse jobs whose estimated body count exceeds this"});
 }
 
 void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 {
     ObjectReader r(v, &doc, "");
-    r.text("name", spec.name);
+    r.text("name", spec.name,
+        {nullptr, "label of the job"});
     if (v.recording())
-        r.describe("name", json::object{{"type", "string"}, {"maxLength", max_name_chars}, {"default", spec.name},
-                               {"description", "one line of text (no control characters)"}});
+        r.describe("name", json::object{{"type", "string"}, {"maxLength", max_name_chars}, {"default", spec.name}},
+            {nullptr, "label of the job"});
     if (v.clean("name")) {
         const std::size_t n = utf8_length(spec.name);
         if (n > max_name_chars)
@@ -698,8 +771,10 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
                 break;
             }
     }
-    r.text("comment", spec.comment);
-    r.integer("seed", IntRange{0, UINT64_MAX}, spec.seed);
+    r.text("comment", spec.comment,
+        {nullptr, "free text"});
+    r.integer("seed", IntRange{0, UINT64_MAX}, spec.seed,
+        {"1", "seed of the pouring (reproducible preparation)"});
     {
         ObjectReader s(v, r.take("specimen"), "specimen");
         read_specimen(s, spec.specimen);

@@ -170,25 +170,32 @@ json::object tests_json(const io::Group& root, const std::string& url_base)
 json::object series_json(const io::Group& t, const std::string& name, const std::vector<std::string>& columns,
     std::size_t max_points)
 {
-    const std::vector<std::string> wanted = columns.empty() ? series_columns(t) : columns;
-    std::vector<std::vector<double>> data;
-    std::size_t rows = 0;
-    for (const auto& c : wanted) {
-        data.push_back(t.open_dataset(c).read_doubles());
-        rows = std::max(rows, data.back().size());
+    std::vector<SeriesColumn> read;
+    for (const auto& c : columns.empty() ? series_columns(t) : columns) {
+        const io::Dataset d = t.open_dataset(c);
+        std::optional<std::string> units;
+        if (d.has_attribute("units")) units = d.read_string_attribute("units");
+        read.push_back({c, std::move(units), d.read_doubles()});
     }
-    for (std::size_t i = 0; i < wanted.size(); ++i)
-        if (data[i].size() != rows)
-            throw std::runtime_error("test " + name + ": column " + wanted[i] + " has " + std::to_string(data[i].size())
+    return series_json(name, read, max_points);
+}
+
+json::object series_json(const std::string& name, const std::vector<SeriesColumn>& columns, std::size_t max_points)
+{
+    std::size_t rows = 0;
+    for (const auto& c : columns) rows = std::max(rows, c.values.size());
+    for (const auto& c : columns)
+        if (c.values.size() != rows)
+            throw std::runtime_error("test " + name + ": column " + c.name + " has " + std::to_string(c.values.size())
                                      + " rows, others " + std::to_string(rows));
     const std::vector<std::size_t> keep = decimated_rows(rows, max_points);
     json::object cols, units;
-    for (std::size_t i = 0; i < wanted.size(); ++i) {
+    for (const auto& c : columns) {
         json::array a;
         a.reserve(keep.size());
-        for (std::size_t r : keep) a.push_back(number(data[i][r]));
-        cols[wanted[i]] = std::move(a);
-        units[wanted[i]] = units_of(t.open_dataset(wanted[i]));
+        for (std::size_t r : keep) a.push_back(number(c.values[r]));
+        cols[c.name] = std::move(a);
+        units[c.name] = c.units ? json::value(*c.units) : json::value(nullptr);
     }
     json::array row_index;
     for (std::size_t r : keep) row_index.push_back(r);

@@ -12,6 +12,7 @@
 #include <boost/json/object.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,6 +54,18 @@ inline constexpr std::string_view snapshot_prefix = "snapshot_";
 /// thinned to at most max_points rows (decimated_rows).
 [[nodiscard]] boost::json::object series_json(const engine::io::Group& test, const std::string& name,
     const std::vector<std::string>& columns, std::size_t max_points);
+
+/// One column of a time series, read already (a running test's record:
+/// campaign::series_columns).
+struct SeriesColumn {
+    std::string name;
+    std::optional<std::string> units;  ///< none: the file gives none (null in the reply)
+    std::vector<double> values;
+};
+
+/// The same reply from columns in memory, in their order; all of equal length.
+[[nodiscard]] boost::json::object series_json(const std::string& name, const std::vector<SeriesColumn>& columns,
+    std::size_t max_points);
 
 /// {segment_length_m, segments, lag_m, coefficients, mean, variance,
 /// first_maximum_lag_m, error}: the autocorrelation of a wire's segment

@@ -1,9 +1,12 @@
 #include "files.hpp"
 
+#include "io/snapshot.hpp"
+
 #include <boost/json.hpp>
 
 #include <cstdint>
 #include <fstream>
+#include <sstream>
 #include <span>
 #include <stdexcept>
 #include <system_error>
@@ -23,7 +26,18 @@ std::filesystem::path JobDir::checkpoint(std::size_t k) const
     return tests() / ("test_" + std::to_string(k) + ".checkpoint.h5");
 }
 
+std::string test_group_name(double pa)
+{
+    std::ostringstream o;
+    o.precision(17);
+    o << pa;
+    return "sigma3_" + o.str();
+}
+
 namespace {
+
+/// Units of the phase column: what its integers mean.
+constexpr std::string_view phase_units = "0 ramp, 1 hold, 2 loading";
 
 void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
 
@@ -246,14 +260,14 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
         units(g.write_dataset(name, std::span(column)), u);
     });
     std::vector<std::int32_t> phase(r.series.phase.begin(), r.series.phase.end());
-    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), "0 ramp, 1 hold, 2 loading");
+    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), phase_units);
 
     io::Group snaps = g.create_group("snapshots");
     for (std::size_t i = 0; i < r.snapshots.size(); ++i)
         write_snapshot(snaps.create_group("snapshot_" + std::to_string(i)), r.snapshots[i]);
 }
 
-eng::TriaxialResult read_triaxial_result(const io::Group& g)
+eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots)
 {
     eng::TriaxialResult r;
     r.peak_deviatoric_stress_pa = g.read_double_attribute("peak_deviatoric_stress_pa");
@@ -318,6 +332,7 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g)
     if (!same_length) throw std::runtime_error(g.path() + ": the time series differ in length");
     if (rows > 0 && r.peak_sample >= rows) throw std::runtime_error(g.path() + ": peak_sample is past the series");
 
+    if (snapshots == Snapshots::skip) return r;
     const io::Group snaps = g.open_group("snapshots");
     const std::vector<std::string> names = snaps.child_names();
     for (std::size_t i = 0; i < names.size(); ++i) {
@@ -326,6 +341,54 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g)
         r.snapshots.push_back(read_snapshot(snaps.open_group(name)));
     }
     return r;
+}
+
+std::vector<api::SeriesColumn> series_columns(const eng::TriaxialSeries& s)
+{
+    std::vector<api::SeriesColumn> out;
+    const std::size_t rows = s.size();
+    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view u) {
+        if (column.size() != rows) return;  // ε_v of a running test
+        out.push_back({name, std::string(u), std::vector<double>(column.begin(), column.end())});
+    });
+    out.push_back({"phase", std::string(phase_units), std::vector<double>(s.phase.begin(), s.phase.end())});
+    return out;
+}
+
+TestSoFar read_test_so_far(const JobDir& dir, std::size_t k, Snapshots snapshots)
+{
+    // The runner writes test_K.h5, then removes the checkpoint: look for the
+    // finished file first, and again when the checkpoint went in between.
+    const auto finished = [&]() -> std::optional<TestSoFar> {
+        std::error_code ec;
+        if (!std::filesystem::exists(dir.test(k), ec)) return std::nullopt;
+        const io::File f = io::File::open_read_only(dir.test(k));
+        return TestSoFar{TestSoFar::State::finished, read_triaxial_result(f.root().open_group(test_file_group), snapshots)};
+    };
+    if (auto done = finished()) return std::move(*done);
+    std::error_code ec;
+    if (std::filesystem::exists(dir.checkpoint(k), ec)) {
+        try {
+            // The driver's state only; the World beside it is not read.
+            const io::File f = io::File::open_read_only(dir.checkpoint(k));
+            return {TestSoFar::State::running,
+                read_driver_state(f.root().open_group(eng::snapshot_host_group), snapshots).result};
+        } catch (const io::Hdf5Error&) {
+            if (std::filesystem::exists(dir.checkpoint(k), ec)) throw;
+        }
+    }
+    if (auto done = finished()) return std::move(*done);
+    return {};
+}
+
+std::string_view to_string(TestSoFar::State s)
+{
+    switch (s) {
+    case TestSoFar::State::waiting: return "waiting";
+    case TestSoFar::State::running: return "running";
+    case TestSoFar::State::finished: return "finished";
+    }
+    return "?";
 }
 
 void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
@@ -349,7 +412,7 @@ void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
     write_triaxial_result(result, s.result);
 }
 
-eng::TriaxialDriverState read_driver_state(const io::Group& g)
+eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapshots)
 {
     eng::TriaxialDriverState s;
     s.steps = read_index(g, "steps");
@@ -365,7 +428,7 @@ eng::TriaxialDriverState read_driver_state(const io::Group& g)
     s.column_radius_m = g.read_double_attribute("column_radius_m");
     s.wall_time_s = g.read_double_attribute("wall_time_s");
     s.cap_nodes = read_u32s(g, "cap_nodes", 1);
-    s.result = read_triaxial_result(g.open_group("result"));
+    s.result = read_triaxial_result(g.open_group("result"), snapshots);
     return s;
 }
 

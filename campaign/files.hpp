@@ -17,6 +17,7 @@
 // process or in others.
 #pragma once
 
+#include "api/result_data.hpp"
 #include "io/hdf5.hpp"
 #include "specimen/preparation.hpp"
 #include "triaxial/triaxial.hpp"
@@ -41,6 +42,17 @@ struct JobDir {
     [[nodiscard]] std::filesystem::path summary() const { return root / "summary.json"; }
 };
 
+/// The group of test_K.h5 that holds the test's record.
+inline constexpr const char* test_file_group = "test";
+
+/// The name of a test's group in result.h5: "sigma3_" and the confining
+/// pressure in Pa to 17 significant digits ("sigma3_20000", "sigma3_12345.5").
+[[nodiscard]] std::string test_group_name(double confining_pressure_pa);
+
+/// Whether a record's snapshots are read: the curves of a running test do
+/// not need them, and they are most of a record's bytes.
+enum class Snapshots { read, skip };
+
 /// A test's record: attributes (peak, yield, verdict, times, warnings), the
 /// time series and the snapshots, as result.h5 holds each test
 /// (docs/results.md). Also a partial record (a checkpoint's: no
@@ -48,11 +60,31 @@ struct JobDir {
 void write_triaxial_result(engine::io::Group& g, const engine::TriaxialResult& r);
 /// Reads what write_triaxial_result wrote. Throws (engine::io::Hdf5Error,
 /// std::runtime_error) on a missing or misshapen member.
-[[nodiscard]] engine::TriaxialResult read_triaxial_result(const engine::io::Group& g);
+[[nodiscard]] engine::TriaxialResult read_triaxial_result(
+    const engine::io::Group& g, Snapshots snapshots = Snapshots::read);
+
+/// The columns of a record's time series with their units, as
+/// write_triaxial_result writes them (phase included, counts as numbers). A
+/// column a running test's record leaves empty (volumetric_strain, derived
+/// when the test ends) is left out.
+[[nodiscard]] std::vector<api::SeriesColumn> series_columns(const engine::TriaxialSeries& s);
 
 /// The test driver's state, its partial result in the subgroup "result".
 void write_driver_state(engine::io::Group& g, const engine::TriaxialDriverState& s);
-[[nodiscard]] engine::TriaxialDriverState read_driver_state(const engine::io::Group& g);
+[[nodiscard]] engine::TriaxialDriverState read_driver_state(
+    const engine::io::Group& g, Snapshots snapshots = Snapshots::read);
+
+/// How far test K of a job directory has come, from its own files while the
+/// campaign runs: not started (or no checkpoint written yet), running (the
+/// record as of its last checkpoint: partial, without volumetric strain or
+/// peak) or finished (test_K.h5). Throws like the readers above on a file
+/// that does not read.
+struct TestSoFar {
+    enum class State { waiting, running, finished } state = State::waiting;
+    engine::TriaxialResult record;
+};
+[[nodiscard]] TestSoFar read_test_so_far(const JobDir& dir, std::size_t k, Snapshots snapshots);
+[[nodiscard]] std::string_view to_string(TestSoFar::State s);
 
 /// The preparation report, as attributes (the specimen group of result.h5).
 void write_preparation_report(engine::io::Group& g, const engine::PreparationReport& r);

@@ -59,15 +59,6 @@ std::size_t body_count(const eng::World& w)
     return w.of(eng::BodyKind::grain).size() + w.of(eng::BodyKind::wire).size() + w.of(eng::BodyKind::membrane).size();
 }
 
-/// "10000", "1500000", "12345.5": the pressure in a group name of result.h5.
-std::string pressure_name(double pa)
-{
-    std::ostringstream o;
-    o.precision(17);
-    o << pa;
-    return "sigma3_" + o.str();
-}
-
 std::string test_label(std::size_t k, std::size_t n, double pa)
 {
     char label[96];
@@ -227,7 +218,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     partial += ".partial";
     try {
         io::File file = io::File::create(partial);
-        io::Group g = file.root().create_group("test");
+        io::Group g = file.root().create_group(test_file_group);
         g.write_double_attribute("confining_pressure_pa", pressures[index]);
         g.write_int_attribute("threads", sim.threads());
         write_triaxial_result(g, r.value());
@@ -308,7 +299,7 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     io::Group all = root.create_group("tests");
     const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
     for (std::size_t i = 0; i < tests.size(); ++i) {
-        io::Group t = all.create_group(pressure_name(pressures[i]));
+        io::Group t = all.create_group(test_group_name(pressures[i]));
         t.write_double_attribute("confining_pressure_pa", pressures[i]);
         write_triaxial_result(t, tests[i]);
     }
@@ -338,7 +329,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
                  + " --index " + std::to_string(k) + "`";
         try {
             const io::File f = io::File::open_read_only(dir.test(k));
-            const io::Group g = f.root().open_group("test");
+            const io::Group g = f.root().open_group(test_file_group);
             if (g.read_double_attribute("confining_pressure_pa") != pressures[k])
                 return dir.test(k).string() + " is a test at another confining pressure than the job's";
             tests.push_back(read_triaxial_result(g));

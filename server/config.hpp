@@ -23,6 +23,7 @@ struct ServerConfig {
     unsigned threads_per_job = 1;              ///< engine threads of each job
     unsigned io_threads = 2;                   ///< threads serving HTTP
     unsigned submit_threads = 1;               ///< threads validating submitted specs (off the I/O threads)
+    unsigned data_threads = 2;                 ///< threads reading result files for the data routes (off the I/O threads)
     std::size_t max_pending_submits = 64;      ///< submits waiting for those; more get 503
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
     std::size_t max_study_points = 256;        ///< jobs one study may create (its grid's points)

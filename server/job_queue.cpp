@@ -18,6 +18,11 @@
 #include <sstream>
 
 namespace wiredem::server {
+
+std::filesystem::path attempt_output_dir(const std::filesystem::path& data_dir, const std::string& id)
+{
+    return data_dir / "jobs" / id / "work" / "out";
+}
 namespace fs = std::filesystem;
 namespace json = boost::json;
 using clock_type = std::chrono::steady_clock;
@@ -193,14 +198,15 @@ void JobQueue::run_job(const JobRecord& job)
     // A work folder left by an earlier attempt (a crash, a shutdown, a
     // SIGKILL) is kept: the runner continues from its specimen, finished
     // tests and checkpoints (campaign/stages.hpp), with the same job.json.
-    fs::create_directories(work / "out");
+    const fs::path out = fs::absolute(attempt_output_dir(config_.data_dir, job.id));
+    fs::create_directories(out);
     {
         std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
         spec << job.spec_json << '\n';
         if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
     }
     const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
-        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
+        out.string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
         "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
 
     // Register first, then look at the store: a DELETE that came between the
@@ -301,7 +307,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const fs::path work = job_dir / "work";
-    const fs::path out = work / "out";
+    const fs::path out = fs::absolute(attempt_output_dir(config_.data_dir, job.id));
     std::error_code ec;
     const bool exited_ok = WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0;
 

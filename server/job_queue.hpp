@@ -32,6 +32,10 @@ namespace wiredem::server {
 
 class ChildProcess;
 
+/// The job directory (campaign/files.hpp) of job `id`'s current attempt: the
+/// runner's -o, where its per-test files appear while it runs.
+[[nodiscard]] std::filesystem::path attempt_output_dir(const std::filesystem::path& data_dir, const std::string& id);
+
 /// How the queue runs jobs.
 struct QueueConfig {
     std::filesystem::path data_dir;        ///< holds jobs/<id>/

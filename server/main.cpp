@@ -171,6 +171,8 @@ int main(int argc, char** argv)
     app.add_option("--io-threads", cfg.io_threads, "threads serving HTTP")->capture_default_str()->check(CLI::Range(1u, 64u));
     app.add_option("--submit-threads", cfg.submit_threads, "threads validating submitted jobs, off the HTTP threads")
         ->capture_default_str()->check(CLI::Range(1u, 64u));
+    app.add_option("--data-threads", cfg.data_threads, "threads reading result files for the data routes, off the HTTP threads")
+        ->capture_default_str()->check(CLI::Range(1u, 64u));
     app.add_option("--max-pending-submits", cfg.max_pending_submits, "submits waiting for validation; more get 503")
         ->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));

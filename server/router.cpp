@@ -82,20 +82,49 @@ void strip_body(Response& res)
 
 } // namespace
 
-Router::Router(Services& services) : svc_(services), submit_pool_(services.config.submit_threads) {}
+Router::Router(Services& services)
+    : svc_(services), submit_pool_(services.config.submit_threads), data_pool_(services.config.data_threads)
+{
+}
 
 Router::~Router() { stop(); }
 
 void Router::stop() noexcept
 {
     submit_pool_.stop();
+    data_pool_.stop();
     submit_pool_.join();
+    data_pool_.join();
 }
 
-bool Router::is_heavy(const Request& req) noexcept { return req.method() == http::verb::post; }
+Router::Lane Router::lane_of(const Request& req) noexcept
+{
+    if (req.method() == http::verb::post) return Lane::submit;
+    // GET or HEAD /v1/jobs/{id}/{a result data route}/…: what route() sends
+    // to handle_result_data (a malformed target or another method is answered
+    // at once, on the I/O thread, as before).
+    const auto parsed = boost::urls::parse_origin_form(req.target());
+    if (!parsed || (req.method() != http::verb::get && req.method() != http::verb::head)) return Lane::io;
+    const auto segs = parsed->segments();
+    auto it = segs.begin();
+    for (std::string_view expected : {"v1", "jobs"}) {
+        if (it == segs.end() || *it != expected) return Lane::io;
+        ++it;
+    }
+    if (it == segs.end() || ++it == segs.end()) return Lane::io;
+    return is_result_data_route(*it) ? Lane::data : Lane::io;
+}
 
 void Router::dispatch_later(std::shared_ptr<const Request> req, std::function<void(std::shared_ptr<Response>)> done) noexcept
 {
+    if (lane_of(*req) == Lane::data) {
+        // No limit of their own: each waits for its connection, which the
+        // connection limit bounds, and reads no body.
+        boost::asio::post(data_pool_, [this, req = std::move(req), done = std::move(done)] {
+            done(std::make_shared<Response>(dispatch(*req)));
+        });
+        return;
+    }
     if (pending_.fetch_add(1) >= svc_.config.max_pending_submits) {
         pending_.fetch_sub(1);
         auto res = error_response(*req, http::status::service_unavailable, "busy",

@@ -9,7 +9,9 @@
 // CPU (the restitution-to-damping fit integrates collisions): they run on the
 // router's own submit threads, at most --max-pending-submits waiting, so that
 // a flood of submits never holds up the I/O threads that answer status
-// requests.
+// requests. The result data routes read HDF5 (a series of a million rows
+// takes a second to read and serialise): they run on the data threads
+// (--data-threads), for the same reason, apart from the submits.
 #pragma once
 
 #include <boost/url/url_view.hpp>
@@ -36,16 +38,18 @@ public:
     /// The reply to `req`. Never throws; counts the reply in the metrics.
     [[nodiscard]] Response dispatch(const Request& req) noexcept;
 
-    /// Whether `req` is answered off the I/O threads (dispatch_later).
-    [[nodiscard]] static bool is_heavy(const Request& req) noexcept;
+    /// Where a request is answered: on the I/O thread that read it, or off
+    /// the I/O threads (dispatch_later) on the submit or the data threads.
+    enum class Lane { io, submit, data };
+    [[nodiscard]] static Lane lane_of(const Request& req) noexcept;
 
-    /// Answers `req` on a submit thread and calls `done` there with the reply;
-    /// when --max-pending-submits are already waiting, calls `done` at once
-    /// with a 503 (Retry-After). Never throws.
+    /// Answers `req` on a thread of its lane and calls `done` there with the
+    /// reply. A submit, when --max-pending-submits are already waiting, gets
+    /// a 503 (Retry-After) at once. Never throws.
     void dispatch_later(std::shared_ptr<const Request> req, std::function<void(std::shared_ptr<Response>)> done) noexcept;
 
-    /// Stops the submit threads (waiting ones are dropped, running ones
-    /// finish); call before the I/O threads stop.
+    /// Stops the submit and data threads (waiting requests are dropped,
+    /// running ones finish); call before the I/O threads stop.
     void stop() noexcept;
 
 private:
@@ -55,7 +59,8 @@ private:
         const Request& req, const boost::urls::url_view& url, const std::vector<std::string>& seg, http::verb method);
     Services& svc_;
     boost::asio::thread_pool submit_pool_;
-    std::atomic<std::size_t> pending_{0};
+    boost::asio::thread_pool data_pool_;
+    std::atomic<std::size_t> pending_{0};  ///< submits waiting or being validated
 };
 
 } // namespace wiredem::server

@@ -79,9 +79,9 @@ private:
         if (ec) return log_failure(ec, "read");
 
         const auto t0 = std::chrono::steady_clock::now();
-        if (Router::is_heavy(parser_->get())) {
-            // Validated on a submit thread; the reply comes back to this
-            // session's strand. No read is pending meanwhile.
+        if (Router::lane_of(parser_->get()) != Router::Lane::io) {
+            // Answered on a submit or data thread; the reply comes back to
+            // this session's strand. No read is pending meanwhile.
             auto req = std::make_shared<const Request>(parser_->release());
             router_.dispatch_later(req, [self = shared_from_this(), req, t0](std::shared_ptr<Response> res) {
                 asio::post(self->stream_.get_executor(), [self, req, t0, res = std::move(res)] {

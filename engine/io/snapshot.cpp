@@ -87,7 +87,7 @@ Result<std::uint64_t, std::string> save_snapshot(
             else root.write_dataset(name, std::span<const std::int64_t>(f.integer), f.columns);
         });
         if (write_host) {
-            io::Group host = root.create_group("host");
+            io::Group host = root.create_group(snapshot_host_group);
             write_host(host);
         }
         file.close();
@@ -170,8 +170,8 @@ Result<World, std::string> restore_snapshot(
         if (hex(state_hash(w)) != recorded)
             return Err(at + ": the restored state hashes to " + hex(state_hash(w)) + ", the file recorded " + recorded);
         if (read_host) {
-            if (!root.exists("host")) return Err(at + ": it has no /host group (saved without the host's state)");
-            read_host(root.open_group("host"));
+            if (!root.exists(snapshot_host_group)) return Err(at + ": it has no /host group (saved without the host's state)");
+            read_host(root.open_group(snapshot_host_group));
         }
     } catch (const std::exception& e) {
         return Err(at + ": " + e.what());

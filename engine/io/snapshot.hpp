@@ -26,6 +26,9 @@ namespace wiredem::engine {
 /// Bump it whenever a field is added, removed or changes meaning.
 inline constexpr std::int64_t snapshot_version = 3; // 3: bodies' motion types
 
+/// The group of a snapshot file that holds the host's state (below).
+inline constexpr const char* snapshot_host_group = "host";
+
 /// Writes every field of `w` to `path`, replacing the file. The file appears
 /// complete or not at all (written beside it, then renamed). Returns the
 /// state_hash of `w`, which the file also records.

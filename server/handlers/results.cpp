@@ -7,6 +7,7 @@
 #include "api/json_text.hpp"
 #include "api/report.hpp"
 #include "api/result_data.hpp"
+#include "files.hpp"
 #include "io/hdf5.hpp"
 
 #include <boost/json.hpp>
@@ -20,6 +21,7 @@
 #include <cerrno>
 #include <charconv>
 #include <limits>
+#include <variant>
 
 namespace wiredem::server {
 namespace json = boost::json;
@@ -106,34 +108,117 @@ Response array_response(const Request& req, const io::Group& g, const std::strin
     return res;
 }
 
-/// GET …/tests/{test}/series?max_points=N&columns=a,b
-Response series(const Request& req, const io::Group& t, const std::string& name, const Query& q)
+/// What GET …/tests/{test}/series?max_points=N&columns=a,b asks for.
+struct SeriesQuery {
+    std::vector<std::string> columns;  ///< in the order asked, each once; empty: all
+    std::size_t max_points = api::max_series_points;
+};
+
+/// The series route's query against the test's `available` columns, or its 400.
+std::variant<SeriesQuery, Response> series_query(
+    const Request& req, const std::string& name, const std::vector<std::string>& available, const Query& q)
 {
     if (auto bad = q.check({"max_points", "columns"})) return bad_parameter(req, bad->second, bad->first);
-    std::vector<std::string> wanted;
+    SeriesQuery out;
     if (auto c = q.get("columns")) {
-        const std::vector<std::string> available = api::series_columns(t);
         std::string_view rest = *c;
         while (true) {
             const auto comma = rest.find(',');
             const std::string one(rest.substr(0, comma));
             if (std::find(available.begin(), available.end(), one) == available.end())
                 return bad_parameter(req, "test " + name + " has no column '" + one + "'", "columns");
-            if (std::find(wanted.begin(), wanted.end(), one) == wanted.end()) wanted.push_back(one);
+            if (std::find(out.columns.begin(), out.columns.end(), one) == out.columns.end()) out.columns.push_back(one);
             if (comma == std::string_view::npos) break;
             rest.remove_prefix(comma + 1);
         }
     }
-    std::size_t max_points = api::max_series_points;
     if (auto m = q.get("max_points")) {
         std::size_t v = 0;
         auto [p, ec] = std::from_chars(m->data(), m->data() + m->size(), v);
         if (m->empty() || ec != std::errc() || p != m->data() + m->size() || v < 2 || v > api::max_series_points)
             return bad_parameter(req, "max_points must be an integer in [2, " + std::to_string(api::max_series_points) + "]",
                 "max_points");
-        max_points = v;
+        out.max_points = v;
     }
-    return json_response(req, http::status::ok, api::series_json(t, name, wanted, max_points));
+    return out;
+}
+
+/// GET …/tests/{test}/series of a succeeded job, from result.h5.
+Response series(const Request& req, const io::Group& t, const std::string& name, const Query& q)
+{
+    auto parsed = series_query(req, name, api::series_columns(t), q);
+    if (auto* res = std::get_if<Response>(&parsed)) return std::move(*res);
+    const auto& sq = std::get<SeriesQuery>(parsed);
+    json::object body = api::series_json(t, name, sq.columns, sq.max_points);
+    body["partial"] = false;
+    return json_response(req, http::status::ok, body);
+}
+
+/// The job spec the server stored for a job (it validated it on submit).
+api::JobSpec stored_spec(const std::string& spec_json)
+{
+    const auto doc = api::parse_json_text(spec_json);
+    if (!doc) throw std::runtime_error("stored spec is not JSON: " + doc.error());
+    const auto spec = api::parse_job_spec(doc.value());
+    if (!spec) throw std::runtime_error("stored spec does not parse: " + spec.error().front().message);
+    return spec.value();
+}
+
+/// How far a running test's record reaches: its last row's time and axial strain.
+json::value reached(const engine::TriaxialSeries& s)
+{
+    if (s.size() == 0) return nullptr;
+    return json::object{{"rows", s.size()}, {"time_s", s.time_s.back()}, {"axial_strain", s.axial_strain.back()}};
+}
+
+/// GET …/tests and …/tests/{test}/series of a job that is preparing or
+/// running: read from the attempt's own files, test by test (the runner's
+/// test_K.h5 when a test has finished, its last checkpoint while it runs),
+/// with the campaign's readers. Marked partial, with how far each test has come.
+Response live_data(const Request& req, const std::vector<std::string>& seg, const Query& q, Services& svc, const JobRecord& r)
+{
+    const api::JobSpec spec = stored_spec(r.spec_json);
+    const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
+    const campaign::JobDir dir{attempt_output_dir(svc.config.data_dir, r.id)};
+    const std::string base = "/v1/jobs/" + r.id;
+    using State = campaign::TestSoFar::State;
+
+    if (seg.size() == 4) {
+        if (auto bad = q.check({})) return bad_parameter(req, bad->second, bad->first);
+        json::array tests;
+        for (std::size_t k = 0; k < pressures.size(); ++k) {
+            const std::string name = campaign::test_group_name(pressures[k]);
+            const campaign::TestSoFar so_far = campaign::read_test_so_far(dir, k, campaign::Snapshots::skip);
+            json::array columns;
+            for (const auto& c : campaign::series_columns(so_far.record.series))
+                columns.push_back(json::object{{"name", c.name}, {"units", *c.units}});
+            tests.push_back(json::object{{"name", name}, {"state", campaign::to_string(so_far.state)},
+                {"partial", so_far.state != State::finished}, {"rows", so_far.record.series.size()},
+                {"reached", reached(so_far.record.series)},
+                {"attributes", json::object{{"confining_pressure_pa", pressures[k]}}}, {"columns", std::move(columns)},
+                {"snapshots", json::array()}, {"series_url", base + "/tests/" + name + "/series"}});
+        }
+        return json_response(req, http::status::ok, json::object{{"partial", true}, {"tests", std::move(tests)}});
+    }
+    std::size_t k = 0;
+    while (k < pressures.size() && campaign::test_group_name(pressures[k]) != seg[4]) ++k;
+    if (k == pressures.size()) return not_found(req, "the job has no test '" + seg[4] + "'");
+    const campaign::TestSoFar so_far = campaign::read_test_so_far(dir, k, campaign::Snapshots::skip);
+    std::vector<api::SeriesColumn> all = campaign::series_columns(so_far.record.series);
+    std::vector<std::string> names;
+    for (const auto& c : all) names.push_back(c.name);
+    auto parsed = series_query(req, seg[4], names, q);
+    if (auto* res = std::get_if<Response>(&parsed)) return std::move(*res);
+    const auto& sq = std::get<SeriesQuery>(parsed);
+    std::vector<api::SeriesColumn> chosen;
+    for (const auto& name : sq.columns)
+        for (auto& c : all)
+            if (c.name == name) chosen.push_back(std::move(c));
+    json::object body = api::series_json(seg[4], sq.columns.empty() ? all : chosen, sq.max_points);
+    body["partial"] = so_far.state != State::finished;
+    body["state"] = campaign::to_string(so_far.state);
+    body["reached"] = reached(so_far.record.series);
+    return json_response(req, http::status::ok, body);
 }
 
 /// GET …/snapshots/{k}/wire_autocorrelation, with the job's segment length.
@@ -141,11 +226,8 @@ Response wire_autocorrelation(const Request& req, const io::Group& snap, const s
 {
     if (!snap.exists("wire_segment_strain")) return not_found(req, where + " has no wire");
     const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
-    const auto doc = api::parse_json_text(spec_json);
-    if (!doc) throw std::runtime_error("stored spec is not JSON: " + doc.error());
-    const auto spec = api::parse_job_spec(doc.value());
-    if (!spec) throw std::runtime_error("stored spec does not parse: " + spec.error().front().message);
-    return json_response(req, http::status::ok, api::wire_autocorrelation_json(strain, spec.value().specimen.wire.segment_length_m));
+    return json_response(
+        req, http::status::ok, api::wire_autocorrelation_json(strain, stored_spec(spec_json).specimen.wire.segment_length_m));
 }
 
 /// result.xdmf: small XML, read whole.
@@ -180,9 +262,13 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const Query q{params};
     const auto r = svc.store.get(id);
     if (!r) return not_found(req, "no job " + id);
-    if (r->state != JobState::succeeded)
+    const bool is_tests = seg[3] == "tests" && (seg.size() == 4 || (seg.size() == 6 && seg[5] == "series"));
+    if (r->state != JobState::succeeded) {
+        if (is_tests && (r->state == JobState::preparing || r->state == JobState::running)) return live_data(req, seg, q, svc, *r);
         return error_response(req, http::status::conflict, "not_succeeded",
-            "job " + id + " is " + std::string(to_string(r->state)) + "; results exist only once it has succeeded", "id");
+            "job " + id + " is " + std::string(to_string(r->state))
+                + "; results exist only once it has succeeded (the tests and their series also while it runs)", "id");
+    }
     const std::filesystem::path dir = svc.config.data_dir / "jobs" / id;
     const std::string base = "/v1/jobs/" + id;
 
@@ -227,7 +313,11 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     }
 
     // tests
-    if (seg.size() == 4) return json_response(req, http::status::ok, api::tests_json(root, base));
+    if (seg.size() == 4) {
+        json::object body = api::tests_json(root, base);
+        body["partial"] = false;
+        return json_response(req, http::status::ok, body);
+    }
     const std::vector<std::string> names = api::test_names(root);
     const std::string& test = seg[4];
     if (std::find(names.begin(), names.end(), test) == names.end())
@@ -262,11 +352,14 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/tests": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}],
       "get": {
-        "summary": "The tests of a succeeded job by ascending confining pressure: attributes (peak, yield, quasi-static figures), time-series columns with units, snapshots",
+        "summary": "The tests of a job by ascending confining pressure: attributes (peak, yield, quasi-static figures), time-series columns with units, snapshots; while the job prepares or runs, how far each test has come (partial)",
         "responses": {
-          "200": {"description": "The tests", "content": {"application/json": {"schema": {"type": "object", "required": ["tests"],
-            "properties": {"tests": {"type": "array", "items": {"type": "object", "required": ["name", "rows", "attributes", "columns", "snapshots"],
+          "200": {"description": "The tests", "content": {"application/json": {"schema": {"type": "object", "required": ["partial", "tests"],
+            "properties": {"partial": {"type": "boolean", "description": "true while the job prepares or runs: read from the runner's per-test files"},
+              "tests": {"type": "array", "items": {"type": "object", "required": ["name", "rows", "attributes", "columns", "snapshots"],
               "properties": {"name": {"type": "string", "example": "sigma3_20000"}, "rows": {"type": "integer"},
+                "state": {"type": "string", "enum": ["waiting", "running", "finished"], "description": "while the job runs only"},
+                "partial": {"type": "boolean"}, "reached": {"$ref": "#/components/schemas/Reached"},
                 "attributes": {"type": "object"}, "series_url": {"type": "string"},
                 "columns": {"type": "array", "items": {"type": "object", "properties": {"name": {"type": "string"}, "units": {"type": "string", "nullable": true}}}},
                 "snapshots": {"type": "array", "items": {"type": "object", "properties": {"index": {"type": "integer"}, "url": {"type": "string"},
@@ -282,11 +375,14 @@ const boost::json::object& result_data_openapi_paths()
          "schema": {"type": "integer", "minimum": 2, "maximum": 1000000}},
         {"name": "columns", "in": "query", "description": "comma-separated column names (default: every column)", "schema": {"type": "string", "example": "axial_strain,deviatoric_stress_pa"}}],
       "get": {
-        "summary": "A test's time series as stored in result.h5, optionally thinned",
+        "summary": "A test's time series as stored in result.h5, optionally thinned; while the job prepares or runs, as far as the test has recorded it (its last checkpoint, partial)",
         "responses": {
           "200": {"description": "Columns of equal length", "content": {"application/json": {"schema": {"type": "object",
-            "required": ["test", "rows", "returned_rows", "row_index", "units", "columns"],
+            "required": ["test", "rows", "returned_rows", "row_index", "units", "columns", "partial"],
             "properties": {"test": {"type": "string"}, "rows": {"type": "integer", "description": "rows stored"},
+              "partial": {"type": "boolean", "description": "true: the test has not finished, more rows will come"},
+              "state": {"type": "string", "enum": ["waiting", "running", "finished"], "description": "while the job runs only"},
+              "reached": {"$ref": "#/components/schemas/Reached"},
               "returned_rows": {"type": "integer"}, "row_index": {"type": "array", "items": {"type": "integer"}},
               "units": {"type": "object", "additionalProperties": {"type": "string"}},
               "columns": {"type": "object", "additionalProperties": {"type": "array", "items": {"type": "number", "nullable": true}}}}}}}},
@@ -396,6 +492,8 @@ const boost::json::object& result_data_openapi_components()
         "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}}}
     },
     "schemas": {
+      "Reached": {"type": "object", "nullable": true, "description": "how far a test of a running job has come: its last recorded row (null before the first; while the job runs only)",
+        "properties": {"rows": {"type": "integer"}, "time_s": {"type": "number"}, "axial_strain": {"type": "number"}}},
       "ArrayGroup": {"type": "object", "required": ["attributes", "arrays"], "properties": {
         "attributes": {"type": "object"},
         "arrays": {"type": "array", "items": {"type": "object", "required": ["name", "shape", "dtype", "url"], "properties": {

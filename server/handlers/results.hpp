@@ -14,6 +14,12 @@
 //
 // {test} is a group name of the file (e.g. "sigma3_20000"), {k} a snapshot
 // index; both must exist in the file, so no request names anything else.
+//
+// While a job prepares or runs, /tests and /tests/{test}/series answer from
+// the runner's per-test files instead (campaign::read_test_so_far: a
+// finished test's file, a running test's last checkpoint), marked partial,
+// with how far each test has reached; the other routes are 409 until the
+// job has succeeded.
 // Arrays are little-endian float32 (positions, forces, strains, radii) or int32
 // (indices), row-major, with the shape in `X-Wiredem-Shape: N,3` and the type in
 // `X-Wiredem-Dtype`: what a WebGL buffer takes without conversion.
@@ -40,8 +46,9 @@ namespace wiredem::server {
 
 /// Answers GET /v1/jobs/{id}/{tests|specimen|result.xdmf}/…; `seg` are the
 /// decoded path segments ("v1", "jobs", id, …), id already valid. 404 for what
-/// the file does not hold, 409 until the job has succeeded, 400 bad_parameter
-/// for a query parameter the route does not take or a bad value.
+/// the file does not hold, 409 until the job has succeeded (but for the live
+/// tests and series), 400 bad_parameter for a query parameter the route does
+/// not take or a bad value. Reads HDF5: called on the router's data threads.
 [[nodiscard]] Response handle_result_data(
     const Request& req, const std::vector<std::string>& seg, const QueryParams& params, Services& svc);
 

@@ -2,13 +2,15 @@
 // writer (every field to_json writes, with the same default), against the
 // reader (a value at a closed bound passes, one just outside fails, for every
 // number and integer), and against the schema table of docs/job-spec.md
-// (the same fields; the same interval and default where the table gives a
-// plain one): when one of them changes alone, a test here fails.
+// (the same fields; the same unit and meaning; the same interval and default
+// where the table gives a plain one): when one of them changes alone, a test
+// here fails. Every field has a meaning, and every number its unit.
 #include "api/job_spec.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -78,6 +80,36 @@ TEST(JobSpecSchema, IsAnObjectSchemaThatRefusesUnknownKeys)
     EXPECT_EQ(s.at("properties").at("specimen").at("properties").at("wire").at("additionalProperties"), false);
     EXPECT_EQ(s.at("properties").at("specimen").at("properties").at("wire").at("properties").at("pattern").at("enum"),
         (json::array{"none", "helix", "spiral_helix", "radial_helix"}));
+}
+
+/// Whether a schema field takes numbers (a number, an integer, an array of
+/// numbers, or a number or a word such as "auto").
+bool is_quantity(const json::object& f)
+{
+    if (auto one = f.find("oneOf"); one != f.end()) return is_quantity(one->value().at(0).as_object());
+    if (auto items = f.find("items"); items != f.end()) return is_quantity(items->value().as_object());
+    const json::value& t = f.at("type");
+    const auto is_numeric = [](const json::value& x) { return x == "number" || x == "integer"; };
+    if (t.is_array()) return std::any_of(t.as_array().begin(), t.as_array().end(), is_numeric);
+    return is_numeric(t);
+}
+
+TEST(JobSpecSchema, EveryFieldSaysWhatItMeansAndEveryNumberItsUnit)
+{
+    int quantities = 0;
+    for (const auto& [path, f] : schema_fields()) {
+        const auto d = f.find("description");
+        EXPECT_TRUE(d != f.end() && d->value().is_string() && !d->value().as_string().empty()) << path << " has no description";
+        const auto u = f.find("x-unit");
+        if (is_quantity(f)) {
+            ++quantities;
+            EXPECT_TRUE(u != f.end() && u->value().is_string() && !u->value().as_string().empty())
+                << path << " is a quantity without x-unit (\"1\" when it has none)";
+        } else {
+            EXPECT_TRUE(u == f.end()) << path << " is not a number but has a unit";
+        }
+    }
+    EXPECT_GT(quantities, 45);
 }
 
 TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
@@ -181,15 +213,29 @@ TEST(JobSpecSchema, MatchesTheTableOfDocsJobSpec)
     std::string line;
     bool in_schema = false;
     std::map<std::string, std::vector<std::string>> rows;
-    const std::regex row(R"(^\| `([a-z_.\[\]0-9]+)` \| ([^|]*) \| ([^|]*) \| ([^|]*) \| ([^|]*) \|)");
+    const std::regex row(R"(^\| `([a-z_.\[\]0-9]+)` \| ([^|]*) \| ([^|]*) \| ([^|]*) \| ([^|]*) \| (.*) \|$)");
     while (std::getline(in, line)) {
         if (line.rfind("## ", 0) == 0) in_schema = line == "## Schema";
         std::smatch m;
-        if (in_schema && std::regex_search(line, m, row) && m[2].str() != "object") rows[m[1]] = {m[2], m[3], m[4], m[5]};
+        if (in_schema && std::regex_search(line, m, row) && m[2].str() != "object")
+            rows[m[1]] = {m[2], m[3], m[4], m[5], m[6]};
     }
     const auto fields = schema_fields();
     for (const auto& [path, f] : fields) EXPECT_TRUE(rows.count(path)) << path << " is in the schema, not in docs/job-spec.md";
     for (const auto& [path, r] : rows) EXPECT_TRUE(fields.count(path)) << path << " is in docs/job-spec.md, not in the schema";
+
+    // Units and meanings: the table's, as text (without its Markdown: `code`, \|).
+    for (const auto& [path, r] : rows) {
+        if (!fields.count(path)) continue;
+        const json::object& f = fields.at(path);
+        const auto u = f.find("x-unit");
+        const std::string unit = u == f.end() ? "—" : u->value().as_string() == "1" ? "—" : std::string(u->value().as_string());
+        EXPECT_EQ(unit, r[1]) << path << ": the unit";
+        std::string meaning = std::regex_replace(r[4], std::regex("`"), "");
+        meaning = std::regex_replace(meaning, std::regex(R"(\\\|)"), "|");
+        const auto d = f.find("description");
+        EXPECT_EQ(d == f.end() ? std::string() : std::string(d->value().as_string()), meaning) << path << ": the meaning";
+    }
 
     int intervals = 0, defaults = 0;
     const std::regex interval(R"(^([\[(])([^,]+), ([^\])]+)([\])]))");

@@ -1,7 +1,9 @@
 // The campaign's records read back exactly what was written (files.hpp): a
 // test's result with its series, strength and snapshots, a driver state, a
-// preparation report; and a damaged record is an error, not a crash.
+// preparation report; what a running job's directory holds of a test so far;
+// and a damaged record is an error, not a crash.
 #include "files.hpp"
+#include "io/snapshot.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +15,7 @@ namespace eng = wiredem::engine;
 namespace io = wiredem::engine::io;
 using wiredem::campaign::read_driver_state;
 using wiredem::campaign::read_preparation_report;
+using wiredem::campaign::read_test_so_far;
 using wiredem::campaign::read_triaxial_result;
 using wiredem::campaign::write_driver_state;
 using wiredem::campaign::write_preparation_report;
@@ -257,6 +260,50 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
         expect_same(r.result, s.result);
     }
     fs::remove(path);
+}
+
+// What the server's live series read: nothing, then the checkpoint's partial
+// record (without its snapshots), then the finished test's file, which wins
+// over a checkpoint still beside it. The columns are the record's, in the
+// writer's order with its units, ε_v left out while it is empty.
+TEST(CampaignFiles, ATestSoFarIsNothingThenItsCheckpointThenItsFile)
+{
+    using wiredem::campaign::TestSoFar;
+    const wiredem::campaign::JobDir dir{fs::temp_directory_path() / ("wiredem_so_far_" + std::to_string(::getpid()))};
+    fs::create_directories(dir.tests());
+    EXPECT_EQ(read_test_so_far(dir, 1, wiredem::campaign::Snapshots::skip).state, TestSoFar::State::waiting);
+
+    eng::TriaxialDriverState s;
+    s.result = sample_result(4);
+    s.result.series.volumetric_strain.clear();
+    ASSERT_TRUE(eng::save_snapshot(eng::World{}, dir.checkpoint(1), [&](io::Group& host) { write_driver_state(host, s); }).ok());
+    const TestSoFar running = read_test_so_far(dir, 1, wiredem::campaign::Snapshots::skip);
+    ASSERT_EQ(running.state, TestSoFar::State::running);
+    EXPECT_EQ(running.record.series.time_s, s.result.series.time_s);
+    EXPECT_EQ(running.record.series.deviatoric_stress_pa, s.result.series.deviatoric_stress_pa);
+    EXPECT_TRUE(running.record.snapshots.empty()) << "skipped";
+    const auto columns = wiredem::campaign::series_columns(running.record.series);
+    ASSERT_FALSE(columns.empty());
+    EXPECT_EQ(columns.front().name, "time_s");
+    EXPECT_EQ(columns.front().units, "s");
+    EXPECT_EQ(columns.back().name, "phase");
+    for (const auto& c : columns) {
+        EXPECT_NE(c.name, "volumetric_strain");
+        EXPECT_EQ(c.values.size(), 4u) << c.name;
+    }
+
+    const eng::TriaxialResult done = sample_result(6);
+    {
+        io::File f = io::File::create(dir.test(1));
+        io::Group g = f.root().create_group(wiredem::campaign::test_file_group);
+        write_triaxial_result(g, done);
+        f.close();
+    }
+    const TestSoFar finished = read_test_so_far(dir, 1, wiredem::campaign::Snapshots::read);
+    ASSERT_EQ(finished.state, TestSoFar::State::finished);
+    expect_same(finished.record, done);
+    EXPECT_EQ(wiredem::campaign::series_columns(finished.record.series).size(), columns.size() + 1) << "with ε_v";
+    fs::remove_all(dir.root);
 }
 
 TEST(CampaignFiles, APreparationReportReadsBackExactly)

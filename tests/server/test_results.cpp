@@ -9,10 +9,14 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <numbers>
+#include <thread>
 
 namespace wiredem::test {
 namespace {
@@ -295,6 +299,139 @@ TEST_F(ResultData, TheJobSpecSchemaIsServedAndInTheOpenApiDocumentInItsDialect)
     EXPECT_EQ(length.at("nullable"), true);
     EXPECT_EQ(json::serialize(spec).find("\"const\""), std::string::npos);
     EXPECT_EQ(json::serialize(spec).find("$schema"), std::string::npos);
+}
+
+} // namespace
+} // namespace wiredem::test
+
+namespace wiredem::test {
+namespace {
+
+/// Column `name` of a series reply as doubles.
+std::vector<double> column_of(const json::value& series, const char* name)
+{
+    std::vector<double> out;
+    for (const auto& x : series.at("columns").at(name).as_array()) out.push_back(x.to_number<double>());
+    return out;
+}
+
+// With the real runner, checkpoints every 50 ms: while a job runs, its first
+// test's series grows from the checkpoints (marked partial, with how far it
+// reached), and every partial series is the beginning of the finished one,
+// bit for bit: the route reads what the runner recorded, nothing else.
+TEST(LiveSeriesRealRunner, ARunningTestsSeriesGrowsAndIsTheBeginningOfTheFinishedOne)
+{
+    namespace fs = std::filesystem;
+    TempDir tmp;
+    json::object spec = json::parse(read_file(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json")).as_object();
+    spec["triaxial"].as_object()["plate_speed_m_per_s"] = 0.02;  // the loading twice as long as tiny's
+    ServerProcess server(tmp.path() / "data", {"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "1",
+        "--checkpoint-seconds", "0.05", "--max-steps-per-job", "1e8"});
+    const auto r = http(server.port(), "POST", "/v1/jobs", json::serialize(spec));
+    ASSERT_EQ(r.status, 201) << r.body;
+    const std::string id(r.json().at("id").as_string());
+    const std::string series = "/v1/jobs/" + id + "/tests/sigma3_10000/series?columns=time_s,deviatoric_stress_pa,phase";
+
+    std::vector<json::value> partial;  // each reply that had grown
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    for (;;) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        const json::value job = http(server.port(), "GET", "/v1/jobs/" + id).json();
+        if (state_of(job) == "succeeded") break;
+        ASSERT_TRUE(state_of(job) == "queued" || state_of(job) == "preparing" || state_of(job) == "running") << server.log();
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << server.log();
+        const auto reply = http(server.port(), "GET", series);
+        if (reply.status == 409) continue;  // queued, or succeeded meanwhile
+        ASSERT_EQ(reply.status, 200) << reply.body;
+        const json::value s = reply.json();
+        if (!s.at("partial").as_bool()) continue;  // finished already
+        const std::size_t rows = s.at("rows").to_number<std::size_t>();
+        if (rows == 0) {
+            EXPECT_EQ(s.at("state"), "waiting");
+            EXPECT_TRUE(s.at("reached").is_null());
+            continue;
+        }
+        EXPECT_EQ(s.at("state"), "running");
+        EXPECT_EQ(s.at("reached").at("rows").to_number<std::size_t>(), rows);
+        EXPECT_EQ(s.at("reached").at("time_s").to_number<double>(), column_of(s, "time_s").back());
+        if (partial.empty() || rows > partial.back().at("rows").to_number<std::size_t>()) partial.push_back(s);
+
+        const json::value tests = http(server.port(), "GET", "/v1/jobs/" + id + "/tests").json();
+        EXPECT_TRUE(tests.at("partial").as_bool());
+        ASSERT_EQ(tests.at("tests").as_array().size(), 2u);
+        EXPECT_EQ(tests.at("tests").at(0).at("name"), "sigma3_10000");
+    }
+    ASSERT_GE(partial.size(), 2u) << "the series should have grown at least once while the test ran";
+
+    const auto done = http(server.port(), "GET", series);
+    ASSERT_EQ(done.status, 200);
+    const json::value final_series = done.json();
+    EXPECT_FALSE(final_series.at("partial").as_bool());
+    for (const char* column : {"time_s", "deviatoric_stress_pa", "phase"}) {
+        const std::vector<double> all = column_of(final_series, column);
+        for (const json::value& p : partial) {
+            const std::vector<double> head = column_of(p, column);
+            ASSERT_LT(head.size(), all.size());
+            EXPECT_TRUE(std::equal(head.begin(), head.end(), all.begin())) << column << ": a partial series is not the start of the final one";
+        }
+    }
+    // A running test has no volumetric strain yet (derived when it ends): not among its columns.
+    EXPECT_FALSE(partial.front().at("units").as_object().contains("volumetric_strain"));
+}
+
+} // namespace
+} // namespace wiredem::test
+
+namespace wiredem::test {
+namespace {
+
+// The data routes read HDF5 and serialise JSON off the I/O threads: with one
+// I/O thread, a series of a million rows (a second or more to read and
+// serialise) does not hold up a status request sent meanwhile. Before, on the
+// I/O thread, the status request waited for the whole read.
+TEST(ResultDataThreads, ALargeReadDoesNotHoldUpOtherRequests)
+{
+    TempDir tmp;
+    const std::filesystem::path made = tmp.path() / "made";
+    std::filesystem::create_directories(made);
+    {
+        constexpr std::size_t big = 1'000'000;
+        io::File file = io::File::create(made / "result.h5");
+        io::Group t = file.root().create_group("tests/sigma3_1000");
+        t.write_double_attribute("confining_pressure_pa", 1000.0);
+        std::vector<double> v(big);
+        for (const char* c : {"time_s", "axial_strain", "deviatoric_stress_pa"}) {
+            for (std::size_t i = 0; i < big; ++i) v[i] = std::sqrt(static_cast<double>(i) + c[0]);
+            t.write_dataset(c, std::span<const double>(v));
+        }
+    }
+    ::setenv("WIREDEM_FAKE_RESULT_DIR", made.c_str(), 1);
+    ServerProcess server(tmp.path() / "data", {"--io-threads", "1"}, 0.02);
+    ::unsetenv("WIREDEM_FAKE_RESULT_DIR");
+    const auto res = http(server.port(), "POST", "/v1/jobs", R"({"name": "big"})");
+    ASSERT_EQ(res.status, 201) << res.body;
+    const std::string id(res.json().at("id").get_string());
+    ASSERT_EQ(state_of(poll_job(server.port(), id, [](const json::value& j) { return state_of(j) == "succeeded"; })), "succeeded");
+
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    auto large = std::async(std::launch::async, [&] {
+        const auto r = http(server.port(), "GET", "/v1/jobs/" + id + "/tests/sigma3_1000/series");
+        return std::pair{r.status, clock::now()};
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the read under way
+    const auto t1 = clock::now();
+    EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
+    const auto t2 = clock::now();
+    const auto [status, t3] = large.get();
+    ASSERT_EQ(status, 200);
+    const double read_ms = std::chrono::duration<double, std::milli>(t3 - t0).count();
+    const double status_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    std::printf("[ threads  ] a series of 1e6 rows took %.0f ms; a status request sent 100 ms into it, %.1f ms\n",
+        read_ms, status_ms);
+    ASSERT_GT(read_ms, 400.0) << "the large read was too quick to tell anything";
+    EXPECT_LT(t2, t3) << "the status request waited for the large read";
+    EXPECT_LT(status_ms, 0.25 * read_ms);
 }
 
 } // namespace

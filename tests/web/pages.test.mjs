@@ -123,7 +123,8 @@ function assertShown(text, expected, what) {
 
 before(async () => {
   tmp = mkdtempSync(path.join(tmpdir(), 'wiredem-web-'));
-  server = await Server.start(tmp);
+  // Checkpoints every 0.2 s: the running job's curves grow several times on its page.
+  server = await Server.start(tmp, ['--checkpoint-seconds', '0.2']);
   const spec = readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8');
   const main = await server.api('POST', '/v1/jobs', { body: spec });
   assert.equal(main.status, 201, JSON.stringify(main.json));
@@ -135,8 +136,11 @@ before(async () => {
   browser = await puppeteer.launch({
     executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
     headless: true,
-    // --no-sandbox: CI runs as root; SwiftShader: WebGL without a GPU.
-    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1400,1000'],
+    // --no-sandbox: CI runs as root; SwiftShader: WebGL without a GPU. The
+    // job list and the running job's page are open at once: neither is
+    // throttled or frozen for being in the background.
+    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--window-size=1400,1000',
+      '--disable-background-timer-throttling', '--disable-backgrounding-occluded-windows', '--disable-renderer-backgrounding'],
   });
 });
 
@@ -146,8 +150,12 @@ after(async () => {
   if (tmp) rmSync(tmp, { recursive: true, force: true });
 });
 
-test('job list: the job appears, its progress moves, a tag-like name is text, the state filter and cancel work', async () => {
+test('job list: the job appears, its progress moves, a tag-like name is text, the state filter and cancel work; the running job\'s curves grow on its page', async () => {
   const { page, w } = await newPage();
+  // The job's own page, open while it runs: its curves, from the tests' checkpoints, grow.
+  const { page: livePage, w: liveWatch } = await newPage();
+  await livePage.goto(`${server.url}/#/jobs/${mainId}`);
+  await page.bringToFront();
   await page.goto(`${server.url}/#/`);
   await page.waitForSelector(`tr[data-id="${xssId}"]`);
   const name = await page.$eval(`tr[data-id="${xssId}"] td.name`, (td) => td.textContent);
@@ -163,17 +171,29 @@ test('job list: the job appears, its progress moves, a tag-like name is text, th
   assert.deepEqual(await page.$$eval('#jobs tbody tr[data-id]', (rows) => rows.map((r) => r.dataset.id)), [xssId]);
   await page.select('#state-filter', '');
 
-  // The main job's progress bar, sampled as the list refreshes, until it has succeeded.
+  // The main job's progress bar, sampled as the list refreshes, until it has
+  // succeeded; meanwhile the points of its live q–ε plot (every test's loading rows so far).
   const seen = new Set();
+  const livePoints = [];
   const deadline = Date.now() + 420000;  // a few seconds alone; minutes on a loaded CI machine
   for (;;) {
     await sleep(300);
     const row = await page.$eval(`tr[data-id="${mainId}"]`, (r) => ({ state: r.dataset.state, progress: r.querySelector('progress').value })).catch(() => null);
     if (row && ['preparing', 'running'].includes(row.state)) seen.add(row.progress);
+    const live = await livePage.evaluate(() => {
+      const plot = document.querySelector('#live-curves #plot-q');
+      const note = document.querySelector('#live-note');
+      return plot && note ? { points: plot.wiredemPlot.series.reduce((n, s) => n + s.x.length, 0), partial: note.dataset.partial !== undefined } : null;
+    });
+    if (live && live.partial && live.points > 0 && live.points !== livePoints.at(-1)) livePoints.push(live.points);
     if (row && row.state === 'succeeded') break;
     assert.ok(Date.now() < deadline, `job not finished: ${server.log()}`);
   }
   assert.ok(seen.size >= 2, `progress should move in the list, saw ${[...seen]}`);
+  assert.ok(livePoints.length >= 2, `the running job's curves should grow on its page, saw ${livePoints} points`);
+  assert.deepEqual(livePoints, [...livePoints].sort((a, b) => a - b), 'and only grow');
+  assert.deepEqual(liveWatch.problems, []);
+  await livePage.close();
   summary = (await server.api('GET', `/v1/jobs/${mainId}/summary`)).json;
   await page.waitForSelector(`tr[data-id="${mainId}"] input[type=checkbox]:not([disabled])`);
   await shot(page, 'web-jobs.png');
@@ -307,6 +327,11 @@ test('submit: a form from the job spec\'s schema; an invalid spec shows each err
   const schema = (await server.api('GET', '/v1/job-spec/schema')).json;
   const countLeaves = (s) => Object.values(s.properties).reduce((n, f) => n + (f.type === 'object' ? countLeaves(f) : 1), 0);
   assert.equal(await page.$$eval('#spec-fields tbody tr', (rows) => rows.length), countLeaves(schema));
+  // Each row shows the field's unit and meaning, as the schema gives them.
+  const radius = schema.properties.specimen.properties.membrane_radius_m;
+  assert.equal(await page.$eval('tr[data-field="specimen.membrane_radius_m"] td.unit', (e) => e.textContent), radius['x-unit']);
+  assert.equal(await page.$eval('tr[data-field="specimen.membrane_radius_m"] td.meaning', (e) => e.textContent), radius.description);
+  assert.ok(radius['x-unit'] === 'm' && radius.description.length > 10, JSON.stringify(radius));
   await page.select('tr[data-field="specimen.wire.pattern"] select', 'radial_helix');
   const edited = JSON.parse(await page.$eval('#spec-editor', (e) => e.value));
   assert.equal(edited.specimen.wire.pattern, 'radial_helix');
@@ -351,6 +376,59 @@ test('compare: the φ/c table and the overlaid envelopes and curves', async () =
   assert.equal(plots.env.series.length, 1);
   assert.equal(plots.q.series.length, summary.tests.length);
   await shot(page, 'web-compare.png', { fullPage: true });
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+test('studies: the list, a study\'s points with their jobs and the summary over the seeds, links to each job, the compare view pre-filled, cancel', async () => {
+  // Two seeds of the test job made cheap (no wire, a faster pour, loaded to 3 %; seconds each):
+  // a group whose φ and c have a mean and an sd.
+  const base = JSON.parse(readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8'));
+  base.specimen = { ...base.specimen, wire: { pattern: 'none' }, pouring: { ...base.specimen.pouring, fill_rate_m_per_s: 0.25 } };
+  base.triaxial = { ...base.triaxial, target_axial_strain: 0.03, snapshot_strains: [0.03] };
+  const study = await server.api('POST', '/v1/studies', { body: JSON.stringify({ name: 'web study', base, points: [{ seed: 1 }, { seed: 2 }] }) });
+  assert.equal(study.status, 201, JSON.stringify(study.json));
+  const doomed = await server.api('POST', '/v1/studies', { body: JSON.stringify({ name: 'web study to cancel', base, points: [{ seed: 3 }] }) });
+  assert.equal(doomed.status, 201, JSON.stringify(doomed.json));
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/studies`);
+  await page.waitForSelector(`#studies tr[data-id="${study.json.id}"]`);
+  await page.waitForSelector(`#studies tr[data-id="${doomed.json.id}"]`);
+
+  // Cancel: the study queued behind the first one.
+  await page.click(`#studies tr[data-id="${doomed.json.id}"] a`);
+  await page.waitForSelector('#cancel-study');
+  await page.click('#cancel-study');
+  await page.waitForSelector('#study-points tr[data-index="0"][data-state="cancelled"]');
+  assert.equal((await server.api('GET', `/v1/studies/${doomed.json.id}`)).json.jobs_by_state.cancelled, 1);
+
+  // The study's page follows its jobs until both have succeeded.
+  await page.goto(`${server.url}/#/studies/${study.json.id}`);
+  await page.waitForFunction(() => [...document.querySelectorAll('#study-points tbody tr')].every((r) => r.dataset.state === 'succeeded'),
+    { timeout: 420000, polling: 500 });
+  const summary = (await server.api('GET', `/v1/studies/${study.json.id}/summary`)).json;
+  assert.equal(summary.points.length, 2);
+  for (const p of summary.points) {
+    const row = `#study-points tr[data-index="${p.index}"]`;
+    assertShown(await page.$eval(`${row} td[data-key="friction_angle_deg"]`, (e) => e.textContent), p.friction_angle_deg, `φ of point ${p.index}`);
+    assertShown(await page.$eval(`${row} td[data-key="cohesion_pa"]`, (e) => e.textContent), p.cohesion_pa / 1000, `c of point ${p.index}`);
+    assert.equal(await page.$eval(`${row} td.name a`, (a) => a.getAttribute('href')), `#/jobs/${p.job_id}`);
+  }
+  // The group over the seeds: mean ± sd (n), as the summary computed them.
+  const g = summary.groups[0].friction_angle_deg;
+  assert.equal(g.n, 2);
+  const [mean, rest] = (await page.$eval('#study-groups tr[data-group="0"] td[data-key="friction_angle_deg"]', (e) => e.textContent)).split(' ± ');
+  assertShown(mean, g.mean, 'mean φ');
+  const [sd, n] = rest.split(' ');
+  assert.ok(Math.abs(Number(sd) - g.sd) <= 5e-3 * g.sd + 1e-12, `sd φ: page ${sd}, summary ${g.sd}`);
+  assert.equal(n, '(2)');
+  await shot(page, 'web-study.png', { fullPage: true });
+
+  // Compare, pre-filled with the study's succeeded jobs.
+  await page.click('#study-compare');
+  await page.waitForSelector('#compare-q');
+  const compared = await page.$$eval('#compare-table tbody tr', (rows) => rows.map((r) => r.dataset.id));
+  assert.deepEqual(compared.sort(), summary.points.map((p) => p.job_id).sort());
   assert.deepEqual(w.problems, []);
   await page.close();
 });

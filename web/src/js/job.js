@@ -1,5 +1,6 @@
-// One job: its state (polled while it runs), then the summary, the plots, the
-// 3D view and the downloads, all from the result data routes (docs/api.md).
+// One job: its state (polled while it runs) and its curves growing as its
+// tests run, then the summary, the plots, the 3D view and the downloads, all
+// from the result data routes (docs/api.md).
 import { json, blob, array, cancelJob } from './api.js';
 import { el, replace, num, seconds, saveBlob } from './dom.js';
 import { renderSummary, renderCurves, renderWire, kPaLabel, curveColumns } from './results_view.js';
@@ -14,6 +15,7 @@ export function show(main, id) {
   let timer = null;
   let stopped = false;
   let view = null;
+  let live = null;
   let shownResults = false;
 
   async function poll() {
@@ -27,8 +29,14 @@ export function show(main, id) {
     }
     if (stopped) return;
     renderHead(job);
+    if (job.state === 'preparing' || job.state === 'running') {
+      if (!live) live = new LiveCurves(body, job.id);
+      try { await live.update(); } catch (e) { console.warn('live curves:', e.message); }
+      if (stopped) return;
+    }
     if (job.state === 'succeeded' && !shownResults) {
       shownResults = true;
+      if (live) { live.dispose(); live = null; }
       try { view = await renderResults(body, job); } catch (e) {
         console.error(e);
         body.append(el('div', { class: 'error-box' }, `Cannot show the results: ${e.message}`));
@@ -53,11 +61,52 @@ export function show(main, id) {
         cancel),
       job.error ? el('div', { class: 'error-box', id: 'job-error' }, job.error) : '',
       el('p', { class: 'muted' }, `id ${job.id} · created ${new Date(job.created_at).toLocaleString()} · attempts ${job.attempts}`),
-      finalStates.has(job.state) ? '' : el('p', { class: 'muted' }, 'Results appear here when the job has succeeded.'));
+      finalStates.has(job.state) ? '' : el('p', { class: 'muted' }, 'The curves grow here as the tests run; the other results appear when the job has succeeded.'));
   }
 
   poll();
-  return () => { stopped = true; clearTimeout(timer); if (view) view.dispose(); };
+  return () => { stopped = true; clearTimeout(timer); if (view) view.dispose(); if (live) live.dispose(); };
+}
+
+/// The curves of a job that runs, from what its tests have recorded so far
+/// (the data routes read the runner's per-test files: a running test's last
+/// checkpoint, a finished test's file; marked partial), redrawn when they grew.
+class LiveCurves {
+  constructor(body, id) {
+    this.id = id;
+    this.box = el('div', { id: 'live-curves' });
+    this.drawn = '';
+    body.append(this.box);
+  }
+
+  async update() {
+    const { tests } = await json(`/v1/jobs/${encodeURIComponent(this.id)}/tests`);
+    const key = tests.map((t) => `${t.state}:${t.rows}`).join(',');
+    if (key === this.drawn) return;
+    // A running test has no volumetric strain yet (it is derived at the end): ask only for what it has.
+    const series = await Promise.all(tests.map((t) => {
+      const columns = curveColumns.split(',').filter((c) => t.columns.some((k) => k.name === c));
+      return json(`${t.series_url}?max_points=1000&columns=${columns.join(',')}`);
+    }));
+    this.clear();
+    this.drawn = key;
+    const state = (t) => (t.state === 'running' && t.reached
+      ? `running, reached t = ${num(t.reached.time_s, 3)} s, ε₁ = ${num(t.reached.axial_strain, 3)}` : t.state || 'finished');
+    this.box.append(el('p', { class: 'muted', id: 'live-note', 'data-partial': tests.some((t) => t.partial) },
+      'Partial results, as the tests have recorded them so far: ',
+      tests.map((t) => `${kPaLabel(t.attributes.confining_pressure_pa)} ${state(t)}`).join('; '), '.'));
+    renderCurves(this.box, null, tests, series);
+  }
+
+  clear() {
+    for (const p of this.box.querySelectorAll('.plot')) if (p.uplot) p.uplot.destroy();
+    replace(this.box);
+  }
+
+  dispose() {
+    this.clear();
+    this.box.remove();
+  }
 }
 
 async function download(path, name) {

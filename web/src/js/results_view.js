@@ -57,22 +57,24 @@ export function renderSummary(body, summary) {
 }
 
 /// q, the stress ratio and the volumetric strain against axial strain for
-/// every test, and the Mohr circles; `tests` as GET …/tests gives them,
-/// `series` one GET …/series reply per test (curveColumns).
+/// every test, and the Mohr circles (when there is a summary: not while the
+/// job runs); `tests` as GET …/tests gives them, `series` one GET …/series
+/// reply per test (curveColumns; a column it lacks draws no points).
 export function renderCurves(body, summary, tests, series) {
   body.append(el('h2', {}, 'Curves'));
   const grid = el('div', { class: 'grid' });
   body.append(grid);
   const curves = (column, scale = 1) => tests.map((t, i) => {
     const rows = loadingRows(series[i]);
+    const values = series[i].columns[column];
+    const drawn = values ? rows : [];
     return { label: kPaLabel(t.attributes.confining_pressure_pa),
-      x: rows.map((r) => series[i].columns.axial_strain[r]), y: rows.map((r) => series[i].columns[column][r] * scale) };
+      x: drawn.map((r) => series[i].columns.axial_strain[r]), y: drawn.map((r) => values[r] * scale) };
   });
   linePlot(grid, { id: 'plot-q', title: 'Deviatoric stress q against axial strain (loading)', xLabel: 'axial strain ε₁', yLabel: 'q [kPa]', series: curves('deviatoric_stress_pa', 1e-3) });
   linePlot(grid, { id: 'plot-ratio', title: 'Stress ratio (σ₁ − σ₃)/(σ₁ + σ₃) against axial strain', xLabel: 'axial strain ε₁', yLabel: 'stress ratio', series: curves('stress_ratio') });
   linePlot(grid, { id: 'plot-volumetric', title: 'Volumetric strain against axial strain', xLabel: 'axial strain ε₁', yLabel: 'volumetric strain', series: curves('volumetric_strain') });
-  mohrPlot(grid, summary);
-
+  if (summary) mohrPlot(grid, summary);
 }
 
 /// Mohr circles at yield (σ₃,eff and σ₁ of each test's yield state), the fitted

@@ -1,8 +1,9 @@
 // Submitting a job spec: a JSON editor (or a file), and beside it a form of
 // every field, made from the job spec's JSON Schema (GET /v1/job-spec/schema,
 // the reader's own description): the path the server names the field by, an
-// input holding what the JSON gives (empty: the default, shown greyed), the
-// allowed range or choices. Form and editor stay in step. A 400's details are
+// input holding what the JSON gives (empty: the default, shown greyed), its
+// unit, the allowed range or choices, and what it means (the schema's
+// x-unit and description). Form and editor stay in step. A 400's details are
 // shown next to the field they name; problems with no such field are listed
 // above the form.
 import { json, submitJob } from './api.js';
@@ -71,13 +72,13 @@ export function show(main) {
   const fields = el('tbody');
   const button = el('button', { class: 'primary', id: 'submit-button' }, 'Submit');
   main.append(el('h1', {}, 'Submit a job'),
-    el('p', { class: 'muted' }, 'Fields left empty take their defaults (greyed); {} is a valid job. Meanings and units: docs/job-spec.md.'),
+    el('p', { class: 'muted' }, 'Fields left empty take their defaults (greyed); {} is a valid job. Units are SI ("1": none).'),
     el('div', { class: 'toolbar' }, el('label', {}, 'Load a file ', file), button),
     general,
     el('div', { class: 'submit-layout' },
       el('div', {}, el('h2', {}, 'JSON'), editor),
       el('div', {}, el('h2', {}, 'Fields'), el('table', { class: 'fields', id: 'spec-fields' },
-        el('thead', {}, el('tr', {}, el('th', {}, 'field'), el('th', {}, 'value'), el('th', {}, 'allowed'))), fields))));
+        el('thead', {}, el('tr', {}, ['field', 'value', 'unit', 'allowed', 'meaning'].map((h) => el('th', {}, h)))), fields))));
 
   let leaves = [];
   const inputs = new Map();
@@ -119,7 +120,8 @@ export function show(main) {
       });
       inputs.set(path, input);
       return el('tr', { 'data-field': path }, el('td', { class: 'path' }, path),
-        el('td', {}, input, el('div', { class: 'field-error' })), el('td', { class: 'muted' }, allowed(f)));
+        el('td', {}, input, el('div', { class: 'field-error' })), el('td', { class: 'unit' }, f['x-unit'] ?? ''),
+        el('td', { class: 'muted' }, allowed(f)), el('td', { class: 'meaning' }, f.description ?? ''));
     }));
     fill();
   }
