@@ -34,12 +34,14 @@ die() { echo "slurm-cluster.sh: $*" >&2; exit 1; }
 
 usage() { echo "usage: $0 start|stop|status" >&2; exit 2; }
 
-# The pid in FILE, if that process is alive.
-alive_pid() {
+# The pid in FILE, if that process is alive and is the daemon NAME (a stale
+# pid file must not make the script signal whatever took its number).
+alive_pid() { # file name
   local pid
   [[ -s $1 ]] || return 1
   pid=$(<"$1")
-  [[ $pid =~ ^[0-9]+$ ]] && kill -0 "$pid" 2>/dev/null && echo "$pid"
+  [[ $pid =~ ^[0-9]+$ ]] && kill -0 "$pid" 2>/dev/null && [[ $(cat "/proc/$pid/comm" 2>/dev/null) == "$2"* ]] \
+    && echo "$pid"
 }
 
 install_packages() {
@@ -113,20 +115,20 @@ EOF
 start() {
   [[ $(id -u) == 0 ]] || die "needs root (munged runs as user munge; slurmd runs jobs as their user)"
   install_packages
-  if alive_pid "$dir/slurmctld.pid" >/dev/null && alive_pid "$dir/slurmd.pid" >/dev/null; then
+  if alive_pid "$dir/slurmctld.pid" slurmctld >/dev/null && alive_pid "$dir/slurmd.pid" slurmd >/dev/null; then
     echo "slurm-cluster.sh: already running in $dir" >&2
     echo "export SLURM_CONF=$conf"
     return 0
   fi
   write_config
-  if ! alive_pid "$dir/munge/munged.pid" >/dev/null; then
+  if ! alive_pid "$dir/munge/munged.pid" munged >/dev/null; then
     runuser -u munge -- munged --socket="$dir/munge/munge.socket" --key-file="$dir/munge/munge.key" \
       --pid-file="$dir/munge/munged.pid" --log-file="$dir/munge/munged.log" --seed-file="$dir/munge/munged.seed" \
       || die "munged did not start: $(tail -n 3 "$dir/munge/munged.log" 2>/dev/null)"
   fi
-  alive_pid "$dir/slurmctld.pid" >/dev/null || slurmctld -c -f "$conf" \
+  alive_pid "$dir/slurmctld.pid" slurmctld >/dev/null || slurmctld -c -f "$conf" \
     || die "slurmctld did not start: $(tail -n 5 "$dir/log/slurmctld.log" 2>/dev/null)"
-  alive_pid "$dir/slurmd.pid" >/dev/null || slurmd -N localhost -f "$conf" \
+  alive_pid "$dir/slurmd.pid" slurmd >/dev/null || slurmd -N localhost -f "$conf" \
     || die "slurmd did not start: $(tail -n 5 "$dir/log/slurmd.log" 2>/dev/null)"
   # Ready when the node takes jobs.
   local state=""
@@ -144,7 +146,7 @@ start() {
 
 stop_daemon() { # name pidfile
   local pid
-  pid=$(alive_pid "$2") || return 0
+  pid=$(alive_pid "$2" "$1") || return 0
   kill "$pid" 2>/dev/null || true
   for _ in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || return 0; sleep 0.1; done
   echo "slurm-cluster.sh: $1 did not stop on SIGTERM, killing it" >&2
@@ -152,7 +154,7 @@ stop_daemon() { # name pidfile
 }
 
 stop() {
-  if alive_pid "$dir/slurmctld.pid" >/dev/null; then
+  if alive_pid "$dir/slurmctld.pid" slurmctld >/dev/null; then
     scancel --full --quiet --partition=debug 2>/dev/null || scancel --quiet --user=root 2>/dev/null || true
     # Jobs end as their steps are signalled; give them a moment to leave.
     for _ in $(seq 1 50); do
@@ -169,7 +171,7 @@ stop() {
 status() {
   local up=0
   for d in munged:munge/munged.pid slurmctld:slurmctld.pid slurmd:slurmd.pid; do
-    if pid=$(alive_pid "$dir/${d#*:}"); then echo "${d%%:*}: running (pid $pid)"; else echo "${d%%:*}: stopped"; up=1; fi
+    if pid=$(alive_pid "$dir/${d#*:}" "${d%%:*}"); then echo "${d%%:*}: running (pid $pid)"; else echo "${d%%:*}: stopped"; up=1; fi
   done
   if ((up == 0)); then
     echo "export SLURM_CONF=$conf"

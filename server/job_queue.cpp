@@ -5,6 +5,7 @@
 
 #include "child_process.hpp"
 #include "progress_line.hpp"
+#include "slurm_client.hpp"
 
 #include <boost/json.hpp>
 #include <spdlog/spdlog.h>
@@ -59,6 +60,7 @@ JobQueue::JobQueue(JobStore& store, QueueConfig config) : store_(store), config_
     config_.concurrent_jobs = std::max(1u, config_.concurrent_jobs);
     config_.threads_per_job = std::max(1u, config_.threads_per_job);
     body_steps_per_second_ = store_.last_body_steps_per_second();
+    if (config_.slurm) slurm_ = std::make_unique<SlurmClient>(*config_.slurm);
 }
 
 JobQueue::~JobQueue() { stop(); }
@@ -92,9 +94,16 @@ void JobQueue::notify()
 
 void JobQueue::cancel(const std::string& id)
 {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     auto it = active_.find(id);
-    if (it == active_.end()) return;
+    if (it == active_.end()) {
+        lock.unlock();
+        // A job waiting for a worker may have Slurm jobs already: submitted
+        // before a restart, followed again only once a worker claims it.
+        if (slurm_)
+            if (const auto ids = store_.slurm_ids(id)) slurm_->cancel({ids->prepare, ids->tests, ids->analyse});
+        return;
+    }
     it->second.cancel_requested = true;
     if (it->second.child && !it->second.signalled) {
         it->second.child->signal(SIGTERM);
@@ -172,7 +181,8 @@ void JobQueue::worker_loop(unsigned index)
             continue;
         }
         try {
-            run_job(*job);
+            if (slurm_) run_slurm_job(*job);
+            else run_job(*job);
         } catch (const std::exception& e) {
             // Nothing here may stop the worker: fail this job and take the next.
             spdlog::error("job {}: {}", job->id, e.what());
@@ -186,23 +196,9 @@ void JobQueue::worker_loop(unsigned index)
     spdlog::debug("worker {} stopped", index);
 }
 
-void JobQueue::run_job(const JobRecord& job)
+bool JobQueue::begin_attempt(const JobRecord& job)
 {
-    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
-    const fs::path work = job_dir / "work";
-    // A work folder left by an earlier attempt (a crash, a shutdown, a
-    // SIGKILL) is kept: the runner continues from its specimen, finished
-    // tests and checkpoints (campaign/stages.hpp), with the same job.json.
-    fs::create_directories(work / "out");
-    {
-        std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
-        spec << job.spec_json << '\n';
-        if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
-    }
-    const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
-        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
-        "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
-
+    const fs::path work = fs::absolute(config_.data_dir / "jobs" / job.id / "work");
     // Register first, then look at the store: a DELETE that came between the
     // claim and here is seen either in the store or as cancel_requested.
     {
@@ -222,8 +218,29 @@ void JobQueue::run_job(const JobRecord& job)
         spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
         std::error_code ec;
         if (!requeued) fs::remove_all(work, ec);
-        return;
+        return false;
     }
+    return true;
+}
+
+void JobQueue::run_job(const JobRecord& job)
+{
+    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
+    const fs::path work = job_dir / "work";
+    // A work folder left by an earlier attempt (a crash, a shutdown, a
+    // SIGKILL) is kept: the runner continues from its specimen, finished
+    // tests and checkpoints (campaign/stages.hpp), with the same job.json.
+    fs::create_directories(work / "out");
+    {
+        std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
+        spec << job.spec_json << '\n';
+        if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
+    }
+    const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
+        (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
+        "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
+
+    if (!begin_attempt(job)) return;
 
     auto child = std::make_shared<ChildProcess>(argv, work);
     spdlog::info("job {}: attempt {} started (runner pid {}, {} threads)", job.id, job.attempts, child->pid(),
@@ -301,7 +318,6 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const fs::path work = job_dir / "work";
-    const fs::path out = work / "out";
     std::error_code ec;
     const bool exited_ok = WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0;
 
@@ -351,6 +367,15 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         return;
     }
 
+    publish(job);
+}
+
+void JobQueue::publish(const JobRecord& job)
+{
+    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
+    const fs::path work = job_dir / "work";
+    const fs::path out = work / "out";
+    std::error_code ec;
     // Success only with both files; the summary must be a JSON object.
     const auto summary_text = read_small_file(out / "summary.json", max_summary_bytes);
     boost::system::error_code jec;
