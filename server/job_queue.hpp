@@ -12,6 +12,8 @@
 //   summary.json, result.h5       moved in by rename only after the runner
 //                                 exited 0 and both exist; then the store says
 //                                 succeeded.
+//   work/slurm/...                with --executor slurm: the stages' batch
+//                                 scripts, logs and exit files (slurm.hpp)
 #pragma once
 
 #include "job_store.hpp"

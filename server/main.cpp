@@ -161,7 +161,7 @@ int main(int argc, char** argv)
     std::string executor = "local";
     SlurmOptions slurm;
     std::string slurm_wiredem;
-    double slurm_poll_s = 5.0;
+    double slurm_poll_s = std::chrono::duration<double>(slurm.poll_interval).count();
 
     CLI::App app{"wiredem-server: queues triaxial campaigns and serves their results over HTTP (docs/api.md)"};
     app.add_option("--listen", listen, "address:port to listen on")->capture_default_str();
