@@ -466,6 +466,16 @@ std::optional<SlurmIds> JobStore::slurm_ids(const std::string& job_id)
     return SlurmIds{s.int64(0), s.int64(1), s.int64(2), s.int64(3)};
 }
 
+std::vector<std::string> JobStore::unfinished_with_slurm_ids()
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT jobs.id FROM jobs JOIN slurm_jobs ON slurm_jobs.job_id = jobs.id"
+                     " WHERE jobs.state IN ('queued', 'preparing', 'running') ORDER BY jobs.seq");
+    std::vector<std::string> ids;
+    while (s.step()) ids.push_back(s.text(0));
+    return ids;
+}
+
 void JobStore::clear_slurm_ids(const std::string& job_id)
 {
     std::lock_guard lock(mutex_);

@@ -124,6 +124,9 @@ public:
     /// The Slurm jobs recorded for a job, if any.
     [[nodiscard]] std::optional<SlurmIds> slurm_ids(const std::string& job_id);
 
+    /// Ids of the jobs not ended yet that have Slurm jobs.
+    [[nodiscard]] std::vector<std::string> unfinished_with_slurm_ids();
+
     /// Forgets a job's Slurm jobs (Slurm lost them: the next attempt submits anew).
     void clear_slurm_ids(const std::string& job_id);
 

@@ -277,6 +277,14 @@ int main(int argc, char** argv)
         lock_fd = lock_data_dir(cfg.data_dir);
         refuse_lost_store(cfg.data_dir);
         store = std::make_unique<JobStore>(cfg.data_dir / "jobs.sqlite3");
+        // A job whose Slurm jobs may still run must not also run here: both
+        // would write its folder.
+        if (!cfg.slurm)
+            if (const auto in_slurm = store->unfinished_with_slurm_ids(); !in_slurm.empty())
+                throw std::runtime_error(std::to_string(in_slurm.size()) + " unfinished job(s) of this data directory ("
+                                         + in_slurm.front() + (in_slurm.size() > 1 ? ", …" : "")
+                                         + ") were submitted to Slurm: start the server with --executor slurm to "
+                                           "follow them (or cancel them there first)");
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return exit_setup;

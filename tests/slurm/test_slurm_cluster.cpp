@@ -161,6 +161,11 @@ TEST(SlurmCluster, AStudyThroughSlurmGivesTheLocalSummaryAndARestartedServerFoll
         EXPECT_FALSE(all_ended(server.port(), id)) << "the study ended before the restart: nothing was re-attached";
         server.kill_hard();
     }
+    // Its jobs are in Slurm: a server that would run them here refuses to start.
+    std::string refused;
+    EXPECT_EQ(server_exit_code(data, {"--executor", "local"}, refused), 3) << refused;
+    EXPECT_NE(refused.find("were submitted to Slurm: start the server with --executor slurm"), std::string::npos)
+        << refused;
     ServerProcess server(data, slurm_server_args({}));
     ASSERT_TRUE(wait_for([&] { return all_ended(server.port(), id); }, std::chrono::seconds(240))) << server.log();
     const json::value there = fetched_summary(server.url(), id, tmp.path() / "slurm-fetched");
