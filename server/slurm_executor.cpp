@@ -139,7 +139,9 @@ void JobQueue::run_slurm_job(const JobRecord& job)
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const SlurmFiles files{job_dir / "work"};
     auto spec = api::parse_job_spec(std::string_view(job.spec_json));
-    if (!spec.ok()) throw std::runtime_error("the stored spec does not parse: " + spec.error().front().path + ": " + spec.error().front().message);
+    if (!spec.ok())
+        throw std::runtime_error("the stored spec does not parse: " + spec.error().front().path + ": "
+                                 + spec.error().front().message);
     const std::size_t tests = spec.value().triaxial.confining_pressures_pa.size();
     const api::ProgressShares shares = api::progress_shares(api::estimated_work(spec.value()));
 
@@ -165,13 +167,10 @@ void JobQueue::run_slurm_job(const JobRecord& job)
             spec_file << job.spec_json << '\n';
             if (!spec_file) throw std::runtime_error("cannot write " + files.job_json().string());
         }
+        // An error here (sbatch refused, the controller away) fails the job
+        // with its message (worker_loop).
         slurm_->cancel_strays(job.id, nullptr);
-        try {
-            ids = slurm_->submit(job.id, files, tests, config_.checkpoint_interval_s);
-        } catch (...) {
-            leave();
-            throw;  // the worker fails the job with the message
-        }
+        ids = slurm_->submit(job.id, files, tests, config_.checkpoint_interval_s);
         store_.set_slurm_ids(job.id, *ids);
         spdlog::info("job {}: attempt {} submitted to Slurm: {} (prepare), {} (tests 0-{}), {} (analyse)", job.id,
             job.attempts, ids->prepare, ids->tests, tests - 1, ids->analyse);
