@@ -8,8 +8,9 @@
 //   while the study runs and a new one re-attaches to the Slurm jobs in the
 //   store: each job is submitted once (three Slurm jobs, counted by squeue).
 // - A point whose test stage fails (a wiredem that exits 1 for it) fails
-//   with that stage's stderr, the other point succeeds; a cancelled study
-//   leaves no Slurm job pending or running.
+//   with that stage's stderr, the other point succeeds; a job sbatch refuses
+//   fails with sbatch's message; a cancelled study leaves no Slurm job
+//   pending or running.
 #include "../server/harness.hpp"
 
 #include <boost/json.hpp>
@@ -219,6 +220,19 @@ TEST(SlurmCluster, AFailingStageFailsItsPointAloneAndACancelledStudyLeavesNoSlur
     const std::string array = std::to_string(failed.at("slurm").at("test_array_job_id").to_number<std::int64_t>());
     EXPECT_NE(error.find("test 1 of 2 (Slurm job " + array + "_0) FAILED"), std::string::npos) << error;
     EXPECT_NE(error.find("wiredem: test stage broken on purpose"), std::string::npos) << error;
+
+    // A job that sbatch refuses (a partition the cluster does not have) fails with sbatch's word.
+    {
+        ServerProcess refused(tmp.path() / "refused", slurm_server_args({"--slurm-partition", "nope"}));
+        const auto posted = http(refused.port(), "POST", "/v1/jobs", json::serialize(tiny()));
+        ASSERT_EQ(posted.status, 201) << posted.body;
+        const json::value job = poll_job(refused.port(), std::string(posted.json().at("id").as_string()),
+            [](const json::value& j) { return state_of(j) == "failed"; });
+        EXPECT_EQ(state_of(job), "failed") << job;
+        EXPECT_NE(job.at("error").as_string().find("sbatch failed (exited with status 1): sbatch: error: invalid partition"),
+            std::string::npos)
+            << job;
+    }
 
     // A study cancelled while its jobs are in Slurm.
     r = http(server.port(), "POST", "/v1/studies", study_text("cancelled", {{"seed", json::array{3, 4}}}));
