@@ -103,6 +103,16 @@ BodyCounts estimated_body_counts(const JobSpec& spec)
     return n;
 }
 
+ProgressShares progress_shares(const WorkEstimate& work)
+{
+    ProgressShares s;
+    // The preparation's longest pour and settling against the tests' steps,
+    // kept between 1 % and half so that neither stage's bar stands still.
+    s.preparation = std::clamp(ProgressShares::tests_end * work.preparation_steps / work.total_steps(), 0.01, 0.5);
+    s.per_test = work.tests > 0 ? (ProgressShares::tests_end - s.preparation) / static_cast<double>(work.tests) : 0.0;
+    return s;
+}
+
 WorkEstimate estimated_work(const JobSpec& spec)
 {
     WorkEstimate w;

@@ -69,6 +69,26 @@ struct WorkEstimate {
 /// Estimates the work of a job (inputs as for the functions above).
 [[nodiscard]] WorkEstimate estimated_work(const JobSpec& spec);
 
+/// How a campaign's overall progress (0–1) is shared among its stages, the
+/// same whether its stages run in one process (campaign::run) or as jobs of
+/// a cluster (the server's Slurm executor): preparation and tests share
+/// 0–tests_end in proportion to their estimated steps, the tests equally;
+/// analysis and writing the rest.
+struct ProgressShares {
+    static constexpr double tests_end = 0.95;
+    double preparation = 0.0;        ///< the preparation's share
+    double per_test = 0.0;           ///< each test's share
+    /// Overall progress from the preparation's fraction, each test's and the analysis's.
+    [[nodiscard]] double overall(double preparation_fraction, double tests_fraction_sum, double analysis_fraction) const
+    {
+        return preparation * preparation_fraction + per_test * tests_fraction_sum
+             + (1.0 - tests_end) * analysis_fraction;
+    }
+};
+
+/// The shares of a job, from its work estimate.
+[[nodiscard]] ProgressShares progress_shares(const WorkEstimate& work);
+
 /// The most time steps any job may take, preparation and tests together
 /// (10¹⁵: three centuries at 10⁵ steps/s). Validation refuses a spec above
 /// it, so `wiredem run` never meets a step count that no integer holds

@@ -499,14 +499,9 @@ StageError analyse(const JobDir& dir, const StageControl& control)
 
 StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
 {
-    // Overall progress: preparation and tests share 0–0.95 in proportion to
-    // their estimated steps, the tests equally; analysis and writing the rest.
-    constexpr double tests_end = 0.95;
+    // Overall progress: the stages' shares of the job's estimated work (api::progress_shares).
     const std::size_t n_tests = spec.triaxial.confining_pressures_pa.size();
-    // The shares come from the job's work estimate (api::estimated_work):
-    // the preparation's longest pour and settling against the tests' steps.
-    const api::WorkEstimate work = api::estimated_work(spec);
-    const double prep_share = std::clamp(tests_end * work.preparation_steps / work.total_steps(), 0.01, 0.5);
+    const api::ProgressShares shares = api::progress_shares(api::estimated_work(spec));
     std::mutex report_mutex; // progress comes from several tests' threads
     const auto overall = [&](const char* stage, double f, const std::string& m) {
         std::lock_guard lock(report_mutex);
@@ -515,7 +510,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
 
     StageControl prep_control = control;
     prep_control.progress = [&](const char* stage, double f, const std::string& m) {
-        overall(stage, prep_share * f, m);
+        overall(stage, shares.overall(f, 0.0, 0.0), m);
     };
     if (auto e = prepare(spec, dir, prep_control)) return e;
 
@@ -523,7 +518,6 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     std::error_code ec;
     for (std::size_t k = 0; k < n_tests; ++k)
         if (!std::filesystem::exists(dir.test(k), ec)) pending.push_back(k);
-    const double per_test = (tests_end - prep_share) / static_cast<double>(n_tests);
     std::vector<double> done(n_tests, 1.0);
     for (std::size_t k : pending) done[k] = 0.0;
 
@@ -543,7 +537,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
                 done[k] = f;
                 double sum = 0.0;
                 for (double d : done) sum += d;
-                report(control, stage, prep_share + per_test * sum, m);
+                report(control, stage, shares.overall(1.0, sum, 0.0), m);
             };
             errors[k] = run_test(dir, k, tc);
             if (control.cancel && control.cancel->load()) return;
@@ -560,7 +554,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
 
     StageControl analysis_control = control;
     analysis_control.progress = [&](const char* stage, double f, const std::string& m) {
-        overall(stage, tests_end + (1.0 - tests_end) * f, m);
+        overall(stage, shares.overall(1.0, static_cast<double>(n_tests), f), m);
     };
     return analyse(dir, analysis_control);
 }

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, lints the container files, builds and runs the
-# test suite: every test in Release; then under AddressSanitizer +
-# UndefinedBehaviorSanitizer every test but the report script's (label
-# scripts: Python) and the long physical runs (label
+# test suite: every test in Release (the Slurm executor's among them, on a
+# single-node cluster the test starts: label slurm); then under
+# AddressSanitizer + UndefinedBehaviorSanitizer every test but the report
+# script's (label scripts: Python), the Slurm cluster's (label slurm: its
+# pieces run there in the server's unit tests) and the long physical runs (label
 # physics_long: whole column preparations and the end-to-end triaxial runs,
 # a minute or two each under ASan, whose code the sanitizer run still goes
 # through in the determinism and campaign tests); then under ThreadSanitizer
@@ -34,7 +36,7 @@ echo "== tests (release)"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
 echo "== tests (address + undefined behaviour sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts"
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts|slurm"
 echo "== tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
 echo "== fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"

@@ -2,9 +2,12 @@
 // main.cpp and read-only afterwards (safe to read from any thread).
 #pragma once
 
+#include "slurm.hpp"
+
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +48,8 @@ struct ServerConfig {
     std::size_t max_connections = 512;         ///< open connections; more are closed at once
     std::chrono::seconds retry_after{30};      ///< Retry-After sent with 429
     std::string token;                         ///< bearer token for /v1 routes; empty: no auth
+    /// Set with --executor slurm: jobs run as Slurm jobs (server/slurm.hpp).
+    std::optional<SlurmOptions> slurm;
     /// The installed web page served at `/` (handlers/static_files.hpp); empty: none.
     std::filesystem::path web_dir;
 };

@@ -64,6 +64,16 @@ struct StudyRecord {
     std::vector<std::string> job_ids;      ///< the point's job, by point index
 };
 
+/// The Slurm jobs that run a job under `wiredem-server --executor slurm`
+/// (server/slurm.hpp): its preparation, the array of its tests (task K runs
+/// test K) and its analysis, each after the one before (afterok).
+struct SlurmIds {
+    std::int64_t prepare = 0;
+    std::int64_t tests = 0;               ///< the array job's id
+    std::int64_t analyse = 0;
+    std::int64_t submitted_ms = 0;        ///< Unix time [ms]
+};
+
 /// Job ids are 24 lower-case hex digits (96 random bits).
 inline constexpr std::size_t job_id_length = 24;
 

@@ -5,6 +5,7 @@
 
 #include "child_process.hpp"
 #include "progress_line.hpp"
+#include "slurm_client.hpp"
 
 #include <boost/json.hpp>
 #include <spdlog/spdlog.h>
@@ -21,7 +22,9 @@ namespace wiredem::server {
 
 std::filesystem::path attempt_output_dir(const std::filesystem::path& data_dir, const std::string& id)
 {
-    return data_dir / "jobs" / id / "work" / "out";
+    // The work folder's layout is written once, in SlurmFiles (slurm.hpp),
+    // whichever executor runs the job.
+    return SlurmFiles{data_dir / "jobs" / id / "work"}.out();
 }
 namespace fs = std::filesystem;
 namespace json = boost::json;
@@ -64,6 +67,7 @@ JobQueue::JobQueue(JobStore& store, QueueConfig config) : store_(store), config_
     config_.concurrent_jobs = std::max(1u, config_.concurrent_jobs);
     config_.threads_per_job = std::max(1u, config_.threads_per_job);
     body_steps_per_second_ = store_.last_body_steps_per_second();
+    if (config_.slurm) slurm_ = std::make_unique<SlurmClient>(*config_.slurm);
 }
 
 JobQueue::~JobQueue() { stop(); }
@@ -97,9 +101,16 @@ void JobQueue::notify()
 
 void JobQueue::cancel(const std::string& id)
 {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     auto it = active_.find(id);
-    if (it == active_.end()) return;
+    if (it == active_.end()) {
+        lock.unlock();
+        // A job waiting for a worker may have Slurm jobs already: submitted
+        // before a restart, followed again only once a worker claims it.
+        if (slurm_)
+            if (const auto ids = store_.slurm_ids(id)) slurm_->cancel({ids->prepare, ids->tests, ids->analyse});
+        return;
+    }
     it->second.cancel_requested = true;
     if (it->second.child && !it->second.signalled) {
         it->second.child->signal(SIGTERM);
@@ -177,7 +188,8 @@ void JobQueue::worker_loop(unsigned index)
             continue;
         }
         try {
-            run_job(*job);
+            if (slurm_) run_slurm_job(*job);
+            else run_job(*job);
         } catch (const std::exception& e) {
             // Nothing here may stop the worker: fail this job and take the next.
             spdlog::error("job {}: {}", job->id, e.what());
@@ -189,6 +201,33 @@ void JobQueue::worker_loop(unsigned index)
         }
     }
     spdlog::debug("worker {} stopped", index);
+}
+
+bool JobQueue::begin_attempt(const JobRecord& job)
+{
+    const fs::path work = fs::absolute(config_.data_dir / "jobs" / job.id / "work");
+    // Register first, then look at the store: a DELETE that came between the
+    // claim and here is seen either in the store or as cancel_requested.
+    {
+        std::lock_guard lock(mutex_);
+        active_[job.id];
+    }
+    const auto current = store_.get(job.id);
+    bool stop_now = false;
+    {
+        std::lock_guard lock(mutex_);
+        stop_now = stopping_ || active_[job.id].cancel_requested || !current || current->state != JobState::preparing;
+        if (stop_now) active_.erase(job.id);
+    }
+    if (stop_now) {
+        const bool requeued = current && current->state == JobState::preparing;
+        if (requeued) store_.requeue(job.id);  // shutdown before the start: its work folder is kept
+        spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
+        std::error_code ec;
+        if (!requeued) fs::remove_all(work, ec);
+        return false;
+    }
+    return true;
 }
 
 void JobQueue::run_job(const JobRecord& job)
@@ -209,27 +248,7 @@ void JobQueue::run_job(const JobRecord& job)
         out.string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
         "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
 
-    // Register first, then look at the store: a DELETE that came between the
-    // claim and here is seen either in the store or as cancel_requested.
-    {
-        std::lock_guard lock(mutex_);
-        active_[job.id];
-    }
-    const auto current = store_.get(job.id);
-    bool stop_now = false;
-    {
-        std::lock_guard lock(mutex_);
-        stop_now = stopping_ || active_[job.id].cancel_requested || !current || current->state != JobState::preparing;
-        if (stop_now) active_.erase(job.id);
-    }
-    if (stop_now) {
-        const bool requeued = current && current->state == JobState::preparing;
-        if (requeued) store_.requeue(job.id);  // shutdown before the start: its work folder is kept
-        spdlog::info("job {}: not started (cancelled or shutting down)", job.id);
-        std::error_code ec;
-        if (!requeued) fs::remove_all(work, ec);
-        return;
-    }
+    if (!begin_attempt(job)) return;
 
     auto child = std::make_shared<ChildProcess>(argv, work);
     spdlog::info("job {}: attempt {} started (runner pid {}, {} threads)", job.id, job.attempts, child->pid(),
@@ -307,7 +326,6 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const fs::path work = job_dir / "work";
-    const fs::path out = fs::absolute(attempt_output_dir(config_.data_dir, job.id));
     std::error_code ec;
     const bool exited_ok = WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 0;
 
@@ -357,6 +375,15 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         return;
     }
 
+    publish(job);
+}
+
+void JobQueue::publish(const JobRecord& job)
+{
+    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
+    const fs::path work = job_dir / "work";
+    const fs::path out = fs::absolute(attempt_output_dir(config_.data_dir, job.id));
+    std::error_code ec;
     // Success only with both files; the summary must be a JSON object.
     const auto summary_text = read_small_file(out / "summary.json", max_summary_bytes);
     boost::system::error_code jec;

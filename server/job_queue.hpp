@@ -12,9 +12,12 @@
 //   summary.json, result.h5       moved in by rename only after the runner
 //                                 exited 0 and both exist; then the store says
 //                                 succeeded.
+//   work/slurm/...                with --executor slurm: the stages' batch
+//                                 scripts, logs and exit files (slurm.hpp)
 #pragma once
 
 #include "job_store.hpp"
+#include "slurm.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -31,6 +34,7 @@
 namespace wiredem::server {
 
 class ChildProcess;
+class SlurmClient;
 
 /// The job directory (campaign/files.hpp) of job `id`'s current attempt: the
 /// runner's -o, where its per-test files appear while it runs.
@@ -53,6 +57,11 @@ struct QueueConfig {
     /// Passed to the runner as --checkpoint-interval: wall time between a
     /// test's checkpoints [s]. Another attempt of a job continues from them.
     double checkpoint_interval_s = 300.0;
+    /// Set: jobs run as Slurm jobs (`--executor slurm`, server/slurm.hpp):
+    /// a worker submits a job's stages with sbatch and follows them, and
+    /// concurrent_jobs bounds the jobs in Slurm at once. max_job_duration
+    /// does not apply (the Slurm jobs have their own time limit).
+    std::optional<SlurmOptions> slurm = std::nullopt;
 };
 
 /// The freshest progress of a running job (kept in memory; the store gets a
@@ -65,9 +74,12 @@ struct LiveProgress {
     std::string message;
 };
 
-/// Runs queued jobs on worker threads, one runner process per job.
+/// Runs queued jobs on worker threads, one runner process per job (or, with
+/// the Slurm executor, one set of Slurm jobs per job).
 class JobQueue {
 public:
+    /// @throws std::runtime_error when the Slurm executor is asked for and
+    /// its commands are missing
     JobQueue(JobStore& store, QueueConfig config);
     ~JobQueue();  ///< calls stop()
     JobQueue(const JobQueue&) = delete;
@@ -81,7 +93,9 @@ public:
     void notify();
 
     /// Asks the runner of `id` (if one runs) to stop: SIGTERM now, SIGKILL
-    /// after kill_grace. The caller has already marked the job cancelled.
+    /// after kill_grace; with the Slurm executor, its Slurm jobs are
+    /// cancelled (by its worker, or here with scancel when no worker follows
+    /// them yet). The caller has already marked the job cancelled.
     void cancel(const std::string& id);
 
     /// Stops claiming jobs, stops every runner and puts its job back in the
@@ -112,7 +126,16 @@ private:
     };
 
     void worker_loop(unsigned index);
+    /// Registers a claimed job as active unless it was cancelled or the
+    /// queue stops meanwhile (then it is requeued or its work removed).
+    bool begin_attempt(const JobRecord& job);
     void run_job(const JobRecord& job);
+    /// The Slurm executor's attempt (slurm_executor.cpp): submit, or follow
+    /// the Slurm jobs the store has for it, until they end.
+    void run_slurm_job(const JobRecord& job);
+    /// Moves a finished campaign's files from work/out into the job's folder
+    /// and marks it succeeded (or failed, when they are not sound).
+    void publish(const JobRecord& job);
     void on_progress_line(const std::string& id, const std::string& line,
         std::chrono::steady_clock::time_point& last_persist);
     void finish_attempt(const JobRecord& job, int wait_status, const std::string& stderr_tail,
@@ -128,6 +151,7 @@ private:
     std::uint64_t wake_count_ = 0;
     std::map<std::string, Active> active_;
     std::optional<double> body_steps_per_second_;
+    std::unique_ptr<SlurmClient> slurm_;
 };
 
 } // namespace wiredem::server

@@ -210,6 +210,15 @@ JobStore::JobStore(const std::filesystem::path& db_file)
             " point INTEGER NOT NULL,"
             " job_id TEXT NOT NULL UNIQUE REFERENCES jobs(id),"
             " PRIMARY KEY (study_id, point))");
+        // The Slurm jobs of each job run by `--executor slurm`
+        // (server/slurm.hpp), added the same way.
+        exec(db_,
+            "CREATE TABLE IF NOT EXISTS slurm_jobs ("
+            " job_id TEXT PRIMARY KEY REFERENCES jobs(id),"
+            " prepare INTEGER NOT NULL,"
+            " tests INTEGER NOT NULL,"
+            " analyse INTEGER NOT NULL,"
+            " submitted_ms INTEGER NOT NULL)");
         // A damaged file must stop the server with a message, not abort it at
         // the first read of a bad page (SQLITE_CORRUPT deep in a query).
         Statement check(db_, "PRAGMA quick_check");
@@ -439,6 +448,39 @@ std::vector<std::string> JobStore::requeue_interrupted()
               " WHERE state IN ('preparing', 'running')");
     tx.commit();
     return ids;
+}
+
+void JobStore::set_slurm_ids(const std::string& job_id, const SlurmIds& ids)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "INSERT OR REPLACE INTO slurm_jobs (job_id, prepare, tests, analyse, submitted_ms) VALUES (?, ?, ?, ?, ?)");
+    s.bind(1, job_id).bind(2, ids.prepare).bind(3, ids.tests).bind(4, ids.analyse).bind(5, ids.submitted_ms).run();
+}
+
+std::optional<SlurmIds> JobStore::slurm_ids(const std::string& job_id)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT prepare, tests, analyse, submitted_ms FROM slurm_jobs WHERE job_id = ?");
+    s.bind(1, job_id);
+    if (!s.step()) return std::nullopt;
+    return SlurmIds{s.int64(0), s.int64(1), s.int64(2), s.int64(3)};
+}
+
+std::vector<std::string> JobStore::unfinished_with_slurm_ids()
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "SELECT jobs.id FROM jobs JOIN slurm_jobs ON slurm_jobs.job_id = jobs.id"
+                     " WHERE jobs.state IN ('queued', 'preparing', 'running') ORDER BY jobs.seq");
+    std::vector<std::string> ids;
+    while (s.step()) ids.push_back(s.text(0));
+    return ids;
+}
+
+void JobStore::clear_slurm_ids(const std::string& job_id)
+{
+    std::lock_guard lock(mutex_);
+    Statement s(db_, "DELETE FROM slurm_jobs WHERE job_id = ?");
+    s.bind(1, job_id).run();
 }
 
 std::vector<std::string> JobStore::succeeded_ids()

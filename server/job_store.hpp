@@ -117,6 +117,19 @@ public:
     /// Up to `limit` studies, newest first, with seq < `before_seq` (0: no bound).
     [[nodiscard]] std::vector<StudyRecord> list_studies(std::int64_t before_seq, int limit);
 
+    /// Records the Slurm jobs submitted for a job (replacing earlier ones):
+    /// a restarted server follows them instead of submitting again.
+    void set_slurm_ids(const std::string& job_id, const SlurmIds& ids);
+
+    /// The Slurm jobs recorded for a job, if any.
+    [[nodiscard]] std::optional<SlurmIds> slurm_ids(const std::string& job_id);
+
+    /// Ids of the jobs not ended yet that have Slurm jobs.
+    [[nodiscard]] std::vector<std::string> unfinished_with_slurm_ids();
+
+    /// Forgets a job's Slurm jobs (Slurm lost them: the next attempt submits anew).
+    void clear_slurm_ids(const std::string& job_id);
+
 private:
     /// requeue (the attempt uncounted) and retry (counted): one statement.
     bool back_to_queue(const std::string& id, bool count_attempt);

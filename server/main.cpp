@@ -158,6 +158,10 @@ int main(int argc, char** argv)
     unsigned read_timeout_s = 30;
     unsigned write_timeout_s = 60;
     unsigned retry_after_s = 30;
+    std::string executor = "local";
+    SlurmOptions slurm;
+    std::string slurm_wiredem;
+    double slurm_poll_s = std::chrono::duration<double>(slurm.poll_interval).count();
 
     CLI::App app{"wiredem-server: queues triaxial campaigns and serves their results over HTTP (docs/api.md)"};
     app.add_option("--listen", listen, "address:port to listen on")->capture_default_str();
@@ -201,6 +205,24 @@ int main(int argc, char** argv)
     app.add_option("--web-dir", web_dir,
         "folder of the web page served at / (default: share/wiredem/web beside the binary's folder; 'none': no page)");
     app.add_option("--port-file", cfg.port_file, "write the bound port here once listening (for --listen HOST:0)");
+    app.add_option("--executor", executor,
+           "how jobs run: local (a runner process per job on this machine) or slurm (each job as Slurm jobs: "
+           "prepare, an array of tests, analyse; the data directory on a file system the nodes share; docs/studies.md)")
+        ->capture_default_str()->check(CLI::IsMember({"local", "slurm"}));
+    std::vector<CLI::Option*> slurm_only{
+        app.add_option("--slurm-partition", slurm.partition, "Slurm partition of the jobs (default: the cluster's)"),
+        app.add_option("--slurm-account", slurm.account, "Slurm account charged (default: the user's)"),
+        app.add_option("--slurm-time-limit", slurm.time_limit,
+            "time limit of each Slurm job, in sbatch --time's forms (default: the partition's)"),
+        app.add_option("--slurm-cpus-per-task", slurm.cpus_per_task,
+               "CPUs of each stage's Slurm job, its engine threads")
+            ->capture_default_str()->check(CLI::Range(1u, 1024u)),
+        app.add_option("--slurm-sbatch-option", slurm.sbatch_options,
+            "one more sbatch option with its value, e.g. --slurm-sbatch-option=--qos=high; repeatable"),
+        app.add_option("--slurm-wiredem", slurm_wiredem,
+            "the wiredem binary the nodes run, the same path on each (default: the --runner)"),
+        app.add_option("--slurm-poll-seconds", slurm_poll_s, "seconds between two looks at a job's Slurm jobs")
+            ->capture_default_str()->check(CLI::Range(0.1, 3600.0))};
     app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str()
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
     try {
@@ -219,6 +241,12 @@ int main(int argc, char** argv)
         spdlog::error("--listen must be HOST:PORT, got '{}'", listen);
         return exit_usage;
     }
+    if (executor != "slurm")
+        for (const CLI::Option* o : slurm_only)
+            if (o->count() > 0) {
+                spdlog::error("{} applies to --executor slurm only", o->get_name());
+                return exit_usage;
+            }
     cfg.max_job_duration = std::chrono::seconds(max_job_seconds);
     cfg.read_timeout = std::chrono::seconds(read_timeout_s);
     cfg.write_timeout = std::chrono::seconds(write_timeout_s);
@@ -233,6 +261,12 @@ int main(int argc, char** argv)
         cfg.runner = fs::absolute(runner.empty() ? default_runner() : fs::path(runner));
         if (::access(cfg.runner.c_str(), X_OK) != 0)
             throw std::runtime_error("runner " + cfg.runner.string() + " is not an executable file (see --runner)");
+        if (executor == "slurm") {
+            slurm.wiredem = slurm_wiredem.empty() ? cfg.runner : fs::absolute(slurm_wiredem);
+            slurm.poll_interval = std::chrono::milliseconds(static_cast<std::int64_t>(slurm_poll_s * 1000.0));
+            if (const auto problem = slurm_options_problem(slurm)) throw std::runtime_error(*problem);
+            cfg.slurm = slurm;
+        }
         if (!token_file.empty()) cfg.token = read_token(token_file);
         if (web_dir.empty()) cfg.web_dir = default_web_dir();
         else if (web_dir != "none") {
@@ -245,6 +279,14 @@ int main(int argc, char** argv)
         lock_fd = lock_data_dir(cfg.data_dir);
         refuse_lost_store(cfg.data_dir);
         store = std::make_unique<JobStore>(cfg.data_dir / "jobs.sqlite3");
+        // A job whose Slurm jobs may still run must not also run here: both
+        // would write its folder.
+        if (!cfg.slurm)
+            if (const auto in_slurm = store->unfinished_with_slurm_ids(); !in_slurm.empty())
+                throw std::runtime_error(std::to_string(in_slurm.size()) + " unfinished job(s) of this data directory ("
+                                         + in_slurm.front() + (in_slurm.size() > 1 ? ", …" : "")
+                                         + ") were submitted to Slurm: start the server with --executor slurm to "
+                                           "follow them (or cancel them there first)");
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return exit_setup;
@@ -260,6 +302,7 @@ int main(int argc, char** argv)
                 QueueConfig q{cfg.data_dir, cfg.runner, cfg.concurrent_jobs, cfg.threads_per_job};
                 q.max_job_duration = cfg.max_job_duration;
                 q.checkpoint_interval_s = cfg.checkpoint_interval_s;
+                q.slurm = cfg.slurm;
                 return q;
             }());
     } catch (const std::exception& e) {
@@ -282,9 +325,16 @@ int main(int argc, char** argv)
         const auto bound = listener->local_endpoint();
         cfg.listen_port = bound.port(); // the Host check compares with it; no I/O thread runs yet
         if (!cfg.port_file.empty()) write_port_file(cfg.port_file, bound.port());
-        spdlog::info("listening on {}:{}; data {}; runner {}; {} job(s) x {} thread(s){}", bound.address().to_string(),
-            bound.port(), cfg.data_dir.string(), cfg.runner.string(), cfg.concurrent_jobs, cfg.threads_per_job,
-            cfg.token.empty() ? "" : "; bearer token required");
+        if (cfg.slurm)
+            spdlog::info("listening on {}:{}; data {}; executor slurm: {} job(s) at once, wiredem {}, {} CPU(s) per "
+                         "task{}{}", bound.address().to_string(), bound.port(), cfg.data_dir.string(), cfg.concurrent_jobs,
+                cfg.slurm->wiredem.string(), cfg.slurm->cpus_per_task,
+                cfg.slurm->partition.empty() ? "" : ", partition " + cfg.slurm->partition,
+                cfg.token.empty() ? "" : "; bearer token required");
+        else
+            spdlog::info("listening on {}:{}; data {}; runner {}; {} job(s) x {} thread(s){}",
+                bound.address().to_string(), bound.port(), cfg.data_dir.string(), cfg.runner.string(),
+                cfg.concurrent_jobs, cfg.threads_per_job, cfg.token.empty() ? "" : "; bearer token required");
     } catch (const std::exception& e) {
         spdlog::error("cannot listen on {}: {}", listen, e.what());
         queue.stop();

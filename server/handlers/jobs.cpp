@@ -33,8 +33,10 @@ json::value optional_time(const std::optional<std::int64_t>& ms)
 }
 
 /// The job as the API shows it; `live` overrides the stored progress of a
-/// running job, `with_spec` adds the full spec.
-json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& live, bool with_spec)
+/// running job, `with_spec` adds the full spec and `slurm` the Slurm jobs
+/// that run it (--executor slurm).
+json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& live, bool with_spec,
+    const std::optional<SlurmIds>& slurm = std::nullopt)
 {
     JobState state = r.state;
     std::string stage = r.stage;
@@ -75,6 +77,9 @@ json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& liv
         links["result"] = job_url(r.id) + "/result.h5";
     }
     o["links"] = std::move(links);
+    if (slurm)
+        o["slurm"] = json::object{{"prepare_job_id", slurm->prepare}, {"test_array_job_id", slurm->tests},
+            {"analyse_job_id", slurm->analyse}, {"submitted_at", format_rfc3339(slurm->submitted_ms)}};
     if (with_spec) o["spec"] = std::move(spec);
     return o;
 }
@@ -287,7 +292,7 @@ Response handle_get_job(const Request& req, const std::string& id, Services& svc
 {
     const auto r = svc.store.get(id);
     if (!r) return job_not_found(req, id);
-    return json_response(req, http::status::ok, job_json(*r, live_of(*r, svc), true));
+    return json_response(req, http::status::ok, job_json(*r, live_of(*r, svc), true, svc.store.slurm_ids(id)));
 }
 
 Response handle_cancel_job(const Request& req, const std::string& id, Services& svc)

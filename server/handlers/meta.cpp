@@ -248,6 +248,10 @@ constexpr const char* openapi_text = R"json({
           "started_at": {"type": "string", "format": "date-time", "nullable": true},
           "finished_at": {"type": "string", "format": "date-time", "nullable": true},
           "links": {"type": "object", "properties": {"self": {"type": "string"}, "summary": {"type": "string"}, "result": {"type": "string"}}},
+          "slurm": {"type": "object", "description": "GET /v1/jobs/{id} of a server with --executor slurm, once the job is submitted: its Slurm jobs (docs/studies.md)",
+            "required": ["prepare_job_id", "test_array_job_id", "analyse_job_id", "submitted_at"],
+            "properties": {"prepare_job_id": {"type": "integer"}, "test_array_job_id": {"type": "integer", "description": "array task K runs test K"},
+              "analyse_job_id": {"type": "integer"}, "submitted_at": {"type": "string", "format": "date-time"}}},
           "spec": {"$ref": "#/components/schemas/JobSpec"}
         }
       },
@@ -297,6 +301,7 @@ Response handle_health(const Request& req, Services& svc)
     body["running"] = svc.queue.busy_workers();
     body["workers"] = svc.queue.config().concurrent_jobs;
     body["threads_per_job"] = svc.queue.config().threads_per_job;
+    body["executor"] = svc.queue.config().slurm ? "slurm" : "local";
     return json_response(req, http::status::ok, body);
 }
 

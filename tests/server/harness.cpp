@@ -241,6 +241,18 @@ RawReply http(std::uint16_t port, const std::string& method, const std::string& 
     return raw_exchange(port, req);
 }
 
+int server_exit_code(const fs::path& data_dir, const std::vector<std::string>& extra_args, std::string& log)
+{
+    const fs::path log_file = data_dir.parent_path() / "start.log";
+    std::string command = std::string("/usr/bin/timeout 10 '") + WIREDEM_SERVER_BIN + "' --listen 127.0.0.1:0 --data-dir '"
+                        + data_dir.string() + "' --runner /bin/true";
+    for (const auto& a : extra_args) command += " '" + a + "'";
+    command += " > '" + log_file.string() + "' 2>&1";
+    const int status = std::system(command.c_str());
+    log = read_file(log_file);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 ClientRun run_client(const std::vector<std::string>& args)
 {
     static int counter = 0;

@@ -59,6 +59,12 @@ private:
     std::filesystem::path log_file_;
 };
 
+/// Starts the server on `data_dir` with `extra_args` (and --runner
+/// /bin/true) and waits for it to exit (at most 10 s: one that is still
+/// serving by then is stopped, exit code 124); returns the exit code, and
+/// its log in `log`.
+int server_exit_code(const std::filesystem::path& data_dir, const std::vector<std::string>& extra_args, std::string& log);
+
 /// One HTTP reply read off a socket.
 struct RawReply {
     int status = 0;                              ///< 0: no reply at all

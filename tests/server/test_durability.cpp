@@ -96,18 +96,7 @@ TEST(Durability, SigtermRequeuesTheRunningJobAndExitsCleanly)
     EXPECT_EQ(job.at("attempts").to_number<int>(), 1) << "a graceful stop does not count as an attempt";
 }
 
-/// Starts the server on `data_dir` and waits for it to exit (at most 10 s:
-/// one that is still serving by then is stopped, exit code 124); returns the
-/// exit code, and the log in `log`.
-int exit_code_on(const fs::path& data_dir, std::string& log)
-{
-    const fs::path log_file = data_dir.parent_path() / "start.log";
-    const std::string command = std::string("timeout 10 '") + WIREDEM_SERVER_BIN + "' --listen 127.0.0.1:0 --data-dir '"
-                              + data_dir.string() + "' --runner /bin/true > '" + log_file.string() + "' 2>&1";
-    const int status = std::system(command.c_str());
-    log = read_file(log_file);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int exit_code_on(const fs::path& data_dir, std::string& log) { return server_exit_code(data_dir, {}, log); }
 
 /// A data directory whose store holds one job, its server stopped cleanly.
 void make_store_with_one_job(const fs::path& data)
