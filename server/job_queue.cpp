@@ -4,6 +4,7 @@
 #include "job_queue.hpp"
 
 #include "child_process.hpp"
+#include "job_files.hpp"
 #include "progress_line.hpp"
 
 #include <boost/json.hpp>
@@ -28,8 +29,6 @@ namespace {
 constexpr auto persist_interval = std::chrono::seconds(2);
 /// How often a worker checks cancellation and shutdown while a runner runs.
 constexpr auto tick = std::chrono::milliseconds(100);
-/// Largest summary.json the server accepts from a runner.
-constexpr std::uintmax_t max_summary_bytes = 16u << 20;
 
 /// fsync a file or directory; best effort (the data dir may be on a file
 /// system without directory fsync).
@@ -193,12 +192,9 @@ void JobQueue::run_job(const JobRecord& job)
     // A work folder left by an earlier attempt (a crash, a shutdown, a
     // SIGKILL) is kept: the runner continues from its specimen, finished
     // tests and checkpoints (campaign/stages.hpp), with the same job.json.
-    fs::create_directories(work / "out");
-    {
-        std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
-        spec << job.spec_json << '\n';
-        if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
-    }
+    // No symlink planted in the data directory redirects these writes (job_files.hpp).
+    make_work_dir(config_.data_dir, job.id);
+    write_job_file(config_.data_dir, job.id, "work/job.json", job.spec_json + "\n");
     const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
         (work / "out").string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
         "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
@@ -319,7 +315,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         const std::string reason = "stopped after running longer than this server's limit of "
                                  + std::to_string(config_.max_job_duration.count()) + " s (--max-job-seconds)";
         spdlog::warn("job {}: {}", job.id, reason);
-        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        write_job_file(config_.data_dir, job.id, "runner-stderr.log", stderr_tail);
         store_.finish(job.id, JobState::failed, reason, std::nullopt);
         fs::remove_all(work, ec);
         return;
@@ -345,7 +341,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         else if (reason.empty()) reason = "runner " + how;
         else if (WIFSIGNALED(wait_status)) reason = "runner " + how + ": " + reason;
         spdlog::warn("job {}: failed, runner {}: {}", job.id, how, reason);
-        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        write_job_file(config_.data_dir, job.id, "runner-stderr.log", stderr_tail);
         store_.finish(job.id, JobState::failed, reason, std::nullopt);
         fs::remove_all(work, ec);
         return;
