@@ -162,6 +162,11 @@ TEST(OpenApi, EveryStatusTheRouterAnswersIsDocumentedForItsOperation)
     for (const char* s : {"200 /v1/jobs/{id}", "204 /v1/jobs/{id}", "200 /v1/jobs/{id}/result.h5", "404 /v1/jobs/{id}",
              "409 /v1/jobs/{id}/summary", "400 /v1/jobs/{id}", "403 /v1/jobs", "405 /v1/health"})
         EXPECT_TRUE(seen.count(s)) << s << " never answered";
+    // The fixture puts back what the probes deleted (the fuzz target relies on it).
+    f.restore();
+    const std::string succeeded = std::string("/v1/jobs/") + fuzz::succeeded_job_id;
+    EXPECT_EQ(status_of(f.router().dispatch(request(http::verb::get, succeeded + "/result.h5"))), 200u);
+    EXPECT_EQ(status_of(f.router().dispatch(request(http::verb::get, succeeded + "/summary"))), 200u);
 }
 
 TEST(OpenApi, ByteRangesAreDocumentedWithTheirHeaders)
