@@ -296,27 +296,41 @@ void apply_retention(Services& svc)
             spdlog::warn("job {}: removed by the retention bound, but its folder could not be removed", id);
 }
 
-Response handle_delete_job(const Request& req, const std::string& id, Services& svc)
+Response handle_delete_job(const Request& req, const std::string& id, const QueryParams& params, Services& svc)
 {
-    switch (svc.store.cancel(id)) {
-    case CancelOutcome::not_found: return job_not_found(req, id);
-    case CancelOutcome::cancelled: svc.queue.cancel(id); [[fallthrough]];
-    case CancelOutcome::already_cancelled: {
-        // Cancelling twice is harmless (a client retrying a lost reply): so a
-        // cancelled job, which holds no results, goes by the retention bound.
+    // Removing is asked for in so many words (?remove=true): a cancel that
+    // crosses the job's success must not delete its results.
+    bool remove = false;
+    for (const auto& [key, value] : params) {
+        if (key != "remove" || value != "true" || remove)
+            return error_response(req, http::status::bad_request, "bad_parameter",
+                "the only parameter here is remove=true (delete an ended job with its files)", key);
+        remove = true;
+    }
+    if (!remove) {
+        switch (svc.store.cancel(id)) {
+        case CancelOutcome::not_found: return job_not_found(req, id);
+        case CancelOutcome::already_final: {
+            const auto r = svc.store.get(id);
+            return error_response(req, http::status::conflict, "already_finished",
+                "job " + id + " already " + std::string(to_string(r ? r->state : JobState::failed))
+                    + " (DELETE ?remove=true deletes it with its files)",
+                "id");
+        }
+        case CancelOutcome::cancelled: svc.queue.cancel(id); break;
+        case CancelOutcome::already_cancelled: break;  // cancelling twice is harmless
+        }
         const auto r = svc.store.get(id);
         if (!r) return job_not_found(req, id);
         return json_response(req, http::status::ok, job_json(*r, std::nullopt, false));
     }
-    case CancelOutcome::already_final: break;
-    }
-    // Succeeded or failed: the job goes, with its files. The row first: a
-    // crash between the two leaves a folder no job names, never a job
-    // without its files.
+    // The row first: a crash between the two leaves a folder no job names,
+    // never a job without its files.
     switch (svc.store.remove(id)) {
     case RemoveOutcome::not_found: return job_not_found(req, id);
-    case RemoveOutcome::not_final:  // queued again since (a restart): cancel it first
-        return error_response(req, http::status::conflict, "not_finished", "job " + id + " has not ended; retry", "id");
+    case RemoveOutcome::not_final:
+        return error_response(req, http::status::conflict, "not_finished",
+            "job " + id + " has not ended; cancel it first (DELETE without ?remove)", "id");
     case RemoveOutcome::in_study:
         return error_response(req, http::status::conflict, "in_study",
             "job " + id + " is a point of a study and stays with it", "id");

@@ -84,14 +84,18 @@ constexpr const char* openapi_text = R"json({
         }
       },
       "delete": {
-        "summary": "Cancel a queued or running job (the runner stops within a second); delete a succeeded or failed one with its files",
+        "summary": "Cancel a queued or running job (the runner stops within a second); with remove=true, delete a job that has ended, with its files",
+        "parameters": [{"name": "remove", "in": "query", "required": false,
+          "description": "true: delete the job, which must have ended, with its files (its results), instead of cancelling it",
+          "schema": {"type": "string", "enum": ["true"]}}],
         "responses": {
           "200": {"description": "Cancelled (again: cancelling twice is harmless)", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
-          "204": {"description": "It had succeeded or failed: deleted with its files"},
+          "204": {"description": "remove=true: deleted with its files"},
           "400": {"$ref": "#/components/responses/Error"},
           "401": {"$ref": "#/components/responses/Error"},
           "404": {"$ref": "#/components/responses/Error"},
-          "409": {"description": "in_study: a study's job stays with its study", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+          "409": {"description": "already_finished (cancel of a succeeded or failed job), not_finished (remove of a job still active), in_study (a study's job stays with its study)",
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
         }
       }
     },

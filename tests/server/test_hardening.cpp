@@ -73,27 +73,34 @@ mode_t mode_of(const fs::path& p)
     return st.st_mode & 07777;
 }
 
-TEST(Retention, DeleteRemovesASucceededJobWithItsFilesAndCancellingTwiceIsHarmless)
+TEST(Retention, DeleteWithRemoveDeletesAnEndedJobWithItsFilesAndOnlyThen)
 {
     TempDir tmp;
-    ServerProcess server(tmp.path() / "data");
+    ServerProcess server(tmp.path() / "data", {}, 0.2);
     const std::string id = submit(server.port(), "to delete");
     ASSERT_EQ(state_of(poll_job(server.port(), id, is_final)), "succeeded");
     const fs::path folder = tmp.path() / "data" / "jobs" / id;
     ASSERT_TRUE(fs::exists(folder / "result.h5"));
-    const auto removed = http(server.port(), "DELETE", "/v1/jobs/" + id);
+    // A plain DELETE is a cancel: it never deletes results (a cancel that
+    // crosses the job's success must not).
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + id).error_code(), "already_finished");
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + id + "?remove=yes").status, 400);
+    const auto removed = http(server.port(), "DELETE", "/v1/jobs/" + id + "?remove=true");
     EXPECT_EQ(removed.status, 204);
     EXPECT_TRUE(removed.body.empty());
     EXPECT_FALSE(fs::exists(folder)) << "its files go with it";
     EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id).status, 404);
-    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + id).status, 404);
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + id + "?remove=true").status, 404);
 
-    // A cancelled job: DELETE again is the same 200 (a retried cancel), not a removal.
+    // A running job is not removed; cancelled (twice, harmlessly), it can be.
     const std::string slow = submit(server.port(), "slow to cancel");
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + slow + "?remove=true").error_code(), "not_finished");
     EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + slow).status, 200);
     const auto again = http(server.port(), "DELETE", "/v1/jobs/" + slow);
     EXPECT_EQ(again.status, 200);
     EXPECT_EQ(state_of(again.json()), "cancelled");
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/jobs/" + slow + "?remove=true").status, 204);
+    EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + slow).status, 404);
 }
 
 TEST(Retention, OnlyTheNewestEndedJobsAreKeptWithTheirFiles)

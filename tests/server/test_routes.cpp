@@ -126,7 +126,7 @@ TEST(OpenApi, EveryStatusTheRouterAnswersIsDocumentedForItsOperation)
                 for (auto at = target.find(name); at != std::string::npos; at = target.find(name))
                     target.replace(at, name.size(), value);
             if (const auto at = target.find("{id}"); at != std::string::npos) target.replace(at, 4, id);
-            const std::vector<std::string> targets{target, target + "?unknown=1"};
+            const std::vector<std::string> targets{target, target + "?unknown=1", target + "?remove=true"};
             for (const std::string& t : targets)
                     for (const std::string& body : {std::string(), std::string("{}"), std::string("{")}) {
                         std::vector<Request> variants{request(m, t, body),
