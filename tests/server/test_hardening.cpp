@@ -136,10 +136,13 @@ TEST(DataDirectory, APlantedSymlinkRedirectsNoDownload)
     fs::create_directories(elsewhere);
     write_file(elsewhere / "summary.json", R"({"secret": "not the job's"})");
     write_file(elsewhere / "result.h5", "not the job's either");
+    write_file(elsewhere / "result.xdmf", "<Xdmf>not the job's</Xdmf>");
     fs::rename(jobs / id, tmp.path() / "moved");
     fs::create_directory_symlink(elsewhere, jobs / id);
     EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id + "/summary").status, 500);
     EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id + "/result.h5").status, 500);
+    EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id + "/result.xdmf").status, 404);  // the result data routes too
+    EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id + "/tests").status, 500);
     // The folder back, its summary a symlink: not followed either.
     fs::remove(jobs / id);
     fs::rename(tmp.path() / "moved", jobs / id);
