@@ -1,7 +1,8 @@
 // The time left of a campaign, from its work and the rate this process
 // measures: steps left (api::estimated_work's steps, less what is done,
 // earlier runs of the directory included) over the steps this process has
-// run per second since its first report. Not "elapsed × (1 − f) / f": that
+// run per second since its first report (of the tests, once they run: the
+// preparation's rate only stands in for theirs until then). Not "elapsed × (1 − f) / f": that
 // extrapolation has nothing to say at 0 %, and after a resume it divides the
 // few seconds of this process by the progress of every earlier one.
 #pragma once
@@ -17,17 +18,24 @@ struct WorkSteps {
     /// of a pour that settled before its time limit).
     double run = 0.0;
     double left = 0.0;  ///< steps still to run, by the estimate
+    /// Whether the tests are running (else the preparation): the two step at
+    /// rates of their own — the pour at its own time step, which the
+    /// estimate's step count (at the tests' step) does not know — so the
+    /// rate is measured afresh when the tests begin.
+    bool testing = false;
 };
 
 /// Turns work reports into a time left.
 class EtaEstimate {
 public:
     /// Records `work` at time `t_s` (any steady clock [s]); returns the time
-    /// left [s], or nothing until steps have been run since the first report.
+    /// left [s], or nothing until steps have been run since the first report
+    /// (of the preparation, or of the tests).
     std::optional<double> update(double t_s, const WorkSteps& work)
     {
-        if (!started_) {
+        if (!started_ || work.testing != testing_) {
             started_ = true;
+            testing_ = work.testing;
             t0_ = t_s;
             run0_ = work.run;
             return std::nullopt;
@@ -40,6 +48,7 @@ public:
 
 private:
     bool started_ = false;
+    bool testing_ = false;
     double t0_ = 0.0;
     double run0_ = 0.0;
 };

@@ -526,11 +526,12 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     std::vector<double> done(n_tests, 1.0);  // fraction of each test
     double prep_done = 0.0;                  // fraction of the preparation
     double steps_run = 0.0;
+    bool testing = false;  // the tests have begun
     const auto report_work = [&] {  // under report_mutex
         if (!control.work) return;
         double left = (1.0 - prep_done) * work.preparation_steps;
         for (double d : done) left += (1.0 - d) * work.steps_per_test;
-        control.work(WorkSteps{steps_run, left});
+        control.work(WorkSteps{steps_run, left, testing});
     };
 
     StageControl prep_control = control;
@@ -568,6 +569,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
             tc.threads = worker_threads;
             tc.progress = [&, k](const char* stage, double f, const std::string& m) {
                 std::lock_guard lock(report_mutex);
+                testing = true;
                 if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
                 else steps_run += std::max(0.0, f - done[k]) * work.steps_per_test;
                 done[k] = f;

@@ -65,7 +65,7 @@ public:
         // steps, a pour's steps up to its limit), measured from its first
         // step report — a test resumed from a checkpoint starts there.
         if (!has_work_ && fraction > 0.0)
-            eta_ = eta_from_fraction_.update(seconds_since(start_), campaign::WorkSteps{fraction, 1.0 - fraction});
+            eta_ = eta_from_fraction_.update(seconds_since(start_), campaign::WorkSteps{fraction, 1.0 - fraction, false});
         const auto now = Clock::now();
         if (!force && now - last_ < std::chrono::milliseconds(500)) return;
         last_ = now;
