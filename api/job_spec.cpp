@@ -111,6 +111,9 @@ struct IntRange {
 };
 
 constexpr std::size_t max_name_chars = 200;
+/// A comment is a note, not a document: every copy of the job (the store,
+/// job.json, the result file) carries it.
+constexpr std::size_t max_comment_chars = 10'000;
 constexpr std::size_t max_pressures = 16;
 constexpr std::size_t max_snapshots = 64;
 /// The column must be at least this many largest-grain diameters wide. The
@@ -771,8 +774,14 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
                 break;
             }
     }
-    r.text("comment", spec.comment,
-        {nullptr, "free text"});
+    r.text("comment", spec.comment, {nullptr, "free text"});
+    if (v.recording())
+        r.describe("comment", json::object{{"type", "string"}, {"maxLength", max_comment_chars}, {"default", spec.comment}},
+            {nullptr, "free text"});
+    if (v.clean("comment"))
+        if (const std::size_t n = utf8_length(spec.comment); n > max_comment_chars)
+            v.fail("comment", "is " + std::to_string(n) + " characters long; at most " + std::to_string(max_comment_chars)
+                                  + " are allowed");
     r.integer("seed", IntRange{0, UINT64_MAX}, spec.seed,
         {"1", "seed of the pouring (reproducible preparation)"});
     {

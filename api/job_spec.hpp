@@ -216,7 +216,7 @@ struct EngineSpec {
 /// One job: a specimen prepared once and tested at every confining pressure.
 struct JobSpec {
     std::string name = "job";                  ///< ≤ 200 characters, no control characters
-    std::string comment;                       ///< free text
+    std::string comment;                       ///< free text, at most 10 000 characters
     std::uint64_t seed = 1;                    ///< seed of the pouring (the model spec §5)
     SpecimenSpec specimen;                     ///< what is prepared
     ContactSpec contact;                       ///< the contact law

@@ -501,25 +501,46 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
 {
     // Overall progress: the stages' shares of the job's estimated work (api::progress_shares).
     const std::size_t n_tests = spec.triaxial.confining_pressures_pa.size();
-    const api::ProgressShares shares = api::progress_shares(api::estimated_work(spec));
+    const api::WorkEstimate work = api::estimated_work(spec);
+    const api::ProgressShares shares = api::progress_shares(work);
     std::mutex report_mutex; // progress comes from several tests' threads
-    const auto overall = [&](const char* stage, double f, const std::string& m) {
-        std::lock_guard lock(report_mutex);
-        report(control, stage, f, m);
+
+    // The work for the ETA (eta.hpp), in estimated steps: what is left, and
+    // what this process has run — each part's fraction gained between its
+    // reports, but not the jump of a test resumed from a checkpoint to the
+    // checkpoint's step (run before), nor the rest of a pour that settled
+    // before its time limit (never run).
+    std::vector<double> done(n_tests, 1.0);  // fraction of each test
+    double prep_done = 0.0;                  // fraction of the preparation
+    double steps_run = 0.0;
+    bool testing = false;  // the tests have begun
+    const auto report_work = [&] {  // under report_mutex
+        if (!control.work) return;
+        double left = (1.0 - prep_done) * work.preparation_steps;
+        for (double d : done) left += (1.0 - d) * work.steps_per_test;
+        control.work(WorkSteps{steps_run, left, testing});
     };
 
     StageControl prep_control = control;
     prep_control.progress = [&](const char* stage, double f, const std::string& m) {
-        overall(stage, shares.overall(f, 0.0, 0.0), m);
+        std::lock_guard lock(report_mutex);
+        steps_run += std::max(0.0, f - prep_done) * work.preparation_steps;
+        prep_done = f;
+        report_work();
+        report(control, stage, shares.overall(f, 0.0, 0.0), m);
     };
     if (auto e = prepare(spec, dir, prep_control)) return e;
+    prep_done = 1.0;  // prepared now, or by an earlier run (then it reported nothing)
 
     std::vector<std::size_t> pending;
+    std::vector<bool> resumed(n_tests, false);  // from a checkpoint: its first step report jumps
     std::error_code ec;
     for (std::size_t k = 0; k < n_tests; ++k)
-        if (!std::filesystem::exists(dir.test(k), ec)) pending.push_back(k);
-    std::vector<double> done(n_tests, 1.0);
-    for (std::size_t k : pending) done[k] = 0.0;
+        if (!std::filesystem::exists(dir.test(k), ec)) {
+            pending.push_back(k);
+            done[k] = 0.0;
+            resumed[k] = std::filesystem::exists(dir.checkpoint(k), ec);
+        }
 
     // Tests at once: as many as threads (each test is deterministic for any
     // thread count, so the results do not depend on how they are shared).
@@ -534,7 +555,11 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
             tc.threads = worker_threads;
             tc.progress = [&, k](const char* stage, double f, const std::string& m) {
                 std::lock_guard lock(report_mutex);
+                testing = true;
+                if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
+                else steps_run += std::max(0.0, f - done[k]) * work.steps_per_test;
                 done[k] = f;
+                report_work();
                 double sum = 0.0;
                 for (double d : done) sum += d;
                 report(control, stage, shares.overall(1.0, sum, 0.0), m);
@@ -554,7 +579,9 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
 
     StageControl analysis_control = control;
     analysis_control.progress = [&](const char* stage, double f, const std::string& m) {
-        overall(stage, shares.overall(1.0, static_cast<double>(n_tests), f), m);
+        std::lock_guard lock(report_mutex);
+        report_work();  // nothing left to step
+        report(control, stage, shares.overall(1.0, static_cast<double>(n_tests), f), m);
     };
     return analyse(dir, analysis_control);
 }

@@ -14,6 +14,7 @@
 
 #include "api/job_spec.hpp"
 #include "core/result.hpp"
+#include "eta.hpp"
 #include "files.hpp"
 
 #include <atomic>
@@ -37,6 +38,9 @@ struct StageControl {
     /// message). `run` calls it with the campaign's overall fraction, from
     /// the thread of whichever test moved, one call at a time.
     std::function<void(const char* stage, double fraction, const std::string& message)> progress;
+    /// The work done and left in estimated steps (eta.hpp): `run` calls it
+    /// just before each progress call, under the same lock.
+    std::function<void(const WorkSteps& work)> work;
     double checkpoint_interval_s = default_checkpoint_interval_s; ///< ≤ 0: no checkpoints
 };
 

@@ -3,9 +3,9 @@
 // Here: progress display, signals, exit codes.
 //
 // Progress: fraction 0–1 of the stage (of the whole campaign for `run`), at
-// most every half second. SIGTERM/SIGINT set a flag that the engine checks
-// every step (exit 128 + signal); a test killed in any way continues from its
-// last checkpoint when started again.
+// most every half second, with the time left (campaign/eta.hpp). SIGTERM and
+// SIGINT set a flag that the engine checks every step (exit 128 + signal); a
+// test killed in any way continues from its last checkpoint when started again.
 #include "run_command.hpp"
 
 #include "display.hpp"
@@ -50,21 +50,38 @@ class Progress {
 public:
     explicit Progress(bool json_lines) : json_(json_lines), tty_(!json_lines && ::isatty(2)), start_(Clock::now()) {}
 
+    /// The campaign's work (`run` reports it before each progress call).
+    void work(const campaign::WorkSteps& w)
+    {
+        has_work_ = true;
+        eta_ = eta_from_work_.update(seconds_since(start_), w);
+    }
+
     /// Reports `fraction` of the whole run; throttled unless `force`.
     void report(const char* stage, double fraction, const std::string& message, bool force = false)
     {
         fraction = std::clamp(fraction, 0.0, 1.0);
+        // A single stage reports no work: its fraction is its work (a test's
+        // steps, a pour's steps up to its limit), measured from its first
+        // step report — a test resumed from a checkpoint starts there.
+        if (!has_work_ && fraction > 0.0)
+            eta_ = eta_from_fraction_.update(seconds_since(start_), campaign::WorkSteps{fraction, 1.0 - fraction, false});
         const auto now = Clock::now();
         if (!force && now - last_ < std::chrono::milliseconds(500)) return;
         last_ = now;
-        const double elapsed = seconds_since(start_);
-        std::optional<double> eta;
-        if (fraction >= 0.01 && fraction < 1.0) eta = elapsed * (1.0 - fraction) / fraction;
+        const bool has_eta = fraction < 1.0 && eta_.has_value();
+        std::string eta_text;  // appended: GCC 12's -Wrestrict misfires on "literal" + std::string
+        if (has_eta) {
+            eta_text = " (eta ";
+            eta_text += std::to_string(static_cast<long>(*eta_));
+            eta_text += " s)";
+        }
         if (json_) {
             json::object o;
             o["stage"] = stage;
             o["progress"] = fraction;
-            o["eta_s"] = eta ? json::value(*eta) : json::value(nullptr);
+            o["eta_s"] = nullptr;
+            if (has_eta) o["eta_s"] = *eta_;
             o["message"] = message;
             std::cout << json::serialize(o) << '\n' << std::flush;
         } else if (tty_) {
@@ -73,12 +90,11 @@ public:
             std::string bar(static_cast<std::size_t>(filled), '#');
             bar.resize(width, '.');
             std::fprintf(stderr, "\r[%s] %5.1f%% %-9s %s%s\033[K", bar.c_str(), 100.0 * fraction, stage, message.c_str(),
-                eta ? (" (eta " + std::to_string(static_cast<long>(*eta)) + " s)").c_str() : "");
+                eta_text.c_str());
             std::fflush(stderr);
             dirty_ = true;
         } else {
-            std::fprintf(stderr, "%s %5.1f%% %s%s\n", stage, 100.0 * fraction, message.c_str(),
-                eta ? (" (eta " + std::to_string(static_cast<long>(*eta)) + " s)").c_str() : "");
+            std::fprintf(stderr, "%s %5.1f%% %s%s\n", stage, 100.0 * fraction, message.c_str(), eta_text.c_str());
         }
     }
 
@@ -95,6 +111,10 @@ private:
     bool dirty_ = false;
     Clock::time_point start_;
     Clock::time_point last_{};
+    bool has_work_ = false;
+    campaign::EtaEstimate eta_from_work_;
+    campaign::EtaEstimate eta_from_fraction_;
+    std::optional<double> eta_;  ///< the latest estimate [s]
 };
 
 /// Restores the previous signal handlers when the run ends.
@@ -146,6 +166,7 @@ int run_stage(bool json_progress, campaign::StageControl control,
     control.progress = [&](const char* name, double fraction, const std::string& message) {
         progress.report(name, fraction, message);
     };
+    control.work = [&](const campaign::WorkSteps& w) { progress.work(w); };
     try {
         if (auto e = stage(control)) return fail(progress, *e);
     } catch (const std::exception& ex) {

@@ -29,6 +29,9 @@ struct ServerConfig {
     unsigned data_threads = 2;                 ///< threads reading result files for the data routes (off the I/O threads)
     std::size_t max_pending_submits = 64;      ///< submits waiting for those; more get 503
     std::size_t max_queued = 100;              ///< queued jobs before POST answers 429
+    /// Ended jobs kept (a study's excepted): past it, the oldest go with their
+    /// files as new jobs come (0: keep all).
+    std::size_t max_finished_jobs = 1000;
     std::size_t max_study_points = 256;        ///< jobs one study may create (its grid's points)
     std::uint64_t max_bodies_per_job = 2'000'000;  ///< estimated bodies (grains + wire + membrane) per job
     /// Estimated time steps of a job, preparation and tests (api::estimated_work):
@@ -43,9 +46,14 @@ struct ServerConfig {
     double checkpoint_interval_s = 300.0;
     std::uint64_t max_body_bytes = 1 << 20;    ///< request body limit [bytes] (413 above)
     std::uint32_t max_header_bytes = 16 << 10; ///< request header limit [bytes] (431 above)
-    std::chrono::seconds read_timeout{30};     ///< the next request (idle wait included) must arrive within this
+    /// A connection with nothing of a request received (new, or kept alive
+    /// between requests) is closed after this.
+    std::chrono::seconds idle_timeout{10};
+    std::chrono::seconds read_timeout{30};     ///< a request, from its first byte, must be complete within this
     std::chrono::seconds write_timeout{60};    ///< limit for each chunk of a reply to drain
-    std::size_t max_connections = 512;         ///< open connections; more are closed at once
+    /// Open connections; at the limit the longest idle one is closed for a
+    /// newcomer, who gets 503 when none is idle.
+    std::size_t max_connections = 512;
     std::chrono::seconds retry_after{30};      ///< Retry-After sent with 429
     std::string token;                         ///< bearer token for /v1 routes; empty: no auth
     /// Set with --executor slurm: jobs run as Slurm jobs (server/slurm.hpp).

@@ -5,6 +5,7 @@
 //   queued → preparing → running → succeeded | failed
 //   queued | preparing | running → cancelled         (DELETE /v1/jobs/{id})
 //   preparing | running → queued                      (restart after a crash, graceful shutdown)
+//   succeeded | failed | cancelled → (removed)        (DELETE /v1/jobs/{id}, --max-finished-jobs)
 #pragma once
 
 #include <cstdint>
@@ -49,7 +50,8 @@ struct JobRecord {
     std::int64_t created_ms = 0;           ///< Unix time [ms]
     std::optional<std::int64_t> started_ms;  ///< start of the latest attempt [ms]
     std::optional<std::int64_t> finished_ms; ///< when it reached a final state [ms]
-    std::string spec_json;                 ///< the normalised job spec (api::to_json)
+    std::string name;                      ///< the spec's name (a column of its own: lists never read the spec)
+    std::string spec_json;                 ///< the normalised job spec (api::to_json); empty in lists
     std::string idempotency_key;           ///< empty when the client sent none
     std::optional<double> body_steps_per_second; ///< from the summary, once succeeded
 };

@@ -4,6 +4,7 @@
 #include "job_queue.hpp"
 
 #include "child_process.hpp"
+#include "job_files.hpp"
 #include "progress_line.hpp"
 #include "slurm_client.hpp"
 
@@ -36,8 +37,6 @@ namespace {
 constexpr auto persist_interval = std::chrono::seconds(2);
 /// How often a worker checks cancellation and shutdown while a runner runs.
 constexpr auto tick = std::chrono::milliseconds(100);
-/// Largest summary.json the server accepts from a runner.
-constexpr std::uintmax_t max_summary_bytes = 16u << 20;
 
 /// fsync a file or directory; best effort (the data dir may be on a file
 /// system without directory fsync).
@@ -206,6 +205,13 @@ void JobQueue::worker_loop(unsigned index)
 bool JobQueue::begin_attempt(const JobRecord& job)
 {
     const fs::path work = fs::absolute(config_.data_dir / "jobs" / job.id / "work");
+    // A work folder left by an earlier attempt (a crash, a shutdown, a
+    // SIGKILL) is kept: the stages continue from its specimen, finished
+    // tests and checkpoints (campaign/stages.hpp), with the same job.json.
+    // No symlink planted in the data directory redirects these writes
+    // (job_files.hpp); both executors start from them.
+    make_work_dir(config_.data_dir, job.id);
+    write_job_file(config_.data_dir, job.id, "work/job.json", job.spec_json + "\n");
     // Register first, then look at the store: a DELETE that came between the
     // claim and here is seen either in the store or as cancel_requested.
     {
@@ -232,18 +238,8 @@ bool JobQueue::begin_attempt(const JobRecord& job)
 
 void JobQueue::run_job(const JobRecord& job)
 {
-    const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
-    const fs::path work = job_dir / "work";
-    // A work folder left by an earlier attempt (a crash, a shutdown, a
-    // SIGKILL) is kept: the runner continues from its specimen, finished
-    // tests and checkpoints (campaign/stages.hpp), with the same job.json.
+    const fs::path work = fs::absolute(config_.data_dir / "jobs" / job.id / "work");
     const fs::path out = fs::absolute(attempt_output_dir(config_.data_dir, job.id));
-    fs::create_directories(out);
-    {
-        std::ofstream spec(work / "job.json", std::ios::binary | std::ios::trunc);
-        spec << job.spec_json << '\n';
-        if (!spec) throw std::runtime_error("cannot write " + (work / "job.json").string());
-    }
     const std::vector<std::string> argv{config_.runner.string(), "run", (work / "job.json").string(), "-o",
         out.string(), "--threads", std::to_string(config_.threads_per_job), "--progress", "json",
         "--checkpoint-interval", json::serialize(json::value(config_.checkpoint_interval_s))};
@@ -343,7 +339,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         const std::string reason = "stopped after running longer than this server's limit of "
                                  + std::to_string(config_.max_job_duration.count()) + " s (--max-job-seconds)";
         spdlog::warn("job {}: {}", job.id, reason);
-        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        write_job_file(config_.data_dir, job.id, "runner-stderr.log", stderr_tail);
         store_.finish(job.id, JobState::failed, reason, std::nullopt);
         fs::remove_all(work, ec);
         return;
@@ -369,7 +365,7 @@ void JobQueue::finish_attempt(const JobRecord& job, int wait_status, const std::
         else if (reason.empty()) reason = "runner " + how;
         else if (WIFSIGNALED(wait_status)) reason = "runner " + how + ": " + reason;
         spdlog::warn("job {}: failed, runner {}: {}", job.id, how, reason);
-        std::ofstream(job_dir / "runner-stderr.log", std::ios::binary | std::ios::trunc) << stderr_tail;
+        write_job_file(config_.data_dir, job.id, "runner-stderr.log", stderr_tail);
         store_.finish(job.id, JobState::failed, reason, std::nullopt);
         fs::remove_all(work, ec);
         return;

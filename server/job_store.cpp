@@ -127,11 +127,19 @@ private:
     bool done_ = false;
 };
 
+/// What a list shows of a job: every column before the spec, which lists
+/// never read (a spec may hold a comment of 10⁴ characters; the columns after
+/// it would make SQLite read through its overflow pages).
+constexpr const char* list_columns =
+    "seq, id, state, stage, progress, eta_s, message, error, attempts, created_ms, started_ms, "
+    "finished_ms, name";
+/// The whole row.
 constexpr const char* columns =
     "seq, id, state, stage, progress, eta_s, message, error, attempts, created_ms, started_ms, "
-    "finished_ms, spec, idempotency_key, body_steps_per_second";
+    "finished_ms, name, spec, idempotency_key, body_steps_per_second";
 
-JobRecord read_row(const Statement& s)
+/// A row of list_columns.
+JobRecord read_list_row(const Statement& s)
 {
     JobRecord r;
     r.seq = s.int64(0);
@@ -146,10 +154,60 @@ JobRecord read_row(const Statement& s)
     r.created_ms = s.int64(9);
     r.started_ms = s.opt_int64(10);
     r.finished_ms = s.opt_int64(11);
-    r.spec_json = s.text(12);
-    r.idempotency_key = s.text(13);
-    r.body_steps_per_second = s.opt_real(14);
+    r.name = s.text(12);
     return r;
+}
+
+/// A row of columns.
+JobRecord read_row(const Statement& s)
+{
+    JobRecord r = read_list_row(s);
+    r.spec_json = s.text(13);
+    r.idempotency_key = s.text(14);
+    r.body_steps_per_second = s.opt_real(15);
+    return r;
+}
+
+/// The job table. `name` comes before `spec` (see list_columns).
+constexpr const char* jobs_table_columns =
+    " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
+    " id TEXT NOT NULL UNIQUE,"
+    " state TEXT NOT NULL,"
+    " stage TEXT NOT NULL DEFAULT '',"
+    " progress REAL NOT NULL DEFAULT 0,"
+    " eta_s REAL,"
+    " message TEXT NOT NULL DEFAULT '',"
+    " error TEXT NOT NULL DEFAULT '',"
+    " attempts INTEGER NOT NULL DEFAULT 0,"
+    " created_ms INTEGER NOT NULL,"
+    " started_ms INTEGER,"
+    " finished_ms INTEGER,"
+    " name TEXT NOT NULL DEFAULT '',"
+    " spec TEXT NOT NULL,"
+    " idempotency_key TEXT UNIQUE,"
+    " body_steps_per_second REAL";
+
+/// Stores of earlier versions have no `name` column: the table is rebuilt
+/// with it (before the spec), filled from each spec, in one transaction.
+void add_name_column(sqlite3* db)
+{
+    bool has_name = false;
+    {
+        Statement s(db, "PRAGMA table_info(jobs)");
+        while (s.step()) has_name = has_name || s.text(1) == "name";
+    }
+    if (has_name) return;
+    Transaction tx(db);
+    exec(db, (std::string("CREATE TABLE jobs_with_name (") + jobs_table_columns + ")").c_str());
+    exec(db,
+        "INSERT INTO jobs_with_name (seq, id, state, stage, progress, eta_s, message, error, attempts, created_ms,"
+        " started_ms, finished_ms, name, spec, idempotency_key, body_steps_per_second)"
+        " SELECT seq, id, state, stage, progress, eta_s, message, error, attempts, created_ms, started_ms,"
+        " finished_ms, COALESCE(CASE WHEN json_valid(spec) THEN json_extract(spec, '$.name') END, ''), spec,"
+        " idempotency_key, body_steps_per_second FROM jobs");
+    exec(db, "DROP TABLE jobs");
+    exec(db, "ALTER TABLE jobs_with_name RENAME TO jobs");
+    tx.commit();
 }
 
 std::optional<JobRecord> get_locked(sqlite3* db, const std::string& id)
@@ -176,24 +234,11 @@ JobStore::JobStore(const std::filesystem::path& db_file)
         // we answer 201 (kill -9 and power loss both keep accepted jobs).
         exec(db_, "PRAGMA journal_mode=WAL");
         exec(db_, "PRAGMA synchronous=FULL");
+        // Foreign keys on only after add_name_column: its DROP TABLE would
+        // otherwise check study_jobs' references to the old table.
+        exec(db_, (std::string("CREATE TABLE IF NOT EXISTS jobs (") + jobs_table_columns + ")").c_str());
+        add_name_column(db_);
         exec(db_, "PRAGMA foreign_keys=ON");
-        exec(db_,
-            "CREATE TABLE IF NOT EXISTS jobs ("
-            " seq INTEGER PRIMARY KEY AUTOINCREMENT,"
-            " id TEXT NOT NULL UNIQUE,"
-            " state TEXT NOT NULL,"
-            " stage TEXT NOT NULL DEFAULT '',"
-            " progress REAL NOT NULL DEFAULT 0,"
-            " eta_s REAL,"
-            " message TEXT NOT NULL DEFAULT '',"
-            " error TEXT NOT NULL DEFAULT '',"
-            " attempts INTEGER NOT NULL DEFAULT 0,"
-            " created_ms INTEGER NOT NULL,"
-            " started_ms INTEGER,"
-            " finished_ms INTEGER,"
-            " spec TEXT NOT NULL,"
-            " idempotency_key TEXT UNIQUE,"
-            " body_steps_per_second REAL)");
         exec(db_, "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state, seq)");
         // Studies: a document and its jobs, one per point (added to stores of
         // earlier versions as they open: CREATE … IF NOT EXISTS).
@@ -277,8 +322,8 @@ InsertOutcome JobStore::insert_study(
         s.run();
     }
     for (std::size_t k = 0; k < jobs.size(); ++k) {
-        Statement j(db_, "INSERT INTO jobs (id, state, created_ms, spec) VALUES (?, 'queued', ?, ?)");
-        j.bind(1, jobs[k].id).bind(2, jobs[k].created_ms).bind(3, jobs[k].spec_json);
+        Statement j(db_, "INSERT INTO jobs (id, state, created_ms, name, spec) VALUES (?, 'queued', ?, ?, ?)");
+        j.bind(1, jobs[k].id).bind(2, jobs[k].created_ms).bind(3, jobs[k].name).bind(4, jobs[k].spec_json);
         j.run();
         Statement l(db_, "INSERT INTO study_jobs (study_id, point, job_id) VALUES (?, ?, ?)");
         l.bind(1, study.id).bind(2, static_cast<std::int64_t>(k)).bind(3, jobs[k].id);
@@ -328,9 +373,9 @@ InsertOutcome JobStore::insert(const JobRecord& job, std::size_t max_queued, Job
     }
     {
         Statement s(db_,
-            "INSERT INTO jobs (id, state, created_ms, spec, idempotency_key) VALUES (?, 'queued', ?, ?, ?)");
-        s.bind(1, job.id).bind(2, job.created_ms).bind(3, job.spec_json);
-        s.bind(4, job.idempotency_key.empty() ? std::optional<std::string>()
+            "INSERT INTO jobs (id, state, created_ms, name, spec, idempotency_key) VALUES (?, 'queued', ?, ?, ?, ?)");
+        s.bind(1, job.id).bind(2, job.created_ms).bind(3, job.name).bind(4, job.spec_json);
+        s.bind(5, job.idempotency_key.empty() ? std::optional<std::string>()
                                               : std::optional<std::string>(job.idempotency_key));
         s.run();
     }
@@ -348,7 +393,7 @@ std::optional<JobRecord> JobStore::get(const std::string& id)
 std::vector<JobRecord> JobStore::list(std::optional<JobState> state, std::int64_t before_seq, int limit)
 {
     std::lock_guard lock(mutex_);
-    std::string sql = std::string("SELECT ") + columns + " FROM jobs WHERE seq < ?";
+    std::string sql = std::string("SELECT ") + list_columns + " FROM jobs WHERE seq < ?";
     if (state) sql += " AND state = ?";
     sql += " ORDER BY seq DESC LIMIT ?";
     Statement s(db_, sql.c_str());
@@ -357,7 +402,7 @@ std::vector<JobRecord> JobStore::list(std::optional<JobState> state, std::int64_
     if (state) s.bind(i++, to_string(*state));
     s.bind(i, limit);
     std::vector<JobRecord> rows;
-    while (s.step()) rows.push_back(read_row(s));
+    while (s.step()) rows.push_back(read_list_row(s));
     return rows;
 }
 
@@ -417,6 +462,44 @@ CancelOutcome JobStore::cancel(const std::string& id)
     s.bind(1, now_ms()).bind(2, id).run();
     tx.commit();
     return CancelOutcome::cancelled;
+}
+
+RemoveOutcome JobStore::remove(const std::string& id)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    auto job = get_locked(db_, id);
+    if (!job) return RemoveOutcome::not_found;
+    if (!is_final(job->state)) return RemoveOutcome::not_final;
+    {
+        Statement s(db_, "SELECT 1 FROM study_jobs WHERE job_id = ?");
+        s.bind(1, id);
+        if (s.step()) return RemoveOutcome::in_study;
+    }
+    Statement s(db_, "DELETE FROM jobs WHERE id = ?");
+    s.bind(1, id).run();
+    tx.commit();
+    return RemoveOutcome::removed;
+}
+
+std::vector<std::string> JobStore::remove_finished_beyond(std::size_t keep)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    std::vector<std::string> ids;
+    {
+        Statement s(db_,
+            "SELECT id FROM jobs WHERE state IN ('succeeded', 'failed', 'cancelled')"
+            " AND id NOT IN (SELECT job_id FROM study_jobs) ORDER BY finished_ms DESC, seq DESC LIMIT -1 OFFSET ?");
+        s.bind(1, static_cast<std::int64_t>(keep));
+        while (s.step()) ids.push_back(s.text(0));
+    }
+    for (const auto& id : ids) {
+        Statement s(db_, "DELETE FROM jobs WHERE id = ?");
+        s.bind(1, id).run();
+    }
+    tx.commit();
+    return ids;
 }
 
 bool JobStore::requeue(const std::string& id) { return back_to_queue(id, false); }

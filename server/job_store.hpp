@@ -37,6 +37,14 @@ enum class CancelOutcome {
     not_found,
 };
 
+/// What JobStore::remove did.
+enum class RemoveOutcome {
+    removed,    ///< the row is gone (its files are the caller's to remove)
+    not_final,  ///< queued, preparing or running: cancel it first
+    in_study,   ///< one of a study's points: it goes with its study
+    not_found,
+};
+
 /// Job counts per state, indexed by JobState.
 using StateCounts = std::array<std::int64_t, std::size(all_job_states)>;
 
@@ -59,7 +67,8 @@ public:
     [[nodiscard]] std::optional<JobRecord> get(const std::string& id);
 
     /// Up to `limit` jobs, newest first, with seq < `before_seq` (0: no bound),
-    /// optionally only those in `state`.
+    /// optionally only those in `state`; without their spec, idempotency key
+    /// and rate (what a list shows, and no more, is read).
     [[nodiscard]] std::vector<JobRecord> list(std::optional<JobState> state,
         std::int64_t before_seq, int limit);
 
@@ -79,6 +88,15 @@ public:
 
     /// Cancels a job that is not final yet.
     CancelOutcome cancel(const std::string& id);
+
+    /// Removes a job that has ended (succeeded, failed, cancelled) and is
+    /// not one of a study's points.
+    RemoveOutcome remove(const std::string& id);
+
+    /// The retention bound: removes the ended jobs (not a study's) beyond
+    /// the `keep` most recently finished. Returns their ids (their files are
+    /// the caller's to remove).
+    std::vector<std::string> remove_finished_beyond(std::size_t keep);
 
     /// Puts an active job back into the queue (graceful shutdown); the
     /// interrupted attempt is not counted. Returns false if it was not active.

@@ -57,7 +57,7 @@ void Listener::on_accept(boost::system::error_code ec, tcp::socket socket)
         return;
     }
     socket.set_option(tcp::no_delay(true), ec);
-    start_session(std::move(socket), router_, config_, metrics_);
+    start_session(std::move(socket), router_, config_, metrics_, connections_);
     do_accept();
 }
 

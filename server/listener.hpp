@@ -5,6 +5,7 @@
 
 #include "config.hpp"
 #include "router.hpp"
+#include "session.hpp"
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -41,6 +42,7 @@ private:
     Router& router_;
     const ServerConfig& config_;
     Metrics& metrics_;
+    std::shared_ptr<ConnectionTable> connections_ = make_connection_table();
 };
 
 } // namespace wiredem::server

@@ -21,8 +21,11 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <future>
 #include <thread>
@@ -89,8 +92,22 @@ void refuse_lost_store(const fs::path& data_dir)
                                    "move the job folders away to start an empty store");
 }
 
+/// "0640" for a st_mode.
+std::string mode_text(mode_t mode)
+{
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%04o", static_cast<unsigned>(mode & 07777));
+    return buf;
+}
+
 std::string read_token(const fs::path& file)
 {
+    // A secret other users can read is no secret; said, not refused: a
+    // container's secret is often mounted 0444 by its owner's choice.
+    struct stat st{};
+    if (::stat(file.c_str(), &st) == 0 && (st.st_mode & (S_IRWXG | S_IRWXO)) != 0)
+        spdlog::warn("token file {} may be read by other users (mode {}): chmod 600 it", file.string(),
+            mode_text(st.st_mode));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw std::runtime_error("cannot read token file " + file.string());
     std::string token((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -100,6 +117,17 @@ std::string read_token(const fs::path& file)
     for (char c : token)
         if (c <= 0x20 || c >= 0x7f) throw std::runtime_error("token in " + file.string() + " must be one word of visible ASCII");
     return token;
+}
+
+/// Files and folders the server creates are never readable by other users
+/// (main() sets a umask of 027, 077 with a token: the token guards results
+/// over HTTP, so the files must not be readable beside it); the data
+/// directory's own mode covers what an earlier run left readable.
+void keep_other_users_out(const fs::path& data_dir, bool with_token)
+{
+    const mode_t dir_mode = with_token ? 0700 : 0750;
+    if (::chmod(data_dir.c_str(), dir_mode) != 0)
+        throw std::runtime_error("cannot chmod " + data_dir.string() + ": " + std::strerror(errno));
 }
 
 /// Two servers on one data directory would run every job twice.
@@ -180,6 +208,9 @@ int main(int argc, char** argv)
     app.add_option("--max-pending-submits", cfg.max_pending_submits, "submits waiting for validation; more get 503")
         ->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--max-queued", cfg.max_queued, "queued jobs before submit answers 429")->capture_default_str()->check(CLI::Range(1, 1000000));
+    app.add_option("--max-finished-jobs", cfg.max_finished_jobs,
+        "ended jobs kept; past it the oldest are removed with their files (0: keep all)")
+        ->capture_default_str()->check(CLI::Range(std::size_t{0}, std::size_t{100000000}));
     app.add_option("--max-study-points", cfg.max_study_points, "jobs one parameter study may create")
         ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
     app.add_option("--max-bodies-per-job", cfg.max_bodies_per_job, "estimated bodies a job may have")->capture_default_str()->check(CLI::PositiveNumber);
@@ -196,9 +227,12 @@ int main(int argc, char** argv)
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
     app.add_option("--max-header-bytes", cfg.max_header_bytes, "request header limit")->capture_default_str()->check(CLI::Range(1024, 1 << 20));
-    app.add_option("--read-timeout", read_timeout_s, "seconds a client has to send the next request")->capture_default_str()->check(CLI::Range(1u, 3600u));
+    unsigned idle_timeout_s = static_cast<unsigned>(cfg.idle_timeout.count());
+    app.add_option("--idle-timeout", idle_timeout_s, "seconds a connection may wait with nothing of a request sent")
+        ->capture_default_str()->check(CLI::Range(1u, 3600u));
+    app.add_option("--read-timeout", read_timeout_s, "seconds a request may take to arrive, from its first byte")->capture_default_str()->check(CLI::Range(1u, 3600u));
     app.add_option("--write-timeout", write_timeout_s, "seconds a client has to take each chunk of a reply")->capture_default_str()->check(CLI::Range(1u, 3600u));
-    app.add_option("--max-connections", cfg.max_connections, "open connections")->capture_default_str()->check(CLI::Range(1, 100000));
+    app.add_option("--max-connections", cfg.max_connections, "open connections (the longest idle is closed for a newcomer)")->capture_default_str()->check(CLI::Range(1, 100000));
     app.add_option("--retry-after", retry_after_s, "Retry-After seconds sent with 429")->capture_default_str()->check(CLI::Range(1u, 86400u));
     // Not checked by CLI11 (exit 2): an unreadable token file is a setup error (exit 3, read_token).
     app.add_option("--token-file", token_file, "file holding the bearer token every /v1 request must carry");
@@ -248,6 +282,7 @@ int main(int argc, char** argv)
                 return exit_usage;
             }
     cfg.max_job_duration = std::chrono::seconds(max_job_seconds);
+    cfg.idle_timeout = std::chrono::seconds(idle_timeout_s);
     cfg.read_timeout = std::chrono::seconds(read_timeout_s);
     cfg.write_timeout = std::chrono::seconds(write_timeout_s);
     cfg.retry_after = std::chrono::seconds(retry_after_s);
@@ -255,6 +290,7 @@ int main(int argc, char** argv)
     cfg.threads_per_job = threads_per_job ? threads_per_job : std::max(1u, cores / cfg.concurrent_jobs);
 
     ::signal(SIGPIPE, SIG_IGN);
+    ::umask(token_file.empty() ? 027 : 077);  // before the first file (keep_other_users_out)
     int lock_fd = -1;
     std::unique_ptr<JobStore> store;
     try {
@@ -277,6 +313,7 @@ int main(int argc, char** argv)
         fs::create_directories(cfg.data_dir / "jobs");
         cfg.data_dir = fs::canonical(cfg.data_dir);
         lock_fd = lock_data_dir(cfg.data_dir);
+        keep_other_users_out(cfg.data_dir, !cfg.token.empty());
         refuse_lost_store(cfg.data_dir);
         store = std::make_unique<JobStore>(cfg.data_dir / "jobs.sqlite3");
         // A job whose Slurm jobs may still run must not also run here: both

@@ -1,11 +1,7 @@
-// Routing table:
-//   POST   /v1/jobs                     GET /v1/jobs
-//   GET    /v1/jobs/{id}                DELETE /v1/jobs/{id}
-//   GET    /v1/jobs/{id}/summary        GET /v1/jobs/{id}/result.h5
-//   GET    /v1/health   /v1/openapi.json   /v1/job-spec/schema   /metrics
-//   GET    /v1/jobs/{id}/tests/…, /specimen/…, /result.xdmf, /report.html   (handlers/results.hpp)
-//   GET    anything else: the web page's files (handlers/static_files.hpp)
-// GET routes also answer HEAD.
+// Routing: the result data routes, GET /v1/jobs/{id}/tests/…, /specimen/…,
+// /result.xdmf, /report.html (handlers/results.hpp); then route_table(); then,
+// outside /v1, the web page's files (handlers/static_files.hpp). GET routes
+// also answer HEAD.
 #include "router.hpp"
 
 #include "origin.hpp"
@@ -60,6 +56,33 @@ Response method_not_allowed(const Request& req, std::string_view allow)
     return res;
 }
 
+Response bad_id_response(const Request& req, std::string_view what)
+{
+    return error_response(req, http::status::bad_request, "bad_id",
+        "a " + std::string(what) + " id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
+}
+
+/// Whether the path's segments fit `tmpl` ("/v1/jobs/{id}"); `id` gets the
+/// segment at "{id}" (any non-empty one: the caller checks it).
+bool path_matches(std::string_view tmpl, const std::vector<std::string>& seg, std::string& id)
+{
+    std::size_t k = 0;
+    while (!tmpl.empty()) {
+        tmpl.remove_prefix(1);  // the '/'
+        const std::string_view part = tmpl.substr(0, tmpl.find('/'));
+        tmpl.remove_prefix(part.size());
+        if (k >= seg.size()) return false;
+        if (part == "{id}") {
+            if (seg[k].empty()) return false;
+            id = seg[k];
+        } else if (seg[k] != part) {
+            return false;
+        }
+        ++k;
+    }
+    return k == seg.size();
+}
+
 std::uint64_t body_bytes(const StringResponse& r) { return r.body().size(); }
 std::uint64_t body_bytes(const FileResponse& r) { return r.body().length; }
 
@@ -81,6 +104,42 @@ void strip_body(Response& res)
 }
 
 } // namespace
+
+const std::vector<Route>& route_table()
+{
+    using V = http::verb;
+    // GET before the other methods of a path: the order of Allow.
+    static const std::vector<Route> table{
+        {"/v1/jobs", V::get, "listJobs", "jobs", true,
+            [](const RouteCall& c) { return handle_list_jobs(c.req, c.params, c.svc); }},
+        {"/v1/jobs", V::post, "submitJob", "jobs", false, [](const RouteCall& c) { return handle_submit_job(c.req, c.svc); }},
+        {"/v1/jobs/{id}", V::get, "getJob", "jobs", false,
+            [](const RouteCall& c) { return handle_get_job(c.req, c.id, c.svc); }},
+        {"/v1/jobs/{id}", V::delete_, "deleteJob", "jobs", true,
+            [](const RouteCall& c) { return handle_delete_job(c.req, c.id, c.params, c.svc); }},
+        {"/v1/jobs/{id}/summary", V::get, "getJobSummary", "results", false,
+            [](const RouteCall& c) { return handle_get_summary(c.req, c.id, c.svc); }},
+        {"/v1/jobs/{id}/result.h5", V::get, "getJobResult", "results", false,
+            [](const RouteCall& c) { return handle_get_result(c.req, c.id, c.svc); }},
+        {"/v1/studies", V::get, "listStudies", "studies", true,
+            [](const RouteCall& c) { return handle_list_studies(c.req, c.params, c.svc); }},
+        {"/v1/studies", V::post, "submitStudy", "studies", false,
+            [](const RouteCall& c) { return handle_submit_study(c.req, c.svc); }},
+        {"/v1/studies/{id}", V::get, "getStudy", "studies", false,
+            [](const RouteCall& c) { return handle_get_study(c.req, c.id, c.svc); }},
+        {"/v1/studies/{id}", V::delete_, "cancelStudy", "studies", false,
+            [](const RouteCall& c) { return handle_cancel_study(c.req, c.id, c.svc); }},
+        {"/v1/studies/{id}/summary", V::get, "getStudySummary", "studies", false,
+            [](const RouteCall& c) { return handle_get_study_summary(c.req, c.id, c.svc); }},
+        {"/v1/health", V::get, "getHealth", "service", false, [](const RouteCall& c) { return handle_health(c.req, c.svc); }},
+        {"/v1/openapi.json", V::get, "getOpenApi", "service", false,
+            [](const RouteCall& c) { return handle_openapi(c.req, c.svc); }},
+        {"/v1/job-spec/schema", V::get, "getJobSpecSchema", "service", false,
+            [](const RouteCall& c) { return handle_job_spec_schema(c.req, c.svc); }},
+        {"/metrics", V::get, "getMetrics", "service", false, [](const RouteCall& c) { return handle_metrics(c.req, c.svc); }},
+    };
+    return table;
+}
 
 Router::Router(Services& services)
     : svc_(services), submit_pool_(services.config.submit_threads), data_pool_(services.config.data_threads)
@@ -196,104 +255,50 @@ Response Router::route(const Request& req)
 
     const auto method = req.method();
     const bool get = method == http::verb::get || method == http::verb::head;
-    auto bad_id = [&] {
-        return error_response(req, http::status::bad_request, "bad_id",
-            "a job id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
-    };
     auto finish = [&](Response res) {
         if (method == http::verb::head) strip_body(res);
         return res;
     };
+    QueryParams params;
+    for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
+    // Only the job and study lists take query parameters (and the result
+    // data routes theirs); elsewhere one is a mistake the client should hear
+    // about, not one silently ignored.
+    auto query_refused = [&] {
+        return error_response(req, http::status::bad_request, "bad_parameter",
+            "this route takes no query parameters, got '" + std::string(url.encoded_query()) + "'", params.front().first);
+    };
 
     // The result data routes check their own query parameters (max_points).
     if (is_v1 && seg.size() >= 4 && seg[1] == "jobs" && is_result_data_route(seg[3])) {
-        if (!is_valid_job_id(seg[2])) return bad_id();
+        if (!is_valid_job_id(seg[2])) return bad_id_response(req, "job");
         if (!get) return method_not_allowed(req, "GET, HEAD");
-        QueryParams params;
-        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
         return finish(handle_result_data(req, seg, params, svc_));
     }
 
-    // Only the job and study lists take query parameters; elsewhere one is a
-    // mistake the client should hear about, not one silently ignored.
-    if (!(is_v1 && seg.size() == 2 && (seg[1] == "jobs" || seg[1] == "studies")) && !url.params().empty())
-        return error_response(req, http::status::bad_request, "bad_parameter",
-            "this route takes no query parameters, got '" + std::string(url.encoded_query()) + "'",
-            std::string((*url.params().begin()).key));
-
-    if (seg.size() == 1 && seg[0] == "metrics") {
-        if (!get) return method_not_allowed(req, "GET, HEAD");
-        return finish(handle_metrics(req, svc_));
+    // The table: the path first (its id checked), then the method.
+    std::string id;
+    const Route* op = nullptr;
+    std::string allow;
+    std::string_view matched_path;
+    for (const Route& r : route_table()) {
+        if (!path_matches(r.path, seg, id)) continue;
+        matched_path = r.path;
+        allow += (allow.empty() ? "" : ", ") + std::string(http::to_string(r.method));
+        if (r.method == http::verb::get) allow += ", HEAD";
+        if (r.method == method || (r.method == http::verb::get && get)) op = &r;
     }
-    if (!is_v1) {
+    if (matched_path.empty()) {
+        if (is_v1) return error_response(req, http::status::not_found, "not_found", "no such route");
+        if (!params.empty()) return query_refused();
         if (!get) return method_not_allowed(req, "GET, HEAD");
         return finish(handle_static(req, seg, svc_));
     }
-    if (seg.size() < 2) return error_response(req, http::status::not_found, "not_found", "no such route");
-
-    if (seg.size() == 2 && seg[1] == "health") {
-        if (!get) return method_not_allowed(req, "GET, HEAD");
-        return finish(handle_health(req, svc_));
-    }
-    if (seg.size() == 2 && seg[1] == "openapi.json") {
-        if (!get) return method_not_allowed(req, "GET, HEAD");
-        return finish(handle_openapi(req, svc_));
-    }
-    if (seg.size() == 3 && seg[1] == "job-spec" && seg[2] == "schema") {
-        if (!get) return method_not_allowed(req, "GET, HEAD");
-        return finish(handle_job_spec_schema(req, svc_));
-    }
-    if (seg[1] == "studies" && seg.size() <= 4) return finish(route_studies(req, url, seg, method));
-    if (seg[1] != "jobs" || seg.size() > 4)
-        return error_response(req, http::status::not_found, "not_found", "no such route");
-
-    if (seg.size() == 2) {
-        if (method == http::verb::post) return handle_submit_job(req, svc_);
-        if (!get) return method_not_allowed(req, "GET, HEAD, POST");
-        QueryParams params;
-        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
-        return finish(handle_list_jobs(req, params, svc_));
-    }
-
-    const std::string& id = seg[2];
-    if (id.empty() || (seg.size() == 4 && seg[3] != "summary" && seg[3] != "result.h5"))
-        return error_response(req, http::status::not_found, "not_found", "no such route");
-    if (!is_valid_job_id(id)) return bad_id();
-
-    if (seg.size() == 3) {
-        if (method == http::verb::delete_) return handle_cancel_job(req, id, svc_);
-        if (!get) return method_not_allowed(req, "GET, HEAD, DELETE");
-        return finish(handle_get_job(req, id, svc_));
-    }
-    if (!get) return method_not_allowed(req, "GET, HEAD");
-    if (seg[3] == "summary") return finish(handle_get_summary(req, id, svc_));
-    return finish(handle_get_result(req, id, svc_));
-}
-
-Response Router::route_studies(
-    const Request& req, const boost::urls::url_view& url, const std::vector<std::string>& seg, http::verb method)
-{
-    const bool get = method == http::verb::get || method == http::verb::head;
-    if (seg.size() == 2) {
-        if (method == http::verb::post) return handle_submit_study(req, svc_);
-        if (!get) return method_not_allowed(req, "GET, HEAD, POST");
-        QueryParams params;
-        for (auto p : url.params()) params.emplace_back(p.key, p.has_value ? p.value : std::string());
-        return handle_list_studies(req, params, svc_);
-    }
-    const std::string& id = seg[2];
-    if (id.empty() || (seg.size() == 4 && seg[3] != "summary"))
-        return error_response(req, http::status::not_found, "not_found", "no such route");
-    if (!is_valid_job_id(id))
-        return error_response(req, http::status::bad_request, "bad_id",
-            "a study id is " + std::to_string(job_id_length) + " lower-case hex digits", "id");
-    if (seg.size() == 3) {
-        if (method == http::verb::delete_) return handle_cancel_study(req, id, svc_);
-        if (!get) return method_not_allowed(req, "GET, HEAD, DELETE");
-        return handle_get_study(req, id, svc_);
-    }
-    if (!get) return method_not_allowed(req, "GET, HEAD");
-    return handle_get_study_summary(req, id, svc_);
+    if (matched_path.find("{id}") != std::string_view::npos && !is_valid_job_id(id))
+        return bad_id_response(req, matched_path.substr(0, 11) == "/v1/studies" ? "study" : "job");
+    if (!op) return method_not_allowed(req, allow);
+    if (!params.empty() && !op->takes_query) return query_refused();
+    return finish(op->handle(RouteCall{req, id, params, svc_}));
 }
 
 } // namespace wiredem::server

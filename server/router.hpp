@@ -14,8 +14,7 @@
 // (--data-threads), for the same reason, apart from the submits.
 #pragma once
 
-#include <boost/url/url_view.hpp>
-
+#include "handlers/jobs.hpp"
 #include "http.hpp"
 #include "services.hpp"
 
@@ -24,8 +23,37 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <string_view>
+#include <vector>
 
 namespace wiredem::server {
+
+/// What a route's handler gets: the request, the path's id ("" when the
+/// path has none; valid when it has one) and the query parameters (only
+/// routes that take them see any).
+struct RouteCall {
+    const Request& req;
+    const std::string& id;
+    const QueryParams& params;
+    Services& svc;
+};
+
+/// One operation of the router's table: the table is what the router
+/// dispatches by, and what the OpenAPI document is checked against (and
+/// completed from: HEAD, operationId, tags, the statuses every route can
+/// answer). The result data routes (handlers/results.hpp) and the web
+/// page's files are answered before and after it.
+struct Route {
+    std::string_view path;           ///< OpenAPI path template; "{id}" is a job or study id
+    http::verb method;               ///< a GET answers HEAD too
+    std::string_view operation_id;   ///< OpenAPI operationId (HEAD: this + "Head")
+    std::string_view tag;            ///< OpenAPI tag
+    bool takes_query;                ///< the lists' parameters; elsewhere a query is a 400
+    Response (*handle)(const RouteCall&);
+};
+
+/// Every operation the router dispatches by.
+[[nodiscard]] const std::vector<Route>& route_table();
 
 /// Dispatches requests to the handlers; holds the services and the submit threads.
 class Router {
@@ -54,9 +82,6 @@ public:
 
 private:
     Response route(const Request& req);
-    /// /v1/studies and below (seg: the path's segments, seg[1] == "studies").
-    Response route_studies(
-        const Request& req, const boost::urls::url_view& url, const std::vector<std::string>& seg, http::verb method);
     Services& svc_;
     boost::asio::thread_pool submit_pool_;
     boost::asio::thread_pool data_pool_;

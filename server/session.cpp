@@ -1,7 +1,13 @@
-// The per-connection state machine: read → dispatch → write → read …, with a
-// deadline on every read and on every chunk written (slow clients are cut
-// off), and a lingering close after an error reply so the client reads the
-// reply instead of a reset.
+// The per-connection state machine: wait → read → dispatch → write → wait …,
+// with a deadline on every read and on every chunk written (slow clients are
+// cut off), and a lingering close after an error reply so the client reads
+// the reply instead of a reset.
+//
+// Idle connections (nothing of a request received yet: just accepted, or
+// kept alive between requests) get the short --idle-timeout, and are the ones
+// given up when --max-connections are open and another client connects: a
+// client holding many idle connections cannot lock the others out. Only when
+// every connection is busy with a request is a newcomer refused, with a 503.
 #include "session.hpp"
 
 #include "framing.hpp"
@@ -19,7 +25,10 @@
 #include <spdlog/spdlog.h>
 
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <list>
+#include <mutex>
 #include <optional>
 
 namespace wiredem::server {
@@ -27,22 +36,97 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 using tcp = asio::ip::tcp;
 
+class Session;
+
+/// The open connections: their number, and the idle ones oldest first.
+/// Thread-safe (a mutex; each call is a few list operations).
+class ConnectionTable {
+public:
+    /// Counts a new connection in if there is room, making room by closing
+    /// the longest idle one when needed; false when every one is busy.
+    bool admit(std::size_t max_connections);
+    /// A session ended.
+    void leave();
+    /// A session waits for a request: it may be closed to make room.
+    std::list<std::weak_ptr<Session>>::iterator idle(std::weak_ptr<Session> s);
+    /// It received the start of a request (or ended): it is kept.
+    void busy(std::list<std::weak_ptr<Session>>::iterator it);
+
+private:
+    std::mutex mutex_;
+    std::size_t open_ = 0;
+    std::list<std::weak_ptr<Session>> idle_;
+};
+
 class Session : public std::enable_shared_from_this<Session> {
 public:
-    Session(tcp::socket&& socket, Router& router, const ServerConfig& config, Metrics& metrics)
-        : stream_(std::move(socket)), router_(router), config_(config), metrics_(metrics)
+    /// `table`: the table that counted this connection in, or null for one
+    /// to be refused (refuse()).
+    Session(tcp::socket&& socket, Router& router, const ServerConfig& config, Metrics& metrics,
+        std::shared_ptr<ConnectionTable> table)
+        : stream_(std::move(socket)), router_(router), config_(config), metrics_(metrics), table_(std::move(table))
     {
         beast::error_code ec;
         const auto ep = stream_.socket().remote_endpoint(ec);
         peer_ = ec ? std::string("?") : ep.address().to_string() + ":" + std::to_string(ep.port());
         metrics_.connections_open.fetch_add(1, std::memory_order_relaxed);
     }
-    ~Session() { metrics_.connections_open.fetch_sub(1, std::memory_order_relaxed); }
+    ~Session()
+    {
+        metrics_.connections_open.fetch_sub(1, std::memory_order_relaxed);
+        if (table_) table_->leave();
+    }
 
     void run() { asio::dispatch(stream_.get_executor(), beast::bind_front_handler(&Session::do_read, shared_from_this())); }
 
+    /// Every connection is busy with a request: this one hears so (503,
+    /// Retry-After) rather than being dropped, and is closed.
+    void refuse()
+    {
+        asio::dispatch(stream_.get_executor(), [self = shared_from_this()] {
+            self->reply_and_close(http::status::service_unavailable, "too_many_connections",
+                "all " + std::to_string(self->config_.max_connections)
+                    + " connections are busy with requests; retry shortly",
+                "1");
+        });
+    }
+
+    /// Claims this idle session to be closed for room; false when another
+    /// newcomer claimed it already. Any thread.
+    bool claim_for_eviction() { return !evicting_.exchange(true); }
+
+    /// Closes an idle connection to make room for another (called from any
+    /// thread once claimed; the close runs on this session's strand).
+    void evict()
+    {
+        asio::post(stream_.get_executor(), [self = shared_from_this()] {
+            if (!self->idle_entry_) return;  // its request began meanwhile: kept
+            self->evicted_ = true;
+            beast::error_code ec;
+            self->stream_.socket().close(ec);  // the pending wait ends with operation_aborted
+        });
+    }
+
 private:
+    /// Waits for the next request: bytes already buffered (pipelining) are
+    /// one; otherwise the connection is idle until its first byte arrives.
     void do_read()
+    {
+        if (buffer_.size() > 0) return read_request();
+        evicting_ = false;  // a claim that came as its last request began has lapsed
+        idle_entry_ = table_->idle(weak_from_this());
+        stream_.expires_after(config_.idle_timeout);
+        stream_.async_read_some(buffer_.prepare(first_read_bytes), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+            self->table_->busy(*self->idle_entry_);
+            self->idle_entry_.reset();
+            if (ec == asio::error::eof) return self->do_close();
+            if (ec) return self->log_failure(ec, self->evicted_ ? "idle, closed to make room" : "idle");
+            self->buffer_.commit(n);
+            self->read_request();
+        });
+    }
+
+    void read_request()
     {
         parser_.emplace();
         parser_->body_limit(config_.max_body_bytes);
@@ -126,12 +210,14 @@ private:
             });
     }
 
-    void reply_and_close(http::status status, std::string_view code, const std::string& message)
+    void reply_and_close(http::status status, std::string_view code, const std::string& message,
+        std::string_view retry_after = {})
     {
         Request stub;
         stub.version(11);
         stub.keep_alive(false);
         auto res = error_response(stub, status, code, message);
+        if (!retry_after.empty()) res.set(http::field::retry_after, retry_after);
         const unsigned cls = res.result_int() / 100;
         metrics_.responses_by_class[cls].fetch_add(1, std::memory_order_relaxed);
         spdlog::info("{} - {} {}", peer_, res.result_int(), message);
@@ -179,20 +265,66 @@ private:
     Router& router_;
     const ServerConfig& config_;
     Metrics& metrics_;
+    /// The first read of a request takes what has arrived, up to this.
+    static constexpr std::size_t first_read_bytes = 4096;
+
     std::string peer_;
     bool close_after_write_ = false;
+    std::shared_ptr<ConnectionTable> table_;  ///< shared: a session may outlive its listener
+    /// Set while the session is idle: its place in the table's idle list.
+    std::optional<std::list<std::weak_ptr<Session>>::iterator> idle_entry_;
+    bool evicted_ = false;
+    std::atomic<bool> evicting_{false};
     std::array<char, 4096> discard_{};
 };
 
-void start_session(tcp::socket socket, Router& router, const ServerConfig& config, Metrics& metrics)
+bool ConnectionTable::admit(std::size_t max_connections)
 {
-    if (metrics.connections_open.load(std::memory_order_relaxed) >= config.max_connections) {
+    std::shared_ptr<Session> victim;
+    {
+        std::lock_guard lock(mutex_);
+        if (open_ >= max_connections) {
+            // The longest idle session still alive goes (its entry leaves the
+            // list when its wait ends, as every idle entry does).
+            for (auto it = idle_.begin(); it != idle_.end() && !victim; ++it)
+                if (auto s = it->lock(); s && s->claim_for_eviction()) victim = std::move(s);
+            if (!victim) return false;
+        }
+        ++open_;
+    }
+    if (victim) victim->evict();
+    return true;
+}
+
+void ConnectionTable::leave()
+{
+    std::lock_guard lock(mutex_);
+    --open_;
+}
+
+std::list<std::weak_ptr<Session>>::iterator ConnectionTable::idle(std::weak_ptr<Session> s)
+{
+    std::lock_guard lock(mutex_);
+    return idle_.insert(idle_.end(), std::move(s));
+}
+
+void ConnectionTable::busy(std::list<std::weak_ptr<Session>>::iterator it)
+{
+    std::lock_guard lock(mutex_);
+    idle_.erase(it);
+}
+
+std::shared_ptr<ConnectionTable> make_connection_table() { return std::make_shared<ConnectionTable>(); }
+
+void start_session(tcp::socket socket, Router& router, const ServerConfig& config, Metrics& metrics,
+    std::shared_ptr<ConnectionTable> table)
+{
+    if (!table->admit(config.max_connections)) {
         metrics.connections_rejected.fetch_add(1, std::memory_order_relaxed);
-        beast::error_code ec;
-        socket.close(ec);
+        std::make_shared<Session>(std::move(socket), router, config, metrics, nullptr)->refuse();
         return;
     }
-    std::make_shared<Session>(std::move(socket), router, config, metrics)->run();
+    std::make_shared<Session>(std::move(socket), router, config, metrics, std::move(table))->run();
 }
 
 } // namespace wiredem::server

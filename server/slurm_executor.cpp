@@ -160,13 +160,7 @@ void JobQueue::run_slurm_job(const JobRecord& job)
         // finished (the stages continue from it), but no exit marker or log
         // of theirs may speak for the new Slurm jobs.
         std::error_code ec;
-        fs::remove_all(files.dir(), ec);
-        fs::create_directories(files.out());
-        {
-            std::ofstream spec_file(files.job_json(), std::ios::binary | std::ios::trunc);
-            spec_file << job.spec_json << '\n';
-            if (!spec_file) throw std::runtime_error("cannot write " + files.job_json().string());
-        }
+        fs::remove_all(files.dir(), ec);  // job.json and out/ are begin_attempt's
         // An error here (sbatch refused, the controller away) fails the job
         // with its message (worker_loop).
         slurm_->cancel_strays(job.id, nullptr);

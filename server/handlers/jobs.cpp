@@ -6,8 +6,10 @@
 #include "api/derived.hpp"
 #include "api/job_spec.hpp"
 #include "api/json_text.hpp"
+#include "../job_files.hpp"
 
 #include <boost/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -15,8 +17,6 @@
 
 #include <charconv>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 namespace wiredem::server {
 namespace json = boost::json;
@@ -50,17 +50,10 @@ json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& liv
         eta = live->eta_s;
         message = live->message;
     }
-    boost::system::error_code ec;
-    json::value spec = json::parse(r.spec_json, ec);
-    std::string name;
-    if (const auto* obj = spec.if_object())
-        if (auto it = obj->find("name"); it != obj->end() && it->value().is_string())
-            name = std::string(it->value().get_string());
-
     json::object o;
     o["id"] = r.id;
     o["url"] = job_url(r.id);
-    o["name"] = name;
+    o["name"] = r.name;
     o["state"] = to_string(state);
     o["stage"] = stage.empty() ? json::value(nullptr) : json::value(stage);
     o["progress"] = progress;
@@ -80,7 +73,10 @@ json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& liv
     if (slurm)
         o["slurm"] = json::object{{"prepare_job_id", slurm->prepare}, {"test_array_job_id", slurm->tests},
             {"analyse_job_id", slurm->analyse}, {"submitted_at", format_rfc3339(slurm->submitted_ms)}};
-    if (with_spec) o["spec"] = std::move(spec);
+    if (with_spec) {
+        boost::system::error_code ec;
+        o["spec"] = json::parse(r.spec_json, ec);
+    }
     return o;
 }
 
@@ -213,11 +209,13 @@ Response handle_submit_job(const Request& req, Services& svc)
     JobRecord job;
     job.id = make_job_id();
     job.created_ms = now_ms();
+    job.name = spec.value().name;
     job.spec_json = json::serialize(api::to_json(spec.value()));
     job.idempotency_key = std::string(key);
     JobRecord stored;
     switch (svc.store.insert(job, svc.config.max_queued, stored)) {
     case InsertOutcome::created: {
+        apply_retention(svc);
         svc.metrics.jobs_submitted.fetch_add(1, std::memory_order_relaxed);
         svc.queue.notify();
         auto res = json_response(req, http::status::created, job_json(stored, std::nullopt, false));
@@ -295,21 +293,60 @@ Response handle_get_job(const Request& req, const std::string& id, Services& svc
     return json_response(req, http::status::ok, job_json(*r, live_of(*r, svc), true, svc.store.slurm_ids(id)));
 }
 
-Response handle_cancel_job(const Request& req, const std::string& id, Services& svc)
+void apply_retention(Services& svc)
 {
-    switch (svc.store.cancel(id)) {
-    case CancelOutcome::not_found: return job_not_found(req, id);
-    case CancelOutcome::already_final: {
+    if (svc.config.max_finished_jobs == 0) return;
+    for (const auto& id : svc.store.remove_finished_beyond(svc.config.max_finished_jobs))
+        if (!remove_job_dir(svc.config.data_dir, id))
+            spdlog::warn("job {}: removed by the retention bound, but its folder could not be removed", id);
+}
+
+Response handle_delete_job(const Request& req, const std::string& id, const QueryParams& params, Services& svc)
+{
+    // Removing is asked for in so many words (?remove=true): a cancel that
+    // crosses the job's success must not delete its results.
+    bool remove = false;
+    for (const auto& [key, value] : params) {
+        if (key != "remove" || value != "true" || remove)
+            return error_response(req, http::status::bad_request, "bad_parameter",
+                "the only parameter here is remove=true (delete an ended job with its files)", key);
+        remove = true;
+    }
+    if (!remove) {
+        switch (svc.store.cancel(id)) {
+        case CancelOutcome::not_found: return job_not_found(req, id);
+        case CancelOutcome::already_final: {
+            const auto r = svc.store.get(id);
+            return error_response(req, http::status::conflict, "already_finished",
+                "job " + id + " already " + std::string(to_string(r ? r->state : JobState::failed))
+                    + " (DELETE ?remove=true deletes it with its files)",
+                "id");
+        }
+        case CancelOutcome::cancelled: svc.queue.cancel(id); break;
+        case CancelOutcome::already_cancelled: break;  // cancelling twice is harmless
+        }
         const auto r = svc.store.get(id);
-        return error_response(req, http::status::conflict, "already_finished",
-            "job " + id + " already " + std::string(to_string(r ? r->state : JobState::failed)), "id");
+        if (!r) return job_not_found(req, id);
+        return json_response(req, http::status::ok, job_json(*r, std::nullopt, false));
     }
-    case CancelOutcome::cancelled: svc.queue.cancel(id); break;
-    case CancelOutcome::already_cancelled: break;
+    // The row first: a crash between the two leaves a folder no job names,
+    // never a job without its files.
+    switch (svc.store.remove(id)) {
+    case RemoveOutcome::not_found: return job_not_found(req, id);
+    case RemoveOutcome::not_final:
+        return error_response(req, http::status::conflict, "not_finished",
+            "job " + id + " has not ended; cancel it first (DELETE without ?remove)", "id");
+    case RemoveOutcome::in_study:
+        return error_response(req, http::status::conflict, "in_study",
+            "job " + id + " is a point of a study and stays with it", "id");
+    case RemoveOutcome::removed: break;
     }
-    const auto r = svc.store.get(id);
-    if (!r) return job_not_found(req, id);
-    return json_response(req, http::status::ok, job_json(*r, std::nullopt, false));
+    if (!remove_job_dir(svc.config.data_dir, id))
+        spdlog::warn("job {}: deleted, but its folder could not be removed", id);
+    http::response<http::string_body> res{http::status::no_content, req.version()};
+    res.set(http::field::server, server_name);
+    res.keep_alive(req.keep_alive());
+    return res;
 }
 
 Response handle_get_summary(const Request& req, const std::string& id, Services& svc)
@@ -317,13 +354,11 @@ Response handle_get_summary(const Request& req, const std::string& id, Services&
     const auto r = svc.store.get(id);
     if (!r) return job_not_found(req, id);
     if (r->state != JobState::succeeded) return not_succeeded(req, *r);
-    std::ifstream in(svc.config.data_dir / "jobs" / id / "summary.json", std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (!in)
+    const auto text = read_job_file(svc.config.data_dir, id, "summary.json", max_summary_bytes);
+    if (!text)
         return error_response(req, http::status::internal_server_error, "internal",
             "summary of job " + id + " cannot be read");
-    return text_response(req, http::status::ok, text.str(), "application/json");
+    return text_response(req, http::status::ok, *text, "application/json");
 }
 
 RangeRequest parse_range(std::string_view header, std::uint64_t size)
@@ -377,12 +412,12 @@ Response handle_get_result(const Request& req, const std::string& id, Services& 
     if (r->state != JobState::succeeded) return not_succeeded(req, *r);
 
     // `id` is 24 hex digits, so this path stays inside the data directory;
-    // O_NOFOLLOW refuses a symlink planted in its place.
-    const auto path = svc.config.data_dir / "jobs" / id / "result.h5";
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-    if (fd < 0)
+    // no symlink on the way is followed (job_files.hpp).
+    UniqueFd file = open_job_file(svc.config.data_dir, id, "result.h5");
+    if (!file)
         return error_response(req, http::status::internal_server_error, "internal",
             "result of job " + id + " cannot be opened");
+    const int fd = file.release();
     auto owned = std::shared_ptr<int>(new int(fd), [](int* p) {
         ::close(*p);
         delete p;

@@ -54,9 +54,16 @@ inline constexpr int max_page_size = 500;
 /// GET /v1/jobs/{id}: the job with its live progress and its spec.
 [[nodiscard]] Response handle_get_job(const Request& req, const std::string& id, Services& svc);
 
-/// DELETE /v1/jobs/{id}: cancel a queued or running job (200); 409 when it
-/// already succeeded or failed.
-[[nodiscard]] Response handle_cancel_job(const Request& req, const std::string& id, Services& svc);
+/// DELETE /v1/jobs/{id}: cancels a queued or running job (200 with the job;
+/// again for a cancelled one; 409 once it succeeded or failed).
+/// DELETE /v1/jobs/{id}?remove=true: removes a job that has ended, with its
+/// files (204); 409 for one still active or a study's.
+[[nodiscard]] Response handle_delete_job(
+    const Request& req, const std::string& id, const QueryParams& params, Services& svc);
+
+/// The retention bound: keeps the --max-finished-jobs most recently ended
+/// jobs (a study's excepted); older ones go, with their files.
+void apply_retention(Services& svc);
 
 /// GET /v1/jobs/{id}/summary: the runner's summary.json (409 until succeeded).
 [[nodiscard]] Response handle_get_summary(const Request& req, const std::string& id, Services& svc);

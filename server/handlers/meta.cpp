@@ -1,20 +1,29 @@
 // Health, metrics, OpenAPI.
 #include "meta.hpp"
 
+#include "../router.hpp"
 #include "results.hpp"
 #include "spec_schema.hpp"
 
 #include <boost/json.hpp>
 
+#include <cctype>
+#include <initializer_list>
 #include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 namespace wiredem::server {
 namespace json = boost::json;
 
 namespace {
 
-/// The API described as OpenAPI 3.0. components.schemas.JobSpec is added by
-/// openapi_document(): the reader's own schema (api::job_spec_json_schema).
+/// The API described as OpenAPI 3.0: each operation's own replies. The rest
+/// is added by openapi_document(): components.schemas.JobSpec, the reader's
+/// own schema (api::job_spec_json_schema); the result data routes; and, from
+/// the router's table, every HEAD, operationId and tag and the replies any
+/// route can give (complete_from_route_table).
 constexpr const char* openapi_text = R"json({
   "openapi": "3.0.3",
   "info": {
@@ -34,7 +43,8 @@ constexpr const char* openapi_text = R"json({
         "requestBody": {"required": true, "content": {"application/json": {"schema": {"$ref": "#/components/schemas/JobSpec"}}}},
         "responses": {
           "201": {"description": "Queued (or replayed: header Idempotent-Replayed: true)",
-                  "headers": {"Location": {"schema": {"type": "string"}}},
+                  "headers": {"Location": {"schema": {"type": "string"}},
+                              "Idempotent-Replayed": {"description": "true when the Idempotency-Key named an earlier job with the same spec: this is its first reply again", "schema": {"type": "string", "enum": ["true"]}}},
                   "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
           "400": {"$ref": "#/components/responses/Error"},
           "401": {"$ref": "#/components/responses/Error"},
@@ -74,13 +84,18 @@ constexpr const char* openapi_text = R"json({
         }
       },
       "delete": {
-        "summary": "Cancel a queued or running job (the runner stops within a second)",
+        "summary": "Cancel a queued or running job (the runner stops within a second); with remove=true, delete a job that has ended, with its files",
+        "parameters": [{"name": "remove", "in": "query", "required": false,
+          "description": "true: delete the job, which must have ended, with its files (its results), instead of cancelling it",
+          "schema": {"type": "string", "enum": ["true"]}}],
         "responses": {
-          "200": {"description": "Cancelled", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
+          "200": {"description": "Cancelled (again: cancelling twice is harmless)", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Job"}}}},
+          "204": {"description": "remove=true: deleted with its files"},
           "400": {"$ref": "#/components/responses/Error"},
           "401": {"$ref": "#/components/responses/Error"},
           "404": {"$ref": "#/components/responses/Error"},
-          "409": {"$ref": "#/components/responses/Error"}
+          "409": {"description": "already_finished (cancel of a succeeded or failed job), not_finished (remove of a job still active), in_study (a study's job stays with its study)",
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
         }
       }
     },
@@ -89,7 +104,8 @@ constexpr const char* openapi_text = R"json({
       "get": {
         "summary": "Results of a succeeded job: peak stresses, Mohr-Coulomb fit, specimen, engine figures",
         "responses": {
-          "200": {"description": "summary.json", "content": {"application/json": {"schema": {"type": "object"}}}},
+          "200": {"description": "summary.json", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Summary"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
           "404": {"$ref": "#/components/responses/Error"},
           "409": {"$ref": "#/components/responses/Error"}
         }
@@ -102,11 +118,20 @@ constexpr const char* openapi_text = R"json({
       "get": {
         "summary": "The HDF5 result file; byte ranges allow resuming a download",
         "responses": {
-          "200": {"description": "The whole file", "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
-          "206": {"description": "One byte range (Content-Range)", "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
+          "200": {"description": "The whole file", "headers": {"ETag": {"$ref": "#/components/headers/ETag"},
+                    "Accept-Ranges": {"$ref": "#/components/headers/AcceptRanges"},
+                    "Content-Disposition": {"$ref": "#/components/headers/ContentDisposition"}},
+                  "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
+          "206": {"description": "One byte range", "headers": {"ETag": {"$ref": "#/components/headers/ETag"},
+                    "Accept-Ranges": {"$ref": "#/components/headers/AcceptRanges"},
+                    "Content-Disposition": {"$ref": "#/components/headers/ContentDisposition"},
+                    "Content-Range": {"schema": {"type": "string", "example": "bytes 1048576-2097151/4194304"}}},
+                  "content": {"application/x-hdf5": {"schema": {"type": "string", "format": "binary"}}}},
+          "400": {"$ref": "#/components/responses/Error"},
           "404": {"$ref": "#/components/responses/Error"},
           "409": {"$ref": "#/components/responses/Error"},
-          "416": {"$ref": "#/components/responses/Error"}
+          "416": {"description": "The range starts past the end", "headers": {"Content-Range": {"schema": {"type": "string", "example": "bytes */1048576"}}},
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
         }
       }
     },
@@ -190,7 +215,12 @@ constexpr const char* openapi_text = R"json({
     },
     "/v1/health": {
       "get": {"summary": "Liveness and queue figures",
-              "responses": {"200": {"description": "Serving", "content": {"application/json": {"schema": {"type": "object"}}}}}}
+              "responses": {"200": {"description": "Serving", "content": {"application/json": {"schema": {
+                "type": "object", "required": ["status", "version", "uptime_s", "queued", "running", "workers", "threads_per_job"],
+                "properties": {"status": {"type": "string", "enum": ["ok"]}, "version": {"type": "string"},
+                  "uptime_s": {"type": "number"}, "queued": {"type": "integer", "description": "jobs waiting for a worker"},
+                  "running": {"type": "integer", "description": "workers running a job"},
+                  "workers": {"type": "integer"}, "threads_per_job": {"type": "integer"}}}}}}}}
     },
     "/v1/openapi.json": {
       "get": {"summary": "This document", "responses": {"200": {"description": "OpenAPI 3", "content": {"application/json": {"schema": {"type": "object"}}}}}}
@@ -214,7 +244,25 @@ constexpr const char* openapi_text = R"json({
     "responses": {
       "Error": {"description": "Error", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
     },
+    "headers": {
+      "ETag": {"description": "the file's version: send it as If-Range to resume a download", "schema": {"type": "string"}},
+      "AcceptRanges": {"schema": {"type": "string", "enum": ["bytes"]}},
+      "ContentDisposition": {"schema": {"type": "string", "example": "attachment; filename=\"3f0c9d2e8a61b4c7d5e9f012.h5\""}}
+    },
     "schemas": {
+      "Summary": {"type": "object", "required": ["tests", "mohr_coulomb", "engine"],
+        "description": "The runner's summary.json (docs/results.md): one entry per test, the Mohr-Coulomb fits, the prepared specimen and the engine's figures.",
+        "properties": {
+          "tests": {"type": "array", "items": {"type": "object", "properties": {
+            "confining_pressure_pa": {"type": "number"}, "peak_deviatoric_stress_pa": {"type": "number"},
+            "peak_axial_strain": {"type": "number"}, "sigma1_pa": {"type": "number"}, "sigma3_effective_pa": {"type": "number"}}}},
+          "mohr_coulomb": {"$ref": "#/components/schemas/MohrCoulomb"},
+          "mohr_coulomb_max_q": {"$ref": "#/components/schemas/MohrCoulomb"},
+          "specimen": {"type": "object"},
+          "engine": {"type": "object", "properties": {"time_step_s": {"type": "number"}, "steps": {"type": "integer"},
+            "wall_time_s": {"type": "number"}, "body_steps_per_second": {"type": "number", "nullable": true}}}}},
+      "MohrCoulomb": {"type": "object", "properties": {"friction_angle_deg": {"type": "number", "nullable": true},
+        "cohesion_pa": {"type": "number", "nullable": true}, "r_squared": {"type": "number", "nullable": true}}},
       "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
       "Study": {"type": "object", "required": ["name", "base"],
         "description": "docs/studies.md: the base job and either vary (field path -> list of values, a full grid) or points (a list of {field path: value}); every point is validated as a job; at most --max-study-points points.",
@@ -268,6 +316,105 @@ constexpr const char* openapi_text = R"json({
   }
 })json";
 
+/// An Error reply with `headers` (name → description).
+json::object error_reply(std::string_view description, std::initializer_list<std::pair<const char*, const char*>> headers = {})
+{
+    json::object reply{{"description", description},
+        {"content", {{"application/json", {{"schema", {{"$ref", "#/components/schemas/Error"}}}}}}}};
+    if (headers.size() > 0) {
+        json::object h;
+        for (const auto& [name, what] : headers) h[name] = {{"description", what}, {"schema", {{"type", "string"}}}};
+        reply["headers"] = std::move(h);
+    }
+    return reply;
+}
+
+/// What any operation can be answered besides its own replies: the router
+/// and the session answer these before (or instead of) a handler.
+void add_common_replies(json::object& responses, bool needs_token, bool has_body)
+{
+    auto add = [&](const char* status, json::object reply) {
+        if (!responses.contains(status)) responses[status] = std::move(reply);
+    };
+    add("400", error_reply("bad_host (Host is not one of the server's names), bad_parameter (a query parameter this "
+                           "route does not take), bad_id, bad_target, or malformed HTTP (the connection is closed)"));
+    if (needs_token)  // over a bare Error the operation may give: this one names the header
+        responses["401"] = error_reply(
+            "unauthorized: the server runs with --token-file and the request has no valid bearer token",
+            {{"WWW-Authenticate", "Bearer realm=\"wiredem\""}});
+    add("403", error_reply("forbidden_origin: a browser's request from another site's page"));
+    add("405", error_reply("method_not_allowed", {{"Allow", "the methods of this path"}}));
+    add("413", error_reply("body_too_large: the body exceeds --max-body-bytes (the connection is closed)"));
+    add("431", error_reply("headers_too_large: the headers exceed --max-header-bytes (the connection is closed)"));
+    add("500", error_reply("internal: the server could not answer (its log says why)"));
+    if (has_body)
+        add("503", error_reply("busy: --max-pending-submits are waiting for validation", {{"Retry-After", "seconds"}}));
+    add("503", error_reply("too_many_connections: every one of --max-connections is busy with a request (sent at "
+                           "once on connecting; the connection is closed)", {{"Retry-After", "seconds"}}));
+}
+
+/// HEAD of a GET: the same replies, headers included, without their bodies.
+json::object head_of(const json::object& get, std::string operation_id)
+{
+    json::object head = get;
+    head["operationId"] = std::move(operation_id);
+    head["summary"] = "Headers of: " + std::string(get.contains("summary") ? get.at("summary").as_string().c_str() : "GET");
+    for (auto& [status, reply] : head["responses"].as_object()) {
+        json::object& r = reply.as_object();
+        if (r.contains("$ref")) r = json::object{{"description", "as for GET, without the body"}};
+        r.erase("content");
+    }
+    return head;
+}
+
+/// An operationId for a result data path that has none:
+/// "/v1/jobs/{id}/tests/{test}/series" → "getJobTestsTestSeries".
+std::string operation_id_of(std::string_view path)
+{
+    std::string id = "getJob";
+    bool upper = true;
+    for (char c : path.substr(std::string_view("/v1/jobs/{id}").size())) {
+        if (c == '/' || c == '{' || c == '}' || c == '_' || c == '.') {
+            upper = true;
+            continue;
+        }
+        id += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+        upper = false;
+    }
+    return id;
+}
+
+/// Completes `doc` from the router's table: each operation's operationId and
+/// tag, a HEAD beside each GET, and the replies every route can give.
+void complete_from_route_table(json::object& doc)
+{
+    json::object& paths = doc.at("paths").as_object();
+    std::vector<std::pair<std::string, Route>> ops;
+    for (const Route& r : route_table()) ops.emplace_back(std::string(http::to_string(r.method)), r);
+    // The result data routes (handlers/results.hpp): GET each, tag "results".
+    for (const auto& [path, item] : result_data_openapi_paths())
+        ops.emplace_back("GET", Route{path, http::verb::get, {}, "results", true, nullptr});
+    for (const auto& [method, r] : ops) {
+        json::value* item = paths.if_contains(r.path);
+        std::string name = method;
+        for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        json::value* op_value = item && item->is_object() ? item->as_object().if_contains(name) : nullptr;
+        json::object* op = op_value ? op_value->if_object() : nullptr;
+        if (!op) continue;  // undocumented: tests/server/test_routes.cpp says so
+        if (!r.operation_id.empty()) (*op)["operationId"] = r.operation_id;
+        else if (!op->contains("operationId")) (*op)["operationId"] = operation_id_of(r.path);
+        (*op)["tags"] = json::array{json::string(r.tag)};
+        add_common_replies((*op)["responses"].as_object(), r.path.substr(0, 4) == "/v1/", r.method == http::verb::post);
+        if (r.method == http::verb::get)
+            item->as_object()["head"] = head_of(*op, std::string((*op)["operationId"].as_string()) + "Head");
+    }
+    doc["tags"] = json::array{
+        json::object{{"name", "jobs"}, {"description", "Submit, follow, cancel and delete jobs"}},
+        json::object{{"name", "results"}, {"description", "A succeeded job's summary, result file and data"}},
+        json::object{{"name", "studies"}, {"description", "Parameter studies: one job per point"}},
+        json::object{{"name", "service"}, {"description", "Health, metrics, this document, the job spec's schema"}}};
+}
+
 double uptime_s(const Metrics& m)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
@@ -285,6 +432,7 @@ const json::value& openapi_document()
             for (const auto& [name, entry] : entries.as_object()) d.at("components").as_object()[kind].as_object()[name] = entry;
         // The job spec as the reader in api/ describes itself (handlers/spec_schema.hpp).
         d.at("components").at("schemas").as_object()["JobSpec"] = job_spec_openapi_schema();
+        complete_from_route_table(d.as_object());
         return d;
     }();
     return doc;

@@ -3,6 +3,8 @@
 // for the 3D view; the offline report (api/report).
 #include "results.hpp"
 
+#include "../job_files.hpp"
+
 #include "api/job_spec.hpp"
 #include "api/json_text.hpp"
 #include "api/report.hpp"
@@ -231,10 +233,9 @@ Response wire_autocorrelation(const Request& req, const io::Group& snap, const s
 }
 
 /// result.xdmf: small XML, read whole.
-Response xdmf(const Request& req, const std::filesystem::path& dir, const std::string& id)
+Response xdmf(const Request& req, const std::filesystem::path& data_dir, const std::string& id)
 {
-    const auto path = dir / "result.xdmf";
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    const int fd = open_job_file(data_dir, id, "result.xdmf").release();
     if (fd < 0) return not_found(req, "job " + id + " has no result.xdmf (finished before the server kept it)");
     std::string text;
     char buf[65536];
@@ -279,19 +280,21 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
 
     if (seg[3] == "result.xdmf") {
         if (seg.size() != 4) return not_found(req, "no such route");
-        return xdmf(req, dir, id);
+        return xdmf(req, svc.config.data_dir, id);
     }
 
     // HDF5 opens by name and follows links: refuse anything but a regular file
-    // in the job's folder (the folder itself is the server's, named by a valid id).
+    // reached without a symlink (job_files.hpp), the job's folder included.
     const auto h5 = dir / "result.h5";
-    struct stat st{};
-    if (::lstat(h5.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+    if (!open_job_file(svc.config.data_dir, id, "result.h5"))
         return error_response(req, http::status::internal_server_error, "internal",
             "result of job " + id + " is missing or not a regular file");
     if (seg[3] == "report.html") {
         if (seg.size() != 4) return not_found(req, "no such route");
         if (svc.config.web_dir.empty()) return not_found(req, "this server has no web page to draw the report with (--web-dir)");
+        if (!open_job_file(svc.config.data_dir, id, "summary.json"))
+            return error_response(req, http::status::internal_server_error, "internal",
+                "summary of job " + id + " is missing or not a regular file");
         auto res = text_response(req, http::status::ok,
             api::report_html(dir / "summary.json", h5, svc.config.web_dir, "job " + id), "text/html; charset=utf-8");
         // A file to save and open offline; shown here anyway, it runs in an opaque origin.

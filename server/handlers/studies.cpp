@@ -118,6 +118,7 @@ Response handle_submit_study(const Request& req, Services& svc)
         JobRecord j;
         j.id = make_job_id();
         j.created_ms = record.created_ms;
+        j.name = p.spec.name;
         j.spec_json = json::serialize(api::to_json(p.spec));
         jobs.push_back(std::move(j));
     }

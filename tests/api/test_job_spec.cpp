@@ -455,6 +455,8 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         InvalidCase{"NameTooLong", R"({"name": ")" + std::string(201, 'x') + "\"}", "name",
             "is 201 characters long; at most 200"},
         InvalidCase{"NameOnTwoLines", R"({"name": "a\nb"})", "name", "control character"},
+        InvalidCase{"CommentTooLong", R"({"comment": ")" + std::string(10'001, 'x') + "\"}", "comment",
+            "is 10001 characters long; at most 10000"},
         // both damping forms
         InvalidCase{"BothDampingForms", R"({"contact": {"normal_damping_s": 1e-6, "restitution": 0.5}})",
             "contact.normal_damping_s", "both contact.normal_damping_s and contact.restitution are given"},

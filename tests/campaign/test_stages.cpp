@@ -203,6 +203,16 @@ TEST(Stages, ARunStoppedHalfWayIsContinuedByRunningItAgain)
     ASSERT_TRUE(o.ok()) << o.err;
     EXPECT_EQ(fs::last_write_time(out / "tests/test_0.h5"), first_test_written);
     EXPECT_EQ(computed(out / "summary.json"), computed(ref / "summary.json"));
+    // Its progress starts past the preparation and the first test; its time
+    // left comes from the steps it runs itself (campaign/eta.hpp): none
+    // before it has run one (extrapolating that progress over its first
+    // milliseconds said "eta 0 s"), none negative after.
+    std::istringstream lines(o.err);
+    std::string first;
+    std::getline(lines, first);
+    EXPECT_EQ(first.find("(eta"), std::string::npos) << first;
+    for (std::string line; std::getline(lines, line);)
+        EXPECT_EQ(line.find("(eta -"), std::string::npos) << line;
 }
 
 TEST(Stages, BadRequestsGetClearErrors)

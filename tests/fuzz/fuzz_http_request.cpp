@@ -42,6 +42,7 @@ void check_accepted_submit(const server::Request& req)
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
     auto& f = fixture();
+    f.restore();  // an earlier input may have deleted a job
     boost::asio::const_buffer rest(data, size);
     for (int n = 0; n < max_requests && rest.size() > 0; ++n) {
         http::request_parser<http::string_body> parser;

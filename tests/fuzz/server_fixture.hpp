@@ -20,6 +20,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace wiredem::fuzz {
 
@@ -42,13 +43,7 @@ public:
         config_.listen_port = 8080;
         config_.runner = "/bin/false";
         store_ = std::make_unique<server::JobStore>(":memory:");
-        add_job(succeeded_job_id, server::JobState::succeeded);
-        add_job(failed_job_id, server::JobState::failed);
-        add_job(queued_job_id, server::JobState::queued);
-        const auto job_dir = data_dir_ / "jobs" / succeeded_job_id;
-        std::filesystem::create_directories(job_dir);
-        std::ofstream(job_dir / "summary.json") << R"({"tests":[],"engine":{"body_steps_per_second":1e6}})" << '\n';
-        std::ofstream(job_dir / "result.h5") << std::string(result_bytes, 'x');
+        restore();
         queue_ = std::make_unique<server::JobQueue>(*store_, server::QueueConfig{data_dir_, config_.runner});
         services_ = std::make_unique<server::Services>(server::Services{config_, *store_, *queue_, metrics_});
         router_ = std::make_unique<server::Router>(*services_);
@@ -65,6 +60,22 @@ public:
     ServerFixture(const ServerFixture&) = delete;
     ServerFixture& operator=(const ServerFixture&) = delete;
 
+    /// Puts back whichever of the three jobs is gone (DELETE removes the
+    /// succeeded and failed ones, and so may the retention bound), files
+    /// included, so that every input meets the same store.
+    void restore()
+    {
+        if (!store_->get(succeeded_job_id)) {
+            add_job(succeeded_job_id, server::JobState::succeeded);
+            const auto job_dir = data_dir_ / "jobs" / succeeded_job_id;
+            std::filesystem::create_directories(job_dir);
+            std::ofstream(job_dir / "summary.json") << R"({"tests":[],"engine":{"body_steps_per_second":1e6}})" << '\n';
+            std::ofstream(job_dir / "result.h5") << std::string(result_bytes, 'x');
+        }
+        if (!store_->get(failed_job_id)) add_job(failed_job_id, server::JobState::failed);
+        if (!store_->get(queued_job_id)) add_job(queued_job_id, server::JobState::queued);
+    }
+
     [[nodiscard]] server::Router& router() { return *router_; }
     [[nodiscard]] const server::ServerConfig& config() const { return config_; }
     [[nodiscard]] server::JobStore& store() { return *store_; }
@@ -77,11 +88,16 @@ private:
         job.created_ms = 1;
         job.spec_json = "{}";
         server::JobRecord stored;
-        store_->insert(job, 1000, stored);
+        if (store_->insert(job, 1'000'000, stored) != server::InsertOutcome::created) std::abort();
         if (state == server::JobState::queued) return;
-        const auto claimed = store_->claim_next();
-        if (!claimed || claimed->id != id) std::abort();
-        store_->finish(id, state, state == server::JobState::failed ? "runner exited 1" : "", std::nullopt);
+        // Claimed (older queued jobs, submitted by earlier inputs, go back
+        // to the queue in their order) and finished.
+        std::vector<std::string> older;
+        for (auto claimed = store_->claim_next(); claimed && claimed->id != id; claimed = store_->claim_next())
+            older.push_back(claimed->id);
+        for (const auto& other : older) store_->requeue(other);
+        if (!store_->finish(id, state, state == server::JobState::failed ? "runner exited 1" : "", std::nullopt))
+            std::abort();
     }
 
     std::filesystem::path data_dir_;
