@@ -1,8 +1,9 @@
 // The campaign's stages through the real `wiredem` binary on examples/tiny.json:
 // prepare + test + analyse give the files `run` gives, bit for bit; tests run
-// at once give what tests run one after another give; a test killed with
-// SIGKILL at several points continues from its checkpoints to the same
-// result; and bad requests get clear errors.
+// at once give what tests run one after another give; a test or a preparation
+// killed with SIGKILL at several points continues from its checkpoints to the
+// same result, a preparation stopped by SIGTERM saves on its way out; and bad
+// requests get clear errors.
 #include "h5_compare.hpp"
 
 #include <boost/json.hpp>

@@ -2,7 +2,8 @@
 // every pattern: each prepares in seconds (Release) and must give a sound
 // specimen. Quasi-static scaling as in the examples: masses × 100, the wire
 // and membrane nodes another × 400, so that neither the nodes' springs nor
-// heavy grains' impacts make δt small.
+// heavy grains' impacts make δt small. A preparation stopped in any phase,
+// saved and continued ends as one that never stopped.
 #include "io/snapshot.hpp"
 #include "small_column.hpp"
 #include "specimen/preparation.hpp"
