@@ -4,6 +4,8 @@
 
 #include <boost/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <sstream>
@@ -11,6 +13,7 @@
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace wiredem::campaign {
@@ -472,6 +475,72 @@ eng::PreparationReport read_preparation_report(const io::Group& g)
     r.settled = g.read_int_attribute("settled") != 0;
     r.top_plate_wall = read_index(g, "top_plate_wall");
     return r;
+}
+
+namespace {
+
+constexpr std::array preparation_phases{
+    std::pair{eng::PreparationPhase::pouring, "pouring"},
+    std::pair{eng::PreparationPhase::settling, "settling"},
+    std::pair{eng::PreparationPhase::lowering_lid, "lowering_lid"},
+    std::pair{eng::PreparationPhase::settling_under_lid, "settling_under_lid"},
+    std::pair{eng::PreparationPhase::following_lid, "following_lid"},
+};
+
+} // namespace
+
+void write_preparation_state(io::Group& g, const eng::PreparationDriverState& s)
+{
+    const auto phase = std::find_if(preparation_phases.begin(), preparation_phases.end(),
+        [&](const auto& p) { return p.first == s.phase; });
+    if (phase == preparation_phases.end()) throw std::runtime_error("unknown preparation phase");
+    g.write_string_attribute("phase", phase->second);
+    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
+    g.write_int_attribute("rng_state", static_cast<std::int64_t>(s.rng_state)); // the same 64 bits
+    g.write_double_attribute("owed_grains", s.owed_grains);
+    g.write_double_attribute("next_batch_s", s.next_batch_s);
+    g.write_double_attribute("poured_volume_m3", s.poured_volume_m3);
+    g.write_double_attribute("pile_top_m", s.pile_top_m);
+    g.write_double_attribute("nozzle_target_m", s.nozzle_target_m);
+    g.write_int_attribute("laid_all", s.laid_all ? 1 : 0);
+    g.write_double_attribute("nozzle_z_m", s.nozzle.z_m);
+    g.write_double_attribute("nozzle_path_m", s.nozzle.path_m);
+    g.write_double_attribute("nozzle_last_node_path_m", s.nozzle.last_node_path_m);
+    g.write_double_attribute("nozzle_integration_s_m", s.nozzle.path_integration.s_m);
+    g.write_double_attribute("nozzle_integration_theta_rad", s.nozzle.path_integration.theta_rad);
+    g.write_int_attribute("settled_before_lid", s.settled_before_lid ? 1 : 0);
+    g.write_int_attribute("settled_under_lid", s.settled_under_lid ? 1 : 0);
+    g.write_int_attribute("top_plate_wall", static_cast<std::int64_t>(s.top_plate_wall));
+    g.write_double_attribute("wall_time_s", s.wall_time_s);
+}
+
+eng::PreparationDriverState read_preparation_state(const io::Group& g)
+{
+    eng::PreparationDriverState s;
+    const std::string phase = g.read_string_attribute("phase");
+    const auto p = std::find_if(preparation_phases.begin(), preparation_phases.end(),
+        [&](const auto& q) { return phase == q.second; });
+    if (p == preparation_phases.end())
+        throw std::runtime_error(g.path() + ": attribute phase is \"" + phase + "\", not a preparation phase");
+    s.phase = p->first;
+    s.steps = read_index(g, "steps");
+    s.rng_state = static_cast<std::uint64_t>(g.read_int_attribute("rng_state"));
+    s.owed_grains = g.read_double_attribute("owed_grains");
+    s.next_batch_s = g.read_double_attribute("next_batch_s");
+    s.poured_volume_m3 = g.read_double_attribute("poured_volume_m3");
+    s.pile_top_m = g.read_double_attribute("pile_top_m");
+    s.nozzle_target_m = g.read_double_attribute("nozzle_target_m");
+    s.laid_all = g.read_int_attribute("laid_all") != 0;
+    s.nozzle.z_m = g.read_double_attribute("nozzle_z_m");
+    s.nozzle.path_m = g.read_double_attribute("nozzle_path_m");
+    s.nozzle.last_node_path_m = g.read_double_attribute("nozzle_last_node_path_m");
+    s.nozzle.path_integration.s_m = g.read_double_attribute("nozzle_integration_s_m");
+    s.nozzle.path_integration.theta_rad = g.read_double_attribute("nozzle_integration_theta_rad");
+    s.settled_before_lid = g.read_int_attribute("settled_before_lid") != 0;
+    s.settled_under_lid = g.read_int_attribute("settled_under_lid") != 0;
+    s.top_plate_wall = read_index(g, "top_plate_wall");
+    s.wall_time_s = g.read_double_attribute("wall_time_s");
+    return s;
 }
 
 void write_text_file_atomically(const std::filesystem::path& path, const std::string& text)

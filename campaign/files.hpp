@@ -4,6 +4,8 @@
 //   DIR/job.json                   the job spec (api::to_json), written first by `prepare`
 //   DIR/specimen.h5                the prepared World (io/snapshot.hpp) and, in /host,
 //                                  the preparation report
+//   DIR/specimen.checkpoint.h5     a running preparation: the World and, in /host, the
+//                                  driver's state (engine::PreparationDriverState)
 //   DIR/tests/test_K.h5            test K (K-th confining pressure of the job): /test,
 //                                  the group result.h5 holds for it
 //   DIR/tests/test_K.checkpoint.h5 a running test K: the World and, in /host, the
@@ -34,6 +36,7 @@ struct JobDir {
 
     [[nodiscard]] std::filesystem::path job() const { return root / "job.json"; }
     [[nodiscard]] std::filesystem::path specimen() const { return root / "specimen.h5"; }
+    [[nodiscard]] std::filesystem::path specimen_checkpoint() const { return root / "specimen.checkpoint.h5"; }
     [[nodiscard]] std::filesystem::path tests() const { return root / "tests"; }
     [[nodiscard]] std::filesystem::path test(std::size_t k) const;
     [[nodiscard]] std::filesystem::path checkpoint(std::size_t k) const;
@@ -89,6 +92,10 @@ struct TestSoFar {
 /// The preparation report, as attributes (the specimen group of result.h5).
 void write_preparation_report(engine::io::Group& g, const engine::PreparationReport& r);
 [[nodiscard]] engine::PreparationReport read_preparation_report(const engine::io::Group& g);
+
+/// The preparation driver's state, as attributes (the phase by name).
+void write_preparation_state(engine::io::Group& g, const engine::PreparationDriverState& s);
+[[nodiscard]] engine::PreparationDriverState read_preparation_state(const engine::io::Group& g);
 
 /// Writes `text` to `path` through a temporary file and a rename.
 void write_text_file_atomically(const std::filesystem::path& path, const std::string& text);

@@ -87,6 +87,31 @@ eng::Result<Specimen, std::string> read_specimen(const JobDir& dir)
     return s;
 }
 
+/// What a running stage hands its driver between two steps: saves the World
+/// and the driver's state `State` (written by `write_state` into /host) to
+/// `path` every `control.checkpoint_interval_s` of wall time, and once more
+/// when the stage is stopped (SIGTERM: a server shutting down), so that the
+/// next start loses nothing. Nothing when checkpoints are off.
+template <class State>
+std::function<void(const eng::World&, const State&)> checkpointer(const StageControl& control,
+    std::filesystem::path path, std::string what, std::function<void(io::Group&, const State&)> write_state)
+{
+    if (!(control.checkpoint_interval_s > 0.0)) return {};
+    return [&control, path = std::move(path), what = std::move(what), write_state = std::move(write_state),
+               last_save = Clock::now(), failed = false](const eng::World& w, const State& st) mutable {
+        const bool stopping = control.cancel && control.cancel->load(std::memory_order_relaxed);
+        if (!stopping && std::chrono::duration<double>(Clock::now() - last_save).count() < control.checkpoint_interval_s)
+            return;
+        auto saved = eng::save_snapshot(w, path, [&](io::Group& host) { write_state(host, st); });
+        if (!saved.ok() && !failed) {
+            // The stage goes on; only its resumability is lost. Said once.
+            failed = true;
+            std::cerr << "wiredem: " << what << ": cannot write a checkpoint, it goes on without: " << saved.error() << '\n';
+        }
+        last_save = Clock::now();
+    };
+}
+
 std::string job_text(const api::JobSpec& spec) { return json::serialize(api::to_json(spec)) + "\n"; }
 
 } // namespace
@@ -118,7 +143,10 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
         const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         if (old != text)
             return dir.root.string() + " holds another job (its job.json differs from this one); use another directory";
-        if (std::filesystem::exists(dir.specimen(), ec)) return std::nullopt; // prepared already
+        if (std::filesystem::exists(dir.specimen(), ec)) { // prepared already (a checkpoint left by a kill just after: stale)
+            std::filesystem::remove(dir.specimen_checkpoint(), ec);
+            return std::nullopt;
+        }
     }
     std::filesystem::create_directories(dir.tests(), ec);
     if (ec) return "cannot create " + dir.tests().string() + ": " + ec.message();
@@ -130,6 +158,16 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
 
     const eng::PreparationSpec prep_spec = api::preparation_spec(spec);
     eng::Simulation sim(control.threads);
+    eng::PreparationContinuation continuation;
+    if (std::filesystem::exists(dir.specimen_checkpoint(), ec)) {
+        eng::PreparationDriverState state;
+        auto w = eng::restore_snapshot(dir.specimen_checkpoint(), [&](const io::Group& host) { state = read_preparation_state(host); });
+        if (!w.ok()) return "cannot continue the preparation from its checkpoint: " + w.error();
+        sim.world = std::move(w.value());
+        continuation.from = state;
+    }
+    continuation.between_steps = checkpointer<eng::PreparationDriverState>(control, dir.specimen_checkpoint(),
+        "the preparation", [](io::Group& host, const eng::PreparationDriverState& st) { write_preparation_state(host, st); });
     eng::RunControl rc;
     rc.cancel = control.cancel;
     rc.progress_every = 500;
@@ -139,7 +177,7 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
             "pouring " + std::to_string(prep_spec.grain_count) + " grains, step " + std::to_string(done));
     };
     report(control, "preparing", 0.0, "preparing the specimen");
-    auto prepared = eng::prepare_specimen(sim, prep_spec, rc);
+    auto prepared = eng::prepare_specimen(sim, prep_spec, rc, std::move(continuation));
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
     const eng::PreparationReport prep = prepared.value();
 
@@ -153,6 +191,7 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
         host.write_int_attribute("threads", sim.threads());
     });
     if (!saved.ok()) return saved.error();
+    std::filesystem::remove(dir.specimen_checkpoint(), ec);
     return std::nullopt;
 }
 
@@ -184,25 +223,8 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
         sim.world = std::move(specimen.value().world);
     }
 
-    auto last_save = Clock::now();
-    std::string checkpoint_error;
-    if (control.checkpoint_interval_s > 0.0) {
-        continuation.between_steps = [&](const eng::World& w, const eng::TriaxialDriverState& st) {
-            // Every interval, and once more when the test is stopped (SIGTERM:
-            // a server shutting down), so that the next start loses nothing.
-            const bool stopping = control.cancel && control.cancel->load(std::memory_order_relaxed);
-            if (!stopping && std::chrono::duration<double>(Clock::now() - last_save).count() < control.checkpoint_interval_s)
-                return;
-            auto saved = eng::save_snapshot(w, dir.checkpoint(index), [&](io::Group& host) { write_driver_state(host, st); });
-            if (!saved.ok() && checkpoint_error.empty()) {
-                // The test goes on; only its resumability is lost. Said once.
-                checkpoint_error = saved.error();
-                std::cerr << "wiredem: " << label << ": cannot write a checkpoint, the test goes on without: "
-                          << checkpoint_error << '\n';
-            }
-            last_save = Clock::now();
-        };
-    }
+    continuation.between_steps = checkpointer<eng::TriaxialDriverState>(control, dir.checkpoint(index), label,
+        [](io::Group& host, const eng::TriaxialDriverState& st) { write_driver_state(host, st); });
     eng::RunControl rc;
     rc.cancel = control.cancel;
     rc.progress_every = 500;

@@ -5,9 +5,10 @@
 // the files they leave are the same bit for bit, and so are result.h5 and
 // summary.json.
 //
-// A test writes a checkpoint every `checkpoint_interval_s` of wall time;
-// started again after it was killed, it goes on from the last one and ends
-// with the result an uninterrupted test gives (engine::TriaxialContinuation).
+// A preparation or a test writes a checkpoint every `checkpoint_interval_s`
+// of wall time; started again after it was killed, it goes on from the last
+// one and ends with the specimen or result an uninterrupted one gives
+// (engine::PreparationContinuation, engine::TriaxialContinuation).
 // `run` resumes a job directory at every level: a prepared specimen is not
 // prepared again, a finished test not run again.
 #pragma once
@@ -25,9 +26,9 @@
 
 namespace wiredem::campaign {
 
-/// Checkpoints of a running test, by default every few minutes of wall time:
-/// a killed test loses at most that much; a save of the paper's column costs
-/// well under a second.
+/// Checkpoints of a running preparation or test, by default every few
+/// minutes of wall time: a killed stage loses at most that much; a save of
+/// the paper's column costs well under a second.
 inline constexpr double default_checkpoint_interval_s = 300.0;
 
 /// How a host controls a stage. All members optional.
@@ -51,8 +52,10 @@ using StageError = std::optional<std::string>;
 [[nodiscard]] engine::Result<api::JobSpec, std::string> read_job(const JobDir& dir);
 
 /// Prepares the specimen of `spec` into `dir` (job.json, specimen.h5), with
-/// the time step of the tests set. A directory already prepared for the same
-/// job is left as it is; one that holds another job is an error.
+/// the time step of the tests set, from its checkpoint if there is one
+/// (specimen.checkpoint.h5, removed when the specimen is written). A
+/// directory already prepared for the same job is left as it is; one that
+/// holds another job is an error.
 [[nodiscard]] StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control);
 
 /// Runs test `index` (the index-th confining pressure) of a prepared

@@ -51,7 +51,7 @@ struct LocalStage {
     std::optional<double> pressure_pa;          ///< … or by confining pressure
     unsigned threads = 0;                       ///< 0: every core
     std::string progress = "text";              ///< text or json
-    double checkpoint_interval_s = 300.0;       ///< run, test; ≤ 0: none
+    double checkpoint_interval_s = 300.0;       ///< run, prepare, test; ≤ 0: none
 };
 /// `wiredem run`: validates the job file, then runs the campaign locally
 /// (resuming what the directory holds).

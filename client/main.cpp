@@ -79,7 +79,7 @@ int main(int argc, char** argv)
     };
     const auto checkpoint_option = [&](CLI::App* sub) {
         sub->add_option("--checkpoint-interval", local.checkpoint_interval_s,
-               "seconds of wall time between a test's checkpoints (0: none); a killed test continues from the last")
+               "seconds of wall time between checkpoints of a running preparation or test (0: none); killed, it continues from the last")
             ->capture_default_str()->check(CLI::Range(0.0, 1e6));
     };
     auto* run = app.add_subcommand("run", "run a job here, without a server (continues what DIR holds)");
@@ -92,6 +92,7 @@ int main(int argc, char** argv)
     prepare->add_option("job", local.job_file, "job spec")->required();
     prepare->add_option("-o,--output", local.dir, "job directory")->required();
     stage_options(prepare);
+    checkpoint_option(prepare);
 
     auto* test = app.add_subcommand("test", "run one triaxial test of a prepared job directory (stage 2 of run)");
     test->add_option("dir", local.dir, "job directory (wiredem prepare)")->required();

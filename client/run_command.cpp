@@ -5,7 +5,8 @@
 // Progress: fraction 0–1 of the stage (of the whole campaign for `run`), at
 // most every half second, with the time left (campaign/eta.hpp). SIGTERM and
 // SIGINT set a flag that the engine checks every step (exit 128 + signal); a
-// test killed in any way continues from its last checkpoint when started again.
+// preparation or test killed in any way continues from its last checkpoint
+// when started again.
 #include "run_command.hpp"
 
 #include "display.hpp"

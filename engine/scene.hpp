@@ -23,6 +23,8 @@ public:
     }
     /// Uniform in [0, 1) with 53 random bits.
     double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+    /// The whole state: SplitMix64(state()) continues the same sequence.
+    [[nodiscard]] std::uint64_t state() const { return s_; }
 
 private:
     std::uint64_t s_;

@@ -47,6 +47,17 @@ public:
     /// Constant path speed ω R_a [m/s].
     [[nodiscard]] double speed_m_per_s() const { return spec_.angular_speed_rad_per_s * spec_.helix_radius_m; }
 
+    /// Where the spiral's integration has reached (spiral_angle goes on from
+    /// there): Θ(s) depends, in its last bits, on the queries before, so a
+    /// path that is to give the same positions after a restart must be given
+    /// this back (a preparation keeps it in its state).
+    struct Integration {
+        double s_m = 0.0;
+        double theta_rad = 0.0;
+    };
+    [[nodiscard]] Integration integration() const { return {cached_s_, cached_theta_}; }
+    void continue_from(const Integration& i) { cached_s_ = i.s_m, cached_theta_ = i.theta_rad; }
+
     /// Geometry of a radial excursion (radial_helix).
     struct Hairpin {
         double r_min_m = 0.0;   ///< closest approach to the axis

@@ -78,9 +78,12 @@ double resting_height_m(const World& w, const Vec3& at, double r, const std::vec
 /// the pile under it, and lays a wire node on the pile every segment length.
 class Nozzle {
 public:
-    Nozzle(const PreparationSpec& spec, double start_z_m)
-        : path_(spec.pattern, 2.5 * spec.wire.radius_m), spec_(spec), z_m_(start_z_m)
+    /// A nozzle whose state (height, path position, last node's) is `state`,
+    /// kept there as it moves: part of the preparation's driver state.
+    Nozzle(const PreparationSpec& spec, PreparationDriverState::NozzleState& state)
+        : path_(spec.pattern, 2.5 * spec.wire.radius_m), spec_(spec), st_(state)
     {
+        path_.continue_from(st_.path_integration);
     }
 
     /// Advances by δt, moving its height towards `target_z_m` (the top of the
@@ -93,8 +96,8 @@ public:
     void advance(World& w, double dt, double target_z_m)
     {
         const double dz_max = spec_.pattern.rise_speed_m_per_s * dt;
-        z_m_ += std::clamp(target_z_m - z_m_, -dz_max, dz_max);
-        s_m_ += path_.speed_m_per_s() * dt;
+        st_.z_m += std::clamp(target_z_m - st_.z_m, -dz_max, dz_max);
+        st_.path_m += path_.speed_m_per_s() * dt;
         // A node each time the nozzle has travelled one segment length along
         // its path (so the wire is laid at the path speed ω R_a), placed one
         // segment length from the wire's current end towards the nozzle: the
@@ -105,13 +108,13 @@ public:
         const auto& x = w.of(BodyKind::wire).x[0];
         if (x.empty()) {
             lay(w, here);
-            s_last_node_m_ = s_m_;
-        } else if (s_m_ - s_last_node_m_ >= spec_.wire.segment_length_m) {
+            st_.last_node_path_m = st_.path_m;
+        } else if (st_.path_m - st_.last_node_path_m >= spec_.wire.segment_length_m) {
             // Fed late where the way was blocked, the wire catches up one
             // node per step.
             if (const std::optional<Vec3> at = clear_spot(w, x.back(), here)) {
                 lay(w, *at);
-                s_last_node_m_ += spec_.wire.segment_length_m;
+                st_.last_node_path_m += spec_.wire.segment_length_m;
             }
         }
     }
@@ -141,10 +144,15 @@ public:
         TranslationalState& wire = w.of(BodyKind::wire);
         if (wire.size() > 0) set_motion(w, {BodyKind::wire, static_cast<std::uint32_t>(wire.size() - 1)}, Motion::dynamic);
     }
-    [[nodiscard]] double z_m() const { return z_m_; }
-    [[nodiscard]] Vec3 position() const { return path_.at(s_m_) + Vec3(0, 0, z_m_); }
+    [[nodiscard]] double z_m() const { return st_.z_m; }
+    [[nodiscard]] Vec3 position() const
+    {
+        const Vec3 at = path_.at(st_.path_m) + Vec3(0, 0, st_.z_m);
+        st_.path_integration = path_.integration();
+        return at;
+    }
     /// Path length travelled so far [m].
-    [[nodiscard]] double path_m() const { return s_m_; }
+    [[nodiscard]] double path_m() const { return st_.path_m; }
 
 private:
     /// Where the next node goes: one segment length from the wire's end
@@ -206,9 +214,7 @@ private:
 
     NozzlePath path_;
     const PreparationSpec& spec_;
-    double z_m_;
-    double s_m_ = 0.0;
-    double s_last_node_m_ = 0.0;
+    PreparationDriverState::NozzleState& st_;
 };
 
 /// Kinetic energy of grains (translation and rotation) and wire nodes, the
@@ -244,7 +250,83 @@ void set_weights(World& w, double density_scale, double wire_mass_scale, double 
         w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), wire.mass_kg[i] * per_mass * g);
 }
 
+namespace {
+
+/// What a preparation sets up before its first step and never changes: the
+/// empty column (plates, rigid membrane, mould, weights, δt) and the indices
+/// the phases refer to. Built again when a preparation continues (the World
+/// then comes from the checkpoint; the rest is the same for the same spec).
+struct Column {
+    World world;
+    std::uint8_t grain_mat = 0;
+    std::uint8_t plate_mat = 0;
+    std::size_t mould_wall = 0;
+    bool wire_touches_membrane = false; ///< wire–membrane contact, off while the mould stands
+};
+
+Column empty_column(const PreparationSpec& spec)
+{
+    const double R = spec.membrane_radius_m;
+    const double r_max = spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    const double r_m = spec.membrane.contact_radius_m;
+    const bool with_wire = spec.pattern.kind != PatternKind::none;
+    Column c;
+    World& w = c.world;
+    w.integrator = spec.integrator;
+    w.contact = spec.contact;
+    Material grain = spec.grain;
+    grain.density_kg_per_m3 *= spec.density_scale;
+    c.grain_mat = add_material(w, grain);
+    c.plate_mat = add_material(w, spec.plate);
+    add_wall(w, make_plate(0.0, +1.0, c.plate_mat));
+    WireSpec wire = spec.wire;
+    wire.density_scale = spec.density_scale * spec.wire_mass_scale;
+    configure_wire(w, wire);
+    MembraneSpec membrane = spec.membrane;
+    membrane.radius_m = R;
+    membrane.height_m = spec.membrane_height_m;
+    membrane.base_z_m = 0.0;
+    membrane.density_scale = spec.density_scale; // the wire alone takes wire_mass_scale
+    build_membrane(w, membrane);
+    set_membrane_rigid(w, true);
+    // The mould lies on the inner surface of the membrane's node spheres: a
+    // wire node held by it is at most touching them when it goes and
+    // wire–membrane contact comes on. (At R + r_m, wire nodes sat in the
+    // spheres' plane, up to r_w + r_m deep in them when the contact came on.)
+    c.mould_wall = add_wall(w, make_cylinder(R - r_m, c.plate_mat));
+    // While the mould holds the wire, the wire does not touch the rigid
+    // membrane: a node pressed into a hole of the mesh against the mould was
+    // squeezed from four sides (overlaps far beyond the time step's reference,
+    // measured: examples/small.json blew up).
+    c.wire_touches_membrane = w.kinds_interact[1][2];
+    w.kinds_interact[1][2] = w.kinds_interact[2][1] = false;
+    // Weights scaled like the masses while pouring (see preparation.hpp).
+    set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
+
+    // The time step must hold for the wire and the grains before they exist:
+    // probe with one of each.
+    World probe = w;
+    add_grain(probe, Vec3(0, 0, 1), spec.grain_radius_m * (1.0 - spec.grain_radius_spread), c.grain_mat);
+    if (with_wire) {
+        append_wire_node(probe, Vec3(0, 0, 2));
+        append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
+    }
+    // Fastest impact: entering the zone at the pour speed, then falling
+    // through the zone and the gap above the pile (≤ 12 r_max).
+    const double impact = pour_entry_speed_m_per_s(spec) + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
+    w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s : stable_time_step(probe, impact).auto_s;
+    return c;
+}
+
+} // namespace
+
 Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const PreparationSpec& spec, const RunControl& control)
+{
+    return prepare_specimen(sim, spec, control, {});
+}
+
+Result<PreparationReport, std::string> prepare_specimen(
+    Simulation& sim, const PreparationSpec& spec, const RunControl& control, PreparationContinuation continuation)
 {
     const auto wall_start = std::chrono::steady_clock::now();
     const double R = spec.membrane_radius_m;
@@ -269,53 +351,17 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
                    + " mm; the membrane must be taller than that plus room for pouring ("
                    + std::to_string(required_membrane_height_m(spec) * 1e3) + " mm)");
 
+    Column column = empty_column(spec);
     World& w = sim.world;
-    w = World{};
-    w.integrator = spec.integrator;
-    w.contact = spec.contact;
-    Material grain = spec.grain;
-    grain.density_kg_per_m3 *= spec.density_scale;
-    const std::uint8_t grain_mat = add_material(w, grain);
-    const std::uint8_t plate_mat = add_material(w, spec.plate);
-    add_wall(w, make_plate(0.0, +1.0, plate_mat));
-    WireSpec wire = spec.wire;
-    wire.density_scale = spec.density_scale * spec.wire_mass_scale;
-    configure_wire(w, wire);
-    MembraneSpec membrane = spec.membrane;
-    membrane.radius_m = R;
-    membrane.height_m = spec.membrane_height_m;
-    membrane.base_z_m = 0.0;
-    membrane.density_scale = spec.density_scale; // the wire alone takes wire_mass_scale
-    build_membrane(w, membrane);
-    set_membrane_rigid(w, true);
-    // The mould lies on the inner surface of the membrane's node spheres: a
-    // wire node held by it is at most touching them when it goes and
-    // wire–membrane contact comes on. (At R + r_m, wire nodes sat in the
-    // spheres' plane, up to r_w + r_m deep in them when the contact came on.)
-    const std::size_t mould_wall = add_wall(w, make_cylinder(R - r_m, plate_mat));
-    // While the mould holds the wire, the wire does not touch the rigid
-    // membrane: a node pressed into a hole of the mesh against the mould was
-    // squeezed from four sides (overlaps far beyond the time step's reference,
-    // measured: examples/small.json blew up).
-    const bool wire_touches_membrane = w.kinds_interact[1][2];
-    w.kinds_interact[1][2] = w.kinds_interact[2][1] = false;
-    // Weights scaled like the masses while pouring (see preparation.hpp).
-    set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
-
-    // The time step must hold for the wire and the grains before they exist:
-    // probe with one of each.
-    {
-        World probe = w;
-        add_grain(probe, Vec3(0, 0, 1), spec.grain_radius_m * (1.0 - spec.grain_radius_spread), grain_mat);
-        if (with_wire) {
-            append_wire_node(probe, Vec3(0, 0, 2));
-            append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
-        }
-        // Fastest impact: entering the zone at the pour speed, then falling
-        // through the zone and the gap above the pile (≤ 12 r_max).
-        const double impact = entry_speed + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
-        w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s
-                                        : stable_time_step(probe, impact).auto_s;
+    PreparationDriverState st;
+    const bool continuing = continuation.from.has_value();
+    if (continuing) {
+        st = std::move(*continuation.from); // sim.world is the World saved with it
+    } else {
+        w = std::move(column.world);
+        st.rng_state = spec.seed;
+        st.nozzle.z_m = spec.wire.radius_m;
+        st.nozzle_target_m = spec.wire.radius_m;
     }
     const double dt = w.dt_s;
 
@@ -324,68 +370,52 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     const double zone_height = 4.0 * r_max;
     const double batch_interval = zone_height / entry_speed;
     const double pour_radius = R - r_m - r_max - 0.05 * r_max; // grain centres inside the membrane spheres
-    SplitMix64 rng(spec.seed);
-    Nozzle nozzle(spec, spec.wire.radius_m);
-    double owed = 0.0;          // grains due but not yet placed
-    double next_batch = 0.0;
-    double nozzle_target = spec.wire.radius_m;
-    double poured_volume = 0.0;
-    double pile_top = 0.0;
+    Nozzle nozzle(spec, st.nozzle);
     // Wire nodes within the nozzle's reach (2 r_w) along the chain behind it, + 1.
     const auto own_nodes = static_cast<std::size_t>(std::ceil(3.0 * spec.wire.radius_m / spec.wire.segment_length_m)) + 1;
     const auto expected_steps = static_cast<std::uint64_t>((pour_time + 0.1) / dt);
-    std::uint64_t steps = 0;
+    auto fill_now = [&] { return st.poured_volume_m3 / (assumed_packing_fraction * std::numbers::pi * R * R); };
 
-    auto fill_now = [&] { return poured_volume / (assumed_packing_fraction * std::numbers::pi * R * R); };
-    bool laid_all = false; // the nozzle has stopped laying and pays out (Nozzle::pay_out)
+    // One step, the nozzle paying out first. A checkpoint may be taken before
+    // it (not before the first step of this run: that state is the one the
+    // run started from), also when the run is about to be cancelled.
+    bool first_of_run = true;
     auto step_once = [&]() -> std::string {
+        if (continuation.between_steps && !first_of_run) {
+            const double this_run_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+            st.wall_time_s += this_run_s;
+            continuation.between_steps(w, st);
+            st.wall_time_s -= this_run_s;
+        }
+        first_of_run = false;
         if (control.cancel && control.cancel->load()) return "cancelled";
-        if (laid_all) nozzle.pay_out(w);
+        if (st.laid_all) nozzle.pay_out(w);
         if (sim.step().blew_up) return "the simulation blew up during preparation (time step too large?)";
-        ++steps;
-        if (control.progress && control.progress_every && steps % control.progress_every == 0)
-            control.progress(steps, std::max(expected_steps, steps));
+        ++st.steps;
+        if (control.progress && control.progress_every && st.steps % control.progress_every == 0)
+            control.progress(st.steps, std::max(expected_steps, st.steps));
         return {};
     };
-    // Settling: the kinetic energy per grain, with the masses scaled by s only
-    // (the nodes' extra inertia M does not count), below the threshold × s.
-    const auto check_every = static_cast<std::uint64_t>(std::max(1.0, 1e-3 / dt));
-    auto settle = [&](bool& settled) -> std::string {
-        for (;;) {
-            if (std::string e = step_once(); !e.empty()) return e;
-            if (steps % check_every == 0) {
-                const double ke = settling_energy_j(w, spec.wire_mass_scale);
-                if (ke / static_cast<double>(w.of(BodyKind::grain).size())
-                    < spec.settle_kinetic_energy_per_grain_j * spec.density_scale) {
-                    settled = true;
-                    return {};
-                }
-                if (w.time_s > spec.max_time_s) {
-                    settled = false;
-                    return {};
-                }
-            }
-        }
-    };
 
-    // Pouring and laying.
-    while (w.of(BodyKind::grain).size() < spec.grain_count) {
-        if (w.time_s > spec.max_time_s) return Err(std::string("preparation exceeded max_preparation_time_s while pouring"));
+    // Pouring and laying, before a step: grains due are poured above the pile
+    // and the nozzle moves on.
+    auto pour_and_lay = [&] {
         // The pile (grains touching something, not those still falling),
         // looked at every 10 steps (grains move ~r/100 in between).
-        const bool look = steps % 10 == 0;
+        const bool look = st.steps % 10 == 0;
         std::vector<std::uint8_t> in_pile;
         if (look) {
             in_pile = grains_in_pile(w);
-            pile_top = pile_top_m(w, in_pile);
+            st.pile_top_m = pile_top_m(w, in_pile);
         }
-        if (w.time_s >= next_batch) {
-            owed += grains_per_s * batch_interval;
+        if (w.time_s >= st.next_batch_s) {
+            st.owed_grains += grains_per_s * batch_interval;
             // Above the pile, whichever is higher: the poured volume's fill
             // height, the pile's top or the nozzle.
-            const double zone_low = std::max({fill_now(), pile_top, nozzle.z_m()}) + 3.0 * r_max;
-            const int attempts = static_cast<int>(std::ceil(owed)) * 20;
-            for (int a = 0; a < attempts && owed >= 1.0 && w.of(BodyKind::grain).size() < spec.grain_count; ++a) {
+            const double zone_low = std::max({fill_now(), st.pile_top_m, nozzle.z_m()}) + 3.0 * r_max;
+            const int attempts = static_cast<int>(std::ceil(st.owed_grains)) * 20;
+            SplitMix64 rng(st.rng_state);
+            for (int a = 0; a < attempts && st.owed_grains >= 1.0 && w.of(BodyKind::grain).size() < spec.grain_count; ++a) {
                 const double radius = spec.grain_radius_m * (1.0 + spec.grain_radius_spread * (2.0 * rng.uniform() - 1.0));
                 const double rho = pour_radius * std::sqrt(rng.uniform()), phi = 2.0 * std::numbers::pi * rng.uniform();
                 const Vec3 x(rho * std::cos(phi), rho * std::sin(phi), zone_low + zone_height * rng.uniform());
@@ -396,67 +426,129 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
                         free = (b.x[0][i] - x).norm() >= radius + b.radius_m[i] + 0.1 * r_max;
                 }
                 if (!free) continue;
-                add_grain(w, x, radius, grain_mat, Vec3(0, 0, -entry_speed));
-                poured_volume += 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
-                owed -= 1.0;
+                add_grain(w, x, radius, column.grain_mat, Vec3(0, 0, -entry_speed));
+                st.poured_volume_m3 += 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+                st.owed_grains -= 1.0;
             }
-            next_batch += batch_interval;
+            st.rng_state = rng.state();
+            st.next_batch_s += batch_interval;
         }
         // The last grain diameter of the fill is poured over the wire: the
         // nozzle stops there, so that its last turn is buried too.
-        laid_all = with_wire && fill_now() >= fill_height - wire_cover_m;
-        if (with_wire && !laid_all) {
+        st.laid_all = with_wire && fill_now() >= fill_height - wire_cover_m;
+        if (with_wire && !st.laid_all) {
             // The nozzle follows the top of the pile under it (grains that
             // have landed, and earlier wire), so that each node is laid on the
             // pile and the grains that follow bury it.
-            if (look) nozzle_target = resting_height_m(w, nozzle.position(), spec.wire.radius_m, in_pile, own_nodes);
-            nozzle.advance(w, dt, nozzle_target);
+            if (look) st.nozzle_target_m = resting_height_m(w, nozzle.position(), spec.wire.radius_m, in_pile, own_nodes);
+            nozzle.advance(w, dt, st.nozzle_target_m);
             if (w.point_loads.size() != w.of(BodyKind::wire).size())
                 set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
         }
+    };
+
+    // Settling: the kinetic energy per grain, with the masses scaled by s only
+    // (the nodes' extra inertia M does not count), below the threshold × s,
+    // looked at every check_every steps. Whether it settled, once decided.
+    const auto check_every = static_cast<std::uint64_t>(std::max(1.0, 1e-3 / dt));
+    auto settling_ended = [&]() -> std::optional<bool> {
+        if (st.steps % check_every != 0) return std::nullopt;
+        const double ke = settling_energy_j(w, spec.wire_mass_scale);
+        if (ke / static_cast<double>(w.of(BodyKind::grain).size()) < spec.settle_kinetic_energy_per_grain_j * spec.density_scale)
+            return true;
+        if (w.time_s > spec.max_time_s) return false;
+        return std::nullopt;
+    };
+
+    // Everything between two steps: the checks after the step just taken
+    // (`stepped`: there was one), the phases that end there, and the work
+    // before the next step. Returns whether a step follows (none: the
+    // preparation is done, or failed with `error`). Each phase's work happens
+    // here in the order of the straight sequence (preparation.hpp), so a
+    // state saved before a step continues as the sequence would.
+    std::string error;
+    auto until_next_step = [&](bool stepped) -> bool {
+        for (;;) {
+            switch (st.phase) {
+            case PreparationPhase::pouring:
+                if (w.of(BodyKind::grain).size() >= spec.grain_count) {
+                    st.phase = PreparationPhase::settling;
+                    stepped = false;
+                    continue;
+                }
+                if (w.time_s > spec.max_time_s) {
+                    error = "preparation exceeded max_preparation_time_s while pouring";
+                    return false;
+                }
+                pour_and_lay();
+                return true;
+            case PreparationPhase::settling: {
+                const std::optional<bool> settled = stepped ? settling_ended() : std::nullopt;
+                if (!settled) return true;
+                st.settled_before_lid = *settled;
+                remove_wall(w, column.mould_wall); // the mould goes before the lid
+                w.kinds_interact[1][2] = w.kinds_interact[2][1] = column.wire_touches_membrane;
+                w.neighbours_dirty = true;
+                // Lower the top plate until it rests on the grains: wire
+                // standing out of the pile (a laid coil springs back towards
+                // straight) is pushed back in on the way down. It starts
+                // above the highest body; a plate below a grain's centre
+                // without touching a grain has gone through the pile.
+                double top = 0.0;
+                for (int k = 0; k < 2; ++k)
+                    for (std::size_t i = 0; i < w.bodies[k].size(); ++i)
+                        top = std::max(top, w.bodies[k].x[0][i].z() + w.bodies[k].radius_m[i]);
+                st.top_plate_wall = add_wall(w, make_plate(top + 0.5 * r_max, -1.0, column.plate_mat));
+                w.walls[st.top_plate_wall].velocity_m_per_s = Vec3(0, 0, -spec.plate_speed_m_per_s);
+                st.phase = PreparationPhase::lowering_lid;
+                stepped = false;
+                continue;
+            }
+            case PreparationPhase::lowering_lid:
+            case PreparationPhase::following_lid: {
+                Wall& lid = w.walls[st.top_plate_wall];
+                // Compared with the grains' centres now: a grain still
+                // falling away from the plate is no reason to stop.
+                const auto& grains = w.of(BodyKind::grain).x[0];
+                if (stepped && std::any_of(grains.begin(), grains.end(), [&](const Vec3& x) { return x.z() > lid.point_m.z(); })) {
+                    error = "the top plate went through the pile without touching it";
+                    return false;
+                }
+                if (!w.contacts.wall_touches(st.top_plate_wall, BodyKind::grain)) return true;
+                lid.velocity_m_per_s.setZero();
+                if (st.phase == PreparationPhase::following_lid) return false; // done
+                // The wire's end leaves the nozzle (the model spec §3: both
+                // ends free) under the lid, the column settles again
+                // (measured: ~1 mm lower, the wire and the grains moved by the
+                // released end), and the lid follows it.
+                Nozzle::release_end(w);
+                st.phase = PreparationPhase::settling_under_lid;
+                stepped = false;
+                continue;
+            }
+            case PreparationPhase::settling_under_lid: {
+                const std::optional<bool> settled = stepped ? settling_ended() : std::nullopt;
+                if (!settled) return true;
+                st.settled_under_lid = *settled;
+                w.walls[st.top_plate_wall].velocity_m_per_s = Vec3(0, 0, -spec.plate_speed_m_per_s);
+                st.phase = PreparationPhase::following_lid;
+                stepped = false;
+                continue;
+            }
+            }
+            error = "unknown preparation phase";
+            return false;
+        }
+    };
+
+    // A continued preparation was saved with its next step due.
+    for (bool step_due = continuing || until_next_step(false); step_due; step_due = until_next_step(true))
         if (std::string e = step_once(); !e.empty()) return Err(e);
-    }
+    if (!error.empty()) return Err(error);
 
     PreparationReport report;
-    bool settled_before_lid = false;
-    if (std::string e = settle(settled_before_lid); !e.empty()) return Err(e);
-    remove_wall(w, mould_wall); // the mould goes before the lid
-    w.kinds_interact[1][2] = w.kinds_interact[2][1] = wire_touches_membrane;
-    w.neighbours_dirty = true;
-
-    // Lower the top plate until it rests on the grains: wire standing out of
-    // the pile (a laid coil springs back towards straight) is pushed back in
-    // on the way down. It starts above the highest body; a plate below a
-    // grain's centre without touching a grain has gone through the pile.
-    double top = 0.0;
-    for (int k = 0; k < 2; ++k)
-        for (std::size_t i = 0; i < w.bodies[k].size(); ++i)
-            top = std::max(top, w.bodies[k].x[0][i].z() + w.bodies[k].radius_m[i]);
-    report.top_plate_wall = add_wall(w, make_plate(top + 0.5 * r_max, -1.0, plate_mat));
-    Wall& lid = w.walls[report.top_plate_wall];
-    auto lower_lid = [&]() -> std::string {
-        const auto& grains = w.of(BodyKind::grain).x[0];
-        lid.velocity_m_per_s = Vec3(0, 0, -spec.plate_speed_m_per_s);
-        while (!w.contacts.wall_touches(report.top_plate_wall, BodyKind::grain)) {
-            if (std::string e = step_once(); !e.empty()) return e;
-            // Compared with the grains' centres now: a grain still falling
-            // away from the plate is no reason to stop.
-            if (std::any_of(grains.begin(), grains.end(), [&](const Vec3& x) { return x.z() > lid.point_m.z(); }))
-                return "the top plate went through the pile without touching it";
-        }
-        lid.velocity_m_per_s.setZero();
-        return {};
-    };
-    if (std::string e = lower_lid(); !e.empty()) return Err(e);
-    // The wire's end leaves the nozzle (the model spec §3: both ends free)
-    // under the lid, the column settles again (measured: ~1 mm lower, the
-    // wire and the grains moved by the released end), and the lid follows it.
-    Nozzle::release_end(w);
-    bool settled_under_lid = false;
-    if (std::string e = settle(settled_under_lid); !e.empty()) return Err(e);
-    if (std::string e = lower_lid(); !e.empty()) return Err(e);
-    report.settled = settled_before_lid && settled_under_lid;
-
+    report.top_plate_wall = st.top_plate_wall;
+    report.settled = st.settled_before_lid && st.settled_under_lid;
     const TranslationalState& g = w.of(BodyKind::grain);
     double grain_volume = 0.0;
     for (double r : g.radius_m) grain_volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
@@ -475,9 +567,9 @@ Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const P
     report.core_grain_volume_fraction = core.grain;
     report.core_wire_volume_fraction = core.wire;
     report.simulated_time_s = w.time_s;
-    report.steps = steps;
+    report.steps = st.steps;
     report.time_step_s = dt;
-    report.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    report.wall_time_s = st.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return report;
 }
 

@@ -14,6 +14,7 @@
 #include "specimen/pattern.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -135,6 +136,62 @@ inline constexpr double standard_gravity_m_per_s2 = 10.0;
 ///         column taller than the membrane, cancelled, blew up)
 [[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(
     Simulation& sim, const PreparationSpec& spec, const RunControl& control = {});
+
+/// The phases of a preparation, in order (see prepare_specimen).
+enum class PreparationPhase : std::uint8_t {
+    pouring,            ///< grains poured, the nozzle laying the wire
+    settling,           ///< the column settles in the mould
+    lowering_lid,       ///< the mould gone, the top plate comes down to the grains
+    settling_under_lid, ///< the wire's end released, the column settles under the plate
+    following_lid,      ///< the plate follows the column down to the grains
+};
+
+/// The preparation's own state between two steps: with the World, all it
+/// needs to go on (a checkpoint saves both; prepare_specimen continues from
+/// them). What is set up before the first step and never changes (the
+/// materials, the mould's wall, δt) follows from the spec.
+struct PreparationDriverState {
+    PreparationPhase phase = PreparationPhase::pouring;
+    std::uint64_t steps = 0;               ///< steps of the preparation so far
+    std::uint64_t rng_state = 0;           ///< the pouring's SplitMix64 (starts at the seed)
+    double owed_grains = 0.0;              ///< grains due but not yet placed
+    double next_batch_s = 0.0;             ///< simulated time of the next batch [s]
+    double poured_volume_m3 = 0.0;         ///< volume of the grains poured [m³]
+    double pile_top_m = 0.0;               ///< top of the pile when last looked at [m]
+    double nozzle_target_m = 0.0;          ///< height the nozzle moves towards [m]
+    bool laid_all = false;                 ///< the nozzle has stopped laying and pays out
+    /// The nozzle: its height, how far along its path it is and where along
+    /// the path it laid the last node [m], and how far the path's own
+    /// integration has come (NozzlePath::Integration: the spiral helix).
+    struct NozzleState {
+        double z_m = 0.0;
+        double path_m = 0.0;
+        double last_node_path_m = 0.0;
+        NozzlePath::Integration path_integration;
+    } nozzle;
+    bool settled_before_lid = false;       ///< the first settling ended below the threshold (valid after it)
+    bool settled_under_lid = false;        ///< the second did (valid after it)
+    std::size_t top_plate_wall = 0;        ///< index of the top plate in World::walls (once added)
+    double wall_time_s = 0.0;              ///< spent by the runs before this one [s]
+};
+
+/// How a host checkpoints a preparation and continues one.
+struct PreparationContinuation {
+    /// Called between every two steps of this run (not before its first, not
+    /// after the last), also just before the run returns because it was
+    /// cancelled, with the World and the driver's state: a consistent point
+    /// to save both (io/snapshot.hpp). Saving changes nothing in the run.
+    std::function<void(const World&, const PreparationDriverState&)> between_steps;
+    /// When set, the preparation continues from this state instead of
+    /// starting: sim.world must be the World saved with it, the spec the same.
+    /// The report (but for its wall time) and the World at the end are
+    /// bit-identical to those of a preparation that was never stopped.
+    std::optional<PreparationDriverState> from;
+};
+
+/// prepare_specimen with checkpoints and continuation (see PreparationContinuation).
+[[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const PreparationSpec& spec,
+    const RunControl& control, PreparationContinuation continuation);
 
 /// Height the grains fill, estimated before pouring at a packing fraction of
 /// 0.58 (prepare_specimen paces the pouring by it) [m].

@@ -15,10 +15,12 @@ namespace eng = wiredem::engine;
 namespace io = wiredem::engine::io;
 using wiredem::campaign::read_driver_state;
 using wiredem::campaign::read_preparation_report;
+using wiredem::campaign::read_preparation_state;
 using wiredem::campaign::read_test_so_far;
 using wiredem::campaign::read_triaxial_result;
 using wiredem::campaign::write_driver_state;
 using wiredem::campaign::write_preparation_report;
+using wiredem::campaign::write_preparation_state;
 using wiredem::campaign::write_triaxial_result;
 
 namespace {
@@ -350,6 +352,60 @@ TEST(CampaignFiles, APreparationReportReadsBackExactly)
     EXPECT_EQ(r.time_step_s, p.time_step_s);
     EXPECT_EQ(r.settled, p.settled);
     EXPECT_EQ(r.top_plate_wall, p.top_plate_wall);
+    fs::remove(path);
+}
+
+TEST(CampaignFiles, APreparationDriverStateReadsBackExactly)
+{
+    const fs::path path = temp_file("preparation_state");
+    for (eng::PreparationPhase phase : {eng::PreparationPhase::pouring, eng::PreparationPhase::settling,
+             eng::PreparationPhase::lowering_lid, eng::PreparationPhase::settling_under_lid,
+             eng::PreparationPhase::following_lid}) {
+        eng::PreparationDriverState s;
+        s.phase = phase;
+        s.steps = 123457;
+        s.rng_state = 0xfedcba9876543210ull; // above the largest int64: written as the same 64 bits
+        s.owed_grains = next_value();
+        s.next_batch_s = next_value();
+        s.poured_volume_m3 = next_value();
+        s.pile_top_m = next_value();
+        s.nozzle_target_m = next_value();
+        s.laid_all = phase != eng::PreparationPhase::pouring;
+        s.nozzle.z_m = next_value();
+        s.nozzle.path_m = next_value();
+        s.nozzle.last_node_path_m = next_value();
+        s.nozzle.path_integration = {next_value(), next_value()};
+        s.settled_before_lid = phase >= eng::PreparationPhase::lowering_lid;
+        s.settled_under_lid = phase == eng::PreparationPhase::following_lid;
+        s.top_plate_wall = 2;
+        s.wall_time_s = next_value();
+        {
+            io::File f = io::File::create(path);
+            io::Group g = f.root();
+            write_preparation_state(g, s);
+            f.close();
+        }
+        const io::File f = io::File::open_read_only(path);
+        const eng::PreparationDriverState r = read_preparation_state(f.root());
+        EXPECT_EQ(r.phase, s.phase);
+        EXPECT_EQ(r.steps, s.steps);
+        EXPECT_EQ(r.rng_state, s.rng_state);
+        EXPECT_EQ(r.owed_grains, s.owed_grains);
+        EXPECT_EQ(r.next_batch_s, s.next_batch_s);
+        EXPECT_EQ(r.poured_volume_m3, s.poured_volume_m3);
+        EXPECT_EQ(r.pile_top_m, s.pile_top_m);
+        EXPECT_EQ(r.nozzle_target_m, s.nozzle_target_m);
+        EXPECT_EQ(r.laid_all, s.laid_all);
+        EXPECT_EQ(r.nozzle.z_m, s.nozzle.z_m);
+        EXPECT_EQ(r.nozzle.path_m, s.nozzle.path_m);
+        EXPECT_EQ(r.nozzle.last_node_path_m, s.nozzle.last_node_path_m);
+        EXPECT_EQ(r.nozzle.path_integration.s_m, s.nozzle.path_integration.s_m);
+        EXPECT_EQ(r.nozzle.path_integration.theta_rad, s.nozzle.path_integration.theta_rad);
+        EXPECT_EQ(r.settled_before_lid, s.settled_before_lid);
+        EXPECT_EQ(r.settled_under_lid, s.settled_under_lid);
+        EXPECT_EQ(r.top_plate_wall, s.top_plate_wall);
+        EXPECT_EQ(r.wall_time_s, s.wall_time_s);
+    }
     fs::remove(path);
 }
 

@@ -1,8 +1,9 @@
 // The campaign's stages through the real `wiredem` binary on examples/tiny.json:
 // prepare + test + analyse give the files `run` gives, bit for bit; tests run
-// at once give what tests run one after another give; a test killed with
-// SIGKILL at several points continues from its checkpoints to the same
-// result; and bad requests get clear errors.
+// at once give what tests run one after another give; a test or a preparation
+// killed with SIGKILL at several points continues from its checkpoints to the
+// same result, a preparation stopped by SIGTERM saves on its way out; and bad
+// requests get clear errors.
 #include "h5_compare.hpp"
 
 #include <boost/json.hpp>
@@ -187,6 +188,73 @@ TEST(Stages, ATestKilledAtSeveralPointsContinuesToTheSameResult)
     EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
     // The test's own file against the reference run's: the same record.
     const auto diffs = h5_differences(out / "tests/test_0.h5", ref / "tests/test_0.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
+// The same for the preparation: `wiredem prepare` killed with SIGKILL at
+// several points (checkpoints every 20 ms), started again on one thread or
+// two, ends with the specimen of an uninterrupted preparation.
+TEST(Stages, APreparationKilledAtSeveralPointsContinuesToTheSameSpecimen)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("killed_preparation"), out = dir / "out";
+    int kills_after_a_checkpoint = 0;
+    bool done = false;
+    for (int attempt = 0; attempt < 60 && !done; ++attempt) {
+        const pid_t pid = spawn({"prepare", tiny_job.string(), "-o", out.string(), "--threads", std::to_string(1 + attempt % 2),
+                                    "--checkpoint-interval", "0.02"},
+            dir / "log");
+        ASSERT_GT(pid, 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(150 + 50 * attempt));
+        const bool had_checkpoint = fs::exists(out / "specimen.checkpoint.h5");
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (WIFEXITED(status)) {
+            ASSERT_EQ(WEXITSTATUS(status), 0) << read_text(dir / "log");
+            done = true;
+        } else {
+            ASSERT_TRUE(WIFSIGNALED(status));
+            kills_after_a_checkpoint += had_checkpoint;
+        }
+    }
+    ASSERT_TRUE(done) << "the preparation did not finish in 60 starts";
+    EXPECT_GE(kills_after_a_checkpoint, 2) << "the preparation was not killed after a checkpoint at least twice";
+    EXPECT_FALSE(fs::exists(out / "specimen.checkpoint.h5"));
+    // The World (its every field and state hash) and the report in /host.
+    const auto diffs = h5_differences(out / "specimen.h5", ref / "specimen.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
+// SIGTERM while preparing (a server shutting down), at a later point each
+// start: with the default interval (300 s) no checkpoint is due, so every one
+// left behind was written on the way out; each start continues from it, and
+// the specimen is the uninterrupted one.
+TEST(Stages, APreparationStoppedBySigtermSavesOnItsWayOut)
+{
+    const fs::path& ref = reference_run();
+    const fs::path dir = fresh_dir("stopped_preparation"), out = dir / "out";
+    int saved_on_sigterm = 0;
+    bool done = false;
+    for (int attempt = 0; attempt < 60 && !done; ++attempt) {
+        const pid_t pid = spawn({"prepare", tiny_job.string(), "-o", out.string(), "--threads", "1"}, dir / "log");
+        ASSERT_GT(pid, 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20 + 20 * attempt));
+        ::kill(pid, SIGTERM);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal";
+        if (WEXITSTATUS(status) == 0) {
+            done = true;
+        } else {
+            ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << read_text(dir / "log");
+            saved_on_sigterm += fs::exists(out / "specimen.checkpoint.h5");
+        }
+    }
+    ASSERT_TRUE(done) << "the preparation did not finish in 60 starts";
+    EXPECT_GE(saved_on_sigterm, 1) << "no checkpoint was written on SIGTERM";
+    EXPECT_FALSE(fs::exists(out / "specimen.checkpoint.h5"));
+    const auto diffs = h5_differences(out / "specimen.h5", ref / "specimen.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
 }
 

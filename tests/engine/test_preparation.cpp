@@ -2,7 +2,9 @@
 // every pattern: each prepares in seconds (Release) and must give a sound
 // specimen. Quasi-static scaling as in the examples: masses × 100, the wire
 // and membrane nodes another × 400, so that neither the nodes' springs nor
-// heavy grains' impacts make δt small.
+// heavy grains' impacts make δt small. A preparation stopped in any phase,
+// saved and continued ends as one that never stopped.
+#include "io/snapshot.hpp"
 #include "small_column.hpp"
 #include "specimen/preparation.hpp"
 #include "state/state_hash.hpp"
@@ -11,7 +13,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <filesystem>
+#include <map>
 #include <numbers>
+#include <set>
+#include <string>
+#include <unistd.h>
 #include <vector>
 
 using namespace wiredem::engine;
@@ -292,6 +300,96 @@ TEST(Preparation, SameSeedGivesTheSameSpecimenOnAnyThreadCount)
     Simulation again(1);
     ASSERT_TRUE(prepare_specimen(again, other).ok());
     EXPECT_NE(state_hash(again.world), state_hash(one.world));
+}
+
+namespace {
+
+/// Every number of two reports but the wall time, bit for bit.
+void expect_same_report(const PreparationReport& a, const PreparationReport& b)
+{
+    EXPECT_EQ(a.grains, b.grains);
+    EXPECT_EQ(a.wire_nodes, b.wire_nodes);
+    EXPECT_EQ(a.wire_length_m, b.wire_length_m);
+    EXPECT_EQ(a.nozzle_path_m, b.nozzle_path_m);
+    EXPECT_EQ(a.pile_height_m, b.pile_height_m);
+    EXPECT_EQ(a.sample_volume_m3, b.sample_volume_m3);
+    EXPECT_EQ(a.grain_volume_fraction, b.grain_volume_fraction);
+    EXPECT_EQ(a.wire_volume_fraction, b.wire_volume_fraction);
+    EXPECT_EQ(a.core_grain_volume_fraction, b.core_grain_volume_fraction);
+    EXPECT_EQ(a.core_wire_volume_fraction, b.core_wire_volume_fraction);
+    EXPECT_EQ(a.simulated_time_s, b.simulated_time_s);
+    EXPECT_EQ(a.steps, b.steps);
+    EXPECT_EQ(a.time_step_s, b.time_step_s);
+    EXPECT_EQ(a.settled, b.settled);
+    EXPECT_EQ(a.top_plate_wall, b.top_plate_wall);
+}
+
+} // namespace
+
+// The short wire preparation stopped at two points of every phase (the first
+// step there and half-way through it), one after another: each time saved
+// (io/snapshot.hpp), restored into a fresh World and continued on another
+// thread count from the driver's state. It ends with the specimen and the
+// report of the preparation that was never stopped.
+TEST(PreparationContinuation, APreparationStoppedInEveryPhaseEndsBitIdentically)
+{
+    const PreparationSpec spec = short_preparation(PatternKind::spiral_helix);
+    // The uninterrupted preparation, and the phase at each point between steps.
+    Simulation whole(2);
+    std::map<PreparationPhase, std::vector<std::uint64_t>> between_steps_in;
+    PreparationContinuation watch;
+    watch.between_steps = [&](const World&, const PreparationDriverState& s) { between_steps_in[s.phase].push_back(s.steps); };
+    const auto uninterrupted = prepare_specimen(whole, spec, {}, watch);
+    ASSERT_TRUE(uninterrupted.ok()) << uninterrupted.error();
+    ASSERT_GT(uninterrupted.value().wire_nodes, 10u);
+    std::set<std::uint64_t> stops;
+    for (const auto& [phase, steps] : between_steps_in) {
+        stops.insert(steps.front());
+        stops.insert(steps[steps.size() / 2]);
+    }
+    // Every phase but the lid's following (the lid may rest on the grains
+    // already when the column has settled under it) has steps here.
+    for (PreparationPhase p : {PreparationPhase::pouring, PreparationPhase::settling, PreparationPhase::lowering_lid,
+             PreparationPhase::settling_under_lid})
+        EXPECT_TRUE(between_steps_in.contains(p)) << "no step in phase " << static_cast<int>(p);
+
+    const std::filesystem::path file = std::filesystem::temp_directory_path()
+                                     / ("wiredem_preparation_continuation_" + std::to_string(::getpid()) + ".h5");
+    std::optional<PreparationDriverState> saved;
+    std::size_t run = 0;
+    constexpr unsigned threads[] = {1, 3, 2};
+    for (auto stop = stops.begin();; ++stop, ++run) {
+        Simulation sim(threads[run % 3]);
+        std::atomic<bool> cancel{false};
+        RunControl control;
+        control.cancel = &cancel;
+        PreparationContinuation c;
+        if (saved) {
+            auto w = restore_snapshot(file);
+            ASSERT_TRUE(w.ok()) << w.error();
+            sim.world = std::move(w.value());
+            c.from = saved;
+        }
+        if (stop != stops.end())
+            c.between_steps = [&](const World& w, const PreparationDriverState& s) {
+                if (s.steps != *stop) return;
+                ASSERT_TRUE(save_snapshot(w, file).ok());
+                saved = s;
+                cancel = true;
+            };
+        const auto r = prepare_specimen(sim, spec, control, c);
+        if (stop == stops.end()) {
+            ASSERT_TRUE(r.ok()) << r.error();
+            EXPECT_EQ(state_hash(sim.world), state_hash(whole.world));
+            expect_same_report(r.value(), uninterrupted.value());
+            break;
+        }
+        ASSERT_FALSE(r.ok()) << "not stopped at step " << *stop;
+        EXPECT_EQ(r.error(), "cancelled");
+        ASSERT_TRUE(saved && saved->steps == *stop);
+    }
+    EXPECT_EQ(run, stops.size());
+    std::filesystem::remove(file);
 }
 
 TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
