@@ -185,8 +185,8 @@ def find_campaigns(runs):
         pattern, seed, flat = m.group(1), int(m.group(2)), m.group(3) is not None
         path = os.path.join(runs, entry)
         if flat:
-            if (pattern, seed) in found:
-                continue  # the campaign's folder wins over a gathered summary
+            if (pattern, seed) in found or (pattern, seed) in skipped:
+                continue  # the campaign's folder, finished or not, wins over a file beside it
             summary, h5 = path, None
         elif os.path.isdir(path):
             summary, h5 = os.path.join(path, "summary.json"), os.path.join(path, "result.h5")
@@ -200,6 +200,11 @@ def find_campaigns(runs):
             c = Campaign(pattern, seed, summary, h5)
         except (OSError, ValueError, KeyError) as e:
             notes.append(f"{entry}: unreadable ({e}), skipped")
+            skipped.add((pattern, seed))
+            continue
+        if not isinstance(c.summary, dict) or "tests" not in c.summary or "mohr_coulomb" not in c.summary:
+            # scripts/study.sh keeps each campaign's job file beside its folder
+            notes.append(f"{entry}: not a campaign summary (a job file?), skipped")
             skipped.add((pattern, seed))
             continue
         if c.h5 is None and not flat:

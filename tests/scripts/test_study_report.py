@@ -119,6 +119,10 @@ class StudyReport(unittest.TestCase):
         with open(os.path.join(runs, "radial_helix-seed1.json"), "w") as f:  # a gathered summary
             json.dump(summary("radial_helix", 1, 25.0, 2e3), f)
         os.makedirs(os.path.join(runs, "spiral_helix-seed1"))  # unfinished: no summary.json
+        with open(os.path.join(runs, "spiral_helix-seed1.json"), "w") as f:  # its job file, as study.sh keeps it
+            json.dump({"name": "a job", "seed": 1, "specimen": {"wire": {"pattern": "spiral_helix"}}}, f)
+        with open(os.path.join(runs, "spiral_helix-seed2.json"), "w") as f:  # a job file without its folder
+            json.dump({"name": "a job", "seed": 2}, f)
         cls.proc = subprocess.run([sys.executable, SCRIPT, runs, "--out", cls.out], capture_output=True, text=True)
         with open(os.path.join(cls.out, "tables.md")) as f:
             cls.tables = f.read()
@@ -140,6 +144,9 @@ class StudyReport(unittest.TestCase):
         self.assertIn("| radial helix | yield | 1 | 25.00 |", self.tables)
         self.assertIn("spiral_helix-seed1: no summary.json", self.proc.stdout)
         self.assertIn("spiral_helix-seed1: no summary.json", self.tables)
+        # A job file beside a campaign folder is not its summary: no figure of a pattern without results.
+        self.assertFalse(os.path.exists(os.path.join(figures, "mohr_spiral_helix.png")))
+        self.assertIn("spiral_helix-seed2.json: not a campaign summary", self.proc.stdout)
 
     def test_mean_and_spread_of_phi_and_c_over_seeds(self):
         # φ = 30°, 34°: mean 32, sample sd 2√2 = 2.83; c = 1, 3 kPa: 2 ± √2
