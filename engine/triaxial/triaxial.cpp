@@ -150,7 +150,9 @@ double loading_time_s(const TriaxialSettings& s, double height_m)
 
 std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s)
 {
-    const auto pre_load = static_cast<std::uint64_t>(std::ceil((s.pressure_ramp_time_s + s.hold_time_s) / dt_s));
+    // The longest hold: progress never passes 100 % while σ₃ is held longer
+    // than hold_time_s; run_triaxial re-counts when the loading starts.
+    const auto pre_load = static_cast<std::uint64_t>(std::ceil((s.pressure_ramp_time_s + longest_hold_s(s)) / dt_s));
     return pre_load + static_cast<std::uint64_t>(std::ceil(loading_time_s(s, height_m) / dt_s));
 }
 
@@ -459,6 +461,10 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         st.reference_height_m = plates_apart_m();
         result.initial_height_m = st.reference_height_m;
         st.loading = true;
+        // The hold's length is known now: the steps left are the loading's
+        // (progress jumps forward when the column consolidated early).
+        st.expected_steps
+            = st.steps + static_cast<std::uint64_t>(std::ceil(loading_time_s(settings, st.reference_height_m) / dt));
         if (st.last_sample_step == st.steps) { // the grid sample of this step belongs to the loading
             result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
             result.series.axial_strain.back() = 0.0;

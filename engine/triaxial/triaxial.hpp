@@ -218,8 +218,9 @@ struct QuasiStaticVerdict {
 [[nodiscard]] double loading_time_s(const TriaxialSettings& s, double height_m);
 
 /// Steps a test is expected to take at time step `dt_s` on a column of
-/// height `height_m`: the pressure ramp and the hold, then loading to the
-/// target strain (run_triaxial reports progress against it).
+/// height `height_m`: the pressure ramp and the longest hold, then loading
+/// to the target strain (run_triaxial reports progress against it, and
+/// re-counts it when the loading starts).
 [[nodiscard]] std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s);
 
 /// Everything one test produced.

@@ -524,6 +524,37 @@ TEST(TriaxialControl, CancellationStopsWithinAStep)
     EXPECT_LE(sim.world.step_count, cancelled_at + 1);
 }
 
+TEST(TriaxialControl, ProgressRisesToTheEndAndNeverReachesItEarly)
+{
+    // A hold that runs past hold_time_s (at most 4 × it) must not push the
+    // reported fraction to 1 before the loading is done: the estimate counts
+    // the longest hold and is re-counted when the loading starts.
+    Simulation sim(1);
+    const std::size_t lid = build_lattice_specimen(sim, 3);
+    TriaxialSettings s = fast_settings(10e3);
+    s.hold_time_s = 1e-3; // consolidating takes longer than this
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> reports;
+    RunControl control;
+    control.progress_every = 10;
+    control.progress = [&](std::uint64_t done, std::uint64_t total) { reports.emplace_back(done, total); };
+    const auto r = run_triaxial(sim, lid, s, control);
+    ASSERT_TRUE(r.ok()) << r.error();
+    ASSERT_GT(r.value().hold_time_s, 1.5 * s.hold_time_s) << "the hold must run past hold_time_s for this test to mean anything";
+    ASSERT_GT(reports.size(), 10u);
+    double last = 0.0;
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+        const auto [done, total] = reports[i];
+        const double f = static_cast<double>(done) / static_cast<double>(total);
+        EXPECT_GE(f, last) << "report " << i << ": " << done << " of " << total;
+        if (i + 1 < reports.size()) {
+            EXPECT_LT(f, 1.0) << "report " << i << ": " << done << " of " << total;
+        }
+        last = f;
+    }
+    // The last report is within one reporting period of the end.
+    EXPECT_GE(last, 1.0 - 10.0 / static_cast<double>(reports.back().second));
+}
+
 TEST(TriaxialControl, RejectsSettingsOutOfRangeNamingTheField)
 {
     Simulation sim(1);
