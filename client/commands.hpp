@@ -4,6 +4,7 @@
 #pragma once
 
 #include "http_client.hpp"
+#include "stages.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -51,7 +52,7 @@ struct LocalStage {
     std::optional<double> pressure_pa;          ///< … or by confining pressure
     unsigned threads = 0;                       ///< 0: every core
     std::string progress = "text";              ///< text or json
-    double checkpoint_interval_s = 300.0;       ///< run, prepare, test; ≤ 0: none
+    double checkpoint_interval_s = campaign::default_checkpoint_interval_s; ///< run, prepare, test; ≤ 0: none
 };
 /// `wiredem run`: validates the job file, then runs the campaign locally
 /// (resuming what the directory holds).
