@@ -7,7 +7,6 @@
 #include <cctype>
 #include <charconv>
 #include <cstring>
-#include <regex>
 
 namespace wiredem::server {
 namespace fs = std::filesystem;
@@ -19,6 +18,29 @@ bool all_of_chars(const std::string& s, const char* allowed_punctuation)
     return !s.empty() && std::all_of(s.begin(), s.end(), [&](char c) {
         return std::isalnum(static_cast<unsigned char>(c)) || std::strchr(allowed_punctuation, c) != nullptr;
     });
+}
+
+/// Whether `s` is one to `max_groups` runs of digits joined by ':'.
+bool digit_groups(std::string_view s, int max_groups)
+{
+    int groups = 0;
+    for (std::size_t begin = 0;; ++groups) {
+        const std::size_t end = std::min(s.find(':', begin), s.size());
+        if (end == begin || !std::all_of(s.begin() + static_cast<std::ptrdiff_t>(begin), s.begin() + static_cast<std::ptrdiff_t>(end),
+                                [](char c) { return c >= '0' && c <= '9'; }))
+            return false;
+        if (end == s.size()) return groups + 1 <= max_groups;
+        begin = end + 1;
+    }
+}
+
+/// sbatch --time: minutes, minutes:seconds, hours:minutes:seconds,
+/// days-hours, days-hours:minutes, days-hours:minutes:seconds.
+bool is_slurm_time(std::string_view s)
+{
+    const std::size_t dash = s.find('-');
+    if (dash == std::string_view::npos) return digit_groups(s, 3);
+    return digit_groups(s.substr(0, dash), 1) && digit_groups(s.substr(dash + 1), 3);
 }
 
 template <class T>
@@ -87,10 +109,7 @@ std::optional<std::string> slurm_options_problem(const SlurmOptions& o)
              + "': a partition name is letters, digits, '_', '-' and '.' (several joined by ',')";
     if (!o.account.empty() && !all_of_chars(o.account, "_-."))
         return "--slurm-account '" + o.account + "': an account name is letters, digits, '_', '-' and '.'";
-    // sbatch --time: minutes, minutes:seconds, hours:minutes:seconds,
-    // days-hours, days-hours:minutes, days-hours:minutes:seconds.
-    static const std::regex time_form(R"(^([0-9]+(:[0-9]+){0,2}|[0-9]+-[0-9]+(:[0-9]+){0,2})$)");
-    if (!o.time_limit.empty() && !std::regex_match(o.time_limit, time_form))
+    if (!o.time_limit.empty() && !is_slurm_time(o.time_limit))
         return "--slurm-time-limit '" + o.time_limit
              + "': give minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS (sbatch --time)";
     if (o.cpus_per_task < 1) return "--slurm-cpus-per-task must be at least 1";
@@ -115,9 +134,11 @@ fs::path SlurmFiles::script(SlurmStage stage) const { return dir() / (std::strin
 
 fs::path SlurmFiles::log(SlurmStage stage, std::size_t task, const char* extension) const
 {
+    // Appends only: GCC 12 warns (-Wrestrict, a false positive) on "_" + std::string.
     std::string name = stage_word(stage);
-    if (stage == SlurmStage::test) name += "_" + std::to_string(task);
-    return dir() / (name + "." + extension);
+    if (stage == SlurmStage::test) name.append("_").append(std::to_string(task));
+    name.append(".").append(extension);
+    return dir() / name;
 }
 
 std::string shell_quote(const std::string& text)

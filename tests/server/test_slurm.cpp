@@ -72,7 +72,7 @@ TEST(SlurmOptions, EveryProblemNamesItsOption)
         o.time_limit = good;
         EXPECT_EQ(problem_of(o), "") << good;
     }
-    for (const char* bad : {"1h", "-5", "1:2:3:4", "2-", "soon"}) {
+    for (const char* bad : {"1h", "-5", "1:2:3:4", "2-", "soon", ":30", "30:", "1::2", "2-1:2:3:4", "1-2-3", "2-12-"}) {
         o = usable_options();
         o.time_limit = bad;
         EXPECT_NE(problem_of(o).find("--slurm-time-limit '" + std::string(bad) + "'"), std::string::npos) << bad;
