@@ -72,6 +72,21 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log)
     return rc == 0 ? pid : -1;
 }
 
+/// Waits (up to a minute) until process `pid` catches `sig` (SigCgt in
+/// /proc/PID/status): before that, the signal's default action would kill it,
+/// which says nothing about how wiredem stops (a slow start, e.g. under ASan).
+bool wait_until_it_catches(pid_t pid, int sig)
+{
+    const auto until = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+    while (std::chrono::steady_clock::now() < until) {
+        std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+        for (std::string line; std::getline(status, line);)
+            if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1) & 1u)) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+}
+
 Outcome run_wiredem(const std::vector<std::string>& args, const fs::path& log)
 {
     Outcome o;
@@ -239,6 +254,7 @@ TEST(Stages, APreparationStoppedBySigtermSavesOnItsWayOut)
     for (int attempt = 0; attempt < 60 && !done; ++attempt) {
         const pid_t pid = spawn({"prepare", tiny_job.string(), "-o", out.string(), "--threads", "1"}, dir / "log");
         ASSERT_GT(pid, 0);
+        ASSERT_TRUE(wait_until_it_catches(pid, SIGTERM));
         std::this_thread::sleep_for(std::chrono::milliseconds(20 + 20 * attempt));
         ::kill(pid, SIGTERM);
         int status = 0;
