@@ -216,43 +216,30 @@ namespace {
 void compute_contact_forces(World& w, ThreadPool& pool)
 {
     ContactList& c = w.contacts;
-    const double dt = w.dt_s;
-    const double inv_dt = 1.0 / dt;
-    const double damping_s = w.contact.normal_damping_s;
-    const TangentialParams& tp = w.contact.tangential;
-    // Raw views of what the loops read, by kind, hoisted out of them.
-    struct KindView {
-        const Vec3* x;       // x₀
-        const Vec3* v_dt;    // x₁ = δt v
-        const double* radius;
-    };
-    std::array<KindView, body_kind_count> view{};
-    for (int k = 0; k < body_kind_count; ++k)
-        view[k] = {w.bodies[k].x[0].data(), w.bodies[k].x[1].data(), w.bodies[k].radius_m.data()};
-    const Vec3* spin_dt = w.grain_rotation.w[1].data(); // δt ω of the grains
+    // What both kernels read, by kind, hoisted out of the loops.
+    const ContactInputs in = contact_inputs(w);
     const Vec3 no_spin = Vec3::Zero();
-    auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? spin_dt[b.index()] : no_spin; };
+    auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? in.spin_dt[b.index()] : no_spin; };
 
     // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
     const std::size_t pairs = c.pair_count();
     auto pair = [&](std::size_t p) {
         const BodyRef a = c.first[p], b = c.second[p];
-        const KindView &A = view[static_cast<int>(a.kind())], &B = view[static_cast<int>(b.kind())];
+        const auto ka = static_cast<std::size_t>(a.kind()), kb = static_cast<std::size_t>(b.kind());
         const std::uint32_t ia = a.index(), ib = b.index();
         ContactGeometry g;
-        const bool overlaps = sphere_sphere_geometry(
-            A.x[ia], B.x[ib], A.radius[ia], B.radius[ib], A.v_dt[ia], B.v_dt[ib], spin_of(a), spin_of(b), inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+        const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
+            in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
+        evaluate_contact(c, p, overlaps, g, in.damping_s, in.tangential, in.dt);
     };
     // Eight pairs at a time where the CPU can (same bits,
     // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
     const SimdPairKernel simd = simd_pair_kernel();
-    const PairKernelInputs bodies = pair_kernel_inputs(w);
     parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
         std::size_t p = begin;
         if (simd)
             for (; p + simd_pair_lanes <= end; p += simd_pair_lanes) {
-                const std::uint32_t done = simd(c, p, bodies);
+                const std::uint32_t done = simd(c, p, in);
                 for (std::size_t l = 0; l < simd_pair_lanes; ++l)
                     if (!(done >> l & 1u)) pair(p + l);
             }
@@ -260,12 +247,12 @@ void compute_contact_forces(World& w, ThreadPool& pool)
     });
     auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
-        const KindView& A = view[static_cast<int>(a.kind())];
+        const auto ka = static_cast<std::size_t>(a.kind());
         const std::uint32_t ia = a.index();
         ContactGeometry g;
         const bool overlaps = sphere_wall_geometry(
-            w.walls[c.second[p].index()], A.x[ia], A.radius[ia], A.v_dt[ia], spin_of(a), inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, damping_s, tp, dt);
+            w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
+        evaluate_contact(c, p, overlaps, g, in.damping_s, in.tangential, in.dt);
     };
     const SimdWallKernel simd_wall = simd_wall_kernel();
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
@@ -273,7 +260,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
             // Eight contacts of one wall at a time, where the CPU can.
             const std::uint32_t wall = c.second[p].index();
             if (simd_wall && p + simd_pair_lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
-                const std::uint32_t done = simd_wall(c, p, w.walls[wall], bodies);
+                const std::uint32_t done = simd_wall(c, p, w.walls[wall], in);
                 for (std::size_t l = 0; l < simd_pair_lanes; ++l)
                     if (!(done >> l & 1u)) wall_contact(p + l);
                 p += simd_pair_lanes;

@@ -63,7 +63,7 @@ constexpr double no_spin[3] = {0.0, 0.0, 0.0};
 /// read by index as one array).
 struct GrainLanes {
     const BodyRef* refs;
-    const PairKernelInputs& in;
+    const ContactInputs& in;
 
     [[WIREDEM_AVX512]] V3 vec3s(const Vec3* base) const
     {
@@ -84,7 +84,7 @@ struct GrainLanes {
 /// nodes, membrane nodes): each lane read from its kind's arrays.
 struct AnyLanes {
     const BodyRef* refs;
-    const PairKernelInputs& in;
+    const ContactInputs& in;
 
     [[WIREDEM_AVX512]] V3 vec3s(const std::array<const Vec3*, body_kind_count>& base) const
     {
@@ -186,7 +186,7 @@ constexpr auto spread3 = [] {
 /// first's contact point relative to second's): the laws, then the slots.
 /// Returns the lanes done: those whose branch was certain.
 [[WIREDEM_AVX512]] inline __mmask8 evaluate_lanes(ContactList& c, std::size_t p, __mmask8 lanes, const V3& normal,
-    __m512d overlap, const V3& velocity, const PairKernelInputs& in)
+    __m512d overlap, const V3& velocity, const ContactInputs& in)
 {
     const __m512d zero = _mm512_setzero_pd();
     std::uint32_t sticking_bits = 0;
@@ -269,7 +269,7 @@ constexpr auto spread3 = [] {
 /// of eight body pairs, then the law.
 template <class Lanes>
 [[WIREDEM_AVX512]] inline std::uint32_t pair_lanes(ContactList& c, std::size_t p, const Lanes& a, const Lanes& b,
-    const PairKernelInputs& in)
+    const ContactInputs& in)
 {
     const V3 xa = a.x(), xb = b.x();
     const __m512d ra = a.radius(), rb = b.radius();
@@ -296,7 +296,7 @@ template <class Lanes>
     return apart | evaluate_lanes(c, p, lanes, normal, overlap, velocity, in);
 }
 
-[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const PairKernelInputs& in)
+[[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const ContactInputs& in)
 {
     const BodyRef *first = &c.first[p], *second = &c.second[p];
     if (all_grains(first) && all_grains(second))
@@ -308,7 +308,7 @@ template <class Lanes>
 /// of one wall, then the same law.
 template <class Lanes>
 [[WIREDEM_AVX512]] inline std::uint32_t wall_lanes(
-    ContactList& c, std::size_t p, const Wall& wall, const Lanes& body, const PairKernelInputs& in)
+    ContactList& c, std::size_t p, const Wall& wall, const Lanes& body, const ContactInputs& in)
 {
     const V3 x = body.x();
     const __m512d r = body.radius();
@@ -345,7 +345,7 @@ template <class Lanes>
 }
 
 [[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t wall_block_avx512(
-    ContactList& c, std::size_t p, const Wall& wall, const PairKernelInputs& in)
+    ContactList& c, std::size_t p, const Wall& wall, const ContactInputs& in)
 {
     const BodyRef* first = &c.first[p];
     if (all_grains(first)) return wall_lanes(c, p, wall, GrainLanes{first, in}, in);
@@ -358,9 +358,9 @@ template <class Lanes>
 
 } // namespace
 
-PairKernelInputs pair_kernel_inputs(const World& w)
+ContactInputs contact_inputs(const World& w)
 {
-    PairKernelInputs in;
+    ContactInputs in;
     for (int k = 0; k < body_kind_count; ++k) {
         in.x[k] = w.bodies[k].x[0].data();
         in.v_dt[k] = w.bodies[k].x[1].data();

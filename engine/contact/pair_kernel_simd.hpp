@@ -35,10 +35,11 @@ struct World;
 /// Lanes of one call of the SIMD pair kernel.
 inline constexpr std::size_t simd_pair_lanes = 8;
 
-/// What the SIMD kernels read besides the contact list: per body kind the
-/// positions x₀, scaled velocities x₁ = δt v and radii; the grains' scaled
-/// spins δt ω (the other kinds do not turn); and the contact law.
-struct PairKernelInputs {
+/// What the contact kernels (compute_contact_forces' scalar one and these)
+/// read besides the contact list: per body kind the positions x₀, scaled
+/// velocities x₁ = δt v and radii; the grains' scaled spins δt ω (the other
+/// kinds do not turn); and the contact law.
+struct ContactInputs {
     std::array<const Vec3*, body_kind_count> x{};
     std::array<const Vec3*, body_kind_count> v_dt{};
     std::array<const double*, body_kind_count> radius{};
@@ -50,18 +51,18 @@ struct PairKernelInputs {
 };
 
 /// The inputs of the world's current state (valid until its bodies change).
-[[nodiscard]] PairKernelInputs pair_kernel_inputs(const World& w);
+[[nodiscard]] ContactInputs contact_inputs(const World& w);
 
 /// Evaluates the contacts [p, p + simd_pair_lanes) of `c` (all body pairs)
 /// that it can (above), writing their slots exactly as the scalar kernel
 /// would. Returns the lanes it did (bit l = contact p + l); the caller
 /// evaluates the others.
-using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const PairKernelInputs& in);
+using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const ContactInputs& in);
 
 
 /// The same for the contacts [p, p + simd_pair_lanes), all of wall `wall`
 /// (plane or cylinder): the lanes whose branch is certain.
-using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const PairKernelInputs& in);
+using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const ContactInputs& in);
 
 /// Whether the explicit SIMD paths run: this pair kernel and the grains'
 /// turn (integrate/rotation.hpp, turn_all). Both give the scalar code's bits.

@@ -8,15 +8,14 @@ namespace wiredem::engine {
 void verlet_first_half(World& w, ThreadPool& pool)
 {
     for (auto& body : w.bodies) {
-        parallel_for(pool, body.size(), [&](std::size_t i) {
-            switch (body.motion[i]) {
-            case Motion::dynamic:
-                body.x[0][i] += body.x[1][i] + body.x[2][i];
-                body.x[1][i] += body.x[2][i];
-                break;
-            case Motion::kinematic: body.x[0][i] += body.x[1][i]; break; // as move_kinematic
-            case Motion::fixed: break;
-            }
+        parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+            for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) {
+                    body.x[0][i] += body.x[1][i] + body.x[2][i];
+                    body.x[1][i] += body.x[2][i];
+                }
+            });
+            move_kinematic(body.x, body.motion, begin, end);
         });
     }
     // Grains turn while they are dynamic (a kinematic or fixed grain does not).

@@ -120,7 +120,7 @@ TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
         test::build_wired_column(wired_sim.world, Integrator::gear5);
         ASSERT_EQ(wired_sim.run(300).end, RunEnd::completed);
         World& w = wired_sim.world;
-        const PairKernelInputs in = pair_kernel_inputs(w);
+        const ContactInputs in = contact_inputs(w);
         std::map<std::pair<BodyKind, BodyKind>, std::size_t> taken_by_kinds;
         for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
             const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
@@ -136,7 +136,7 @@ TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
     build_column(sim, Integrator::gear5);
     ASSERT_EQ(sim.run(2000).end, RunEnd::completed);
     World& w = sim.world;
-    const PairKernelInputs in = pair_kernel_inputs(w);
+    const ContactInputs in = contact_inputs(w);
     std::size_t touching_taken = 0;
     for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
         const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
