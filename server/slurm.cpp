@@ -20,18 +20,27 @@ bool all_of_chars(const std::string& s, const char* allowed_punctuation)
     });
 }
 
-/// Whether `s` is one to `max_groups` runs of digits joined by ':'.
-bool digit_groups(std::string_view s, int max_groups)
+/// The pieces of `s` between the separators `sep`, in order (an empty `s`
+/// is one empty piece): the fields of squeue's and sacct's lines, task lists,
+/// the groups of a time limit.
+std::vector<std::string_view> split_on(std::string_view s, char sep)
 {
-    int groups = 0;
-    for (std::size_t begin = 0;; ++groups) {
-        const std::size_t end = std::min(s.find(':', begin), s.size());
-        if (end == begin || !std::all_of(s.begin() + static_cast<std::ptrdiff_t>(begin), s.begin() + static_cast<std::ptrdiff_t>(end),
-                                [](char c) { return c >= '0' && c <= '9'; }))
-            return false;
-        if (end == s.size()) return groups + 1 <= max_groups;
+    std::vector<std::string_view> pieces;
+    for (std::size_t begin = 0;;) {
+        const std::size_t end = s.find(sep, begin);
+        pieces.push_back(s.substr(begin, end == std::string_view::npos ? std::string_view::npos : end - begin));
+        if (end == std::string_view::npos) return pieces;
         begin = end + 1;
     }
+}
+
+/// Whether `s` is one to `max_groups` runs of digits joined by ':'.
+bool digit_groups(std::string_view s, std::size_t max_groups)
+{
+    const auto groups = split_on(s, ':');
+    return groups.size() <= max_groups && std::all_of(groups.begin(), groups.end(), [](std::string_view g) {
+        return !g.empty() && std::all_of(g.begin(), g.end(), [](char c) { return c >= '0' && c <= '9'; });
+    });
 }
 
 /// sbatch --time: minutes, minutes:seconds, hours:minutes:seconds,
@@ -232,23 +241,33 @@ std::optional<std::int64_t> parse_sbatch_id(const std::string& out)
 namespace {
 
 /// An array task list as squeue prints it: 3, 0-3, [0-3], 1,4-5, [0-9%2].
-std::optional<std::vector<std::size_t>> parse_task_list(std::string s)
+std::optional<std::vector<std::size_t>> parse_task_list(std::string_view s)
 {
     if (s.size() >= 2 && s.front() == '[' && s.back() == ']') s = s.substr(1, s.size() - 2);
     s = s.substr(0, s.find('%'));  // a throttle, "%2"
     std::vector<std::size_t> tasks;
-    std::size_t start = 0;
-    while (start <= s.size()) {
-        const std::size_t comma = std::min(s.find(',', start), s.size());
-        const std::string part = s.substr(start, comma - start);
+    for (std::string_view part : split_on(s, ',')) {
         const std::size_t dash = part.find('-');
         const auto a = parse_number<std::size_t>(part.substr(0, dash));
-        const auto b = dash == std::string::npos ? a : parse_number<std::size_t>(part.substr(dash + 1));
+        const auto b = dash == std::string_view::npos ? a : parse_number<std::size_t>(part.substr(dash + 1));
         if (!a || !b || *b < *a || *b - *a > 100000) return std::nullopt;
         for (std::size_t t = *a; t <= *b; ++t) tasks.push_back(t);
-        start = comma + 1;
     }
     return tasks;
+}
+
+/// The lines of one Slurm job as squeue or sacct names it: the job itself
+/// without `tasks`, else one per array task the list names (none when it does
+/// not parse).
+void add_job_lines(std::vector<SlurmJobLine>& lines, std::int64_t job, std::optional<std::string_view> tasks,
+    std::string_view state, std::string_view reason)
+{
+    if (!tasks) {
+        lines.push_back({job, std::nullopt, std::string(state), std::string(reason)});
+        return;
+    }
+    if (const auto list = parse_task_list(*tasks))
+        for (std::size_t t : *list) lines.push_back({job, t, std::string(state), std::string(reason)});
 }
 
 } // namespace
@@ -256,27 +275,13 @@ std::optional<std::vector<std::size_t>> parse_task_list(std::string s)
 std::vector<SlurmJobLine> parse_squeue(const std::string& out)
 {
     std::vector<SlurmJobLine> lines;
-    std::size_t start = 0;
-    while (start < out.size()) {
-        const std::size_t end = std::min(out.find('\n', start), out.size());
-        const std::string line = out.substr(start, end - start);
-        start = end + 1;
-        std::vector<std::string> f;
-        for (std::size_t a = 0;;) {
-            const std::size_t bar = line.find('|', a);
-            f.push_back(line.substr(a, bar == std::string::npos ? std::string::npos : bar - a));
-            if (bar == std::string::npos) break;
-            a = bar + 1;
-        }
+    for (std::string_view line : split_on(out, '\n')) {
+        const auto f = split_on(line, '|');
         if (f.size() != 5) continue;
         const auto job = parse_number<std::int64_t>(f[1]);
         if (!job || f[3].empty()) continue;
-        if (f[2] == "N/A" || f[2].empty()) {
-            lines.push_back({*job, std::nullopt, f[3], f[4]});
-            continue;
-        }
-        if (const auto tasks = parse_task_list(f[2]))
-            for (std::size_t t : *tasks) lines.push_back({*job, t, f[3], f[4]});
+        const bool no_task = f[2] == "N/A" || f[2].empty();
+        add_job_lines(lines, *job, no_task ? std::nullopt : std::optional(f[2]), f[3], f[4]);
     }
     return lines;
 }
@@ -290,24 +295,16 @@ std::vector<std::string> sacct_arguments(const SlurmIds& ids)
 std::vector<SlurmJobLine> parse_sacct(const std::string& out)
 {
     std::vector<SlurmJobLine> lines;
-    std::size_t start = 0;
-    while (start < out.size()) {
-        const std::size_t end = std::min(out.find('\n', start), out.size());
-        const std::string line = out.substr(start, end - start);
-        start = end + 1;
+    for (std::string_view line : split_on(out, '\n')) {
         const std::size_t bar = line.find('|');
-        if (bar == std::string::npos) continue;
-        const std::string id = line.substr(0, bar);
-        const std::string state = line.substr(bar + 1);
+        if (bar == std::string_view::npos) continue;
+        const std::string_view id = line.substr(0, bar), state = line.substr(bar + 1);
         const std::size_t underscore = id.find('_');
         const auto job = parse_number<std::int64_t>(id.substr(0, underscore));
         if (!job || state.empty()) continue;
-        if (underscore == std::string::npos) {
-            lines.push_back({*job, std::nullopt, state, ""});
-            continue;
-        }
-        if (const auto tasks = parse_task_list(id.substr(underscore + 1)))
-            for (std::size_t t : *tasks) lines.push_back({*job, t, state, ""});
+        // "123" is the job; "123_[0-3]" or "123_2" its array's tasks.
+        const bool no_task = underscore == std::string_view::npos;
+        add_job_lines(lines, *job, no_task ? std::nullopt : std::optional(id.substr(underscore + 1)), state, "");
     }
     return lines;
 }

@@ -199,6 +199,7 @@ TEST(SlurmState, SqueueLinesAsSlurmPrintsThem)
 
     const auto acct = parse_sacct("12|COMPLETED\n13_0|COMPLETED\n13_1|CANCELLED by 0\n13_[2-3]|PENDING\n14|PENDING\n");
     ASSERT_EQ(acct.size(), 6u);
+    EXPECT_TRUE(parse_sacct("15_|FAILED\n16|\nx|RUNNING\n").empty()); // no task list, no state, no job id
     EXPECT_EQ(acct[2].task, 1u);
     EXPECT_EQ(slurm_state_kind(acct[2].state), SlurmUnit::State::failed);
     EXPECT_EQ(acct[4].task, 3u);
