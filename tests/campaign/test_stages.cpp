@@ -15,6 +15,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <spawn.h>
 #include <sstream>
 #include <string>
@@ -170,6 +171,40 @@ TEST(Stages, TestsRunAtOnceGiveWhatTestsRunOneAfterAnotherGive)
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
 }
 
+/// A stage started again and again and killed with SIGKILL after growing
+/// delays (150 + 50 k ms at the k-th start), until a start finishes: whether
+/// one did within 60 starts, how many kills came after `checkpoint` existed,
+/// and what went wrong otherwise (a start that failed or died another way).
+struct KilledRuns {
+    bool done = false;
+    int kills_after_a_checkpoint = 0;
+    std::string error;
+};
+KilledRuns kill_until_it_finishes(
+    const std::function<std::vector<std::string>(int attempt)>& args, const fs::path& checkpoint, const fs::path& log)
+{
+    KilledRuns r;
+    for (int attempt = 0; attempt < 60 && !r.done; ++attempt) {
+        const pid_t pid = spawn(args(attempt), log);
+        if (pid <= 0) return {false, r.kills_after_a_checkpoint, "cannot start wiredem"};
+        std::this_thread::sleep_for(std::chrono::milliseconds(150 + 50 * attempt));
+        const bool had_checkpoint = fs::exists(checkpoint);
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (WIFEXITED(status)) {
+            if (WEXITSTATUS(status) != 0) r.error = "exit " + std::to_string(WEXITSTATUS(status)) + ": " + read_text(log);
+            r.done = true;
+        } else if (WIFSIGNALED(status)) {
+            r.kills_after_a_checkpoint += had_checkpoint;
+        } else {
+            r.error = "neither exited nor killed";
+            return r;
+        }
+    }
+    return r;
+}
+
 // SIGKILL (what the OOM killer or a node failure does) at several points of a
 // test: each start continues from the last checkpoint (written every 20 ms
 // here), and the test ends with the file of an uninterrupted test.
@@ -178,28 +213,15 @@ TEST(Stages, ATestKilledAtSeveralPointsContinuesToTheSameResult)
     const fs::path& ref = reference_run();
     const fs::path dir = fresh_dir("killed"), out = dir / "out";
     ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
-    int kills_after_a_checkpoint = 0;
-    bool done = false;
-    for (int attempt = 0; attempt < 60 && !done; ++attempt) {
-        const pid_t pid = spawn({"test", out.string(), "--index", "0", "--threads", "1", "--checkpoint-interval", "0.02"},
-            dir / "log");
-        ASSERT_GT(pid, 0);
-        // Let it run a while longer each time, then kill it without warning.
-        std::this_thread::sleep_for(std::chrono::milliseconds(150 + 50 * attempt));
-        const bool had_checkpoint = fs::exists(out / "tests/test_0.checkpoint.h5");
-        ::kill(pid, SIGKILL);
-        int status = 0;
-        waitpid(pid, &status, 0);
-        if (WIFEXITED(status)) {
-            ASSERT_EQ(WEXITSTATUS(status), 0) << read_text(dir / "log");
-            done = true;
-        } else {
-            ASSERT_TRUE(WIFSIGNALED(status));
-            kills_after_a_checkpoint += had_checkpoint;
-        }
-    }
-    ASSERT_TRUE(done) << "the test did not finish in 60 starts";
-    EXPECT_GE(kills_after_a_checkpoint, 2) << "the test was not killed after a checkpoint at least twice";
+    const KilledRuns r = kill_until_it_finishes(
+        [&](int) {
+            return std::vector<std::string>{
+                "test", out.string(), "--index", "0", "--threads", "1", "--checkpoint-interval", "0.02"};
+        },
+        out / "tests/test_0.checkpoint.h5", dir / "log");
+    ASSERT_EQ(r.error, "");
+    ASSERT_TRUE(r.done) << "the test did not finish in 60 starts";
+    EXPECT_GE(r.kills_after_a_checkpoint, 2) << "the test was not killed after a checkpoint at least twice";
     EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
     // The test's own file against the reference run's: the same record.
     const auto diffs = h5_differences(out / "tests/test_0.h5", ref / "tests/test_0.h5", how_it_ran);
@@ -213,28 +235,15 @@ TEST(Stages, APreparationKilledAtSeveralPointsContinuesToTheSameSpecimen)
 {
     const fs::path& ref = reference_run();
     const fs::path dir = fresh_dir("killed_preparation"), out = dir / "out";
-    int kills_after_a_checkpoint = 0;
-    bool done = false;
-    for (int attempt = 0; attempt < 60 && !done; ++attempt) {
-        const pid_t pid = spawn({"prepare", tiny_job.string(), "-o", out.string(), "--threads", std::to_string(1 + attempt % 2),
-                                    "--checkpoint-interval", "0.02"},
-            dir / "log");
-        ASSERT_GT(pid, 0);
-        std::this_thread::sleep_for(std::chrono::milliseconds(150 + 50 * attempt));
-        const bool had_checkpoint = fs::exists(out / "specimen.checkpoint.h5");
-        ::kill(pid, SIGKILL);
-        int status = 0;
-        waitpid(pid, &status, 0);
-        if (WIFEXITED(status)) {
-            ASSERT_EQ(WEXITSTATUS(status), 0) << read_text(dir / "log");
-            done = true;
-        } else {
-            ASSERT_TRUE(WIFSIGNALED(status));
-            kills_after_a_checkpoint += had_checkpoint;
-        }
-    }
-    ASSERT_TRUE(done) << "the preparation did not finish in 60 starts";
-    EXPECT_GE(kills_after_a_checkpoint, 2) << "the preparation was not killed after a checkpoint at least twice";
+    const KilledRuns r = kill_until_it_finishes(
+        [&](int attempt) {
+            return std::vector<std::string>{"prepare", tiny_job.string(), "-o", out.string(), "--threads",
+                std::to_string(1 + attempt % 2), "--checkpoint-interval", "0.02"};
+        },
+        out / "specimen.checkpoint.h5", dir / "log");
+    ASSERT_EQ(r.error, "");
+    ASSERT_TRUE(r.done) << "the preparation did not finish in 60 starts";
+    EXPECT_GE(r.kills_after_a_checkpoint, 2) << "the preparation was not killed after a checkpoint at least twice";
     EXPECT_FALSE(fs::exists(out / "specimen.checkpoint.h5"));
     // The World (its every field and state hash) and the report in /host.
     const auto diffs = h5_differences(out / "specimen.h5", ref / "specimen.h5", how_it_ran);
