@@ -167,7 +167,10 @@ test('job list: the job appears, its progress moves, a tag-like name is text, th
   assert.equal((await server.api('GET', `/v1/jobs/${xssId}`)).json.state, 'cancelled');
 
   await page.select('#state-filter', 'cancelled');
-  await page.waitForFunction(() => [...document.querySelectorAll('#jobs tbody tr[data-id]')].every((r) => r.dataset.state === 'cancelled'));
+  await page.waitForFunction(() => {
+    const rows = [...document.querySelectorAll('#jobs tbody tr[data-id]')];
+    return rows.length > 0 && rows.every((r) => r.dataset.state === 'cancelled');
+  });
   assert.deepEqual(await page.$$eval('#jobs tbody tr[data-id]', (rows) => rows.map((r) => r.dataset.id)), [xssId]);
   await page.select('#state-filter', '');
 
@@ -406,8 +409,13 @@ test('studies: the list, a study\'s points with their jobs and the summary over 
 
   // The study's page follows its jobs until both have succeeded.
   await page.goto(`${server.url}/#/studies/${study.json.id}`);
-  await page.waitForFunction(() => [...document.querySelectorAll('#study-points tbody tr')].every((r) => r.dataset.state === 'succeeded'),
-    { timeout: 420000, polling: 500 });
+  // The page must be this study's (the cancelled one's table may still be shown right after the
+  // navigation, or none yet: every() of no rows is true) with both rows succeeded.
+  await page.waitForFunction((name) => {
+    const rows = [...document.querySelectorAll('#study-points tbody tr')];
+    return document.querySelector('#study-name')?.textContent === name && rows.length === 2
+      && rows.every((r) => r.dataset.state === 'succeeded');
+  }, { timeout: 420000, polling: 500 }, 'web study');
   const summary = (await server.api('GET', `/v1/studies/${study.json.id}/summary`)).json;
   assert.equal(summary.points.length, 2);
   for (const p of summary.points) {
