@@ -2,6 +2,8 @@
 
 #include "laws/wire_bond.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -9,24 +11,8 @@ namespace wiredem::engine {
 
 namespace {
 
-/// ∇ζ at an interior node: the gradients of the angle ζ between a = x_i − x_{i−1}
-/// and b = x_{i+1} − x_i with respect to x_{i−1}, x_i, x_{i+1} [1/m]:
-///   ∂ζ/∂x_{i+1} = −(â − cos ζ b̂)/(|b| sin ζ),  ∂ζ/∂x_{i−1} = (b̂ − cos ζ â)/(|a| sin ζ),
-///   ∂ζ/∂x_i = −(∂ζ/∂x_{i−1} + ∂ζ/∂x_{i+1})
-/// (each of length 1/|b|, 1/|a|: bounded). Zero for a straight or degenerate
-/// joint, where the bending direction is undefined.
-std::array<Vec3, 3> bend_angle_gradient_per_m(const Vec3& x_prev, const Vec3& x, const Vec3& x_next)
-{
-    const Vec3 a = x - x_prev, b = x_next - x;
-    const double la = a.norm(), lb = b.norm();
-    if (la == 0.0 || lb == 0.0) return {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    const Vec3 ua = a / la, ub = b / lb;
-    const double cos_z = ua.dot(ub), sin_z = ua.cross(ub).norm();
-    if (sin_z < 1e-9) return {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    const Vec3 g_next = -(ua - cos_z * ub) / (lb * sin_z);
-    const Vec3 g_prev = (ub - cos_z * ua) / (la * sin_z);
-    return {g_prev, -(g_prev + g_next), g_next};
-}
+/// Nodes per block of compute_wire_forces (its segments sit on the stack).
+constexpr std::size_t wire_block = 256;
 
 } // namespace
 
@@ -79,30 +65,39 @@ void compute_wire_forces(World& w, ThreadPool& pool)
     const double zeta_y = wire.bending_yield_angle_rad;
     // Dashpots: τ k (dΔl/dt) and τ k_rot ζ̇, with velocities x[1]/δt.
     const double tau_per_dt = wire_retardation_time_s(wire) / w.dt_s;
-    parallel_for(pool, nodes - 1, [&](std::size_t s) {
-        const Vec3 d = x[s + 1] - x[s];
-        const double len = d.norm();
-        Vec3 f = wire_stretch_force_n(x[s], x[s + 1], l0, k);
-        if (len > 0.0 && tau_per_dt > 0.0) {
-            const Vec3 u = d / len;
-            f += (tau_per_dt * k * (dx[s + 1] - dx[s]).dot(u)) * u; // resists the rate of extension
+    // Block by block: a block finds the segments its joints need (one before
+    // its first node, written by the block before), writes the forces and
+    // strains of its own segments, then its joints'. Each segment's length and
+    // direction are worked out once per block and serve the spring, its
+    // dashpot and the two joints at its ends.
+    parallel_for_blocks(pool, nodes, wire_block, [&](std::size_t begin, std::size_t end) {
+        std::array<WireSegment, wire_block + 1> segment; // segment s at [s − first]
+        const std::size_t first = begin == 0 ? 0 : begin - 1;
+        const std::size_t segments_end = std::min(end, nodes - 1);
+        for (std::size_t s = first; s < segments_end; ++s) {
+            const WireSegment seg = wire_segment(x[s], x[s + 1]);
+            segment[s - first] = seg;
+            if (s < begin) continue;
+            Vec3 f = wire_stretch_force_n(x[s], x[s + 1], l0, k);
+            if (seg.length_m > 0.0 && tau_per_dt > 0.0) // resists the rate of extension
+                f += (tau_per_dt * k * (dx[s + 1] - dx[s]).dot(seg.unit)) * seg.unit;
+            wire.segment_force_n[s] = f;
+            wire.segment_strain[s] = (seg.length_m - l0) / l0;
         }
-        wire.segment_force_n[s] = f;
-        wire.segment_strain[s] = (len - l0) / l0;
-    });
-    parallel_for(pool, nodes, [&](std::size_t i) {
-        if (i == 0 || i + 1 == nodes) return; // ends are free: no bending spring
-        // The joint yields, then pushes back elastically; only this task writes ζ₀[i].
-        const WireJoint joint = wire_joint(x[i - 1], x[i], x[i + 1], k_rot, wire.rest_angle_rad[i], zeta_y);
-        wire.rest_angle_rad[i] = joint.rest_angle_rad;
-        std::array<Vec3, 3> f = joint.force_n;
-        if (tau_per_dt > 0.0) {
-            const auto g = bend_angle_gradient_per_m(x[i - 1], x[i], x[i + 1]);
-            const double zeta_dot_dt = g[0].dot(dx[i - 1]) + g[1].dot(dx[i]) + g[2].dot(dx[i + 1]); // δt · ζ̇
-            const double c = tau_per_dt * k_rot * zeta_dot_dt;
-            for (int j = 0; j < 3; ++j) f[j] -= c * g[j];
+        // Interior joints only: the ends are free, with no bending spring.
+        for (std::size_t i = std::max<std::size_t>(begin, 1); i < segments_end; ++i) {
+            // The joint yields, then pushes back elastically; only this task writes ζ₀[i].
+            const WireJoint joint = wire_joint(segment[i - 1 - first], segment[i - first], k_rot, wire.rest_angle_rad[i], zeta_y);
+            wire.rest_angle_rad[i] = joint.rest_angle_rad;
+            std::array<Vec3, 3> f = joint.force_n;
+            if (tau_per_dt > 0.0) {
+                const auto& g = joint.angle_gradient_per_m;
+                const double zeta_dot_dt = g[0].dot(dx[i - 1]) + g[1].dot(dx[i]) + g[2].dot(dx[i + 1]); // δt · ζ̇
+                const double c = tau_per_dt * k_rot * zeta_dot_dt;
+                for (int j = 0; j < 3; ++j) f[j] -= c * g[j];
+            }
+            wire.bending_force_n[i] = f;
         }
-        wire.bending_force_n[i] = f;
     });
     // Gather in a fixed order: segments i−1 and i, then the bending couples of
     // nodes i−1, i and i+1.

@@ -42,14 +42,37 @@ namespace wiredem::engine {
     return std::max(0.0, std::min(std::max(rest_angle_rad, zeta_rad - yield_angle_rad), zeta_rad + yield_angle_rad));
 }
 
+/// A segment as the joints at its two ends see it.
+struct WireSegment {
+    Vec3 unit = Vec3::Zero(); ///< (x_j − x_i)/|x_j − x_i|; zero for a segment of zero length
+    double length_m = 0.0;    ///< |x_j − x_i| [m]
+};
+
+/// The segment from node i to node j.
+[[nodiscard]] inline WireSegment wire_segment(const Vec3& x_i_m, const Vec3& x_j_m) noexcept
+{
+    const Vec3 d = x_j_m - x_i_m;
+    const double len = d.norm();
+    if (len == 0.0) return {};
+    return {d / len, len};
+}
+
 /// One interior joint i between nodes i−1 and i+1 after a step.
 struct WireJoint {
     std::array<Vec3, 3> force_n;  ///< on nodes i−1, i, i+1 [N]
     double rest_angle_rad;        ///< ζ₀ after the step (yielded_rest_angle_rad) [rad]
+    /// ∇ζ with respect to x_{i−1}, x_i, x_{i+1} [1/m] (what a damper on ζ̇
+    /// needs): ∂ζ/∂x_{i+1} = −(â − cos ζ b̂)/(|b| sin ζ),
+    /// ∂ζ/∂x_{i−1} = (b̂ − cos ζ â)/(|a| sin ζ), ∂ζ/∂x_i = −(the two); each of
+    /// length 1/|b|, 1/|a|. Zero below sin ζ = wire_gradient_sin and for a
+    /// segment of zero length, where the bending direction is undefined.
+    std::array<Vec3, 3> angle_gradient_per_m;
 };
 
 /// Below this sin ζ the bending direction is taken as undefined (see wire_joint).
 inline constexpr double wire_straight_sin = 1e-6;
+/// Below this sin ζ a joint's ∇ζ is taken as zero (WireJoint::angle_gradient_per_m).
+inline constexpr double wire_gradient_sin = 1e-9;
 
 /// Elastic–perfectly-plastic bending joint at an interior node i: first the
 /// rest angle yields (yielded_rest_angle_rad), then the forces are the exact
@@ -69,17 +92,18 @@ inline constexpr double wire_straight_sin = 1e-6;
 /// then taken as ζ₀ / max(sin ζ, 10⁻⁶): exact above sin ζ = 10⁻⁶, below it the
 /// force falls linearly to zero at ζ = 0 (never more than k ζ₀/|b|), so it is
 /// finite and continuous; the same holds at a joint folded back to ζ = π.
-/// @param x_prev_m, x_m, x_next_m  nodes i−1, i, i+1 [m]
-/// @param bending_stiffness_n_m    k_rot [N·m]
-/// @param rest_angle_rad           ζ₀ before the step, ≥ 0 [rad]
-/// @param yield_angle_rad          ζ_y > 0, +∞ for an elastic joint [rad]
-[[nodiscard]] inline WireJoint wire_joint(const Vec3& x_prev_m, const Vec3& x_m, const Vec3& x_next_m,
-    double bending_stiffness_n_m, double rest_angle_rad, double yield_angle_rad) noexcept
+/// @param a, b                  segments i−1 → i and i → i+1 (wire_segment)
+/// @param bending_stiffness_n_m k_rot [N·m]
+/// @param rest_angle_rad        ζ₀ before the step, ≥ 0 [rad]
+/// @param yield_angle_rad       ζ_y > 0, +∞ for an elastic joint [rad]
+[[nodiscard]] inline WireJoint wire_joint(const WireSegment& a, const WireSegment& b, double bending_stiffness_n_m,
+    double rest_angle_rad, double yield_angle_rad) noexcept
 {
-    const Vec3 a = x_m - x_prev_m, b = x_next_m - x_m;
-    const double la = a.norm(), lb = b.norm();
-    if (la == 0.0 || lb == 0.0) return {{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}, rest_angle_rad};
-    const Vec3 ua = a / la, ub = b / lb;
+    const std::array<Vec3, 3> none{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    const double la = a.length_m, lb = b.length_m;
+    if (la == 0.0 || lb == 0.0) return {none, rest_angle_rad, none};
+    const Vec3& ua = a.unit;
+    const Vec3& ub = b.unit;
     const double cos_z = ua.dot(ub);
     const double sin_z = ua.cross(ub).norm();
     const double zeta = std::atan2(sin_z, cos_z);
@@ -88,9 +112,25 @@ inline constexpr double wire_straight_sin = 1e-6;
     // straight chain, the second regularised (see above).
     const double z_over_sin = sin_z > wire_straight_sin ? zeta / sin_z : 1.0 + zeta * zeta / 6.0;
     const double k = bending_stiffness_n_m * (z_over_sin - rest / std::max(sin_z, wire_straight_sin));
-    const Vec3 f_next = k / lb * (ua - cos_z * ub);
-    const Vec3 f_prev = -k / la * (ub - cos_z * ua);
-    return {{f_prev, -(f_prev + f_next), f_next}, rest};
+    const Vec3 towards_next = ua - cos_z * ub; // â − cos ζ b̂
+    const Vec3 towards_prev = ub - cos_z * ua; // b̂ − cos ζ â
+    const Vec3 f_next = k / lb * towards_next;
+    const Vec3 f_prev = -k / la * towards_prev;
+    WireJoint joint{{f_prev, -(f_prev + f_next), f_next}, rest, none};
+    if (!(sin_z < wire_gradient_sin)) {
+        const Vec3 g_next = -towards_next / (lb * sin_z);
+        const Vec3 g_prev = towards_prev / (la * sin_z);
+        joint.angle_gradient_per_m = {g_prev, -(g_prev + g_next), g_next};
+    }
+    return joint;
+}
+
+/// wire_joint of the nodes x_{i−1}, x_i, x_{i+1} [m].
+[[nodiscard]] inline WireJoint wire_joint(const Vec3& x_prev_m, const Vec3& x_m, const Vec3& x_next_m,
+    double bending_stiffness_n_m, double rest_angle_rad, double yield_angle_rad) noexcept
+{
+    return wire_joint(wire_segment(x_prev_m, x_m), wire_segment(x_m, x_next_m), bending_stiffness_n_m, rest_angle_rad,
+        yield_angle_rad);
 }
 
 /// Bending couple of an elastic joint with rest angle ζ₀ (default 0: the

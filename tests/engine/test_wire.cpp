@@ -68,6 +68,38 @@ TEST(WireBending, ForcesAreMinusTheGradientOfHalfKZetaSquared)
         }
 }
 
+TEST(WireBending, AngleGradientIsTheDerivativeOfZetaAndIsZeroWhereTheDirectionIsUndefined)
+{
+    // ∇ζ drives the joint's damper (τ k_rot ζ̇ = τ k_rot ∇ζ · ẋ). Central
+    // differences with h = 1e-9 m on ~1 mm segments: truncation h² |ζ'''|/6 ~
+    // 1e-18 · 1e9 = 1e-9 /m and rounding ε ζ / h ~ 1e-7 /m, against |∇ζ| ~ 1e3 /m.
+    std::array<Vec3, 3> x{Vec3(0, 0, 0), Vec3(1.2e-3, 0.1e-3, 0), Vec3(2.3e-3, 0.5e-3, 0.2e-3)};
+    auto zeta = [](const std::array<Vec3, 3>& p) {
+        const Vec3 a = p[1] - p[0], b = p[2] - p[1];
+        return std::atan2(a.cross(b).norm(), a.dot(b));
+    };
+    const double elastic = std::numeric_limits<double>::infinity();
+    const auto g = wire_joint(x[0], x[1], x[2], 1e-5, 0.0, elastic).angle_gradient_per_m;
+    const double h = 1e-9;
+    for (int node = 0; node < 3; ++node)
+        for (int d = 0; d < 3; ++d) {
+            auto plus = x, minus = x;
+            plus[node][d] += h;
+            minus[node][d] -= h;
+            EXPECT_NEAR(g[node][d], (zeta(plus) - zeta(minus)) / (2 * h), 1e-6 * g[0].norm())
+                << "node " << node << " axis " << d;
+        }
+    // ζ does not change when the joint moves or turns as a whole.
+    EXPECT_LT((g[0] + g[1] + g[2]).norm(), 1e-12 * g[0].norm());
+    EXPECT_LT((x[0].cross(g[0]) + x[1].cross(g[1]) + x[2].cross(g[2])).norm(), 1e-12 * g[0].norm() * 1e-3);
+
+    // Straight, and a segment of zero length: no bending direction, no gradient.
+    for (const auto& p : {std::array<Vec3, 3>{Vec3(0, 0, 0), Vec3(1e-3, 0, 0), Vec3(2e-3, 0, 0)},
+             std::array<Vec3, 3>{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1e-3, 1e-3, 0)}})
+        for (const Vec3& gi : wire_joint(p[0], p[1], p[2], 1e-5, 0.0, elastic).angle_gradient_per_m)
+            EXPECT_EQ(gi, Vec3::Zero());
+}
+
 TEST(WireBending, StraightChainFeelsNoBendingForce)
 {
     const auto f = wire_bending_forces_n(Vec3(0, 0, 0), Vec3(1e-3, 0, 0), Vec3(2e-3, 0, 0), 1e-5);
