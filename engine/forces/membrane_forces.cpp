@@ -118,12 +118,14 @@ void set_membrane_rigid(World& w, bool rigid)
         set_motion(w, {BodyKind::membrane, i}, rigid || m.node_fixed[i] ? Motion::fixed : Motion::dynamic);
     }
     m.rigid = rigid;
+    // A rebuild even when no node changed its motion: the list the preparation
+    // continues with, hence its bits, depend on when it was built.
+    invalidate_neighbours(w);
     if (rigid) { // compute_membrane_forces skips a rigid membrane: nothing it holds moves
         std::fill(m.edge_force_n.begin(), m.edge_force_n.end(), Vec3::Zero());
         std::fill(m.triangle_force_n.begin(), m.triangle_force_n.end(), Vec3::Zero());
         std::fill(m.node_force_n.begin(), m.node_force_n.end(), Vec3::Zero());
     }
-    w.neighbours_dirty = true; // the pair filter skips pairs of two bodies that are not dynamic
 }
 
 void compute_membrane_forces(World& w, ThreadPool& pool)

@@ -299,7 +299,7 @@ Column empty_column(const PreparationSpec& spec)
     // squeezed from four sides (overlaps far beyond the time step's reference,
     // measured: examples/small.json blew up).
     c.wire_touches_membrane = w.kinds_interact[1][2];
-    w.kinds_interact[1][2] = w.kinds_interact[2][1] = false;
+    set_kinds_interact(w, BodyKind::wire, BodyKind::membrane, false);
     // Weights scaled like the masses while pouring (see preparation.hpp).
     set_weights(w, spec.density_scale, spec.wire_mass_scale, spec.density_scale);
 
@@ -487,8 +487,7 @@ Result<PreparationReport, std::string> prepare_specimen(
                 if (!settled) return true;
                 st.settled_before_lid = *settled;
                 remove_wall(w, column.mould_wall); // the mould goes before the lid
-                w.kinds_interact[1][2] = w.kinds_interact[2][1] = column.wire_touches_membrane;
-                w.neighbours_dirty = true;
+                set_kinds_interact(w, BodyKind::wire, BodyKind::membrane, column.wire_touches_membrane);
                 // Lower the top plate until it rests on the grains: wire
                 // standing out of the pile (a laid coil springs back towards
                 // straight) is pushed back in on the way down. It starts

@@ -115,4 +115,27 @@ void set_motion(World& w, BodyRef b, Motion motion)
     w.neighbours_dirty = true;
 }
 
+void set_kinds_interact(World& w, BodyKind a, BodyKind b, bool interact)
+{
+    const auto i = static_cast<std::size_t>(a), j = static_cast<std::size_t>(b);
+    w.kinds_interact[i][j] = w.kinds_interact[j][i] = interact;
+    w.neighbours_dirty = true;
+}
+
+void place_body(World& w, BodyRef b, const Vec3& position_m)
+{
+    TranslationalState& body = w.of(b.kind());
+    const std::uint32_t i = b.index();
+    body.x[0][i] = position_m;
+    for (int k = 1; k < gear_order; ++k) body.x[k][i].setZero();
+    if (b.kind() == BodyKind::grain)
+        for (int k = 1; k < gear_order; ++k) w.grain_rotation.w[k][i].setZero();
+    w.neighbours_dirty = true;
+}
+
+void invalidate_neighbours(World& w)
+{
+    w.neighbours_dirty = true;
+}
+
 } // namespace wiredem::engine

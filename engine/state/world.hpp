@@ -95,7 +95,7 @@ struct World {
     ContactList contacts;
     CellGrid grid;
     std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
-    bool neighbours_dirty = true;          ///< set when bodies are added or moved by hand
+    bool neighbours_dirty = true;          ///< set by the mutators (add_…, set_motion, place_body, …), never by hand
     std::uint64_t neighbour_builds = 0;
 
     /// Total number of bodies over all kinds.
@@ -160,6 +160,15 @@ void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s);
 /// acceleration (x₂ … x₅ = 0); a dynamic one starts from its velocity. The
 /// neighbour list is rebuilt (two bodies that are not dynamic need no contact).
 void set_motion(World& w, BodyRef b, Motion motion);
+/// Whether bodies of kinds a and b touch (both entries of the symmetric
+/// matrix). The neighbour list is rebuilt at the next step.
+void set_kinds_interact(World& w, BodyKind a, BodyKind b, bool interact);
+/// Puts a body at a position, at rest: x₁ … x₅ = 0 (a grain stops turning
+/// too). For set-ups and tests; the neighbour list is rebuilt at the next step.
+void place_body(World& w, BodyRef b, const Vec3& position_m);
+/// Drops the neighbour list: the next step rebuilds it. Every mutator above
+/// does this itself; a caller never needs it but to force a rebuild.
+void invalidate_neighbours(World& w);
 /// Whether the integrator moves the body by its forces.
 [[nodiscard]] inline bool is_dynamic(const TranslationalState& body, std::size_t i)
 {

@@ -139,7 +139,7 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     build(b);
     const BodyRef grain(BodyKind::grain, 0);
     for (int s = 0; s < 3000; ++s) {
-        a.world.neighbours_dirty = true; // a rebuild before every step
+        invalidate_neighbours(a.world); // a rebuild before every step
         a.step();
         b.step();
     }

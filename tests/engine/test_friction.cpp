@@ -43,8 +43,8 @@ TEST(SlidingSphere, StopsAndSticksEvenWhenOneFrictionStepOvershootsTheStickWindo
     // At rest at the static Hertz overlap under P, then set sliding.
     const double e_star = effective_modulus_pa(10e9, 0.3, 1e9, 0.3);
     const double overlap = std::pow(load_n / ((4.0 / 3.0) * e_star * std::sqrt(radius_m)), 2.0 / 3.0);
-    w.bodies[0].x[0][0] = Vec3(0, 0, radius_m - overlap);
-    w.bodies[0].x[1][0] = Vec3(0.1 * dt, 0, 0);
+    place_body(w, BodyRef(BodyKind::grain, 0), Vec3(0, 0, radius_m - overlap));
+    set_velocity(w, BodyRef(BodyKind::grain, 0), Vec3(0.1, 0, 0));
     w.point_loads.push_back({BodyRef(BodyKind::grain, 0), Vec3(0, 0, -load_n)});
 
     // Coulomb friction stops the slip within v₀ / (μ P / m_t) ≈ 30 steps;

@@ -61,10 +61,7 @@ TEST(Walls, ABodyMovedAwayByHandLeavesNoForceBehind)
     add_grain(w, Vec3(0, 0, 0.99 * radius_m), radius_m, 0);
     sim.step();
     ASSERT_EQ(w.walls[0].contacts, 1u);
-    w.bodies[0].x[0][0] = Vec3(0, 0, 0.1);
-    w.bodies[0].x[1][0].setZero();
-    w.bodies[0].x[2][0].setZero();
-    w.neighbours_dirty = true;
+    place_body(w, BodyRef(BodyKind::grain, 0), Vec3(0, 0, 0.1));
     sim.step();
     EXPECT_EQ(w.walls[0].contacts, 0u);
     EXPECT_EQ(w.bodies[0].force_n[0], Vec3::Zero());
