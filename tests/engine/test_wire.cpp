@@ -33,6 +33,28 @@ void hold(World& w, std::uint32_t node) { set_motion(w, {BodyKind::wire, node}, 
 double area_m2() { return M_PI * paper_wire.radius_m * paper_wire.radius_m; }
 double second_moment_m4() { return M_PI * std::pow(paper_wire.radius_m, 4) / 4.0; }
 
+/// ζ, the angle between the segments x₁ − x₀ and x₂ − x₁ [rad].
+double angle_of(const std::array<Vec3, 3>& p)
+{
+    const Vec3 a = p[1] - p[0], b = p[2] - p[1];
+    return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+/// ∂f/∂x_node,d for every node and axis by central differences of step h [m].
+template <class F>
+std::array<Vec3, 3> central_differences(const std::array<Vec3, 3>& x, double h, F&& f)
+{
+    std::array<Vec3, 3> g;
+    for (int node = 0; node < 3; ++node)
+        for (int d = 0; d < 3; ++d) {
+            auto plus = x, minus = x;
+            plus[node][d] += h;
+            minus[node][d] -= h;
+            g[node][d] = (f(plus) - f(minus)) / (2 * h);
+        }
+    return g;
+}
+
 } // namespace
 
 TEST(WireBending, CoupleHasZeroNetForceAndTorque)
@@ -51,21 +73,14 @@ TEST(WireBending, ForcesAreMinusTheGradientOfHalfKZetaSquared)
 {
     const double k = 2e-5;
     std::array<Vec3, 3> x{Vec3(0, 0, 0), Vec3(1.2e-3, 0.1e-3, 0), Vec3(2.3e-3, 0.5e-3, 0.2e-3)};
-    auto energy = [&](const std::array<Vec3, 3>& p) {
-        const Vec3 a = p[1] - p[0], b = p[2] - p[1];
-        const double zeta = std::atan2(a.cross(b).norm(), a.dot(b));
-        return 0.5 * k * zeta * zeta;
-    };
     const auto f = wire_bending_forces_n(x[0], x[1], x[2], k);
-    const double h = 1e-9;
+    const auto grad_e = central_differences(x, 1e-9, [&](const std::array<Vec3, 3>& p) {
+        const double zeta = angle_of(p);
+        return 0.5 * k * zeta * zeta;
+    });
     for (int node = 0; node < 3; ++node)
-        for (int d = 0; d < 3; ++d) {
-            auto plus = x, minus = x;
-            plus[node][d] += h;
-            minus[node][d] -= h;
-            const double numeric = -(energy(plus) - energy(minus)) / (2 * h);
-            EXPECT_NEAR(f[node][d], numeric, 1e-6 * f[0].norm()) << "node " << node << " axis " << d;
-        }
+        for (int d = 0; d < 3; ++d)
+            EXPECT_NEAR(f[node][d], -grad_e[node][d], 1e-6 * f[0].norm()) << "node " << node << " axis " << d;
 }
 
 TEST(WireBending, AngleGradientIsTheDerivativeOfZetaAndIsZeroWhereTheDirectionIsUndefined)
@@ -74,21 +89,12 @@ TEST(WireBending, AngleGradientIsTheDerivativeOfZetaAndIsZeroWhereTheDirectionIs
     // differences with h = 1e-9 m on ~1 mm segments: truncation h² |ζ'''|/6 ~
     // 1e-18 · 1e9 = 1e-9 /m and rounding ε ζ / h ~ 1e-7 /m, against |∇ζ| ~ 1e3 /m.
     std::array<Vec3, 3> x{Vec3(0, 0, 0), Vec3(1.2e-3, 0.1e-3, 0), Vec3(2.3e-3, 0.5e-3, 0.2e-3)};
-    auto zeta = [](const std::array<Vec3, 3>& p) {
-        const Vec3 a = p[1] - p[0], b = p[2] - p[1];
-        return std::atan2(a.cross(b).norm(), a.dot(b));
-    };
     const double elastic = std::numeric_limits<double>::infinity();
     const auto g = wire_joint(x[0], x[1], x[2], 1e-5, 0.0, elastic).angle_gradient_per_m;
-    const double h = 1e-9;
+    const auto numeric = central_differences(x, 1e-9, angle_of);
     for (int node = 0; node < 3; ++node)
-        for (int d = 0; d < 3; ++d) {
-            auto plus = x, minus = x;
-            plus[node][d] += h;
-            minus[node][d] -= h;
-            EXPECT_NEAR(g[node][d], (zeta(plus) - zeta(minus)) / (2 * h), 1e-6 * g[0].norm())
-                << "node " << node << " axis " << d;
-        }
+        for (int d = 0; d < 3; ++d)
+            EXPECT_NEAR(g[node][d], numeric[node][d], 1e-6 * g[0].norm()) << "node " << node << " axis " << d;
     // ζ does not change when the joint moves or turns as a whole.
     EXPECT_LT((g[0] + g[1] + g[2]).norm(), 1e-12 * g[0].norm());
     EXPECT_LT((x[0].cross(g[0]) + x[1].cross(g[1]) + x[2].cross(g[2])).norm(), 1e-12 * g[0].norm() * 1e-3);
@@ -116,13 +122,6 @@ namespace {
 std::array<Vec3, 3> joint_at(double zeta, double la = 1.25e-3, double lb = 1.25e-3)
 {
     return {Vec3(-la, 0, 0), Vec3(0, 0, 0), lb * Vec3(std::cos(zeta), std::sin(zeta), 0)};
-}
-
-/// The joint's angle ζ [rad].
-double angle_of(const std::array<Vec3, 3>& p)
-{
-    const Vec3 a = p[1] - p[0], b = p[2] - p[1];
-    return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
 const double yield_angle = wire_bending_yield_angle_rad(0.05, paper_wire.radius_m, paper_wire.segment_length_m);
@@ -195,22 +194,16 @@ TEST(WirePlasticJoint, ForcesAreMinusTheGradientOfHalfKZetaLessRestSquared)
     const std::array<Vec3, 3> x{Vec3(0, 0, 0), Vec3(1.2e-3, 0.1e-3, 0), Vec3(2.3e-3, 0.5e-3, 0.2e-3)};
     const double zeta = angle_of(x);
     for (double rest : {zeta - 0.1, zeta + 0.1, 1.5}) {
-        auto energy = [&](const std::array<Vec3, 3>& p) {
-            const double d = angle_of(p) - rest;
-            return 0.5 * k * d * d;
-        };
         const WireJoint j = wire_joint(x[0], x[1], x[2], k, rest, std::numeric_limits<double>::infinity());
         EXPECT_EQ(j.rest_angle_rad, rest);
         const auto& f = j.force_n;
-        const double h = 1e-9;
+        const auto grad_e = central_differences(x, 1e-9, [&](const std::array<Vec3, 3>& p) {
+            const double d = angle_of(p) - rest;
+            return 0.5 * k * d * d;
+        });
         for (int node = 0; node < 3; ++node)
-            for (int d = 0; d < 3; ++d) {
-                auto plus = x, minus = x;
-                plus[node][d] += h;
-                minus[node][d] -= h;
-                const double numeric = -(energy(plus) - energy(minus)) / (2 * h);
-                EXPECT_NEAR(f[node][d], numeric, 1e-6 * f[0].norm()) << "ζ₀ " << rest << " node " << node << " axis " << d;
-            }
+            for (int d = 0; d < 3; ++d)
+                EXPECT_NEAR(f[node][d], -grad_e[node][d], 1e-6 * f[0].norm()) << "ζ₀ " << rest << " node " << node << " axis " << d;
         const Vec3 net = f[0] + f[1] + f[2];
         const Vec3 torque = x[0].cross(f[0]) + x[1].cross(f[1]) + x[2].cross(f[2]);
         EXPECT_LT(net.norm(), 1e-12 * f[0].norm());
