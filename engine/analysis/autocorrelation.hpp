@@ -10,7 +10,7 @@
 // * the first *prominent* maximum: the first local maximum that stands out of the
 //   estimator's own noise. R̂ of a real wire decays from 1 with bumps of 10⁻⁴ on
 //   its shoulder (the study's helix column at 80 kPa, 7991 segments: a bump of
-//   0.0002 at k = 32, 40 mm, before the dip at 77.5 mm and the real hump at
+//   0.0004 at k = 32, 40 mm, before the dip at 77.5 mm and the real hump at
 //   117.5 mm), and the literal reading takes such a bump for the pattern's length.
 //   A maximum counts when its topographic prominence — its height above the higher
 //   of the lowest points reached on each side before R̂ rises above it again (or
