@@ -212,6 +212,7 @@ json::object wire_autocorrelation_json(std::span<const double> strain, double l_
         body["lag_m"] = json::array();
         body["coefficients"] = json::array();
         body["first_maximum_lag_m"] = nullptr;
+        body["prominent_maximum_lag_m"] = nullptr;
         return body;
     }
     json::array lag, r;
@@ -224,7 +225,9 @@ json::object wire_autocorrelation_json(std::span<const double> strain, double l_
     body["coefficients"] = std::move(r);
     body["mean"] = number(ac.value().mean);
     body["variance"] = number(ac.value().variance);
-    body["first_maximum_lag_m"] = ac.value().first_maximum_lag_m ? number(*ac.value().first_maximum_lag_m) : json::value(nullptr);
+    const auto number_or_null = [](std::optional<double> x) { return x ? number(*x) : json::value(nullptr); };
+    body["first_maximum_lag_m"] = number_or_null(ac.value().first_maximum_lag_m);
+    body["prominent_maximum_lag_m"] = number_or_null(ac.value().prominent_maximum_lag_m);
     return body;
 }
 

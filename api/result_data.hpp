@@ -68,8 +68,9 @@ struct SeriesColumn {
     std::size_t max_points);
 
 /// {segment_length_m, segments, lag_m, coefficients, mean, variance,
-/// first_maximum_lag_m, error}: the autocorrelation of a wire's segment
-/// strains; error (and empty lists) when there is none.
+/// first_maximum_lag_m, prominent_maximum_lag_m, error}: the autocorrelation of
+/// a wire's segment strains with its first local and first prominent maximum
+/// (engine/analysis/autocorrelation.hpp); error (and empty lists) when there is none.
 [[nodiscard]] boost::json::object wire_autocorrelation_json(std::span<const double> segment_strain, double segment_length_m);
 
 /// Rows kept when a series of `rows` rows is thinned to at most `max_points`

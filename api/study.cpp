@@ -357,6 +357,7 @@ json::object study_summary(const Study& study, const std::vector<PointOutcome>& 
         row["core_grain_volume_fraction"] = number_or_null(find(s, {"specimen", "core_grain_volume_fraction"}));
         row["wire_length_m"] = number_or_null(find(s, {"specimen", "wire_length_m"}));
         row["autocorrelation_lag_m"] = number_or_null(find(s, {"wire", "autocorrelation_lag_m"}));
+        row["autocorrelation_prominent_lag_m"] = number_or_null(find(s, {"wire", "autocorrelation_prominent_lag_m"}));
         rows.push_back(std::move(row));
 
         const std::string key = json::serialize(key_values);
@@ -409,7 +410,7 @@ std::string study_summary_csv(const json::object& summary)
     const char* columns[] = {"state", "job_id", "friction_angle_deg", "cohesion_pa", "r_squared",
         "confining_pressures_pa", "yield_deviatoric_stress_pa", "yield_shape", "max_deviatoric_stress_pa",
         "grain_volume_fraction", "wire_volume_fraction", "core_grain_volume_fraction", "wire_length_m",
-        "autocorrelation_lag_m", "error"};
+        "autocorrelation_lag_m", "autocorrelation_prominent_lag_m", "error"};
     for (const char* c : columns) csv << ',' << c;
     csv << '\n';
     if (const json::value* rows = summary.if_contains("points"); rows && rows->is_array())

@@ -49,6 +49,25 @@ std::string format_metres(double m)
     return buf;
 }
 
+/// The summary's warning when the first local maximum of the wire's
+/// autocorrelation is not its first prominent one (engine/analysis/autocorrelation.hpp).
+std::string noise_band_warning(const eng::analysis::Autocorrelation& ac)
+{
+    const std::size_t k = *ac.first_maximum_lag;
+    char text[256];
+    std::snprintf(text, sizeof text,
+        "wire autocorrelation: the first local maximum at %.4g mm is below the noise band (prominence %.2g, band %.2g); ",
+        *ac.first_maximum_lag_m * 1e3, eng::analysis::peak_prominence(ac.coefficients, k, k),
+        eng::analysis::white_noise_band_95(ac.samples, k));
+    std::string w = text;
+    if (ac.prominent_maximum_lag_m) {
+        std::snprintf(text, sizeof text, "the first prominent maximum is at %.4g mm", *ac.prominent_maximum_lag_m * 1e3);
+        w += text;
+    } else
+        w += "no maximum after it rises above the band";
+    return w;
+}
+
 void report(const StageControl& c, const char* stage, double fraction, const std::string& message)
 {
     if (c.progress) c.progress(stage, std::clamp(fraction, 0.0, 1.0), message);
@@ -290,6 +309,10 @@ json::object definitions_json()
     d["smoothing_strain"] = tol.smoothing_strain;
     d["shape_tolerance"] = tol.shape_tolerance;
     d["end_window_strain"] = tol.end_window_strain;
+    d["autocorrelation_lag"] = "wire.autocorrelation_lag_m: the first local maximum after lag 0 of the autocorrelation "
+                               "R(k) of the segment strains; wire.autocorrelation_prominent_lag_m: the first local maximum "
+                               "whose topographic prominence exceeds the white-noise 95 % band 1.96/sqrt(N - k) (a lower "
+                               "bound of the band of a correlated signal)";
     d["friction_angle"] = "tangent fit: sin(phi) = slope of the least-squares line through the circle tops (p, t), "
                           "c = intercept / cos(phi); paper_top_line_angle_deg = atan(slope), the paper's reading";
     return d;
@@ -394,7 +417,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         warnings.push_back(std::to_string(rising) + " of " + std::to_string(tests.size())
                            + " tests: the stress ratio was still rising at the end; their yield states are lower "
                              "bounds (raise triaxial.target_axial_strain)");
-    std::optional<double> lag_m;
+    std::optional<double> lag_m, prominent_lag_m;
     const bool with_wire = spec.specimen.wire.pattern != api::WirePattern::none && prep.wire_nodes > 1;
     // At the end of the test at the highest pressure (the first of equals):
     // the wire's strain is largest and most developed there.
@@ -406,8 +429,12 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             warnings.push_back("wire autocorrelation: " + ac.error());
         else if (!ac.value().first_maximum_lag_m)
             warnings.push_back("wire autocorrelation: no local maximum after lag 0");
-        else
+        else {
             lag_m = ac.value().first_maximum_lag_m;
+            prominent_lag_m = ac.value().prominent_maximum_lag_m;
+            if (ac.value().prominent_maximum_lag != ac.value().first_maximum_lag)
+                warnings.push_back(noise_band_warning(ac.value()));
+        }
     }
 
     // Writing: result.h5, then summary.json (its presence marks success).
@@ -494,6 +521,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         json::object wire;
         wire["pattern"] = api::to_string(spec.specimen.wire.pattern);
         wire["autocorrelation_lag_m"] = lag_m ? json::value(*lag_m) : json::value(nullptr);
+        wire["autocorrelation_prominent_lag_m"] = prominent_lag_m ? json::value(*prominent_lag_m) : json::value(nullptr);
         summary["wire"] = std::move(wire);
 
         json::array jw;

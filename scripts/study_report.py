@@ -86,29 +86,39 @@ def difference_exceeds_scatter(a, b):
     return delta, bound, abs(delta) > bound
 
 
-def autocorrelation(signal, segment_length_m):
-    """R(k) of engine/analysis/autocorrelation.hpp and its first local maximum.
+def autocorrelation(signal):
+    """R(k) of engine/analysis/autocorrelation.hpp, for drawing only.
 
     R(k) = 1/((N - k) s²) sum_{t < N-k} (X_t - m)(X_{t+k} - m) for k = 0 … N-1, with
     m the mean and s² the population variance (1/N) of the whole signal, so R(0) = 1.
-    The first maximum is the first k in [1, N-2] with R(k-1) < R(k) >= R(k+1).
-    Returns (R, lag index or None, lag in metres or None); R is None for fewer
-    than 2 samples or a constant signal (no correlation is defined).
+    None for fewer than 2 samples or a constant signal (no correlation is defined).
+    The lags the report marks on it are the engine's, read from summary.json
+    (summary_lags): the maxima are the result, and one computation of them is
+    enough; the curve under them only has to be the same R.
     """
     x = np.asarray(signal, dtype=float)
     n = x.size
     if n < 2:
-        return None, None, None
+        return None
     d = x - x.mean()
     variance = float(np.mean(d * d))
     if not math.sqrt(variance) > 1e-12 * float(np.max(np.abs(x))) or variance == 0.0:
-        return None, None, None
+        return None
     sums = np.correlate(d, d, mode="full")[n - 1:]  # sums[k] = sum_t d_t d_{t+k}
-    r = sums / ((n - np.arange(n)) * variance)
-    for k in range(1, n - 1):
-        if r[k - 1] < r[k] and r[k] >= r[k + 1]:
-            return r, k, k * segment_length_m
-    return r, None, None
+    return sums / ((n - np.arange(n)) * variance)
+
+
+# summary.json's wire lags (docs/results.md): the first local maximum of R after
+# lag 0 and the first prominent one (prominence above the white-noise band).
+LAG_KEYS = (("autocorrelation_lag_m", "first maximum"), ("autocorrelation_prominent_lag_m", "first prominent maximum"))
+
+
+def summary_lags(summary):
+    """{key: lag [m] or None} of summary.json's wire, for LAG_KEYS; a key missing
+    from the file (a summary written before it existed) maps to the string
+    "absent", so that a table can tell "not computed" from "no such maximum"."""
+    wire = summary.get("wire") or {}
+    return {key: wire.get(key) if key in wire else "absent" for key, _ in LAG_KEYS}
 
 
 def loop_lengths_m(wire):
@@ -642,6 +652,16 @@ def wire_snapshot(c):
                 snaps[-1]["wire_segment_strain"][:])
 
 
+def is_lag(v):
+    """Whether a summary_lags value is a lag (not None, not "absent")."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def lag_cell(lag_m):
+    """A summary lag in mm for a table: '—' for no such maximum, 'absent' kept."""
+    return lag_m if lag_m == "absent" else fmt(lag_m and lag_m * 1e3, ".2f")
+
+
 def wire_figure_and_rows(p, campaigns, out, made):
     bold = lead(campaigns)
     rows, done = [], []
@@ -653,20 +673,19 @@ def wire_figure_and_rows(p, campaigns, out, made):
             continue
         s3, ea, strain = snap
         seg = c.job["specimen"]["wire"]["segment_length_m"]
-        r, k, lag_m = autocorrelation(strain, seg)
+        r = autocorrelation(strain)
+        lags = summary_lags(c.summary)
         loops = loop_lengths_m(c.job["specimen"]["wire"])
-        done.append((c, s3, ea, strain, seg, r, lag_m, loops))
+        done.append((c, s3, ea, strain, seg, r, lags, loops))
         rows.append([c.name, f"{s3 / 1e3:g}", f"{ea * 100:.2f}", len(strain), f"{len(strain) * seg:.3g}",
-                     f"{np.mean(strain) * 100:.3f}", f"{np.max(strain) * 100:.3f}",
-                     fmt(lag_m and lag_m * 1e3, ".1f"),
-                     fmt((c.summary.get("wire") or {}).get("autocorrelation_lag_m") and
-                         c.summary["wire"]["autocorrelation_lag_m"] * 1e3, ".1f"),
-                     ", ".join(f"{name} {v * 1e3:.1f}" for name, v in loops)])
+                     f"{np.mean(strain) * 100:.3f}", f"{np.max(strain) * 100:.3f}"]
+                    + [lag_cell(lags[key]) for key, _ in LAG_KEYS]
+                    + [", ".join(f"{name} {v * 1e3:.1f}" for name, v in loops)])
     if not done:
         return rows
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(11, 7.5))
     head = next((d for d in done if d[0] is bold), done[0])
-    c, s3, ea, strain, seg, r, lag_m, loops = head
+    c, s3, ea, strain, seg, r, lags, loops = head
     s = (np.arange(len(strain)) + 0.5) * seg
     ax1.plot(s, strain * 100, color=PATTERN_COLOUR[p], lw=0.8)
     ax1.axhline(np.mean(strain) * 100, color="k", ls="--", lw=1)
@@ -677,21 +696,31 @@ def wire_figure_and_rows(p, campaigns, out, made):
     ax1.set_title(f"segment strain, {PATTERN_LABEL[p]}, seed {c.seed}: σ₃ = {kpa(s3)}, ε_a = {ea * 100:.1f} %; "
                   f"mean {np.mean(strain) * 100:.3f} % (dashed), max {strain[i] * 100:.3f} % (▼)", fontsize=10)
     ax1.grid(alpha=0.3)
-    longest = max([v for _, v in loops] + [lag_m or 0.0])
+    found = [v for d in done for v in d[6].values() if is_lag(v)]
+    longest = max([v for _, v in loops] + found + [0.0])
     shown = min(len(strain) * seg / 2, max(5 * longest, 20 * seg))
+    # The first maximum as a circle, the first prominent one as a star; the
+    # lead campaign's labelled (the others' markers are smaller).
+    marker = {"autocorrelation_lag_m": ("o", 6), "autocorrelation_prominent_lag_m": ("*", 10)}
     for d in done:
-        dc, _, _, _, dseg, dr, dlag, _ = d
+        dc, _, _, _, dseg, dr, dlags, _ = d
         if dr is None:
             continue
-        lags = np.arange(len(dr)) * dseg
-        keep = lags <= shown
-        ax2.plot(lags[keep], dr[keep], color=PATTERN_COLOUR[p], lw=1.8 if dc is c else 0.7,
+        x = np.arange(len(dr)) * dseg
+        keep = x <= shown
+        ax2.plot(x[keep], dr[keep], color=PATTERN_COLOUR[p], lw=1.8 if dc is c else 0.7,
                  alpha=1.0 if dc is c else 0.5, label=f"seed {dc.seed}")
-        if dlag is not None:
-            ax2.plot(dlag, dr[int(round(dlag / dseg))], "o", color="k", ms=6 if dc is c else 4, zorder=5)
+        for j, (key, what) in enumerate(LAG_KEYS):
+            lag = dlags[key]
+            if not is_lag(lag):
+                continue
+            k = min(int(round(lag / dseg)), len(dr) - 1)
+            shape, size = marker[key]
+            ax2.plot(lag, dr[k], shape, color="k", ms=size if dc is c else 0.7 * size, zorder=5,
+                     label=f"{what} (summary.json)" if dc is c else None)
             if dc is c:
-                ax2.annotate(f"first maximum {dlag * 1e3:.1f} mm", (dlag, dr[int(round(dlag / dseg))]),
-                             textcoords="offset points", xytext=(8, 8), fontsize=8)
+                ax2.annotate(f"{what} {lag * 1e3:.1f} mm", (lag, dr[k]), textcoords="offset points",
+                             xytext=(8, 8 + 12 * j), fontsize=8)
     styles = [":", "-.", (0, (5, 2))]
     for j, (name, v) in enumerate(loops):
         ax2.axvline(v, color="0.3", ls=styles[j % len(styles)], lw=1.1, label=f"{name} = {v * 1e3:.1f} mm")
@@ -699,7 +728,8 @@ def wire_figure_and_rows(p, campaigns, out, made):
     ax2.set_xlim(0, shown)
     ax2.set_xlabel("lag along the wire [m]")
     ax2.set_ylabel("autocorrelation R(lag)")
-    ax2.set_title("autocorrelation of the segment strain (engine/analysis/autocorrelation.hpp)", fontsize=10)
+    ax2.set_title("autocorrelation of the segment strain; maxima from summary.json (engine/analysis/autocorrelation.hpp)",
+                  fontsize=10)
     ax2.legend(fontsize=8, loc="best")
     ax2.grid(alpha=0.3)
     fig.tight_layout()
@@ -861,12 +891,15 @@ def main(argv=None):
         if p != "none":
             wire_rows += wire_figure_and_rows(p, cs, figures, made)
     md.append("\n## Wire strain\n\nThe segment strains of the highest-pressure test at its last snapshot "
-              "(the largest strain). The lag is the first maximum of their autocorrelation "
-              "(engine/analysis/autocorrelation.hpp); the summary's lag is that of the *first* test's last "
-              "snapshot (`wire.autocorrelation_lag_m`), for comparison. Loop lengths from the job's "
-              "`specimen.wire` and engine/specimen/pattern.cpp.\n\n")
+              "(the largest strain), the snapshot summary.json's lags are read from "
+              "(engine/analysis/autocorrelation.hpp, docs/model.md \"Wire autocorrelation\"): the first "
+              "local maximum of their autocorrelation after lag 0 (`wire.autocorrelation_lag_m`) and the "
+              "first maximum whose prominence exceeds the white-noise band 1.96/√(N − k) "
+              "(`wire.autocorrelation_prominent_lag_m`); — when there is none, *absent* when the summary "
+              "was written before that key existed (run `wiredem analyse` again). Loop lengths from the "
+              "job's `specimen.wire` and engine/specimen/pattern.cpp.\n\n")
     md.append(table(["campaign", "σ₃ [kPa]", "ε_a [%]", "segments", "wire [m]", "mean strain [%]",
-                     "max strain [%]", "lag [mm]", "summary lag [mm]", "loops [mm]"], wire_rows)
+                     "max strain [%]", "first maximum [mm]", "first prominent maximum [mm]", "loops [mm]"], wire_rows)
               if wire_rows else "No wire snapshot found.\n")
 
     if "none" in by_pattern:

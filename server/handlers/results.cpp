@@ -443,13 +443,14 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"}, {"$ref": "#/components/parameters/Snapshot"}],
       "get": {
-        "summary": "Autocorrelation of the snapshot's wire segment strains (the function summary.wire.autocorrelation_lag_m comes from), with its first maximum",
+        "summary": "Autocorrelation of the snapshot's wire segment strains (the function summary.wire.autocorrelation_lag_m and autocorrelation_prominent_lag_m come from), with its first maximum and its first prominent maximum",
         "responses": {
-          "200": {"description": "R(k) against lag k * segment length; error says why there is none", "content": {"application/json": {"schema": {"type": "object",
-            "required": ["segment_length_m", "segments", "lag_m", "coefficients", "first_maximum_lag_m", "error"],
+          "200": {"description": "R(k) against lag k * segment length; first_maximum_lag_m: the first local maximum after lag 0; prominent_maximum_lag_m: the first one whose prominence exceeds the white-noise 95 % band 1.96/sqrt(segments - k); error says why there is none", "content": {"application/json": {"schema": {"type": "object",
+            "required": ["segment_length_m", "segments", "lag_m", "coefficients", "first_maximum_lag_m", "prominent_maximum_lag_m", "error"],
             "properties": {"segment_length_m": {"type": "number"}, "segments": {"type": "integer"},
               "lag_m": {"type": "array", "items": {"type": "number"}}, "coefficients": {"type": "array", "items": {"type": "number"}},
-              "first_maximum_lag_m": {"type": "number", "nullable": true}, "error": {"type": "string", "nullable": true}}}}}},
+              "first_maximum_lag_m": {"type": "number", "nullable": true}, "prominent_maximum_lag_m": {"type": "number", "nullable": true},
+              "error": {"type": "string", "nullable": true}}}}}},
           "404": {"$ref": "#/components/responses/Error"},
           "409": {"$ref": "#/components/responses/Error"}
         }

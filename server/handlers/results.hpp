@@ -26,8 +26,8 @@
 //
 // The wire autocorrelation is engine::analysis::autocorrelation of the
 // snapshot's stored segment strains with the spec's segment length: the same
-// function `wiredem run` fitted summary.wire.autocorrelation_lag_m with, for the
-// snapshots the summary does not cover.
+// function `wiredem run` took summary.wire.autocorrelation_lag_m and
+// autocorrelation_prominent_lag_m from, for the snapshots the summary does not cover.
 #pragma once
 
 #include "../http.hpp"

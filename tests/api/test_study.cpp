@@ -167,7 +167,8 @@ TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
                                                                     {"r_squared", 0.99}}},
                 {"tests", json::array{json::object{{"confining_pressure_pa", 2e4}, {"peak_deviatoric_stress_pa", 5e4},
                     {"yield", json::object{{"deviatoric_stress_pa", 4e4}, {"shape", "peak"}}}}}},
-                {"specimen", json::object{{"grain_volume_fraction", 0.6}}}};
+                {"specimen", json::object{{"grain_volume_fraction", 0.6}}},
+                {"wire", json::object{{"autocorrelation_lag_m", 0.04}, {"autocorrelation_prominent_lag_m", 0.1175}}}};
         else
             o.error = "boom, \"quoted\"";
         outcomes.push_back(o);
@@ -195,6 +196,6 @@ TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
     std::getline(lines, header);
     std::getline(lines, first);
     EXPECT_EQ(header.rfind("index,specimen.wire.pattern,seed,state,job_id,friction_angle_deg", 0), 0u) << header;
-    EXPECT_EQ(first, "0,none,1,succeeded,job0,30,0,0.99,20000,40000,peak,50000,0.6,,,,,");
+    EXPECT_EQ(first, "0,none,1,succeeded,job0,30,0,0.99,20000,40000,peak,50000,0.6,,,,0.04,0.1175,");
     EXPECT_NE(csv.find("\"boom, \"\"quoted\"\"\""), std::string::npos) << csv; // a comma and quotes, escaped
 }

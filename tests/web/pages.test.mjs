@@ -217,6 +217,9 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   assertShown(await figure('cohesion_pa'), mc.cohesion_pa / 1000, 'c [kPa]');
   assertShown(await figure('grain_volume_fraction'), summary.specimen.grain_volume_fraction, 'grain volume fraction');
   assertShown(await figure('autocorrelation_lag_m'), summary.wire.autocorrelation_lag_m * 1000, 'lag [mm]');
+  const prominentShown = await figure('autocorrelation_prominent_lag_m');
+  if (summary.wire.autocorrelation_prominent_lag_m == null) assert.equal(prominentShown, '—', 'no prominent lag');
+  else assertShown(prominentShown, summary.wire.autocorrelation_prominent_lag_m * 1000, 'prominent lag [mm]');
   for (const t of summary.tests) {
     for (const key of ['peak_deviatoric_stress_pa', 'sigma1_pa', 'sigma3_effective_pa']) {
       const text = await page.$eval(`tr[data-pressure="${t.confining_pressure_pa}"] td[data-key="${key}"]`, (e) => e.textContent);
@@ -261,7 +264,12 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
 
   // The wire: segments along its length, and the autocorrelation of the snapshot the summary's lag comes from.
   assert.equal(plots['plot-wire-strain'].series[0].x.length, summary.specimen.wire_nodes - 1);
-  assert.equal(plots['plot-autocorrelation'].first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
+  const ac = plots['plot-autocorrelation'];
+  assert.equal(ac.first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
+  assert.equal(ac.prominent_maximum_lag_m, summary.wire.autocorrelation_prominent_lag_m);
+  // Both maxima marked and labelled (one marker each; none when there is no such lag).
+  assert.deepEqual(ac.markers.map((m) => m.replace(/ [0-9.]+ mm$/, '')),
+    [['first maximum', ac.first_maximum_lag_m], ['first prominent maximum', ac.prominent_maximum_lag_m]].filter(([, v]) => v != null).map(([l]) => l));
 
   // 3D: what was built, and pixels that are not the background.
   const view = await page.$eval('#view3d-canvas', (c) => c.wiredemView);
@@ -467,6 +475,7 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   const expected = summary.mohr_coulomb.cohesion_pa / 1000 + env.x[0] * tanPhi;
   assert.ok(Math.abs(env.y[0] - expected) < 1e-9 * Math.max(...env.y.map(Math.abs)), `envelope at σ = ${env.x[0]}: ${env.y[0]}, expected ${expected}`);
   assert.equal(plots['plot-autocorrelation'].first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
+  assert.equal(plots['plot-autocorrelation'].prominent_maximum_lag_m, summary.wire.autocorrelation_prominent_lag_m);
   assert.equal(w.requests.filter((r) => !r.url.startsWith('file:')).length, 0, 'the report fetches nothing');
   // The server offers the same report (the job page's download button).
   const served = await fetch(`${server.url}/v1/jobs/${mainId}/report.html`);

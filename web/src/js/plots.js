@@ -15,7 +15,8 @@ function sorted(x, y) {
 }
 
 /// Draws `series` ([{label, x, y, color?, dash?, width?}]) into a new box in
-/// `parent`. `markers`: vertical lines [{x, label}]. `equalAspect`: one unit
+/// `parent`. `markers`: vertical lines [{x, label}], each label a line below the
+/// previous one's (markers a few pixels apart stay readable). `equalAspect`: one unit
 /// of x as long as one of y (Mohr circles stay round).
 export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = [], equalAspect = false, note, height = 320 }) {
   const box = el('div', { class: 'plot', id }, el('h3', {}, title));
@@ -47,7 +48,7 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
     }))],
     hooks: { draw: [(u) => {
       const ctx = u.ctx;
-      for (const m of markers) {
+      for (const [i, m] of markers.entries()) {
         const cx = u.valToPos(m.x, 'x', true);
         ctx.save();
         ctx.strokeStyle = '#57606a';
@@ -60,7 +61,7 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
         ctx.font = `${12 * devicePixelRatio}px system-ui`;
         ctx.textAlign = 'left';  // uPlot leaves the y axis's right alignment set
         ctx.textBaseline = 'alphabetic';
-        ctx.fillText(m.label, cx + 4, u.bbox.top + 14 * devicePixelRatio);
+        ctx.fillText(m.label, cx + 4, u.bbox.top + (14 + 16 * i) * devicePixelRatio);
         ctx.restore();
       }
     }] },

@@ -15,6 +15,9 @@ export function loadingRows(series) {
 
 export const kPaLabel = (pa) => `σ₃ = ${num(pa / 1000, 4)} kPa`;
 
+/// A length in metres shown in mm, or '—' when there is none.
+const mm = (m) => (m != null ? num(m * 1000, 4) : '—');
+
 /// The columns the curves need (the series route's ?columns=).
 export const curveColumns = 'axial_strain,deviatoric_stress_pa,stress_ratio,volumetric_strain,phase';
 
@@ -39,7 +42,8 @@ export function renderSummary(body, summary) {
       figure('wire volume fraction', num(sp.wire_volume_fraction, 4), 'wire_volume_fraction'),
       figure('grains', sp.grains ?? '—', 'grains'),
       figure('wire nodes', sp.wire_nodes ?? '—', 'wire_nodes'),
-      figure('wire autocorrelation lag [mm]', summary.wire && summary.wire.autocorrelation_lag_m != null ? num(summary.wire.autocorrelation_lag_m * 1000, 4) : '—', 'autocorrelation_lag_m')),
+      figure('wire autocorrelation lag [mm]', mm((summary.wire || {}).autocorrelation_lag_m), 'autocorrelation_lag_m'),
+      figure('wire prominent lag [mm]', mm((summary.wire || {}).autocorrelation_prominent_lag_m), 'autocorrelation_prominent_lag_m')),
     mc.error ? el('div', { class: 'error-box' }, `Mohr–Coulomb fit: ${mc.error}`) : '',
     el('table', { id: 'tests-table' },
       el('thead', {}, el('tr', {}, ['σ₃ [kPa]', 'peak q [kPa]', 'σ₁ at peak [kPa]', 'σ₃,eff at peak [kPa]', 'ε at peak', 'max q shape', 'yield η', 'yield ε', 'quasi-static'].map((h) => el('th', {}, h)))),
@@ -104,7 +108,9 @@ export function mohrPlot(parent, summary, id = 'plot-mohr') {
 }
 
 /// The wire's segment strain along its length and its autocorrelation (the
-/// …/wire_autocorrelation reply) with the first maximum marked.
+/// …/wire_autocorrelation reply) with its first maximum and its first prominent
+/// maximum marked (engine/analysis/autocorrelation.hpp; they differ when the
+/// first is a bump within R̂'s noise band).
 export function renderWire(grid, summary, label, nodePositions, strain, ac) {
   const s = [0];
   for (let k = 1; k < strain.length; ++k) {
@@ -115,9 +121,18 @@ export function renderWire(grid, summary, label, nodePositions, strain, ac) {
   linePlot(grid, { id: 'plot-wire-strain', title: 'Segment strain along the wire', xLabel: 'distance along the wire [mm]', yLabel: 'segment strain [10⁻³]',
     series: [{ label, x: s, y: Array.from(strain, (e) => e * 1000) }] });
   const lag = ac.first_maximum_lag_m;
+  const prominent = ac.prominent_maximum_lag_m;
+  const markers = [];
+  if (lag != null) markers.push({ x: lag * 1000, label: `first maximum ${mm(lag)} mm` });
+  if (prominent != null) markers.push({ x: prominent * 1000, label: `first prominent maximum ${mm(prominent)} mm` });
+  const w = summary.wire || {};
+  const note = ac.error ? `No autocorrelation: ${ac.error}`
+    : lag == null ? 'No local maximum after lag 0.'
+    : `First maximum at ${mm(lag)} mm; first prominent maximum (prominence above the white-noise band 1.96/√(N − k)) ${prominent != null ? `at ${mm(prominent)} mm` : 'none'} `
+      + `(summary: ${mm(w.autocorrelation_lag_m)} and ${mm(w.autocorrelation_prominent_lag_m)} mm, the end of the test at the highest pressure).`;
   const box = linePlot(grid, { id: 'plot-autocorrelation', title: 'Autocorrelation of the segment strain', xLabel: 'lag [mm]', yLabel: 'R(k)',
-    series: [{ label: 'R(k)', x: ac.lag_m.map((l) => l * 1000), y: ac.coefficients }],
-    markers: lag != null ? [{ x: lag * 1000, label: `first maximum ${num(lag * 1000, 3)} mm` }] : [],
-    note: ac.error ? `No autocorrelation: ${ac.error}` : lag == null ? 'No local maximum after lag 0.' : `First maximum at ${num(lag * 1000, 4)} mm (summary: ${summary.wire && summary.wire.autocorrelation_lag_m != null ? num(summary.wire.autocorrelation_lag_m * 1000, 4) : '—'} mm, the end of the test at the highest pressure).` });
+    series: [{ label: 'R(k)', x: ac.lag_m.map((l) => l * 1000), y: ac.coefficients }], markers, note });
   box.wiredemPlot.first_maximum_lag_m = lag;
+  box.wiredemPlot.prominent_maximum_lag_m = prominent;
+  box.wiredemPlot.markers = markers.map((m) => m.label);
 }
