@@ -259,7 +259,9 @@ std::string format_summary(const json::value& summary)
         << "  sample volume          " << fmt("%.4g m^3", number(at(summary, {"specimen", "sample_volume_m3"}))) << '\n'
         << "  grains                 " << fmt("%.0f", number(at(summary, {"specimen", "grains"}))) << '\n'
         << "  wire nodes             " << fmt("%.0f", number(at(summary, {"specimen", "wire_nodes"}))) << '\n'
-        << "  wire autocorr. lag     " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_lag_m"}))) << '\n';
+        << "  wire autocorr. lag     " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_lag_m"})))
+        << " (first maximum), " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_prominent_lag_m"})))
+        << " (first prominent maximum)\n";
 
     out << "\nEngine\n"
         << "  time step              " << fmt("%.3g s", number(at(summary, {"engine", "time_step_s"}))) << '\n'
