@@ -278,19 +278,18 @@ namespace {
 /// A Mohr–Coulomb fit as the summary reports it, with the states it went through.
 json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::string_view states)
 {
+    // The same keys either way (the OpenAPI schema requires them): every
+    // figure null, and `error`, when the fit is impossible.
+    const eng::analysis::MohrCoulombFit* f = fit.ok() ? &fit.value() : nullptr;
+    const auto figure = [&](auto of) { return f ? of(*f) : json::value(nullptr); };
     json::object mc;
-    if (fit.ok()) {
-        const auto& f = fit.value();
-        mc["friction_angle_deg"] = number_or_null(f.friction_angle_rad * 180.0 / std::numbers::pi);
-        mc["cohesion_pa"] = number_or_null(f.cohesion_pa);
-        mc["cohesion_fixed_at_zero"] = f.cohesion_fixed_at_zero;
-        mc["r_squared"] = f.r_squared ? number_or_null(*f.r_squared) : json::value(nullptr);
-        mc["paper_top_line_angle_deg"] = number_or_null(f.paper_top_line_angle_rad * 180.0 / std::numbers::pi);
-    } else {
-        for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg"})
-            mc[k] = nullptr;
-        mc["error"] = fit.error();
-    }
+    mc["friction_angle_deg"] = figure([](const auto& g) { return number_or_null(g.friction_angle_rad * 180.0 / std::numbers::pi); });
+    mc["cohesion_pa"] = figure([](const auto& g) { return number_or_null(g.cohesion_pa); });
+    mc["cohesion_fixed_at_zero"] = figure([](const auto& g) { return json::value(g.cohesion_fixed_at_zero); });
+    mc["r_squared"] = figure([](const auto& g) { return g.r_squared ? number_or_null(*g.r_squared) : json::value(nullptr); });
+    mc["paper_top_line_angle_deg"]
+        = figure([](const auto& g) { return number_or_null(g.paper_top_line_angle_rad * 180.0 / std::numbers::pi); });
+    if (!f) mc["error"] = fit.error();
     mc["states"] = states;
     return mc;
 }

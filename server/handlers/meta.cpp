@@ -2,6 +2,7 @@
 #include "meta.hpp"
 
 #include "../router.hpp"
+#include "analysis/strength.hpp"
 #include "results.hpp"
 #include "spec_schema.hpp"
 
@@ -250,19 +251,109 @@ constexpr const char* openapi_text = R"json({
       "ContentDisposition": {"schema": {"type": "string", "example": "attachment; filename=\"3f0c9d2e8a61b4c7d5e9f012.h5\""}}
     },
     "schemas": {
-      "Summary": {"type": "object", "required": ["tests", "mohr_coulomb", "engine"],
-        "description": "The runner's summary.json (docs/results.md): one entry per test, the Mohr-Coulomb fits, the prepared specimen and the engine's figures.",
+      "Summary": {"type": "object",
+        "description": "The runner's summary.json (docs/results.md), written by campaign/stages.cpp (analyse); tests/server/test_summary_schema.cpp checks a real campaign's against this schema, every key and type. Key names carry their units: _pa Pa, _m m, _m3 m^3, _s s, _deg degrees; the rest are dimensionless or counts. A figure that can be undefined (not finite) is written as null: those marked nullable; the others are finite by construction.",
+        "required": ["name", "tests", "mohr_coulomb", "mohr_coulomb_max_q", "definitions", "specimen", "wire", "warnings", "engine"],
         "properties": {
-          "tests": {"type": "array", "items": {"type": "object", "properties": {
-            "confining_pressure_pa": {"type": "number"}, "peak_deviatoric_stress_pa": {"type": "number"},
-            "peak_axial_strain": {"type": "number"}, "sigma1_pa": {"type": "number"}, "sigma3_effective_pa": {"type": "number"}}}},
+          "name": {"type": "string", "description": "the job's name"},
+          "tests": {"type": "array", "description": "one per confining pressure, in the job's order", "items": {"$ref": "#/components/schemas/SummaryTest"}},
           "mohr_coulomb": {"$ref": "#/components/schemas/MohrCoulomb"},
           "mohr_coulomb_max_q": {"$ref": "#/components/schemas/MohrCoulomb"},
-          "specimen": {"type": "object"},
-          "engine": {"type": "object", "properties": {"time_step_s": {"type": "number"}, "steps": {"type": "integer"},
-            "wall_time_s": {"type": "number"}, "body_steps_per_second": {"type": "number", "nullable": true}}}}},
-      "MohrCoulomb": {"type": "object", "properties": {"friction_angle_deg": {"type": "number", "nullable": true},
-        "cohesion_pa": {"type": "number", "nullable": true}, "r_squared": {"type": "number", "nullable": true}}},
+          "definitions": {"$ref": "#/components/schemas/SummaryDefinitions"},
+          "specimen": {"$ref": "#/components/schemas/SummarySpecimen"},
+          "wire": {"$ref": "#/components/schemas/SummaryWire"},
+          "warnings": {"type": "array", "description": "not settled, nozzle blocked, not quasi-static (per test, prefixed with the test), fit or wire autocorrelation problems", "items": {"type": "string"}},
+          "engine": {"$ref": "#/components/schemas/SummaryEngine"}}},
+      "SummaryTest": {"type": "object",
+        "description": "One triaxial test. peak_*, sigma1_pa, sigma3_effective_pa: the state at the largest raw sample of q = sigma1 - sigma3_eff during loading (definitions.max_q); yield: the state at the maximum of the smoothed stress ratio (definitions.yield).",
+        "required": ["confining_pressure_pa", "peak_deviatoric_stress_pa", "peak_axial_strain", "sigma1_pa", "sigma3_effective_pa",
+          "max_q_shape", "yield", "residual_stress_ratio", "hold_time_s", "consolidated_sigma1_pa", "quasi_static",
+          "max_inertial_number", "mean_kinetic_to_elastic", "max_kinetic_to_elastic", "steps", "wall_time_s", "threads"],
+        "properties": {
+          "confining_pressure_pa": {"type": "number", "description": "sigma3 applied (triaxial.confining_pressures_pa) [Pa]"},
+          "peak_deviatoric_stress_pa": {"type": "number", "nullable": true, "description": "largest raw q during loading [Pa]"},
+          "peak_axial_strain": {"type": "number", "nullable": true, "description": "axial strain at that sample [1]"},
+          "sigma1_pa": {"type": "number", "nullable": true, "description": "sigma1 at that sample [Pa]"},
+          "sigma3_effective_pa": {"type": "number", "nullable": true, "description": "sigma3_eff at that sample [Pa]"},
+          "max_q_shape": {"type": "string", "nullable": true,
+            "description": "what kind of maximum the smoothed q curve has (definitions.shape); null when the loading curves cannot be read (a warning says why)"},
+          "yield": {"type": "object", "nullable": true,
+            "description": "the yield state: the maximum of the smoothed stress ratio, with its Mohr circle (docs/model.md, \"How yield is read\"); null when the loading curves cannot be read",
+            "required": ["shape", "stress_ratio", "axial_strain", "sigma1_pa", "sigma3_effective_pa", "deviatoric_stress_pa"],
+            "properties": {
+              "shape": {"type": "string", "description": "what kind of maximum the smoothed stress ratio has (definitions.shape); rising: the state is a lower bound"},
+              "stress_ratio": {"type": "number", "nullable": true, "description": "(sigma1 - sigma3_eff)/(sigma1 + sigma3_eff) there, = sin of the mobilised friction angle [1]"},
+              "axial_strain": {"type": "number", "nullable": true, "description": "axial strain there [1]"},
+              "sigma1_pa": {"type": "number", "nullable": true, "description": "smoothed sigma1 there [Pa]"},
+              "sigma3_effective_pa": {"type": "number", "nullable": true, "description": "smoothed sigma3_eff there [Pa]"},
+              "deviatoric_stress_pa": {"type": "number", "nullable": true, "description": "sigma1_pa - sigma3_effective_pa [Pa]"}}},
+          "residual_stress_ratio": {"type": "number", "nullable": true, "description": "mean raw stress ratio over the last definitions.end_window_strain of axial strain [1]; null when the curves cannot be read"},
+          "hold_time_s": {"type": "number", "description": "how long sigma3 was held before loading: triaxial.hold_time_s, or longer until the column had consolidated [s]"},
+          "consolidated_sigma1_pa": {"type": "number", "nullable": true, "description": "sigma1 averaged over the last consolidation window before loading [Pa]"},
+          "quasi_static": {"type": "boolean", "description": "the largest inertial number and the mean kinetic/elastic energy ratio during loading were within their thresholds (docs/model.md)"},
+          "max_inertial_number": {"type": "number", "nullable": true, "description": "largest inertial number during loading [1]"},
+          "mean_kinetic_to_elastic": {"type": "number", "nullable": true, "description": "mean kinetic/elastic energy ratio during loading (the criterion) [1]"},
+          "max_kinetic_to_elastic": {"type": "number", "nullable": true, "description": "its largest sample (slip events; not a criterion) [1]"},
+          "steps": {"type": "integer", "description": "time steps of this test"},
+          "wall_time_s": {"type": "number", "description": "wall time of this test [s]"},
+          "threads": {"type": "integer", "description": "engine threads this test ran with"}}},
+      "MohrCoulomb": {"type": "object",
+        "description": "A Mohr-Coulomb envelope fitted to the tests' circles (definitions.friction_angle). When the fit is impossible every figure is null and error says why.",
+        "required": ["friction_angle_deg", "cohesion_pa", "cohesion_fixed_at_zero", "r_squared", "paper_top_line_angle_deg", "states"],
+        "properties": {
+          "friction_angle_deg": {"type": "number", "nullable": true, "description": "phi, from sin(phi) = slope of the line through the circle tops [deg]"},
+          "cohesion_pa": {"type": "number", "nullable": true, "description": "c = intercept / cos(phi) [Pa]"},
+          "cohesion_fixed_at_zero": {"type": "boolean", "nullable": true, "description": "true with a single test: c = 0 was imposed, not fitted"},
+          "r_squared": {"type": "number", "nullable": true, "description": "of the line through the tops [1]; null with a single test"},
+          "paper_top_line_angle_deg": {"type": "number", "nullable": true, "description": "alpha = atan(slope), the paper's reading [deg]"},
+          "error": {"type": "string", "description": "why the fit is impossible; only then"},
+          "states": {"type": "string", "description": "which states of the tests the fit went through"}}},
+      "SummaryDefinitions": {"type": "object",
+        "description": "What the strength figures mean, in words, with the tolerances used (engine/analysis/strength.hpp, CurveTolerances)",
+        "required": ["yield", "max_q", "shape", "residual_stress_ratio", "smoothing_strain", "shape_tolerance", "end_window_strain", "autocorrelation_lag", "friction_angle"],
+        "properties": {
+          "yield": {"type": "string"}, "max_q": {"type": "string"}, "shape": {"type": "string"},
+          "residual_stress_ratio": {"type": "string"},
+          "smoothing_strain": {"type": "number", "description": "width of the centred moving average, in axial strain [1]"},
+          "shape_tolerance": {"type": "number", "description": "a drop after the maximum, or a rise over the end window, counts above this fraction of the maximum [1]"},
+          "end_window_strain": {"type": "number", "description": "strain window at the end of a test for rising and the residual ratio [1]"},
+          "autocorrelation_lag": {"type": "string"}, "friction_angle": {"type": "string"}}},
+      "SummarySpecimen": {"type": "object",
+        "description": "The prepared specimen. Volume fractions: of the whole sample (sample_volume_m3) and of its core, a grain diameter away from the membrane's inner surface and both plates (engine/specimen/packing.hpp); wire as a cylinder along its length.",
+        "required": ["grain_volume_fraction", "wire_volume_fraction", "core_grain_volume_fraction", "core_wire_volume_fraction",
+          "sample_volume_m3", "grains", "wire_nodes", "wire_length_m", "nozzle_path_m", "pile_height_m", "settled",
+          "preparation_time_step_s", "preparation_steps", "preparation_wall_time_s"],
+        "properties": {
+          "grain_volume_fraction": {"type": "number", "description": "[1]"},
+          "wire_volume_fraction": {"type": "number", "description": "[1]"},
+          "core_grain_volume_fraction": {"type": "number", "description": "[1]"},
+          "core_wire_volume_fraction": {"type": "number", "description": "[1]"},
+          "sample_volume_m3": {"type": "number", "description": "pi R^2 h of the pile [m^3]"},
+          "grains": {"type": "integer"},
+          "wire_nodes": {"type": "integer"},
+          "wire_length_m": {"type": "number", "description": "wire laid [m]"},
+          "nozzle_path_m": {"type": "number", "description": "path the nozzle travelled while laying: the wire it would have laid had it never been blocked (a warning below 80 % laid) [m]"},
+          "pile_height_m": {"type": "number", "description": "bottom plate to top plate [m]"},
+          "settled": {"type": "boolean", "description": "the kinetic energy fell below the threshold within specimen.pouring.max_preparation_time_s (else a warning)"},
+          "preparation_time_step_s": {"type": "number", "description": "[s]"},
+          "preparation_steps": {"type": "integer"},
+          "preparation_wall_time_s": {"type": "number", "description": "[s]"}}},
+      "SummaryWire": {"type": "object",
+        "description": "The wire and the autocorrelation of its segment strains at the end of the test at the highest pressure (docs/model.md, \"Wire autocorrelation\"; definitions.autocorrelation_lag). Lags are null without wire or without such a maximum (a warning says why).",
+        "required": ["pattern", "autocorrelation_lag_m", "autocorrelation_prominent_lag_m"],
+        "properties": {
+          "pattern": {"$ref": "#/components/schemas/JobSpec/properties/specimen/properties/wire/properties/pattern"},
+          "autocorrelation_lag_m": {"type": "number", "nullable": true, "description": "first local maximum after lag 0 [m]"},
+          "autocorrelation_prominent_lag_m": {"type": "number", "nullable": true, "description": "first local maximum whose prominence exceeds the white-noise 95 % band [m]"}}},
+      "SummaryEngine": {"type": "object",
+        "required": ["time_step_s", "steps", "wall_time_s", "body_steps_per_second", "threads", "density_scale"],
+        "properties": {
+          "time_step_s": {"type": "number", "description": "the tests' time step [s]"},
+          "steps": {"type": "integer", "description": "the preparation's and all tests' steps"},
+          "wall_time_s": {"type": "number", "description": "the stages' wall times added (tests that ran at once overlap) [s]"},
+          "body_steps_per_second": {"type": "number", "nullable": true, "description": "bodies x steps / wall_time_s; null when wall_time_s is 0"},
+          "threads": {"type": "integer", "description": "the preparation's engine threads (each test's: tests[].threads)"},
+          "density_scale": {"type": "number", "description": "engine.density_scale of the job [1]"}}},
       "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
       "Study": {"type": "object", "required": ["name", "base"],
         "description": "docs/studies.md: the base job and either vary (field path -> list of values, a full grid) or points (a list of {field path: value}); every point is validated as a job; at most --max-study-points points.",
@@ -415,6 +506,20 @@ void complete_from_route_table(json::object& doc)
         json::object{{"name", "service"}, {"description", "Health, metrics, this document, the job spec's schema"}}};
 }
 
+/// The summary's shape strings (tests[].max_q_shape, tests[].yield.shape) as
+/// the engine writes them, into the Summary schema of `doc`.
+void add_curve_shapes(json::object& doc)
+{
+    namespace an = engine::analysis;
+    json::array shapes;
+    for (an::CurveShape s : {an::CurveShape::peak, an::CurveShape::plateau, an::CurveShape::rising})
+        shapes.emplace_back(an::to_string(s));
+    json::object& test = doc.at("components").at("schemas").at("SummaryTest").as_object();
+    test.at("properties").at("yield").at("properties").at("shape").as_object()["enum"] = shapes;
+    shapes.emplace_back(nullptr);  // OpenAPI 3.0: a nullable enum lists null among its values
+    test.at("properties").at("max_q_shape").as_object()["enum"] = std::move(shapes);
+}
+
 double uptime_s(const Metrics& m)
 {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
@@ -432,6 +537,7 @@ const json::value& openapi_document()
             for (const auto& [name, entry] : entries.as_object()) d.at("components").as_object()[kind].as_object()[name] = entry;
         // The job spec as the reader in api/ describes itself (handlers/spec_schema.hpp).
         d.at("components").at("schemas").as_object()["JobSpec"] = job_spec_openapi_schema();
+        add_curve_shapes(d.as_object());
         complete_from_route_table(d.as_object());
         return d;
     }();
