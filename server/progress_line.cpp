@@ -62,7 +62,8 @@ std::optional<ProgressLine> parse_progress_line(std::string_view line)
     ProgressLine p;
     if (auto s = obj->find("stage"); s != obj->end() && s->value().is_string())
         p.stage = cut_utf8(s->value().get_string(), max_stage_bytes);
-    if (auto f = number_at(v, {"progress"})) p.progress = std::clamp(*f, 0.0, 1.0);
+    // A fraction: finite (Boost.JSON reads "0e3006" as NaN, which clamp would keep), then within [0, 1].
+    if (auto f = number_at(v, {"progress"}); f && std::isfinite(*f)) p.progress = std::clamp(*f, 0.0, 1.0);
     if (auto e = obj->find("eta_s"); e != obj->end()) {
         p.has_eta = true;
         p.eta_s = duration(number_at(v, {"eta_s"}));  // null: no estimate

@@ -68,3 +68,13 @@ TEST(ProgressLine, UnusableNumbersAreNotKept)
     apply_progress_line(*p, live);
     EXPECT_FALSE(live.eta_s);  // the earlier estimate is withdrawn, not kept stale
 }
+
+TEST(ProgressLine, AProgressThatIsNotANumberIsNotKept)
+{
+    // fuzz_progress_line found it: Boost.JSON reads 0e3006 as NaN, and clamp keeps a NaN.
+    for (const char* line : {R"({"progress":0e3006})", R"({"progress":1e400})"}) {
+        const auto p = parse_progress_line(line);
+        ASSERT_TRUE(p) << line;
+        EXPECT_FALSE(p->progress) << line;
+    }
+}
