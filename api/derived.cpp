@@ -109,7 +109,13 @@ ProgressShares progress_shares(const WorkEstimate& work)
     // The preparation's longest pour and settling against the tests' steps,
     // kept between 1 % and half so that neither stage's bar stands still.
     s.preparation = std::clamp(ProgressShares::tests_end * work.preparation_steps / work.total_steps(), 0.01, 0.5);
-    s.per_test = work.tests > 0 ? (ProgressShares::tests_end - s.preparation) / static_cast<double>(work.tests) : 0.0;
+    // The tests share the rest in proportion to their steps (equally if
+    // their estimates are not usable: a hostile spec's infinities).
+    const double tests_steps = work.tests_total_steps();
+    const bool by_steps = std::isfinite(tests_steps) && tests_steps > 0.0;
+    for (const double steps : work.test_steps)
+        s.tests.push_back((ProgressShares::tests_end - s.preparation)
+                          * (by_steps ? steps / tests_steps : 1.0 / static_cast<double>(work.test_steps.size())));
     return s;
 }
 
@@ -119,14 +125,17 @@ WorkEstimate estimated_work(const JobSpec& spec)
     w.time_step_s = spec.engine.time_step_s ? *spec.engine.time_step_s : stable_time_step(spec).auto_s;
     const TriaxialSpec& t = spec.triaxial;
     const double height_m = engine::estimated_fill_height_m(preparation_geometry(spec));
-    // Any pressure: the duration does not depend on it.
-    const engine::TriaxialSettings test = triaxial_settings(spec, t.confining_pressures_pa.front());
-    const double test_s = test.pressure_ramp_time_s + engine::longest_hold_s(test) + engine::loading_time_s(test, height_m);
     w.preparation_steps = spec.specimen.pouring.max_preparation_time_s / w.time_step_s;
-    w.steps_per_test = test_s / w.time_step_s;
+    double longest = 0.0;
+    for (std::size_t k = 0; k < t.confining_pressures_pa.size(); ++k) {
+        const engine::TriaxialSettings test = triaxial_settings(spec, k);
+        const double test_s =
+            test.pressure_ramp_time_s + engine::longest_hold_s(test) + engine::loading_time_s(test, height_m);
+        w.test_steps.push_back(test_s / w.time_step_s);
+        longest = std::max(longest, w.test_steps.back());
+    }
     // A row every max(1, round(interval / δt)) steps, and the last one.
-    w.samples_per_test = w.steps_per_test / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
-    w.tests = t.confining_pressures_pa.size();
+    w.samples_per_test = longest / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
     return w;
 }
 

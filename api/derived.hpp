@@ -10,7 +10,10 @@
 
 #include <cstdint>
 #include <limits>
+#include <numeric>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace wiredem::api {
 
@@ -57,13 +60,15 @@ struct WorkEstimate {
     /// At most max_preparation_time_s of simulated time, at that step (the
     /// preparation's own auto step, set by impacts, is of the same order).
     double preparation_steps = 0.0;
-    /// Ramp, the longest hold and loading to the target strain of a column as
-    /// tall as the grains' estimated fill, per test.
-    double steps_per_test = 0.0;
-    double samples_per_test = 0.0;   ///< rows of the time series of one test
-    std::size_t tests = 0;           ///< confining pressures
+    /// Each test's ramp, longest hold and loading to the target strain (at its
+    /// plate speed) of a column as tall as the grains' estimated fill, in the
+    /// order of triaxial.confining_pressures_pa.
+    std::vector<double> test_steps;
+    double samples_per_test = 0.0;   ///< rows of the time series of the longest test
+    /// Every test.
+    [[nodiscard]] double tests_total_steps() const { return std::accumulate(test_steps.begin(), test_steps.end(), 0.0); }
     /// Preparation and every test.
-    [[nodiscard]] double total_steps() const { return preparation_steps + static_cast<double>(tests) * steps_per_test; }
+    [[nodiscard]] double total_steps() const { return preparation_steps + tests_total_steps(); }
 };
 
 /// Estimates the work of a job (inputs as for the functions above).
@@ -72,17 +77,20 @@ struct WorkEstimate {
 /// How a campaign's overall progress (0–1) is shared among its stages, the
 /// same whether its stages run in one process (campaign::run) or as jobs of
 /// a cluster (the server's Slurm executor): preparation and tests share
-/// 0–tests_end in proportion to their estimated steps, the tests equally;
-/// analysis and writing the rest.
+/// 0–tests_end in proportion to their estimated steps; analysis and writing
+/// the rest.
 struct ProgressShares {
     static constexpr double tests_end = 0.95;
     double preparation = 0.0;        ///< the preparation's share
-    double per_test = 0.0;           ///< each test's share
-    /// Overall progress from the preparation's fraction, each test's and the analysis's.
-    [[nodiscard]] double overall(double preparation_fraction, double tests_fraction_sum, double analysis_fraction) const
+    std::vector<double> tests;       ///< each test's share
+    /// Overall progress from the preparation's fraction, each test's (in
+    /// test order; tests beyond the span count as not begun) and the analysis's.
+    [[nodiscard]] double overall(double preparation_fraction, std::span<const double> test_fractions,
+        double analysis_fraction) const
     {
-        return preparation * preparation_fraction + per_test * tests_fraction_sum
-             + (1.0 - tests_end) * analysis_fraction;
+        double p = preparation * preparation_fraction + (1.0 - tests_end) * analysis_fraction;
+        for (std::size_t k = 0; k < tests.size() && k < test_fractions.size(); ++k) p += tests[k] * test_fractions[k];
+        return p;
     }
 };
 

@@ -88,12 +88,12 @@ engine::PreparationSpec preparation_spec(const JobSpec& spec) { return preparati
 
 engine::PreparationSpec preparation_geometry(const JobSpec& spec) { return preparation(spec, false); }
 
-engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa)
+engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test)
 {
     engine::TriaxialSettings t;
-    t.confining_pressure_pa = pressure_pa;
+    t.confining_pressure_pa = spec.triaxial.confining_pressures_pa.at(test);
     t.target_axial_strain = spec.triaxial.target_axial_strain;
-    t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s;
+    t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s(test);
     t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
     t.hold_time_s = spec.triaxial.hold_time_s;
     t.max_hold_time_s = spec.triaxial.max_hold_time_s;

@@ -24,9 +24,9 @@ namespace wiredem::api {
 /// restitution costs (tens to hundreds of ms: resolved_normal_damping_s).
 [[nodiscard]] engine::PreparationSpec preparation_geometry(const JobSpec& spec);
 
-/// The settings of the job's test at confining pressure `pressure_pa` (one of
+/// The settings of the job's test `test` (an index into
 /// triaxial.confining_pressures_pa) (the model spec §6).
-[[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, double pressure_pa);
+[[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test);
 
 /// The engine's pattern kind for a job's pattern.
 [[nodiscard]] engine::PatternKind pattern_kind(WirePattern p);

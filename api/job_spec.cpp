@@ -696,6 +696,45 @@ void read_contact(ObjectReader& r, ContactSpec& c)
         {"s/m", "γ_t: sliding force F_n·min(μ, γ_t·|v_t|) (engine/laws/tangential.hpp)"});
 }
 
+/// triaxial.plate_speed_m_per_s: a number (every test), or an array with
+/// one speed per confining pressure (read before it).
+void read_plate_speeds(ObjectReader& r, TriaxialSpec& t)
+{
+    const std::string_view key = "plate_speed_m_per_s";
+    const Range range = open_closed(0.0, 10.0);
+    if (r.validator().recording()) {
+        json::object per_test{{"type", "array"}, {"items", number_schema(range)}, {"minItems", 1},
+            {"maxItems", max_pressures}};
+        r.describe(key,
+            json::object{{"oneOf", json::array{number_schema(range), std::move(per_test)}},
+                {"default", t.plate_speeds_m_per_s.front()}},
+            {"m/s", "v_z of the top plate: one speed for every test, or one per test in the order of "
+                    "confining_pressures_pa (slower at the low pressures keeps them quasi-static at the same cost "
+                    "elsewhere: docs/model.md, \"Quasi-static scaling\"); each test's summary states its speed"});
+    }
+    const json::value* j = r.take(key);
+    if (j == nullptr) return;
+    Validator& v = r.validator();
+    const std::string path = r.path_of(key);
+    if (!j->is_array()) {
+        double speed = 0.0;
+        if (read_number(v, *j, path, range, speed)) t.plate_speeds_m_per_s = {speed};
+        return;
+    }
+    const json::array& a = j->get_array();
+    const std::size_t tests = t.confining_pressures_pa.size();
+    bool ok = true;
+    if (v.clean(r.path_of("confining_pressures_pa")) && a.size() != tests) {
+        v.fail(path, "has " + std::to_string(a.size()) + (a.size() == 1 ? " entry" : " entries")
+                         + "; give one speed per confining pressure (" + std::to_string(tests)
+                         + "), or a number for every test");
+        ok = false;
+    }
+    std::vector<double> speeds(a.size(), 0.0);
+    for (std::size_t i = 0; i < a.size(); ++i) ok = read_number(v, a[i], index_path(path, i), range, speeds[i]) && ok;
+    if (ok) t.plate_speeds_m_per_s = std::move(speeds);
+}
+
 void read_triaxial(ObjectReader& r, TriaxialSpec& t)
 {
     read_increasing_numbers(r, "confining_pressures_pa", open_closed(0.0, 1e7), 1, max_pressures, "the pressures",
@@ -703,8 +742,7 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
         {"Pa", "σ_3 of each test"});
     r.number("target_axial_strain", open_closed(0.0, 0.5), t.target_axial_strain,
         {"1", "a test ends at this ε_a"});
-    r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), t.plate_speed_m_per_s,
-        {"m/s", "v_z of the top plate"});
+    read_plate_speeds(r, t);
     r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s,
         {"s", "σ_3 rises linearly from 0 over this time"});
     r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s,
@@ -1094,7 +1132,8 @@ json::object triaxial_json(const TriaxialSpec& t)
     return {
         {"confining_pressures_pa", numbers_json(t.confining_pressures_pa)},
         {"target_axial_strain", t.target_axial_strain},
-        {"plate_speed_m_per_s", t.plate_speed_m_per_s},
+        {"plate_speed_m_per_s", t.plate_speeds_m_per_s.size() == 1 ? json::value(t.plate_speeds_m_per_s.front())
+                                                                    : json::value(numbers_json(t.plate_speeds_m_per_s))},
         {"pressure_ramp_time_s", t.pressure_ramp_time_s},
         {"hold_time_s", t.hold_time_s},
         {"max_hold_time_s", optional_json(t.max_hold_time_s)},

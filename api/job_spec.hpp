@@ -179,7 +179,11 @@ struct TriaxialSpec {
     /// σ_3 of each test [Pa]: 1–16 entries, each in (0, 1e7], strictly increasing.
     std::vector<double> confining_pressures_pa{20e3, 40e3, 60e3, 80e3};
     double target_axial_strain = 0.1;          ///< ε_a at which a test ends, (0, 0.5]
-    double plate_speed_m_per_s = 2e-4;         ///< top plate speed v_z [m/s], (0, 10]
+    /// Top plate speed v_z [m/s], each in (0, 10]: one entry for every test
+    /// (a number in the JSON), or one per confining pressure (an array), so
+    /// that the low pressures can load slower (docs/model.md, "Quasi-static
+    /// scaling").
+    std::vector<double> plate_speeds_m_per_s{2e-4};
     double pressure_ramp_time_s = 0.05;        ///< σ_3 ramps linearly from 0 over this [s], [0, 1e3]
     double hold_time_s = 0.05;                 ///< then holds before loading [s], [0, 1e3]
     /// The hold goes on past hold_time_s until the column has consolidated,
@@ -190,6 +194,11 @@ struct TriaxialSpec {
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
     /// absent from the JSON: {0, target/2, target}.
     std::vector<double> snapshot_strains{0.0, 0.05, 0.1};
+    /// v_z of test `test` (an index into confining_pressures_pa).
+    [[nodiscard]] double plate_speed_m_per_s(std::size_t test) const
+    {
+        return plate_speeds_m_per_s.size() == 1 ? plate_speeds_m_per_s.front() : plate_speeds_m_per_s.at(test);
+    }
     friend bool operator==(const TriaxialSpec&, const TriaxialSpec&) = default;
 };
 

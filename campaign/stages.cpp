@@ -252,7 +252,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
         report(control, "testing", f, label + ", step " + std::to_string(done));
     };
     report(control, "testing", 0.0, label);
-    auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, pressures[index]), rc, std::move(continuation));
+    auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, index), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
 
     std::filesystem::path partial = dir.test(index);
@@ -459,6 +459,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             stepping_wall_s += t.wall_time_s;
             json::object o;
             o["confining_pressure_pa"] = pressures[i];
+            o["plate_speed_m_per_s"] = spec.triaxial.plate_speed_m_per_s(i);
             o["peak_deviatoric_stress_pa"] = number_or_null(t.peak_deviatoric_stress_pa);
             o["peak_axial_strain"] = number_or_null(t.peak_axial_strain);
             o["sigma1_pa"] = number_or_null(t.peak_sigma1_pa);
@@ -566,7 +567,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     const auto report_work = [&] {  // under report_mutex
         if (!control.work) return;
         double left = (1.0 - prep_done) * work.preparation_steps;
-        for (double d : done) left += (1.0 - d) * work.steps_per_test;
+        for (std::size_t k = 0; k < n_tests; ++k) left += (1.0 - done[k]) * work.test_steps[k];
         control.work(WorkSteps{steps_run, left, testing});
     };
 
@@ -576,7 +577,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
         steps_run += std::max(0.0, f - prep_done) * work.preparation_steps;
         prep_done = f;
         report_work();
-        report(control, stage, shares.overall(f, 0.0, 0.0), m);
+        report(control, stage, shares.overall(f, {}, 0.0), m);
     };
     if (auto e = prepare(spec, dir, prep_control)) return e;
     prep_done = 1.0;  // prepared now, or by an earlier run (then it reported nothing)
@@ -606,12 +607,10 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
                 std::lock_guard lock(report_mutex);
                 testing = true;
                 if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
-                else steps_run += std::max(0.0, f - done[k]) * work.steps_per_test;
+                else steps_run += std::max(0.0, f - done[k]) * work.test_steps[k];
                 done[k] = f;
                 report_work();
-                double sum = 0.0;
-                for (double d : done) sum += d;
-                report(control, stage, shares.overall(1.0, sum, 0.0), m);
+                report(control, stage, shares.overall(1.0, done, 0.0), m);
             };
             errors[k] = run_test(dir, k, tc);
             if (control.cancel && control.cancel->load()) return;
@@ -630,7 +629,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     analysis_control.progress = [&](const char* stage, double f, const std::string& m) {
         std::lock_guard lock(report_mutex);
         report_work();  // nothing left to step
-        report(control, stage, shares.overall(1.0, static_cast<double>(n_tests), f), m);
+        report(control, stage, shares.overall(1.0, std::vector<double>(n_tests, 1.0), f), m);
     };
     return analyse(dir, analysis_control);
 }

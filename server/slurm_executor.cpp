@@ -109,10 +109,8 @@ LiveProgress slurm_progress(const std::vector<SlurmUnit>& units, const SlurmFile
             done += units[k].state == S::succeeded;
         }
     }
-    double tests_sum = 0.0;
-    for (std::size_t k = 1; k <= tests; ++k) tests_sum += fraction[k];
     LiveProgress p;
-    p.progress = shares.overall(fraction[0], tests_sum, fraction.back());
+    p.progress = shares.overall(fraction[0], std::span<const double>(fraction).subspan(1, tests), fraction.back());
     if (units[0].state != S::succeeded) {
         p.state = JobState::preparing;
         p.stage = "preparing";

@@ -155,8 +155,8 @@ std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const Se
         const double prep = work.preparation_steps;
         return FieldProblem{api::work_field(spec, work),
             "the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
-                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.tests) + " tests of "
-                + approx(work.steps_per_test) + "); this server runs at most " + approx(config.max_steps_per_job)
+                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.test_steps.size())
+                + " tests " + approx(work.tests_total_steps()) + "); this server runs at most " + approx(config.max_steps_per_job)
                 + " (--max-steps-per-job)"};
     }
     if (!(work.samples_per_test <= config.max_samples_per_test))

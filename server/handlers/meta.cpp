@@ -266,11 +266,12 @@ constexpr const char* openapi_text = R"json({
           "engine": {"$ref": "#/components/schemas/SummaryEngine"}}},
       "SummaryTest": {"type": "object",
         "description": "One triaxial test. peak_*, sigma1_pa, sigma3_effective_pa: the state at the largest raw sample of q = sigma1 - sigma3_eff during loading (definitions.max_q); yield: the state at the maximum of the smoothed stress ratio (definitions.yield).",
-        "required": ["confining_pressure_pa", "peak_deviatoric_stress_pa", "peak_axial_strain", "sigma1_pa", "sigma3_effective_pa",
+        "required": ["confining_pressure_pa", "plate_speed_m_per_s", "peak_deviatoric_stress_pa", "peak_axial_strain", "sigma1_pa", "sigma3_effective_pa",
           "max_q_shape", "yield", "residual_stress_ratio", "hold_time_s", "consolidated_sigma1_pa", "quasi_static",
           "max_inertial_number", "mean_kinetic_to_elastic", "max_kinetic_to_elastic", "steps", "wall_time_s", "threads"],
         "properties": {
           "confining_pressure_pa": {"type": "number", "description": "sigma3 applied (triaxial.confining_pressures_pa) [Pa]"},
+          "plate_speed_m_per_s": {"type": "number", "description": "the top plate's loading speed in this test (triaxial.plate_speed_m_per_s) [m/s]"},
           "peak_deviatoric_stress_pa": {"type": "number", "nullable": true, "description": "largest raw q during loading [Pa]"},
           "peak_axial_strain": {"type": "number", "nullable": true, "description": "axial strain at that sample [1]"},
           "sigma1_pa": {"type": "number", "nullable": true, "description": "sigma1 at that sample [Pa]"},

@@ -1,6 +1,7 @@
 // The job spec: defaults, the round trip, and one row per kind of invalid
 // document with the exact field path and a fragment of the message.
 #include "api/job_spec.hpp"
+#include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "specimen/preparation.hpp"
 
@@ -71,7 +72,7 @@ JobSpec everything_changed()
     s.contact.tangential_damping_s_per_m = 500.0;
     s.triaxial.confining_pressures_pa = {10e3, 30e3, 100e3};
     s.triaxial.target_axial_strain = 0.15;
-    s.triaxial.plate_speed_m_per_s = 0.01;
+    s.triaxial.plate_speeds_m_per_s = {0.01, 0.02, 0.03};
     s.triaxial.pressure_ramp_time_s = 0.1;
     s.triaxial.hold_time_s = 0.02;
     s.triaxial.sample_interval_s = 1e-3;
@@ -255,6 +256,32 @@ TEST(JobSpec, DefaultSnapshotsFollowTheTargetStrain)
     EXPECT_EQ(parsed.value().triaxial.snapshot_strains, (std::vector<double>{0.0, 0.1, 0.2}));
 }
 
+TEST(JobSpec, APlateSpeedPerPressureLoadsEachTestAtItsOwnSpeed)
+{
+    const auto parsed = parse_job_spec(
+        R"({"triaxial": {"confining_pressures_pa": [2e4, 8e4], "plate_speed_m_per_s": [0.002, 0.005]}})");
+    ASSERT_TRUE(parsed.ok()) << describe(parsed.error());
+    const JobSpec& spec = parsed.value();
+    EXPECT_EQ(spec.triaxial.plate_speed_m_per_s(0), 0.002);
+    EXPECT_EQ(spec.triaxial.plate_speed_m_per_s(1), 0.005);
+    EXPECT_EQ(triaxial_settings(spec, 0).plate_speed_m_per_s, 0.002);
+    EXPECT_EQ(triaxial_settings(spec, 1).plate_speed_m_per_s, 0.005);
+    EXPECT_EQ(triaxial_settings(spec, 1).confining_pressure_pa, 8e4);
+    // The loading takes 2.5 times as long at 2 mm/s; ramp and hold are alike.
+    const WorkEstimate work = estimated_work(spec);
+    ASSERT_EQ(work.test_steps.size(), 2u);
+    EXPECT_GT(work.test_steps[0], 2.0 * work.test_steps[1]);
+    EXPECT_LT(work.test_steps[0], 2.5 * work.test_steps[1]);
+    EXPECT_EQ(work.total_steps(), work.preparation_steps + work.test_steps[0] + work.test_steps[1]);
+
+    // A number is every test's speed, and is written back as a number.
+    const auto one = parse_job_spec(R"({"triaxial": {"plate_speed_m_per_s": 0.004}})");
+    ASSERT_TRUE(one.ok()) << describe(one.error());
+    EXPECT_EQ(one.value().triaxial.plate_speed_m_per_s(3), 0.004);
+    EXPECT_TRUE(to_json(one.value()).at("triaxial").at("plate_speed_m_per_s").is_double());
+    EXPECT_TRUE(to_json(spec).at("triaxial").at("plate_speed_m_per_s").is_array());
+}
+
 TEST(JobSpec, IntegersMayBeWrittenWithAZeroFraction)
 {
     const auto parsed = parse_job_spec(R"({"seed": 7.0, "specimen": {"grain_count": 3000.0}, "engine": {"threads": 2e0}})");
@@ -429,6 +456,16 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         InvalidCase{"MembraneContactRadiusWord", R"({"specimen": {"membrane": {"contact_radius_m": "half"}}})",
             "specimen.membrane.contact_radius_m", "expected a number, got a string"},
         // ranges
+        InvalidCase{"PlateSpeedsNotOnePerPressure",
+            R"({"triaxial": {"confining_pressures_pa": [2e4, 4e4], "plate_speed_m_per_s": [0.002, 0.003, 0.004]}})",
+            "triaxial.plate_speed_m_per_s", "has 3 entries; give one speed per confining pressure (2)"},
+        InvalidCase{"PlateSpeedsOneForFourPressures", R"({"triaxial": {"plate_speed_m_per_s": [0.002]}})",
+            "triaxial.plate_speed_m_per_s", "has 1 entry; give one speed per confining pressure (4), or a number"},
+        InvalidCase{"PlateSpeedOutOfRange",
+            R"({"triaxial": {"confining_pressures_pa": [2e4, 4e4], "plate_speed_m_per_s": [0.002, 0]}})",
+            "triaxial.plate_speed_m_per_s[1]", "0 is out of range (0, 10]"},
+        InvalidCase{"PlateSpeedNotANumber", R"({"triaxial": {"plate_speed_m_per_s": "fast"}})",
+            "triaxial.plate_speed_m_per_s", "expected a number"},
         InvalidCase{"NegativePressure", R"({"triaxial": {"confining_pressures_pa": [1e4, 2e4, -5]}})",
             "triaxial.confining_pressures_pa[2]", "-5 is out of range (0, 1e+07]"},
         InvalidCase{"PressuresNotIncreasing", R"({"triaxial": {"confining_pressures_pa": [4e4, 2e4]}})",

@@ -75,9 +75,9 @@ TEST(Study, ExplicitPointsSetOnlyTheirOwnFields)
     ASSERT_TRUE(s.ok()) << all(s.error());
     ASSERT_EQ(s.value().points.size(), 2u);
     EXPECT_EQ(s.value().points[0].spec.seed, 7u);
-    EXPECT_EQ(s.value().points[0].spec.triaxial.plate_speed_m_per_s, 0.04);
+    EXPECT_EQ(s.value().points[0].spec.triaxial.plate_speed_m_per_s(0), 0.04);
     EXPECT_EQ(s.value().points[1].spec.seed, 1u);
-    EXPECT_EQ(s.value().points[1].spec.triaxial.plate_speed_m_per_s, 0.02);
+    EXPECT_EQ(s.value().points[1].spec.triaxial.plate_speed_m_per_s(0), 0.02);
 }
 
 TEST(Study, BadDocumentsNameThePointAndTheField)

@@ -43,8 +43,9 @@ inline void check_parsed_spec(const api::JobSpec& spec)
     FUZZ_CHECK(std::isfinite(stable.auto_s) && stable.auto_s > 0.0, text);
     const api::WorkEstimate work = api::estimated_work(spec);
     FUZZ_CHECK(std::isfinite(work.time_step_s) && work.time_step_s > 0.0, text);
-    FUZZ_CHECK(!std::isnan(work.preparation_steps) && !std::isnan(work.steps_per_test)
+    FUZZ_CHECK(!std::isnan(work.preparation_steps) && !std::isnan(work.tests_total_steps())
             && !std::isnan(work.samples_per_test), text);
+    FUZZ_CHECK(work.test_steps.size() == spec.triaxial.confining_pressures_pa.size(), text);
     const api::BodyCounts bodies = api::estimated_body_counts(spec);
     // In doubles: a sum of saturated counts must not wrap round to a small one.
     const double total = static_cast<double>(bodies.grains) + static_cast<double>(bodies.wire_nodes)
@@ -54,8 +55,8 @@ inline void check_parsed_spec(const api::JobSpec& spec)
 
     const double height_m = engine::estimated_fill_height_m(api::preparation_geometry(spec));
     FUZZ_CHECK(std::isfinite(height_m) && height_m > 0.0, text);
-    for (const double p : spec.triaxial.confining_pressures_pa)
-        (void)engine::expected_triaxial_steps(api::triaxial_settings(spec, p), height_m, work.time_step_s);
+    for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k)
+        (void)engine::expected_triaxial_steps(api::triaxial_settings(spec, k), height_m, work.time_step_s);
 }
 
 /// Limits a server enforces at submit (ServerConfig's defaults unless given).

@@ -240,10 +240,13 @@ TEST(SlurmState, TheStagesSharesSumToTheWholeJob)
 {
     wiredem::api::WorkEstimate w;
     w.preparation_steps = 1e5;
-    w.steps_per_test = 3e5;
-    w.tests = 3;
+    w.test_steps = {4.5e5, 3e5, 1.5e5};  // slower plates at the low pressures
     const auto s = wiredem::api::progress_shares(w);
-    EXPECT_DOUBLE_EQ(s.overall(1.0, 3.0, 1.0), 1.0);
-    EXPECT_DOUBLE_EQ(s.overall(0.0, 0.0, 0.0), 0.0);
-    EXPECT_DOUBLE_EQ(s.overall(1.0, 0.0, 0.0), 0.95 * 1e5 / 1e6);
+    const std::vector<double> all{1.0, 1.0, 1.0};
+    EXPECT_DOUBLE_EQ(s.overall(1.0, all, 1.0), 1.0);
+    EXPECT_DOUBLE_EQ(s.overall(0.0, {}, 0.0), 0.0);
+    EXPECT_DOUBLE_EQ(s.overall(1.0, {}, 0.0), 0.95 * 1e5 / 1e6);
+    // Each test in proportion to its steps: the first is half the tests' work.
+    const std::vector<double> first{1.0, 0.0, 0.0};
+    EXPECT_DOUBLE_EQ(s.overall(1.0, first, 0.0), 0.95 * (1e5 + 4.5e5) / 1e6);
 }
