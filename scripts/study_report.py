@@ -617,6 +617,7 @@ def tests_table(by_pattern):
             for t in c.tests():
                 y = t.get("yield") or {}
                 rows.append([c.name, f"{t['confining_pressure_pa'] / 1e3:g}",
+                             fmt(t.get("plate_speed_m_per_s") and t["plate_speed_m_per_s"] * 1e3, ".3g"),
                              fmt(y.get("stress_ratio"), ".3f"),
                              fmt(y.get("axial_strain") and y["axial_strain"] * 100, ".2f"),
                              y.get("shape", "—"),
@@ -631,7 +632,7 @@ def tests_table(by_pattern):
     return ("Every test. Yield: the maximum of the smoothed stress ratio η, its shape (peak, plateau, or "
             "rising: still rising at the end, a lower bound); max q: the largest raw q and the shape of the "
             "smoothed q curve; residual η: mean over the last 2 % of strain (summary `definitions`).\n\n"
-            + table(["campaign", "σ₃ [kPa]", "yield η", "at ε_a [%]", "yield shape", "q at yield [kPa]",
+            + table(["campaign", "σ₃ [kPa]", "plate [mm/s]", "yield η", "at ε_a [%]", "yield shape", "q at yield [kPa]",
                      "σ₃,eff at yield [kPa]", "max q [kPa]", "at ε_a [%]", "max-q shape", "residual η",
                      "quasi-static", "max I", "mean KE/E"], rows))
 

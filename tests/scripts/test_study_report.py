@@ -47,7 +47,9 @@ def summary(pattern, seed, phi_deg, c_pa):
     tests = []
     for s3 in (20e3, 40e3):
         s1, s3e = yield_state(s3, phi_deg, c_pa)
-        tests.append({"confining_pressure_pa": s3, "peak_deviatoric_stress_pa": s1 - s3e, "peak_axial_strain": 0.04,
+        # Seed 2's summaries predate the per-test plate speed.
+        speed = {} if seed == 2 else {"plate_speed_m_per_s": 1e-7 * s3}
+        tests.append({"confining_pressure_pa": s3, **speed, "peak_deviatoric_stress_pa": s1 - s3e, "peak_axial_strain": 0.04,
                       "sigma1_pa": s1, "sigma3_effective_pa": s3e, "max_q_shape": "rising",
                       "yield": {"shape": "plateau", "stress_ratio": (s1 - s3e) / (s1 + s3e), "axial_strain": 0.03,
                                 "sigma1_pa": s1, "sigma3_effective_pa": s3e, "deviatoric_stress_pa": s1 - s3e},
@@ -167,6 +169,11 @@ class StudyReport(unittest.TestCase):
         self.assertTrue(verdict)
         self.assertFalse(report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (29.0, 1.0, 2))[2])
         self.assertIsNone(report.difference_exceeds_scatter((32.0, 2.0, 2), (20.0, None, 1))[2])
+
+    def test_every_test_states_its_plate_speed(self):
+        self.assertRegex(self.tables, r"\| helix-seed1 \| 20 \| 2 \| ")
+        self.assertRegex(self.tables, r"\| helix-seed1 \| 40 \| 4 \| ")
+        self.assertRegex(self.tables, r"\| helix-seed2 \| 20 \| — \| ")
 
     def test_wire_lags_are_summary_jsons(self):
         # Both lags of seed 1 as summary.json gives them, not R's maximum of the synthetic sine (50 mm);
