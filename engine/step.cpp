@@ -13,15 +13,13 @@
 #include <cmath>
 
 namespace wiredem::engine {
-void initialize_accelerations(World& w, ThreadPool& pool)
+void begin_run(World& w, ThreadPool& pool)
 {
     update_neighbours(w, pool);
-    const std::vector<TangentialState> springs = w.contacts.tangential;
-    compute_contact_forces(w, pool);
+    compute_contact_forces(w, pool, MemoryUpdate::keep);
     compute_wire_forces(w, pool);
     compute_membrane_forces(w, pool);
     gather_forces(w, pool);
-    w.contacts.tangential = springs;
 
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     for (auto& body : w.bodies)
@@ -38,7 +36,7 @@ StepReport step(World& w, ThreadPool& pool, StepProfile* profile)
 {
     StepReport report;
     const bool gear = w.integrator == Integrator::gear5;
-    if (w.step_count == 0) initialize_accelerations(w, pool); // a(0) from the forces
+    if (w.step_count == 0) begin_run(w, pool); // a(0) from the forces
     StageClock clock(profile);
     if (gear) gear5_predict(w, pool);                    // every moving body
     else verlet_first_half(w, pool);
@@ -185,7 +183,7 @@ namespace {
 /// The contact kernel: from a contact's geometry (or its absence) to its
 /// force, spring and slots, with the laws of laws/. One writer per slot.
 [[gnu::always_inline]] inline void evaluate_contact(ContactList& c, std::size_t p, bool overlaps,
-    const ContactGeometry& g, double damping_s, const TangentialParams& tp, double dt)
+    const ContactGeometry& g, const ContactInputs& in)
 {
     if (!overlaps) {
         // Apart: the contact (and its spring) is gone. Slots of a contact
@@ -201,9 +199,9 @@ namespace {
     }
     const double rate = g.velocity_m_per_s.dot(g.normal); // dξ/dt, > 0 while approaching
     const Vec3 vt = g.velocity_m_per_s - rate * g.normal;
-    const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, damping_s);
-    const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, tp, dt);
-    c.tangential[p] = t.next;
+    const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, in.damping_s);
+    const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, in.tangential, in.dt);
+    if (in.memory == MemoryUpdate::commit) c.tangential[p] = t.next;
     c.force_n[p] = -fn * g.normal + t.force_n;
     c.normal_x_tangential_n[p] = g.normal.cross(t.force_n);
     c.overlap_m[p] = g.overlap_m;
@@ -213,11 +211,12 @@ namespace {
 
 } // namespace
 
-void compute_contact_forces(World& w, ThreadPool& pool)
+void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
 {
     ContactList& c = w.contacts;
     // What both kernels read, by kind, hoisted out of the loops.
-    const ContactInputs in = contact_inputs(w);
+    ContactInputs in = contact_inputs(w);
+    in.memory = memory;
     const Vec3 no_spin = Vec3::Zero();
     auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? in.spin_dt[b.index()] : no_spin; };
 
@@ -230,7 +229,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         ContactGeometry g;
         const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in.damping_s, in.tangential, in.dt);
+        evaluate_contact(c, p, overlaps, g, in);
     };
     // Eight pairs at a time where the CPU can (same bits,
     // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
@@ -252,7 +251,7 @@ void compute_contact_forces(World& w, ThreadPool& pool)
         ContactGeometry g;
         const bool overlaps = sphere_wall_geometry(
             w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in.damping_s, in.tangential, in.dt);
+        evaluate_contact(c, p, overlaps, g, in);
     };
     const SimdWallKernel simd_wall = simd_wall_kernel();
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {

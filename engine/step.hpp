@@ -15,15 +15,21 @@ struct StepReport {
 
 /// Advances `w` by w.dt_s. Thread-count independent: the same World gives
 /// bit-identical results with any pool size. With a profile, adds the time
-/// spent in each Stage to it (the first step's initial accelerations are not
-/// charged to any stage).
+/// spent in each Stage to it (the first step's begin_run is not charged to
+/// any stage).
 StepReport step(World& w, ThreadPool& pool, StepProfile* profile = nullptr);
 
 /// Sets every body's second Gear derivative from the forces at the current
-/// state (x₂ = δt²/2 · F/m, likewise for rotation), leaving tangential springs
-/// untouched. step() does this before the first step; without it Gear-5 would
-/// start from a = 0 and carry the start-up error for the whole run.
-void initialize_accelerations(World& w, ThreadPool& pool);
+/// state (x₂ = δt²/2 · F/m, likewise for rotation). The contact stage runs
+/// with MemoryUpdate::keep: no spring takes the step's slip v_t δt, so the
+/// first step advances the springs once, from the stored state. What depends
+/// on the positions alone is applied, as in any evaluation: contacts apart
+/// are released, and wire joints bent beyond their yield angle yield (the
+/// initial memory made consistent with the initial positions; applying it
+/// again there changes nothing). step() does this before the first step;
+/// without it Gear-5 would start from a = 0 and carry the start-up error for
+/// the whole run.
+void begin_run(World& w, ThreadPool& pool);
 
 // The stages, in the order step() runs them; exposed for tests and benchmarks.
 
@@ -35,8 +41,9 @@ void move_walls(World& w);
 bool update_neighbours(World& w, ThreadPool& pool);
 /// Evaluates every contact of the list, body pairs and body–wall contacts,
 /// with one kernel (geometry adapters in contact/geometry.hpp, the laws of
-/// laws/; one writer per contact slot), then totals each wall's force.
-void compute_contact_forces(World& w, ThreadPool& pool);
+/// laws/; one writer per contact slot), then totals each wall's force. With
+/// `keep`, the contacts' memory is not advanced (ContactInputs::memory).
+void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory = MemoryUpdate::commit);
 /// Sums each body's contact, element and gravity forces in a fixed order.
 void gather_forces(World& w, ThreadPool& pool);
 

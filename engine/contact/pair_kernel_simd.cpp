@@ -249,13 +249,14 @@ constexpr auto spread3 = [] {
     lanes &= _mm512_cmp_pd_mask(speed, speed, _CMP_ORD_Q);
     if (lanes == 0) return 0;
     // Contacts that start or stop sliding change their flag.
-    const auto flips = static_cast<__mmask8>(lanes & (sticking ^ static_cast<__mmask8>(~slides)));
-    if (flips != 0)
-        for (unsigned l = 0; l < simd_pair_lanes; ++l)
-            if (flips >> l & 1u) c.tangential[p + l].sticking = !(slides >> l & 1u);
-
     // The slots, as evaluate_contact writes them.
-    store_springs(&c.tangential[p], lanes, spring);
+    if (in.memory == MemoryUpdate::commit) {
+        const auto flips = static_cast<__mmask8>(lanes & (sticking ^ static_cast<__mmask8>(~slides)));
+        if (flips != 0)
+            for (unsigned l = 0; l < simd_pair_lanes; ++l)
+                if (flips >> l & 1u) c.tangential[p + l].sticking = !(slides >> l & 1u);
+        store_springs(&c.tangential[p], lanes, spring);
+    }
     store_vec3s(&c.force_n[p], lanes, -fn * normal + tangential);
     store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));
     _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);

@@ -48,6 +48,12 @@ struct ContactInputs {
     double dt = 0.0;
     double damping_s = 0.0; ///< γ_n
     TangentialParams tangential;
+    /// keep: an overlapping contact's spring and sliding flag are not
+    /// written. What depends on the positions alone is written either way:
+    /// a contact apart is released (spring reset, not touching), one that
+    /// overlaps is marked touching; done twice at the same positions, these
+    /// change nothing more.
+    MemoryUpdate memory = MemoryUpdate::commit;
 };
 
 /// The inputs of the world's current state (valid until its bodies change).

@@ -18,6 +18,12 @@ enum class BodyKind : std::uint8_t { grain = 0, wire = 1, membrane = 2 };
 
 inline constexpr int body_kind_count = 3;
 
+/// Whether the contact stage advances the memory that integrates a step's
+/// motion (each contact's tangential spring, δ_t += v_t δt, and its sliding
+/// flag) or only evaluates the forces of the current state: begin_run
+/// (step.hpp) keeps it, so that the first step advances it once.
+enum class MemoryUpdate : std::uint8_t { commit, keep };
+
 /// A body named by kind and index, packed into 32 bits (2 bits of kind, 30 of
 /// index) so that comparing two references compares (kind, index).
 struct BodyRef {

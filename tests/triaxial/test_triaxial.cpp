@@ -59,7 +59,7 @@ void bring_to_rest(Simulation& sim)
             for (auto& x : body.x[k]) x.setZero();
     for (int k = 1; k < gear_order; ++k)
         for (auto& x : sim.world.grain_rotation.w[k]) x.setZero();
-    initialize_accelerations(sim.world, sim.pool());
+    begin_run(sim.world, sim.pool());
 }
 
 /// The specimen of the file comment, in layers 2.1 mm apart: a ring of grains
@@ -217,7 +217,7 @@ TEST(TriaxialMeasurement, StressesEqualHertzForcesOfAPrescribedRingOverTheColumn
         add_grain(w, Vec3(x.x() * rho / spec.radius_m, x.y() * rho / spec.radius_m, z), r, grain_mat);
     }
     set_auto_time_step(w);
-    initialize_accelerations(w, sim.pool()); // forces of the current state, nothing moves
+    begin_run(w, sim.pool()); // forces of the current state, nothing moves
 
     const Material& mm = w.materials[w.of(BodyKind::membrane).material[0]];
     const double e_gp = effective_modulus_pa(soft_grain.youngs_modulus_pa, soft_grain.poisson_ratio, plate.youngs_modulus_pa, plate.poisson_ratio);
