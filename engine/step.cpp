@@ -190,9 +190,7 @@ namespace {
         // that was apart already are zero: leave them alone.
         if (c.touching[p]) {
             c.tangential[p] = TangentialState{};
-            c.force_n[p].setZero();
-            c.normal_x_tangential_n[p].setZero();
-            c.normal_force_n[p] = 0.0;
+            c.output[p] = ContactOutput{};
             c.touching[p] = 0;
         }
         return;
@@ -202,10 +200,11 @@ namespace {
     const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, in.damping_s);
     const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, in.tangential, in.dt);
     if (in.memory == MemoryUpdate::commit) c.tangential[p] = t.next;
-    c.force_n[p] = -fn * g.normal + t.force_n;
-    c.normal_x_tangential_n[p] = g.normal.cross(t.force_n);
-    c.overlap_m[p] = g.overlap_m;
-    c.normal_force_n[p] = fn;
+    ContactOutput& out = c.output[p];
+    out.force_n = -fn * g.normal + t.force_n;
+    out.normal_x_tangential_n = g.normal.cross(t.force_n);
+    out.overlap_m = g.overlap_m;
+    out.normal_force_n = fn;
     c.touching[p] = 1;
 }
 
@@ -291,7 +290,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
                 Total sum;
                 for (std::size_t p = begin + b; p < begin + e; ++p) {
                     if (!c.touching[p]) continue;
-                    sum.force -= c.force_n[p];
+                    sum.force -= c.output[p].force_n;
                     ++sum.contacts;
                 }
                 return sum;
@@ -319,9 +318,9 @@ void gather_forces(World& w, ThreadPool& pool)
                 const std::uint32_t end = c.incidence_start[off + i + 1];
                 for (std::uint32_t e = c.incidence_start[off + i]; e < end; ++e) {
                     const Incidence in = c.incidence[e];
-                    f += in.sign() * c.force_n[in.contact()];
-                    if constexpr (rotates)
-                        tau += (body.radius_m[i] - 0.5 * c.overlap_m[in.contact()]) * c.normal_x_tangential_n[in.contact()];
+                    const ContactOutput& out = c.output[in.contact()];
+                    f += in.sign() * out.force_n;
+                    if constexpr (rotates) tau += (body.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
                 }
                 if (k == static_cast<int>(BodyKind::wire)) f += w.wire.node_force_n[i];
                 if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane.node_force_n[i];

@@ -70,4 +70,27 @@ struct Records4 {
     }
 }
 
+/// Writes eight records of eight doubles, record l = lane l of r[0] … r[7]
+/// (an 8 × 8 transpose), to the 64-byte aligned `out` + 8 l, for the lanes
+/// in `lanes` only.
+[[WIREDEM_AVX512]] inline void store_records8(double* out, __mmask8 lanes, const __m512d (&r)[8])
+{
+    // Pairs (r[2i][k], r[2i+1][k]) in 128-bit blocks: even k, then odd k.
+    const __m512d a_even = _mm512_unpacklo_pd(r[0], r[1]), a_odd = _mm512_unpackhi_pd(r[0], r[1]);
+    const __m512d b_even = _mm512_unpacklo_pd(r[2], r[3]), b_odd = _mm512_unpackhi_pd(r[2], r[3]);
+    const __m512d c_even = _mm512_unpacklo_pd(r[4], r[5]), c_odd = _mm512_unpackhi_pd(r[4], r[5]);
+    const __m512d d_even = _mm512_unpacklo_pd(r[6], r[7]), d_odd = _mm512_unpackhi_pd(r[6], r[7]);
+    // Blocks (0, 2) and (1, 3) of two registers: the pairs of k and k + 4.
+    const __m512d ab04 = _mm512_shuffle_f64x2(a_even, b_even, 0x88), ab26 = _mm512_shuffle_f64x2(a_even, b_even, 0xdd);
+    const __m512d ab15 = _mm512_shuffle_f64x2(a_odd, b_odd, 0x88), ab37 = _mm512_shuffle_f64x2(a_odd, b_odd, 0xdd);
+    const __m512d cd04 = _mm512_shuffle_f64x2(c_even, d_even, 0x88), cd26 = _mm512_shuffle_f64x2(c_even, d_even, 0xdd);
+    const __m512d cd15 = _mm512_shuffle_f64x2(c_odd, d_odd, 0x88), cd37 = _mm512_shuffle_f64x2(c_odd, d_odd, 0xdd);
+    const __m512d records[8] = {_mm512_shuffle_f64x2(ab04, cd04, 0x88), _mm512_shuffle_f64x2(ab15, cd15, 0x88),
+        _mm512_shuffle_f64x2(ab26, cd26, 0x88), _mm512_shuffle_f64x2(ab37, cd37, 0x88),
+        _mm512_shuffle_f64x2(ab04, cd04, 0xdd), _mm512_shuffle_f64x2(ab15, cd15, 0xdd),
+        _mm512_shuffle_f64x2(ab26, cd26, 0xdd), _mm512_shuffle_f64x2(ab37, cd37, 0xdd)};
+    for (int l = 0; l < 8; ++l)
+        _mm512_mask_store_pd(out + 8 * l, static_cast<__mmask8>((lanes >> l & 1u) ? 0xff : 0x00), records[l]);
+}
+
 } // namespace wiredem::engine::avx512

@@ -53,10 +53,7 @@ void ContactList::rebuild(
     second = std::move(new_second);
     tangential = std::move(carried);
     touching = std::move(was_touching);
-    force_n.assign(n, Vec3::Zero());
-    normal_force_n.assign(n, 0.0);
-    normal_x_tangential_n.assign(n, Vec3::Zero());
-    overlap_m.assign(n, 0.0);
+    output.assign(n, ContactOutput{});
     index(walls, flat);
 }
 
@@ -74,10 +71,7 @@ void ContactList::remove_wall(std::size_t wall, const FlatOffsets& flat)
     cut(second);
     cut(hertz_coefficient);
     cut(tangential);
-    cut(force_n);
-    cut(normal_force_n);
-    cut(normal_x_tangential_n);
-    cut(overlap_m);
+    cut(output);
     cut(touching);
     for (std::size_t p = static_cast<std::size_t>(begin); p < size(); ++p) second[p] = wall_ref(second[p].index() - 1);
     index(wall_start.size() - 2, flat);

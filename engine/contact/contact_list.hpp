@@ -53,18 +53,27 @@ struct Incidence {
 /// last, the number of bodies.
 using FlatOffsets = std::array<std::uint32_t, body_kind_count + 1>;
 
+/// What the kernel writes for a contact every step, in one 64-byte record:
+/// the gather reads one cache line per contact of a body instead of three
+/// (force, n × F_t and overlap from separate arrays), and the AVX-512 kernel
+/// writes a lane's record with one store. All zero while apart.
+struct alignas(64) ContactOutput {
+    Vec3 force_n = Vec3::Zero();   ///< this step's force on `first` (−force on a body `second`) [N]
+    /// n × F_t this step (n from first to second): a body's torque from the
+    /// contact is its lever arm r − ξ/2 times this [N].
+    Vec3 normal_x_tangential_n = Vec3::Zero();
+    double overlap_m = 0.0;        ///< ξ this step, while touching [m]
+    double normal_force_n = 0.0;   ///< |F_n| this step [N]
+};
+static_assert(sizeof(ContactOutput) == 64);
+
 struct ContactList {
     std::vector<BodyRef> first, second;       ///< see the top; sorted by contact_key
     /// (4/3) E* √R* of the contact, set at the rebuild (materials and radii
     /// are fixed; R* = r against a wall) [N/m^{3/2}]
     std::vector<double> hertz_coefficient;
     std::vector<TangentialState> tangential;  ///< spring memory; reset when the contact opens
-    std::vector<Vec3> force_n;                ///< this step's force on `first` (−force on a body `second`) [N]
-    std::vector<double> normal_force_n;       ///< |F_n| this step, 0 when apart [N]
-    /// n × F_t this step (n from first to second), 0 when apart: a body's
-    /// torque from the contact is its lever arm r − ξ/2 times this [N].
-    std::vector<Vec3> normal_x_tangential_n;
-    std::vector<double> overlap_m;            ///< ξ this step, while touching [m]
+    std::vector<ContactOutput> output;        ///< this step's force, n × F_t, overlap and |F_n|
     std::vector<std::uint8_t> touching;       ///< 1 when overlapping this step
     /// Contacts [0, pair_count) are body pairs; wall i's contacts are
     /// [wall_start[i], wall_start[i + 1]), with wall_start[0] = pair_count.

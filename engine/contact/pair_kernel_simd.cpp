@@ -118,36 +118,6 @@ struct AnyLanes {
         _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)));
 }
 
-/// Bits 3l, 3l + 1, 3l + 2 for every lane l set in an 8-bit mask: the
-/// doubles that a lane of a Vec3 array occupies.
-constexpr auto spread3 = [] {
-    std::array<std::uint32_t, 256> spread{};
-    for (unsigned m = 0; m < 256; ++m)
-        for (unsigned l = 0; l < 8; ++l)
-            if (m >> l & 1u) spread[m] |= 7u << (3 * l);
-    return spread;
-}();
-
-/// Writes the lanes in `lanes` of v to dst[0 … 8) (x₀ y₀ z₀ x₁ … z₇, 24
-/// doubles): three masked stores of v transposed in registers (AVX-512 has
-/// scatters, but on this CPU they cost several times these permutes).
-[[WIREDEM_AVX512]] inline void store_vec3s(Vec3* dst, __mmask8 lanes, const V3& v)
-{
-    double* out = dst->data();
-    const std::uint32_t m = spread3[lanes];
-    // Each output register: x and y interleaved (index ≥ 8 picks the second
-    // operand), then z put into the gaps.
-    const __m512d o0 = _mm512_permutex2var_pd(
-        _mm512_permutex2var_pd(v.x, lanes_of(0, 8, 0, 1, 9, 0, 2, 10), v.y), lanes_of(0, 1, 8, 3, 4, 9, 6, 7), v.z);
-    const __m512d o1 = _mm512_permutex2var_pd(
-        _mm512_permutex2var_pd(v.x, lanes_of(0, 3, 11, 0, 4, 12, 0, 5), v.y), lanes_of(10, 1, 2, 11, 4, 5, 12, 7), v.z);
-    const __m512d o2 = _mm512_permutex2var_pd(
-        _mm512_permutex2var_pd(v.x, lanes_of(13, 0, 6, 14, 0, 7, 15, 0), v.y), lanes_of(0, 13, 2, 3, 14, 5, 6, 15), v.z);
-    _mm512_mask_storeu_pd(out, static_cast<__mmask8>(m), o0);
-    _mm512_mask_storeu_pd(out + 8, static_cast<__mmask8>(m >> 8), o1);
-    _mm512_mask_storeu_pd(out + 16, static_cast<__mmask8>(m >> 16), o2);
-}
-
 /// The springs δ of eight consecutive contacts (32 bytes each: x y z and the
 /// word holding `sticking`), transposed into lanes.
 [[WIREDEM_AVX512]] inline V3 load_springs(const TangentialState* t)
@@ -174,9 +144,7 @@ constexpr auto spread3 = [] {
         for (unsigned l = 0; l < simd_pair_lanes; ++l)
             if (opened >> l & 1u) {
                 c.tangential[p + l] = TangentialState{};
-                c.force_n[p + l].setZero();
-                c.normal_x_tangential_n[p + l].setZero();
-                c.normal_force_n[p + l] = 0.0;
+                c.output[p + l] = ContactOutput{};
                 c.touching[p + l] = 0;
             }
 }
@@ -257,10 +225,12 @@ constexpr auto spread3 = [] {
                 if (flips >> l & 1u) c.tangential[p + l].sticking = !(slides >> l & 1u);
         store_springs(&c.tangential[p], lanes, spring);
     }
-    store_vec3s(&c.force_n[p], lanes, -fn * normal + tangential);
-    store_vec3s(&c.normal_x_tangential_n[p], lanes, cross(normal, tangential));
-    _mm512_mask_storeu_pd(&c.overlap_m[p], lanes, overlap);
-    _mm512_mask_storeu_pd(&c.normal_force_n[p], lanes, fn);
+    const V3 force = -fn * normal + tangential, normal_x_tangential = cross(normal, tangential);
+    const __m512d output[8] = {force.x, force.y, force.z, normal_x_tangential.x, normal_x_tangential.y, normal_x_tangential.z, overlap, fn};
+    static_assert(offsetof(ContactOutput, normal_x_tangential_n) == 3 * sizeof(double)
+                  && offsetof(ContactOutput, overlap_m) == 6 * sizeof(double)
+                  && offsetof(ContactOutput, normal_force_n) == 7 * sizeof(double));
+    store_records8(c.output[p].force_n.data(), lanes, output);
     _mm_mask_storeu_epi8(&c.touching[p], lanes, _mm_set1_epi8(1));
     return lanes;
 }

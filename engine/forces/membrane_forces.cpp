@@ -173,8 +173,8 @@ MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool)
                 Vec3 radial = w.of(BodyKind::membrane).x[0][c.second[p].index()];
                 radial.z() = 0.0;
                 const double rho = radial.norm();
-                part.normal_force_n += c.normal_force_n[p];
-                if (rho > 0.0) part.radial_force_n += -c.force_n[p].dot(radial) / rho;
+                part.normal_force_n += c.output[p].normal_force_n;
+                if (rho > 0.0) part.radial_force_n += -c.output[p].force_n.dot(radial) / rho;
                 ++part.contacts;
             }
             return part;

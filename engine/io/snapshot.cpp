@@ -40,15 +40,16 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2240, "World changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2168, "World changed: update for_each_field and this size");
 static_assert(sizeof(TranslationalState) == 288, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 216, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 152, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WireState) == 176, "WireState changed: update for_each_field and this size");
 static_assert(sizeof(MembraneState) == 368, "MembraneState changed: update for_each_field and this size");
-static_assert(sizeof(ContactList) == 288, "ContactList changed: update for_each_field and this size");
+static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
 static_assert(sizeof(ContactSettings) == 40, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");
+static_assert(sizeof(ContactOutput) == 64, "ContactOutput changed: update its FieldCodec and this size");
 
 namespace {
 
@@ -120,6 +121,35 @@ void motion_from_held_bodies(World& w)
     }
 }
 
+/// Versions 2 and 3 kept a contact's outputs in four arrays (force_n,
+/// normal_x_tangential_n, overlap_m, normal_force_n): read them into the
+/// records. Returns an error message, or "".
+std::string read_four_output_arrays(const io::Group& root, ContactList& c)
+{
+    std::vector<Vec3> force, torque_arm;
+    std::vector<double> overlap, normal;
+    std::string error;
+    auto read = [&](const std::string& name, auto& value) {
+        if (!error.empty()) return;
+        if (!root.exists(name)) {
+            error = "field " + name + " is missing";
+            return;
+        }
+        const io::Dataset d = root.open_dataset(name);
+        const std::vector<std::size_t> shape = d.shape();
+        if (shape.size() != 2 || !unflatten(d.read_doubles(), shape[0], value) || value.size() != c.size())
+            error = "field " + name + " has an unexpected shape";
+    };
+    read("contacts/force_n", force);
+    read("contacts/normal_x_tangential_n", torque_arm);
+    read("contacts/overlap_m", overlap);
+    read("contacts/normal_force_n", normal);
+    if (!error.empty()) return error;
+    c.output.resize(c.size());
+    for (std::size_t p = 0; p < c.size(); ++p) c.output[p] = {force[p], torque_arm[p], overlap[p], normal[p]};
+    return "";
+}
+
 } // namespace
 
 Result<World, std::string> restore_snapshot(const std::filesystem::path& path)
@@ -140,16 +170,19 @@ Result<World, std::string> restore_snapshot(
         if (!root.has_attribute("format") || root.read_string_attribute("format") != format_name)
             return Err(at + ": not a wiredem snapshot (no format attribute \"" + std::string(format_name) + "\")");
         const std::int64_t version = root.read_int_attribute("version");
-        if (version != snapshot_version && version != 2)
-            return Err(at + ": version " + std::to_string(version) + ", but this engine reads versions 2 and "
+        if (version < 2 || version > snapshot_version)
+            return Err(at + ": version " + std::to_string(version) + ", but this engine reads versions 2 to "
                        + std::to_string(snapshot_version));
         // Version 2 has no motion types: it held a body by its inverse mass.
         const bool motion_from_inverse_mass = version == 2;
+        // Versions 2 and 3 keep a contact's outputs in four arrays.
+        const bool outputs_in_four_arrays = version <= 3;
         w.walls.resize(static_cast<std::size_t>(root.read_int_attribute("wall_count")));
         std::string error;
         for_each_field(w, [&](const std::string& name, auto& value, FieldRole) {
             if (!error.empty()) return;
             if (motion_from_inverse_mass && name.ends_with("/motion")) return; // below
+            if (outputs_in_four_arrays && name == "contacts/output") return;  // below
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;
@@ -166,6 +199,10 @@ Result<World, std::string> restore_snapshot(
         });
         if (!error.empty()) return Err(at + ": " + error);
         if (motion_from_inverse_mass) motion_from_held_bodies(w);
+        if (outputs_in_four_arrays) {
+            error = read_four_output_arrays(root, w.contacts);
+            if (!error.empty()) return Err(at + ": " + error);
+        }
         const std::string recorded = root.read_string_attribute("state_hash");
         if (hex(state_hash(w)) != recorded)
             return Err(at + ": the restored state hashes to " + hex(state_hash(w)) + ", the file recorded " + recorded);

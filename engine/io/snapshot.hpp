@@ -24,7 +24,7 @@ namespace wiredem::engine {
 
 /// Version of the snapshot layout; restore_snapshot reads this version only.
 /// Bump it whenever a field is added, removed or changes meaning.
-inline constexpr std::int64_t snapshot_version = 3; // 3: bodies' motion types
+inline constexpr std::int64_t snapshot_version = 4; // 3: bodies' motion types; 4: one record of outputs per contact
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";

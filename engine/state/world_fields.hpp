@@ -91,6 +91,27 @@ struct FieldCodec<TangentialState> {
     }
 };
 
+/// Force (x, y, z), n × F_t (x, y, z), overlap, |F_n|.
+template <>
+struct FieldCodec<ContactOutput> {
+    using Number = double;
+    static constexpr std::size_t columns = 8;
+    static void put(const ContactOutput& o, Number* out)
+    {
+        FieldCodec<Vec3>::put(o.force_n, out);
+        FieldCodec<Vec3>::put(o.normal_x_tangential_n, out + 3);
+        out[6] = o.overlap_m;
+        out[7] = o.normal_force_n;
+    }
+    static void get(const Number* in, ContactOutput& o)
+    {
+        FieldCodec<Vec3>::get(in, o.force_n);
+        FieldCodec<Vec3>::get(in + 3, o.normal_x_tangential_n);
+        o.overlap_m = in[6];
+        o.normal_force_n = in[7];
+    }
+};
+
 /// E, ν, ρ.
 template <>
 struct FieldCodec<Material> {
@@ -359,10 +380,7 @@ void for_each_field(W& w, Visit&& field)
     field("contacts/hertz_coefficient", c.hertz_coefficient, R::cache);
     field("contacts/incidence_start", c.incidence_start, R::cache);
     field("contacts/incidence", c.incidence, R::cache);
-    field("contacts/force_n", c.force_n, R::output);
-    field("contacts/normal_force_n", c.normal_force_n, R::output);
-    field("contacts/normal_x_tangential_n", c.normal_x_tangential_n, R::output);
-    field("contacts/overlap_m", c.overlap_m, R::output);
+    field("contacts/output", c.output, R::output);
     field("position_at_build_m", w.position_at_build_m, R::cache);
     field("neighbours_dirty", w.neighbours_dirty, R::cache);
     field("neighbour_builds", w.neighbour_builds, R::cache);

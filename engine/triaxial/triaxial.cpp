@@ -264,14 +264,14 @@ TriaxialSnapshot take_triaxial_snapshot(const World& w)
         if (!c.touching[p]) continue;
         f.first.push_back(c.first[p]);
         f.second.push_back(c.second[p]);
-        f.force_n.push_back(c.force_n[p]);
-        f.normal_force_n.push_back(c.normal_force_n[p]);
+        f.force_n.push_back(c.output[p].force_n);
+        f.normal_force_n.push_back(c.output[p].normal_force_n);
     }
     for (std::size_t p = c.pair_count(); p < c.size(); ++p) { // by wall, then body
-        if (c.force_n[p].isZero(0.0)) continue;
+        if (c.output[p].force_n.isZero(0.0)) continue;
         f.wall.push_back(c.second[p].index());
         f.wall_body.push_back(c.first[p]);
-        f.wall_force_n.push_back(c.force_n[p]);
+        f.wall_force_n.push_back(c.output[p].force_n);
     }
     return snap;
 }

@@ -107,6 +107,6 @@ TEST(BeginRun, AContactApartIsReleasedNotLeftWithItsOldSpring)
     ASSERT_TRUE(w.contacts.find(BodyRef(BodyKind::grain, 0), wall_ref(0)).has_value()) << "still a candidate";
     EXPECT_FALSE(w.contacts.touching[*p]);
     EXPECT_TRUE(same_bits(w.contacts.tangential[*p], TangentialState{}));
-    EXPECT_EQ(w.contacts.force_n[*p], Vec3::Zero());
+    EXPECT_EQ(w.contacts.output[*p].force_n, Vec3::Zero());
     EXPECT_EQ(w.bodies[0].force_n[0], Vec3::Zero()) << "no gravity, no load, no contact force";
 }

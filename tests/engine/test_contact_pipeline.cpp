@@ -165,7 +165,7 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     EXPECT_FALSE(w.contacts.touching[*q]);
     EXPECT_EQ(w.contacts.tangential[*q].spring_m, Vec3::Zero());
     EXPECT_TRUE(w.contacts.tangential[*q].sticking);
-    EXPECT_EQ(w.contacts.force_n[*q], Vec3::Zero());
+    EXPECT_EQ(w.contacts.output[*q].force_n, Vec3::Zero());
     EXPECT_EQ(w.walls[0].contacts, 0u);
     EXPECT_EQ(w.walls[0].total_force_n, Vec3::Zero());
 }

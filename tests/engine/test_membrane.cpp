@@ -205,10 +205,10 @@ TEST(MembraneContact, WireNodePressingOnTheMembraneCountsInItsLoad)
     w.dt_s = 1e-8;
     sim.step();
     ASSERT_EQ(w.contacts.size(), 1u);
-    ASSERT_GT(w.contacts.normal_force_n[0], 0.0);
+    ASSERT_GT(w.contacts.output[0].normal_force_n, 0.0);
     const MembraneLoad load = membrane_contact_load(w, sim.pool());
     EXPECT_EQ(load.contacts, 1u);
-    EXPECT_EQ(load.normal_force_n, w.contacts.normal_force_n[0]);
+    EXPECT_EQ(load.normal_force_n, w.contacts.output[0].normal_force_n);
 }
 
 namespace {

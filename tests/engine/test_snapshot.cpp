@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 #include <unistd.h>
 
@@ -158,6 +159,50 @@ TEST(Snapshot, AnotherVersionIsAnError)
     std::filesystem::remove(path);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("version " + std::to_string(snapshot_version + 1)), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AVersionThreeFileKeepsTheContactOutputsInFourArrays)
+{
+    // Until version 4 a contact's force, n × F_t, overlap and |F_n| were four
+    // datasets. A file of that layout restores into the records; its arrays
+    // hold doubled forces here, so that the records must come from them.
+    Simulation sim(1);
+    build_wired_column(sim.world, Integrator::gear5);
+    for (int s = 0; s < 900; ++s) sim.step(); // ~190 pairs and 20 wall contacts touch
+    const World& w = sim.world;
+    const std::filesystem::path path = temp_path("version3.h5");
+    ASSERT_TRUE(save_snapshot(w, path).ok());
+    std::vector<Vec3> force, torque_arm;
+    std::vector<double> overlap, normal;
+    for (const ContactOutput& o : w.contacts.output) {
+        force.push_back(2.0 * o.force_n);
+        torque_arm.push_back(o.normal_x_tangential_n);
+        overlap.push_back(o.overlap_m);
+        normal.push_back(o.normal_force_n);
+    }
+    {
+        io::Group root = io::File::open_read_write(path).root();
+        root.write_int_attribute("version", 3);
+        root.write_dataset("contacts/force_n", std::span<const Vec3>(force));
+        root.write_dataset("contacts/normal_x_tangential_n", std::span<const Vec3>(torque_arm));
+        root.write_dataset("contacts/overlap_m", std::span<const double>(overlap), 1);
+        root.write_dataset("contacts/normal_force_n", std::span<const double>(normal), 1);
+    }
+    const auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const ContactList& c = r.value().contacts;
+    ASSERT_EQ(c.output.size(), w.contacts.size());
+    std::size_t touching = 0;
+    for (std::size_t p = 0; p < c.size(); ++p) {
+        EXPECT_EQ(c.output[p].force_n, 2.0 * w.contacts.output[p].force_n) << "contact " << p;
+        EXPECT_EQ(c.output[p].normal_x_tangential_n, w.contacts.output[p].normal_x_tangential_n);
+        EXPECT_EQ(c.output[p].overlap_m, w.contacts.output[p].overlap_m);
+        EXPECT_EQ(c.output[p].normal_force_n, w.contacts.output[p].normal_force_n);
+        touching += c.touching[p];
+    }
+    EXPECT_GT(touching, 100u);
+    EXPECT_EQ(state_hash(r.value()), state_hash(w));
 }
 
 TEST(Snapshot, AMissingFieldIsNamed)
