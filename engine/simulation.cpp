@@ -49,7 +49,7 @@ double kinetic_energy_j(const World& w, ThreadPool& pool)
             double s = 0.0;
             for (std::size_t i = b; i < end; ++i)
                 if (rot.inv_inertia_per_kg_m2[i] != 0.0)
-                    s += 0.5 / rot.inv_inertia_per_kg_m2[i] * rot.w[1][i].squaredNorm() * inv_dt2;
+                    s += 0.5 / rot.inv_inertia_per_kg_m2[i] * rot.theta[1][i].squaredNorm() * inv_dt2;
             return s;
         },
         [](double a, double b) { return a + b; });

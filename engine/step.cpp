@@ -28,7 +28,7 @@ void begin_run(World& w, ThreadPool& pool)
         });
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        if (is_dynamic(w.of(BodyKind::grain), i)) rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        if (is_dynamic(w.of(BodyKind::grain), i)) rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
     });
 }
 

@@ -337,7 +337,7 @@ ContactInputs contact_inputs(const World& w)
         in.v_dt[k] = w.bodies[k].x[1].data();
         in.radius[k] = w.bodies[k].radius_m.data();
     }
-    in.spin_dt = w.grain_rotation.w[1].data();
+    in.spin_dt = w.grain_rotation.theta[1].data();
     in.inv_dt = 1.0 / w.dt_s;
     in.dt = w.dt_s;
     in.damping_s = w.contact.normal_damping_s;

@@ -87,7 +87,7 @@ void gear5_predict(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end,
-            [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.w, b, e); });
+            [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.theta, b, e); });
     });
 }
 
@@ -116,9 +116,9 @@ bool gear5_correct(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            correct(rot.w, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
+            correct(rot.theta, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
             // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-            turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+            turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
     });
     return finite;

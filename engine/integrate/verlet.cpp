@@ -23,9 +23,9 @@ void verlet_first_half(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) rot.w[1][i] += rot.w[2][i];
+            for (std::size_t i = b; i < e; ++i) rot.theta[1][i] += rot.theta[2][i];
             // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
-            turn_all(rot.orientation.data() + b, rot.w[1].data() + b, e - b);
+            turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
     });
 }
@@ -53,8 +53,8 @@ bool verlet_second_half(World& w, ThreadPool& pool)
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
         if (!is_dynamic(w.of(BodyKind::grain), i)) return;
-        rot.w[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
-        rot.w[1][i] += rot.w[2][i];
+        rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        rot.theta[1][i] += rot.theta[2][i];
     });
     return finite;
 }

@@ -56,18 +56,19 @@ struct TranslationalState {
 
 /// Rotational state of the grains, parallel to their TranslationalState.
 /// The rotation is integrated with the same Gear-5 scheme on a rotation
-/// vector: w[1] = δt ω, w[2] = δt²/2 · dω/dt, …; w[0] accumulates the rotation
-/// angle vector and is kept for symmetry only. The orientation quaternion is
-/// advanced from the corrected ω and renormalised every step.
+/// vector θ: theta[1] = δt ω, theta[2] = δt²/2 · dω/dt, …; theta[0]
+/// accumulates the rotation angle vector and is kept for symmetry only. The
+/// orientation quaternion is advanced from the corrected ω and renormalised
+/// every step.
 struct RotationalState {
-    std::array<std::vector<Vec3>, gear_order> w;
+    std::array<std::vector<Vec3>, gear_order> theta;
     std::vector<Quat> orientation;            ///< unit quaternion
     std::vector<double> inv_inertia_per_kg_m2; ///< 1/I, 0 for a body that must not turn
     std::vector<Vec3> torque_n_m;             ///< rebuilt every step [N·m]
 
     void add(double inertia_kg_m2)
     {
-        for (auto& v : w) v.push_back(Vec3::Zero());
+        for (auto& v : theta) v.push_back(Vec3::Zero());
         orientation.push_back(Quat::Identity());
         inv_inertia_per_kg_m2.push_back(inertia_kg_m2 > 0.0 ? 1.0 / inertia_kg_m2 : 0.0);
         torque_n_m.push_back(Vec3::Zero());

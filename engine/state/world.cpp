@@ -16,7 +16,7 @@ std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::
     const double mass = sphere_mass_kg(w.materials[material].density_kg_per_m3, radius_m);
     const std::uint32_t id = w.of(BodyKind::grain).add(position_m, velocity_m_per_s, radius_m, mass, material, w.dt_s);
     w.grain_rotation.add(0.4 * mass * radius_m * radius_m); // solid sphere: I = 2/5 m r²
-    w.grain_rotation.w[1].back() = angular_velocity_rad_per_s * w.dt_s;
+    w.grain_rotation.theta[1].back() = angular_velocity_rad_per_s * w.dt_s;
     w.neighbours_dirty = true;
     return id;
 }
@@ -71,7 +71,7 @@ void set_time_step(World& w, double dt_s)
         scale *= ratio;
         for (auto& body : w.bodies)
             for (Vec3& v : body.x[k]) v *= scale;
-        for (Vec3& v : w.grain_rotation.w[k]) v *= scale;
+        for (Vec3& v : w.grain_rotation.theta[k]) v *= scale;
     }
     w.dt_s = dt_s;
 }
@@ -82,7 +82,7 @@ void set_integrator(World& w, Integrator integrator)
     for (int k = 3; k < gear_order; ++k) {
         for (auto& body : w.bodies)
             for (Vec3& v : body.x[k]) v.setZero();
-        for (Vec3& v : w.grain_rotation.w[k]) v.setZero();
+        for (Vec3& v : w.grain_rotation.theta[k]) v.setZero();
     }
     w.integrator = integrator;
 }
@@ -94,7 +94,7 @@ Vec3 velocity_m_per_s(const World& w, BodyRef b)
 
 Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain)
 {
-    return w.grain_rotation.w[1][grain] / w.dt_s;
+    return w.grain_rotation.theta[1][grain] / w.dt_s;
 }
 
 void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
@@ -111,7 +111,7 @@ void set_motion(World& w, BodyRef b, Motion motion)
     const int first_zeroed = motion == Motion::fixed ? 1 : motion == Motion::kinematic ? 2 : gear_order;
     for (int k = first_zeroed; k < gear_order; ++k) body.x[k][i].setZero();
     if (b.kind() == BodyKind::grain && motion != Motion::dynamic) // it does not turn
-        for (int k = 1; k < gear_order; ++k) w.grain_rotation.w[k][i].setZero();
+        for (int k = 1; k < gear_order; ++k) w.grain_rotation.theta[k][i].setZero();
     w.neighbours_dirty = true;
 }
 
@@ -129,7 +129,7 @@ void place_body(World& w, BodyRef b, const Vec3& position_m)
     body.x[0][i] = position_m;
     for (int k = 1; k < gear_order; ++k) body.x[k][i].setZero();
     if (b.kind() == BodyKind::grain)
-        for (int k = 1; k < gear_order; ++k) w.grain_rotation.w[k][i].setZero();
+        for (int k = 1; k < gear_order; ++k) w.grain_rotation.theta[k][i].setZero();
     w.neighbours_dirty = true;
 }
 

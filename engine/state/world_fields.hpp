@@ -305,7 +305,8 @@ void for_each_field(W& w, Visit&& field)
         field(at + "force_n", b.force_n, R::output);
     }
     auto& rot = w.grain_rotation;
-    for (int d = 0; d < gear_order; ++d) field("grain_rotation/w" + std::to_string(d), rot.w[d], R::state);
+    // The datasets keep the name the member had until 2026-12-02 (w), so that older snapshots restore.
+    for (int d = 0; d < gear_order; ++d) field("grain_rotation/w" + std::to_string(d), rot.theta[d], R::state);
     field("grain_rotation/orientation", rot.orientation, R::state);
     field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
     field("grain_rotation/torque_n_m", rot.torque_n_m, R::output);

@@ -33,7 +33,7 @@ inline void relax(Simulation& sim, std::uint64_t steps, double damping_per_step)
         sim.step();
         for (auto& body : sim.world.bodies)
             for (auto& v : body.x[1]) v *= 1.0 - damping_per_step;
-        for (auto& v : sim.world.grain_rotation.w[1]) v *= 1.0 - damping_per_step;
+        for (auto& v : sim.world.grain_rotation.theta[1]) v *= 1.0 - damping_per_step;
     }
 }
 

@@ -55,7 +55,7 @@ TEST(SlidingSphere, StopsAndSticksEvenWhenOneFrictionStepOvershootsTheStickWindo
     for (int s = 1; s <= steps; ++s) {
         ASSERT_FALSE(sim.step().blew_up) << "step " << s;
         if (s <= steps / 2) continue;
-        const Vec3 v = w.bodies[0].x[1][0] / dt, omega = w.grain_rotation.w[1][0] / dt;
+        const Vec3 v = w.bodies[0].x[1][0] / dt, omega = w.grain_rotation.theta[1][0] / dt;
         const Vec3 slip = v + omega.cross(Vec3(0, 0, -radius_m)); // contact point, floor at rest
         max_slip_m_per_s = std::max(max_slip_m_per_s, std::hypot(slip.x(), slip.y()));
         sliding_steps += !w.contacts.tangential[w.contacts.find({BodyKind::grain, 0}, wall_ref(0)).value()].sticking;

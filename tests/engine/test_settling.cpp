@@ -50,7 +50,7 @@ TEST(Settling, APileOfThreeHundredGrainsSettlesAtTheAutoTimeStep)
         EXPECT_GT(x.z(), 0.95 * g.radius_m[i]) << "grain " << i << " below the floor";
         EXPECT_LT(x.z(), lid) << "grain " << i << " above the lid";
         // Translation and rotation (w₁ = δt ω), with the unscaled masses.
-        const Vec3 v = g.x[1][i] / w.dt_s, omega = w.grain_rotation.w[1][i] / w.dt_s;
+        const Vec3 v = g.x[1][i] / w.dt_s, omega = w.grain_rotation.theta[1][i] / w.dt_s;
         kinetic_j += (0.5 * g.mass_kg[i] * v.squaredNorm()
                          + 0.5 * omega.squaredNorm() / w.grain_rotation.inv_inertia_per_kg_m2[i])
                    / spec.density_scale;

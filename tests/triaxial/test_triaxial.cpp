@@ -58,7 +58,7 @@ void bring_to_rest(Simulation& sim)
         for (int k = 1; k < gear_order; ++k)
             for (auto& x : body.x[k]) x.setZero();
     for (int k = 1; k < gear_order; ++k)
-        for (auto& x : sim.world.grain_rotation.w[k]) x.setZero();
+        for (auto& x : sim.world.grain_rotation.theta[k]) x.setZero();
     begin_run(sim.world, sim.pool());
 }
 
