@@ -49,7 +49,7 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
             effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
     });
     const auto& xw = w.of(BodyKind::wire).x[0];
-    const WireState& wire = w.wire;
+    const WireChain& wire = w.wire;
     if (xw.size() >= 2) {
         e.wire_j = sum(pool, xw.size(), [&](std::size_t i) {
             double energy = 0.0;
@@ -66,7 +66,7 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
             return energy;
         });
     }
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const auto& xm = w.of(BodyKind::membrane).x[0];
     e.membrane_j = sum(pool, m.edges.size(), [&](std::size_t k) {
         const double length_m = (xm[m.edges[k][1]] - xm[m.edges[k][0]]).norm();

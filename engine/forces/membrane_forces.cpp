@@ -11,8 +11,8 @@ namespace wiredem::engine {
 
 void build_membrane(World& w, const MembraneSpec& spec)
 {
-    MembraneState& m = w.membrane;
-    m = MembraneState{};
+    MembraneMesh& m = w.membrane;
+    m = MembraneMesh{};
     m.radius_m = spec.radius_m;
     m.height_m = spec.height_m;
     m.base_z_m = spec.base_z_m;
@@ -110,7 +110,7 @@ void build_membrane(World& w, const MembraneSpec& spec)
 
 void set_membrane_rigid(World& w, bool rigid)
 {
-    MembraneState& m = w.membrane;
+    MembraneMesh& m = w.membrane;
     TranslationalState& nodes = w.of(BodyKind::membrane);
     for (std::uint32_t i = 0; i < nodes.size(); ++i) {
         nodes.mass_kg[i] = m.node_mass_kg[i];
@@ -130,7 +130,7 @@ void set_membrane_rigid(World& w, bool rigid)
 
 void compute_membrane_forces(World& w, ThreadPool& pool)
 {
-    MembraneState& m = w.membrane;
+    MembraneMesh& m = w.membrane;
     const auto& x = w.of(BodyKind::membrane).x[0];
     // Held nodes do not move whatever their springs and the pressure do (the
     // preparation's rigid membrane: ~9 % of a paper-size pour's step time).
@@ -209,7 +209,7 @@ MembraneLoad membrane_contact_load(const World& w, ThreadPool& pool)
 
 double membrane_volume_m3(const World& w)
 {
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const auto& x = w.of(BodyKind::membrane).x[0];
     // Divergence theorem with the field (x, y, 0)/2: V = Σ_faces ∫ (x n_x + y n_y)/2 dA;
     // the flat rims contribute nothing. Triangle normals point inwards, hence the sign.

@@ -16,7 +16,7 @@ constexpr std::size_t wire_block = 256;
 
 } // namespace
 
-double wire_retardation_time_s(const WireState& wire)
+double wire_retardation_time_s(const WireChain& wire)
 {
     if (!(wire.node_mass_kg > 0.0) || !(wire.axial_stiffness_n_per_m > 0.0)) return 0.0;
     return 2.0 * wire_damping_ratio / std::sqrt(4.0 * wire.axial_stiffness_n_per_m / wire.node_mass_kg);
@@ -24,7 +24,7 @@ double wire_retardation_time_s(const WireState& wire)
 
 void configure_wire(World& w, const WireSpec& spec)
 {
-    WireState& wire = w.wire;
+    WireChain& wire = w.wire;
     wire.radius_m = spec.radius_m;
     wire.segment_length_m = spec.segment_length_m;
     wire.axial_stiffness_n_per_m = wire_axial_stiffness_n_per_m(spec.youngs_modulus_pa, spec.radius_m, spec.segment_length_m);
@@ -37,7 +37,7 @@ void configure_wire(World& w, const WireSpec& spec)
 
 std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& velocity_m_per_s)
 {
-    WireState& wire = w.wire;
+    WireChain& wire = w.wire;
     const std::uint32_t id = add_node(w, BodyKind::wire, position_m, wire.radius_m, wire.node_mass_kg, wire.material,
         velocity_m_per_s);
     const std::size_t nodes = id + 1;
@@ -53,7 +53,7 @@ std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& vel
 
 void compute_wire_forces(World& w, ThreadPool& pool)
 {
-    WireState& wire = w.wire;
+    WireChain& wire = w.wire;
     const auto& x = w.of(BodyKind::wire).x[0];
     const auto& dx = w.of(BodyKind::wire).x[1]; // δt · velocity
     const std::size_t nodes = x.size();

@@ -44,8 +44,8 @@ static_assert(sizeof(World) == 2168, "World changed: update for_each_field and t
 static_assert(sizeof(TranslationalState) == 288, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 216, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 152, "Wall changed: update for_each_field and this size");
-static_assert(sizeof(WireState) == 176, "WireState changed: update for_each_field and this size");
-static_assert(sizeof(MembraneState) == 368, "MembraneState changed: update for_each_field and this size");
+static_assert(sizeof(WireChain) == 176, "WireChain changed: update for_each_field and this size");
+static_assert(sizeof(MembraneMesh) == 368, "MembraneMesh changed: update for_each_field and this size");
 static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
 static_assert(sizeof(ContactSettings) == 40, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");

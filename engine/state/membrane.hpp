@@ -23,7 +23,9 @@ enum class MembraneEdgeLaw : std::uint8_t {
     linear,
 };
 
-struct MembraneState {
+/// The membrane as a triangle mesh over the membrane nodes (World::bodies[membrane]):
+/// its parameters, topology, rest lengths, pressure and per-step force slots.
+struct MembraneMesh {
     double radius_m = 0.0;                  ///< R of the undeformed cylinder [m]
     double height_m = 0.0;                  ///< H_m [m]
     double base_z_m = 0.0;                  ///< z of the bottom row [m]

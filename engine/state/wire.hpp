@@ -10,8 +10,10 @@
 
 namespace wiredem::engine {
 
-/// Wire parameters (the model spec §2) and per-step force slots.
-struct WireState {
+/// The wire as a chain of nodes (the model spec §2): its parameters, the
+/// joints' rest angles (state: they yield) and the per-step force slots. The
+/// nodes themselves are World::bodies[wire].
+struct WireChain {
     double radius_m = 0.5e-3;               ///< r_w, contact sphere radius [m]
     double segment_length_m = 1.25e-3;      ///< l_w, rest length of every segment [m]
     double axial_stiffness_n_per_m = 0.0;   ///< k_elo

@@ -70,8 +70,8 @@ struct World {
     std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
     RotationalState grain_rotation;       ///< parallel to bodies[grain]
     std::vector<Wall> walls;
-    WireState wire;                       ///< topology and slots of the wire nodes
-    MembraneState membrane;               ///< topology and slots of the membrane nodes
+    WireChain wire;                       ///< topology and slots of the wire nodes
+    MembraneMesh membrane;               ///< topology and slots of the membrane nodes
     ContactSettings contact;
     /// Wire nodes fewer than this many apart along the chain never touch (model spec §3).
     std::uint32_t wire_contact_skip = 3;

@@ -24,7 +24,7 @@ MembraneSpec small_membrane(double radius_m, double height_m)
 /// Mean radial distance of the nodes of the middle row [m].
 double mid_row_radius_m(const World& w)
 {
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const std::size_t row = m.rows / 2;
     double sum = 0.0;
     for (std::size_t c = 0; c < m.columns; ++c) {
@@ -40,7 +40,7 @@ TEST(MembraneMesh, TrianglesAreNearlyEquilateralAndPointInwards)
 {
     World w;
     build_membrane(w, small_membrane(20e-3, 30e-3));
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const auto& x = w.of(BodyKind::membrane).x[0];
     EXPECT_EQ(m.triangles.size(), 2 * m.columns * (m.rows - 1));
     for (const auto& t : m.triangles) {
@@ -98,7 +98,7 @@ BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressu
     MembraneSpec spec = small_membrane(10e-3, 10e-3);
     spec.edge_law = law;
     build_membrane(w, spec);
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const std::uint8_t grain_mat = add_material(w, Material{});
     const double rg = 0.4e-3;
     std::vector<std::uint32_t> grain_of_node(w.of(BodyKind::membrane).size());
@@ -168,7 +168,7 @@ TEST(MembraneContact, GrainPressedAgainstRigidMembraneGetsTheHertzForce)
     const std::uint8_t grain_mat = add_material(w, Material{});
     const MembraneSpec spec = small_membrane(20e-3, 20e-3);
     build_membrane(w, spec);
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const std::uint32_t node = static_cast<std::uint32_t>(m.rows / 2 * m.columns);
     const Vec3 xn = w.of(BodyKind::membrane).x[0][node];
     const Vec3 inward = -Vec3(xn.x(), xn.y(), 0).normalized();
@@ -196,7 +196,7 @@ TEST(MembraneContact, WireNodePressingOnTheMembraneCountsInItsLoad)
     World& w = sim.world;
     w.gravity_m_per_s2 = Vec3::Zero();
     build_membrane(w, small_membrane(20e-3, 20e-3));
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const Vec3 xn = w.of(BodyKind::membrane).x[0][m.rows / 2 * m.columns];
     const Vec3 inward = -Vec3(xn.x(), xn.y(), 0).normalized();
     const WireSpec wire{};
@@ -224,7 +224,7 @@ void expect_bounces_off_the_mesh(BodyKind kind, AddBody add_body)
     World& w = sim.world;
     w.gravity_m_per_s2 = Vec3::Zero();
     build_membrane(w, small_membrane(10e-3, 15e-3));
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const auto& t = m.triangles[m.triangles.size() / 2];
     const auto& x = w.of(BodyKind::membrane).x[0];
     const Vec3 centroid = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;

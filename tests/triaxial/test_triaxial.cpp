@@ -202,7 +202,7 @@ TEST(TriaxialMeasurement, StressesEqualHertzForcesOfAPrescribedRingOverTheColumn
     const MembraneSpec spec = test_membrane(8e-3, 12e-3);
     build_membrane(w, spec);
     set_membrane_rigid(w, true);
-    const MembraneState& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
     const auto& node = w.of(BodyKind::membrane).x[0];
     const std::size_t row = 4, every = 4; // a grain at every 4th node of row 4: no grain–grain contact
     const double r = grain_radius_m, d_b = 10e-6, d_t = 20e-6, d_m = 15e-6;
