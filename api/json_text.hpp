@@ -10,6 +10,7 @@
 
 #include <boost/json/value.hpp>
 
+#include <cmath>
 #include <string>
 #include <string_view>
 
@@ -23,5 +24,13 @@ namespace wiredem::api {
 ///         `syntax error at line 3, column 7 (byte 41)` or
 ///         `duplicate key "seed" at line 1, column 19 (byte 18)`
 [[nodiscard]] engine::Result<boost::json::value, std::string> parse_json_text(std::string_view text);
+
+/// A double as JSON: the number, or null when it is not finite. JSON has no
+/// NaN or infinity, and Boost.JSON would write them as text that no parser
+/// reads; every result document writes its figures through this.
+[[nodiscard]] inline boost::json::value finite_or_null(double x)
+{
+    return std::isfinite(x) ? boost::json::value(x) : boost::json::value(nullptr);
+}
 
 } // namespace wiredem::api

@@ -1,5 +1,6 @@
 // Result data as JSON (api/result_data.hpp).
 #include "api/result_data.hpp"
+#include "api/json_text.hpp"
 
 #include "analysis/autocorrelation.hpp"
 
@@ -16,8 +17,6 @@ namespace json = boost::json;
 namespace io = engine::io;
 
 namespace {
-
-json::value number(double x) { return std::isfinite(x) ? json::value(x) : json::value(nullptr); }
 
 bool is_numeric_dataset(const io::Dataset& d, H5T_class_t* cls_out = nullptr)
 {
@@ -54,7 +53,7 @@ json::object attributes_of(const io::Object& o)
         H5Aclose(attr);
         if (cls == H5T_STRING) out[name] = o.read_string_attribute(name);
         else if (cls == H5T_INTEGER) out[name] = o.read_int_attribute(name);
-        else if (cls == H5T_FLOAT) out[name] = number(o.read_double_attribute(name));
+        else if (cls == H5T_FLOAT) out[name] = finite_or_null(o.read_double_attribute(name));
     }
     return out;
 }
@@ -193,7 +192,7 @@ json::object series_json(const std::string& name, const std::vector<SeriesColumn
     for (const auto& c : columns) {
         json::array a;
         a.reserve(keep.size());
-        for (std::size_t r : keep) a.push_back(number(c.values[r]));
+        for (std::size_t r : keep) a.push_back(finite_or_null(c.values[r]));
         cols[c.name] = std::move(a);
         units[c.name] = c.units ? json::value(*c.units) : json::value(nullptr);
     }
@@ -218,14 +217,14 @@ json::object wire_autocorrelation_json(std::span<const double> strain, double l_
     json::array lag, r;
     for (std::size_t k = 0; k < ac.value().coefficients.size(); ++k) {
         lag.push_back(static_cast<double>(k) * l_w);
-        r.push_back(number(ac.value().coefficients[k]));
+        r.push_back(finite_or_null(ac.value().coefficients[k]));
     }
     body["error"] = nullptr;
     body["lag_m"] = std::move(lag);
     body["coefficients"] = std::move(r);
-    body["mean"] = number(ac.value().mean);
-    body["variance"] = number(ac.value().variance);
-    const auto number_or_null = [](std::optional<double> x) { return x ? number(*x) : json::value(nullptr); };
+    body["mean"] = finite_or_null(ac.value().mean);
+    body["variance"] = finite_or_null(ac.value().variance);
+    const auto number_or_null = [](std::optional<double> x) { return x ? finite_or_null(*x) : json::value(nullptr); };
     body["first_maximum_lag_m"] = number_or_null(ac.value().first_maximum_lag_m);
     body["prominent_maximum_lag_m"] = number_or_null(ac.value().prominent_maximum_lag_m);
     return body;

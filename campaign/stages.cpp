@@ -5,6 +5,7 @@
 #include "analysis/strength.hpp"
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
+#include "api/json_text.hpp"
 #include "io/snapshot.hpp"
 #include "io/xdmf.hpp"
 #include "simulation.hpp"
@@ -34,13 +35,11 @@ namespace io = engine::io;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using api::finite_or_null;
 
 /// Below this fraction of its path laid as wire, the nozzle is reported as
 /// blocked (it feeds no wire where a grain or earlier wire is in the way).
 constexpr double min_laid_fraction = 0.8;
-
-/// A finite number, or JSON null.
-json::value number_or_null(double x) { return std::isfinite(x) ? json::value(x) : json::value(nullptr); }
 
 std::string format_metres(double m)
 {
@@ -283,12 +282,12 @@ json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, 
     const eng::analysis::MohrCoulombFit* f = fit.ok() ? &fit.value() : nullptr;
     const auto figure = [&](auto of) { return f ? of(*f) : json::value(nullptr); };
     json::object mc;
-    mc["friction_angle_deg"] = figure([](const auto& g) { return number_or_null(g.friction_angle_rad * 180.0 / std::numbers::pi); });
-    mc["cohesion_pa"] = figure([](const auto& g) { return number_or_null(g.cohesion_pa); });
+    mc["friction_angle_deg"] = figure([](const auto& g) { return finite_or_null(g.friction_angle_rad * 180.0 / std::numbers::pi); });
+    mc["cohesion_pa"] = figure([](const auto& g) { return finite_or_null(g.cohesion_pa); });
     mc["cohesion_fixed_at_zero"] = figure([](const auto& g) { return json::value(g.cohesion_fixed_at_zero); });
-    mc["r_squared"] = figure([](const auto& g) { return g.r_squared ? number_or_null(*g.r_squared) : json::value(nullptr); });
+    mc["r_squared"] = figure([](const auto& g) { return g.r_squared ? finite_or_null(*g.r_squared) : json::value(nullptr); });
     mc["paper_top_line_angle_deg"]
-        = figure([](const auto& g) { return number_or_null(g.paper_top_line_angle_rad * 180.0 / std::numbers::pi); });
+        = figure([](const auto& g) { return finite_or_null(g.paper_top_line_angle_rad * 180.0 / std::numbers::pi); });
     if (!f) mc["error"] = fit.error();
     mc["states"] = states;
     return mc;
@@ -460,33 +459,33 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             json::object o;
             o["confining_pressure_pa"] = pressures[i];
             o["plate_speed_m_per_s"] = spec.triaxial.plate_speed_m_per_s(i);
-            o["peak_deviatoric_stress_pa"] = number_or_null(t.peak_deviatoric_stress_pa);
-            o["peak_axial_strain"] = number_or_null(t.peak_axial_strain);
-            o["sigma1_pa"] = number_or_null(t.peak_sigma1_pa);
-            o["sigma3_effective_pa"] = number_or_null(t.peak_sigma3_effective_pa);
+            o["peak_deviatoric_stress_pa"] = finite_or_null(t.peak_deviatoric_stress_pa);
+            o["peak_axial_strain"] = finite_or_null(t.peak_axial_strain);
+            o["sigma1_pa"] = finite_or_null(t.peak_sigma1_pa);
+            o["sigma3_effective_pa"] = finite_or_null(t.peak_sigma3_effective_pa);
             if (t.strength) {
                 const eng::analysis::StrengthReading& y = *t.strength;
                 o["max_q_shape"] = eng::analysis::to_string(y.deviatoric.shape);
                 json::object yo;
                 yo["shape"] = eng::analysis::to_string(y.stress_ratio.shape);
-                yo["stress_ratio"] = number_or_null(y.stress_ratio.value);
-                yo["axial_strain"] = number_or_null(y.yield_axial_strain);
-                yo["sigma1_pa"] = number_or_null(y.yield_sigma1_pa);
-                yo["sigma3_effective_pa"] = number_or_null(y.yield_sigma3_pa);
-                yo["deviatoric_stress_pa"] = number_or_null(y.yield_sigma1_pa - y.yield_sigma3_pa);
+                yo["stress_ratio"] = finite_or_null(y.stress_ratio.value);
+                yo["axial_strain"] = finite_or_null(y.yield_axial_strain);
+                yo["sigma1_pa"] = finite_or_null(y.yield_sigma1_pa);
+                yo["sigma3_effective_pa"] = finite_or_null(y.yield_sigma3_pa);
+                yo["deviatoric_stress_pa"] = finite_or_null(y.yield_sigma1_pa - y.yield_sigma3_pa);
                 o["yield"] = std::move(yo);
-                o["residual_stress_ratio"] = number_or_null(y.residual_stress_ratio);
+                o["residual_stress_ratio"] = finite_or_null(y.residual_stress_ratio);
             } else {
                 o["max_q_shape"] = nullptr;
                 o["yield"] = nullptr;
                 o["residual_stress_ratio"] = nullptr;
             }
             o["hold_time_s"] = t.hold_time_s;
-            o["consolidated_sigma1_pa"] = number_or_null(t.consolidated_sigma1_pa);
+            o["consolidated_sigma1_pa"] = finite_or_null(t.consolidated_sigma1_pa);
             o["quasi_static"] = t.verdict.quasi_static;
-            o["max_inertial_number"] = number_or_null(t.verdict.max_inertial_number);
-            o["mean_kinetic_to_elastic"] = number_or_null(t.verdict.mean_kinetic_to_elastic);
-            o["max_kinetic_to_elastic"] = number_or_null(t.verdict.max_kinetic_to_elastic);
+            o["max_inertial_number"] = finite_or_null(t.verdict.max_inertial_number);
+            o["mean_kinetic_to_elastic"] = finite_or_null(t.verdict.mean_kinetic_to_elastic);
+            o["max_kinetic_to_elastic"] = finite_or_null(t.verdict.max_kinetic_to_elastic);
             o["steps"] = t.steps;
             o["wall_time_s"] = t.wall_time_s;
             o["threads"] = test_threads[i];
