@@ -13,7 +13,10 @@
 # with --base, that job file with its pattern and seed replaced); it runs in
 # DIR/<pattern>-seed<k>/ (default build/study), and its summary is copied to
 # --summaries (default docs/study). A campaign whose
-# summary.json already exists is not run again, and one that was stopped
+# summary.json already exists, in its folder or gathered into --summaries, is
+# not run again (to rerun one, move its gathered summary away: the first
+# seed-1 campaigns, from superseded job files, are in
+# docs/study/plate-5mm-per-s/), and one that was stopped
 # continues where it was (`wiredem run` resumes its directory: the specimen,
 # the finished tests, each running test's last checkpoint), so the command
 # can be stopped and started again; a failed one is reported and the others
@@ -72,6 +75,9 @@ campaign() {
     [[ -f "$job" ]] || { echo "study: $job is missing" >&2; return 1; }
     if [[ -f "$dir/summary.json" ]]; then
         echo "study: $name done already"
+    elif [[ -f "$summaries/$name.json" ]]; then
+        echo "study: $name done already (its summary is $summaries/$name.json)"
+        return 0
     else
         mkdir -p "$dir"
         # The campaign's input sits beside its directory: the directory's own
