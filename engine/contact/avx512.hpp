@@ -70,6 +70,32 @@ struct Records4 {
     }
 }
 
+/// Writes eight consecutive 3-vectors (x₀ y₀ z₀ x₁ … z₇, 24 doubles) from
+/// lanes: three stores of v transposed in registers (AVX-512 has scatters,
+/// but on this CPU they cost several times these permutes).
+[[WIREDEM_AVX512]] inline void store_vec3s(double* out, const V3& v)
+{
+    // Each output register: x and y interleaved (index ≥ 8 picks the second
+    // operand), then z put into the gaps.
+    const __m512d o0 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 8, 0, 1, 9, 0, 2, 10), v.y), lanes_of(0, 1, 8, 3, 4, 9, 6, 7), v.z);
+    const __m512d o1 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(0, 3, 11, 0, 4, 12, 0, 5), v.y), lanes_of(10, 1, 2, 11, 4, 5, 12, 7), v.z);
+    const __m512d o2 = _mm512_permutex2var_pd(
+        _mm512_permutex2var_pd(v.x, lanes_of(13, 0, 6, 14, 0, 7, 15, 0), v.y), lanes_of(0, 13, 2, 3, 14, 5, 6, 15), v.z);
+    _mm512_storeu_pd(out, o0);
+    _mm512_storeu_pd(out + 8, o1);
+    _mm512_storeu_pd(out + 16, o2);
+}
+
+/// The 3-vectors at out + 3 i for the eight indices i in `index`, into lanes
+/// (three gathers).
+[[WIREDEM_AVX512]] inline V3 gather_vec3s(const double* in, __m256i index)
+{
+    const __m256i at = _mm256_add_epi32(_mm256_add_epi32(index, index), index);
+    return {_mm512_i32gather_pd(at, in, 8), _mm512_i32gather_pd(at, in + 1, 8), _mm512_i32gather_pd(at, in + 2, 8)};
+}
+
 /// Writes eight records of eight doubles, record l = lane l of r[0] … r[7]
 /// (an 8 × 8 transpose), to the 64-byte aligned `out` + 8 l, for the lanes
 /// in `lanes` only.

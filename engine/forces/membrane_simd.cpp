@@ -1,0 +1,86 @@
+// Compiled with -ffp-contract=off (engine/CMakeLists.txt): each lane does
+// membrane_edge_force_n's and the pressure's operations in Eigen's order.
+#include "forces/membrane_simd.hpp"
+
+#include "contact/pair_kernel_simd.hpp"
+
+#if defined(__x86_64__)
+#include "contact/avx512.hpp"
+#endif
+
+namespace wiredem::engine {
+namespace {
+
+#if defined(__x86_64__)
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in pair_kernel_simd.cpp
+
+using namespace avx512;
+
+[[gnu::target("avx512f,avx512vl,avx512bw")]] void edges_avx512(const Vec3* x,
+    const std::array<std::uint32_t, 2>* edges, const double* rest_m, double stiffness_n_per_m, MembraneEdgeLaw law,
+    Vec3* force_n, std::size_t count)
+{
+    static_assert(sizeof(std::array<std::uint32_t, 2>) == 8 && sizeof(Vec3) == 3 * sizeof(double));
+    const double* at = x->data();
+    const __m512d k = _mm512_set1_pd(stiffness_n_per_m), zero = _mm512_setzero_pd();
+    for (std::size_t e = 0; e < count; e += 8) {
+        // Eight (a, b) pairs: a in the low half of each 64-bit lane, b in the high.
+        const __m512i ends = _mm512_loadu_si512(edges + e);
+        const V3 a = gather_vec3s(at, _mm512_cvtepi64_epi32(ends));
+        const V3 b = gather_vec3s(at, _mm512_cvtepi64_epi32(_mm512_srli_epi64(ends, 32)));
+        const V3 d = b - a;
+        const __m512d len = _mm512_sqrt_pd(dot(d, d));
+        const __m512d stretch = len - _mm512_loadu_pd(rest_m + e);
+        // Zero where the scalar law returns Vec3::Zero(): len == 0, or a
+        // slack tension-only edge (unordered comparisons: a NaN goes on, as
+        // in the scalar code).
+        __mmask8 pulls = _mm512_cmp_pd_mask(len, zero, _CMP_NEQ_UQ);
+        if (law == MembraneEdgeLaw::tension_only) pulls &= _mm512_cmp_pd_mask(stretch, zero, _CMP_NLE_UQ);
+        const __m512d s = k * stretch / len;
+        store_vec3s(force_n[e].data(),
+            {_mm512_maskz_mul_pd(pulls, s, d.x), _mm512_maskz_mul_pd(pulls, s, d.y), _mm512_maskz_mul_pd(pulls, s, d.z)});
+    }
+}
+
+/// Corner `c` of the eight triangles at `tri`.
+[[WIREDEM_AVX512]] inline __m256i corners(const std::array<std::uint32_t, 3>* tri, int c)
+{
+    return _mm256_setr_epi32(static_cast<int>(tri[0][c]), static_cast<int>(tri[1][c]), static_cast<int>(tri[2][c]),
+        static_cast<int>(tri[3][c]), static_cast<int>(tri[4][c]), static_cast<int>(tri[5][c]),
+        static_cast<int>(tri[6][c]), static_cast<int>(tri[7][c]));
+}
+
+[[gnu::target("avx512f,avx512vl,avx512bw")]] void triangles_avx512(const Vec3* x,
+    const std::array<std::uint32_t, 3>* triangles, double pressure_pa, Vec3* force_n, std::size_t count)
+{
+    const double* at = x->data();
+    const __m512d sixth = _mm512_set1_pd(pressure_pa / 6.0);
+    for (std::size_t t = 0; t < count; t += 8) {
+        const auto* tri = triangles + t;
+        const V3 a = gather_vec3s(at, corners(tri, 0)), b = gather_vec3s(at, corners(tri, 1));
+        const V3 c = gather_vec3s(at, corners(tri, 2));
+        store_vec3s(force_n[t].data(), sixth * cross(b - a, c - a));
+    }
+}
+
+#pragma GCC diagnostic pop
+
+#endif
+
+} // namespace
+
+MembraneSimdKernels simd_membrane_kernels()
+{
+    MembraneSimdKernels k;
+#if defined(__x86_64__)
+    if (simd_kernels_in_use()) {
+        k.edges = &edges_avx512;
+        k.triangles = &triangles_avx512;
+    }
+#endif
+    return k;
+}
+
+} // namespace wiredem::engine
