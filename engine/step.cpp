@@ -13,13 +13,18 @@
 #include <cmath>
 
 namespace wiredem::engine {
-void begin_run(World& w, ThreadPool& pool)
+void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
 {
     update_neighbours(w, pool);
-    compute_contact_forces(w, pool, MemoryUpdate::keep);
+    compute_contact_forces(w, pool, memory);
     compute_wire_forces(w, pool);
     compute_membrane_forces(w, pool);
     gather_forces(w, pool);
+}
+
+void begin_run(World& w, ThreadPool& pool)
+{
+    evaluate_forces(w, pool, MemoryUpdate::keep);
 
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     for (auto& body : w.bodies)

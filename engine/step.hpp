@@ -31,6 +31,11 @@ StepReport step(World& w, ThreadPool& pool, StepProfile* profile = nullptr);
 /// the whole run.
 void begin_run(World& w, ThreadPool& pool);
 
+/// The force stages of a step at the current positions (neighbours,
+/// contacts with `memory`, wire, membrane, gather), without moving anything:
+/// begin_run's evaluation, and a test's reference for it.
+void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory);
+
 // The stages, in the order step() runs them; exposed for tests and benchmarks.
 
 /// Moves walls with their prescribed velocity by one step.

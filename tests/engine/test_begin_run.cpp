@@ -25,16 +25,6 @@ bool same_bits(const TangentialState& a, const TangentialState& b)
     return std::memcmp(a.spring_m.data(), b.spring_m.data(), sizeof(double) * 3) == 0 && a.sticking == b.sticking;
 }
 
-/// The stages begin_run runs, with the contacts' memory committed.
-void evaluate_and_commit(World& w, ThreadPool& pool)
-{
-    update_neighbours(w, pool);
-    compute_contact_forces(w, pool, MemoryUpdate::commit);
-    compute_wire_forces(w, pool);
-    compute_membrane_forces(w, pool);
-    gather_forces(w, pool);
-}
-
 } // namespace
 
 TEST(BeginRun, EvaluatesAColumnMidTestWithoutAdvancingItsSprings)
@@ -49,7 +39,7 @@ TEST(BeginRun, EvaluatesAColumnMidTestWithoutAdvancingItsSprings)
     // The test means something only if committing would move the springs.
     const std::vector<TangentialState> springs = w.contacts.tangential;
     World committed = w;
-    evaluate_and_commit(committed, sim.pool());
+    evaluate_forces(committed, sim.pool(), MemoryUpdate::commit);
     std::size_t moved = 0;
     for (std::size_t p = 0; p < springs.size(); ++p) moved += !same_bits(committed.contacts.tangential[p], springs[p]);
     EXPECT_GT(moved, 10u) << "a committing evaluation advances the springs";
@@ -76,7 +66,7 @@ TEST(BeginRun, EvaluatesAColumnMidTestWithoutAdvancingItsSprings)
     const std::uint64_t once = state_hash(w);
     begin_run(w, sim.pool());
     EXPECT_EQ(state_hash(w), once);
-    evaluate_and_commit(committed, sim.pool());
+    evaluate_forces(committed, sim.pool(), MemoryUpdate::commit);
     EXPECT_NE(state_hash(committed), once) << "while a second committing evaluation advances the springs again";
 }
 
