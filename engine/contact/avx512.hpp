@@ -1,12 +1,15 @@
 // AVX-512 helpers shared by the SIMD kernels (contact/pair_kernel_simd.cpp,
-// integrate/rotation_simd.cpp): eight lanes of doubles with the arithmetic
-// of the scalar code, and transposes between arrays of small records and
-// lane registers. Include only in files built with -ffp-contract=off (see
+// integrate/rotation_simd.cpp, forces/membrane_simd.cpp,
+// forces/wire_simd.cpp): eight lanes of doubles with the arithmetic of the
+// scalar code, and transposes between arrays of small records and lane
+// registers. Include only in files built with -ffp-contract=off (see
 // pair_kernel_simd.hpp: no fused multiply–add, so the lanes keep the scalar
 // code's bits) and only on x86-64.
 #pragma once
 
 #include <immintrin.h>
+
+#include <array>
 
 namespace wiredem::engine::avx512 {
 
@@ -35,6 +38,25 @@ struct V3 {
     long long f, long long g, long long h)
 {
     return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
+}
+
+/// x, y and z of the Vec3 at p[l] in lane l: eight loads of x y z (masked to
+/// three doubles, so the last body of an array is not read past) transposed
+/// in registers, cheaper than three gathers on this CPU.
+[[WIREDEM_AVX512]] inline __m512d two_rows(const double* low, const double* high) // x y z 0 x y z 0
+{
+    return _mm512_insertf64x4(
+        _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low)), _mm256_maskz_loadu_pd(0x7, high), 1);
+}
+[[WIREDEM_AVX512]] inline V3 load_vec3s(const std::array<const double*, 8>& p)
+{
+    const __m512d r04 = two_rows(p[0], p[4]), r15 = two_rows(p[1], p[5]);
+    const __m512d r26 = two_rows(p[2], p[6]), r37 = two_rows(p[3], p[7]);
+    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), y01 = _mm512_unpackhi_pd(r04, r15);
+    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), y23 = _mm512_unpackhi_pd(r26, r37);
+    const __m512i even = lanes_of(0, 1, 8, 9, 4, 5, 12, 13), odd = lanes_of(2, 3, 10, 11, 6, 7, 14, 15);
+    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(y01, even, y23),
+        _mm512_permutex2var_pd(xz01, odd, xz23)};
 }
 
 /// Components of eight consecutive records of four doubles (a quaternion's
@@ -86,6 +108,20 @@ struct Records4 {
     _mm512_storeu_pd(out, o0);
     _mm512_storeu_pd(out + 8, o1);
     _mm512_storeu_pd(out + 16, o2);
+}
+
+/// The eight consecutive 3-vectors at `in` (x₀ y₀ z₀ x₁ … z₇, 24 doubles),
+/// into lanes: three loads transposed in registers (store_vec3s undone).
+[[WIREDEM_AVX512]] inline V3 load_consecutive_vec3s(const double* in)
+{
+    const __m512d a = _mm512_loadu_pd(in), b = _mm512_loadu_pd(in + 8), c = _mm512_loadu_pd(in + 16);
+    // a = x0 y0 z0 x1 y1 z1 x2 y2, b = z2 x3 y3 z3 x4 y4 z4 x5, c = y5 z5 x6 y6 z6 x7 y7 z7
+    const __m512d xa = _mm512_permutex2var_pd(a, lanes_of(0, 3, 6, 9, 12, 15, 0, 0), b);
+    const __m512d ya = _mm512_permutex2var_pd(a, lanes_of(1, 4, 7, 10, 13, 0, 0, 0), b);
+    const __m512d za = _mm512_permutex2var_pd(a, lanes_of(2, 5, 8, 11, 14, 0, 0, 0), b);
+    return {_mm512_permutex2var_pd(xa, lanes_of(0, 1, 2, 3, 4, 5, 10, 13), c),
+        _mm512_permutex2var_pd(ya, lanes_of(0, 1, 2, 3, 4, 8, 11, 14), c),
+        _mm512_permutex2var_pd(za, lanes_of(0, 1, 2, 3, 4, 9, 12, 15), c)};
 }
 
 /// The 3-vectors at out + 3 i for the eight indices i in `index`, into lanes

@@ -34,25 +34,6 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double));
 static_assert(sizeof(BodyRef) == sizeof(std::uint32_t));
 static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(TangentialState, spring_m) == 0);
 
-/// x, y and z of the Vec3 at p[l] in lane l: eight loads of x y z (masked to
-/// three doubles, so the last body of an array is not read past) transposed
-/// in registers, cheaper than three gathers on this CPU.
-[[WIREDEM_AVX512]] inline __m512d two_rows(const double* low, const double* high) // x y z 0 x y z 0
-{
-    return _mm512_insertf64x4(
-        _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low)), _mm256_maskz_loadu_pd(0x7, high), 1);
-}
-[[WIREDEM_AVX512]] inline V3 load_vec3s(const std::array<const double*, simd_pair_lanes>& p)
-{
-    const __m512d r04 = two_rows(p[0], p[4]), r15 = two_rows(p[1], p[5]);
-    const __m512d r26 = two_rows(p[2], p[6]), r37 = two_rows(p[3], p[7]);
-    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), y01 = _mm512_unpackhi_pd(r04, r15);
-    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), y23 = _mm512_unpackhi_pd(r26, r37);
-    const __m512i even = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), odd = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
-    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(y01, even, y23),
-        _mm512_permutex2var_pd(xz01, odd, xz23)};
-}
-
 /// base[idx[l]] in lane l.
 [[WIREDEM_AVX512]] inline __m512d gather(const double* base, __m256i idx) { return _mm512_i32gather_pd(idx, base, 8); }
 

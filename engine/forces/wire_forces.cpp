@@ -1,5 +1,6 @@
 #include "forces/wire_forces.hpp"
 
+#include "forces/wire_simd.hpp"
 #include "laws/wire_bond.hpp"
 
 #include <algorithm>
@@ -70,14 +71,25 @@ void compute_wire_forces(World& w, ThreadPool& pool)
     // strains of its own segments, then its joints'. Each segment's length and
     // direction are worked out once per block and serve the spring, its
     // dashpot and the two joints at its ends.
+    const WireKernelParams params{k, l0, k_rot, zeta_y, tau_per_dt};
+    // Eight segments and eight joints at a time where the CPU can (same
+    // bits, forces/wire_simd.hpp); the rest one by one.
+    const WireSimdKernels simd = simd_wire_kernels();
     parallel_for_blocks(pool, nodes, wire_block, [&](std::size_t begin, std::size_t end) {
         std::array<WireSegment, wire_block + 1> segment; // segment s at [s − first]
         const std::size_t first = begin == 0 ? 0 : begin - 1;
         const std::size_t segments_end = std::min(end, nodes - 1);
-        for (std::size_t s = first; s < segments_end; ++s) {
+        if (first < begin) segment[0] = wire_segment(x[first], x[first + 1]); // the block before writes its force
+        std::size_t s = begin;
+        if (simd) {
+            const std::size_t n = (segments_end - std::min(begin, segments_end)) / 8 * 8;
+            simd.segments(x.data() + s, dx.data() + s, params, segment.data() + (s - first),
+                wire.segment_force_n.data() + s, wire.segment_strain.data() + s, n);
+            s += n;
+        }
+        for (; s < segments_end; ++s) {
             const WireSegment seg = wire_segment(x[s], x[s + 1]);
             segment[s - first] = seg;
-            if (s < begin) continue;
             Vec3 f = wire_stretch_force_n(x[s], x[s + 1], l0, k);
             if (seg.length_m > 0.0 && tau_per_dt > 0.0) // resists the rate of extension
                 f += (tau_per_dt * k * (dx[s + 1] - dx[s]).dot(seg.unit)) * seg.unit;
@@ -85,7 +97,14 @@ void compute_wire_forces(World& w, ThreadPool& pool)
             wire.segment_strain[s] = (seg.length_m - l0) / l0;
         }
         // Interior joints only: the ends are free, with no bending spring.
-        for (std::size_t i = std::max<std::size_t>(begin, 1); i < segments_end; ++i) {
+        std::size_t i = std::max<std::size_t>(begin, 1);
+        if (simd && i < segments_end) {
+            const std::size_t n = (segments_end - i) / 8 * 8;
+            simd.joints(segment.data() + (i - 1 - first), dx.data() + (i - 1), params, wire.rest_angle_rad.data() + i,
+                wire.bending_force_n.data() + i, n);
+            i += n;
+        }
+        for (; i < segments_end; ++i) {
             // The joint yields, then pushes back elastically; only this task writes ζ₀[i].
             const WireJoint joint = wire_joint(segment[i - 1 - first], segment[i - first], k_rot, wire.rest_angle_rad[i], zeta_y);
             wire.rest_angle_rad[i] = joint.rest_angle_rad;

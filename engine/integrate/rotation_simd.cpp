@@ -22,25 +22,12 @@ static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x 
 
 using namespace avx512;
 
-/// x y z of the eight consecutive Vec3s at `in`.
-[[WIREDEM_AVX512]] inline void load_vec3s(const double* in, __m512d& x, __m512d& y, __m512d& z)
-{
-    const __m512d a = _mm512_loadu_pd(in), b = _mm512_loadu_pd(in + 8), c = _mm512_loadu_pd(in + 16);
-    // a = x0 y0 z0 x1 y1 z1 x2 y2, b = z2 x3 y3 z3 x4 y4 z4 x5, c = y5 z5 x6 y6 z6 x7 y7 z7
-    const __m512d xa = _mm512_permutex2var_pd(a, lanes_of(0, 3, 6, 9, 12, 15, 0, 0), b);
-    const __m512d ya = _mm512_permutex2var_pd(a, lanes_of(1, 4, 7, 10, 13, 0, 0, 0), b);
-    const __m512d za = _mm512_permutex2var_pd(a, lanes_of(2, 5, 8, 11, 14, 0, 0, 0), b);
-    x = _mm512_permutex2var_pd(xa, lanes_of(0, 1, 2, 3, 4, 5, 10, 13), c);
-    y = _mm512_permutex2var_pd(ya, lanes_of(0, 1, 2, 3, 4, 8, 11, 14), c);
-    z = _mm512_permutex2var_pd(za, lanes_of(0, 1, 2, 3, 4, 9, 12, 15), c);
-}
-
 /// turn(q[l], theta[l]) for eight consecutive grains; returns the lanes it
 /// did: not those with |θ|² ≥ 10⁻⁴ (the sine and cosine: the scalar code).
 [[gnu::target("avx512f,avx512vl,avx512bw")]] unsigned turn_block_avx512(Quat* q, const Vec3* theta)
 {
-    __m512d tx, ty, tz;
-    load_vec3s(theta->data(), tx, ty, tz);
+    const V3 t = load_consecutive_vec3s(theta->data());
+    const __m512d tx = t.x, ty = t.y, tz = t.z;
     const __m512d zero = _mm512_setzero_pd();
     const __mmask8 still = _mm512_cmp_pd_mask(tx, zero, _CMP_EQ_OQ) & _mm512_cmp_pd_mask(ty, zero, _CMP_EQ_OQ)
                          & _mm512_cmp_pd_mask(tz, zero, _CMP_EQ_OQ);

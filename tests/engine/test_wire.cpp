@@ -1,5 +1,6 @@
 // The wire against beam and bar theory.
 #include "energy.hpp"
+#include "contact/pair_kernel_simd.hpp"
 #include "forces/wire_forces.hpp"
 #include "helpers.hpp"
 #include "laws/hertz.hpp"
@@ -8,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <limits>
 #include <memory>
 
@@ -447,4 +450,75 @@ TEST(WireDamping, RigidMotionOfABentWireFeelsOnlyTheSprings)
     for (const Vec3& f : w.wire.node_force_n) net += f;
     EXPECT_LT(net.norm(), 1e-9 * w.wire.node_force_n[2].norm());
     EXPECT_LT((w.wire.node_force_n[2] - still[2]).dot(v), 0.0);
+}
+
+// The AVX-512 segments and joints (forces/wire_simd.hpp) give the scalar
+// path's bits for every kind of joint: bent elastically, yielding, straight
+// (sin ζ below 10⁻⁶ and below 10⁻⁹), folded back, after a segment of zero
+// length, with and without the dashpots, in blocks that start anywhere.
+TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
+{
+    if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
+    struct Restore {
+        ~Restore() { set_simd_kernels(SimdKernels::automatic); }
+    } restore;
+    for (const double yield_strain : {0.05, std::numeric_limits<double>::infinity()}) {
+        World w;
+        WireSpec spec = paper_wire;
+        spec.bending_yield_strain = yield_strain;
+        configure_wire(w, spec);
+        const double l = spec.segment_length_m;
+        // 600 nodes (three blocks of compute_wire_forces and a rest): a
+        // wobbly helix with every special joint somewhere in it.
+        std::uint64_t state = 12345;
+        auto uniform = [&] { // [−1, 1)
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return static_cast<double>(state >> 11) * 0x1p-52 - 1.0;
+        };
+        Vec3 p = Vec3::Zero(), last_step = Vec3::Zero();
+        for (int i = 0; i < 600; ++i) {
+            const double phi = 0.09 * i;
+            Vec3 step = l * Vec3(-std::sin(phi), std::cos(phi), 0.05) + 0.2 * l * Vec3(uniform(), uniform(), uniform());
+            if (i % 97 == 5) step = Vec3::Zero();                              // a segment of zero length
+            if (i % 89 == 7 || i % 89 == 8) step = l * Vec3(0.0, 0.0, 1.0);    // straight: sin ζ = 0
+            if (i % 83 == 11) step = l * Vec3(1e-10, 0.0, 1.0);                // sin ζ ≈ 1e-10
+            if (i % 79 == 13) step = l * Vec3(3e-7, 0.0, 1.0);                 // 1e-9 < sin ζ < 1e-6
+            if (i % 73 == 17) step = -last_step;                              // folded back: ζ = π
+            p += step;
+            last_step = step;
+            append_wire_node(w, p, 0.3 * Vec3(uniform(), uniform(), uniform()));
+        }
+        for (std::size_t i = 0; i < w.wire.rest_angle_rad.size(); ++i) w.wire.rest_angle_rad[i] = 0.2 * (1.0 + uniform());
+        for (const bool damped : {true, false}) {
+            World run = w;
+            if (damped) set_time_step(run, 1e-6);
+            else run.wire.node_mass_kg = 0.0; // τ = 0: no dashpots
+            ThreadPool pool(2);
+            set_simd_kernels(SimdKernels::scalar);
+            World scalar = run;
+            compute_wire_forces(scalar, pool);
+            set_simd_kernels(SimdKernels::automatic);
+            compute_wire_forces(run, pool);
+            const WireChain &a = scalar.wire, &b = run.wire;
+            const auto bits_of = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+            ASSERT_EQ(a.segment_force_n.size(), b.segment_force_n.size());
+            for (std::size_t s = 0; s < a.segment_force_n.size(); ++s) {
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.segment_force_n[s][c]), bits_of(b.segment_force_n[s][c])) << "segment " << s;
+                EXPECT_EQ(bits_of(a.segment_strain[s]), bits_of(b.segment_strain[s])) << "segment " << s;
+            }
+            for (std::size_t i = 0; i < a.node_force_n.size(); ++i) {
+                EXPECT_EQ(bits_of(a.rest_angle_rad[i]), bits_of(b.rest_angle_rad[i])) << "joint " << i;
+                for (int n = 0; n < 3; ++n)
+                    for (int c = 0; c < 3; ++c)
+                        EXPECT_EQ(bits_of(a.bending_force_n[i][n][c]), bits_of(b.bending_force_n[i][n][c])) << "joint " << i;
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.node_force_n[i][c]), bits_of(b.node_force_n[i][c])) << "node " << i;
+            }
+            // The special joints were there: some yielded, some were straight.
+            if (damped && std::isfinite(yield_strain)) {
+                std::size_t yielded = 0;
+                for (std::size_t i = 0; i < a.rest_angle_rad.size(); ++i) yielded += a.rest_angle_rad[i] != w.wire.rest_angle_rad[i];
+                EXPECT_GT(yielded, 10u);
+            }
+        }
+    }
 }
