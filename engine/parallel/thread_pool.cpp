@@ -56,18 +56,23 @@ ThreadPool::~ThreadPool()
 
 void ThreadPool::run_chunks(std::uint32_t loop)
 {
+    // The chunks this thread ran, reported once when it leaves the loop: one
+    // write to the shared counter per thread and loop, not one per chunk
+    // (each is a cache line passed between the cores).
+    std::uint32_t finished = 0;
     std::uint64_t ticket = ticket_.load(std::memory_order_acquire);
     for (;;) {
-        if (loop_of(ticket) != loop || unclaimed_of(ticket) == 0) return;
+        if (loop_of(ticket) != loop || unclaimed_of(ticket) == 0) break;
         if (!ticket_.compare_exchange_weak(ticket, ticket - 1, std::memory_order_acquire, std::memory_order_acquire))
             continue; // another thread claimed one, or a new loop began: look again
         // Claimed: the caller waits for this chunk, so the loop's fields stay.
         const std::size_t c = chunks_ - unclaimed_of(ticket);
         const std::size_t begin = c * chunk_;
         (*body_)(begin, std::min(begin + chunk_, n_));
-        done_.fetch_add(1, std::memory_order_release);
+        ++finished;
         ticket = ticket_.load(std::memory_order_acquire);
     }
+    if (finished != 0) done_.fetch_add(finished, std::memory_order_release);
 }
 
 void ThreadPool::worker_loop()
