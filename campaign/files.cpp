@@ -29,6 +29,8 @@ std::filesystem::path JobDir::checkpoint(std::size_t k) const
     return tests() / ("test_" + std::to_string(k) + ".checkpoint.h5");
 }
 
+std::filesystem::path JobDir::test_lock(std::size_t k) const { return tests() / ("test_" + std::to_string(k) + ".lock"); }
+
 std::string test_group_name(double pa)
 {
     std::ostringstream o;

@@ -11,6 +11,9 @@
 //   DIR/tests/test_K.checkpoint.h5 a running test K: the World and, in /host, the
 //                                  driver's state (engine::TriaxialDriverState)
 //   DIR/result.h5, result.xdmf, summary.json   written by `analyse` (docs/results.md)
+//   DIR/specimen.lock, DIR/tests/test_K.lock, DIR/analyse.lock
+//                                  held by the stage that runs (stage_lock.hpp): one
+//                                  process per stage at a time
 //
 // Every file appears complete or not at all: written beside its name, then
 // renamed. Every number is written with its exact bits, so a record read back
@@ -43,6 +46,10 @@ struct JobDir {
     [[nodiscard]] std::filesystem::path result_h5() const { return root / "result.h5"; }
     [[nodiscard]] std::filesystem::path result_xdmf() const { return root / "result.xdmf"; }
     [[nodiscard]] std::filesystem::path summary() const { return root / "summary.json"; }
+    // The stages' lock files (stage_lock.hpp).
+    [[nodiscard]] std::filesystem::path specimen_lock() const { return root / "specimen.lock"; }
+    [[nodiscard]] std::filesystem::path test_lock(std::size_t k) const;
+    [[nodiscard]] std::filesystem::path analyse_lock() const { return root / "analyse.lock"; }
 };
 
 /// The group of test_K.h5 that holds the test's record.

@@ -19,6 +19,7 @@
 #include <spawn.h>
 #include <sstream>
 #include <string>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -365,6 +366,60 @@ TEST(Stages, BadRequestsGetClearErrors)
     o = run_wiredem({"test", out.string(), "--index", "0"}, dir / "log");
     EXPECT_EQ(o.code(), 1);
     EXPECT_NE(o.err.find("specimen.h5"), std::string::npos) << o.err;
+}
+
+// A stage runs in one process at a time: while another process holds a
+// stage's lock (here this one, with flock on the lock file the stage uses),
+// the stage is refused with a message that names the stage, the holder and
+// the file; the other stages are not held up; once the lock is free the
+// stage runs. (A holder that dies drops its lock: the kernel's flock.)
+TEST(Stages, AStageRunsInOneProcessAtATime)
+{
+    const fs::path dir = fresh_dir("lock"), out = dir / "out";
+    fs::create_directories(out);
+    struct Held {
+        int fd = -1;
+        explicit Held(const fs::path& file)
+        {
+            fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+            const std::string holder = "pid 4242 on elsewhere\n";
+            EXPECT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+            EXPECT_EQ(::pwrite(fd, holder.data(), holder.size(), 0), static_cast<ssize_t>(holder.size()));
+        }
+        ~Held() { ::close(fd); }
+    };
+    {
+        const Held held(out / "specimen.lock");
+        const Outcome o = run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log");
+        EXPECT_EQ(o.code(), 1) << o.err;
+        EXPECT_NE(o.err.find("the preparation of"), std::string::npos) << o.err;
+        EXPECT_NE(o.err.find("already running in another process (pid 4242 on elsewhere)"), std::string::npos) << o.err;
+        EXPECT_NE(o.err.find("specimen.lock"), std::string::npos) << o.err;
+        EXPECT_FALSE(fs::exists(out / "specimen.h5"));
+    }
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log").ok());
+    {
+        const Held held(out / "tests" / "test_0.lock");
+        Outcome o = run_wiredem({"test", out.string(), "--index", "0"}, dir / "log");
+        EXPECT_EQ(o.code(), 1) << o.err;
+        EXPECT_NE(o.err.find("test 1/2"), std::string::npos) << o.err;
+        EXPECT_NE(o.err.find("test_0.lock"), std::string::npos) << o.err;
+        EXPECT_FALSE(fs::exists(out / "tests" / "test_0.h5"));
+        EXPECT_FALSE(fs::exists(out / "tests" / "test_0.checkpoint.h5"));
+        // Another test of the same directory is not held up.
+        o = run_wiredem({"test", out.string(), "--index", "1"}, dir / "log");
+        EXPECT_TRUE(o.ok()) << o.err;
+    }
+    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0"}, dir / "log").ok());
+    {
+        const Held held(out / "analyse.lock");
+        const Outcome o = run_wiredem({"analyse", out.string()}, dir / "log");
+        EXPECT_EQ(o.code(), 1) << o.err;
+        EXPECT_NE(o.err.find("the analysis of"), std::string::npos) << o.err;
+        EXPECT_FALSE(fs::exists(out / "summary.json"));
+    }
+    EXPECT_TRUE(run_wiredem({"analyse", out.string()}, dir / "log").ok());
+    EXPECT_TRUE(fs::exists(out / "summary.json"));
 }
 
 // The comparison the cases above rest on sees a difference: two specimens
