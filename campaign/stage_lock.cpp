@@ -1,8 +1,12 @@
 #include "stage_lock.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <thread>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
@@ -23,11 +27,19 @@ std::string holder_of(int fd)
 
 } // namespace
 
-engine::Result<StageLock, std::string> StageLock::acquire(const std::filesystem::path& file, const std::string& what)
+engine::Result<StageLock, std::string> StageLock::acquire(
+    const std::filesystem::path& file, const std::string& what, double wait_s, const std::atomic<bool>* cancel)
 {
     const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) return engine::Err("cannot open the lock file " + file.string() + ": " + std::strerror(errno));
-    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::max(0.0, wait_s));
+    int locked = ::flock(fd, LOCK_EX | LOCK_NB);
+    while (locked != 0 && errno == EWOULDBLOCK && std::chrono::steady_clock::now() < until
+           && !(cancel && cancel->load())) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        locked = ::flock(fd, LOCK_EX | LOCK_NB);
+    }
+    if (locked != 0) {
         const int error = errno;
         if (error == ENOLCK || error == ENOSYS || error == EOPNOTSUPP) { // no locks here: run unguarded
             ::close(fd);
@@ -36,8 +48,10 @@ engine::Result<StageLock, std::string> StageLock::acquire(const std::filesystem:
         std::string message;
         if (error == EWOULDBLOCK) {
             const std::string holder = holder_of(fd);
+            char waited[64];
+            std::snprintf(waited, sizeof waited, "%g s", std::max(0.0, wait_s));
             message = what + " is already running in another process" + (holder.empty() ? "" : " (" + holder + ")")
-                    + ", which holds " + file.string() + "; wait for it to end or stop it";
+                    + ", which holds " + file.string() + " (waited " + waited + "); wait for it to end or stop it";
         } else {
             message = "cannot lock " + file.string() + ": " + std::strerror(error);
         }

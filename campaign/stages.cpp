@@ -159,7 +159,8 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     std::error_code ec;
     std::filesystem::create_directories(dir.root, ec);
     if (ec) return "cannot create " + dir.root.string() + ": " + ec.message();
-    auto lock = StageLock::acquire(dir.specimen_lock(), "the preparation of " + dir.root.string());
+    auto lock = StageLock::acquire(
+        dir.specimen_lock(), "the preparation of " + dir.root.string(), control.lock_wait_s, control.cancel);
     if (!lock.ok()) return lock.error();
     const std::string text = job_text(spec);
     if (std::filesystem::exists(dir.job(), ec)) {
@@ -231,7 +232,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     std::error_code ec;
     if (std::filesystem::exists(dir.test(index), ec)) return std::nullopt; // done already
     const std::string label = test_label(index, pressures.size(), pressures[index]);
-    auto lock = StageLock::acquire(dir.test_lock(index), label + " of " + dir.root.string());
+    auto lock = StageLock::acquire(dir.test_lock(index), label + " of " + dir.root.string(), control.lock_wait_s, control.cancel);
     if (!lock.ok()) return lock.error();
     if (std::filesystem::exists(dir.test(index), ec)) return std::nullopt; // finished while we waited for the lock
 
@@ -364,7 +365,8 @@ StageError analyse(const JobDir& dir, const StageControl& control)
 {
     auto job = read_job(dir);
     if (!job.ok()) return job.error();
-    auto lock = StageLock::acquire(dir.analyse_lock(), "the analysis of " + dir.root.string());
+    auto lock = StageLock::acquire(
+        dir.analyse_lock(), "the analysis of " + dir.root.string(), control.lock_wait_s, control.cancel);
     if (!lock.ok()) return lock.error();
     const api::JobSpec& spec = job.value();
     auto specimen_read = read_specimen(dir);

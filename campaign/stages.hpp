@@ -31,6 +31,11 @@ namespace wiredem::campaign {
 /// the paper's column costs well under a second.
 inline constexpr double default_checkpoint_interval_s = 300.0;
 
+/// How long a stage waits for its lock (stage_lock.hpp): long enough for a
+/// runner stopped by SIGTERM to save and go, short enough that a stage
+/// started twice is refused soon [s].
+inline constexpr double default_lock_wait_s = 30.0;
+
 /// How a host controls a stage. All members optional.
 struct StageControl {
     unsigned threads = 0;                        ///< engine threads (0: every core)
@@ -43,6 +48,9 @@ struct StageControl {
     /// just before each progress call, under the same lock.
     std::function<void(const WorkSteps& work)> work;
     double checkpoint_interval_s = default_checkpoint_interval_s; ///< ≤ 0: no checkpoints
+    /// How long a stage waits for its lock when another process holds it
+    /// (stage_lock.hpp) before it gives up [s].
+    double lock_wait_s = default_lock_wait_s;
 };
 
 /// An error message, or nothing when the stage succeeded.

@@ -413,6 +413,7 @@ StageOptions stage_options(const LocalStage& s)
     o.threads = s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency());
     o.json_progress = s.progress == "json";
     o.checkpoint_interval_s = s.checkpoint_interval_s;
+    o.lock_wait_s = s.lock_wait_s;
     return o;
 }
 

@@ -76,6 +76,9 @@ int main(int argc, char** argv)
         sub->add_option("--threads", local.threads, "engine threads (0: every core)")->capture_default_str();
         sub->add_option("--progress", local.progress, "progress on stdout: text or json (one object per line)")
             ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
+        sub->add_option("--lock-wait", local.lock_wait_s,
+               "seconds to wait when another process runs the same stage of the directory, before giving up")
+            ->capture_default_str()->check(CLI::Range(0.0, 86400.0));
     };
     const auto checkpoint_option = [&](CLI::App* sub) {
         sub->add_option("--checkpoint-interval", local.checkpoint_interval_s,

@@ -17,12 +17,14 @@ struct StageOptions {
     unsigned threads = 1;          ///< engine threads, ≥ 1
     bool json_progress = false;    ///< one JSON progress object per line on stdout; otherwise readable progress
     double checkpoint_interval_s = wiredem::campaign::default_checkpoint_interval_s; ///< ≤ 0: none
+    double lock_wait_s = wiredem::campaign::default_lock_wait_s; ///< for a stage's lock held by another process
 
     [[nodiscard]] wiredem::campaign::StageControl control() const
     {
         wiredem::campaign::StageControl c;
         c.threads = threads;
         c.checkpoint_interval_s = checkpoint_interval_s;
+        c.lock_wait_s = lock_wait_s;
         return c;
     }
 };

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <spawn.h>
 #include <sstream>
 #include <string>
@@ -370,9 +371,10 @@ TEST(Stages, BadRequestsGetClearErrors)
 
 // A stage runs in one process at a time: while another process holds a
 // stage's lock (here this one, with flock on the lock file the stage uses),
-// the stage is refused with a message that names the stage, the holder and
-// the file; the other stages are not held up; once the lock is free the
-// stage runs. (A holder that dies drops its lock: the kernel's flock.)
+// the stage waits --lock-wait seconds, then is refused with a message that
+// names the stage, the holder and the file; the other stages are not held
+// up; a holder that lets go within the wait lets the stage run. (A holder
+// that dies drops its lock: the kernel's flock.)
 TEST(Stages, AStageRunsInOneProcessAtATime)
 {
     const fs::path dir = fresh_dir("lock"), out = dir / "out";
@@ -390,9 +392,10 @@ TEST(Stages, AStageRunsInOneProcessAtATime)
     };
     {
         const Held held(out / "specimen.lock");
-        const Outcome o = run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log");
+        const Outcome o = run_wiredem({"prepare", tiny_job.string(), "-o", out.string(), "--lock-wait", "0.3"}, dir / "log");
         EXPECT_EQ(o.code(), 1) << o.err;
         EXPECT_NE(o.err.find("the preparation of"), std::string::npos) << o.err;
+        EXPECT_NE(o.err.find("(waited 0.3 s)"), std::string::npos) << o.err;
         EXPECT_NE(o.err.find("already running in another process (pid 4242 on elsewhere)"), std::string::npos) << o.err;
         EXPECT_NE(o.err.find("specimen.lock"), std::string::npos) << o.err;
         EXPECT_FALSE(fs::exists(out / "specimen.h5"));
@@ -400,7 +403,7 @@ TEST(Stages, AStageRunsInOneProcessAtATime)
     ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", out.string()}, dir / "log").ok());
     {
         const Held held(out / "tests" / "test_0.lock");
-        Outcome o = run_wiredem({"test", out.string(), "--index", "0"}, dir / "log");
+        Outcome o = run_wiredem({"test", out.string(), "--index", "0", "--lock-wait", "0"}, dir / "log");
         EXPECT_EQ(o.code(), 1) << o.err;
         EXPECT_NE(o.err.find("test 1/2"), std::string::npos) << o.err;
         EXPECT_NE(o.err.find("test_0.lock"), std::string::npos) << o.err;
@@ -410,10 +413,23 @@ TEST(Stages, AStageRunsInOneProcessAtATime)
         o = run_wiredem({"test", out.string(), "--index", "1"}, dir / "log");
         EXPECT_TRUE(o.ok()) << o.err;
     }
-    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0"}, dir / "log").ok());
+    {
+        // A holder that lets go within the wait (a runner saving on its way
+        // out): the stage waits for it and runs.
+        auto held = std::make_unique<Held>(out / "tests" / "test_0.lock");
+        const pid_t pid = spawn({"test", out.string(), "--index", "0", "--lock-wait", "60"}, dir / "log");
+        ASSERT_GT(pid, 0);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        EXPECT_FALSE(fs::exists(out / "tests" / "test_0.checkpoint.h5")) << "it ran without the lock";
+        held.reset();
+        int status = -1;
+        waitpid(pid, &status, 0);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << read_text(dir / "log");
+        EXPECT_TRUE(fs::exists(out / "tests" / "test_0.h5"));
+    }
     {
         const Held held(out / "analyse.lock");
-        const Outcome o = run_wiredem({"analyse", out.string()}, dir / "log");
+        const Outcome o = run_wiredem({"analyse", out.string(), "--lock-wait", "0"}, dir / "log");
         EXPECT_EQ(o.code(), 1) << o.err;
         EXPECT_NE(o.err.find("the analysis of"), std::string::npos) << o.err;
         EXPECT_FALSE(fs::exists(out / "summary.json"));
