@@ -22,10 +22,12 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <memory>
 #include <mutex>
 #include <numbers>
 #include <sstream>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace wiredem::campaign {
@@ -606,33 +608,100 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
 
     // Tests at once: as many as threads (each test is deterministic for any
     // thread count, so the results do not depend on how they are shared).
+    // When a worker finds no test left, its threads go to the running test
+    // with the most work left: that test stops at its next step, saves its
+    // checkpoint and continues from it on the threads of both (the same
+    // bits: a restored run continues bit-identically on any thread count),
+    // so no core idles while the campaign's last tests run.
     const unsigned threads = control.threads ? control.threads : std::max(1u, std::thread::hardware_concurrency());
     const std::size_t at_once = std::max<std::size_t>(1, std::min<std::size_t>(pending.size(), threads));
     std::vector<StageError> errors(n_tests);
-    std::atomic<std::size_t> next{0};
+    // Each test's stop flag: the campaign's cancel (copied in by the watcher
+    // below) or a request to hand its work to more threads.
+    const std::unique_ptr<std::atomic<bool>[]> stop(new std::atomic<bool>[n_tests]);
+    for (std::size_t k = 0; k < n_tests; ++k) stop[k].store(false);
+    std::mutex schedule_mutex;  // next, running_threads, handed_over, spare_threads
+    std::size_t next = 0;
+    std::vector<unsigned> running_threads(n_tests, 0);  // a running test's threads; 0: not running
+    std::vector<bool> handed_over(n_tests, false);       // asked to stop and take the spare threads
+    unsigned spare_threads = 0;
+    const auto cancelled = [&] { return control.cancel && control.cancel->load(); };
     const auto worker = [&](unsigned worker_threads) {
-        for (std::size_t i = next.fetch_add(1); i < pending.size(); i = next.fetch_add(1)) {
-            const std::size_t k = pending[i];
-            StageControl tc = control;
-            tc.threads = worker_threads;
-            tc.progress = [&, k](const char* stage, double f, const std::string& m) {
-                std::lock_guard lock(report_mutex);
-                testing = true;
-                if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
-                else steps_run += std::max(0.0, f - done[k]) * work.test_steps[k];
-                done[k] = f;
-                report_work();
-                report(control, stage, shares.overall(1.0, done, 0.0), m);
-            };
-            errors[k] = run_test(dir, k, tc);
-            if (control.cancel && control.cancel->load()) return;
+        for (;;) {
+            std::size_t k = 0;
+            {
+                std::lock_guard lock(schedule_mutex);
+                if (next == pending.size() || cancelled()) break;
+                k = pending[next++];
+                running_threads[k] = worker_threads;
+            }
+            for (;;) {
+                StageControl tc = control;
+                tc.threads = worker_threads;
+                tc.cancel = &stop[k];
+                tc.progress = [&, k](const char* stage, double f, const std::string& m) {
+                    std::lock_guard lock(report_mutex);
+                    testing = true;
+                    if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
+                    else steps_run += std::max(0.0, f - done[k]) * work.test_steps[k];
+                    done[k] = f;
+                    report_work();
+                    report(control, stage, shares.overall(1.0, done, 0.0), m);
+                };
+                errors[k] = run_test(dir, k, tc);
+                std::lock_guard lock(schedule_mutex);
+                if (!errors[k] || !handed_over[k] || cancelled()) {
+                    running_threads[k] = 0;
+                    break;
+                }
+                // Stopped to take more threads: continue from its checkpoint.
+                worker_threads += std::exchange(spare_threads, 0);
+                running_threads[k] = worker_threads;
+                handed_over[k] = false;
+                stop[k].store(false);
+                errors[k].reset();
+                std::lock_guard report_lock(report_mutex);
+                resumed[k] = true;
+            }
+        }
+        // Nothing left to start: these threads go to the running test with
+        // the most estimated work left, unless it is nearly done (a stop
+        // and a restore cost a checkpoint's save and read). Not without
+        // checkpoints: the test would start again from its first step.
+        std::lock_guard lock(schedule_mutex);
+        if (cancelled() || !(control.checkpoint_interval_s > 0.0)) return;
+        std::size_t best = n_tests;
+        double most_left = 0.0;
+        for (std::size_t k = 0; k < n_tests; ++k) {
+            if (running_threads[k] == 0 || handed_over[k]) continue;
+            std::lock_guard report_lock(report_mutex);
+            const double left = (1.0 - done[k]) * work.test_steps[k];
+            if (done[k] < 0.9 && left > most_left) most_left = left, best = k;
+        }
+        spare_threads += worker_threads;
+        if (best < n_tests) {
+            handed_over[best] = true;
+            stop[best].store(true);
         }
     };
+    // The campaign's cancel reaches every test within 20 ms.
+    std::atomic<bool> tests_over{false};
+    std::thread watcher;
+    if (control.cancel)
+        watcher = std::thread([&] {
+            while (!tests_over.load()) {
+                if (control.cancel->load())
+                    for (std::size_t k = 0; k < n_tests; ++k) stop[k].store(true);
+                std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            }
+        });
     std::vector<std::thread> workers;
     for (std::size_t t = 1; t < at_once; ++t)
         workers.emplace_back(worker, static_cast<unsigned>(threads / at_once + (t < threads % at_once ? 1 : 0)));
     worker(static_cast<unsigned>(threads / at_once + (threads % at_once > 0 ? 1 : 0)));
     for (auto& t : workers) t.join();
+    tests_over.store(true);
+    if (watcher.joinable()) watcher.join();
     for (const StageError& e : errors)
         if (e) return e;
     if (control.cancel && control.cancel->load()) return std::string("cancelled");

@@ -77,7 +77,9 @@ using StageError = std::optional<std::string>;
 [[nodiscard]] StageError analyse(const JobDir& dir, const StageControl& control);
 
 /// The whole campaign: prepare, the tests not yet done — up to `control.threads`
-/// of them at once, the threads shared among them —, analyse.
+/// of them at once, the threads shared among them; when none is left to
+/// start, the threads of a test that ended go to the running test with the
+/// most work left, which continues from its checkpoint on them —, analyse.
 [[nodiscard]] StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& control);
 
 } // namespace wiredem::campaign

@@ -9,6 +9,7 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -181,6 +182,35 @@ TEST(Stages, TestsRunAtOnceGiveWhatTestsRunOneAfterAnotherGive)
     EXPECT_EQ(computed(out / "summary.json"), computed(ref / "summary.json"));
     const auto diffs = h5_differences(out / "result.h5", ref / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
+// Three tests on two threads: the third starts when the first of the others
+// ends, and when the last of those ends its thread goes to the third, which
+// stops, saves and continues from its checkpoint on both threads. The files
+// are those of the tests run one after another on one thread.
+TEST(Stages, ATestTakesTheThreadsOfTheTestsThatEnded)
+{
+    const fs::path dir = fresh_dir("handover");
+    json::value job = json::parse(read_text(tiny_job));
+    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000, 15000, 20000};
+    {
+        std::ofstream f(dir / "job.json");
+        f << json::serialize(job);
+    }
+    const fs::path one = dir / "one", two = dir / "two";
+    Outcome o = run_wiredem({"run", (dir / "job.json").string(), "-o", one.string(), "--threads", "1"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    o = run_wiredem({"run", (dir / "job.json").string(), "-o", two.string(), "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    EXPECT_EQ(computed(two / "summary.json"), computed(one / "summary.json"));
+    const auto diffs = h5_differences(two / "result.h5", one / "result.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+    // The test that ran last ended on both threads.
+    const json::value summary = json::parse(read_text(two / "summary.json"));
+    std::vector<std::int64_t> threads;
+    for (const json::value& t : summary.at("tests").as_array()) threads.push_back(t.at("threads").to_number<std::int64_t>());
+    EXPECT_EQ(std::count(threads.begin(), threads.end(), 2), 1) << "threads per test: " << json::serialize(summary.at("tests"));
+    EXPECT_FALSE(fs::exists(two / "tests" / "test_2.checkpoint.h5"));
 }
 
 /// A stage started again and again and killed with SIGKILL after growing
