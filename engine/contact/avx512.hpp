@@ -124,14 +124,6 @@ struct Records4 {
         _mm512_permutex2var_pd(za, lanes_of(0, 1, 2, 3, 4, 9, 12, 15), c)};
 }
 
-/// The 3-vectors at out + 3 i for the eight indices i in `index`, into lanes
-/// (three gathers).
-[[WIREDEM_AVX512]] inline V3 gather_vec3s(const double* in, __m256i index)
-{
-    const __m256i at = _mm256_add_epi32(_mm256_add_epi32(index, index), index);
-    return {_mm512_i32gather_pd(at, in, 8), _mm512_i32gather_pd(at, in + 1, 8), _mm512_i32gather_pd(at, in + 2, 8)};
-}
-
 /// Writes eight records of eight doubles, record l = lane l of r[0] … r[7]
 /// (an 8 × 8 transpose), to the 64-byte aligned `out` + 8 l, for the lanes
 /// in `lanes` only.

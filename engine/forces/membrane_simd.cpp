@@ -26,10 +26,14 @@ using namespace avx512;
     const double* at = x->data();
     const __m512d k = _mm512_set1_pd(stiffness_n_per_m), zero = _mm512_setzero_pd();
     for (std::size_t e = 0; e < count; e += 8) {
-        // Eight (a, b) pairs: a in the low half of each 64-bit lane, b in the high.
-        const __m512i ends = _mm512_loadu_si512(edges + e);
-        const V3 a = gather_vec3s(at, _mm512_cvtepi64_epi32(ends));
-        const V3 b = gather_vec3s(at, _mm512_cvtepi64_epi32(_mm512_srli_epi64(ends, 32)));
+        // Both ends of eight edges: masked loads transposed in registers
+        // (cheaper than gathers on this CPU, as in the pair kernel).
+        std::array<const double*, 8> end_a, end_b;
+        for (int l = 0; l < 8; ++l) {
+            end_a[l] = at + 3 * std::size_t{edges[e + l][0]};
+            end_b[l] = at + 3 * std::size_t{edges[e + l][1]};
+        }
+        const V3 a = load_vec3s(end_a), b = load_vec3s(end_b);
         const V3 d = b - a;
         const __m512d len = _mm512_sqrt_pd(dot(d, d));
         const __m512d stretch = len - _mm512_loadu_pd(rest_m + e);
@@ -44,12 +48,13 @@ using namespace avx512;
     }
 }
 
-/// Corner `c` of the eight triangles at `tri`.
-[[WIREDEM_AVX512]] inline __m256i corners(const std::array<std::uint32_t, 3>* tri, int c)
+/// Corner `c` of the eight triangles at `tri`, into lanes (masked loads
+/// transposed in registers, as for the edges).
+[[WIREDEM_AVX512]] inline V3 corners(const double* at, const std::array<std::uint32_t, 3>* tri, int c)
 {
-    return _mm256_setr_epi32(static_cast<int>(tri[0][c]), static_cast<int>(tri[1][c]), static_cast<int>(tri[2][c]),
-        static_cast<int>(tri[3][c]), static_cast<int>(tri[4][c]), static_cast<int>(tri[5][c]),
-        static_cast<int>(tri[6][c]), static_cast<int>(tri[7][c]));
+    std::array<const double*, 8> corner;
+    for (int l = 0; l < 8; ++l) corner[l] = at + 3 * std::size_t{tri[l][c]};
+    return load_vec3s(corner);
 }
 
 [[gnu::target("avx512f,avx512vl,avx512bw")]] void triangles_avx512(const Vec3* x,
@@ -59,8 +64,7 @@ using namespace avx512;
     const __m512d sixth = _mm512_set1_pd(pressure_pa / 6.0);
     for (std::size_t t = 0; t < count; t += 8) {
         const auto* tri = triangles + t;
-        const V3 a = gather_vec3s(at, corners(tri, 0)), b = gather_vec3s(at, corners(tri, 1));
-        const V3 c = gather_vec3s(at, corners(tri, 2));
+        const V3 a = corners(at, tri, 0), b = corners(at, tri, 1), c = corners(at, tri, 2);
         store_vec3s(force_n[t].data(), sixth * cross(b - a, c - a));
     }
 }
