@@ -309,15 +309,14 @@ def specimen_values(c):
          # The core's fractions are the engine's (engine/specimen/packing.hpp), written by the runner.
          "core_grain": sp.get("core_grain_volume_fraction"),
          "core_wire_pct": sp.get("core_wire_volume_fraction") and sp["core_wire_volume_fraction"] * 100,
-         "prep_wall_s": None}
+         "prep_wall_s": sp.get("preparation_wall_time_s")}
     if v["wire_length_m"] is not None and v["nozzle_path_m"]:
         v["laid_pct"] = 100.0 * v["wire_length_m"] / v["nozzle_path_m"]
     else:
         v["laid_pct"] = None
-    if c.h5:
+    if v["prep_wall_s"] is None and c.h5:  # summaries from before the key existed
         with h5py.File(c.h5, "r") as f:
-            s = f["specimen"]
-            v["prep_wall_s"] = float(s.attrs["wall_time_s"])
+            v["prep_wall_s"] = float(f["specimen"].attrs["wall_time_s"])
     if c.pattern == "none":  # "—" rather than rows of zeros
         v.update({k: None for k in WIRE_KEYS})
     return v
