@@ -85,12 +85,18 @@ struct ProgressShares {
     std::vector<double> tests;       ///< each test's share
     /// Overall progress from the preparation's fraction, each test's (in
     /// test order; tests beyond the span count as not begun) and the analysis's.
+    /// Divided by the same sum with every part done, so that a finished
+    /// campaign is at exactly 1 (the shares' sum may round off it).
     [[nodiscard]] double overall(double preparation_fraction, std::span<const double> test_fractions,
         double analysis_fraction) const
     {
         double p = preparation * preparation_fraction + (1.0 - tests_end) * analysis_fraction;
-        for (std::size_t k = 0; k < tests.size() && k < test_fractions.size(); ++k) p += tests[k] * test_fractions[k];
-        return p;
+        double whole = preparation + (1.0 - tests_end);
+        for (std::size_t k = 0; k < tests.size(); ++k) {
+            p += tests[k] * (k < test_fractions.size() ? test_fractions[k] : 0.0);
+            whole += tests[k];
+        }
+        return p / whole;
     }
 };
 

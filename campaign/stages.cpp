@@ -644,7 +644,8 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
                     testing = true;
                     if (resumed[k] && f > 0.0) resumed[k] = false;  // the checkpoint's step
                     else steps_run += std::max(0.0, f - done[k]) * work.test_steps[k];
-                    done[k] = f;
+                    // Never back: a test continued on more threads reports 0 as it restarts.
+                    done[k] = std::max(done[k], f);
                     report_work();
                     report(control, stage, shares.overall(1.0, done, 0.0), m);
                 };

@@ -4,7 +4,9 @@
 // killed with SIGKILL at several points continues from its checkpoints to the
 // same result, a preparation stopped by SIGTERM saves on its way out; and bad
 // requests get clear errors.
+#include "api/job_spec.hpp"
 #include "h5_compare.hpp"
+#include "stages.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
@@ -29,6 +31,8 @@
 
 extern char** environ;
 
+namespace api = wiredem::api;
+namespace campaign = wiredem::campaign;
 using wiredem::test::h5_differences;
 
 namespace fs = std::filesystem;
@@ -200,8 +204,20 @@ TEST(Stages, ATestTakesTheThreadsOfTheTestsThatEnded)
     const fs::path one = dir / "one", two = dir / "two";
     Outcome o = run_wiredem({"run", (dir / "job.json").string(), "-o", one.string(), "--threads", "1"}, dir / "log");
     ASSERT_TRUE(o.ok()) << o.err;
-    o = run_wiredem({"run", (dir / "job.json").string(), "-o", two.string(), "--threads", "2"}, dir / "log");
-    ASSERT_TRUE(o.ok()) << o.err;
+    // In this process, to see every progress call (the command line's
+    // display drops some): the overall fraction never goes back, also where
+    // a test stops and continues on more threads.
+    auto spec = api::parse_job_spec(json::serialize(job));
+    ASSERT_TRUE(spec.ok());
+    campaign::StageControl control;
+    control.threads = 2;
+    std::vector<double> progress;
+    control.progress = [&](const char*, double f, const std::string&) { progress.push_back(f); };
+    const campaign::StageError e = campaign::run(spec.value(), campaign::JobDir{two}, control);
+    ASSERT_FALSE(e) << *e;
+    ASSERT_GT(progress.size(), 2u);
+    for (std::size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i], progress[i - 1]) << "call " << i;
+    EXPECT_EQ(progress.back(), 1.0);
     EXPECT_EQ(computed(two / "summary.json"), computed(one / "summary.json"));
     const auto diffs = h5_differences(two / "result.h5", one / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);

@@ -243,7 +243,7 @@ TEST(SlurmState, TheStagesSharesSumToTheWholeJob)
     w.test_steps = {4.5e5, 3e5, 1.5e5};  // slower plates at the low pressures
     const auto s = wiredem::api::progress_shares(w);
     const std::vector<double> all{1.0, 1.0, 1.0};
-    EXPECT_DOUBLE_EQ(s.overall(1.0, all, 1.0), 1.0);
+    EXPECT_EQ(s.overall(1.0, all, 1.0), 1.0);  // exactly: what is left is nothing
     EXPECT_DOUBLE_EQ(s.overall(0.0, {}, 0.0), 0.0);
     EXPECT_DOUBLE_EQ(s.overall(1.0, {}, 0.0), 0.95 * 1e5 / 1e6);
     // Each test in proportion to its steps: the first is half the tests' work.
