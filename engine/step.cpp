@@ -10,6 +10,7 @@
 #include "laws/tangential.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace wiredem::engine {
@@ -138,15 +139,22 @@ bool update_neighbours(World& w, ThreadPool& pool)
     };
     const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, partners, filter);
 
-    // Body pairs (flat order equals BodyRef order, so i < j is already
-    // first < second), then each wall's candidates: moving bodies whose gap
-    // is below r + skin, by (wall, body).
-    std::vector<BodyRef> first, second;
-    first.reserve(pairs.size());
-    second.reserve(pairs.size());
-    for (const auto& [i, j] : pairs) {
-        first.push_back(ref[i]);
-        second.push_back(ref[j]);
+    // Body pairs in pair_key order: grouped by their two kinds, each group
+    // in the grid's (i, j) order (flat order equals BodyRef order, so i < j
+    // is already first < second); then each wall's candidates: moving
+    // bodies whose gap is below r + skin, by (wall, body).
+    const auto kinds_of = [&](const std::pair<std::uint32_t, std::uint32_t>& pair) {
+        return static_cast<std::size_t>(ref[pair.first].kind()) * body_kind_count
+             + static_cast<std::size_t>(ref[pair.second].kind());
+    };
+    std::array<std::size_t, body_kind_count * body_kind_count + 1> group_start{};
+    for (const auto& pair : pairs) ++group_start[kinds_of(pair) + 1];
+    for (std::size_t g = 0; g + 1 < group_start.size(); ++g) group_start[g + 1] += group_start[g];
+    std::vector<BodyRef> first(pairs.size()), second(pairs.size());
+    for (const auto& pair : pairs) {
+        const std::size_t at = group_start[kinds_of(pair)]++;
+        first[at] = ref[pair.first];
+        second[at] = ref[pair.second];
     }
     for (std::uint32_t wi = 0; wi < w.walls.size(); ++wi) {
         Wall& wall = w.walls[wi];

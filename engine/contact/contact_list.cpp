@@ -57,6 +57,28 @@ void ContactList::rebuild(
     index(walls, flat);
 }
 
+void ContactList::sort(std::size_t walls, const FlatOffsets& flat)
+{
+    std::vector<std::uint32_t> order(size());
+    for (std::uint32_t p = 0; p < order.size(); ++p) order[p] = p;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return contact_key(first[a], second[a]) < contact_key(first[b], second[b]);
+    });
+    const auto permute = [&](auto& v) {
+        if (v.size() != order.size()) return; // not computed yet (hertz_coefficient before a rebuild)
+        auto sorted = v;
+        for (std::size_t p = 0; p < order.size(); ++p) sorted[p] = v[order[p]];
+        v = std::move(sorted);
+    };
+    permute(first);
+    permute(second);
+    permute(hertz_coefficient);
+    permute(tangential);
+    permute(output);
+    permute(touching);
+    index(walls, flat);
+}
+
 void ContactList::append_wall()
 {
     if (!wall_start.empty()) wall_start.push_back(static_cast<std::uint32_t>(size()));

@@ -4,8 +4,10 @@
 //
 // A contact has two sides: `first` is always a body; `second` is a later body
 // (a pair) or a wall (wall_ref). Contacts are sorted by contact_key: every
-// pair by (first, second), then every wall contact by (wall, body), so
-// iterating them is canonical and a wall's contacts are consecutive. A
+// pair grouped by the kinds of its bodies (grain–grain, grain–wire, …) and
+// by (first, second) within a group (pair_key), then every wall contact by
+// (wall, body), so iterating them is canonical, a wall's contacts are
+// consecutive and a block of contacts reads each side from one kind. A
 // contact's slot is written by exactly one thread per step. The list is
 // rebuilt only when some body or wall has moved more than half the skin since
 // the last build; a rebuild carries each surviving contact's tangential state
@@ -99,6 +101,11 @@ struct ContactList {
     /// in both, and rebuilds the incidence list.
     void rebuild(std::vector<BodyRef> new_first, std::vector<BodyRef> new_second, std::size_t walls,
         const FlatOffsets& flat);
+
+    /// Puts the contacts, with their memory and outputs, in contact_key
+    /// order and indexes them again: for a list sorted by another key (a
+    /// snapshot of version 4 or older sorted pairs by (first, second) alone).
+    void sort(std::size_t walls, const FlatOffsets& flat);
 
     /// A wall was added after the others: it has no contacts until the next
     /// rebuild (add_wall calls this, so the list always names the world's walls).

@@ -40,24 +40,43 @@ static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(Tangenti
 /// The spin of a body that does not turn: the scalar path's zero vector.
 constexpr double no_spin[3] = {0.0, 0.0, 0.0};
 
-/// One side of eight contacts whose bodies are all grains (the common case,
-/// read by index as one array).
-struct GrainLanes {
+/// One side of eight contacts whose bodies are all of one kind (nearly every
+/// block: the list groups the pairs by their kinds), read by index from that
+/// kind's arrays.
+struct KindLanes {
     const BodyRef* refs;
-    const ContactInputs& in;
+    const Vec3* x_;
+    const Vec3* v_dt_;
+    const double* radius_;
+    const Vec3* spin_dt_;  ///< nullptr: a kind that does not turn
 
+    [[WIREDEM_AVX512]] KindLanes(const BodyRef* refs_, const ContactInputs& in, BodyKind kind)
+        : refs(refs_)
+        , x_(in.x[static_cast<std::size_t>(kind)])
+        , v_dt_(in.v_dt[static_cast<std::size_t>(kind)])
+        , radius_(in.radius[static_cast<std::size_t>(kind)])
+        , spin_dt_(kind == BodyKind::grain ? in.spin_dt : nullptr)
+    {
+    }
     [[WIREDEM_AVX512]] V3 vec3s(const Vec3* base) const
     {
         std::array<const double*, simd_pair_lanes> at;
         for (std::size_t l = 0; l < simd_pair_lanes; ++l) at[l] = base[refs[l].index()].data();
         return load_vec3s(at);
     }
-    [[WIREDEM_AVX512]] V3 x() const { return vec3s(in.x[0]); }
-    [[WIREDEM_AVX512]] V3 v_dt() const { return vec3s(in.v_dt[0]); }
-    [[WIREDEM_AVX512]] V3 spin_dt() const { return vec3s(in.spin_dt); }
+    [[WIREDEM_AVX512]] V3 x() const { return vec3s(x_); }
+    [[WIREDEM_AVX512]] V3 v_dt() const { return vec3s(v_dt_); }
+    /// A kind that does not turn has the scalar path's zero spin.
+    [[WIREDEM_AVX512]] V3 spin_dt() const
+    {
+        if (spin_dt_ == nullptr) return {_mm512_setzero_pd(), _mm512_setzero_pd(), _mm512_setzero_pd()};
+        return vec3s(spin_dt_);
+    }
     [[WIREDEM_AVX512]] __m512d radius() const
     {
-        return gather(in.radius[0], _mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)));
+        const __m256i index = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)),
+            _mm256_set1_epi32(static_cast<int>(BodyRef::index_mask)));
+        return gather(radius_, index);
     }
 };
 
@@ -92,11 +111,13 @@ struct AnyLanes {
     }
 };
 
-/// Whether the eight references at `refs` are all grains (kind bits zero).
-[[WIREDEM_AVX512]] inline bool all_grains(const BodyRef* refs)
+/// Whether the eight references at `refs` are all of the kind of the first.
+[[WIREDEM_AVX512]] inline bool one_kind(const BodyRef* refs)
 {
-    return _mm256_testz_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)),
-        _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask)));
+    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
+    const __m256i kinds = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)), kind_bits);
+    return _mm256_cmpeq_epi32_mask(kinds, _mm256_set1_epi32(static_cast<int>(refs[0].bits & ~BodyRef::index_mask)))
+        == 0xFF;
 }
 
 /// The springs δ of eight consecutive contacts (32 bytes each: x y z and the
@@ -251,8 +272,8 @@ template <class Lanes>
 [[gnu::target("avx512f,avx512vl,avx512bw")]] std::uint32_t pair_block_avx512(ContactList& c, std::size_t p, const ContactInputs& in)
 {
     const BodyRef *first = &c.first[p], *second = &c.second[p];
-    if (all_grains(first) && all_grains(second))
-        return pair_lanes(c, p, GrainLanes{first, in}, GrainLanes{second, in}, in);
+    if (one_kind(first) && one_kind(second))
+        return pair_lanes(c, p, KindLanes(first, in, first[0].kind()), KindLanes(second, in, second[0].kind()), in);
     return pair_lanes(c, p, AnyLanes{first, in}, AnyLanes{second, in}, in);
 }
 
@@ -300,7 +321,7 @@ template <class Lanes>
     ContactList& c, std::size_t p, const Wall& wall, const ContactInputs& in)
 {
     const BodyRef* first = &c.first[p];
-    if (all_grains(first)) return wall_lanes(c, p, wall, GrainLanes{first, in}, in);
+    if (one_kind(first)) return wall_lanes(c, p, wall, KindLanes(first, in, first[0].kind()), in);
     return wall_lanes(c, p, wall, AnyLanes{first, in}, in);
 }
 

@@ -56,13 +56,17 @@ struct BodyRef {
 /// Whether a contact side names a wall (wall_ref) rather than a body.
 [[nodiscard]] constexpr bool is_wall(BodyRef r) { return (r.bits >> BodyRef::index_bits) == 3u; }
 
-/// Key of an unordered body pair, with the smaller reference in the high half:
-/// sorting keys sorts pairs by (first, second).
+/// Key of an unordered body pair: (kind of the smaller reference, kind of
+/// the larger, smaller index, larger index) in 2 + 2 + 30 + 30 bits. Sorted
+/// keys put the pairs of one pair of kinds together (grain–grain, grain–wire,
+/// …), each group by (first, second): the contact kernel's blocks then
+/// read every lane of a side from one kind's arrays.
 [[nodiscard]] constexpr std::uint64_t pair_key(BodyRef a, BodyRef b)
 {
-    const std::uint32_t lo = a.bits < b.bits ? a.bits : b.bits;
-    const std::uint32_t hi = a.bits < b.bits ? b.bits : a.bits;
-    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+    const BodyRef lo = a.bits < b.bits ? a : b, hi = a.bits < b.bits ? b : a;
+    return static_cast<std::uint64_t>(lo.bits >> BodyRef::index_bits) << 62
+         | static_cast<std::uint64_t>(hi.bits >> BodyRef::index_bits) << 60
+         | static_cast<std::uint64_t>(lo.index()) << BodyRef::index_bits | hi.index();
 }
 
 } // namespace wiredem::engine

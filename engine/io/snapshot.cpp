@@ -177,6 +177,8 @@ Result<World, std::string> restore_snapshot(
         const bool motion_from_inverse_mass = version == 2;
         // Versions 2 and 3 keep a contact's outputs in four arrays.
         const bool outputs_in_four_arrays = version <= 3;
+        // Versions 2 to 4 sort the body pairs by (first, second) alone.
+        const bool pairs_by_bodies = version <= 4;
         w.walls.resize(static_cast<std::size_t>(root.read_int_attribute("wall_count")));
         std::string error;
         for_each_field(w, [&](const std::string& name, auto& value, FieldRole) {
@@ -206,6 +208,7 @@ Result<World, std::string> restore_snapshot(
         const std::string recorded = root.read_string_attribute("state_hash");
         if (hex(state_hash(w)) != recorded)
             return Err(at + ": the restored state hashes to " + hex(state_hash(w)) + ", the file recorded " + recorded);
+        if (pairs_by_bodies) w.contacts.sort(w.walls.size(), w.flat_offsets());
         if (read_host) {
             if (!root.exists(snapshot_host_group)) return Err(at + ": it has no /host group (saved without the host's state)");
             read_host(root.open_group(snapshot_host_group));

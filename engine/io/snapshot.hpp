@@ -24,7 +24,9 @@ namespace wiredem::engine {
 
 /// Version of the snapshot layout; restore_snapshot reads this version only.
 /// Bump it whenever a field is added, removed or changes meaning.
-inline constexpr std::int64_t snapshot_version = 4; // 3: bodies' motion types; 4: one record of outputs per contact
+/// 3: bodies' motion types; 4: one record of outputs per contact; 5: body
+/// pairs grouped by their kinds (pair_key).
+inline constexpr std::int64_t snapshot_version = 5;
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";

@@ -177,8 +177,8 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
     s.bottom_plate_force_n = plate_compression_n(bottom);
 
     // Column radius (the model spec §6.3): grains touching the membrane, each
-    // counted once. Pairs are sorted by (first, second) and a grain's
-    // membrane pairs come last among its pairs, so they are consecutive.
+    // counted once. The grain–membrane pairs are one group of the list,
+    // sorted by (grain, node) (pair_key), so a grain's are consecutive.
     const TranslationalState& grains = w.of(BodyKind::grain);
     const ContactList& c = w.contacts;
     std::vector<double> radial_m;

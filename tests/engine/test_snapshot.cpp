@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <span>
 #include <string>
 #include <unistd.h>
@@ -203,6 +204,61 @@ TEST(Snapshot, AVersionThreeFileKeepsTheContactOutputsInFourArrays)
     }
     EXPECT_GT(touching, 100u);
     EXPECT_EQ(state_hash(r.value()), state_hash(w));
+}
+
+TEST(Snapshot, AVersionFourFileHasItsPairsPutInTheKindsOrder)
+{
+    // Until version 4 the body pairs were sorted by (first, second) alone: a
+    // grain's grain, wire and membrane partners followed each other. Such a
+    // list is put in today's order (pair_key), each contact with its memory
+    // and outputs, and the run continues as the uninterrupted one does.
+    Simulation original(1);
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, Integrator::gear5));
+    World old = original.world;
+    ContactList& c = old.contacts;
+    std::vector<std::size_t> order(c.pair_count());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return std::pair(c.first[a].bits, c.second[a].bits) < std::pair(c.first[b].bits, c.second[b].bits);
+    });
+    ASSERT_FALSE(std::is_sorted(order.begin(), order.end())) << "the column has pairs of several kinds";
+    const auto permute = [&](auto& v) {
+        auto sorted = v;
+        for (std::size_t p = 0; p < order.size(); ++p) sorted[p] = v[order[p]];
+        v = std::move(sorted);
+    };
+    permute(c.first);
+    permute(c.second);
+    permute(c.hertz_coefficient);
+    permute(c.tangential);
+    permute(c.output);
+    permute(c.touching);
+    // (The incidence list is left as it was: a restore indexes the list again.)
+    const std::filesystem::path path = temp_path("version4.h5");
+    ASSERT_TRUE(save_snapshot(old, path).ok());
+    io::File::open_read_write(path).root().write_int_attribute("version", 4);
+    auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const ContactList& restored = r.value().contacts;
+    const ContactList& expected = original.world.contacts;
+    EXPECT_EQ(restored.first, expected.first);
+    EXPECT_EQ(restored.second, expected.second);
+    EXPECT_EQ(restored.hertz_coefficient, expected.hertz_coefficient);
+    EXPECT_EQ(restored.wall_start, expected.wall_start);
+    EXPECT_EQ(restored.incidence_start, expected.incidence_start);
+    ASSERT_EQ(restored.incidence.size(), expected.incidence.size());
+    for (std::size_t i = 0; i < expected.incidence.size(); ++i)
+        ASSERT_EQ(restored.incidence[i].bits, expected.incidence[i].bits) << "incidence " << i;
+    for (std::size_t p = 0; p < expected.size(); ++p)
+        ASSERT_EQ(restored.output[p].force_n, expected.output[p].force_n) << "contact " << p;
+    EXPECT_EQ(state_hash(r.value()), state_hash(original.world)); // springs and touching flags in order
+
+    Simulation resumed(2);
+    resumed.world = std::move(r).value();
+    original.run(steps_after);
+    resumed.run(steps_after);
+    EXPECT_EQ(state_hash(resumed.world), state_hash(original.world));
 }
 
 TEST(Snapshot, AMissingFieldIsNamed)
