@@ -4,9 +4,12 @@
 #include "api/json_text.hpp"
 
 #include <boost/json/basic_parser_impl.hpp>
+#include <boost/json/serialize.hpp>
 #include <boost/json/value_stack.hpp>
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -140,7 +143,44 @@ std::string position_text(std::string_view text, std::size_t offset)
          + std::to_string(offset) + ")";
 }
 
+bool has_non_finite(const json::value& v)
+{
+    switch (v.kind()) {
+    case json::kind::double_: return !std::isfinite(v.get_double());
+    case json::kind::array:
+        return std::any_of(v.get_array().begin(), v.get_array().end(), [](const json::value& e) { return has_non_finite(e); });
+    case json::kind::object:
+        return std::any_of(v.get_object().begin(), v.get_object().end(),
+            [](const json::key_value_pair& e) { return has_non_finite(e.value()); });
+    default: return false;
+    }
+}
+
+void null_non_finite(json::value& v)
+{
+    switch (v.kind()) {
+    case json::kind::double_:
+        if (!std::isfinite(v.get_double())) v = nullptr;
+        break;
+    case json::kind::array:
+        for (json::value& e : v.get_array()) null_non_finite(e);
+        break;
+    case json::kind::object:
+        for (json::key_value_pair& e : v.get_object()) null_non_finite(e.value());
+        break;
+    default: break;
+    }
+}
+
 } // namespace
+
+std::string json_document_text(const json::value& document)
+{
+    if (!has_non_finite(document)) return json::serialize(document);  // the usual case: no copy
+    json::value copy = document;
+    null_non_finite(copy);
+    return json::serialize(copy);
+}
 
 engine::Result<json::value, std::string> parse_json_text(std::string_view text)
 {

@@ -33,4 +33,10 @@ namespace wiredem::api {
     return std::isfinite(x) ? boost::json::value(x) : boost::json::value(nullptr);
 }
 
+/// A document as JSON text, every number that is not finite written as null:
+/// what wiredem writes for others to read (summary.json, the server's
+/// responses, the command line's JSON) goes through this, so a NaN that
+/// reached any field still gives a text that parsers read.
+[[nodiscard]] std::string json_document_text(const boost::json::value& document);
+
 } // namespace wiredem::api

@@ -552,7 +552,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         e["density_scale"] = spec.engine.density_scale;
         summary["engine"] = std::move(e);
 
-        write_text_file_atomically(dir.summary(), json::serialize(summary) + "\n");
+        write_text_file_atomically(dir.summary(), api::json_document_text(summary) + "\n");
     } catch (const std::exception& ex) {
         std::filesystem::remove(h5_tmp, ec);
         return std::string("writing the results failed: ") + ex.what();

@@ -95,7 +95,7 @@ std::vector<api::PointOutcome> run_study(const api::Study& study, const std::fil
         if (o.state.empty()) o.state = "cancelled"; // never started
 
     const json::object summary = api::study_summary(study, outcomes);
-    write_text_file_atomically(dir / "summary.json", json::serialize(summary) + "\n");
+    write_text_file_atomically(dir / "summary.json", api::json_document_text(summary) + "\n");
     write_text_file_atomically(dir / "summary.csv", api::study_summary_csv(summary));
     return outcomes;
 }

@@ -9,6 +9,7 @@
 // when started again.
 #include "run_command.hpp"
 
+#include "api/json_text.hpp"
 #include "display.hpp"
 #include "stages.hpp"
 #include "study_run.hpp"
@@ -84,7 +85,7 @@ public:
             o["eta_s"] = nullptr;
             if (has_eta) o["eta_s"] = *eta_;
             o["message"] = message;
-            std::cout << json::serialize(o) << '\n' << std::flush;
+            std::cout << wiredem::api::json_document_text(o) << '\n' << std::flush;
         } else if (tty_) {
             constexpr int width = 30;
             const int filled = static_cast<int>(fraction * width);
@@ -251,7 +252,7 @@ int study_run_main(const wiredem::api::Study& study, const std::filesystem::path
     }
     const boost::json::value summary = wiredem::api::study_summary(study, outcomes);
     if (options.json_progress)
-        std::cout << boost::json::serialize(summary) << '\n';
+        std::cout << wiredem::api::json_document_text(summary) << '\n';
     else
         std::cout << wiredem::client::format_study_summary(summary) << "\nfiles: " << (dir / "summary.json").string()
                   << ", " << (dir / "summary.csv").string() << '\n';

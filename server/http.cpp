@@ -1,6 +1,7 @@
 // Reply builders.
 #include "http.hpp"
 
+#include "api/json_text.hpp"
 #include "api/utf8.hpp"
 
 #include <boost/json.hpp>
@@ -22,7 +23,7 @@ StringResponse text_response(const Request& req, http::status status, std::strin
 
 StringResponse json_response(const Request& req, http::status status, const boost::json::value& body)
 {
-    std::string text = boost::json::serialize(body);
+    std::string text = api::json_document_text(body);
     text.push_back('\n');
     return text_response(req, status, std::move(text), "application/json");
 }
