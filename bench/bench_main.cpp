@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -149,10 +150,18 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
 }
 
 /// The paper-size cell: grains on a loose lattice (gap 0.15 d) inside a
-/// deformable membrane under σ₃ = 20 kPa, with the wire threaded as a
-/// serpentine through the lattice's free channels (vertical runs between four
-/// grain columns, joined in the half-layer planes). Timed from the lattice, so
-/// the column is collapsing under gravity while it is timed.
+/// deformable membrane under σ₃ = 20 kPa, with the wire threaded through the
+/// lattice's free lines: up and down the vertical channels between four
+/// grain columns, joined along the horizontal channels of the half-layer
+/// planes (a line half a pitch from two rows and two layers is as far from
+/// the grain centres, p/√2, as a vertical channel, and clears r_p + r_w).
+/// The wire's segments are half a pitch long, so every straight leg is a
+/// whole number of segments and ends on a channel line: no node starts
+/// inside a grain. Timed from the lattice, so the column is collapsing under
+/// gravity while it is timed. (Until 2026-12-02 the legs ended up to a
+/// segment short of the channels and the joins ran diagonally through the
+/// grains: nodes started deep inside grains and were flung out at 10³ m/s,
+/// which rebuilt the neighbour list at nearly every timed step.)
 World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
 {
     World w;
@@ -163,29 +172,62 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
     const double r = spec.grain_radius_m;
     const double pitch = 2.0 * r * (1.0 + spec.lattice_gap);
     const double z0 = r + 0.5 * (pitch - 2.0 * r);
-    configure_wire(w, WireSpec{});
-    const double lw = w.wire.segment_length_m;
+    WireSpec wire;
+    wire.segment_length_m = 0.5 * pitch;
+    configure_wire(w, wire);
+    // The channels row by row (y), along each row (x) forth and back, so that
+    // no leg crosses a channel that a later run goes up or down.
     std::vector<Vec3> channels;
     const int half = static_cast<int>(spec.container_radius_m / pitch);
-    for (int iy = -half; iy < half; ++iy)
+    for (int iy = -half; iy < half; ++iy) {
+        const std::size_t row = channels.size();
         for (int ix = -half; ix < half; ++ix) {
             const double x = (ix + 0.5) * pitch, y = (iy + 0.5) * pitch;
             if (std::hypot(x, y) < spec.container_radius_m - 2.0 * pitch) channels.emplace_back(x, y, 0.0);
         }
-    const double z_lo = z0 + 0.5 * pitch, z_hi = top - 0.5 * pitch;
-    bool up = true;
+        if ((iy + half) % 2 == 1) std::reverse(channels.begin() + static_cast<std::ptrdiff_t>(row), channels.end());
+    }
+    const double z_lo = z0 + 0.5 * pitch, z_hi = top - 0.5 * pitch;  // half-layer planes
     Vec3 at = channels.front() + Vec3(0, 0, z_lo);
+    const auto room = [&] { return w.of(BodyKind::wire).size() < wire_nodes; };
     append_wire_node(w, at);
-    for (std::size_t c = 0; c < channels.size() && w.of(BodyKind::wire).size() < wire_nodes; ++c) {
-        // Across to the channel (in the half-layer plane), then along it.
+    // A straight leg from `at` to `to`, a whole number of segments.
+    const auto leg = [&](const Vec3& to) {
+        const Vec3 from = at;
+        const long segments = std::lround((to - from).norm() / w.wire.segment_length_m);
+        for (long k = 1; k <= segments && room(); ++k)
+            append_wire_node(w, at = from + (static_cast<double>(k) / static_cast<double>(segments)) * (to - from));
+    };
+    bool up = true;
+    for (std::size_t c = 0; c < channels.size() && room(); ++c) {
+        // To the channel in the half-layer plane; from one row's end to the
+        // next row's, first along the axis that stays outside both rows (the
+        // longer row's end lies beyond the shorter's). Then up or down it.
         const Vec3 target = channels[c] + Vec3(0, 0, at.z());
-        for (Vec3 d = target - at; d.norm() >= lw && w.of(BodyKind::wire).size() < wire_nodes; d = target - at)
-            append_wire_node(w, at += lw * d.normalized());
-        const double z_end = up ? z_hi : z_lo;
-        while (std::abs(z_end - at.z()) >= lw && w.of(BodyKind::wire).size() < wire_nodes)
-            append_wire_node(w, at += Vec3(0, 0, up ? lw : -lw));
+        if (target.y() != at.y()) {
+            const bool target_further_out = std::abs(target.x()) > std::abs(at.x());
+            leg(target_further_out ? Vec3(target.x(), at.y(), at.z()) : Vec3(at.x(), target.y(), at.z()));
+        }
+        leg(target);
+        leg(channels[c] + Vec3(0, 0, up ? z_hi : z_lo));
         up = !up;
     }
+    // The scene's own check: no wire node starts inside a grain or inside a
+    // wire node it may touch (what went wrong before).
+    const TranslationalState& grains = w.of(BodyKind::grain);
+    const std::vector<Vec3>& nodes = w.of(BodyKind::wire).x[0];
+    const double r_w = w.wire.radius_m;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        for (std::size_t g = 0; g < grains.size(); ++g)
+            if ((nodes[i] - grains.x[0][g]).norm() < grains.radius_m[g] + r_w)
+                throw std::logic_error("wire_membrane_column: wire node " + std::to_string(i) + " starts inside grain "
+                                       + std::to_string(g));
+        for (std::size_t j = i + w.wire_contact_skip; j < nodes.size(); ++j)
+            if ((nodes[i] - nodes[j]).norm() < 2.0 * r_w)
+                throw std::logic_error("wire_membrane_column: wire nodes " + std::to_string(i) + " and "
+                                       + std::to_string(j) + " start inside each other");
+    }
+
     MembraneSpec m;
     m.radius_m = spec.container_radius_m + m.contact_radius_m; // grains' outer surface meets the node spheres
     m.height_m = top + 2.0 * pitch;
