@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -26,6 +27,14 @@ inline constexpr char worker_thread_name[] = "wiredem-worker";
 /// chunks run out (the machine is busy, or it was asleep) takes no part and
 /// costs the loop nothing: on a loaded machine a loop is never slower than on
 /// the caller alone.
+///
+/// The chunks are dealt in as many contiguous ranges as there are threads,
+/// and each thread claims from its own range first (the caller the first,
+/// worker k the (k+1)-th), then from the others'. So as long as the threads
+/// keep pace, a thread works on the same part of every array in every loop
+/// of a step (the bodies it predicted are the ones it gathers and corrects),
+/// and that part stays in its core's own cache instead of passing between
+/// the cores at each loop.
 class ThreadPool {
 public:
     /// @param threads total threads taking part in a loop, the caller included;
@@ -44,26 +53,38 @@ public:
         const std::function<void(std::size_t, std::size_t)>& body);
 
 private:
-    void worker_loop();
-    /// Claims and runs chunks of loop `loop` until none is left (or another
-    /// loop has been published).
-    void run_chunks(std::uint32_t loop);
+    /// A range of a loop's units (a unit is one chunk, or several when a
+    /// loop has more chunks than a ticket can count): one 64-bit ticket,
+    /// the loop number << 32 | next unit << 16 | one past the range's last.
+    /// On a cache line of its own: its owner claims from it without touching
+    /// another thread's line.
+    struct alignas(64) Range {
+        std::atomic<std::uint64_t> ticket{0};
+    };
+
+    void worker_loop(unsigned self);
+    /// Claims and runs units of loop `loop`, from range `self` first, until
+    /// none is left (or another loop has been published).
+    void run_chunks(std::uint32_t loop, unsigned self);
 
     std::vector<std::thread> workers_;
 
     // The published loop. Written by the caller before it publishes the loop
-    // number in ticket_ and read by a thread only after it has claimed a
+    // number in the ranges' tickets and read by a thread only after it has claimed a
     // chunk: the caller does not return (and write the next loop) until every
     // claimed chunk is done, so these need no atomics.
     const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
     std::size_t n_ = 0;
     std::size_t chunk_ = 1;
-    std::uint32_t chunks_ = 0;
+    std::size_t chunks_per_unit_ = 1;
+    std::uint32_t units_ = 0;
 
-    // ticket_ = loop number << 32 | chunks not yet claimed; a chunk is claimed
-    // by a compare-exchange that checks both, so no thread can claim a chunk
-    // of a loop that has ended. done_ counts finished chunks.
-    alignas(64) std::atomic<std::uint64_t> ticket_{0};
+    // One range per thread. A unit is claimed by a compare-exchange on its
+    // range's ticket, which holds the loop number, the next unit and the
+    // range's end together: no thread can claim a unit of a loop that has
+    // ended, nor judge one loop's ticket by another's end. done_ counts
+    // finished units.
+    std::unique_ptr<Range[]> ranges_;
     alignas(64) std::atomic<std::uint32_t> done_{0};
     // Workers spin on loop_ for a short while between loops (a step's loops
     // come back to back), then sleep on it (atomic wait: a futex).

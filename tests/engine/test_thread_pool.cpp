@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <map>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,6 +32,24 @@ TEST(ThreadPool, ParallelForVisitsEveryIndexExactlyOnce)
             parallel_for(pool, n, [&](std::size_t i) { ++visits[i]; }, 7);
             for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(visits[i], 1) << "n=" << n << " i=" << i << " threads=" << threads;
         }
+    }
+}
+
+TEST(ThreadPool, ALoopOfMoreChunksThanATicketCountsStillGetsChunksOfTheAskedSize)
+{
+    // 300 001 blocks of two: more than the 65 535 units a ticket counts, so
+    // they are claimed several at a time; each call must still get one block.
+    for (unsigned threads : {1u, 2u, 3u}) {
+        ThreadPool pool(threads);
+        const std::size_t n = 600001;
+        std::vector<int> visits(n, 0);
+        std::atomic<std::size_t> oversized{0};
+        parallel_for_blocks(pool, n, 2, [&](std::size_t begin, std::size_t end) {
+            if (end - begin > 2 || begin % 2 != 0) oversized.fetch_add(1);
+            for (std::size_t i = begin; i < end; ++i) ++visits[i];
+        });
+        EXPECT_EQ(oversized.load(), 0u) << "threads=" << threads;
+        EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), static_cast<long>(n)) << "threads=" << threads;
     }
 }
 
@@ -128,4 +149,34 @@ TEST(ThreadPool, LoopsFinishWhileAWorkerCannotRun)
     std::atomic<long> total{0};
     parallel_for(pool, 100000, [&](std::size_t) { total.fetch_add(1, std::memory_order_relaxed); }, 64);
     EXPECT_EQ(total.load(), 100000L);
+}
+
+TEST(ThreadPool, EachThreadStartsOnItsOwnRange)
+{
+    // Each thread's first chunk waits until the other thread has begun one
+    // too, so both threads are in the loop before either could take a second
+    // chunk. A pool that deals chunks to whichever thread asks next gives the
+    // worker chunk 1; this one gives each thread the start of its own half
+    // (the caller 0, the worker 4), so that every loop of a step works each
+    // thread's half of the arrays, which its core's cache still holds.
+    ThreadPool pool(2);
+    constexpr std::size_t chunks = 8;
+    const auto caller = std::this_thread::get_id();
+    std::mutex mutex;
+    std::map<std::thread::id, std::size_t> first_chunk;
+    std::atomic<int> started{0};
+    parallel_for_blocks(pool, chunks, 1, [&](std::size_t begin, std::size_t) {
+        bool first = false;
+        {
+            const std::lock_guard lock(mutex);
+            first = first_chunk.emplace(std::this_thread::get_id(), begin).second;
+        }
+        if (!first) return;
+        started.fetch_add(1);
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (started.load() < 2 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    });
+    if (first_chunk.size() < 2) GTEST_SKIP() << "the worker did not take part within 10 s";
+    for (const auto& [thread, chunk] : first_chunk)
+        EXPECT_EQ(chunk, thread == caller ? 0u : chunks / 2) << (thread == caller ? "caller" : "worker");
 }
