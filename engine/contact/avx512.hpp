@@ -33,6 +33,16 @@ struct V3 {
 {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+/// The lanes of v in `keep`, zero in the others (the scalar code's Vec3::Zero()).
+[[WIREDEM_AVX512]] inline V3 masked(__mmask8 keep, const V3& v)
+{
+    return {_mm512_maskz_mov_pd(keep, v.x), _mm512_maskz_mov_pd(keep, v.y), _mm512_maskz_mov_pd(keep, v.z)};
+}
+/// b in the lanes of `pick`, a in the others (a branch taken lane by lane).
+[[WIREDEM_AVX512]] inline V3 blend(__mmask8 pick, const V3& a, const V3& b)
+{
+    return {_mm512_mask_blend_pd(pick, a.x, b.x), _mm512_mask_blend_pd(pick, a.y, b.y), _mm512_mask_blend_pd(pick, a.z, b.z)};
+}
 
 [[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
     long long f, long long g, long long h)

@@ -189,8 +189,7 @@ struct AnyLanes {
     // × 1 leaves a lane that the scalar law does not rescale unchanged.
     spring = _mm512_mask_sqrt_pd(one, turned, _mm512_mask_div_pd(one, turned, dot(old_spring, old_spring), new_len2))
            * spring;
-    spring = {_mm512_maskz_mov_pd(sticking, spring.x), _mm512_maskz_mov_pd(sticking, spring.y),
-        _mm512_maskz_mov_pd(sticking, spring.z)};
+    spring = masked(sticking, spring);
     spring = spring + dt * vt;
     const V3 held = (_mm512_set1_pd(-tp.stiffness_per_m) * fn) * spring;
     const __m512d coulomb = mu * fn;
@@ -206,13 +205,10 @@ struct AnyLanes {
     const __m512d f = fn * _mm512_min_pd(gamma * speed, mu);
     const __mmask8 moves = _mm512_cmp_pd_mask(speed, zero, _CMP_GT_OQ);
     const __m512d per_speed = -f / speed;
-    const V3 dynamic = {_mm512_maskz_mov_pd(moves, per_speed * vt.x), _mm512_maskz_mov_pd(moves, per_speed * vt.y),
-        _mm512_maskz_mov_pd(moves, per_speed * vt.z)};
+    const V3 dynamic = masked(moves, per_speed * vt);
     const V3 slip = dt * vt;
-    const V3 tangential = {_mm512_mask_blend_pd(slides, held.x, dynamic.x), _mm512_mask_blend_pd(slides, held.y, dynamic.y),
-        _mm512_mask_blend_pd(slides, held.z, dynamic.z)};
-    spring = {_mm512_mask_blend_pd(slides, spring.x, slip.x), _mm512_mask_blend_pd(slides, spring.y, slip.y),
-        _mm512_mask_blend_pd(slides, spring.z, slip.z)};
+    const V3 tangential = blend(slides, held, dynamic);
+    spring = blend(slides, spring, slip);
     // Every lane whose branch is certain (ordered comparisons; a NaN or an
     // unordered break test goes to the scalar law).
     lanes &= slides_on | holds | breaks;

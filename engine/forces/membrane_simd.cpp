@@ -43,8 +43,7 @@ using namespace avx512;
         __mmask8 pulls = _mm512_cmp_pd_mask(len, zero, _CMP_NEQ_UQ);
         if (law == MembraneEdgeLaw::tension_only) pulls &= _mm512_cmp_pd_mask(stretch, zero, _CMP_NLE_UQ);
         const __m512d s = k * stretch / len;
-        store_vec3s(force_n[e].data(),
-            {_mm512_maskz_mul_pd(pulls, s, d.x), _mm512_maskz_mul_pd(pulls, s, d.y), _mm512_maskz_mul_pd(pulls, s, d.z)});
+        store_vec3s(force_n[e].data(), masked(pulls, s * d));
     }
 }
 

@@ -30,11 +30,6 @@ static_assert(sizeof(std::array<Vec3, 3>) == 9 * sizeof(double));
 /// Eight consecutive 3-vectors from v[0] on, into lanes.
 [[WIREDEM_AVX512]] inline V3 load_consecutive(const Vec3* v) { return load_consecutive_vec3s(v->data()); }
 
-[[WIREDEM_AVX512]] inline V3 masked(__mmask8 keep, const V3& v)
-{
-    return {_mm512_maskz_mov_pd(keep, v.x), _mm512_maskz_mov_pd(keep, v.y), _mm512_maskz_mov_pd(keep, v.z)};
-}
-
 [[gnu::target("avx512f,avx512vl,avx512bw")]] void segments_avx512(const Vec3* x, const Vec3* dx,
     const WireKernelParams& p, WireSegment* segment, Vec3* force_n, double* strain, std::size_t count)
 {
@@ -58,8 +53,7 @@ static_assert(sizeof(std::array<Vec3, 3>) == 9 * sizeof(double));
             const V3 rate = load_consecutive(dx + s + 1) - load_consecutive(dx + s);
             const __m512d c = damping * dot(rate, unit);
             const V3 damped_f = f + c * unit;
-            f = {_mm512_mask_blend_pd(dashpot, f.x, damped_f.x), _mm512_mask_blend_pd(dashpot, f.y, damped_f.y),
-                _mm512_mask_blend_pd(dashpot, f.z, damped_f.z)};
+            f = blend(dashpot, f, damped_f);
         }
         store_vec3s(force_n[s].data(), f);
         _mm512_storeu_pd(strain + s, (length - l0) / l0);
