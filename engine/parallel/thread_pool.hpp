@@ -70,9 +70,9 @@ private:
     std::vector<std::thread> workers_;
 
     // The published loop. Written by the caller before it publishes the loop
-    // number in the ranges' tickets and read by a thread only after it has claimed a
-    // chunk: the caller does not return (and write the next loop) until every
-    // claimed chunk is done, so these need no atomics.
+    // number in the ranges' tickets, and read by a thread only after it has
+    // claimed a unit: the caller does not return (and write the next loop)
+    // until every claimed unit is done, so these need no atomics.
     const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
     std::size_t n_ = 0;
     std::size_t chunk_ = 1;
