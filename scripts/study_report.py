@@ -574,6 +574,21 @@ def envelopes_figure(by_pattern, out, made):
     save(fig, out, "envelopes.png", made)
 
 
+def yield_ratio_stats(campaigns):
+    """{σ₃ [Pa]: (mean, sd, n)} of the stress ratio η at yield over the campaigns' tests.
+
+    η = (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff) at the yield reading is sin φ mobilised, read
+    from each test alone: unlike φ and c it needs no fit through circles that
+    span a narrow band of σ, where slope and intercept trade off.
+    """
+    by_pressure = {}
+    for c in campaigns:
+        for t in c.tests():
+            y = t.get("yield") or {}
+            by_pressure.setdefault(t["confining_pressure_pa"], []).append(y.get("stress_ratio"))
+    return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
+
+
 def strength_tables(by_pattern):
     text = ("φ and c: mean ± sample standard deviation over seeds (n). *yield*: the envelope through the "
             "states at the maximum of the smoothed stress ratio (summary `mohr_coulomb`); *max q*: through "
@@ -606,6 +621,28 @@ def strength_tables(by_pattern):
                                  fmt(bound, ".2f") + (unit if bound is not None else ""),
                                  {True: "**yes**", False: "no", None: "not judged"}[verdict]])
     text += table(["fit", "patterns", "quantity", "Δ mean", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+
+    # The same comparison without a fit: the stress ratio at yield, pressure by pressure.
+    ratios = {p: yield_ratio_stats(cs) for p, cs in by_pattern.items()}
+    pressures = sorted({s3 for r in ratios.values() for s3 in r})
+    text += ("\nStress ratio at yield, η = (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff) = sin φ mobilised, per confining "
+             "pressure: mean ± sample standard deviation over seeds (n). Each test gives it alone, without "
+             "the envelope's fit (whose φ and c trade off when the yield circles span a narrow band of σ).\n\n")
+    def cell(stat):
+        return fmt_mean(stat, ".3f") + (f" ({stat[2]})" if stat[2] else "")
+
+    rows = [[PATTERN_LABEL[p]] + [cell(r.get(s3, (None, None, 0))) for s3 in pressures] for p, r in ratios.items()]
+    text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    text += "\nDifferences of η at yield between patterns, by the criterion above.\n\n"
+    rows = []
+    for i, p1 in enumerate(patterns):
+        for p2 in patterns[i + 1:]:
+            for s3 in pressures:
+                delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
+                                                                   ratios[p2].get(s3, (None, None, 0)))
+                rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
+                             fmt(bound, ".3f"), {True: "**yes**", False: "no", None: "not judged"}[verdict]])
+    text += table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
     return text
 
 

@@ -12,6 +12,7 @@ import importlib.util
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -117,7 +118,7 @@ class StudyReport(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
-        runs = os.path.join(cls.tmp.name, "runs")
+        runs = cls.runs = os.path.join(cls.tmp.name, "runs")
         cls.out = os.path.join(cls.tmp.name, "out")
         campaigns = {("helix", 1): (30.0, 1e3), ("helix", 2): (34.0, 3e3), ("none", 1): (20.0, 0.0)}
         for (pattern, seed), (phi, c) in campaigns.items():
@@ -161,6 +162,22 @@ class StudyReport(unittest.TestCase):
     def test_mean_and_spread_of_phi_and_c_over_seeds(self):
         # φ = 30°, 34°: mean 32, sample sd 2√2 = 2.83; c = 1, 3 kPa: 2 ± √2
         self.assertIn("| helix | yield | 2 | 32.00 ± 2.83 | 2.00 ± 1.41 |", self.tables)
+
+    def test_stress_ratio_at_yield_per_pressure_over_seeds(self):
+        # The helix's two seeds: η at 20 kPa from their envelopes (30°, 1 kPa) and (34°, 3 kPa).
+        etas = []
+        for phi, c in ((30.0, 1e3), (34.0, 3e3)):
+            s1, s3 = yield_state(20e3, phi, c)
+            etas.append((s1 - s3) / (s1 + s3))
+        mean = sum(etas) / 2
+        sd = abs(etas[0] - etas[1]) / math.sqrt(2)
+        self.assertRegex(self.tables, r"\| helix \| " + re.escape(f"{mean:.3f} ± {sd:.3f} (2)") + r" \| ")
+        stats = report.yield_ratio_stats(report.find_campaigns(self.runs)[0]["helix"])
+        self.assertAlmostEqual(stats[20e3][0], mean)
+        self.assertAlmostEqual(stats[20e3][1], sd)
+        self.assertEqual(stats[20e3][2], 2)
+        # One seed without wire: its η is listed, but no difference with it is judged.
+        self.assertRegex(self.tables, r"\| no wire − helix \| 20 \| [-+]0\.[0-9]{3} \| — \| not judged \|")
 
     def test_difference_criterion(self):
         delta, bound, verdict = report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (20.0, 1.0, 2))
