@@ -589,6 +589,11 @@ def yield_ratio_stats(campaigns):
     return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
 
 
+def verdict_cell(verdict):
+    """difference_exceeds_scatter's verdict as a table cell."""
+    return {True: "**yes**", False: "no", None: "not judged"}[verdict]
+
+
 def strength_tables(by_pattern):
     text = ("φ and c: mean ± sample standard deviation over seeds (n). *yield*: the envelope through the "
             "states at the maximum of the smoothed stress ratio (summary `mohr_coulomb`); *max q*: through "
@@ -619,7 +624,7 @@ def strength_tables(by_pattern):
                     rows.append([label, f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", "φ" if q == "phi" else "c",
                                  fmt(delta, "+.2f") + (unit if delta is not None else ""),
                                  fmt(bound, ".2f") + (unit if bound is not None else ""),
-                                 {True: "**yes**", False: "no", None: "not judged"}[verdict]])
+                                 verdict_cell(verdict)])
     text += table(["fit", "patterns", "quantity", "Δ mean", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
 
     # The same comparison without a fit: the stress ratio at yield, pressure by pressure.
@@ -628,6 +633,7 @@ def strength_tables(by_pattern):
     text += ("\nStress ratio at yield, η = (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff) = sin φ mobilised, per confining "
              "pressure: mean ± sample standard deviation over seeds (n). Each test gives it alone, without "
              "the envelope's fit (whose φ and c trade off when the yield circles span a narrow band of σ).\n\n")
+
     def cell(stat):
         return fmt_mean(stat, ".3f") + (f" ({stat[2]})" if stat[2] else "")
 
@@ -641,7 +647,7 @@ def strength_tables(by_pattern):
                 delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
                                                                    ratios[p2].get(s3, (None, None, 0)))
                 rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
-                             fmt(bound, ".3f"), {True: "**yes**", False: "no", None: "not judged"}[verdict]])
+                             fmt(bound, ".3f"), verdict_cell(verdict)])
     text += table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
     return text
 

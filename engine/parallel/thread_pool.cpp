@@ -24,18 +24,20 @@ inline void cpu_relax() noexcept
 /// others.
 constexpr int spin_before_sleep = 4000;
 
-/// A ticket counts units in 16 bits: a loop of more chunks claims them in
-/// units of several.
-constexpr std::uint32_t max_units = 0xffff;
+/// A ticket counts units in 16 bits (next and end each): a loop of more
+/// chunks claims them in units of several.
+constexpr unsigned unit_bits = 16;
+constexpr std::uint32_t max_units = (1u << unit_bits) - 1;
+constexpr std::uint64_t one_unit = std::uint64_t{1} << unit_bits;
 
 constexpr std::uint64_t pack(std::uint32_t loop, std::uint32_t next, std::uint32_t end) noexcept
 {
-    return static_cast<std::uint64_t>(loop) << 32 | static_cast<std::uint64_t>(next) << 16 | end;
+    return static_cast<std::uint64_t>(loop) << 32 | static_cast<std::uint64_t>(next) << unit_bits | end;
 }
 constexpr std::uint32_t loop_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket >> 32); }
-constexpr std::uint32_t next_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket >> 16) & 0xffff; }
-constexpr std::uint32_t end_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket) & 0xffff; }
-constexpr std::uint64_t one_unit = std::uint64_t{1} << 16;
+constexpr std::uint32_t next_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket >> unit_bits) & max_units; }
+constexpr std::uint32_t end_of(std::uint64_t ticket) noexcept { return static_cast<std::uint32_t>(ticket) & max_units; }
+static_assert(2 * unit_bits <= 32, "next and end share the ticket's low 32 bits");
 
 } // namespace
 
