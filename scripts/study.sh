@@ -8,7 +8,6 @@
 #   bash scripts/study.sh [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH]
 #                         [--patterns "none helix ..."] [--seeds "1 2 3"]
 #                         [--base JOB.json] [--summaries DIR] [--prepare-only]
-#                         [--tests-at-once N]
 #
 # Each campaign is examples/paper-<pattern>.json with its seed replaced (or,
 # with --base, that job file with its pattern and seed replaced); it runs in
@@ -23,12 +22,7 @@
 # can be stopped and started again; a failed one is reported and the others
 # go on. --jobs
 # campaigns run at once (default 1), each on --threads threads (default: the
-# cores divided among the jobs). --tests-at-once N runs each campaign as its
-# three stages (`wiredem prepare` on --threads threads, then its triaxial tests
-# N at a time on --threads/N threads each with `wiredem test`, then `wiredem
-# analyse`): the same results bit for bit (the engine's state does not depend
-# on its thread count), and more steps per second on a small machine, where
-# two 1-thread tests outrun one 2-thread test (bench/README.md). --prepare-only prepares the specimens
+# cores divided among the jobs). --prepare-only prepares the specimens
 # (`wiredem prepare`, docs/studies.md) and stops: the specimen table of the
 # report, and the campaigns continue from them later. The figures: /usr/bin/python3
 # scripts/study_report.py (reads DIR).
@@ -44,7 +38,6 @@ seeds="1 2 3"
 base=""
 summaries=docs/study
 prepare_only=0
-tests_at_once=1
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --jobs) jobs="$2"; shift ;;
@@ -56,19 +49,16 @@ while [[ $# -gt 0 ]]; do
         --base) base="$2"; shift ;;
         --summaries) summaries="$2"; shift ;;
         --prepare-only) prepare_only=1; shift; continue ;;
-        --tests-at-once) tests_at_once="$2"; shift ;;
         *) echo "usage: $0 [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH] [--patterns LIST] [--seeds LIST]" \
-                "[--base JOB.json] [--summaries DIR] [--prepare-only] [--tests-at-once N]" >&2
+                "[--base JOB.json] [--summaries DIR] [--prepare-only]" >&2
            exit 2 ;;
     esac
     shift
 done
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "study: --jobs must be a positive integer, got '$jobs'" >&2; exit 2; }
 [[ "$threads" =~ ^[0-9]+$ ]] || { echo "study: --threads must be a whole number, got '$threads'" >&2; exit 2; }
-[[ "$tests_at_once" =~ ^[1-9][0-9]*$ ]] || { echo "study: --tests-at-once must be a positive integer, got '$tests_at_once'" >&2; exit 2; }
 [[ -x "$wiredem" ]] || { echo "study: $wiredem not found; build it first (bash scripts/build.sh release)" >&2; exit 2; }
 if [[ "$threads" -eq 0 ]]; then threads=$(( $(nproc) / jobs )); [[ $threads -ge 1 ]] || threads=1; fi
-test_threads=$(( threads / tests_at_once )); [[ $test_threads -ge 1 ]] || test_threads=1
 for p in $patterns; do
     case "$p" in none|helix|spiral_helix|radial_helix) ;;
         *) echo "study: unknown pattern '$p' (none, helix, spiral_helix, radial_helix)" >&2; exit 2 ;; esac
@@ -76,18 +66,6 @@ done
 for s in $seeds; do [[ "$s" =~ ^[0-9]+$ ]] || { echo "study: a seed must be a whole number, got '$s'" >&2; exit 2; }; done
 [[ -z "$base" || -f "$base" ]] || { echo "study: --base $base not found" >&2; exit 2; }
 mkdir -p "$runs" "$summaries"
-
-# A campaign as its stages, its tests --tests-at-once at a time (each test's
-# progress in DIR/test-K.log). Every stage resumes what DIR holds.
-staged_campaign() {
-    local job=$1 dir=$2 tests
-    "$wiredem" prepare "$job" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1 || return 1
-    tests=$(/usr/bin/python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["triaxial"]["confining_pressures_pa"]))' "$job") || return 1
-    seq 0 $((tests - 1)) | xargs -P "$tests_at_once" -I{} \
-        sh -c '"$1" test "$2" --index "$3" --threads "$4" >> "$2/test-$3.log" 2>&1' \
-        sh "$wiredem" "$dir" {} "$test_threads" || return 1
-    "$wiredem" analyse "$dir" --threads "$threads" >> "$dir/run.log" 2>&1
-}
 
 # One campaign: job file with the seed, run, copy the summary.
 campaign() {
@@ -124,13 +102,8 @@ EOF
             return 0
         fi
         echo "study: $name started $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
-        if [[ $tests_at_once -eq 1 ]]; then
-            if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
-                echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
-                return 1
-            fi
-        elif ! staged_campaign "$runs/$name.json" "$dir"; then
-            echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log and $dir/test-*.log)" >&2
+        if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
+            echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
             return 1
         fi
         echo "study: $name finished in $((SECONDS - t0)) s"
