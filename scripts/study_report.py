@@ -574,6 +574,15 @@ def envelopes_figure(by_pattern, out, made):
     save(fig, out, "envelopes.png", made)
 
 
+def per_pressure_stats(campaigns, value):
+    """{σ₃ [Pa]: (mean, sd, n)} of value(test) over the campaigns' tests."""
+    by_pressure = {}
+    for c in campaigns:
+        for t in c.tests():
+            by_pressure.setdefault(t["confining_pressure_pa"], []).append(value(t))
+    return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
+
+
 def yield_ratio_stats(campaigns):
     """{σ₃ [Pa]: (mean, sd, n)} of the stress ratio η at yield over the campaigns' tests.
 
@@ -581,12 +590,70 @@ def yield_ratio_stats(campaigns):
     from each test alone: unlike φ and c it needs no fit through circles that
     span a narrow band of σ, where slope and intercept trade off.
     """
-    by_pressure = {}
-    for c in campaigns:
-        for t in c.tests():
-            y = t.get("yield") or {}
-            by_pressure.setdefault(t["confining_pressure_pa"], []).append(y.get("stress_ratio"))
-    return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
+    return per_pressure_stats(campaigns, lambda t: (t.get("yield") or {}).get("stress_ratio"))
+
+
+def residual_ratio_stats(campaigns):
+    """{σ₃ [Pa]: (mean, sd, n)} of the residual stress ratio (the mean η over the last end window)."""
+    return per_pressure_stats(campaigns, lambda t: t.get("residual_stress_ratio"))
+
+
+def end_window_text(by_pattern):
+    """The residual η's strain window as the summaries define it ("the last 2 % of axial strain")."""
+    windows = {(c.summary.get("definitions") or {}).get("end_window_strain")
+               for cs in by_pattern.values() for c in cs}
+    windows.discard(None)
+    if len(windows) != 1:
+        return "the last end window of axial strain (summary `definitions.end_window_strain`)"
+    return f"the last {100 * windows.pop():g} % of axial strain"
+
+
+def stress_ratio_figure(by_pattern, out, made):
+    """η at yield and the residual η against σ₃: each pattern's mean ± sd over seeds, and every test."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), sharey=True)
+    marker = {"peak": "o", "plateau": "s", "rising": "^"}
+    patterns = list(by_pattern)
+    for ax, (title, stats_of, value) in zip(axes, (
+            ("at yield (the maximum of the smoothed η)", yield_ratio_stats,
+             lambda t: (t.get("yield") or {}).get("stress_ratio")),
+            (f"residual (mean over {end_window_text(by_pattern)})", residual_ratio_stats,
+             lambda t: t.get("residual_stress_ratio")))):
+        for i, p in enumerate(patterns):
+            shift = (i - (len(patterns) - 1) / 2) * 1.2  # kPa, so the bars do not hide each other
+            stats = [(s3, st) for s3, st in stats_of(by_pattern[p]).items() if st[0] is not None]
+            if not stats:
+                continue
+            x = np.array([s3 / 1e3 + shift for s3, _ in stats])
+            mean = np.array([st[0] for _, st in stats])
+            sd = np.array([st[1] if st[1] is not None else 0.0 for _, st in stats])
+            n = max(st[2] for _, st in stats)
+            ax.errorbar(x, mean, yerr=sd, color=PATTERN_COLOUR[p], ls=PATTERN_STYLE[p], lw=1.8, capsize=4,
+                        label=f"{PATTERN_LABEL[p]} (n = {n})")
+            for c in by_pattern[p]:
+                for t in c.tests():
+                    v = value(t)
+                    if v is None or not math.isfinite(v):
+                        continue
+                    shape = (t.get("yield") or {}).get("shape") if stats_of is yield_ratio_stats else None
+                    ax.plot(t["confining_pressure_pa"] / 1e3 + shift + 0.5, v, marker=marker.get(shape, "."),
+                            ms=4, color=PATTERN_COLOUR[p], mfc="none", ls="none", alpha=0.7)
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("confining pressure σ₃ [kPa]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("stress ratio η = (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff) = sin φ_mob")
+    fig.legend(*axes[0].get_legend_handles_labels(), fontsize=8, loc="lower center", ncol=len(patterns),
+               frameon=False)
+    # φ mobilised on the right-hand axis: η = sin φ.
+    lo, hi = axes[1].get_ylim()
+    right = axes[1].twinx()
+    right.set_ylim(lo, hi)
+    ticks = [d for d in range(0, 90, 2) if lo <= math.sin(math.radians(d)) <= hi]
+    right.set_yticks([math.sin(math.radians(d)) for d in ticks], [f"{d}°" for d in ticks])
+    right.set_ylabel("φ mobilised = asin η")
+    fig.suptitle("Stress ratio per confining pressure: lines mean ± sd over seeds; markers every test "
+                 "(left: ○ peak, □ plateau, △ still rising)", fontsize=10)
+    fig.tight_layout(rect=(0, 0.45 / fig.get_figheight(), 1, 1))
+    save(fig, out, "stress_ratio.png", made)
 
 
 def verdict_cell(verdict):
@@ -649,6 +716,11 @@ def strength_tables(by_pattern):
                 rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
                              fmt(bound, ".3f"), verdict_cell(verdict)])
     text += table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+    residual = {p: residual_ratio_stats(cs) for p, cs in by_pattern.items()}
+    text += (f"\nResidual stress ratio (the mean raw η over {end_window_text(by_pattern)}, summary "
+             "`residual_stress_ratio`) per confining pressure: mean ± sample standard deviation over seeds (n).\n\n")
+    rows = [[PATTERN_LABEL[p]] + [cell(r.get(s3, (None, None, 0))) for s3 in pressures] for p, r in residual.items()]
+    text += table(["pattern"] + [f"residual η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
     return text
 
 
@@ -928,6 +1000,7 @@ def main(argv=None):
             curves_figure(p, cs, colours, figures, made)
         mohr_figure(p, cs, colours, figures, made)
     envelopes_figure(by_pattern, figures, made)
+    stress_ratio_figure(by_pattern, figures, made)
 
     wire_rows = []
     for p, cs in by_pattern.items():

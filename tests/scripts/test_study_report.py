@@ -54,11 +54,12 @@ def summary(pattern, seed, phi_deg, c_pa):
                       "sigma1_pa": s1, "sigma3_effective_pa": s3e, "max_q_shape": "rising",
                       "yield": {"shape": "plateau", "stress_ratio": (s1 - s3e) / (s1 + s3e), "axial_strain": 0.03,
                                 "sigma1_pa": s1, "sigma3_effective_pa": s3e, "deviatoric_stress_pa": s1 - s3e},
-                      "residual_stress_ratio": 0.2, "quasi_static": True, "max_inertial_number": 5e-4,
+                      "residual_stress_ratio": 0.2 + 0.01 * seed + s3 / 1e6, "quasi_static": True, "max_inertial_number": 5e-4,
                       "mean_kinetic_to_elastic": 2e-3, "steps": 1000, "wall_time_s": 10.0})
     mc = {"friction_angle_deg": phi_deg, "cohesion_pa": c_pa, "r_squared": 1.0,
           "paper_top_line_angle_deg": math.degrees(math.atan(math.sin(math.radians(phi_deg))))}
     return {"name": f"{pattern} {seed}", "tests": tests, "mohr_coulomb": mc, "mohr_coulomb_max_q": mc,
+            "definitions": {"end_window_strain": 0.02},
             "specimen": {"grain_volume_fraction": 0.55, "wire_volume_fraction": 0.01 if pattern != "none" else 0.0,
                          "sample_volume_m3": math.pi * 0.02 ** 2 * 0.04, "grains": 3,
                          "wire_nodes": 401 if pattern != "none" else 0, "wire_length_m": 0.5,
@@ -146,7 +147,7 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(self.proc.returncode, 0, self.proc.stderr)
         figures = os.path.join(self.out, "figures")
         for name in ("specimen_none", "specimen_helix", "curves_none", "curves_helix", "mohr_none", "mohr_helix",
-                     "mohr_radial_helix", "envelopes", "wire_strain_helix", "force_network_none"):
+                     "mohr_radial_helix", "envelopes", "stress_ratio", "wire_strain_helix", "force_network_none"):
             path = os.path.join(figures, name + ".png")
             self.assertTrue(os.path.getsize(path) > 1000, path)
             self.assertIn(path, self.proc.stdout)
@@ -178,6 +179,15 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(stats[20e3][2], 2)
         # One seed without wire: its η is listed, but no difference with it is judged.
         self.assertRegex(self.tables, r"\| no wire − helix \| 20 \| [-+]0\.[0-9]{3} \| — \| not judged \|")
+
+    def test_residual_stress_ratio_per_pressure_over_seeds(self):
+        # The helix's seeds 1 and 2 at 40 kPa: 0.25 and 0.26, mean 0.255, sd 0.01/√2; one seed without wire.
+        self.assertIn("| helix | 0.235 ± 0.007 (2) | 0.255 ± 0.007 (2) |", self.tables)
+        self.assertIn("residual η at σ₃ = 40 kPa", self.tables)
+        self.assertIn("over the last 2 % of axial strain", self.tables)
+        stats = report.residual_ratio_stats(report.find_campaigns(self.runs)[0]["helix"])
+        self.assertAlmostEqual(stats[40e3][0], 0.255)
+        self.assertAlmostEqual(stats[40e3][1], 0.01 / math.sqrt(2))
 
     def test_difference_criterion(self):
         delta, bound, verdict = report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (20.0, 1.0, 2))
