@@ -55,6 +55,6 @@ int main(int argc, char** argv)
     std::printf("%llu steps in %.2f s: %.3g body-steps/s; floor carries %.1f %% of the weight (the rest hangs on the "
                 "cylinder by friction)\n",
         static_cast<unsigned long long>(out.steps), wall, static_cast<double>(w.body_count()) * out.steps / wall,
-        -100.0 * w.walls[0].total_force_n.z() / weight);
+        -100.0 * w.wall_loads[0].total_force_n.z() / weight);
     return out.end == RunEnd::completed ? 0 : 1;
 }

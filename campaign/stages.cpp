@@ -347,7 +347,7 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
     const eng::TranslationalState& wn = w.of(eng::BodyKind::wire);
     write_units(sp.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(wn.x[0])), "m");
     // The plastic joints' rest angles are part of the wire's state (docs/model.md, "Wire").
-    write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(w.wire.rest_angle_rad)), "rad");
+    write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(w.wire_rest_angle_rad)), "rad");
     const eng::TranslationalState& mn = w.of(eng::BodyKind::membrane);
     write_units(sp.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(mn.x[0])), "m");
 

@@ -60,7 +60,7 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
             if (i >= 1 && i + 1 < xw.size()) {
                 const Vec3 a = xw[i] - xw[i - 1], b = xw[i + 1] - xw[i];
                 const double zeta = std::atan2(a.cross(b).norm(), a.dot(b));
-                const double bend = zeta - wire.rest_angle_rad[i]; // plastic joints: ζ − ζ₀
+                const double bend = zeta - w.wire_rest_angle_rad[i]; // plastic joints: ζ − ζ₀
                 energy += 0.5 * wire.bending_stiffness_n_m * bend * bend;
             }
             return energy;

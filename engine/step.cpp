@@ -28,13 +28,16 @@ void begin_run(World& w, ThreadPool& pool)
     evaluate_forces(w, pool, MemoryUpdate::keep);
 
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    for (auto& body : w.bodies)
+    for (int k = 0; k < body_kind_count; ++k) {
+        TranslationalState& body = w.bodies[k];
+        const std::vector<Vec3>& force = w.body_force_n[k];
         parallel_for(pool, body.size(), [&](std::size_t i) {
-            if (is_dynamic(body, i)) body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
+            if (is_dynamic(body, i)) body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * force[i];
         });
+    }
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        if (is_dynamic(w.of(BodyKind::grain), i)) rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        if (is_dynamic(w.of(BodyKind::grain), i)) rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * w.grain_torque_n_m[i];
     });
 }
 
@@ -67,9 +70,9 @@ StepReport step(World& w, ThreadPool& pool, StepProfile* profile)
     return report;
 }
 
-void move_walls(World& w)
+void move_walls(State& s)
 {
-    for (Wall& wall : w.walls) wall.point_m += wall.velocity_m_per_s * w.dt_s;
+    for (Wall& wall : s.walls) wall.point_m += wall.velocity_m_per_s * s.dt_s;
 }
 
 double effective_skin_m(const World& w)
@@ -103,8 +106,8 @@ bool update_neighbours(World& w, ThreadPool& pool)
                     },
                     [](double a, double b) { return std::max(a, b); }));
         }
-        for (const Wall& wall : w.walls)
-            max_move2 = std::max(max_move2, (wall.point_m - wall.point_at_build_m).squaredNorm());
+        for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
+            max_move2 = std::max(max_move2, (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm());
         if (max_move2 < 0.25 * skin * skin) return false;
     }
 
@@ -157,7 +160,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         second[at] = ref[pair.second];
     }
     for (std::uint32_t wi = 0; wi < w.walls.size(); ++wi) {
-        Wall& wall = w.walls[wi];
+        const Wall& wall = w.walls[wi];
         for (std::uint32_t i = 0; i < n; ++i) {
             const TranslationalState& body = w.of(ref[i].kind());
             const std::uint32_t b = ref[i].index();
@@ -166,7 +169,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
                 second.push_back(wall_ref(wi));
             }
         }
-        wall.point_at_build_m = wall.point_m;
+        w.wall_point_at_build_m[wi] = wall.point_m;
     }
     ContactList& c = w.contacts;
     c.rebuild(std::move(first), std::move(second), w.walls.size(), flat);
@@ -309,8 +312,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
                 return sum;
             }, add));
         }
-        w.walls[wi].total_force_n = total.force;
-        w.walls[wi].contacts = total.contacts;
+        w.wall_loads[wi] = {total.force, total.contacts};
     }
 }
 
@@ -318,7 +320,8 @@ void gather_forces(World& w, ThreadPool& pool)
 {
     const ContactList& c = w.contacts;
     for (int k = 0; k < body_kind_count; ++k) {
-        TranslationalState& body = w.bodies[k];
+        const TranslationalState& body = w.bodies[k];
+        std::vector<Vec3>& force = w.body_force_n[k];
         const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
         const Vec3 g = w.gravity_acts[k] ? w.gravity_m_per_s2 : Vec3(Vec3::Zero());
         // Pairs, then walls in wall order (ascending contact index); zero
@@ -335,10 +338,10 @@ void gather_forces(World& w, ThreadPool& pool)
                     f += in.sign() * out.force_n;
                     if constexpr (rotates) tau += (body.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
                 }
-                if (k == static_cast<int>(BodyKind::wire)) f += w.wire.node_force_n[i];
-                if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane.node_force_n[i];
-                body.force_n[i] = f;
-                if constexpr (rotates) w.grain_rotation.torque_n_m[i] = tau;
+                if (k == static_cast<int>(BodyKind::wire)) f += w.wire_forces.node_force_n[i];
+                if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane_forces.node_force_n[i];
+                force[i] = f;
+                if constexpr (rotates) w.grain_torque_n_m[i] = tau;
             });
         };
         if (k == static_cast<int>(BodyKind::grain))
@@ -346,7 +349,7 @@ void gather_forces(World& w, ThreadPool& pool)
         else
             body_loop(std::false_type{});
     }
-    for (const auto& [body, f] : w.point_loads) w.of(body.kind()).force_n[body.index()] += f;
+    for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }
 
 } // namespace wiredem::engine

@@ -39,7 +39,7 @@ void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory);
 // The stages, in the order step() runs them; exposed for tests and benchmarks.
 
 /// Moves walls with their prescribed velocity by one step.
-void move_walls(World& w);
+void move_walls(State& s);
 /// Rebuilds the contact list (body pairs and body–wall contacts) if a body or
 /// a wall moved more than half the skin since the last build, or bodies or
 /// walls were added. Returns true if it rebuilt.

@@ -109,9 +109,10 @@ void build_membrane(World& w, const MembraneSpec& spec)
             for (int k = 0; k < 3; ++k) visit(m.triangles[t][k], static_cast<std::uint32_t>(t));
         },
         m.triangles.size());
-    m.edge_force_n.assign(m.edges.size(), Vec3::Zero());
-    m.triangle_force_n.assign(m.triangles.size(), Vec3::Zero());
-    m.node_force_n.assign(nodes, Vec3::Zero());
+    MembraneForces& slots = w.membrane_forces;
+    slots.edge_force_n.assign(m.edges.size(), Vec3::Zero());
+    slots.triangle_force_n.assign(m.triangles.size(), Vec3::Zero());
+    slots.node_force_n.assign(nodes, Vec3::Zero());
     m.rigid = true;
 }
 
@@ -129,15 +130,17 @@ void set_membrane_rigid(World& w, bool rigid)
     // continues with, hence its bits, depend on when it was built.
     invalidate_neighbours(w);
     if (rigid) { // compute_membrane_forces skips a rigid membrane: nothing it holds moves
-        std::fill(m.edge_force_n.begin(), m.edge_force_n.end(), Vec3::Zero());
-        std::fill(m.triangle_force_n.begin(), m.triangle_force_n.end(), Vec3::Zero());
-        std::fill(m.node_force_n.begin(), m.node_force_n.end(), Vec3::Zero());
+        MembraneForces& slots = w.membrane_forces;
+        std::fill(slots.edge_force_n.begin(), slots.edge_force_n.end(), Vec3::Zero());
+        std::fill(slots.triangle_force_n.begin(), slots.triangle_force_n.end(), Vec3::Zero());
+        std::fill(slots.node_force_n.begin(), slots.node_force_n.end(), Vec3::Zero());
     }
 }
 
 void compute_membrane_forces(World& w, ThreadPool& pool)
 {
-    MembraneMesh& m = w.membrane;
+    const MembraneMesh& m = w.membrane;
+    MembraneForces& slots = w.membrane_forces;
     const auto& x = w.of(BodyKind::membrane).x[0];
     // Held nodes do not move whatever their springs and the pressure do (the
     // preparation's rigid membrane: ~9 % of a paper-size pour's step time).
@@ -150,29 +153,29 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
         const std::size_t n = simd_part(begin, end);
         if (n > 0)
             simd.edges(x.data(), m.edges.data() + begin, m.edge_rest_m.data() + begin, k, m.edge_law,
-                m.edge_force_n.data() + begin, n);
+                slots.edge_force_n.data() + begin, n);
         for (std::size_t e = begin + n; e < end; ++e)
-            m.edge_force_n[e] = membrane_edge_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k, m.edge_law);
+            slots.edge_force_n[e] = membrane_edge_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k, m.edge_law);
     });
     const double p = m.pressure_pa;
     parallel_for_blocks(pool, m.triangles.size(), membrane_block, [&](std::size_t begin, std::size_t end) {
         const std::size_t n = simd_part(begin, end);
-        if (n > 0) simd.triangles(x.data(), m.triangles.data() + begin, p, m.triangle_force_n.data() + begin, n);
+        if (n > 0) simd.triangles(x.data(), m.triangles.data() + begin, p, slots.triangle_force_n.data() + begin, n);
         for (std::size_t t = begin + n; t < end; ++t) {
             const auto& tri = m.triangles[t];
             // ½ (b−a)×(c−a) = A n_in: the pressure force σ₃ A n_in, a third per node.
-            m.triangle_force_n[t] = p / 6.0 * (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+            slots.triangle_force_n[t] = p / 6.0 * (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
         }
     });
     parallel_for(pool, x.size(), [&](std::size_t i) {
         Vec3 f = Vec3::Zero();
         for (std::uint32_t e = m.edge_incidence_start[i]; e < m.edge_incidence_start[i + 1]; ++e) {
             const std::uint32_t code = m.edge_incidence[e];
-            f += (code & 1u) ? Vec3(-m.edge_force_n[code >> 1]) : m.edge_force_n[code >> 1];
+            f += (code & 1u) ? Vec3(-slots.edge_force_n[code >> 1]) : slots.edge_force_n[code >> 1];
         }
         for (std::uint32_t e = m.triangle_incidence_start[i]; e < m.triangle_incidence_start[i + 1]; ++e)
-            f += m.triangle_force_n[m.triangle_incidence[e]];
-        m.node_force_n[i] = f;
+            f += slots.triangle_force_n[m.triangle_incidence[e]];
+        slots.node_force_n[i] = f;
     });
 }
 

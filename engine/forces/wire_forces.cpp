@@ -42,24 +42,27 @@ std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& vel
     const std::uint32_t id = add_node(w, BodyKind::wire, position_m, wire.radius_m, wire.node_mass_kg, wire.material,
         velocity_m_per_s);
     const std::size_t nodes = id + 1;
-    wire.node_force_n.resize(nodes, Vec3::Zero());
-    wire.rest_angle_rad.resize(nodes, 0.0); // the new joint starts straight and yields as it is laid
+    w.wire_rest_angle_rad.resize(nodes, 0.0); // the new joint starts straight and yields as it is laid
+    WireForces& slots = w.wire_forces;
+    slots.node_force_n.resize(nodes, Vec3::Zero());
     if (nodes >= 2) {
-        wire.segment_force_n.resize(nodes - 1, Vec3::Zero());
-        wire.segment_strain.resize(nodes - 1, 0.0);
+        slots.segment_force_n.resize(nodes - 1, Vec3::Zero());
+        slots.segment_strain.resize(nodes - 1, 0.0);
     }
-    wire.bending_force_n.resize(nodes, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+    slots.bending_force_n.resize(nodes, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
     return id;
 }
 
 void compute_wire_forces(World& w, ThreadPool& pool)
 {
-    WireChain& wire = w.wire;
+    const WireChain& wire = w.wire;
+    WireForces& slots = w.wire_forces;
+    std::vector<double>& rest_angle = w.wire_rest_angle_rad;
     const auto& x = w.of(BodyKind::wire).x[0];
     const auto& dx = w.of(BodyKind::wire).x[1]; // δt · velocity
     const std::size_t nodes = x.size();
     if (nodes < 2) {
-        if (nodes == 1) wire.node_force_n[0].setZero();
+        if (nodes == 1) slots.node_force_n[0].setZero();
         return;
     }
     const double k = wire.axial_stiffness_n_per_m, l0 = wire.segment_length_m, k_rot = wire.bending_stiffness_n_m;
@@ -84,7 +87,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         if (simd) {
             const std::size_t n = (segments_end - std::min(begin, segments_end)) / 8 * 8;
             simd.segments(x.data() + s, dx.data() + s, params, segment.data() + (s - first),
-                wire.segment_force_n.data() + s, wire.segment_strain.data() + s, n);
+                slots.segment_force_n.data() + s, slots.segment_strain.data() + s, n);
             s += n;
         }
         for (; s < segments_end; ++s) {
@@ -93,21 +96,21 @@ void compute_wire_forces(World& w, ThreadPool& pool)
             Vec3 f = wire_stretch_force_n(x[s], x[s + 1], l0, k);
             if (seg.length_m > 0.0 && tau_per_dt > 0.0) // resists the rate of extension
                 f += (tau_per_dt * k * (dx[s + 1] - dx[s]).dot(seg.unit)) * seg.unit;
-            wire.segment_force_n[s] = f;
-            wire.segment_strain[s] = (seg.length_m - l0) / l0;
+            slots.segment_force_n[s] = f;
+            slots.segment_strain[s] = (seg.length_m - l0) / l0;
         }
         // Interior joints only: the ends are free, with no bending spring.
         std::size_t i = std::max<std::size_t>(begin, 1);
         if (simd && i < segments_end) {
             const std::size_t n = (segments_end - i) / 8 * 8;
-            simd.joints(segment.data() + (i - 1 - first), dx.data() + (i - 1), params, wire.rest_angle_rad.data() + i,
-                wire.bending_force_n.data() + i, n);
+            simd.joints(segment.data() + (i - 1 - first), dx.data() + (i - 1), params, rest_angle.data() + i,
+                slots.bending_force_n.data() + i, n);
             i += n;
         }
         for (; i < segments_end; ++i) {
             // The joint yields, then pushes back elastically; only this task writes ζ₀[i].
-            const WireJoint joint = wire_joint(segment[i - 1 - first], segment[i - first], k_rot, wire.rest_angle_rad[i], zeta_y);
-            wire.rest_angle_rad[i] = joint.rest_angle_rad;
+            const WireJoint joint = wire_joint(segment[i - 1 - first], segment[i - first], k_rot, rest_angle[i], zeta_y);
+            rest_angle[i] = joint.rest_angle_rad;
             std::array<Vec3, 3> f = joint.force_n;
             if (tau_per_dt > 0.0) {
                 const auto& g = joint.angle_gradient_per_m;
@@ -115,19 +118,19 @@ void compute_wire_forces(World& w, ThreadPool& pool)
                 const double c = tau_per_dt * k_rot * zeta_dot_dt;
                 for (int j = 0; j < 3; ++j) f[j] -= c * g[j];
             }
-            wire.bending_force_n[i] = f;
+            slots.bending_force_n[i] = f;
         }
     });
     // Gather in a fixed order: segments i−1 and i, then the bending couples of
     // nodes i−1, i and i+1.
     parallel_for(pool, nodes, [&](std::size_t i) {
         Vec3 f = Vec3::Zero();
-        if (i > 0) f -= wire.segment_force_n[i - 1];
-        if (i + 1 < nodes) f += wire.segment_force_n[i];
-        if (i >= 2) f += wire.bending_force_n[i - 1][2];
-        if (i >= 1 && i + 1 < nodes) f += wire.bending_force_n[i][1];
-        if (i + 2 < nodes) f += wire.bending_force_n[i + 1][0];
-        wire.node_force_n[i] = f;
+        if (i > 0) f -= slots.segment_force_n[i - 1];
+        if (i + 1 < nodes) f += slots.segment_force_n[i];
+        if (i >= 2) f += slots.bending_force_n[i - 1][2];
+        if (i >= 1 && i + 1 < nodes) f += slots.bending_force_n[i][1];
+        if (i + 2 < nodes) f += slots.bending_force_n[i + 1][0];
+        slots.node_force_n[i] = f;
     });
 }
 

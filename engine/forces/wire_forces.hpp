@@ -2,7 +2,7 @@
 // interior node, computed per element and gathered per node in chain order.
 //
 // Plastic joints. Each interior joint is an elastic–perfectly-plastic hinge,
-// E = ½ k_rot (ζ − ζ₀)², whose rest angle ζ₀ (WireChain::rest_angle_rad) yields
+// E = ½ k_rot (ζ − ζ₀)², whose rest angle ζ₀ (State::wire_rest_angle_rad) yields
 // when |ζ − ζ₀| exceeds ζ_y (engine/laws/wire_bond.hpp). Each joint's ζ₀ is
 // updated in the same parallel pass that computes its forces, by the one task
 // that owns the joint, so the update is thread-count independent. The work
@@ -63,8 +63,8 @@ void configure_wire(World& w, const WireSpec& spec);
 std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& velocity_m_per_s = Vec3::Zero());
 
 /// Stage: stretch and bending forces (springs and their dashpots) into
-/// per-element slots, then per node. Also refreshes WireChain::segment_strain
-/// and lets the joints' rest angles yield (WireChain::rest_angle_rad; calling it
+/// per-element slots, then per node. Also refreshes WireForces::segment_strain
+/// and lets the joints' rest angles yield (State::wire_rest_angle_rad; calling it
 /// twice at the same positions changes nothing more).
 /// Velocities are the integrator's current ones (x[1] / δt).
 void compute_wire_forces(World& w, ThreadPool& pool);

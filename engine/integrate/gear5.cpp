@@ -95,7 +95,9 @@ bool gear5_correct(World& w, ThreadPool& pool)
 {
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     bool finite = true;
-    for (auto& body : w.bodies) {
+    for (int k = 0; k < body_kind_count; ++k) {
+        TranslationalState& body = w.bodies[k];
+        const std::vector<Vec3>& force = w.body_force_n[k];
         const bool body_finite = reduce_blocks(
             pool, body.size(), true,
             [&](std::size_t begin, std::size_t end) {
@@ -103,7 +105,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
                 for (std::size_t block = begin; block < end; block += integrate_block) {
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
-                            correct(body.x, b, e, body.inv_mass_per_kg, body.force_n, half_dt2);
+                            correct(body.x, b, e, body.inv_mass_per_kg, force, half_dt2);
                             ok = ok && flat(body.x[0], b, e).allFinite();
                         });
                 }
@@ -116,7 +118,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            correct(rot.theta, b, e, rot.inv_inertia_per_kg_m2, rot.torque_n_m, half_dt2);
+            correct(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
             // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });

@@ -34,14 +34,16 @@ bool verlet_second_half(World& w, ThreadPool& pool)
 {
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     bool finite = true;
-    for (auto& body : w.bodies) {
+    for (int k = 0; k < body_kind_count; ++k) {
+        TranslationalState& body = w.bodies[k];
+        const std::vector<Vec3>& force = w.body_force_n[k];
         const bool body_finite = reduce_blocks(
             pool, body.size(), true,
             [&](std::size_t begin, std::size_t end) {
                 bool ok = true;
                 for (std::size_t i = begin; i < end; ++i) {
                     if (!is_dynamic(body, i)) continue;
-                    body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * body.force_n[i];
+                    body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * force[i];
                     body.x[1][i] += body.x[2][i];
                     ok = ok && body.x[0][i].allFinite() && body.x[1][i].allFinite();
                 }
@@ -53,7 +55,7 @@ bool verlet_second_half(World& w, ThreadPool& pool)
     RotationalState& rot = w.grain_rotation;
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
         if (!is_dynamic(w.of(BodyKind::grain), i)) return;
-        rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * rot.torque_n_m[i];
+        rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * w.grain_torque_n_m[i];
         rot.theta[1][i] += rot.theta[2][i];
     });
     return finite;

@@ -40,12 +40,18 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2168, "World changed: update for_each_field and this size");
-static_assert(sizeof(TranslationalState) == 288, "TranslationalState changed: update for_each_field and this size");
-static_assert(sizeof(RotationalState) == 216, "RotationalState changed: update for_each_field and this size");
-static_assert(sizeof(Wall) == 152, "Wall changed: update for_each_field and this size");
-static_assert(sizeof(WireChain) == 176, "WireChain changed: update for_each_field and this size");
-static_assert(sizeof(MembraneMesh) == 368, "MembraneMesh changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2224, "World changed: update for_each_field and this size");
+static_assert(sizeof(Model) == 528, "Model changed: update for_each_field and this size");
+static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
+static_assert(sizeof(Caches) == 640, "Caches changed: update for_each_field and this size");
+static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
+static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
+static_assert(sizeof(Wall) == 96, "Wall changed: update for_each_field and this size");
+static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
+static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field and this size");
+static_assert(sizeof(WireForces) == 96, "WireForces changed: update for_each_field and this size");
+static_assert(sizeof(MembraneMesh) == 296, "MembraneMesh changed: update for_each_field and this size");
+static_assert(sizeof(MembraneForces) == 72, "MembraneForces changed: update for_each_field and this size");
 static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
 static_assert(sizeof(ContactSettings) == 40, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");
@@ -104,6 +110,46 @@ Result<std::uint64_t, std::string> save_snapshot(
 }
 
 namespace {
+
+/// What does not fit together in a restored World: the arrays a step
+/// indexes by body, grain, wall or wire node must have as many entries as
+/// there are of those ("" when all do). save_snapshot always writes them so;
+/// a file that was edited would otherwise be stepped out of bounds.
+std::string mismatched_sizes(const World& w)
+{
+    const auto check = [](std::string& error, std::size_t size, std::size_t expected, const std::string& name) {
+        if (error.empty() && size != expected)
+            error = "field " + name + " has " + std::to_string(size) + " rows, expected " + std::to_string(expected);
+    };
+    std::string error;
+    for (int k = 0; k < body_kind_count; ++k) {
+        const TranslationalState& b = w.bodies[k];
+        const std::string at = std::string("bodies/") + field_kind_names[k] + "/";
+        const std::size_t n = b.radius_m.size();
+        for (int d = 0; d < gear_order; ++d) check(error, b.x[d].size(), n, at + "x" + std::to_string(d));
+        check(error, b.mass_kg.size(), n, at + "mass_kg");
+        check(error, b.inv_mass_per_kg.size(), n, at + "inv_mass_per_kg");
+        check(error, b.motion.size(), n, at + "motion");
+        check(error, b.material.size(), n, at + "material");
+        check(error, w.body_force_n[k].size(), n, at + "force_n");
+    }
+    const std::size_t grains = w.of(BodyKind::grain).size();
+    const RotationalState& rot = w.grain_rotation;
+    for (int d = 0; d < gear_order; ++d) check(error, rot.theta[d].size(), grains, "grain_rotation/w" + std::to_string(d));
+    check(error, rot.orientation.size(), grains, "grain_rotation/orientation");
+    check(error, rot.inv_inertia_per_kg_m2.size(), grains, "grain_rotation/inv_inertia_per_kg_m2");
+    check(error, w.grain_torque_n_m.size(), grains, "grain_rotation/torque_n_m");
+    const std::size_t nodes = w.of(BodyKind::wire).size();
+    check(error, w.wire_rest_angle_rad.size(), nodes, "wire/rest_angle_rad");
+    check(error, w.wire_forces.node_force_n.size(), nodes, "wire/node_force_n");
+    check(error, w.wire_forces.bending_force_n.size(), nodes, "wire/bending_force_n");
+    check(error, w.wire_forces.segment_force_n.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_force_n");
+    check(error, w.wire_forces.segment_strain.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_strain");
+    for (const auto& [body, f] : w.point_loads)
+        if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
+            error = "field point_loads names a body that does not exist";
+    return error;
+}
 
 /// A version-2 snapshot held a body by an inverse mass of 0 (the triaxial
 /// test's cap nodes too, which its driver moved by hand; run_triaxial makes
@@ -179,7 +225,10 @@ Result<World, std::string> restore_snapshot(
         const bool outputs_in_four_arrays = version <= 3;
         // Versions 2 to 4 sort the body pairs by (first, second) alone.
         const bool pairs_by_bodies = version <= 4;
-        w.walls.resize(static_cast<std::size_t>(root.read_int_attribute("wall_count")));
+        const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
+        w.walls.resize(walls);
+        w.wall_point_at_build_m.resize(walls);
+        w.wall_loads.resize(walls);
         std::string error;
         for_each_field(w, [&](const std::string& name, auto& value, FieldRole) {
             if (!error.empty()) return;
@@ -199,6 +248,8 @@ Result<World, std::string> restore_snapshot(
             }
             if (!read) error = "field " + name + " has an unexpected shape";
         });
+        if (!error.empty()) return Err(at + ": " + error);
+        error = mismatched_sizes(w);
         if (!error.empty()) return Err(at + ": " + error);
         if (motion_from_inverse_mass) motion_from_held_bodies(w);
         if (outputs_in_four_arrays) {

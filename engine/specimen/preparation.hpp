@@ -84,11 +84,11 @@ struct PreparationReport {
     std::uint64_t steps = 0;
     double time_step_s = 0.0;
     bool settled = false;                  ///< kinetic energy fell below the threshold in time
-    std::size_t top_plate_wall = 0;        ///< index of the top plate in World::walls
+    std::size_t top_plate_wall = 0;        ///< index of the top plate in State::walls
 };
 
 /// Gravity on the scaled bodies: every body weighs `weight_factor` times its
-/// real (unscaled) weight. Grains: World::gravity_m_per_s2 = g · f / s; wire
+/// real (unscaled) weight. Grains: Model::gravity_m_per_s2 = g · f / s; wire
 /// nodes (masses s·M times real): gravity_acts is off for them and each
 /// carries a point load f · m_real · g instead. Membrane nodes never weigh
 /// anything (the model spec §3). Call again after adding wire nodes.
@@ -171,7 +171,7 @@ struct PreparationDriverState {
     } nozzle;
     bool settled_before_lid = false;       ///< the first settling ended below the threshold (valid after it)
     bool settled_under_lid = false;        ///< the second did (valid after it)
-    std::size_t top_plate_wall = 0;        ///< index of the top plate in World::walls (once added)
+    std::size_t top_plate_wall = 0;        ///< index of the top plate in State::walls (once added)
     double wall_time_s = 0.0;              ///< spent by the runs before this one [s]
 };
 

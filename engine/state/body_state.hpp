@@ -17,12 +17,15 @@ inline constexpr int gear_order = 6;
 /// motion type, so no driver moves bodies by hand or edits their masses.
 enum class Motion : std::uint8_t {
     dynamic,   ///< integrated from its forces
-    kinematic, ///< moves at its prescribed velocity x₁/δt (set_velocity) whatever the forces; they are still gathered into force_n
+    kinematic, ///< moves at its prescribed velocity x₁/δt (set_velocity) whatever the forces; they are still gathered (Caches::body_force_n)
     fixed,     ///< does not move
 };
 
-/// Translational state of a set of spheres of one kind (grains, wire nodes or
-/// membrane nodes). All arrays have size() entries.
+/// The spheres of one kind (grains, wire nodes or membrane nodes): what
+/// defines each (radius, mass, motion, material: it travels with the body,
+/// which is added between steps and keeps its id) beside what the step
+/// advances (the Gear derivatives). All arrays have size() entries. The force
+/// each step gathers on them is Caches::body_force_n.
 struct TranslationalState {
     /// Gear-5 scaled derivatives: x[0] position [m], x[k] = δt^k/k! · d^k x/dt^k [m].
     std::array<std::vector<Vec3>, gear_order> x;
@@ -30,8 +33,7 @@ struct TranslationalState {
     std::vector<double> mass_kg;           ///< [kg]
     std::vector<double> inv_mass_per_kg;   ///< 1/m [1/kg]
     std::vector<Motion> motion;            ///< dynamic (fixed when added without mass) unless set_motion says otherwise
-    std::vector<std::uint8_t> material;    ///< index into World::materials
-    std::vector<Vec3> force_n;             ///< total force, rebuilt every step [N]
+    std::vector<std::uint8_t> material;    ///< index into Model::materials
 
     [[nodiscard]] std::size_t size() const { return radius_m.size(); }
 
@@ -49,7 +51,6 @@ struct TranslationalState {
         inv_mass_per_kg.push_back(mass_kg_ > 0.0 ? 1.0 / mass_kg_ : 0.0);
         motion.push_back(mass_kg_ > 0.0 ? Motion::dynamic : Motion::fixed); // nothing to integrate without a mass
         material.push_back(material_id);
-        force_n.push_back(Vec3::Zero());
         return static_cast<std::uint32_t>(size() - 1);
     }
 };
@@ -59,19 +60,17 @@ struct TranslationalState {
 /// vector θ: theta[1] = δt ω, theta[2] = δt²/2 · dω/dt, …; theta[0]
 /// accumulates the rotation angle vector and is kept for symmetry only. The
 /// orientation quaternion is advanced from the corrected ω and renormalised
-/// every step.
+/// every step. The torque each step gathers is Caches::grain_torque_n_m.
 struct RotationalState {
     std::array<std::vector<Vec3>, gear_order> theta;
     std::vector<Quat> orientation;            ///< unit quaternion
     std::vector<double> inv_inertia_per_kg_m2; ///< 1/I, 0 for a body that must not turn
-    std::vector<Vec3> torque_n_m;             ///< rebuilt every step [N·m]
 
     void add(double inertia_kg_m2)
     {
         for (auto& v : theta) v.push_back(Vec3::Zero());
         orientation.push_back(Quat::Identity());
         inv_inertia_per_kg_m2.push_back(inertia_kg_m2 > 0.0 ? 1.0 / inertia_kg_m2 : 0.0);
-        torque_n_m.push_back(Vec3::Zero());
     }
 };
 

@@ -23,8 +23,9 @@ enum class MembraneEdgeLaw : std::uint8_t {
     linear,
 };
 
-/// The membrane as a triangle mesh over the membrane nodes (World::bodies[membrane]):
-/// its parameters, topology, rest lengths, pressure and per-step force slots.
+/// The membrane as a triangle mesh over the membrane nodes (bodies of kind
+/// membrane, State): its parameters, topology, rest lengths and pressure. What
+/// each step writes is Caches::membrane_forces.
 struct MembraneMesh {
     double radius_m = 0.0;                  ///< R of the undeformed cylinder [m]
     double height_m = 0.0;                  ///< H_m [m]
@@ -46,8 +47,11 @@ struct MembraneMesh {
     /// Node → (edge, sign) and node → triangle incidence, CSR, ascending element id.
     std::vector<std::uint32_t> edge_incidence_start, edge_incidence;      ///< edge*2 + (node is second)
     std::vector<std::uint32_t> triangle_incidence_start, triangle_incidence;
+};
 
-    // Per-step slots.
+/// What compute_membrane_forces writes every step before anything reads it.
+/// Sized with the mesh (build_membrane).
+struct MembraneForces {
     std::vector<Vec3> edge_force_n;         ///< force of edge e on its first node
     std::vector<Vec3> triangle_force_n;     ///< σ₃ A n_in / 3, on each of its nodes
     std::vector<Vec3> node_force_n;         ///< membrane forces gathered per node

@@ -5,14 +5,16 @@
 #include "core/types.hpp"
 
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
 namespace wiredem::engine {
 
-/// The wire as a chain of nodes (the model spec §2): its parameters, the
-/// joints' rest angles (state: they yield) and the per-step force slots. The
-/// nodes themselves are World::bodies[wire].
+/// The wire's model (the model spec §2): the parameters every node and
+/// segment shares. The nodes themselves are bodies of kind wire (State); the
+/// joints' rest angles are State::wire_rest_angle_rad; what each step writes
+/// is Caches::wire_forces.
 struct WireChain {
     double radius_m = 0.5e-3;               ///< r_w, contact sphere radius [m]
     double segment_length_m = 1.25e-3;      ///< l_w, rest length of every segment [m]
@@ -23,18 +25,15 @@ struct WireChain {
     double bending_yield_angle_rad = std::numeric_limits<double>::infinity();
     double node_mass_kg = 0.0;              ///< ρ_w π r_w² l_w (× density scaling)
     std::uint8_t material = 0;
+};
 
-    // Per-step slots: one writer each, gathered per node in chain order.
+/// What compute_wire_forces writes every step before anything reads it: the
+/// per-element slots (one writer each, gathered per node in chain order) and
+/// the segments' strain. Sized with the chain (append_wire_node).
+struct WireForces {
     std::vector<Vec3> segment_force_n;      ///< force of segment s on node s (node s+1 gets −)
     std::vector<std::array<Vec3, 3>> bending_force_n; ///< at interior node i: on i−1, i, i+1
     std::vector<Vec3> node_force_n;         ///< wire forces gathered per node
-
-    /// State, not a per-step slot: the rest angle ζ₀ ≥ 0 of the joint at every
-    /// node (0 at the two ends, which have no joint) [rad]. Starts at 0 (straight)
-    /// when the node is appended and yields in compute_wire_forces; it travels
-    /// with the specimen (copies of the World, result.h5's specimen group).
-    std::vector<double> rest_angle_rad;
-
     /// Current strain of every segment, (|x_{s+1} − x_s| − l_w)/l_w.
     std::vector<double> segment_strain;
 };

@@ -17,6 +17,8 @@ std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::
     const std::uint32_t id = w.of(BodyKind::grain).add(position_m, velocity_m_per_s, radius_m, mass, material, w.dt_s);
     w.grain_rotation.add(0.4 * mass * radius_m * radius_m); // solid sphere: I = 2/5 m r²
     w.grain_rotation.theta[1].back() = angular_velocity_rad_per_s * w.dt_s;
+    w.force_of(BodyKind::grain).push_back(Vec3::Zero());
+    w.grain_torque_n_m.push_back(Vec3::Zero());
     w.neighbours_dirty = true;
     return id;
 }
@@ -25,6 +27,7 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
     std::uint8_t material, const Vec3& velocity_m_per_s)
 {
     const std::uint32_t id = w.of(kind).add(position_m, velocity_m_per_s, radius_m, mass_kg, material, w.dt_s);
+    w.force_of(kind).push_back(Vec3::Zero());
     w.neighbours_dirty = true;
     return id;
 }
@@ -32,6 +35,8 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
 std::size_t add_wall(World& w, Wall wall)
 {
     w.walls.push_back(std::move(wall));
+    w.wall_point_at_build_m.push_back(w.walls.back().point_m);
+    w.wall_loads.emplace_back();
     w.contacts.append_wall();
     w.neighbours_dirty = true;
     return w.walls.size() - 1;
@@ -39,7 +44,10 @@ std::size_t add_wall(World& w, Wall wall)
 
 void remove_wall(World& w, std::size_t wall)
 {
-    w.walls.erase(w.walls.begin() + static_cast<std::ptrdiff_t>(wall));
+    const auto at = static_cast<std::ptrdiff_t>(wall);
+    w.walls.erase(w.walls.begin() + at);
+    w.wall_point_at_build_m.erase(w.wall_point_at_build_m.begin() + at);
+    w.wall_loads.erase(w.wall_loads.begin() + at);
     w.contacts.remove_wall(wall, w.flat_offsets());
     w.neighbours_dirty = true;
 }
@@ -63,17 +71,17 @@ Wall make_cylinder(double radius_m, std::uint8_t material)
     return wall;
 }
 
-void set_time_step(World& w, double dt_s)
+void set_time_step(State& s, double dt_s)
 {
-    const double ratio = dt_s / w.dt_s;
+    const double ratio = dt_s / s.dt_s;
     double scale = 1.0;
     for (int k = 1; k < gear_order; ++k) {
         scale *= ratio;
-        for (auto& body : w.bodies)
+        for (auto& body : s.bodies)
             for (Vec3& v : body.x[k]) v *= scale;
-        for (Vec3& v : w.grain_rotation.theta[k]) v *= scale;
+        for (Vec3& v : s.grain_rotation.theta[k]) v *= scale;
     }
-    w.dt_s = dt_s;
+    s.dt_s = dt_s;
 }
 
 void set_integrator(World& w, Integrator integrator)
@@ -87,19 +95,19 @@ void set_integrator(World& w, Integrator integrator)
     w.integrator = integrator;
 }
 
-Vec3 velocity_m_per_s(const World& w, BodyRef b)
+Vec3 velocity_m_per_s(const State& s, BodyRef b)
 {
-    return w.of(b.kind()).x[1][b.index()] / w.dt_s;
+    return s.of(b.kind()).x[1][b.index()] / s.dt_s;
 }
 
-Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain)
+Vec3 angular_velocity_rad_per_s(const State& s, std::uint32_t grain)
 {
-    return w.grain_rotation.theta[1][grain] / w.dt_s;
+    return s.grain_rotation.theta[1][grain] / s.dt_s;
 }
 
-void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
+void set_velocity(State& s, BodyRef b, const Vec3& v_m_per_s)
 {
-    w.of(b.kind()).x[1][b.index()] = v_m_per_s * w.dt_s;
+    s.of(b.kind()).x[1][b.index()] = v_m_per_s * s.dt_s;
 }
 
 void set_motion(World& w, BodyRef b, Motion motion)

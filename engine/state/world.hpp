@@ -1,9 +1,21 @@
-// Everything a simulation step reads and writes: bodies of every kind, walls,
-// materials, contact settings, the neighbour list and the clock.
+// Everything a simulation step reads and writes, in three parts:
+//   Model  — the definition a step reads and never writes: materials, the
+//            contact law, gravity, which kinds touch, the wire's and the
+//            membrane's models (parameters, mesh, rest lengths);
+//   State  — what a step advances: the clock, the bodies and walls (each with
+//            what defines it), the wire joints' rest angles;
+//   Caches — what follows from Model and State and is rebuilt or rewritten:
+//            the neighbour list (with the contacts' memory, which lives as
+//            long as the listed contact), the cell grid, and every force a
+//            step writes before it reads it.
+// A World is all three (it derives from each), so a function can ask for the
+// part it needs. state_hash covers the State and the contacts' memory; a
+// snapshot saves everything needed to continue bit for bit (io/snapshot.hpp).
 //
 // Invariants: body ids follow creation order and never change; the scaled
 // Gear derivatives are scaled by the current dt_s (set_time_step rescales
-// them); how a body moves is its Motion (set_motion).
+// them); how a body moves is its Motion (set_motion); Caches' per-body and
+// per-wall arrays are sized with the bodies and walls (the add_… mutators).
 #pragma once
 
 #include "broadphase/cell_grid.hpp"
@@ -30,7 +42,9 @@ struct ContactSettings {
 };
 
 /// A rigid, infinitely large wall: a plane (plate) or the inside of a
-/// vertical cylinder. Walls have R = ∞ in the Hertz law.
+/// vertical cylinder. Walls have R = ∞ in the Hertz law. Its shape travels
+/// with its pose (State::walls); what a step measures on it is
+/// Caches::wall_loads.
 struct Wall {
     enum class Shape : std::uint8_t { plane, cylinder };
     Shape shape = Shape::plane;
@@ -39,12 +53,10 @@ struct Wall {
     double radius_m = 0.0;                ///< cylinder radius (axis ∥ z) [m]
     Vec3 velocity_m_per_s = Vec3::Zero(); ///< prescribed velocity; point_m moves with it
     std::uint8_t material = 0;
-    /// Where the wall was at the last neighbour rebuild: it lists the bodies
-    /// that may touch the wall before the next one (gap below r + skin), so
-    /// the list is rebuilt as soon as the wall has moved half the skin.
-    Vec3 point_at_build_m = Vec3::Zero();
-    // The wall's contacts (tangential memory, forces on the bodies) live in
-    // World::contacts, after the body pairs.
+};
+
+/// What the bodies exert on a wall in a step.
+struct WallLoad {
     Vec3 total_force_n = Vec3::Zero();    ///< force the bodies exert on the wall this step [N]
     std::size_t contacts = 0;             ///< bodies touching the wall this step
 };
@@ -64,39 +76,43 @@ enum class Integrator : std::uint8_t {
     verlet, ///< velocity Verlet: cheaper per step, symplectic
 };
 
-/// The whole simulated system.
-struct World {
+/// The definition of the system: what a step reads and never writes. Drivers
+/// change it between steps, through the mutators where a change affects the
+/// neighbour list (set_kinds_interact, …).
+struct Model {
+    /// Change it with set_integrator, which keeps the stored derivatives consistent.
+    Integrator integrator = Integrator::gear5;
     MaterialTable materials;
-    std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
-    RotationalState grain_rotation;       ///< parallel to bodies[grain]
-    std::vector<Wall> walls;
-    WireChain wire;                       ///< topology and slots of the wire nodes
-    MembraneMesh membrane;               ///< topology and slots of the membrane nodes
     ContactSettings contact;
     /// Wire nodes fewer than this many apart along the chain never touch (model spec §3).
     std::uint32_t wire_contact_skip = 3;
     Vec3 gravity_m_per_s2{0.0, 0.0, -10.0};
-    /// External forces on single bodies (loads in tests, tip loads), applied
-    /// after the gather in list order [N].
-    std::vector<std::pair<BodyRef, Vec3>> point_loads;
     /// Whether gravity acts on a kind (never on membrane nodes: model spec §3).
     std::array<bool, body_kind_count> gravity_acts{true, true, false};
     /// Whether two kinds interact through contact (symmetric).
     KindMatrix kinds_interact = default_kinds_interact;
+    /// External forces on single bodies (loads in tests, tip loads), applied
+    /// after the gather in list order [N].
+    std::vector<std::pair<BodyRef, Vec3>> point_loads;
+    /// Verlet skin of the neighbour list [m]; ≤ 0 picks 0.2 × the largest radius.
+    double skin_m = 0.0;
+    WireChain wire;                       ///< the wire's parameters
+    MembraneMesh membrane;                ///< the membrane's parameters, mesh and rest lengths
+};
 
-    /// Change it with set_integrator, which keeps the stored derivatives consistent.
-    Integrator integrator = Integrator::gear5;
+/// What a step advances.
+struct State {
     double dt_s = 1e-7;
     double time_s = 0.0;
     std::uint64_t step_count = 0;
-
-    /// Verlet skin of the neighbour list [m]; ≤ 0 picks 0.2 × the largest radius.
-    double skin_m = 0.0;
-    ContactList contacts;
-    CellGrid grid;
-    std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
-    bool neighbours_dirty = true;          ///< set by the mutators (add_…, set_motion, place_body, …), never by hand
-    std::uint64_t neighbour_builds = 0;
+    std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
+    RotationalState grain_rotation;       ///< parallel to bodies[grain]
+    std::vector<Wall> walls;
+    /// The rest angle ζ₀ ≥ 0 of the wire's joint at every node (0 at the two
+    /// ends, which have no joint) [rad]. Starts at 0 (straight) when the node
+    /// is appended and yields in compute_wire_forces; it travels with the
+    /// specimen (copies of the World, result.h5's specimen group).
+    std::vector<double> wire_rest_angle_rad;
 
     /// Total number of bodies over all kinds.
     [[nodiscard]] std::size_t body_count() const
@@ -121,6 +137,42 @@ struct World {
     [[nodiscard]] const TranslationalState& of(BodyKind k) const { return bodies[static_cast<int>(k)]; }
 };
 
+/// What follows from Model and State: rebuilt when a body or wall has moved
+/// half the skin or a mutator invalidated it (the neighbour list), or
+/// rewritten by every step before it is read (the forces).
+struct Caches {
+    /// The contacts that may touch before the next rebuild. Their memory
+    /// (tangential springs, touching flags) is state that lives as long as
+    /// the listed contact: a rebuild carries it over (ContactList::rebuild),
+    /// and state_hash covers it.
+    ContactList contacts;
+    CellGrid grid;
+    std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
+    /// Where each wall was at the last rebuild: it lists the bodies that may
+    /// touch the wall before the next one (gap below r + skin), so the list is
+    /// rebuilt as soon as the wall has moved half the skin.
+    std::vector<Vec3> wall_point_at_build_m;
+    bool neighbours_dirty = true;          ///< set by the mutators (add_…, set_motion, place_body, …), never by hand
+    std::uint64_t neighbour_builds = 0;
+
+    // Written by every step before anything reads them.
+    std::array<std::vector<Vec3>, body_kind_count> body_force_n; ///< total force per body, by BodyKind [N]
+    std::vector<Vec3> grain_torque_n_m;    ///< total torque per grain [N·m]
+    std::vector<WallLoad> wall_loads;      ///< per wall
+    WireForces wire_forces;
+    MembraneForces membrane_forces;
+
+    /// The force gathered on the bodies of a kind in the last step [N].
+    [[nodiscard]] std::vector<Vec3>& force_of(BodyKind k) { return body_force_n[static_cast<int>(k)]; }
+    [[nodiscard]] const std::vector<Vec3>& force_of(BodyKind k) const { return body_force_n[static_cast<int>(k)]; }
+};
+
+/// The whole simulated system. Functions that need one part take it (a World
+/// is each of them); the mutators below take the World when a change in one
+/// part invalidates another (a body added: the neighbour list and the force
+/// slots).
+struct World : Model, State, Caches {};
+
 /// Adds a material; returns its id.
 std::uint8_t add_material(World& w, const Material& m);
 
@@ -143,18 +195,18 @@ void remove_wall(World& w, std::size_t wall);
 [[nodiscard]] Wall make_cylinder(double radius_m, std::uint8_t material);
 
 /// Changes δt, rescaling every stored Gear derivative (x[k] ∝ δt^k).
-void set_time_step(World& w, double dt_s);
+void set_time_step(State& s, double dt_s);
 
 /// Switches the integrator. Both keep x₀, x₁ = δt v and x₂ = δt²/2 · a;
 /// Gear-5's higher derivatives x₃…x₅ are zeroed, since Verlet does not keep them.
 void set_integrator(World& w, Integrator integrator);
 
 /// Velocity of a body [m/s] (from the scaled derivative x[1]).
-[[nodiscard]] Vec3 velocity_m_per_s(const World& w, BodyRef b);
+[[nodiscard]] Vec3 velocity_m_per_s(const State& s, BodyRef b);
 /// Angular velocity of a grain [rad/s].
-[[nodiscard]] Vec3 angular_velocity_rad_per_s(const World& w, std::uint32_t grain);
+[[nodiscard]] Vec3 angular_velocity_rad_per_s(const State& s, std::uint32_t grain);
 /// Sets a body's velocity (a kinematic body's prescribed velocity).
-void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s);
+void set_velocity(State& s, BodyRef b, const Vec3& v_m_per_s);
 /// Sets how a body moves. A fixed body stops (x₁ … x₅ = 0); a kinematic one
 /// keeps its velocity x₁, which set_velocity prescribes, and loses its
 /// acceleration (x₂ … x₅ = 0); a dynamic one starts from its velocity. The

@@ -263,8 +263,13 @@ bool unflatten(const std::vector<Number>& numbers, std::size_t rows, MaterialTab
 inline constexpr std::array<const char*, body_kind_count> field_kind_names{"grain", "wire", "membrane"};
 
 /// Calls field(name, member, role) for every member of `w` (W = World or
-/// const World), in a fixed order. Walls are visited as "walls/<i>/…" for
-/// i < w.walls.size(): a reader sizes w.walls first.
+/// const World), in a fixed order (state_hash hashes in it). Walls are
+/// visited as "walls/<i>/…" for i < w.walls.size(): a reader sizes w.walls,
+/// w.wall_point_at_build_m and w.wall_loads first (resize_walls). The role
+/// follows the part of the World a member is in (Model: model; State: state;
+/// Caches: cache, or output for what a step writes before it reads it), with
+/// one exception: the contacts' memory (tangential springs, touching flags)
+/// is state kept in the neighbour list, which carries it across rebuilds.
 ///
 /// Not listed: World::grid, whose arrays are scratch that find_pairs rebuilds
 /// from the positions before it reads them.
@@ -302,14 +307,14 @@ void for_each_field(W& w, Visit&& field)
         field(at + "inv_mass_per_kg", b.inv_mass_per_kg, R::model);
         field(at + "motion", b.motion, R::model);
         field(at + "material", b.material, R::model);
-        field(at + "force_n", b.force_n, R::output);
+        field(at + "force_n", w.body_force_n[k], R::output);
     }
     auto& rot = w.grain_rotation;
     // The datasets keep the name the member had until 2026-12-02 (w), so that older snapshots restore.
     for (int d = 0; d < gear_order; ++d) field("grain_rotation/w" + std::to_string(d), rot.theta[d], R::state);
     field("grain_rotation/orientation", rot.orientation, R::state);
     field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
-    field("grain_rotation/torque_n_m", rot.torque_n_m, R::output);
+    field("grain_rotation/torque_n_m", w.grain_torque_n_m, R::output);
 
     // Walls. Their contacts (springs and touching flags) are in the contact
     // list, below; where a wall was at the last rebuild is cache.
@@ -322,9 +327,9 @@ void for_each_field(W& w, Visit&& field)
         field(at + "material", wall.material, R::model);
         field(at + "point_m", wall.point_m, R::state);
         field(at + "velocity_m_per_s", wall.velocity_m_per_s, R::state);
-        field(at + "point_at_build_m", wall.point_at_build_m, R::cache);
-        field(at + "total_force_n", wall.total_force_n, R::output);
-        field(at + "contacts", wall.contacts, R::output);
+        field(at + "point_at_build_m", w.wall_point_at_build_m[i], R::cache);
+        field(at + "total_force_n", w.wall_loads[i].total_force_n, R::output);
+        field(at + "contacts", w.wall_loads[i].contacts, R::output);
     }
 
     // The wire: parameters, the plastic joints' rest angles, per-step slots.
@@ -336,11 +341,11 @@ void for_each_field(W& w, Visit&& field)
     field("wire/bending_yield_angle_rad", wire.bending_yield_angle_rad, R::model);
     field("wire/node_mass_kg", wire.node_mass_kg, R::model);
     field("wire/material", wire.material, R::model);
-    field("wire/rest_angle_rad", wire.rest_angle_rad, R::state);
-    field("wire/segment_force_n", wire.segment_force_n, R::output);
-    field("wire/bending_force_n", wire.bending_force_n, R::output);
-    field("wire/node_force_n", wire.node_force_n, R::output);
-    field("wire/segment_strain", wire.segment_strain, R::output);
+    field("wire/rest_angle_rad", w.wire_rest_angle_rad, R::state);
+    field("wire/segment_force_n", w.wire_forces.segment_force_n, R::output);
+    field("wire/bending_force_n", w.wire_forces.bending_force_n, R::output);
+    field("wire/node_force_n", w.wire_forces.node_force_n, R::output);
+    field("wire/segment_strain", w.wire_forces.segment_strain, R::output);
 
     // The membrane: parameters, mesh, incidence, per-step slots.
     auto& m = w.membrane;
@@ -363,9 +368,9 @@ void for_each_field(W& w, Visit&& field)
     field("membrane/edge_incidence", m.edge_incidence, R::model);
     field("membrane/triangle_incidence_start", m.triangle_incidence_start, R::model);
     field("membrane/triangle_incidence", m.triangle_incidence, R::model);
-    field("membrane/edge_force_n", m.edge_force_n, R::output);
-    field("membrane/triangle_force_n", m.triangle_force_n, R::output);
-    field("membrane/node_force_n", m.node_force_n, R::output);
+    field("membrane/edge_force_n", w.membrane_forces.edge_force_n, R::output);
+    field("membrane/triangle_force_n", w.membrane_forces.triangle_force_n, R::output);
+    field("membrane/node_force_n", w.membrane_forces.node_force_n, R::output);
 
     // Contacts, body pairs and body–wall: the springs and touching flags are
     // state; the list itself (which contacts, in which order, and what

@@ -20,9 +20,12 @@
 namespace wiredem::engine {
 namespace {
 
-/// Force the column exerts on a plate along the plate's inward normal, > 0 in
-/// compression (total_force_n is the force the bodies exert on the wall).
-double plate_compression_n(const Wall& plate) { return -plate.total_force_n.dot(plate.normal); }
+/// Force the column exerts on plate `wall` along the plate's inward normal,
+/// > 0 in compression (the wall's load is the force the bodies exert on it).
+double plate_compression_n(const World& w, std::size_t wall)
+{
+    return -w.wall_loads[wall].total_force_n.dot(w.walls[wall].normal);
+}
 
 /// σ₃(t) during the ramp: ½(1 − cos(π t/T)) of the target, the target from T on.
 double ramped_pressure_pa(double target_pa, double t_s, double ramp_s)
@@ -173,8 +176,8 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
     const Wall& bottom = w.walls[bottom_plate_wall];
     s.height_m = top.point_m.z() - bottom.point_m.z();
     s.axial_strain = analysis::axial_strain(initial_height_m, s.height_m);
-    s.top_plate_force_n = plate_compression_n(top);
-    s.bottom_plate_force_n = plate_compression_n(bottom);
+    s.top_plate_force_n = plate_compression_n(w, top_plate_wall);
+    s.bottom_plate_force_n = plate_compression_n(w, bottom_plate_wall);
 
     // Column radius (the model spec §6.3): grains touching the membrane, each
     // counted once. The grain–membrane pairs are one group of the list,
@@ -232,7 +235,7 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
     s.contacts = pairs.touching; // body pairs and body–wall contacts
     s.sliding_contacts = pairs.sliding;
 
-    const std::vector<double>& strain = w.wire.segment_strain;
+    const std::vector<double>& strain = w.wire_forces.segment_strain;
     if (!strain.empty()) {
         double sum = 0.0, max = strain.front();
         for (double e : strain) {
@@ -254,7 +257,7 @@ TriaxialSnapshot take_triaxial_snapshot(const World& w)
     snap.grain_velocity_m_per_s.reserve(g.size());
     for (const Vec3& v : g.x[1]) snap.grain_velocity_m_per_s.push_back(v / w.dt_s);
     snap.wire_node_position_m = w.of(BodyKind::wire).x[0];
-    snap.wire_segment_strain = w.wire.segment_strain;
+    snap.wire_segment_strain = w.wire_forces.segment_strain;
     snap.membrane_node_position_m = w.of(BodyKind::membrane).x[0];
     snap.membrane_triangles = w.membrane.triangles;
 
@@ -391,7 +394,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     for (double m : grains.mass_kg) piston_mass_kg += m;
     auto follow_the_pressure = [&] {
         const double target_n = w.membrane.pressure_pa * std::numbers::pi * st.column_radius_m * st.column_radius_m;
-        const double net_down_n = target_n - plate_compression_n(w.walls[top_plate_wall]);
+        const double net_down_n = target_n - plate_compression_n(w, top_plate_wall);
         double& v = w.walls[top_plate_wall].velocity_m_per_s.z();
         v = std::clamp(v - dt * net_down_n / piston_mass_kg, -max_piston_speed, max_piston_speed);
     };
@@ -447,7 +450,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         };
         while (st.steps < pre_load_steps || (st.steps < max_pre_load_steps && !consolidated())) {
             if (auto e = advance()) return Err(*e);
-            st.window_force_n += plate_compression_n(w.walls[top_plate_wall]);
+            st.window_force_n += plate_compression_n(w, top_plate_wall);
             if (++st.window_filled == window_steps) {
                 st.window_sigma1_pa = analysis::axial_stress_pa(
                     st.window_force_n / static_cast<double>(window_steps), st.column_radius_m);

@@ -56,11 +56,11 @@ TEST(BeginRun, EvaluatesAColumnMidTestWithoutAdvancingItsSprings)
         }
     }
     // The joints' yield depends on the positions alone: as committed.
-    EXPECT_EQ(w.wire.rest_angle_rad, committed.wire.rest_angle_rad);
+    EXPECT_EQ(w.wire_rest_angle_rad, committed.wire_rest_angle_rad);
     // The forces are the committing evaluation's, bit for bit.
-    for (int k = 0; k < body_kind_count; ++k) EXPECT_EQ(w.bodies[k].force_n, committed.bodies[k].force_n) << "kind " << k;
-    EXPECT_EQ(w.grain_rotation.torque_n_m, committed.grain_rotation.torque_n_m);
-    EXPECT_EQ(w.walls[1].total_force_n, committed.walls[1].total_force_n);
+    for (int k = 0; k < body_kind_count; ++k) EXPECT_EQ(w.body_force_n[k], committed.body_force_n[k]) << "kind " << k;
+    EXPECT_EQ(w.grain_torque_n_m, committed.grain_torque_n_m);
+    EXPECT_EQ(w.wall_loads[1].total_force_n, committed.wall_loads[1].total_force_n);
 
     // Evaluating again changes nothing: begin_run advances no memory.
     const std::uint64_t once = state_hash(w);
@@ -98,5 +98,5 @@ TEST(BeginRun, AContactApartIsReleasedNotLeftWithItsOldSpring)
     EXPECT_FALSE(w.contacts.touching[*p]);
     EXPECT_TRUE(same_bits(w.contacts.tangential[*p], TangentialState{}));
     EXPECT_EQ(w.contacts.output[*p].force_n, Vec3::Zero());
-    EXPECT_EQ(w.bodies[0].force_n[0], Vec3::Zero()) << "no gravity, no load, no contact force";
+    EXPECT_EQ(w.body_force_n[0][0], Vec3::Zero()) << "no gravity, no load, no contact force";
 }

@@ -42,7 +42,7 @@ Evaluated contact_on_grain(double z_m, const Vec3& v, const Vec3& omega, double 
     update_neighbours(w, sim.pool());
     compute_contact_forces(w, sim.pool());
     gather_forces(w, sim.pool());
-    return {w.bodies[0].force_n[0], w.grain_rotation.torque_n_m[0]};
+    return {w.body_force_n[0][0], w.grain_torque_n_m[0]};
 }
 
 } // namespace
@@ -98,11 +98,11 @@ TEST(ContactPipeline, AnObliqueImpactOnAWallWithFrictionGainsNoEnergy)
         bool touched = false;
         for (int s = 0; s < 1000000; ++s) {
             sim.step();
-            touched = touched || w.walls[0].contacts > 0;
-            if (touched && w.walls[0].contacts == 0) break;
+            touched = touched || w.wall_loads[0].contacts > 0;
+            if (touched && w.wall_loads[0].contacts == 0) break;
         }
         EXPECT_TRUE(touched);
-        EXPECT_EQ(w.walls[0].contacts, 0u) << "the grain left the floor";
+        EXPECT_EQ(w.wall_loads[0].contacts, 0u) << "the grain left the floor";
         return energy() / before;
     };
     for (double degrees : {5.0, 20.0, 45.0, 70.0, 85.0}) {
@@ -152,7 +152,7 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     EXPECT_GT(spring.spring_m.norm(), 0.0);
     EXPECT_EQ(a.world.bodies[0].x[0][0], b.world.bodies[0].x[0][0]);
     EXPECT_EQ(a.world.bodies[0].x[1][0], b.world.bodies[0].x[1][0]);
-    EXPECT_EQ(a.world.walls[0].total_force_n, b.world.walls[0].total_force_n);
+    EXPECT_EQ(a.world.wall_loads[0].total_force_n, b.world.wall_loads[0].total_force_n);
 
     // Pull it up just off the floor (within the skin: it stays listed).
     World& w = a.world;
@@ -166,8 +166,8 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     EXPECT_EQ(w.contacts.tangential[*q].spring_m, Vec3::Zero());
     EXPECT_TRUE(w.contacts.tangential[*q].sticking);
     EXPECT_EQ(w.contacts.output[*q].force_n, Vec3::Zero());
-    EXPECT_EQ(w.walls[0].contacts, 0u);
-    EXPECT_EQ(w.walls[0].total_force_n, Vec3::Zero());
+    EXPECT_EQ(w.wall_loads[0].contacts, 0u);
+    EXPECT_EQ(w.wall_loads[0].total_force_n, Vec3::Zero());
 }
 
 TEST(ContactPipeline, RemovingAWallKeepsTheOthersContactsAndANewWallStartsWithNone)

@@ -22,7 +22,7 @@ Vec3 integrate_single(double dt, int steps, const Vec3& x0, const Vec3& v0, Forc
     w.bodies[1].x[2][0] = 0.5 * dt * dt * force(x0); // start from the true acceleration
     for (int s = 0; s < steps; ++s) {
         gear5_predict(w, pool);
-        w.bodies[1].force_n[0] = force(w.bodies[1].x[0][0]);
+        w.body_force_n[1][0] = force(w.bodies[1].x[0][0]);
         (void)gear5_correct(w, pool);
         if (max_energy_error) {
             const Vec3 x = w.bodies[1].x[0][0], v = w.bodies[1].x[1][0] / dt;

@@ -73,7 +73,7 @@ TEST(SphereOnPlate, StaticOverlapMatchesHertz)
     // m g = (4/3) E* √R ξ^{3/2}  ⇒  ξ = (3 m g / (4 E* √R))^{2/3}
     const double expected = std::pow(3 * r.mass_kg * g / (4 * r.e_star_pa * std::sqrt(radius_m)), 2.0 / 3.0);
     EXPECT_NEAR(r.overlap_m() / expected, 1.0, 1e-3);
-    EXPECT_NEAR(r.sim.world.walls[0].total_force_n.z(), -r.mass_kg * g, 1e-3 * r.mass_kg * g);
+    EXPECT_NEAR(r.sim.world.wall_loads[0].total_force_n.z(), -r.mass_kg * g, 1e-3 * r.mass_kg * g);
 }
 
 TEST(SphereOnIncline, SticksWhileTanThetaBelowFriction)

@@ -125,8 +125,8 @@ BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressu
         const std::size_t i = row * m.columns + c;
         const Vec3 out = Vec3(x[i].x(), x[i].y(), 0.0).normalized();
         for (std::uint32_t e = m.triangle_incidence_start[i]; e < m.triangle_incidence_start[i + 1]; ++e)
-            pressure_n -= m.triangle_force_n[m.triangle_incidence[e]].dot(out);
-        contact_n -= w.of(BodyKind::grain).force_n[grain_of_node[i]].dot(out); // reaction on the node
+            pressure_n -= w.membrane_forces.triangle_force_n[m.triangle_incidence[e]].dot(out);
+        contact_n -= w.force_of(BodyKind::grain)[grain_of_node[i]].dot(out); // reaction on the node
     }
     return {contact_n / pressure_n, r0 - mid_row_radius_m(w)};
 }
@@ -184,7 +184,7 @@ TEST(MembraneContact, GrainPressedAgainstRigidMembraneGetsTheHertzForce)
     EXPECT_NEAR(load.normal_force_n / expected, 1.0, 1e-6);
     EXPECT_NEAR(load.radial_force_n / expected, 1.0, 1e-6);
     // The grain is pushed inwards; the rigid node does not move.
-    EXPECT_NEAR(w.of(BodyKind::grain).force_n[0].dot(inward) / expected, 1.0, 1e-6);
+    EXPECT_NEAR(w.force_of(BodyKind::grain)[0].dot(inward) / expected, 1.0, 1e-6);
     EXPECT_EQ((w.of(BodyKind::membrane).x[0][node] - xn).norm(), 0.0);
 }
 

@@ -62,13 +62,13 @@ Impact strike(double v, double damping_s, Integrator integrator, double steps_pe
         const Vec3 step_m = w.of(BodyKind::grain).x[1][0];
         sim.step();
         r.piston_path_m += step_m;
-        const Vec3 f_piston = w.of(BodyKind::grain).force_n[0];
+        const Vec3 f_piston = w.force_of(BodyKind::grain)[0];
         r.work_j -= f_piston.dot(step_m);
         const bool touching = w.contacts.size() == 1 && w.contacts.touching[0];
         if (touching) {
             started = true;
             ++r.contact_steps;
-            r.newton_third = r.newton_third && f_piston == -w.of(BodyKind::grain).force_n[1] && f_piston.x() < 0.0;
+            r.newton_third = r.newton_third && f_piston == -w.force_of(BodyKind::grain)[1] && f_piston.x() < 0.0;
         } else if (started) {
             break;
         }
@@ -149,10 +149,10 @@ TEST(Motion, AFixedGrainNeitherMovesNorTurnsAndFeelsTheBlow)
     bool felt = false;
     for (int s = 0; s < 20000; ++s) {
         sim.step();
-        const Vec3 f = w.of(BodyKind::grain).force_n[0];
+        const Vec3 f = w.force_of(BodyKind::grain)[0];
         if (w.contacts.size() == 1 && w.contacts.touching[0]) {
             felt = felt || f.norm() > 0.0;
-            EXPECT_EQ(f, -w.of(BodyKind::grain).force_n[1]) << "step " << s;
+            EXPECT_EQ(f, -w.force_of(BodyKind::grain)[1]) << "step " << s;
         }
     }
     EXPECT_TRUE(felt);

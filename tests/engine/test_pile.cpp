@@ -47,6 +47,6 @@ TEST(Pile, SettlesWithoutEscapeOrNaNAndLosesItsKineticEnergy)
     // Force balance of the settled pile: the floor carries its weight, minus
     // what friction on the cylinder holds (Janssen) — never more, and most of it.
     const double weight = mass * g.size() * 10.0;
-    EXPECT_LT(w.walls[0].total_force_n.z(), -0.5 * weight);
-    EXPECT_GT(w.walls[0].total_force_n.z(), -1.01 * weight);
+    EXPECT_LT(w.wall_loads[0].total_force_n.z(), -0.5 * weight);
+    EXPECT_GT(w.wall_loads[0].total_force_n.z(), -1.01 * weight);
 }

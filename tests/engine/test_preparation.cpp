@@ -73,7 +73,7 @@ void expect_sound_specimen(const World& w, const PreparationSpec& spec, const Pr
     // The wire is continuous: every segment within 3 % of its rest length
     // (a static 3 N stretches one by 0.4 %); its ends are free again once
     // laid; every node is inside the membrane and between the plates.
-    for (double strain : w.wire.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
+    for (double strain : w.wire_forces.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
     const TranslationalState& wire = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < wire.size(); ++i) {
         EXPECT_TRUE(is_dynamic(wire, i)) << "wire node " << i << " still held";
@@ -244,7 +244,7 @@ TEST(PreparationWithWireEnd, AQuarterOfTheStudysHelixColumnPreparesWithoutTheEnd
     ASSERT_TRUE(r.ok()) << r.error();
     EXPECT_TRUE(r.value().settled);
     EXPECT_NEAR(r.value().wire_length_m, 2.5, 0.03 * 2.5);
-    for (double strain : sim.world.wire.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
+    for (double strain : sim.world.wire_forces.segment_strain) EXPECT_LT(std::abs(strain), 0.03);
 }
 
 const auto pattern_label = [](const ::testing::TestParamInfo<PatternKind>& i) { return std::string(pattern_name(i.param)); };

@@ -28,7 +28,7 @@ public:
     bool step()
     {
         verlet_first_half(w_, pool_);
-        body().force_n[0] = -body().x[0][0];
+        w_.body_force_n[1][0] = -body().x[0][0];
         return verlet_second_half(w_, pool_);
     }
     [[nodiscard]] const Vec3& x() { return body().x[0][0]; }

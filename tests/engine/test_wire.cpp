@@ -274,7 +274,7 @@ TEST(WirePlasticJoint, FormedArcKeepsItsShapeInFreeSpace)
     const auto& x = w.of(BodyKind::wire).x[0];
     double yielded_further = 0.0, mean_angle = 0.0;
     for (int i = 1; i + 1 < nodes; ++i) {
-        const double rest = w.wire.rest_angle_rad[i], now = angle_of({x[i - 1], x[i], x[i + 1]});
+        const double rest = w.wire_rest_angle_rad[i], now = angle_of({x[i - 1], x[i], x[i + 1]});
         EXPECT_NEAR(now, rest, 1e-6 * zeta) << "joint " << i << " not at rest";
         EXPECT_GE(rest, zeta - yield_angle - 1e-12) << "joint " << i << " unbent beyond the springback";
         yielded_further += std::abs(rest - (zeta - yield_angle));
@@ -305,7 +305,7 @@ TEST(WireStretch, ExtensionUnderAxialLoadIsFLOverEA)
     relax(sim, static_cast<std::uint64_t>(40.0 / (omega * w.dt_s)), 2.0 * omega * w.dt_s);
     const double extension = w.of(BodyKind::wire).x[0][nodes - 1].x() - length;
     EXPECT_NEAR(extension / (force * length / (paper_wire.youngs_modulus_pa * area_m2())), 1.0, 0.01);
-    for (double strain : w.wire.segment_strain)
+    for (double strain : w.wire_forces.segment_strain)
         EXPECT_NEAR(strain, force / (paper_wire.youngs_modulus_pa * area_m2()), 0.01 * strain);
 }
 
@@ -411,7 +411,7 @@ TEST(WireDamping, OneSegmentRingsDownAtTheKelvinVoigtRate)
     double before = 0.0, now = 0.0;
     for (int i = 0; i < 400000 && maxima.size() < 3; ++i) {
         sim.step();
-        const double e = w.wire.segment_strain[0];
+        const double e = w.wire_forces.segment_strain[0];
         if (i >= 2 && now > before && now >= e && now > 0.0) maxima.push_back(now);
         before = now;
         now = e;
@@ -437,19 +437,19 @@ TEST(WireDamping, RigidMotionOfABentWireFeelsOnlyTheSprings)
     const Vec3 spin(300.0, -200.0, 500.0), drift(0.3, -0.1, 0.2);
     for (std::uint32_t i = 0; i < x.size(); ++i) set_velocity(w, BodyRef(BodyKind::wire, i), drift + spin.cross(x[i]));
     compute_wire_forces(w, sim.pool());
-    const std::vector<Vec3> moving = w.wire.node_force_n;
+    const std::vector<Vec3> moving = w.wire_forces.node_force_n;
     for (std::uint32_t i = 0; i < x.size(); ++i) set_velocity(w, BodyRef(BodyKind::wire, i), Vec3::Zero());
     compute_wire_forces(w, sim.pool());
-    const std::vector<Vec3> still = w.wire.node_force_n;
+    const std::vector<Vec3> still = w.wire_forces.node_force_n;
     for (std::size_t i = 0; i < x.size(); ++i)
         EXPECT_LT((moving[i] - still[i]).norm(), 1e-9 * still[2].norm() + 1e-12) << "node " << i;
     const Vec3 v(0.0, 0.0, 2.0);
     set_velocity(w, BodyRef(BodyKind::wire, 2), v);
     compute_wire_forces(w, sim.pool());
     Vec3 net = Vec3::Zero();
-    for (const Vec3& f : w.wire.node_force_n) net += f;
-    EXPECT_LT(net.norm(), 1e-9 * w.wire.node_force_n[2].norm());
-    EXPECT_LT((w.wire.node_force_n[2] - still[2]).dot(v), 0.0);
+    for (const Vec3& f : w.wire_forces.node_force_n) net += f;
+    EXPECT_LT(net.norm(), 1e-9 * w.wire_forces.node_force_n[2].norm());
+    EXPECT_LT((w.wire_forces.node_force_n[2] - still[2]).dot(v), 0.0);
 }
 
 // The AVX-512 segments and joints (forces/wire_simd.hpp) give the scalar
@@ -488,7 +488,7 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             last_step = step;
             append_wire_node(w, p, 0.3 * Vec3(uniform(), uniform(), uniform()));
         }
-        for (std::size_t i = 0; i < w.wire.rest_angle_rad.size(); ++i) w.wire.rest_angle_rad[i] = 0.2 * (1.0 + uniform());
+        for (std::size_t i = 0; i < w.wire_rest_angle_rad.size(); ++i) w.wire_rest_angle_rad[i] = 0.2 * (1.0 + uniform());
         for (const bool damped : {true, false}) {
             World run = w;
             if (damped) set_time_step(run, 1e-6);
@@ -499,7 +499,8 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             compute_wire_forces(scalar, pool);
             set_simd_kernels(SimdKernels::automatic);
             compute_wire_forces(run, pool);
-            const WireChain &a = scalar.wire, &b = run.wire;
+            const WireForces &a = scalar.wire_forces, &b = run.wire_forces;
+            const std::vector<double> &a_rest = scalar.wire_rest_angle_rad, &b_rest = run.wire_rest_angle_rad;
             const auto bits_of = [](double v) { return std::bit_cast<std::uint64_t>(v); };
             ASSERT_EQ(a.segment_force_n.size(), b.segment_force_n.size());
             for (std::size_t s = 0; s < a.segment_force_n.size(); ++s) {
@@ -507,7 +508,7 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
                 EXPECT_EQ(bits_of(a.segment_strain[s]), bits_of(b.segment_strain[s])) << "segment " << s;
             }
             for (std::size_t i = 0; i < a.node_force_n.size(); ++i) {
-                EXPECT_EQ(bits_of(a.rest_angle_rad[i]), bits_of(b.rest_angle_rad[i])) << "joint " << i;
+                EXPECT_EQ(bits_of(a_rest[i]), bits_of(b_rest[i])) << "joint " << i;
                 for (int n = 0; n < 3; ++n)
                     for (int c = 0; c < 3; ++c)
                         EXPECT_EQ(bits_of(a.bending_force_n[i][n][c]), bits_of(b.bending_force_n[i][n][c])) << "joint " << i;
@@ -516,7 +517,7 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             // The special joints were there: some yielded, some were straight.
             if (damped && std::isfinite(yield_strain)) {
                 std::size_t yielded = 0;
-                for (std::size_t i = 0; i < a.rest_angle_rad.size(); ++i) yielded += a.rest_angle_rad[i] != w.wire.rest_angle_rad[i];
+                for (std::size_t i = 0; i < a_rest.size(); ++i) yielded += a_rest[i] != w.wire_rest_angle_rad[i];
                 EXPECT_GT(yielded, 10u);
             }
         }
