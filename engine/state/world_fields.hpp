@@ -271,7 +271,7 @@ inline constexpr std::array<const char*, body_kind_count> field_kind_names{"grai
 /// one exception: the contacts' memory (tangential springs, touching flags)
 /// is state kept in the neighbour list, which carries it across rebuilds.
 ///
-/// Not listed: World::grid, whose arrays are scratch that find_pairs rebuilds
+/// Not listed: Caches::grid, whose arrays are scratch that find_pairs rebuilds
 /// from the positions before it reads them.
 template <class W, class Visit>
 void for_each_field(W& w, Visit&& field)
