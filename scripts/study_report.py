@@ -583,6 +583,21 @@ def per_pressure_stats(campaigns, value):
     return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
 
 
+def yield_ratio(test):
+    """The test's stress ratio η at its yield reading (None if it has none)."""
+    return (test.get("yield") or {}).get("stress_ratio")
+
+
+def yield_shape(test):
+    """peak, plateau or rising: the shape of the test's η curve at its yield reading."""
+    return (test.get("yield") or {}).get("shape")
+
+
+def residual_ratio(test):
+    """The test's residual stress ratio: the mean raw η over the summary's end window."""
+    return test.get("residual_stress_ratio")
+
+
 def yield_ratio_stats(campaigns):
     """{σ₃ [Pa]: (mean, sd, n)} of the stress ratio η at yield over the campaigns' tests.
 
@@ -590,12 +605,12 @@ def yield_ratio_stats(campaigns):
     from each test alone: unlike φ and c it needs no fit through circles that
     span a narrow band of σ, where slope and intercept trade off.
     """
-    return per_pressure_stats(campaigns, lambda t: (t.get("yield") or {}).get("stress_ratio"))
+    return per_pressure_stats(campaigns, yield_ratio)
 
 
 def residual_ratio_stats(campaigns):
     """{σ₃ [Pa]: (mean, sd, n)} of the residual stress ratio (the mean η over the last end window)."""
-    return per_pressure_stats(campaigns, lambda t: t.get("residual_stress_ratio"))
+    return per_pressure_stats(campaigns, residual_ratio)
 
 
 def end_window_text(by_pattern):
@@ -613,14 +628,13 @@ def stress_ratio_figure(by_pattern, out, made):
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), sharey=True)
     marker = {"peak": "o", "plateau": "s", "rising": "^"}
     patterns = list(by_pattern)
-    for ax, (title, stats_of, value) in zip(axes, (
-            ("at yield (the maximum of the smoothed η)", yield_ratio_stats,
-             lambda t: (t.get("yield") or {}).get("stress_ratio")),
-            (f"residual (mean over {end_window_text(by_pattern)})", residual_ratio_stats,
-             lambda t: t.get("residual_stress_ratio")))):
+    # (title, the value per test, the shape its marker shows)
+    for ax, (title, value, shape_of) in zip(axes, (
+            ("at yield (the maximum of the smoothed η)", yield_ratio, yield_shape),
+            (f"residual (mean over {end_window_text(by_pattern)})", residual_ratio, lambda t: None))):
         for i, p in enumerate(patterns):
             shift = (i - (len(patterns) - 1) / 2) * 1.2  # kPa, so the bars do not hide each other
-            stats = [(s3, st) for s3, st in stats_of(by_pattern[p]).items() if st[0] is not None]
+            stats = [(s3, st) for s3, st in per_pressure_stats(by_pattern[p], value).items() if st[0] is not None]
             if not stats:
                 continue
             x = np.array([s3 / 1e3 + shift for s3, _ in stats])
@@ -634,8 +648,7 @@ def stress_ratio_figure(by_pattern, out, made):
                     v = value(t)
                     if v is None or not math.isfinite(v):
                         continue
-                    shape = (t.get("yield") or {}).get("shape") if stats_of is yield_ratio_stats else None
-                    ax.plot(t["confining_pressure_pa"] / 1e3 + shift + 0.5, v, marker=marker.get(shape, "."),
+                    ax.plot(t["confining_pressure_pa"] / 1e3 + shift + 0.5, v, marker=marker.get(shape_of(t), "."),
                             ms=4, color=PATTERN_COLOUR[p], mfc="none", ls="none", alpha=0.7)
         ax.set_title(title, fontsize=10)
         ax.set_xlabel("confining pressure σ₃ [kPa]")
