@@ -112,8 +112,8 @@ Result<std::uint64_t, std::string> save_snapshot(
 namespace {
 
 /// What does not fit together in a restored World: the arrays a step
-/// indexes by body, grain, wall or wire node must have as many entries as
-/// there are of those ("" when all do). save_snapshot always writes them so;
+/// indexes by body, grain, wire node or membrane element must have as many
+/// entries as there are of those ("" when all do). save_snapshot always writes them so;
 /// a file that was edited would otherwise be stepped out of bounds.
 std::string mismatched_sizes(const World& w)
 {
@@ -145,6 +145,11 @@ std::string mismatched_sizes(const World& w)
     check(error, w.wire_forces.bending_force_n.size(), nodes, "wire/bending_force_n");
     check(error, w.wire_forces.segment_force_n.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_force_n");
     check(error, w.wire_forces.segment_strain.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_strain");
+    const MembraneMesh& m = w.membrane;
+    check(error, m.edge_rest_m.size(), m.edges.size(), "membrane/edge_rest_m");
+    check(error, w.membrane_forces.edge_force_n.size(), m.edges.size(), "membrane/edge_force_n");
+    check(error, w.membrane_forces.triangle_force_n.size(), m.triangles.size(), "membrane/triangle_force_n");
+    check(error, w.membrane_forces.node_force_n.size(), w.of(BodyKind::membrane).size(), "membrane/node_force_n");
     for (const auto& [body, f] : w.point_loads)
         if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
             error = "field point_loads names a body that does not exist";

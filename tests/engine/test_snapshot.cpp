@@ -301,6 +301,15 @@ TEST(Snapshot, ArraysThatDoNotFitTheBodiesAreRefused)
     }
     {
         World w = sim.world;
+        ASSERT_FALSE(w.membrane_forces.triangle_force_n.empty());
+        w.membrane_forces.triangle_force_n.pop_back();
+        ASSERT_TRUE(save_snapshot(w, path).ok());
+        const auto r = restore_snapshot(path);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find("field membrane/triangle_force_n has"), std::string::npos) << r.error();
+    }
+    {
+        World w = sim.world;
         w.point_loads.emplace_back(BodyRef(BodyKind::grain, static_cast<std::uint32_t>(w.of(BodyKind::grain).size())),
             Vec3::UnitZ());
         ASSERT_TRUE(save_snapshot(w, path).ok());
