@@ -97,6 +97,8 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test
     t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
     t.hold_time_s = spec.triaxial.hold_time_s;
     t.max_hold_time_s = spec.triaxial.max_hold_time_s;
+    t.consolidation = spec.triaxial.consolidation == Consolidation::effective ? engine::Consolidation::effective
+                                                                              : engine::Consolidation::cell_pressure;
     t.sample_interval_s = spec.triaxial.sample_interval_s;
     t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test

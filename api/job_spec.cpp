@@ -491,6 +491,11 @@ constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edg
     {"linear", MembraneEdges::linear},
 }};
 
+constexpr std::array<std::pair<std::string_view, Consolidation>, 2> consolidations{{
+    {"cell_pressure", Consolidation::cell_pressure},
+    {"effective", Consolidation::effective},
+}};
+
 /// An optional number: absent or null leaves `out` empty.
 void optional_number(ObjectReader& r, std::string_view key, const Range& range, std::optional<double>& out, const Meaning& m)
 {
@@ -746,9 +751,11 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     r.number("pressure_ramp_time_s", closed(0.0, 1e3), t.pressure_ramp_time_s,
         {"s", "σ_3 rises linearly from 0 over this time"});
     r.number("hold_time_s", closed(0.0, 1e3), t.hold_time_s,
-        {"s", "σ_3 is then held at least this long before loading, while the top plate consolidates the column to σ_1 = σ_3 (docs/model.md)"});
+        {"s", "σ_3 is then held at least this long before loading, while the top plate consolidates the column (triaxial.consolidation; docs/model.md)"});
     optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s,
-        {"s", "the hold goes on past hold_time_s until the column has consolidated (σ_1 averaged over 5 ms within 5 % of σ_3, the top plate slower than the loading speed), at most this long; a warning says when that was not enough"});
+        {"s", "the hold goes on past hold_time_s until the column has consolidated (σ_1 averaged over 5 ms within 5 % of its target, the top plate slower than the loading speed), at most this long; a warning says when that was not enough"});
+    r.choice("consolidation", consolidations, t.consolidation,
+        {nullptr, "what the top plate brings σ_1 to while σ_3 ramps and holds: cell_pressure, σ_1 = σ_3 (the cell pressure on the cap); effective, σ_1 = σ_3,eff, the lateral stress the column feels (membrane included), so loading starts from η ≈ 0 (docs/model.md, \"Consolidation\")"});
     r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s,
         {"s", "time between samples of the test record"});
     // The default snapshots follow the target; a given list is checked
@@ -1137,6 +1144,7 @@ json::object triaxial_json(const TriaxialSpec& t)
         {"pressure_ramp_time_s", t.pressure_ramp_time_s},
         {"hold_time_s", t.hold_time_s},
         {"max_hold_time_s", optional_json(t.max_hold_time_s)},
+        {"consolidation", to_string(t.consolidation)},
         {"sample_interval_s", t.sample_interval_s},
         {"snapshot_strains", numbers_json(t.snapshot_strains)},
     };
@@ -1177,6 +1185,13 @@ std::string_view to_string(MembraneEdges e)
 {
     for (const auto& [name, value] : membrane_edges)
         if (value == e) return name;
+    return "?";
+}
+
+std::string_view to_string(Consolidation c)
+{
+    for (const auto& [name, value] : consolidations)
+        if (value == c) return name;
     return "?";
 }
 

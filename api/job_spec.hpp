@@ -47,6 +47,13 @@ enum class MembraneEdges : std::uint8_t {
     linear,        ///< the model spec §3 as written: a spring both ways
 };
 
+/// What the top plate consolidates the column to before loading. JSON:
+/// "cell_pressure", "effective". See engine/triaxial/triaxial.hpp.
+enum class Consolidation : std::uint8_t {
+    cell_pressure, ///< σ₁ = σ₃, the cell pressure on the cap (default)
+    effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels
+};
+
 /// Elastic properties of the grains (the model spec §2).
 struct GrainMaterialSpec {
     double youngs_modulus_pa = 10e9;     ///< E_p [Pa], (0, 1e13]
@@ -189,6 +196,7 @@ struct TriaxialSpec {
     /// The hold goes on past hold_time_s until the column has consolidated,
     /// at most this long [s], [hold_time_s, 1e3]; nullopt: 4 × hold_time_s.
     std::optional<double> max_hold_time_s;
+    Consolidation consolidation = Consolidation::cell_pressure; ///< what σ₁ is brought to while σ₃ holds
     double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
     /// Axial strains at which the wire profile and force network are saved:
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
@@ -274,5 +282,6 @@ struct FieldError {
 [[nodiscard]] std::string_view to_string(WirePattern p);
 [[nodiscard]] std::string_view to_string(Integrator i);
 [[nodiscard]] std::string_view to_string(MembraneEdges e);
+[[nodiscard]] std::string_view to_string(Consolidation c);
 
 } // namespace wiredem::api

@@ -316,6 +316,10 @@ json::object definitions_json()
     d["shape"] = "peak: the smoothed curve drops by more than shape_tolerance of its maximum after it; rising: it rose "
                  "by more than that over the last end_window_strain (the value is a lower bound); plateau: neither";
     d["residual_stress_ratio"] = "mean of the raw stress ratio over the last end_window_strain of axial strain";
+    d["loading_start"] = "the column as loading started: sigma1 and sigma3_eff averaged over the last consolidation window "
+                         "(5 ms), their stress ratio, and the axial and radial strains of the ramp and hold (> 0 shortened, "
+                         "narrowed); rebound_axial_strain: how much it lengthened after its shortest (extension flow under "
+                         "sigma3_eff > sigma1)";
     d["smoothing_strain"] = tol.smoothing_strain;
     d["shape_tolerance"] = tol.shape_tolerance;
     d["end_window_strain"] = tol.end_window_strain;
@@ -497,6 +501,18 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             }
             o["hold_time_s"] = t.hold_time_s;
             o["consolidated_sigma1_pa"] = finite_or_null(t.consolidated_sigma1_pa);
+            if (const auto start = eng::loading_start(t.series)) {
+                json::object so;
+                so["sigma1_pa"] = finite_or_null(start->sigma1_pa);
+                so["sigma3_effective_pa"] = finite_or_null(start->sigma3_effective_pa);
+                so["stress_ratio"] = finite_or_null(start->stress_ratio);
+                so["axial_strain"] = finite_or_null(start->axial_strain);
+                so["rebound_axial_strain"] = finite_or_null(start->rebound_axial_strain);
+                so["radial_strain"] = finite_or_null(start->radial_strain);
+                o["loading_start"] = std::move(so);
+            } else {
+                o["loading_start"] = nullptr;
+            }
             o["quasi_static"] = t.verdict.quasi_static;
             o["max_inertial_number"] = finite_or_null(t.verdict.max_inertial_number);
             o["mean_kinetic_to_elastic"] = finite_or_null(t.verdict.mean_kinetic_to_elastic);

@@ -70,6 +70,23 @@ inline constexpr double default_max_hold_factor = 4.0;
 /// consolidates the column.
 inline constexpr double max_piston_speed_factor = 4.0;
 
+/// What the top plate consolidates the column to while σ₃ ramps and holds
+/// (docs/model.md, "Consolidation").
+enum class Consolidation : std::uint8_t {
+    /// σ₁ = σ₃: the cell pressure pushes the cap, as in a laboratory cell. A
+    /// stiff membrane squeezes the column harder than that (σ₃,eff > σ₃), and
+    /// a column it squeezes to its extension strength flows in extension
+    /// while σ₃ is held.
+    cell_pressure,
+    /// σ₁ = σ₃,eff, the lateral stress the column feels (consolidation_window_mean):
+    /// isotropic in the stresses the stress ratio is read from, so loading
+    /// starts from η ≈ 0.
+    effective,
+};
+
+/// "cell_pressure" or "effective".
+[[nodiscard]] const char* to_string(Consolidation c) noexcept;
+
 /// Parameters of one triaxial test. All SI.
 struct TriaxialSettings {
     double confining_pressure_pa = 40e3;      ///< σ₃ applied on the membrane [Pa], > 0
@@ -83,6 +100,7 @@ struct TriaxialSettings {
     /// consolidated (see consolidated_mismatch), at most this long [s],
     /// ≥ hold_time_s; nullopt: default_max_hold_factor × hold_time_s.
     std::optional<double> max_hold_time_s;
+    Consolidation consolidation = Consolidation::cell_pressure; ///< what σ₁ is brought to before loading
     double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
     /// Axial strains at which to take snapshots; 0 (loading start) and the
     /// target are always added; values outside [0, target] are clamped.
@@ -208,6 +226,36 @@ struct QuasiStaticVerdict {
 /// largest kinetic/elastic energy ratio (a row without elastic energy counts
 /// as ∞). Flags the test when I or the mean ratio is above its threshold.
 [[nodiscard]] QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start);
+
+/// The column as loading started, and what the ramp and hold did to it
+/// (docs/model.md, "Consolidation"). A column whose membrane squeezes it
+/// harder than the piston presses (σ₃,eff above σ₁) can yield in extension
+/// while σ₃ is held: it lengthens after its shortest, and loading then
+/// starts from η < 0 on a column that has just flowed the other way.
+struct LoadingStart {
+    std::size_t sample = 0;           ///< the series' first loading row
+    /// σ₁ and σ₃,eff averaged over the rows of the last consolidation window
+    /// (consolidation_window_s) up to that row, and η of those means.
+    double sigma1_pa = 0.0;
+    double sigma3_effective_pa = 0.0;
+    double stress_ratio = 0.0;
+    /// Axial strain of the ramp and hold, (h_first − h)/h_first from the
+    /// first row to the loading row: > 0 shortened, < 0 lengthened.
+    double axial_strain = 0.0;
+    /// How much the column lengthened after its shortest before loading,
+    /// (h − h_min)/h_first ≥ 0: the extension flow of the hold.
+    double rebound_axial_strain = 0.0;
+    /// Radial strain of the ramp and hold, (r_first − r)/r_first (> 0 narrowed).
+    double radial_strain = 0.0;
+};
+
+/// The mean of `column` (a column of `s`) over the rows up to `last` within
+/// consolidation_window_s of it: σ₁ and σ₃,eff as consolidation judges them.
+[[nodiscard]] double consolidation_window_mean(const TriaxialSeries& s, const std::vector<double>& column, std::size_t last);
+
+/// The loading start read from a series' rows (the phase column); nullopt
+/// when the series has no loading row.
+[[nodiscard]] std::optional<LoadingStart> loading_start(const TriaxialSeries& s);
 
 /// The longest σ₃ is held before loading [s]: max_hold_time_s, or
 /// default_max_hold_factor × hold_time_s.

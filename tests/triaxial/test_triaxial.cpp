@@ -475,6 +475,84 @@ TEST(QuasiStaticVerdict, ASlipEventIsNotARateProblemButSustainedMotionIs)
     EXPECT_FALSE(quasi_static_verdict(empty, 10).quasi_static);
 }
 
+TEST(TriaxialTest, EffectiveConsolidationStartsLoadingFromAnIsotropicState)
+{
+    // The lattice column at 10 kPa: its membrane squeezes it harder than the
+    // applied σ₃ (σ₃,eff > σ₃ as loading starts). Consolidated to the cell
+    // pressure, σ₁ ≈ σ₃ and the stress ratio starts below 0; consolidated to
+    // σ₃,eff, σ₁ ≈ σ₃,eff and it starts from ≈ 0.
+    auto run = [](Consolidation c) {
+        Simulation sim(1);
+        const std::size_t lid = build_lattice_specimen(sim);
+        TriaxialSettings set = fast_settings(10e3);
+        set.target_axial_strain = 2e-3;
+        set.hold_time_s = 10e-3;
+        set.max_hold_time_s = 60e-3;
+        set.consolidation = c;
+        auto r = run_triaxial(sim, lid, set);
+        EXPECT_TRUE(r.ok()) << r.error();
+        return r.ok() ? r.value() : TriaxialResult{};
+    };
+    auto warned = [](const TriaxialResult& r) {
+        return std::any_of(r.warnings.begin(), r.warnings.end(),
+            [](const std::string& w) { return w.find("had not consolidated") != std::string::npos; });
+    };
+    // Measured: σ₁ 10.1 kPa against σ₃,eff 14.8 kPa, η −0.19.
+    const TriaxialResult cell = run(Consolidation::cell_pressure);
+    const std::optional<LoadingStart> cell_start = loading_start(cell.series);
+    ASSERT_TRUE(cell_start.has_value());
+    EXPECT_FALSE(warned(cell));
+    EXPECT_NEAR(cell.consolidated_sigma1_pa / 10e3, 1.0, max_consolidation_mismatch);
+    EXPECT_LT(cell_start->stress_ratio, -0.1);
+    // Measured: σ₁ 13.5 kPa against σ₃,eff 14.5 kPa, η −0.035. σ₁ within
+    // the mismatch m of σ₃,eff bounds |η| by m/(2 − m).
+    const TriaxialResult effective = run(Consolidation::effective);
+    const std::optional<LoadingStart> effective_start = loading_start(effective.series);
+    ASSERT_TRUE(effective_start.has_value());
+    EXPECT_FALSE(warned(effective));
+    EXPECT_NEAR(effective.consolidated_sigma1_pa / effective_start->sigma3_effective_pa, 1.0, max_consolidation_mismatch);
+    EXPECT_LE(std::abs(effective_start->stress_ratio), max_consolidation_mismatch / (2.0 - max_consolidation_mismatch));
+}
+
+TEST(LoadingStart, ReadsTheStateAndTheHoldsExtensionFlowOffTheRows)
+{
+    // Rows every 2 ms: a ramp that shortens the column from 100 mm to 99 mm
+    // by row 5 and narrows it, a hold in which it lengthens to 101 mm (the
+    // extension flow of a column squeezed harder by the membrane than pressed
+    // by the plate), loading from row 21 on.
+    TriaxialSeries s;
+    for (std::size_t i = 0; i < 30; ++i) {
+        TriaxialSample r;
+        r.time_s = 2e-3 * static_cast<double>(i);
+        r.phase = i < 10 ? TriaxialPhase::ramp : i < 21 ? TriaxialPhase::hold : TriaxialPhase::loading;
+        r.height_m = i <= 5 ? 0.100 - 0.0002 * static_cast<double>(i) : std::min(0.101, 0.099 + 0.0002 * static_cast<double>(i - 5));
+        r.column_radius_m = 0.020 - 1e-5 * static_cast<double>(std::min<std::size_t>(i, 21));
+        r.sigma1_pa = 1000.0 * static_cast<double>(i);
+        r.sigma3_effective_pa = 50e3;
+        s.push_back(r);
+    }
+    const std::optional<LoadingStart> l = loading_start(s);
+    ASSERT_TRUE(l.has_value());
+    EXPECT_EQ(l->sample, 21u);
+    // The consolidation window (5 ms) ending at row 21 (t = 42 ms) holds rows
+    // 19, 20 and 21.
+    EXPECT_DOUBLE_EQ(l->sigma1_pa, 20e3);
+    EXPECT_DOUBLE_EQ(l->sigma3_effective_pa, 50e3);
+    EXPECT_DOUBLE_EQ(l->stress_ratio, (20e3 - 50e3) / (20e3 + 50e3));
+    EXPECT_NEAR(l->axial_strain, -0.01, 1e-12);         // 100 → 101 mm
+    EXPECT_NEAR(l->rebound_axial_strain, 0.02, 1e-12);  // 99 → 101 mm, of 100 mm
+    EXPECT_NEAR(l->radial_strain, 21e-5 / 0.020, 1e-12);
+
+    // A column that only shortened has no rebound; a series that never
+    // started loading has no loading start.
+    TriaxialSeries monotone = s;
+    for (std::size_t i = 0; i < monotone.size(); ++i) monotone.height_m[i] = 0.100 - 1e-5 * static_cast<double>(i);
+    EXPECT_EQ(loading_start(monotone)->rebound_axial_strain, 0.0);
+    TriaxialSeries held = s;
+    held.phase.assign(held.size(), static_cast<std::uint8_t>(TriaxialPhase::hold));
+    EXPECT_FALSE(loading_start(held).has_value());
+}
+
 // (c) Determinism.
 
 TEST(TriaxialDeterminism, TimeSeriesBitIdenticalOnOneAndTwoThreads)
