@@ -259,6 +259,16 @@ def fmt(x, spec=".3g"):
     return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
 
 
+def percent(x):
+    """A fraction in %, None kept."""
+    return None if x is None else 100.0 * x
+
+
+def ratio_to(x, reference):
+    """x / reference, None kept."""
+    return None if x is None else x / reference
+
+
 def fmt_mean(stat, spec=".3g", n_expected=None):
     """'mean ± sd' (or just the mean for one value), with (n=k) when fewer values than seeds."""
     m, s, n = stat
@@ -574,13 +584,29 @@ def envelopes_figure(by_pattern, out, made):
     save(fig, out, "envelopes.png", made)
 
 
-def per_pressure_stats(campaigns, value):
-    """{σ₃ [Pa]: (mean, sd, n)} of value(test) over the campaigns' tests."""
+def per_pressure_stats(campaigns, value, keep=lambda test: True):
+    """{σ₃ [Pa]: (mean, sd, n)} of value(test) over the campaigns' tests that keep(test)."""
     by_pressure = {}
     for c in campaigns:
         for t in c.tests():
-            by_pressure.setdefault(t["confining_pressure_pa"], []).append(value(t))
+            if keep(t):
+                by_pressure.setdefault(t["confining_pressure_pa"], []).append(value(t))
     return {p: mean_sd(v) for p, v in sorted(by_pressure.items())}
+
+
+# A column lengthened by more than this after its shortest, before loading,
+# flowed in extension during the hold (docs/model.md, "Consolidation"). The
+# study's tests fall on either side of it: at most 0.17 % (most below
+# 0.07 %) in the columns that did not, 0.4-2.2 % in those that did.
+EXTENSION_FLOW_STRAIN = 0.002
+
+
+def flowed_in_extension(test):
+    """True or False from the test's loading_start; None when its summary predates that key."""
+    start = test.get("loading_start")
+    if not start or start.get("rebound_axial_strain") is None:
+        return None
+    return start["rebound_axial_strain"] > EXTENSION_FLOW_STRAIN
 
 
 def yield_ratio(test):
@@ -734,6 +760,56 @@ def strength_tables(by_pattern):
              "`residual_stress_ratio`) per confining pressure: mean ± sample standard deviation over seeds (n).\n\n")
     rows = [[PATTERN_LABEL[p]] + [cell(r.get(s3, (None, None, 0))) for s3 in pressures] for p, r in residual.items()]
     text += table(["pattern"] + [f"residual η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    return text
+
+
+def loading_start_tables(by_pattern):
+    """Every test's state at the start of loading, and η at yield without the tests that flowed in extension."""
+    rows = []
+    for p, cs in by_pattern.items():
+        for c in cs:
+            for t in c.tests():
+                s3 = t["confining_pressure_pa"]
+                start = t.get("loading_start") or {}
+                flowed = flowed_in_extension(t)
+                rows.append([c.name, f"{s3 / 1e3:g}", fmt(t.get("hold_time_s"), ".3f"),
+                             fmt(ratio_to(t.get("consolidated_sigma1_pa"), s3), ".2f"),
+                             fmt(ratio_to(start.get("sigma3_effective_pa"), s3), ".2f"),
+                             fmt(start.get("stress_ratio"), "+.3f"),
+                             fmt(percent(start.get("axial_strain")), "+.2f"),
+                             fmt(percent(start.get("rebound_axial_strain")), ".2f"),
+                             {True: "**yes**", False: "no", None: "not recorded"}[flowed],
+                             fmt(yield_ratio(t), ".3f")])
+    text = ("The column as loading started (summary `tests[].loading_start`; docs/model.md, \"Consolidation\"): "
+            "the hold's length, σ₁ over the last 5 ms against σ₃ (what the piston consolidates to), σ₃,eff "
+            "against σ₃ and their stress ratio η, the axial strain of the ramp and hold (> 0 shortened) and how "
+            "much the column lengthened after its shortest. A column lengthened by more than "
+            f"{EXTENSION_FLOW_STRAIN * 100:g} % *flowed in extension*: the membrane squeezed it harder than the "
+            "piston pressed it. *not recorded*: the summary predates `loading_start` and its run folder was not "
+            "kept (`wiredem analyse DIR` rewrites a summary from a run folder).\n\n")
+    text += table(["campaign", "σ₃ [kPa]", "hold [s]", "σ₁/σ₃", "σ₃,eff/σ₃", "η at start", "ε_a of ramp and hold [%]",
+                   "lengthened after shortest [%]", "flowed in extension", "yield η"], rows)
+
+    def clean(test):
+        return flowed_in_extension(test) is not True
+
+    ratios = {p: per_pressure_stats(cs, yield_ratio, clean) for p, cs in by_pattern.items()}
+    pressures = sorted({s3 for r in ratios.values() for s3 in r})
+    text += ("\nη at yield without the tests that flowed in extension (tests not recorded are kept): mean ± "
+             "sample standard deviation over seeds (n), and the pairwise criterion of the strength section.\n\n")
+    rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
+                                  for s3 in pressures] for p, r in ratios.items()]
+    text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    rows = []
+    patterns = list(by_pattern)
+    for i, p1 in enumerate(patterns):
+        for p2 in patterns[i + 1:]:
+            for s3 in pressures:
+                delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
+                                                                   ratios[p2].get(s3, (None, None, 0)))
+                rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
+                             fmt(bound, ".3f"), verdict_cell(verdict)])
+    text += "\n" + table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
     return text
 
 
@@ -1004,6 +1080,7 @@ def main(argv=None):
         md.append("Skipped or missing:\n\n" + "".join(f"- {n}\n" for n in notes))
     md.append("\n## Specimen\n\n" + specimen_tables(by_pattern))
     md.append("\n## Strength\n\n" + strength_tables(by_pattern))
+    md.append("\n## The state at the start of loading\n\n" + loading_start_tables(by_pattern))
     md.append("\n## Tests\n\n" + tests_table(by_pattern))
 
     for p, cs in by_pattern.items():

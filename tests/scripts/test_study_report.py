@@ -44,12 +44,23 @@ WIRE_LAGS = {("helix", 1): {"autocorrelation_lag_m": 0.0125, "autocorrelation_pr
              ("helix", 2): {"autocorrelation_lag_m": PERIOD_SEGMENTS * SEGMENT_M}}
 
 
+# The state at the start of loading (tests[].loading_start) of helix seed 1: at
+# 20 kPa the column lengthened by 2 % in the hold (it flowed in extension), at
+# 40 kPa by 0.1 %. The other summaries predate the key.
+LOADING_STARTS = {("helix", 1, 20e3): {"sigma1_pa": 20e3, "sigma3_effective_pa": 50e3, "stress_ratio": -3 / 7,
+                                       "axial_strain": -0.02, "rebound_axial_strain": 0.02, "radial_strain": 0.01},
+                  ("helix", 1, 40e3): {"sigma1_pa": 40e3, "sigma3_effective_pa": 50e3, "stress_ratio": -1 / 9,
+                                       "axial_strain": 0.004, "rebound_axial_strain": 0.001, "radial_strain": 0.005}}
+
+
 def summary(pattern, seed, phi_deg, c_pa):
     tests = []
     for s3 in (20e3, 40e3):
         s1, s3e = yield_state(s3, phi_deg, c_pa)
         # Seed 2's summaries predate the per-test plate speed.
         speed = {} if seed == 2 else {"plate_speed_m_per_s": 1e-7 * s3}
+        start = LOADING_STARTS.get((pattern, seed, s3))
+        speed.update({"loading_start": start} if start else {})
         tests.append({"confining_pressure_pa": s3, **speed, "peak_deviatoric_stress_pa": s1 - s3e, "peak_axial_strain": 0.04,
                       "sigma1_pa": s1, "sigma3_effective_pa": s3e, "max_q_shape": "rising",
                       "yield": {"shape": "plateau", "stress_ratio": (s1 - s3e) / (s1 + s3e), "axial_strain": 0.03,
@@ -188,6 +199,23 @@ class StudyReport(unittest.TestCase):
         stats = report.residual_ratio_stats(report.find_campaigns(self.runs)[0]["helix"])
         self.assertAlmostEqual(stats[40e3][0], 0.255)
         self.assertAlmostEqual(stats[40e3][1], 0.01 / math.sqrt(2))
+
+    def test_tests_that_flowed_in_extension_before_loading(self):
+        # Helix seed 1 lengthened by 2 % in the hold at 20 kPa (flowed), by 0.1 % at 40 kPa (did not);
+        # seed 2's summary predates loading_start.
+        self.assertIn("| helix-seed1 | 20 | — | — | 2.50 | -0.429 | -2.00 | 2.00 | **yes** |", self.tables)
+        self.assertIn("| helix-seed1 | 40 | — | — | 1.25 | -0.111 | +0.40 | 0.10 | no |", self.tables)
+        self.assertIn("| helix-seed2 | 20 | — | — | — | — | — | — | not recorded |", self.tables)
+        helix = report.find_campaigns(self.runs)[0]["helix"]
+        flags = [report.flowed_in_extension(t) for c in helix for t in c.tests()]
+        self.assertEqual(flags, [True, False, None, None])
+        # η at yield without it: seed 2 alone at 20 kPa, both seeds at 40 kPa.
+        s1, s3 = yield_state(20e3, 34.0, 3e3)
+        clean = report.per_pressure_stats(helix, report.yield_ratio, lambda t: report.flowed_in_extension(t) is not True)
+        self.assertAlmostEqual(clean[20e3][0], (s1 - s3) / (s1 + s3))
+        self.assertEqual(clean[20e3][2], 1)
+        self.assertEqual(clean[40e3][2], 2)
+        self.assertIn(f"| helix | {(s1 - s3) / (s1 + s3):.3f} (1) |", self.tables)
 
     def test_difference_criterion(self):
         delta, bound, verdict = report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (20.0, 1.0, 2))
