@@ -80,6 +80,7 @@ JobSpec everything_changed()
     s.engine.time_step_s = 5e-8;
     s.engine.integrator = Integrator::verlet;
     s.specimen.membrane.edges = MembraneEdges::linear;
+    s.triaxial.consolidation = Consolidation::effective;
     s.engine.threads = 2;
     s.engine.density_scale = 4.0;
     s.engine.max_bodies = 50000;
@@ -120,6 +121,7 @@ TEST(JobSpec, DefaultsAreTheModelsParameters)
     EXPECT_FALSE(s.engine.time_step_s.has_value()); // "auto"
     EXPECT_EQ(s.engine.integrator, Integrator::gear5);
     EXPECT_EQ(s.specimen.membrane.edges, MembraneEdges::tension_only);
+    EXPECT_EQ(s.triaxial.consolidation, Consolidation::cell_pressure);
 }
 
 TEST(JobSpec, DefaultJobRoundTrips)
@@ -441,6 +443,8 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
             "\"zigzag\" is not one of \"none\", \"helix\", \"spiral_helix\", \"radial_helix\""},
         InvalidCase{"UnknownMembraneEdges", R"({"specimen": {"membrane": {"edges": "elastic"}}})",
             "specimen.membrane.edges", "\"elastic\" is not one of \"tension_only\", \"linear\""},
+        InvalidCase{"UnknownConsolidation", R"({"triaxial": {"consolidation": "isotropic"}})", "triaxial.consolidation",
+            "\"isotropic\" is not one of \"cell_pressure\", \"effective\""},
         InvalidCase{"UnknownIntegrator", R"({"engine": {"integrator": "rk4"}})", "engine.integrator",
             "\"rk4\" is not one of \"gear5\", \"verlet\""},
         InvalidCase{"TimeStepWord", R"({"engine": {"time_step_s": "fast"}})", "engine.time_step_s",
