@@ -156,6 +156,64 @@ eng::Result<api::JobSpec, std::string> read_job(const JobDir& dir)
     return spec.value();
 }
 
+std::optional<std::string> specimen_difference(const api::JobSpec& a, const api::JobSpec& b)
+{
+    auto specimen_part = [](const api::JobSpec& spec) {
+        json::object o = api::to_json(spec).as_object();
+        for (const char* key : {"triaxial", "name", "comment"}) o.erase(key);
+        if (auto* engine = o.if_contains("engine"); engine && engine->is_object()) engine->as_object().erase("threads");
+        return o;
+    };
+    const json::object x = specimen_part(a), y = specimen_part(b);
+    // The first difference, depth first, as a dotted path.
+    std::function<std::optional<std::string>(const json::value&, const json::value&, const std::string&)> first
+        = [&](const json::value& u, const json::value& v, const std::string& path) -> std::optional<std::string> {
+        if (u.is_object() && v.is_object()) {
+            const json::object &p = u.as_object(), &q = v.as_object();
+            for (const auto& [key, value] : p) {
+                const std::string at = path.empty() ? std::string(key) : path + "." + std::string(key);
+                const json::value* other = q.if_contains(key);
+                if (!other) return at;
+                if (auto d = first(value, *other, at)) return d;
+            }
+            for (const auto& [key, value] : q)
+                if (!p.contains(key)) return path.empty() ? std::string(key) : path + "." + std::string(key);
+            return std::nullopt;
+        }
+        if (u != v) return path;
+        return std::nullopt;
+    };
+    return first(x, y, "");
+}
+
+namespace {
+
+/// Takes the specimen of control.specimen_from into `dir` (prepare's lock held).
+StageError take_specimen(const api::JobSpec& spec, const JobDir& dir, const StageControl& control, const std::string& text)
+{
+    const JobDir from{control.specimen_from};
+    const std::string what = "--specimen-from " + from.root.string();
+    auto other = read_job(from);
+    if (!other.ok()) return what + ": " + other.error();
+    std::error_code ec;
+    if (!std::filesystem::exists(from.specimen(), ec)) return what + ": no specimen.h5 there (prepare it first)";
+    if (auto d = specimen_difference(spec, other.value()))
+        return what + ": its job prepares another specimen (they differ in " + *d + ")";
+    std::filesystem::path tmp = dir.specimen();
+    tmp += ".partial";
+    std::filesystem::copy_file(from.specimen(), tmp, std::filesystem::copy_options::overwrite_existing, ec);
+    if (!ec) std::filesystem::rename(tmp, dir.specimen(), ec);
+    if (ec) return "cannot copy " + from.specimen().string() + " to " + dir.specimen().string() + ": " + ec.message();
+    try {
+        write_text_file_atomically(dir.job(), text);
+    } catch (const std::exception& e) {
+        return std::string(e.what());
+    }
+    return std::nullopt;
+}
+
+} // namespace
+
 StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
 {
     std::error_code ec;
@@ -177,6 +235,7 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     }
     std::filesystem::create_directories(dir.tests(), ec);
     if (ec) return "cannot create " + dir.tests().string() + ": " + ec.message();
+    if (!control.specimen_from.empty()) return take_specimen(spec, dir, control, text);
     try {
         write_text_file_atomically(dir.job(), text);
     } catch (const std::exception& e) {

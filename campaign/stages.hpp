@@ -51,6 +51,10 @@ struct StageControl {
     /// How long a stage waits for its lock when another process holds it
     /// (stage_lock.hpp) before it gives up [s].
     double lock_wait_s = default_lock_wait_s;
+    /// prepare (and run): a prepared job directory whose specimen to take
+    /// instead of pouring one, when its job prepares the same specimen
+    /// (same_specimen); empty: pour. A directory prepared already keeps its own.
+    std::filesystem::path specimen_from;
 };
 
 /// An error message, or nothing when the stage succeeded.
@@ -59,11 +63,19 @@ using StageError = std::optional<std::string>;
 /// The job of a directory (DIR/job.json). Errors name the file.
 [[nodiscard]] engine::Result<api::JobSpec, std::string> read_job(const JobDir& dir);
 
+/// Why two jobs would not prepare the same specimen: the first field (a
+/// JSON path) in which their job.json differ, leaving out what only the
+/// tests, the name or the thread count read (`triaxial`, `name`,
+/// `comment`, `engine.threads`); nothing when they would. Conservative: any
+/// other difference counts, whether or not the preparation reads it.
+[[nodiscard]] std::optional<std::string> specimen_difference(const api::JobSpec& a, const api::JobSpec& b);
+
 /// Prepares the specimen of `spec` into `dir` (job.json, specimen.h5), with
 /// the time step of the tests set, from its checkpoint if there is one
 /// (specimen.checkpoint.h5, removed when the specimen is written). A
 /// directory already prepared for the same job is left as it is; one that
-/// holds another job is an error.
+/// holds another job is an error. With control.specimen_from, the specimen
+/// is that directory's (copied), which must hold the same specimen's job.
 [[nodiscard]] StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control);
 
 /// Runs test `index` (the index-th confining pressure) of a prepared

@@ -414,6 +414,7 @@ StageOptions stage_options(const LocalStage& s)
     o.json_progress = s.progress == "json";
     o.checkpoint_interval_s = s.checkpoint_interval_s;
     o.lock_wait_s = s.lock_wait_s;
+    o.specimen_from = s.specimen_from;
     return o;
 }
 

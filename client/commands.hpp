@@ -54,6 +54,7 @@ struct LocalStage {
     std::string progress = "text";              ///< text or json
     double checkpoint_interval_s = campaign::default_checkpoint_interval_s; ///< run, prepare, test; ≤ 0: none
     double lock_wait_s = campaign::default_lock_wait_s; ///< run, prepare, test, analyse
+    std::filesystem::path specimen_from;        ///< run, prepare: a prepared directory whose specimen to take
 };
 /// `wiredem run`: validates the job file, then runs the campaign locally
 /// (resuming what the directory holds).

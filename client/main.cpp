@@ -85,17 +85,25 @@ int main(int argc, char** argv)
                "seconds of wall time between checkpoints of a running preparation or test (0: none); killed, it continues from the last")
             ->capture_default_str()->check(CLI::Range(0.0, 1e6));
     };
+    const auto specimen_from_option = [&](CLI::App* sub) {
+        sub->add_option("--specimen-from", local.specimen_from,
+               "a prepared job directory whose specimen to take instead of pouring one; its job must prepare the same "
+               "specimen (job.json equal but for triaxial, name, comment and engine.threads)")
+            ->check(CLI::ExistingDirectory);
+    };
     auto* run = app.add_subcommand("run", "run a job here, without a server (continues what DIR holds)");
     run->add_option("job", local.job_file, "job spec")->required();
     run->add_option("-o,--output", local.dir, "job directory: summary.json, result.h5 and the stages' files")->required();
     stage_options(run);
     checkpoint_option(run);
+    specimen_from_option(run);
 
     auto* prepare = app.add_subcommand("prepare", "prepare a job's specimen into a job directory (stage 1 of run)");
     prepare->add_option("job", local.job_file, "job spec")->required();
     prepare->add_option("-o,--output", local.dir, "job directory")->required();
     stage_options(prepare);
     checkpoint_option(prepare);
+    specimen_from_option(prepare);
 
     auto* test = app.add_subcommand("test", "run one triaxial test of a prepared job directory (stage 2 of run)");
     test->add_option("dir", local.dir, "job directory (wiredem prepare)")->required();

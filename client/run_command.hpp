@@ -18,6 +18,7 @@ struct StageOptions {
     bool json_progress = false;    ///< one JSON progress object per line on stdout; otherwise readable progress
     double checkpoint_interval_s = wiredem::campaign::default_checkpoint_interval_s; ///< ≤ 0: none
     double lock_wait_s = wiredem::campaign::default_lock_wait_s; ///< for a stage's lock held by another process
+    std::filesystem::path specimen_from;  ///< run, prepare: take this prepared directory's specimen (StageControl)
 
     [[nodiscard]] wiredem::campaign::StageControl control() const
     {
@@ -25,6 +26,7 @@ struct StageOptions {
         c.threads = threads;
         c.checkpoint_interval_s = checkpoint_interval_s;
         c.lock_wait_s = lock_wait_s;
+        c.specimen_from = specimen_from;
         return c;
     }
 };

@@ -8,6 +8,7 @@
 #   bash scripts/study.sh [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH]
 #                         [--patterns "none helix ..."] [--seeds "1 2 3"]
 #                         [--base JOB.json] [--summaries DIR] [--prepare-only]
+#                         [--specimens-from DIR]
 #
 # Each campaign is examples/paper-<pattern>.json with its seed replaced (or,
 # with --base, that job file with its pattern and seed replaced); it runs in
@@ -24,7 +25,11 @@
 # campaigns run at once (default 1), each on --threads threads (default: the
 # cores divided among the jobs). --prepare-only prepares the specimens
 # (`wiredem prepare`, docs/studies.md) and stops: the specimen table of the
-# report, and the campaigns continue from them later. The figures: /usr/bin/python3
+# report, and the campaigns continue from them later. --specimens-from DIR
+# takes each campaign's specimen from DIR/<pattern>-seed<k>/ when that is
+# prepared (`wiredem run --specimen-from`: its job must prepare the same
+# specimen, i.e. differ in `triaxial`, `name` or `comment` only), so a
+# study of other test settings on the same columns pours nothing. The figures: /usr/bin/python3
 # scripts/study_report.py (reads DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,6 +43,7 @@ seeds="1 2 3"
 base=""
 summaries=docs/study
 prepare_only=0
+specimens_from=""
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --jobs) jobs="$2"; shift ;;
@@ -49,8 +55,9 @@ while [[ $# -gt 0 ]]; do
         --base) base="$2"; shift ;;
         --summaries) summaries="$2"; shift ;;
         --prepare-only) prepare_only=1; shift; continue ;;
+        --specimens-from) specimens_from="$2"; shift ;;
         *) echo "usage: $0 [--jobs N] [--threads T] [--runs DIR] [--wiredem PATH] [--patterns LIST] [--seeds LIST]" \
-                "[--base JOB.json] [--summaries DIR] [--prepare-only]" >&2
+                "[--base JOB.json] [--summaries DIR] [--prepare-only] [--specimens-from DIR]" >&2
            exit 2 ;;
     esac
     shift
@@ -65,6 +72,7 @@ for p in $patterns; do
 done
 for s in $seeds; do [[ "$s" =~ ^[0-9]+$ ]] || { echo "study: a seed must be a whole number, got '$s'" >&2; exit 2; }; done
 [[ -z "$base" || -f "$base" ]] || { echo "study: --base $base not found" >&2; exit 2; }
+[[ -z "$specimens_from" || -d "$specimens_from" ]] || { echo "study: --specimens-from $specimens_from is not a directory" >&2; exit 2; }
 mkdir -p "$runs" "$summaries"
 
 # One campaign: job file with the seed, run, copy the summary.
@@ -92,9 +100,13 @@ job["name"] = f'{job.get("name", job_file)} ({pattern}, seed {seed})'
 json.dump(job, open(out, "w"), indent=1)
 EOF
         local t0=$SECONDS
+        local from=()
+        if [[ -n "$specimens_from" && -f "$specimens_from/$name/specimen.h5" && ! -f "$dir/specimen.h5" ]]; then
+            from=(--specimen-from "$specimens_from/$name")
+        fi
         if [[ $prepare_only -eq 1 ]]; then
             echo "study: $name preparing $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
-            if ! "$wiredem" prepare "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
+            if ! "$wiredem" prepare "$runs/$name.json" -o "$dir" --threads "$threads" "${from[@]}" >> "$dir/run.log" 2>&1; then
                 echo "study: $name preparation FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
                 return 1
             fi
@@ -102,7 +114,7 @@ EOF
             return 0
         fi
         echo "study: $name started $(date -u +%H:%M:%S), $threads threads, load $(cut -d' ' -f1-3 /proc/loadavg)"
-        if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" >> "$dir/run.log" 2>&1; then
+        if ! "$wiredem" run "$runs/$name.json" -o "$dir" --threads "$threads" "${from[@]}" >> "$dir/run.log" 2>&1; then
             echo "study: $name FAILED after $((SECONDS - t0)) s (see $dir/run.log)" >&2
             return 1
         fi

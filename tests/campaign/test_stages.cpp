@@ -502,6 +502,45 @@ TEST(Stages, TheFileComparisonSeesAnotherSeed)
     EXPECT_TRUE(h5_differences(dir / "a/specimen.h5", dir / "a/specimen.h5", how_it_ran).empty());
 }
 
+// A campaign that differs from a prepared one in its tests only takes that
+// specimen instead of pouring its own (`--specimen-from`): the same file,
+// and its tests run from it. A job that would prepare another specimen (here
+// another seed) is refused, naming the field; the thread count does not count.
+TEST(Stages, ACampaignTakesThePreparedSpecimenOfAJobThatDiffersInItsTestsOnly)
+{
+    const fs::path dir = fresh_dir("specimen_from"), a = dir / "a", b = dir / "b", c = dir / "c";
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", a.string(), "--threads", "1"}, dir / "log").ok());
+    json::value job = json::parse(read_text(tiny_job));
+    job.as_object()["name"] = "the tiny job, consolidated to sigma3_eff";
+    job.as_object()["triaxial"].as_object()["consolidation"] = "effective";
+    job.as_object()["engine"].as_object()["threads"] = 3;
+    {
+        std::ofstream f(dir / "effective.json");
+        f << json::serialize(job);
+    }
+    Outcome o = run_wiredem({"prepare", (dir / "effective.json").string(), "-o", b.string(), "--specimen-from",
+                                a.string()}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    EXPECT_EQ(read_text(b / "specimen.h5"), read_text(a / "specimen.h5"));
+    EXPECT_NE(read_text(b / "job.json"), read_text(a / "job.json"));
+    o = run_wiredem({"test", b.string(), "--index", "0", "--threads", "1"}, dir / "log");
+    EXPECT_TRUE(o.ok()) << o.err;
+
+    job.as_object()["seed"] = 987654;
+    {
+        std::ofstream f(dir / "other_seed.json");
+        f << json::serialize(job);
+    }
+    o = run_wiredem({"run", (dir / "other_seed.json").string(), "-o", c.string(), "--specimen-from", a.string()},
+        dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("another specimen (they differ in seed)"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(c / "specimen.h5"));
+    o = run_wiredem({"prepare", tiny_job.string(), "-o", (dir / "d").string(), "--specimen-from", c.string()}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
+}
+
 // `wiredem study run`: every point's campaign, a failing point reported
 // without stopping the others, the summary grouping the seeds; run again, the
 // study continues (the done point is not run again).
