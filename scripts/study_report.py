@@ -700,6 +700,20 @@ def verdict_cell(verdict):
     return {True: "**yes**", False: "no", None: "not judged"}[verdict]
 
 
+def ratio_differences_table(ratios, pressures):
+    """Every pair of patterns' difference of a per-pressure mean η ({pattern: {σ₃: (mean, sd, n)}}), judged."""
+    rows = []
+    patterns = list(ratios)
+    for i, p1 in enumerate(patterns):
+        for p2 in patterns[i + 1:]:
+            for s3 in pressures:
+                delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
+                                                                   ratios[p2].get(s3, (None, None, 0)))
+                rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
+                             fmt(bound, ".3f"), verdict_cell(verdict)])
+    return table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+
+
 def strength_tables(by_pattern):
     text = ("φ and c: mean ± sample standard deviation over seeds (n). *yield*: the envelope through the "
             "states at the maximum of the smoothed stress ratio (summary `mohr_coulomb`); *max q*: through "
@@ -746,15 +760,7 @@ def strength_tables(by_pattern):
     rows = [[PATTERN_LABEL[p]] + [cell(r.get(s3, (None, None, 0))) for s3 in pressures] for p, r in ratios.items()]
     text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
     text += "\nDifferences of η at yield between patterns, by the criterion above.\n\n"
-    rows = []
-    for i, p1 in enumerate(patterns):
-        for p2 in patterns[i + 1:]:
-            for s3 in pressures:
-                delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
-                                                                   ratios[p2].get(s3, (None, None, 0)))
-                rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
-                             fmt(bound, ".3f"), verdict_cell(verdict)])
-    text += table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+    text += ratio_differences_table(ratios, pressures)
     residual = {p: residual_ratio_stats(cs) for p, cs in by_pattern.items()}
     text += (f"\nResidual stress ratio (the mean raw η over {end_window_text(by_pattern)}, summary "
              "`residual_stress_ratio`) per confining pressure: mean ± sample standard deviation over seeds (n).\n\n")
@@ -800,16 +806,7 @@ def loading_start_tables(by_pattern):
     rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
                                   for s3 in pressures] for p, r in ratios.items()]
     text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
-    rows = []
-    patterns = list(by_pattern)
-    for i, p1 in enumerate(patterns):
-        for p2 in patterns[i + 1:]:
-            for s3 in pressures:
-                delta, bound, verdict = difference_exceeds_scatter(ratios[p1].get(s3, (None, None, 0)),
-                                                                   ratios[p2].get(s3, (None, None, 0)))
-                rows.append([f"{PATTERN_LABEL[p1]} − {PATTERN_LABEL[p2]}", f"{s3 / 1e3:g}", fmt(delta, "+.3f"),
-                             fmt(bound, ".3f"), verdict_cell(verdict)])
-    text += "\n" + table(["patterns", "σ₃ [kPa]", "Δ mean η", "2 √(s₁²/n₁ + s₂²/n₂)", "exceeds the scatter"], rows)
+    text += "\n" + ratio_differences_table(ratios, pressures)
     return text
 
 

@@ -171,6 +171,13 @@ const TriaxialResult& lattice_result(double confining_pressure_pa)
     return r.value();
 }
 
+/// Whether a test warned that it had not consolidated when loading started.
+bool warned_not_consolidated(const TriaxialResult& r)
+{
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+        [](const std::string& w) { return w.find("had not consolidated") != std::string::npos; });
+}
+
 } // namespace
 
 /// Mean of a series over the loading samples from strain `from` on.
@@ -353,17 +360,13 @@ TEST(TriaxialTest, TheHoldGoesOnUntilTheColumnHasConsolidated)
         EXPECT_TRUE(r.ok()) << r.error();
         return r.ok() ? r.value() : TriaxialResult{};
     };
-    auto warned = [](const TriaxialResult& r) {
-        return std::any_of(r.warnings.begin(), r.warnings.end(),
-            [](const std::string& w) { return w.find("had not consolidated") != std::string::npos; });
-    };
     const TriaxialResult short_hold = run(0.5e-3);
-    EXPECT_TRUE(warned(short_hold));
+    EXPECT_TRUE(warned_not_consolidated(short_hold));
     EXPECT_NEAR(short_hold.hold_time_s, 0.5e-3, short_hold.time_step_s);
     EXPECT_GT(std::abs(short_hold.consolidated_sigma1_pa / 10e3 - 1.0), max_consolidation_mismatch);
 
     const TriaxialResult held = run(40e-3);
-    EXPECT_FALSE(warned(held));
+    EXPECT_FALSE(warned_not_consolidated(held));
     EXPECT_GT(held.hold_time_s, 2.0 * short_hold.hold_time_s);
     EXPECT_LT(held.hold_time_s, 40e-3);
     EXPECT_NEAR(held.consolidated_sigma1_pa / 10e3, 1.0, consolidated_mismatch);
@@ -493,15 +496,11 @@ TEST(TriaxialTest, EffectiveConsolidationStartsLoadingFromAnIsotropicState)
         EXPECT_TRUE(r.ok()) << r.error();
         return r.ok() ? r.value() : TriaxialResult{};
     };
-    auto warned = [](const TriaxialResult& r) {
-        return std::any_of(r.warnings.begin(), r.warnings.end(),
-            [](const std::string& w) { return w.find("had not consolidated") != std::string::npos; });
-    };
     // Measured: σ₁ 10.1 kPa against σ₃,eff 14.8 kPa, η −0.19.
     const TriaxialResult cell = run(Consolidation::cell_pressure);
     const std::optional<LoadingStart> cell_start = loading_start(cell.series);
     ASSERT_TRUE(cell_start.has_value());
-    EXPECT_FALSE(warned(cell));
+    EXPECT_FALSE(warned_not_consolidated(cell));
     EXPECT_NEAR(cell.consolidated_sigma1_pa / 10e3, 1.0, max_consolidation_mismatch);
     EXPECT_LT(cell_start->stress_ratio, -0.1);
     // Measured: σ₁ 13.5 kPa against σ₃,eff 14.5 kPa, η −0.035. σ₁ within
@@ -509,7 +508,7 @@ TEST(TriaxialTest, EffectiveConsolidationStartsLoadingFromAnIsotropicState)
     const TriaxialResult effective = run(Consolidation::effective);
     const std::optional<LoadingStart> effective_start = loading_start(effective.series);
     ASSERT_TRUE(effective_start.has_value());
-    EXPECT_FALSE(warned(effective));
+    EXPECT_FALSE(warned_not_consolidated(effective));
     EXPECT_NEAR(effective.consolidated_sigma1_pa / effective_start->sigma3_effective_pa, 1.0, max_consolidation_mismatch);
     EXPECT_LE(std::abs(effective_start->stress_ratio), max_consolidation_mismatch / (2.0 - max_consolidation_mismatch));
 }
