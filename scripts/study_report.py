@@ -11,6 +11,13 @@ result.h5 still counts in the tables drawn from summary.json. A flat
 such a summary-only campaign, so the tables can be remade from git alone.
 Writes OUT/figures/*.png and OUT/tables.md, and prints what it made.
 
+    /usr/bin/python3 scripts/study_report.py RUNS --retests RETESTS [--out ...]
+
+also reads RETESTS, campaigns of the same names tested again from their
+specimens with other test settings (scripts/study.sh --specimens-from RUNS),
+and adds to tables.md each retest beside its original, test by test, and η at
+yield per pattern with the retests in place of their originals.
+
 Needs Debian's /usr/bin/python3 with numpy, h5py and matplotlib
 (python3-numpy, python3-h5py, python3-matplotlib); nothing else.
 """
@@ -184,8 +191,8 @@ class Campaign:
         return sorted(self.summary.get("tests", []), key=lambda t: t["confining_pressure_pa"])
 
 
-def find_campaigns(runs):
-    """({pattern: [Campaign by seed]}, [notes on what was skipped or is missing])."""
+def find_campaigns(runs, report_missing=True):
+    """({pattern: [Campaign by seed]}, [notes on what was skipped, and, if report_missing, what is missing])."""
     found, notes, skipped = {}, [], set()
     entries = sorted(os.listdir(runs))
     for entry in entries:
@@ -222,7 +229,7 @@ def find_campaigns(runs):
         found[(pattern, seed)] = c
     by_pattern = {p: sorted((c for (q, _), c in found.items() if q == p), key=lambda c: c.seed) for p in PATTERNS}
     seeds = {s for (_, s) in found} | {s for (_, s) in skipped}
-    for p in PATTERNS:
+    for p in PATTERNS if report_missing else ():
         have = {c.seed for c in by_pattern[p]}
         missing = sorted(s for s in seeds - have if (p, s) not in skipped)
         if not have and not any(q == p for q, _ in skipped):
@@ -810,6 +817,91 @@ def loading_start_tables(by_pattern):
     return text
 
 
+# The runner's warning for a test whose hold ran out before the column had
+# consolidated (engine/triaxial/triaxial.cpp; campaign "test k/N at sigma3 = P Pa: ...").
+NOT_CONSOLIDATED = re.compile(r"^test \d+/\d+ at sigma3 = ([0-9.eE+-]+) Pa: .*had not consolidated")
+
+
+def unconsolidated_pressures(summary):
+    """The σ₃ [Pa] of the tests that the campaign warned had not consolidated when loading started."""
+    found = set()
+    for w in summary.get("warnings") or []:
+        m = NOT_CONSOLIDATED.match(w)
+        if m:
+            found.add(float(m.group(1)))
+    return found
+
+
+def consolidation_of(c):
+    """The campaign's triaxial.consolidation (from its result.h5's job; the job spec's default when the
+    job predates the field); None when its result.h5 is not at hand."""
+    if c.job is None:
+        return None
+    return (c.job.get("triaxial") or {}).get("consolidation", "cell_pressure")
+
+
+def with_retests(by_pattern, retests):
+    """by_pattern with each retest campaign in place of the campaign of the same pattern and seed."""
+    merged = {}
+    for p, cs in by_pattern.items():
+        again = {c.seed: c for c in retests.get(p, [])}
+        merged[p] = [again.get(c.seed, c) for c in cs]
+    return merged
+
+
+def retest_tables(by_pattern, retests):
+    """Each retest test beside its original, and η at yield per pattern with the retests in their place."""
+    originals = {(c.pattern, c.seed): c for cs in by_pattern.values() for c in cs}
+    rows, orphans = [], []
+    for p, cs in retests.items():
+        for r in cs:
+            o = originals.get((p, r.seed))
+            if o is None:
+                orphans.append(r.name)
+                continue
+            by_s3 = {t["confining_pressure_pa"]: t for t in o.tests()}
+            for t in r.tests():
+                s3 = t["confining_pressure_pa"]
+                for c, test in ((o, by_s3.get(s3)), (r, t)):
+                    if test is None:
+                        continue
+                    start = test.get("loading_start") or {}
+                    y = test.get("yield") or {}
+                    rows.append([c.name if c is o else "↳ retest", f"{s3 / 1e3:g}",
+                                 (consolidation_of(c) or "—").replace("_", " "),
+                                 fmt(test.get("hold_time_s"), ".3f"),
+                                 "**yes**" if s3 in unconsolidated_pressures(c.summary) else "no",
+                                 fmt(start.get("stress_ratio"), "+.3f"),
+                                 fmt(percent(start.get("rebound_axial_strain")), ".2f"),
+                                 fmt(y.get("stress_ratio"), ".3f") + (f" ({y['shape']})" if y.get("shape") else ""),
+                                 fmt(percent(y.get("axial_strain")), ".1f"),
+                                 fmt(residual_ratio(test), ".3f"),
+                                 fmt(test.get("max_inertial_number"), ".2g"),
+                                 "yes" if test.get("quasi_static") else "**no**"])
+    text = ("Campaigns tested again from their own specimens with other test settings (the retest's job "
+            "differs from the campaign's in `triaxial` only: `wiredem run --specimen-from`), each test beside "
+            "the study's: the consolidation (docs/model.md, \"Consolidation\"), the hold, whether the campaign "
+            "warned that the test had not consolidated when loading started, η at the start of loading, how "
+            "much the column lengthened after its shortest, η at yield (its shape), the axial strain there, "
+            "the residual η, the largest inertial number and the quasi-static verdict.\n\n")
+    text += table(["campaign", "σ₃ [kPa]", "consolidation", "hold [s]", "warned: not consolidated", "η at start",
+                   "lengthened after shortest [%]", "yield η", "at ε_a [%]", "residual η", "max I", "quasi-static"],
+                  rows)
+    if orphans:
+        text += "\nRetests without a study campaign of their name (not compared): " + ", ".join(orphans) + ".\n"
+    merged = with_retests(by_pattern, retests)
+    ratios = {p: yield_ratio_stats(cs) for p, cs in merged.items()}
+    pressures = sorted({s3 for r in ratios.values() for s3 in r})
+    replaced = sorted(r.name for cs in retests.values() for r in cs if r.name not in orphans)
+    text += (f"\nη at yield with the retests ({', '.join(replaced) or 'none'}) in place of their campaigns: mean ± "
+             "sample standard deviation over seeds (n), and the pairwise criterion of the strength section.\n\n")
+    rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
+                                  for s3 in pressures] for p, r in ratios.items()]
+    text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    text += "\n" + ratio_differences_table(ratios, pressures)
+    return text
+
+
 def tests_table(by_pattern):
     rows = []
     for p, cs in by_pattern.items():
@@ -1053,23 +1145,30 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description="Figures and tables of the study (docs/study.md).")
     ap.add_argument("runs", help="folder of the campaigns <pattern>-seed<k>/ (scripts/study.sh --runs)")
     ap.add_argument("--out", default="docs/study", help="output folder (default docs/study)")
+    ap.add_argument("--retests", help="folder of campaigns tested again from the specimens of RUNS' campaigns "
+                                      "of the same names (scripts/study.sh --specimens-from)")
     args = ap.parse_args(argv)
-    if not os.path.isdir(args.runs):
-        print(f"study_report: {args.runs} is not a folder", file=sys.stderr)
-        return 2
+    for folder in (args.runs, args.retests):
+        if folder is not None and not os.path.isdir(folder):
+            print(f"study_report: {folder} is not a folder", file=sys.stderr)
+            return 2
     by_pattern, notes = find_campaigns(args.runs)
     if not by_pattern:
         print(f"study_report: no campaign with a summary.json in {args.runs}", file=sys.stderr)
         for n in notes:
             print("  " + n, file=sys.stderr)
         return 1
+    if args.retests is not None:
+        retests, retest_notes = find_campaigns(args.retests, report_missing=False)
+        notes += [f"retests: {n}" for n in retest_notes]
     figures = os.path.join(args.out, "figures")
     os.makedirs(figures, exist_ok=True)
     made = []
     colours = pressure_colours(by_pattern)
 
     md = ["# Study tables\n",
-          f"Made by `/usr/bin/python3 scripts/study_report.py {args.runs} --out {args.out}` from "
+          f"Made by `/usr/bin/python3 scripts/study_report.py {args.runs} --out {args.out}"
+          + (f" --retests {args.retests}" if args.retests is not None else "") + "` from "
           f"{sum(len(cs) for cs in by_pattern.values())} campaigns: "
           + "; ".join(f"{PATTERN_LABEL[p]} seeds {', '.join(str(c.seed) for c in cs)}" for p, cs in by_pattern.items())
           + ".\n"]
@@ -1078,6 +1177,8 @@ def main(argv=None):
     md.append("\n## Specimen\n\n" + specimen_tables(by_pattern))
     md.append("\n## Strength\n\n" + strength_tables(by_pattern))
     md.append("\n## The state at the start of loading\n\n" + loading_start_tables(by_pattern))
+    if args.retests is not None:
+        md.append("\n## Retests\n\n" + retest_tables(by_pattern, retests))
     md.append("\n## Tests\n\n" + tests_table(by_pattern))
 
     for p, cs in by_pattern.items():

@@ -81,9 +81,9 @@ def summary(pattern, seed, phi_deg, c_pa):
                        "threads": 1, "density_scale": 100.0}}
 
 
-def write_h5(path, pattern):
+def write_h5(path, pattern, triaxial=None):
     radius, height = 0.02, 0.04
-    job = {"specimen": {"membrane_radius_m": radius,
+    job = {**({"triaxial": triaxial} if triaxial else {}), "specimen": {"membrane_radius_m": radius,
                         "wire": {"pattern": pattern, "radius_m": 5e-4, "segment_length_m": SEGMENT_M,
                                  "helix_radius_m": 0.012, "inner_radius_m": 0.004,
                                  "period_angle_rad": math.pi / 2}}}
@@ -126,6 +126,11 @@ def write_h5(path, pattern):
             k["wall_contact_force_n"] = np.array([[0.0, 0.0, 2.0]])
 
 
+NOT_CONSOLIDATED_20KPA = ("test 1/2 at sigma3 = 20000 Pa: test at σ₃ = 2e+04 Pa had not consolidated when loading "
+                          "started: σ₁ = 1.73e+04 Pa (mean over the last 5 ms), more than 10 % off σ₃ after a hold of "
+                          "0.25 s; lengthen hold_time_s or max_hold_time_s")
+
+
 class StudyReport(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -136,8 +141,11 @@ class StudyReport(unittest.TestCase):
         for (pattern, seed), (phi, c) in campaigns.items():
             d = os.path.join(runs, f"{pattern}-seed{seed}")
             os.makedirs(d)
+            s = summary(pattern, seed, phi, c)
+            if (pattern, seed) == ("helix", 1):  # the hold ran out at 20 kPa, where the column flowed
+                s["warnings"] = [NOT_CONSOLIDATED_20KPA, "test 2/2 at sigma3 = 40000 Pa: some other warning"]
             with open(os.path.join(d, "summary.json"), "w") as f:
-                json.dump(summary(pattern, seed, phi, c), f)
+                json.dump(s, f)
             write_h5(os.path.join(d, "result.h5"), pattern)
         with open(os.path.join(runs, "radial_helix-seed1.json"), "w") as f:  # a gathered summary
             json.dump(summary("radial_helix", 1, 25.0, 2e3), f)
@@ -216,6 +224,49 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(clean[20e3][2], 1)
         self.assertEqual(clean[40e3][2], 2)
         self.assertIn(f"| helix | {(s1 - s3) / (s1 + s3):.3f} (1) |", self.tables)
+
+    def test_retests_beside_their_campaigns_and_in_their_place(self):
+        # Helix seed 1 tested again from its specimen consolidated to σ₃,eff (φ 31°, c 1 kPa instead of
+        # 30°, 1 kPa), and a retest of a campaign the study does not have.
+        retests = os.path.join(self.tmp.name, "retests")
+        d = os.path.join(retests, "helix-seed1")
+        os.makedirs(d)
+        again = summary("helix", 1, 31.0, 1e3)
+        for t in again["tests"]:  # consolidated to σ₃,eff: loading starts from η ≈ 0, nothing flowed
+            t["loading_start"] = {"stress_ratio": -0.01, "rebound_axial_strain": 0.0004}
+        with open(os.path.join(d, "summary.json"), "w") as f:
+            json.dump(again, f)
+        write_h5(os.path.join(d, "result.h5"), "helix", {"consolidation": "effective"})
+        with open(os.path.join(retests, "none-seed7.json"), "w") as f:
+            json.dump(summary("none", 7, 20.0, 0.0), f)
+        out = os.path.join(self.tmp.name, "out-retests")
+        proc = subprocess.run([sys.executable, SCRIPT, self.runs, "--retests", retests, "--out", out],
+                              capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        with open(os.path.join(out, "tables.md")) as f:
+            tables = f.read()
+        self.assertIn("## Retests", tables)
+        self.assertNotIn("## Retests", self.tables)  # only when asked for
+        eta = {}
+        for phi, c in ((30.0, 1e3), (31.0, 1e3), (34.0, 3e3)):
+            s1, s3 = yield_state(20e3, phi, c)
+            eta[phi] = (s1 - s3) / (s1 + s3)
+        self.assertIn(f"| helix-seed1 | 20 | cell pressure | — | **yes** | -0.429 | 2.00 | {eta[30.0]:.3f} (plateau) |",
+                      tables)
+        self.assertIn(f"| ↳ retest | 20 | effective | — | no | -0.010 | 0.04 | {eta[31.0]:.3f} (plateau) |", tables)
+        self.assertRegex(tables, r"\| helix-seed1 \| 40 \| cell pressure \| — \| no \|")  # another warning
+        self.assertIn("Retests without a study campaign of their name (not compared): none-seed7.", tables)
+        # The helix's η with seed 1's retest in place of seed 1: seeds (31°, 1 kPa) and (34°, 3 kPa).
+        mean = (eta[31.0] + eta[34.0]) / 2
+        sd = abs(eta[31.0] - eta[34.0]) / math.sqrt(2)
+        self.assertIn(f"| helix | {mean:.3f} ± {sd:.3f} (2) |", tables)
+        self.assertEqual(report.unconsolidated_pressures({"warnings": [NOT_CONSOLIDATED_20KPA]}), {20e3})
+        self.assertEqual(report.unconsolidated_pressures({}), set())
+        # A missing retest folder is an error, not an empty section.
+        proc = subprocess.run([sys.executable, SCRIPT, self.runs, "--retests", os.path.join(retests, "nope"),
+                               "--out", out], capture_output=True, text=True)
+        self.assertEqual(proc.returncode, 2)
+        self.assertIn("is not a folder", proc.stderr)
 
     def test_difference_criterion(self):
         delta, bound, verdict = report.difference_exceeds_scatter((32.0, 2 * math.sqrt(2), 2), (20.0, 1.0, 2))
