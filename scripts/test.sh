@@ -15,29 +15,33 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 
 jobs=$(nproc)
-echo "== lint: container files"
+# Each phase is announced with the seconds since the start, so a CI log shows
+# where the run's time goes (CI allows 90 min; the run should stay near 30).
+phase() { echo "== $* (at $SECONDS s)"; }
+phase "lint: container files"
 bash scripts/lint-docker.sh
 for variant in release asan; do
-  echo "== $variant"
+  phase "$variant"
   bash scripts/build.sh "$variant"
 done
 # The clang build (Debian 12's clang 14): the project must compile -Wall
 # -Wextra clean with it as with GCC. CI builds its programs (every library
 # they link); the test suites, whose tests run in the GCC builds, compile with
 # `bash scripts/build.sh clang` (a few minutes more).
-echo "== clang"
+phase "clang"
 bash scripts/build.sh clang wiredem wiredem-server wiredem-bench wiredem-demo
 # ThreadSanitizer only for the threaded code: the engine's thread pool and
 # determinism tests, and the server with the client it is driven through.
-echo "== tsan"
+phase "tsan"
 bash scripts/build.sh tsan wiredem_threaded_tests wiredem_server_tests wiredem_client_display_tests wiredem-server wiredem
 
-echo "== tests (release)"
+phase "tests (release)"
 ctest --test-dir build/release --output-on-failure -j "$jobs"
-echo "== tests (address + undefined behaviour sanitizers)"
+phase "tests (address + undefined behaviour sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts|slurm"
-echo "== tests (thread sanitizer: the threaded engine code and the server)"
+phase "tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
-echo "== fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"
+phase "fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"
 bash scripts/fuzz.sh
+echo "== done in $SECONDS s"
