@@ -840,12 +840,25 @@ def consolidation_of(c):
     return (c.job.get("triaxial") or {}).get("consolidation", "cell_pressure")
 
 
+class Retested:
+    """A campaign with some of its tests replaced by a retest's tests at the same σ₃ (the retest may
+    test only some of the campaign's pressures)."""
+
+    def __init__(self, original, retest):
+        self.pattern, self.seed, self.name = original.pattern, original.seed, original.name
+        again = {t["confining_pressure_pa"]: t for t in retest.tests()}
+        self._tests = [again.get(t["confining_pressure_pa"], t) for t in original.tests()]
+
+    def tests(self):
+        return self._tests
+
+
 def with_retests(by_pattern, retests):
-    """by_pattern with each retest campaign in place of the campaign of the same pattern and seed."""
+    """by_pattern with each retest's tests in place of the same campaign's tests at the same σ₃."""
     merged = {}
     for p, cs in by_pattern.items():
         again = {c.seed: c for c in retests.get(p, [])}
-        merged[p] = [again.get(c.seed, c) for c in cs]
+        merged[p] = [Retested(c, again[c.seed]) if c.seed in again else c for c in cs]
     return merged
 
 
@@ -893,8 +906,9 @@ def retest_tables(by_pattern, retests):
     ratios = {p: yield_ratio_stats(cs) for p, cs in merged.items()}
     pressures = sorted({s3 for r in ratios.values() for s3 in r})
     replaced = sorted(r.name for cs in retests.values() for r in cs if r.name not in orphans)
-    text += (f"\nη at yield with the retests ({', '.join(replaced) or 'none'}) in place of their campaigns: mean ± "
-             "sample standard deviation over seeds (n), and the pairwise criterion of the strength section.\n\n")
+    text += (f"\nη at yield with the retested tests ({', '.join(replaced) or 'none'}) in place of the study's at the "
+             "same σ₃: mean ± sample standard deviation over seeds (n), and the pairwise criterion of the strength "
+             "section.\n\n")
     rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
                                   for s3 in pressures] for p, r in ratios.items()]
     text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
