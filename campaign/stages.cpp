@@ -558,6 +558,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
                 o["yield"] = nullptr;
                 o["residual_stress_ratio"] = nullptr;
             }
+            o["consolidation"] = api::to_string(spec.triaxial.consolidation);
             o["hold_time_s"] = t.hold_time_s;
             o["consolidated_sigma1_pa"] = finite_or_null(t.consolidated_sigma1_pa);
             if (const auto start = eng::loading_start(t.series)) {

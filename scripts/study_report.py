@@ -832,9 +832,12 @@ def unconsolidated_pressures(summary):
     return found
 
 
-def consolidation_of(c):
-    """The campaign's triaxial.consolidation (from its result.h5's job; the job spec's default when the
-    job predates the field); None when its result.h5 is not at hand."""
+def consolidation_of(c, test):
+    """How the test was consolidated: its summary's `consolidation`, else the campaign job's
+    triaxial.consolidation (the job spec's default when the job predates the field); None when
+    neither is at hand."""
+    if test.get("consolidation"):
+        return test["consolidation"]
     if c.job is None:
         return None
     return (c.job.get("triaxial") or {}).get("consolidation", "cell_pressure")
@@ -881,7 +884,7 @@ def retest_tables(by_pattern, retests):
                     start = test.get("loading_start") or {}
                     y = test.get("yield") or {}
                     rows.append([c.name if c is o else "↳ retest", f"{s3 / 1e3:g}",
-                                 (consolidation_of(c) or "—").replace("_", " "),
+                                 (consolidation_of(c, test) or "—").replace("_", " "),
                                  fmt(test.get("hold_time_s"), ".3f"),
                                  "**yes**" if s3 in unconsolidated_pressures(c.summary) else "no",
                                  fmt(start.get("stress_ratio"), "+.3f"),

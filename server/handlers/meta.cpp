@@ -267,7 +267,7 @@ constexpr const char* openapi_text = R"json({
       "SummaryTest": {"type": "object",
         "description": "One triaxial test. peak_*, sigma1_pa, sigma3_effective_pa: the state at the largest raw sample of q = sigma1 - sigma3_eff during loading (definitions.max_q); yield: the state at the maximum of the smoothed stress ratio (definitions.yield).",
         "required": ["confining_pressure_pa", "plate_speed_m_per_s", "peak_deviatoric_stress_pa", "peak_axial_strain", "sigma1_pa", "sigma3_effective_pa",
-          "max_q_shape", "yield", "residual_stress_ratio", "hold_time_s", "consolidated_sigma1_pa", "loading_start", "quasi_static",
+          "max_q_shape", "yield", "residual_stress_ratio", "consolidation", "hold_time_s", "consolidated_sigma1_pa", "loading_start", "quasi_static",
           "max_inertial_number", "mean_kinetic_to_elastic", "max_kinetic_to_elastic", "steps", "wall_time_s", "threads"],
         "properties": {
           "confining_pressure_pa": {"type": "number", "description": "sigma3 applied (triaxial.confining_pressures_pa) [Pa]"},
@@ -289,6 +289,7 @@ constexpr const char* openapi_text = R"json({
               "sigma3_effective_pa": {"type": "number", "nullable": true, "description": "smoothed sigma3_eff there [Pa]"},
               "deviatoric_stress_pa": {"type": "number", "nullable": true, "description": "sigma1_pa - sigma3_effective_pa [Pa]"}}},
           "residual_stress_ratio": {"type": "number", "nullable": true, "description": "mean raw stress ratio over the last definitions.end_window_strain of axial strain [1]; null when the curves cannot be read"},
+          "consolidation": {"type": "string", "enum": ["cell_pressure", "effective"], "description": "what sigma1 was brought to while sigma3 was held (triaxial.consolidation): sigma3 (cell_pressure) or sigma3_eff (effective)"},
           "hold_time_s": {"type": "number", "description": "how long sigma3 was held before loading: triaxial.hold_time_s, or longer until the column had consolidated [s]"},
           "consolidated_sigma1_pa": {"type": "number", "nullable": true, "description": "sigma1 averaged over the last consolidation window before loading [Pa]"},
           "loading_start": {"type": "object", "nullable": true,

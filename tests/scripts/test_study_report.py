@@ -238,6 +238,12 @@ class StudyReport(unittest.TestCase):
         with open(os.path.join(d, "summary.json"), "w") as f:
             json.dump(again, f)
         write_h5(os.path.join(d, "result.h5"), "helix", {"consolidation": "effective"})
+        # A gathered retest summary (no result.h5) says how its tests were consolidated itself.
+        gathered = summary("radial_helix", 1, 26.0, 2e3)
+        for t in gathered["tests"]:
+            t["consolidation"] = "effective"
+        with open(os.path.join(retests, "radial_helix-seed1.json"), "w") as f:
+            json.dump(gathered, f)
         with open(os.path.join(retests, "none-seed7.json"), "w") as f:
             json.dump(summary("none", 7, 20.0, 0.0), f)
         out = os.path.join(self.tmp.name, "out-retests")
@@ -256,12 +262,16 @@ class StudyReport(unittest.TestCase):
                       tables)
         self.assertIn(f"| ↳ retest | 20 | effective | — | no | -0.010 | 0.04 | {eta[31.0]:.3f} (plateau) |", tables)
         self.assertIn("Retests without a study campaign of their name (not compared): none-seed7.", tables)
-        self.assertNotIn("| ↳ retest | 40 |", tables)
+        self.assertRegex(tables, r"\| radial_helix-seed1 \| 20 \| — \| — \| no \|")  # no result.h5, no key
+        self.assertRegex(tables, r"\| ↳ retest \| 20 \| effective \| — \| no \| — \| — \| 0\.4")
+        self.assertRegex(tables, r"\| ↳ retest \| 40 \| effective \|")
+        self.assertEqual(tables.count("| ↳ retest | 40 |"), 1)  # helix-seed1's retest has no 40 kPa test
         # The helix's η at 20 kPa with seed 1's retest in place of its test: seeds (31°, 1 kPa) and
         # (34°, 3 kPa); at 40 kPa, not retested, the study's (30°, 1 kPa) and (34°, 3 kPa).
         mean = (eta[31.0] + eta[34.0]) / 2
         sd = abs(eta[31.0] - eta[34.0]) / math.sqrt(2)
         self.assertIn(f"| helix | {mean:.3f} ± {sd:.3f} (2) | 0.548 ± 0.053 (2) |", tables)
+        self.assertIn("η at yield with the retested tests (helix-seed1, radial_helix-seed1)", tables)
         self.assertEqual(report.unconsolidated_pressures({"warnings": [NOT_CONSOLIDATED_20KPA]}), {20e3})
         self.assertEqual(report.unconsolidated_pressures(
             {"warnings": ["test 2/2 at sigma3 = 40000 Pa: some other warning"]}), set())

@@ -128,6 +128,7 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
         for (const json::value* shape : {&y.at("shape"), &t.at("max_q_shape")})
             EXPECT_TRUE(*shape == "peak" || *shape == "plateau" || *shape == "rising") << json::serialize(*shape);
         EXPECT_GT(t.at("hold_time_s").to_number<double>(), 0.0);
+        EXPECT_EQ(t.at("consolidation"), "cell_pressure"); // tiny.json leaves triaxial.consolidation at its default
     }
     for (const char* fit : {"mohr_coulomb", "mohr_coulomb_max_q"}) {
         for (const char* k : {"friction_angle_deg", "cohesion_pa", "r_squared", "paper_top_line_angle_deg", "states"})
