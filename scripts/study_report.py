@@ -707,6 +707,13 @@ def verdict_cell(verdict):
     return {True: "**yes**", False: "no", None: "not judged"}[verdict]
 
 
+def ratio_table(ratios, pressures):
+    """A per-pressure mean η per pattern ({pattern: {σ₃: (mean, sd, n)}}) as a table, n in brackets."""
+    rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
+                                  for s3 in pressures] for p, r in ratios.items()]
+    return table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+
+
 def ratio_differences_table(ratios, pressures):
     """Every pair of patterns' difference of a per-pressure mean η ({pattern: {σ₃: (mean, sd, n)}}), judged."""
     rows = []
@@ -810,9 +817,7 @@ def loading_start_tables(by_pattern):
     pressures = sorted({s3 for r in ratios.values() for s3 in r})
     text += ("\nη at yield without the tests that flowed in extension (tests not recorded are kept): mean ± "
              "sample standard deviation over seeds (n), and the pairwise criterion of the strength section.\n\n")
-    rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
-                                  for s3 in pressures] for p, r in ratios.items()]
-    text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    text += ratio_table(ratios, pressures)
     text += "\n" + ratio_differences_table(ratios, pressures)
     return text
 
@@ -912,9 +917,7 @@ def retest_tables(by_pattern, retests):
     text += (f"\nη at yield with the retested tests ({', '.join(replaced) or 'none'}) in place of the study's at the "
              "same σ₃: mean ± sample standard deviation over seeds (n), and the pairwise criterion of the strength "
              "section.\n\n")
-    rows = [[PATTERN_LABEL[p]] + [fmt_mean(r.get(s3, (None, None, 0)), ".3f") + f" ({r.get(s3, (None, None, 0))[2]})"
-                                  for s3 in pressures] for p, r in ratios.items()]
-    text += table(["pattern"] + [f"η at σ₃ = {s3 / 1e3:g} kPa" for s3 in pressures], rows)
+    text += ratio_table(ratios, pressures)
     text += "\n" + ratio_differences_table(ratios, pressures)
     return text
 
