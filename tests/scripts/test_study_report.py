@@ -276,6 +276,12 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(report.unconsolidated_pressures(
             {"warnings": ["test 2/2 at sigma3 = 40000 Pa: some other warning"]}), set())
         self.assertEqual(report.unconsolidated_pressures({}), set())
+        # And on warnings the engine wrote: the study's radial helix seed 2 (docs/study/), whose 20 and
+        # 40 kPa tests ran out the hold off σ₃, and its retest of them, which did not.
+        with open(os.path.join(ROOT, "docs", "study", "radial_helix-seed2.json")) as f:
+            self.assertEqual(report.unconsolidated_pressures(json.load(f)), {20e3, 40e3})
+        with open(os.path.join(ROOT, "docs", "study", "retests", "radial_helix-seed2.json")) as f:
+            self.assertEqual(report.unconsolidated_pressures(json.load(f)), set())
         # A missing retest folder is an error, not an empty section.
         proc = subprocess.run([sys.executable, SCRIPT, self.runs, "--retests", os.path.join(retests, "nope"),
                                "--out", out], capture_output=True, text=True)
