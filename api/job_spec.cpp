@@ -755,7 +755,7 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s,
         {"s", "the hold goes on past hold_time_s until the column has consolidated (σ_1 averaged over 5 ms within 5 % of its target, the top plate slower than the loading speed), at most this long; a warning says when that was not enough"});
     r.choice("consolidation", consolidations, t.consolidation,
-        {nullptr, "what the top plate brings σ_1 to while σ_3 ramps and holds: cell_pressure, σ_1 = σ_3 (the cell pressure on the cap); effective, σ_1 = σ_3,eff, the lateral stress the column feels (membrane included), so loading starts from η ≈ 0 (docs/model.md, \"Consolidation\")"});
+        {nullptr, "what the top plate brings σ_1 to while σ_3 ramps and holds: cell_pressure, σ_1 = σ_3 (the cell pressure on the cap); effective, σ_1 = σ_3,eff, the lateral stress the column feels (membrane included), so loading starts from η ≈ 0 and the column is not driven into extension (docs/model.md, \"Consolidation\"; the study of docs/study.md ran with cell_pressure)"});
     r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s,
         {"s", "time between samples of the test record"});
     // The default snapshots follow the target; a given list is checked
@@ -1225,6 +1225,19 @@ engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(std::string_view
     auto doc = parse_json_text(text);
     if (!doc) return engine::Err{std::vector<FieldError>{{"", doc.error()}}};
     return parse_job_spec(doc.value());
+}
+
+engine::Result<JobSpec, std::vector<FieldError>> parse_written_job_spec(std::string_view text)
+{
+    auto doc = parse_json_text(text);
+    if (!doc) return engine::Err{std::vector<FieldError>{{"", doc.error()}}};
+    auto spec = parse_job_spec(doc.value());
+    if (!spec.ok()) return spec;
+    const json::object* triaxial = nullptr;
+    if (const json::object* root = doc.value().if_object())
+        if (const json::value* t = root->if_contains("triaxial")) triaxial = t->if_object();
+    if (triaxial && !triaxial->contains("consolidation")) spec.value().triaxial.consolidation = Consolidation::cell_pressure;
+    return spec;
 }
 
 engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const char* text)

@@ -50,8 +50,8 @@ enum class MembraneEdges : std::uint8_t {
 /// What the top plate consolidates the column to before loading. JSON:
 /// "cell_pressure", "effective". See engine/triaxial/triaxial.hpp.
 enum class Consolidation : std::uint8_t {
-    cell_pressure, ///< σ₁ = σ₃, the cell pressure on the cap (default)
-    effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels
+    cell_pressure, ///< σ₁ = σ₃, the cell pressure on the cap
+    effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels (default)
 };
 
 /// Elastic properties of the grains (the model spec §2).
@@ -196,7 +196,7 @@ struct TriaxialSpec {
     /// The hold goes on past hold_time_s until the column has consolidated,
     /// at most this long [s], [hold_time_s, 1e3]; nullopt: 4 × hold_time_s.
     std::optional<double> max_hold_time_s;
-    Consolidation consolidation = Consolidation::cell_pressure; ///< what σ₁ is brought to while σ₃ holds
+    Consolidation consolidation = Consolidation::effective; ///< what σ₁ is brought to while σ₃ holds
     double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
     /// Axial strains at which the wire profile and force network are saved:
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
@@ -263,6 +263,13 @@ struct FieldError {
 /// FieldError with path "" and the parser's message with line and column.
 /// Numbers are read correctly rounded, so the text round trip is exact too.
 [[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(std::string_view text);
+
+/// Parses a job as wiredem itself wrote it (to_json: every field present):
+/// a job directory's job.json, a job the server stored. A field missing there
+/// was written before the field existed, and is read as wiredem ran then:
+/// triaxial.consolidation as cell_pressure (the default until 2026-12-03,
+/// effective since). A job from a user keeps parse_job_spec's defaults.
+[[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_written_job_spec(std::string_view text);
 
 /// Overload for string literals (a `const char*` converts to both
 /// string_view and boost::json::value): parses it as JSON text.

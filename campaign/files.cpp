@@ -246,6 +246,10 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
     }
     g.write_double_attribute("hold_time_s", r.hold_time_s);
     g.write_double_attribute("consolidated_sigma1_pa", r.consolidated_sigma1_pa);
+    if (r.consolidation) {
+        g.write_string_attribute("consolidation", eng::to_string(*r.consolidation));
+        g.write_double_attribute("consolidation_target_pa", r.consolidation_target_pa);
+    }
     g.write_double_attribute("initial_height_m", r.initial_height_m);
     g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
     g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
@@ -292,6 +296,12 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots
     }
     r.hold_time_s = g.read_double_attribute("hold_time_s");
     r.consolidated_sigma1_pa = g.read_double_attribute("consolidated_sigma1_pa");
+    if (g.has_attribute("consolidation")) { // absent in a file written before it was recorded
+        const std::string c = g.read_string_attribute("consolidation");
+        r.consolidation = eng::consolidation_from_string(c);
+        if (!r.consolidation) throw std::runtime_error(g.path() + ": consolidation \"" + c + "\" is not cell_pressure or effective");
+        r.consolidation_target_pa = g.read_double_attribute("consolidation_target_pa");
+    }
     r.initial_height_m = g.read_double_attribute("initial_height_m");
     r.initial_volume_m3 = g.read_double_attribute("initial_volume_m3");
     r.verdict.quasi_static = g.read_int_attribute("quasi_static") != 0;

@@ -143,7 +143,9 @@ eng::Result<api::JobSpec, std::string> read_job(const JobDir& dir)
     std::ifstream in(dir.job(), std::ios::binary);
     if (!in) return eng::Err(dir.job().string() + ": cannot read (not a job directory?)");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    auto spec = api::parse_job_spec(std::string_view(text));
+    // Written by wiredem (job_text), perhaps an older one: its missing
+    // fields are read as it ran.
+    auto spec = api::parse_written_job_spec(std::string_view(text));
     if (!spec.ok()) {
         std::string msg = dir.job().string() + ": not a valid job:";
         for (const auto& e : spec.error()) {
@@ -226,8 +228,13 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     if (std::filesystem::exists(dir.job(), ec)) {
         std::ifstream in(dir.job(), std::ios::binary);
         const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (old != text)
-            return dir.root.string() + " holds another job (its job.json differs from this one); use another directory";
+        // The same text, or the same job written by an older wiredem (a
+        // field it did not have yet, read as it ran: read_job).
+        if (old != text) {
+            const auto held = read_job(dir);
+            if (!held.ok() || !(held.value() == spec))
+                return dir.root.string() + " holds another job (its job.json differs from this one); use another directory";
+        }
         if (std::filesystem::exists(dir.specimen(), ec)) { // prepared already (a checkpoint left by a kill just after: stale)
             std::filesystem::remove(dir.specimen_checkpoint(), ec);
             return std::nullopt;
@@ -379,6 +386,9 @@ json::object definitions_json()
                          "(5 ms), their stress ratio, and the axial and radial strains of the ramp and hold (> 0 shortened, "
                          "narrowed); rebound_axial_strain: how much it lengthened after its shortest (extension flow under "
                          "sigma3_eff > sigma1)";
+    d["consolidated"] = "tests[].consolidated: consolidated_sigma1_pa within max_consolidation_mismatch of "
+                        "consolidation_target_pa (sigma3, or sigma3_eff for triaxial.consolidation = effective)";
+    d["max_consolidation_mismatch"] = eng::max_consolidation_mismatch;
     d["smoothing_strain"] = tol.smoothing_strain;
     d["shape_tolerance"] = tol.shape_tolerance;
     d["end_window_strain"] = tol.end_window_strain;
@@ -558,9 +568,17 @@ StageError analyse(const JobDir& dir, const StageControl& control)
                 o["yield"] = nullptr;
                 o["residual_stress_ratio"] = nullptr;
             }
-            o["consolidation"] = api::to_string(spec.triaxial.consolidation);
+            // What the test itself recorded; a test file written before it
+            // was recorded has the job's setting and no verdict.
+            o["consolidation"] = t.consolidation ? eng::to_string(*t.consolidation)
+                                                 : api::to_string(spec.triaxial.consolidation);
             o["hold_time_s"] = t.hold_time_s;
             o["consolidated_sigma1_pa"] = finite_or_null(t.consolidated_sigma1_pa);
+            o["consolidation_target_pa"] = finite_or_null(t.consolidation_target_pa);
+            if (t.consolidation)
+                o["consolidated"] = eng::within_consolidation_mismatch(t.consolidated_sigma1_pa, t.consolidation_target_pa);
+            else
+                o["consolidated"] = nullptr;
             if (const auto start = eng::loading_start(t.series)) {
                 json::object so;
                 so["sigma1_pa"] = finite_or_null(start->sigma1_pa);

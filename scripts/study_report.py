@@ -828,7 +828,12 @@ NOT_CONSOLIDATED = re.compile(r"^test \d+/\d+ at sigma3 = ([0-9.eE+-]+) Pa: .*ha
 
 
 def unconsolidated_pressures(summary):
-    """The σ₃ [Pa] of the tests that the campaign warned had not consolidated when loading started."""
+    """The σ₃ [Pa] of the tests that had not consolidated when loading started: their
+    `consolidated` verdict, or, in a summary written before tests recorded it, the campaign's
+    warning."""
+    tests = summary.get("tests") or []
+    if any(isinstance(t.get("consolidated"), bool) for t in tests):
+        return {float(t["confining_pressure_pa"]) for t in tests if t.get("consolidated") is False}
     found = set()
     for w in summary.get("warnings") or []:
         m = NOT_CONSOLIDATED.match(w)
@@ -839,8 +844,8 @@ def unconsolidated_pressures(summary):
 
 def consolidation_of(c, test):
     """How the test was consolidated: its summary's `consolidation`, else the campaign job's
-    triaxial.consolidation (the job spec's default when the job predates the field); None when
-    neither is at hand."""
+    triaxial.consolidation; a job.json wiredem wrote before the field existed ran with
+    cell_pressure (as api::parse_written_job_spec reads it). None when neither is at hand."""
     if test.get("consolidation"):
         return test["consolidation"]
     if c.job is None:

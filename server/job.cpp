@@ -5,6 +5,8 @@
 #include <chrono>
 #include <ctime>
 #include <random>
+#include <stdexcept>
+#include <utility>
 
 namespace wiredem::server {
 
@@ -70,6 +72,16 @@ std::string format_rfc3339(std::int64_t unix_ms)
     out += static_cast<char>('0' + ms % 10);
     out += 'Z';
     return out;
+}
+
+api::JobSpec stored_spec(const std::string& spec_json)
+{
+    auto spec = api::parse_written_job_spec(spec_json);
+    if (!spec.ok()) {
+        const api::FieldError& e = spec.error().front();
+        throw std::runtime_error("the stored spec does not parse: " + (e.path.empty() ? e.message : e.path + ": " + e.message));
+    }
+    return std::move(spec.value());
 }
 
 } // namespace wiredem::server

@@ -8,6 +8,8 @@
 //   succeeded | failed | cancelled → (removed)        (DELETE /v1/jobs/{id}, --max-finished-jobs)
 #pragma once
 
+#include "api/job_spec.hpp"
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -55,6 +57,13 @@ struct JobRecord {
     std::string idempotency_key;           ///< empty when the client sent none
     std::optional<double> body_steps_per_second; ///< from the summary, once succeeded
 };
+
+/// The spec a job was accepted with: spec_json (api::to_json when accepted,
+/// perhaps by an older wiredem), read as wiredem wrote it
+/// (api::parse_written_job_spec: a field it did not have yet is read as it
+/// ran then). Throws std::runtime_error when it does not parse: the store
+/// holds only specs it validated.
+[[nodiscard]] api::JobSpec stored_spec(const std::string& spec_json);
 
 /// A parameter study (api/study.hpp): its document and its jobs, one per point.
 struct StudyRecord {

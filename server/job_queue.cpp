@@ -210,8 +210,11 @@ bool JobQueue::begin_attempt(const JobRecord& job)
     // tests and checkpoints (campaign/stages.hpp), with the same job.json.
     // No symlink planted in the data directory redirects these writes
     // (job_files.hpp); both executors start from them.
+    // The runner gets the spec complete as today's wiredem writes it, so a
+    // job accepted by an older server runs as it would have run then.
+    const std::string spec_text = json::serialize(api::to_json(stored_spec(job.spec_json))) + "\n";
     make_work_dir(config_.data_dir, job.id);
-    write_job_file(config_.data_dir, job.id, "work/job.json", job.spec_json + "\n");
+    write_job_file(config_.data_dir, job.id, "work/job.json", spec_text);
     // Register first, then look at the store: a DELETE that came between the
     // claim and here is seen either in the store or as cancel_requested.
     {

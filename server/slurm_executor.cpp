@@ -136,12 +136,9 @@ void JobQueue::run_slurm_job(const JobRecord& job)
 {
     const fs::path job_dir = fs::absolute(config_.data_dir / "jobs" / job.id);
     const SlurmFiles files{job_dir / "work"};
-    auto spec = api::parse_job_spec(std::string_view(job.spec_json));
-    if (!spec.ok())
-        throw std::runtime_error("the stored spec does not parse: " + spec.error().front().path + ": "
-                                 + spec.error().front().message);
-    const std::size_t tests = spec.value().triaxial.confining_pressures_pa.size();
-    const api::ProgressShares shares = api::progress_shares(api::estimated_work(spec.value()));
+    const api::JobSpec spec = stored_spec(job.spec_json);
+    const std::size_t tests = spec.triaxial.confining_pressures_pa.size();
+    const api::ProgressShares shares = api::progress_shares(api::estimated_work(spec));
 
     if (!begin_attempt(job)) return;
     const auto leave = [&] {

@@ -168,9 +168,22 @@ std::optional<LoadingStart> loading_start(const TriaxialSeries& s)
     return l;
 }
 
+bool within_consolidation_mismatch(double sigma1_pa, double target_pa) noexcept
+{
+    return std::isfinite(sigma1_pa) && std::isfinite(target_pa)
+        && std::abs(sigma1_pa - target_pa) <= max_consolidation_mismatch * std::abs(target_pa);
+}
+
 const char* to_string(Consolidation c) noexcept
 {
     return c == Consolidation::effective ? "effective" : "cell_pressure";
+}
+
+std::optional<Consolidation> consolidation_from_string(std::string_view text) noexcept
+{
+    for (const Consolidation c : {Consolidation::cell_pressure, Consolidation::effective})
+        if (text == to_string(c)) return c;
+    return std::nullopt;
 }
 
 double longest_hold_s(const TriaxialSettings& s)
@@ -523,7 +536,9 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         }
         st.loading_start_sample = result.series.size() - 1;
         result.consolidated_sigma1_pa = st.window_sigma1_pa.value_or(result.series.sigma1_pa[st.loading_start_sample]);
-        if (const double s1 = result.consolidated_sigma1_pa; !(std::abs(s1 - target_pa) <= max_consolidation_mismatch * target_pa))
+        result.consolidation = settings.consolidation;
+        result.consolidation_target_pa = target_pa;
+        if (const double s1 = result.consolidated_sigma1_pa; !within_consolidation_mismatch(s1, target_pa))
             result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
                                       + " Pa had not consolidated when loading started: σ₁ = " + format_number(s1)
                                       + " Pa (mean over the last " + format_number(consolidation_window_s * 1e3)

@@ -35,6 +35,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace wiredem::engine {
@@ -55,8 +56,12 @@ inline constexpr double max_quasi_static_inertial_number = 1e-3;
 inline constexpr double max_quasi_static_energy_ratio = 1e-2;
 /// Consolidation check: loading should start from an isotropic state. A test
 /// warns when σ₁ (averaged over the last consolidation window) differs from
-/// σ₃ by more than this fraction when loading starts.
+/// its consolidation target by more than this fraction when loading starts.
 inline constexpr double max_consolidation_mismatch = 0.1;
+/// Whether σ₁ [Pa] had consolidated to `target_pa` (within
+/// max_consolidation_mismatch): the check behind the test's warning and its
+/// `consolidated` verdict. False when either is not finite.
+[[nodiscard]] bool within_consolidation_mismatch(double sigma1_pa, double target_pa) noexcept;
 /// The hold goes on past hold_time_s (up to max_hold_time_s) until the column
 /// has consolidated: σ₁, averaged over a window of this length, within
 /// `consolidated_mismatch` of σ₃, and the top plate slower than the loading
@@ -86,6 +91,8 @@ enum class Consolidation : std::uint8_t {
 
 /// "cell_pressure" or "effective".
 [[nodiscard]] const char* to_string(Consolidation c) noexcept;
+/// The inverse of to_string; nullopt for any other text.
+[[nodiscard]] std::optional<Consolidation> consolidation_from_string(std::string_view text) noexcept;
 
 /// Parameters of one triaxial test. All SI.
 struct TriaxialSettings {
@@ -100,7 +107,7 @@ struct TriaxialSettings {
     /// consolidated (see consolidated_mismatch), at most this long [s],
     /// ≥ hold_time_s; nullopt: default_max_hold_factor × hold_time_s.
     std::optional<double> max_hold_time_s;
-    Consolidation consolidation = Consolidation::cell_pressure; ///< what σ₁ is brought to before loading
+    Consolidation consolidation = Consolidation::effective; ///< what σ₁ is brought to before loading
     double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
     /// Axial strains at which to take snapshots; 0 (loading start) and the
     /// target are always added; values outside [0, target] are clamped.
@@ -297,6 +304,13 @@ struct TriaxialResult {
     double hold_time_s = 0.0;
     /// σ₁ averaged over the last consolidation window before loading [Pa].
     double consolidated_sigma1_pa = 0.0;
+    /// What σ₁ was brought to (the settings' consolidation) and the target as
+    /// loading started [Pa]: σ₃, or σ₃,eff over the last window. The test
+    /// consolidated when within_consolidation_mismatch(consolidated_sigma1_pa,
+    /// consolidation_target_pa). Set when loading starts; empty and NaN in a
+    /// test file written before they were recorded.
+    std::optional<Consolidation> consolidation;
+    double consolidation_target_pa = std::numeric_limits<double>::quiet_NaN();
     std::uint64_t steps = 0;
     double time_step_s = 0.0;
     double simulated_time_s = 0.0;            ///< ramp + hold + loading [s]

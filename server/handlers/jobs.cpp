@@ -74,8 +74,14 @@ json::object job_json(const JobRecord& r, const std::optional<LiveProgress>& liv
         o["slurm"] = json::object{{"prepare_job_id", slurm->prepare}, {"test_array_job_id", slurm->tests},
             {"analyse_job_id", slurm->analyse}, {"submitted_at", format_rfc3339(slurm->submitted_ms)}};
     if (with_spec) {
-        boost::system::error_code ec;
-        o["spec"] = json::parse(r.spec_json, ec);
+        // The spec the job runs with (stored_spec: complete as today's
+        // wiredem writes it); what the store holds if that does not parse.
+        try {
+            o["spec"] = api::to_json(stored_spec(r.spec_json));
+        } catch (const std::exception&) {
+            boost::system::error_code ec;
+            o["spec"] = json::parse(r.spec_json, ec);
+        }
     }
     return o;
 }

@@ -156,16 +156,6 @@ Response series(const Request& req, const io::Group& t, const std::string& name,
     return json_response(req, http::status::ok, body);
 }
 
-/// The job spec the server stored for a job (it validated it on submit).
-api::JobSpec stored_spec(const std::string& spec_json)
-{
-    const auto doc = api::parse_json_text(spec_json);
-    if (!doc) throw std::runtime_error("stored spec is not JSON: " + doc.error());
-    const auto spec = api::parse_job_spec(doc.value());
-    if (!spec) throw std::runtime_error("stored spec does not parse: " + spec.error().front().message);
-    return spec.value();
-}
-
 /// How far a running test's record reaches: its last row's time and axial strain.
 json::value reached(const engine::TriaxialSeries& s)
 {

@@ -121,7 +121,7 @@ TEST(JobSpec, DefaultsAreTheModelsParameters)
     EXPECT_FALSE(s.engine.time_step_s.has_value()); // "auto"
     EXPECT_EQ(s.engine.integrator, Integrator::gear5);
     EXPECT_EQ(s.specimen.membrane.edges, MembraneEdges::tension_only);
-    EXPECT_EQ(s.triaxial.consolidation, Consolidation::cell_pressure);
+    EXPECT_EQ(s.triaxial.consolidation, Consolidation::effective);
 }
 
 TEST(JobSpec, DefaultJobRoundTrips)
@@ -130,6 +130,39 @@ TEST(JobSpec, DefaultJobRoundTrips)
     const auto back = parse_job_spec(to_json(s));
     ASSERT_TRUE(back.ok()) << describe(back.error());
     EXPECT_EQ(back.value(), s);
+}
+
+// A job wiredem wrote itself (a job directory's job.json, a stored job) that
+// lacks triaxial.consolidation was written before the field existed, when
+// every test consolidated to the cell pressure: it is read so. A user's job
+// without it takes today's default; a written one with it keeps its value.
+TEST(JobSpec, AWrittenJobWithoutConsolidationIsReadAsItRanThen)
+{
+    json::value old = to_json(JobSpec{});
+    old.as_object()["triaxial"].as_object().erase("consolidation");
+    const std::string text = json::serialize(old);
+    const auto written = parse_written_job_spec(text);
+    ASSERT_TRUE(written.ok()) << describe(written.error());
+    EXPECT_EQ(written.value().triaxial.consolidation, Consolidation::cell_pressure);
+    const auto user = parse_job_spec(std::string_view(text));
+    ASSERT_TRUE(user.ok()) << describe(user.error());
+    EXPECT_EQ(user.value().triaxial.consolidation, Consolidation::effective);
+    // Everything else alike.
+    JobSpec as_user = user.value();
+    as_user.triaxial.consolidation = Consolidation::cell_pressure;
+    EXPECT_EQ(as_user, written.value());
+
+    for (const JobSpec& s : {JobSpec{}, everything_changed()}) {
+        const auto back = parse_written_job_spec(json::serialize(to_json(s)));
+        ASSERT_TRUE(back.ok()) << describe(back.error());
+        EXPECT_EQ(back.value(), s);
+    }
+    // Bad text is reported as parse_job_spec reports it.
+    const auto bad = parse_written_job_spec("{\"triaxial\": {\"consolidation\": \"isotropic\"}}");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().front().path, "triaxial.consolidation");
+    EXPECT_FALSE(parse_written_job_spec("{").ok());
+    EXPECT_FALSE(parse_written_job_spec("[]").ok());
 }
 
 TEST(JobSpec, EveryFieldRoundTripsThroughJsonValue)

@@ -511,14 +511,14 @@ TEST(Stages, ACampaignTakesThePreparedSpecimenOfAJobThatDiffersInItsTestsOnly)
     const fs::path dir = fresh_dir("specimen_from"), a = dir / "a", b = dir / "b", c = dir / "c";
     ASSERT_TRUE(run_wiredem({"prepare", tiny_job.string(), "-o", a.string(), "--threads", "1"}, dir / "log").ok());
     json::value job = json::parse(read_text(tiny_job));
-    job.as_object()["name"] = "the tiny job, consolidated to sigma3_eff";
-    job.as_object()["triaxial"].as_object()["consolidation"] = "effective";
+    job.as_object()["name"] = "the tiny job, consolidated to the cell pressure";
+    job.as_object()["triaxial"].as_object()["consolidation"] = "cell_pressure";
     job.as_object()["engine"].as_object()["threads"] = 3;
     {
-        std::ofstream f(dir / "effective.json");
+        std::ofstream f(dir / "cell.json");
         f << json::serialize(job);
     }
-    Outcome o = run_wiredem({"prepare", (dir / "effective.json").string(), "-o", b.string(), "--specimen-from",
+    Outcome o = run_wiredem({"prepare", (dir / "cell.json").string(), "-o", b.string(), "--specimen-from",
                                 a.string()}, dir / "log");
     ASSERT_TRUE(o.ok()) << o.err;
     EXPECT_EQ(read_text(b / "specimen.h5"), read_text(a / "specimen.h5"));
@@ -539,6 +539,45 @@ TEST(Stages, ACampaignTakesThePreparedSpecimenOfAJobThatDiffersInItsTestsOnly)
     o = run_wiredem({"prepare", tiny_job.string(), "-o", (dir / "d").string(), "--specimen-from", c.string()}, dir / "log");
     EXPECT_EQ(o.code(), 1);
     EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
+}
+
+// A job directory whose job.json lacks triaxial.consolidation was written
+// before the field existed, when every test consolidated to the cell
+// pressure (the default is `effective` since): its tests run, and its
+// summary says, as it ran then. The same job without the field (today's
+// default) is another job there; with cell_pressure it is the same job.
+TEST(Stages, AJobDirectoryWrittenBeforeConsolidationExistedRunsAsItDidThen)
+{
+    const fs::path dir = fresh_dir("old_job"), out = dir / "out";
+    json::value job = json::parse(read_text(tiny_job));
+    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    {
+        std::ofstream f(dir / "today.json");
+        f << json::serialize(job);
+    }
+    job.as_object()["triaxial"].as_object()["consolidation"] = "cell_pressure";
+    {
+        std::ofstream f(dir / "cell.json");
+        f << json::serialize(job);
+    }
+    ASSERT_TRUE(run_wiredem({"prepare", (dir / "cell.json").string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    json::value written = json::parse(read_text(out / "job.json"));
+    ASSERT_EQ(written.at("triaxial").at("consolidation"), "cell_pressure");
+    written.as_object()["triaxial"].as_object().erase("consolidation");
+    {
+        std::ofstream f(out / "job.json", std::ios::trunc);
+        f << json::serialize(written) << '\n';
+    }
+    Outcome o = run_wiredem({"run", (dir / "today.json").string(), "-o", out.string(), "--threads", "1"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("holds another job"), std::string::npos) << o.err;
+    o = run_wiredem({"run", (dir / "cell.json").string(), "-o", out.string(), "--threads", "1"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    const json::value s = json::parse(read_text(out / "summary.json"));
+    const json::value& t = s.at("tests").as_array().at(0);
+    EXPECT_EQ(t.at("consolidation"), "cell_pressure");
+    EXPECT_EQ(t.at("consolidation_target_pa").to_number<double>(), 10000.0);
+    EXPECT_TRUE(t.at("consolidated").is_bool());
 }
 
 // `wiredem study run`: every point's campaign, a failing point reported

@@ -276,6 +276,11 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(report.unconsolidated_pressures(
             {"warnings": ["test 2/2 at sigma3 = 40000 Pa: some other warning"]}), set())
         self.assertEqual(report.unconsolidated_pressures({}), set())
+        # A summary whose tests carry their verdict is read by it, not by the warnings.
+        verdicts = {"tests": [{"confining_pressure_pa": 20000, "consolidated": True},
+                              {"confining_pressure_pa": 40000, "consolidated": False}],
+                    "warnings": [NOT_CONSOLIDATED_20KPA]}
+        self.assertEqual(report.unconsolidated_pressures(verdicts), {40e3})
         # And on warnings the engine wrote: the study's radial helix seed 2 (docs/study/), whose 20 and
         # 40 kPa tests ran out the hold off σ₃, and its retest of them, which did not.
         with open(os.path.join(ROOT, "docs", "study", "radial_helix-seed2.json")) as f:

@@ -170,6 +170,32 @@ TEST(Durability, AStoreWithAForgedJobIdIsRefused)
     EXPECT_NE(log.find("'../../x' is not 24 hex digits"), std::string::npos) << log;
 }
 
+TEST(Durability, AJobStoredWithoutConsolidationRunsAsItWouldHaveThen)
+{
+    // A job accepted before triaxial.consolidation existed (its stored spec,
+    // complete then, lacks the field: made here with sqlite3) consolidated to
+    // the cell pressure; the default is `effective` since. The server reads it
+    // as it ran then (server::stored_spec, also what the runner is given).
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    ASSERT_NO_FATAL_FAILURE(make_store_with_one_job(data));
+    const std::string forge = "sqlite3 '" + (data / "jobs.sqlite3").string()
+                            + "' \"UPDATE jobs SET spec = json_remove(spec, '$.triaxial.consolidation')\"";
+    ASSERT_EQ(std::system(forge.c_str()), 0) << "needs the sqlite3 command";
+    ServerProcess server(data);
+    const auto list = http(server.port(), "GET", "/v1/jobs");
+    ASSERT_EQ(list.status, 200);
+    const std::string id(list.json().at("jobs").as_array().at(0).at("id").as_string());
+    const auto job = http(server.port(), "GET", "/v1/jobs/" + id);
+    ASSERT_EQ(job.status, 200);
+    EXPECT_EQ(job.json().at("spec").at("triaxial").at("consolidation"), "cell_pressure");
+    // A job submitted today takes today's default.
+    const auto fresh = http(server.port(), "POST", "/v1/jobs", "{}");
+    ASSERT_EQ(fresh.status, 201);
+    const auto now = http(server.port(), "GET", "/v1/jobs/" + std::string(fresh.json().at("id").as_string()));
+    EXPECT_EQ(now.json().at("spec").at("triaxial").at("consolidation"), "effective");
+}
+
 TEST(Durability, AnEmptyStoreBesideJobFoldersIsRefused)
 {
     // A 0-byte jobs.sqlite3 (or none) while job folders remain: starting an

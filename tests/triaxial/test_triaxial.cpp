@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 
 using namespace wiredem::engine;
@@ -326,6 +327,7 @@ TEST(TriaxialTest, TopPlateFollowsTheConfiningPressureDuringConsolidation)
     TriaxialSettings set = fast_settings(10e3);
     set.target_axial_strain = 1e-3;
     set.hold_time_s = 20e-3;
+    set.consolidation = Consolidation::cell_pressure; // the membrane never touches the stack: σ₃,eff = 0
     const auto r_or = run_triaxial(sim, top, set);
     ASSERT_TRUE(r_or.ok()) << r_or.error();
     const TriaxialSeries& s = r_or.value().series;
@@ -356,6 +358,7 @@ TEST(TriaxialTest, TheHoldGoesOnUntilTheColumnHasConsolidated)
         set.target_axial_strain = 1e-3;
         set.hold_time_s = 0.5e-3;
         set.max_hold_time_s = max_hold_s;
+        set.consolidation = Consolidation::cell_pressure; // as above
         auto r = run_triaxial(sim, top, set);
         EXPECT_TRUE(r.ok()) << r.error();
         return r.ok() ? r.value() : TriaxialResult{};
@@ -379,8 +382,10 @@ TEST(TriaxialTest, TheHoldGoesOnUntilTheColumnHasConsolidated)
 // run carries humps of q = 90–140 kPa for ~1 % of strain before the lattice
 // gives way, while the 40 kPa run, whose order the pressure ramp has already
 // broken, rises steadily to ~40 kPa (measured at 5, 15 and 25 %
-// polydispersity). Campaign.TinyJobWritesASaneSummaryAndResultFile asks it of
-// a poured specimen: φ > 0 across two pressures.
+// polydispersity). Nor is it asked of examples/tiny.json
+// (Campaign.TinyJobWritesASaneSummaryAndResultFile), whose maxima are the
+// plate's impact: strength against σ₃ is measured by quasi-static campaigns
+// at full size (docs/study.md), not in CI.
 TEST(TriaxialTest, PeakDeviatoricStressComesAfterTheStart)
 {
     const TriaxialResult& low = lattice_result(10e3);
@@ -503,6 +508,10 @@ TEST(TriaxialTest, EffectiveConsolidationStartsLoadingFromAnIsotropicState)
     EXPECT_FALSE(warned_not_consolidated(cell));
     EXPECT_NEAR(cell.consolidated_sigma1_pa / 10e3, 1.0, max_consolidation_mismatch);
     EXPECT_LT(cell_start->stress_ratio, -0.1);
+    // The result says what it was consolidated to, and that it was.
+    EXPECT_EQ(cell.consolidation, Consolidation::cell_pressure);
+    EXPECT_EQ(cell.consolidation_target_pa, 10e3);
+    EXPECT_TRUE(within_consolidation_mismatch(cell.consolidated_sigma1_pa, cell.consolidation_target_pa));
     // Measured: σ₁ 13.5 kPa against σ₃,eff 14.5 kPa, η −0.035. σ₁ within
     // the mismatch m of σ₃,eff bounds |η| by m/(2 − m).
     const TriaxialResult effective = run(Consolidation::effective);
@@ -511,6 +520,27 @@ TEST(TriaxialTest, EffectiveConsolidationStartsLoadingFromAnIsotropicState)
     EXPECT_FALSE(warned_not_consolidated(effective));
     EXPECT_NEAR(effective.consolidated_sigma1_pa / effective_start->sigma3_effective_pa, 1.0, max_consolidation_mismatch);
     EXPECT_LE(std::abs(effective_start->stress_ratio), max_consolidation_mismatch / (2.0 - max_consolidation_mismatch));
+    // Its target is σ₃,eff over the last window, the mean loading_start reads.
+    EXPECT_EQ(effective.consolidation, Consolidation::effective);
+    EXPECT_EQ(effective.consolidation_target_pa, effective_start->sigma3_effective_pa);
+    EXPECT_TRUE(within_consolidation_mismatch(effective.consolidated_sigma1_pa, effective.consolidation_target_pa));
+    // The default: a column loaded from an isotropic state.
+    EXPECT_EQ(TriaxialSettings{}.consolidation, Consolidation::effective);
+}
+
+TEST(TriaxialTest, WithinConsolidationMismatchIsTheTenPerCentBandAroundTheTarget)
+{
+    EXPECT_TRUE(within_consolidation_mismatch(10e3, 10e3));
+    EXPECT_TRUE(within_consolidation_mismatch(10.9e3, 10e3));
+    EXPECT_TRUE(within_consolidation_mismatch(9.1e3, 10e3));
+    EXPECT_FALSE(within_consolidation_mismatch(11.1e3, 10e3));
+    EXPECT_FALSE(within_consolidation_mismatch(8.9e3, 10e3));
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(within_consolidation_mismatch(nan, 10e3));
+    EXPECT_FALSE(within_consolidation_mismatch(10e3, nan));
+    EXPECT_FALSE(within_consolidation_mismatch(10e3, inf));
+    EXPECT_FALSE(within_consolidation_mismatch(inf, inf));
 }
 
 TEST(LoadingStart, ReadsTheStateAndTheHoldsExtensionFlowOffTheRows)
