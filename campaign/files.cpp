@@ -416,6 +416,8 @@ void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
     g.write_int_attribute("last_sample_step", static_cast<std::int64_t>(s.last_sample_step));
     g.write_int_attribute("next_snapshot", static_cast<std::int64_t>(s.next_snapshot));
     g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(s.loading_start_sample));
+    g.write_int_attribute("loading_start_step", static_cast<std::int64_t>(s.loading_start_step));
+    g.write_double_attribute("progress_at_loading", s.progress_at_loading);
     g.write_double_attribute("window_force_n", s.window_force_n);
     g.write_int_attribute("window_filled", static_cast<std::int64_t>(s.window_filled));
     g.write_int_attribute("has_window_sigma1", s.window_sigma1_pa ? 1 : 0);
@@ -437,6 +439,12 @@ eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapsho
     s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
     s.next_snapshot = read_index(g, "next_snapshot");
     s.loading_start_sample = read_index(g, "loading_start_sample");
+    if (g.has_attribute("loading_start_step")) { // absent in a checkpoint written before them: steps as they are
+        s.loading_start_step = read_index(g, "loading_start_step");
+        s.progress_at_loading = g.read_double_attribute("progress_at_loading");
+        if (!(s.progress_at_loading >= 0.0 && s.progress_at_loading <= 1.0))
+            throw std::runtime_error(g.path() + ": progress_at_loading out of [0, 1]");
+    }
     s.window_force_n = g.read_double_attribute("window_force_n");
     s.window_filled = read_index(g, "window_filled");
     if (g.read_int_attribute("has_window_sigma1") != 0) s.window_sigma1_pa = g.read_double_attribute("window_sigma1_pa");

@@ -311,7 +311,10 @@ void for_each_field(W& w, Visit&& field)
     }
     auto& rot = w.grain_rotation;
     // The datasets keep the name the member had until 2026-12-02 (w), so that older snapshots restore.
-    for (int d = 0; d < gear_order; ++d) field("grain_rotation/w" + std::to_string(d), rot.theta[d], R::state);
+    // (A std::string on the left of +: GCC 12 warns -Warray-bounds, wrongly,
+    // on a literal + std::string&& inlined here.)
+    const std::string rotation_at = "grain_rotation/w";
+    for (int d = 0; d < gear_order; ++d) field(rotation_at + std::to_string(d), rot.theta[d], R::state);
     field("grain_rotation/orientation", rot.orientation, R::state);
     field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
     field("grain_rotation/torque_n_m", w.grain_torque_n_m, R::output);

@@ -186,6 +186,16 @@ std::optional<Consolidation> consolidation_from_string(std::string_view text) no
     return std::nullopt;
 }
 
+std::pair<std::uint64_t, std::uint64_t> triaxial_progress(const TriaxialDriverState& st) noexcept
+{
+    const std::uint64_t total = std::max(st.expected_steps, st.steps);
+    if (!st.loading || !(st.progress_at_loading > 0.0) || total <= st.loading_start_step) return {st.steps, total};
+    const double along = static_cast<double>(st.steps - st.loading_start_step)
+                       / static_cast<double>(total - st.loading_start_step);
+    const double f = st.progress_at_loading + (1.0 - st.progress_at_loading) * std::min(1.0, along);
+    return {std::min(total, static_cast<std::uint64_t>(f * static_cast<double>(total))), total};
+}
+
 double longest_hold_s(const TriaxialSettings& s)
 {
     return s.max_hold_time_s.value_or(default_max_hold_factor * s.hold_time_s);
@@ -480,8 +490,10 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         if (report.blew_up)
             return "the simulation blew up after " + std::to_string(st.steps)
                  + " steps of the triaxial test (time step too large for the loading?)";
-        if (control.progress && control.progress_every > 0 && st.steps % control.progress_every == 0)
-            control.progress(st.steps, std::max(st.expected_steps, st.steps));
+        if (control.progress && control.progress_every > 0 && st.steps % control.progress_every == 0) {
+            const auto [done, total] = triaxial_progress(st);
+            control.progress(done, total);
+        }
         if ((st.steps - 1) % sample_every == 0) {
             sample();
             st.column_radius_m = result.series.column_radius_m.back();
@@ -523,9 +535,16 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         result.initial_height_m = st.reference_height_m;
         st.loading = true;
         // The hold's length is known now: the steps left are the loading's
-        // (progress jumps forward when the column consolidated early).
+        // (progress jumps forward when the column consolidated early; when
+        // the column is taller than it was at the start, the loading is
+        // longer than first estimated, and progress goes on from where it
+        // was instead of falling back: triaxial_progress).
+        const std::uint64_t estimate_before = st.expected_steps;
         st.expected_steps
             = st.steps + static_cast<std::uint64_t>(std::ceil(loading_time_s(settings, st.reference_height_m) / dt));
+        st.loading_start_step = st.steps;
+        const std::uint64_t shorter = std::min(estimate_before, st.expected_steps);
+        st.progress_at_loading = shorter > 0 ? std::min(1.0, static_cast<double>(st.steps) / static_cast<double>(shorter)) : 0.0;
         if (st.last_sample_step == st.steps) { // the grid sample of this step belongs to the loading
             result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
             result.series.axial_strain.back() = 0.0;

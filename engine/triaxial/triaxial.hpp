@@ -36,6 +36,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace wiredem::engine {
@@ -330,6 +331,10 @@ struct TriaxialDriverState {
     std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
     std::size_t next_snapshot = 0;        ///< next entry of the snapshot plan
     std::size_t loading_start_sample = 0; ///< row where loading started (valid when loading)
+    std::uint64_t loading_start_step = 0; ///< steps when loading started (valid when loading)
+    /// The fraction of the test progress reported as loading started
+    /// (triaxial_progress); 0: report steps against expected_steps as they are.
+    double progress_at_loading = 0.0;
     /// Consolidation window: the plate force summed over its steps so far, …
     double window_force_n = 0.0;
     std::uint64_t window_filled = 0;      ///< … how many steps that is, …
@@ -342,6 +347,14 @@ struct TriaxialDriverState {
     /// consolidated σ₁ and warnings once loading has started.
     TriaxialResult result;
 };
+
+/// The progress of a test as (done, total): steps against expected_steps,
+/// except during the loading when the loading turned out longer than the
+/// estimate before it (a column taller than at the start): the fraction then
+/// goes on from where it was as loading started (progress_at_loading) and
+/// reaches 1 at the estimated end. Never decreases from one step to the next,
+/// and is below 1 until the estimated end.
+[[nodiscard]] std::pair<std::uint64_t, std::uint64_t> triaxial_progress(const TriaxialDriverState& st) noexcept;
 
 /// Takes one row of measurements of `w` as it is after its last step (the
 /// contact and wall forces of that step). time_s, phase, confining_pressure_pa

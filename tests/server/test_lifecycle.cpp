@@ -244,7 +244,10 @@ TEST(Lifecycle, SubmitWithWaitAndIdempotencyKeyReplaysTheFirstJob)
 TEST(Lifecycle, FullQueueAnswers429WithRetryAfter)
 {
     TempDir tmp;
-    ServerProcess server(tmp.path() / "data", {"--jobs", "1", "--max-queued", "2", "--retry-after", "7"}, 0.2);
+    // Slow fake steps (1 s): the queue must still be full when the client
+    // submits, which on a loaded machine came after the first job had ended
+    // at 0.2 s per step.
+    ServerProcess server(tmp.path() / "data", {"--jobs", "1", "--max-queued", "2", "--retry-after", "7"}, 1.0);
     const std::string body = R"({"name": "slow-fill"})";
     int accepted = 0;
     RawReply last;
