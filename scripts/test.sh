@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, lints the container files, builds and runs the
 # test suite: every file through clang's front end with -Werror
-# (scripts/clang_check.sh); every test in Release (the Slurm executor's among them, on a
-# single-node cluster the test starts: label slurm); then under
+# (scripts/clang_check.sh); every test in Release (the Slurm executor's
+# among them, on a single-node cluster the test starts: label slurm) but the
+# study-scale run (label study_scale: tests/CMakeLists.txt says how to run
+# it); then under
 # AddressSanitizer + UndefinedBehaviorSanitizer every test but the report
 # script's (label scripts: Python), the Slurm cluster's (label slurm: its
 # pieces run there in the server's unit tests) and the long physical runs (label
@@ -37,10 +39,10 @@ phase "tsan"
 bash scripts/build.sh tsan wiredem_threaded_tests wiredem_server_tests wiredem_client_display_tests wiredem-server wiredem
 
 phase "tests (release)"
-ctest --test-dir build/release --output-on-failure -j "$jobs"
+ctest --test-dir build/release --output-on-failure -j "$jobs" -LE study_scale
 phase "tests (address + undefined behaviour sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|scripts|slurm"
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|study_scale|scripts|slurm"
 phase "tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
 phase "fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"

@@ -221,8 +221,8 @@ TEST(PreparationWithWireEnd, AQuarterOfTheStudysHelixColumnPreparesWithoutTheEnd
     // R = 20 mm with 2.5 m of helix, the study's wire density) its last
     // segment was stretched 4.3 times, and released, the end whipped at
     // 30 m/s and the preparation blew up (measured: at step 145 934). Paid out
-    // as the column compacts, the end is released unstrained. About a minute
-    // in Release: label physics_long.
+    // as the column compacts, the end is released unstrained. 2.5–5 minutes of
+    // both cores in Release: label study_scale, not run in CI (tests/CMakeLists.txt).
     PreparationSpec spec;
     spec.membrane_radius_m = 0.02;
     spec.membrane_height_m = 0.045;
