@@ -229,9 +229,9 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
         std::ifstream in(dir.job(), std::ios::binary);
         const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         // The same text, or the same job written by an older wiredem (a
-        // field it did not have yet, read as it ran: read_job).
+        // field it did not have yet, read as it ran).
         if (old != text) {
-            const auto held = read_job(dir);
+            const auto held = api::parse_written_job_spec(old);
             if (!held.ok() || !(held.value() == spec))
                 return dir.root.string() + " holds another job (its job.json differs from this one); use another directory";
         }
