@@ -366,10 +366,11 @@ int main(int argc, char** argv)
         ->check(CLI::ExistingFile);
     SimdKernels kernels = SimdKernels::automatic;
     app.add_option("--simd", kernels,
-           "auto: the AVX-512 paths (sticking grain pairs, grains' turn) where the CPU has them; scalar: the scalar "
-           "code only (same results)")
-        ->transform(CLI::CheckedTransformer(
-            std::map<std::string, SimdKernels>{{"auto", SimdKernels::automatic}, {"scalar", SimdKernels::scalar}}));
+           "auto: the AVX-512 paths (contacts, grains' turn, wire, membrane) where the CPU has them, else the AVX2 "
+           "contact kernels; avx2: the AVX2 contact kernels even where AVX-512 exists; scalar: the scalar code only "
+           "(all give the same results)")
+        ->transform(CLI::CheckedTransformer(std::map<std::string, SimdKernels>{
+            {"auto", SimdKernels::automatic}, {"avx2", SimdKernels::avx2}, {"scalar", SimdKernels::scalar}}));
     CLI11_PARSE(app, argc, argv);
     set_simd_kernels(kernels);
 

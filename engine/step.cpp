@@ -246,15 +246,16 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
     };
-    // Eight pairs at a time where the CPU can (same bits,
+    // Four or eight pairs at a time where the CPU can (same bits,
     // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
-    const SimdPairKernel simd = simd_pair_kernel();
+    const SimdContactKernels simd = simd_contact_kernels();
+    const std::size_t lanes = simd.lanes;
     parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
         std::size_t p = begin;
-        if (simd)
-            for (; p + simd_pair_lanes <= end; p += simd_pair_lanes) {
-                const std::uint32_t done = simd(c, p, in);
-                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+        if (simd.pair)
+            for (; p + lanes <= end; p += lanes) {
+                const std::uint32_t done = simd.pair(c, p, in);
+                for (std::size_t l = 0; l < lanes; ++l)
                     if (!(done >> l & 1u)) pair(p + l);
             }
         for (; p < end; ++p) pair(p);
@@ -268,16 +269,15 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
     };
-    const SimdWallKernel simd_wall = simd_wall_kernel();
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = pairs + begin; p < pairs + end;) {
-            // Eight contacts of one wall at a time, where the CPU can.
+            // A block of one wall's contacts at a time, where the CPU can.
             const std::uint32_t wall = c.second[p].index();
-            if (simd_wall && p + simd_pair_lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
-                const std::uint32_t done = simd_wall(c, p, w.walls[wall], in);
-                for (std::size_t l = 0; l < simd_pair_lanes; ++l)
+            if (simd.wall && p + lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
+                const std::uint32_t done = simd.wall(c, p, w.walls[wall], in);
+                for (std::size_t l = 0; l < lanes; ++l)
                     if (!(done >> l & 1u)) wall_contact(p + l);
-                p += simd_pair_lanes;
+                p += lanes;
             } else {
                 wall_contact(p++);
             }

@@ -9,40 +9,55 @@
 
 #include <immintrin.h>
 
+#include "core/types.hpp"
+
 #include <array>
+#include <cstdint>
+#include <cstring>
 
 namespace wiredem::engine::avx512 {
 
 // Every helper is inlined into functions built for AVX-512 (F, VL, BW),
-// which the CPU is checked for at run time (simd_kernels_in_use).
+// which the CPU is checked for at run time (simd_isa).
 #define WIREDEM_AVX512 gnu::target("avx512f,avx512vl,avx512bw"), gnu::always_inline
 
+inline constexpr unsigned lanes = 8;
 // Eight lanes of doubles; GCC's vector extensions give __m512d the
 // arithmetic operators, lane by lane (no fusing: -ffp-contract=off).
-struct V3 {
-    __m512d x, y, z;
-};
+using Pd = __m512d;
+/// A lane mask: bit l for lane l (what AVX-512 compares give).
+using Mask = __mmask8;
 
-[[WIREDEM_AVX512]] inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-[[WIREDEM_AVX512]] inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-[[WIREDEM_AVX512]] inline V3 operator*(__m512d s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
-// Eigen's order for a 3-vector: (x + y) + z, as the scalar law sums.
-[[WIREDEM_AVX512]] inline __m512d dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-// Eigen's cross(): each component a product difference, as written here.
-[[WIREDEM_AVX512]] inline V3 cross(const V3& a, const V3& b)
+/// Bit l set for lane l.
+[[WIREDEM_AVX512]] inline std::uint32_t bits(Mask m) { return m; }
+[[WIREDEM_AVX512]] inline bool none(Mask m) { return m == 0; }
+[[WIREDEM_AVX512]] inline Mask mask_of_bits(std::uint32_t b) { return static_cast<Mask>(b); }
+/// a ⋈ b lane by lane (P: a _CMP_… predicate).
+template <int P>
+[[WIREDEM_AVX512]] inline Mask compare(Pd a, Pd b)
 {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+    return _mm512_cmp_pd_mask(a, b, P);
 }
-/// The lanes of v in `keep`, zero in the others (the scalar code's Vec3::Zero()).
-[[WIREDEM_AVX512]] inline V3 masked(__mmask8 keep, const V3& v)
-{
-    return {_mm512_maskz_mov_pd(keep, v.x), _mm512_maskz_mov_pd(keep, v.y), _mm512_maskz_mov_pd(keep, v.z)};
-}
-/// b in the lanes of `pick`, a in the others (a branch taken lane by lane).
-[[WIREDEM_AVX512]] inline V3 blend(__mmask8 pick, const V3& a, const V3& b)
-{
-    return {_mm512_mask_blend_pd(pick, a.x, b.x), _mm512_mask_blend_pd(pick, a.y, b.y), _mm512_mask_blend_pd(pick, a.z, b.z)};
-}
+[[WIREDEM_AVX512]] inline Pd set1(double x) { return _mm512_set1_pd(x); }
+[[WIREDEM_AVX512]] inline Pd zero() { return _mm512_setzero_pd(); }
+[[WIREDEM_AVX512]] inline Pd sqrt(Pd a) { return _mm512_sqrt_pd(a); }
+/// The second operand when either is NaN, as std::fmin(b, a) of ordered values.
+[[WIREDEM_AVX512]] inline Pd min(Pd a, Pd b) { return _mm512_min_pd(a, b); }
+[[WIREDEM_AVX512]] inline Pd max(Pd a, Pd b) { return _mm512_max_pd(a, b); }
+/// b in the lanes of `pick`, a in the others.
+[[WIREDEM_AVX512]] inline Pd blend(Mask pick, Pd a, Pd b) { return _mm512_mask_blend_pd(pick, a, b); }
+/// a in the lanes of `keep`, zero in the others.
+[[WIREDEM_AVX512]] inline Pd maskz(Mask keep, Pd a) { return _mm512_maskz_mov_pd(keep, a); }
+/// √a in the lanes of `m`, src in the others.
+[[WIREDEM_AVX512]] inline Pd mask_sqrt(Pd src, Mask m, Pd a) { return _mm512_mask_sqrt_pd(src, m, a); }
+/// a / b in the lanes of `m`, src in the others.
+[[WIREDEM_AVX512]] inline Pd mask_div(Pd src, Mask m, Pd a, Pd b) { return _mm512_mask_div_pd(src, m, a, b); }
+[[WIREDEM_AVX512]] inline Pd loadu(const double* p) { return _mm512_loadu_pd(p); }
+[[WIREDEM_AVX512]] inline Pd load_lanes(const std::array<double, lanes>& a) { return _mm512_loadu_pd(a.data()); }
+
+#define WIREDEM_LANES_FN WIREDEM_AVX512
+#include "contact/lanes_vec3.inc"
+#undef WIREDEM_LANES_FN
 
 [[WIREDEM_AVX512]] inline __m512i lanes_of(long long a, long long b, long long c, long long d, long long e,
     long long f, long long g, long long h)
@@ -156,5 +171,32 @@ struct Records4 {
     for (int l = 0; l < 8; ++l)
         _mm512_mask_store_pd(out + 8 * l, static_cast<__mmask8>((lanes >> l & 1u) ? 0xff : 0x00), records[l]);
 }
+
+/// base[index of refs[l]] in lane l.
+[[WIREDEM_AVX512]] inline Pd gather_by_index(const double* base, const BodyRef* refs)
+{
+    const __m256i index = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)),
+        _mm256_set1_epi32(static_cast<int>(BodyRef::index_mask)));
+    return _mm512_i32gather_pd(index, base, 8);
+}
+
+/// Whether the eight references at `refs` are all of the kind of the first.
+[[WIREDEM_AVX512]] inline bool one_kind(const BodyRef* refs)
+{
+    const __m256i kind_bits = _mm256_set1_epi32(static_cast<int>(~BodyRef::index_mask));
+    const __m256i kinds = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(refs)), kind_bits);
+    return _mm256_cmpeq_epi32_mask(kinds, _mm256_set1_epi32(static_cast<int>(refs[0].bits & ~BodyRef::index_mask)))
+        == 0xFF;
+}
+
+/// Bit l set where the byte flag at flags[l] is not zero.
+[[WIREDEM_AVX512]] inline std::uint32_t flag_bits(const std::uint8_t* flags)
+{
+    const __m128i word = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(flags));
+    return _mm_test_epi8_mask(word, word) & 0xFFu;
+}
+
+/// Sets the byte flags[l] to 1 for the lanes in `m`.
+[[WIREDEM_AVX512]] inline void set_flags(std::uint8_t* flags, Mask m) { _mm_mask_storeu_epi8(flags, m, _mm_set1_epi8(1)); }
 
 } // namespace wiredem::engine::avx512

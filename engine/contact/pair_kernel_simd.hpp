@@ -1,12 +1,15 @@
 // Explicit SIMD paths, chosen at run time: the body pairs and the body–wall
-// contacts of the contact list eight per AVX-512 instruction (here; one law,
-// two geometries, as in the scalar pipeline), and the grains' turn
-// (integrate/rotation_simd.cpp). The pair kernel takes any eight consecutive
-// pairs, of any kinds (grains, wire nodes, membrane nodes: the same
-// sphere–sphere law), and of those the lanes that are apart or overlapping
-// with a certain branch of the tangential law (sticking, sliding on,
-// re-sticking, breaking); the other lanes (a NaN, a boundary case) go to the
-// scalar kernel of compute_contact_forces (engine/step.cpp).
+// contacts of the contact list several per instruction (here: eight per
+// AVX-512 instruction, or four per AVX2 instruction on CPUs without AVX-512;
+// one kernel text, contact/pair_kernel_lanes.inc, for both; one law, two
+// geometries, as in the scalar pipeline), and with AVX-512 also the grains'
+// turn (integrate/rotation_simd.cpp), the membrane (forces/membrane_simd.cpp)
+// and the wire (forces/wire_simd.cpp). The pair kernel takes any block of
+// consecutive pairs, of any kinds (grains, wire nodes, membrane nodes: the
+// same sphere–sphere law), and of those the lanes that are apart or
+// overlapping with a certain branch of the tangential law (sticking, sliding
+// on, re-sticking, breaking); the other lanes (a NaN, a boundary case) go to
+// the scalar kernel of compute_contact_forces (engine/step.cpp).
 //
 // Same bits as the scalar path. Each lane performs the scalar code's
 // operations (contact/geometry.hpp, laws/hertz.hpp, laws/tangential.hpp) in
@@ -16,8 +19,9 @@
 // are compiled with -ffp-contract=off so that no multiply–add is fused (the
 // baseline x86-64 build has no FMA, so the scalar path never fuses either). A
 // lane is taken only when the vector path is sure of its branch (ordered
-// comparisons). So states are the same with and without these paths, and the
-// same for any thread count (Determinism.SimdAndScalarKernelsGiveTheSameBits).
+// comparisons). So states are the same with and without these paths, with
+// either instruction set, and for any thread count
+// (Determinism.SimdAndScalarKernelsGiveTheSameBits).
 #pragma once
 
 #include "contact/contact_list.hpp"
@@ -31,9 +35,6 @@ namespace wiredem::engine {
 
 struct Wall;
 struct World;
-
-/// Lanes of one call of the SIMD pair kernel.
-inline constexpr std::size_t simd_pair_lanes = 8;
 
 /// What the contact kernels (compute_contact_forces' scalar one and these)
 /// read besides the contact list: per body kind the positions x₀, scaled
@@ -59,33 +60,37 @@ struct ContactInputs {
 /// The inputs of the world's current state (valid until its bodies change).
 [[nodiscard]] ContactInputs contact_inputs(const World& w);
 
-/// Evaluates the contacts [p, p + simd_pair_lanes) of `c` (all body pairs)
-/// that it can (above), writing their slots exactly as the scalar kernel
-/// would. Returns the lanes it did (bit l = contact p + l); the caller
-/// evaluates the others.
+/// Evaluates the contacts [p, p + lanes) of `c` (all body pairs; `lanes`
+/// that of the kernel in use, SimdContactKernels) that it can (above),
+/// writing their slots exactly as the scalar kernel would. Returns the lanes
+/// it did (bit l = contact p + l); the caller evaluates the others.
 using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const ContactInputs& in);
 
-
-/// The same for the contacts [p, p + simd_pair_lanes), all of wall `wall`
-/// (plane or cylinder): the lanes whose branch is certain.
+/// The same for the contacts [p, p + lanes), all of wall `wall` (plane or
+/// cylinder): the lanes whose branch is certain.
 using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const ContactInputs& in);
 
-/// Whether the explicit SIMD paths run: this pair kernel and the grains'
-/// turn (integrate/rotation.hpp, turn_all). Both give the scalar code's bits.
+/// Which explicit SIMD paths run. Every choice gives the scalar code's bits.
 enum class SimdKernels : std::uint8_t {
-    automatic, ///< AVX-512 (F, VL, BW) when the CPU has it, else scalar
+    automatic, ///< AVX-512 (F, VL, BW) when the CPU has it, else AVX2 when it has that, else scalar
+    avx2,      ///< the AVX2 contact kernels (where the CPU has AVX2), even on a CPU with AVX-512
     scalar,    ///< the scalar code only
 };
 
-/// Chooses for every later step (tests and the bench compare the two).
+/// Chooses for every later step (tests and the bench compare them).
 void set_simd_kernels(SimdKernels kernels);
 
-/// Whether the AVX-512 paths run (chosen, and the CPU has them).
-[[nodiscard]] bool simd_kernels_in_use();
+/// The instruction set the SIMD paths run with (chosen, and the CPU has it).
+enum class SimdIsa : std::uint8_t { none, avx2, avx512 };
+[[nodiscard]] SimdIsa simd_isa();
 
-/// The SIMD pair kernel in use, or nullptr for the scalar path only.
-[[nodiscard]] SimdPairKernel simd_pair_kernel();
-/// The SIMD wall kernel in use, or nullptr for the scalar path only.
-[[nodiscard]] SimdWallKernel simd_wall_kernel();
+/// The SIMD contact kernels in use: `lanes` contacts per call; none (lanes
+/// 0, null kernels) for the scalar path only.
+struct SimdContactKernels {
+    std::size_t lanes = 0;
+    SimdPairKernel pair = nullptr;
+    SimdWallKernel wall = nullptr;
+};
+[[nodiscard]] SimdContactKernels simd_contact_kernels();
 
 } // namespace wiredem::engine

@@ -78,7 +78,7 @@ MembraneSimdKernels simd_membrane_kernels()
 {
     MembraneSimdKernels k;
 #if defined(__x86_64__)
-    if (simd_kernels_in_use()) {
+    if (simd_isa() == SimdIsa::avx512) {
         k.edges = &edges_avx512;
         k.triangles = &triangles_avx512;
     }

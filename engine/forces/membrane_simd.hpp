@@ -24,7 +24,7 @@ struct MembraneSimdKernels {
     explicit operator bool() const { return edges != nullptr; }
 };
 
-/// The AVX-512 kernels when the SIMD paths run (simd_kernels_in_use), else none.
+/// The AVX-512 kernels when the SIMD paths run (simd_isa() is avx512), else none.
 [[nodiscard]] MembraneSimdKernels simd_membrane_kernels();
 
 } // namespace wiredem::engine

@@ -135,7 +135,7 @@ WireSimdKernels simd_wire_kernels()
 {
     WireSimdKernels k;
 #if defined(__x86_64__)
-    if (simd_kernels_in_use()) {
+    if (simd_isa() == SimdIsa::avx512) {
         k.segments = &segments_avx512;
         k.joints = &joints_avx512;
     }

@@ -40,7 +40,7 @@ struct WireSimdKernels {
     explicit operator bool() const { return segments != nullptr; }
 };
 
-/// The AVX-512 kernels when the SIMD paths run (simd_kernels_in_use), else none.
+/// The AVX-512 kernels when the SIMD paths run (simd_isa() is avx512), else none.
 [[nodiscard]] WireSimdKernels simd_wire_kernels();
 
 } // namespace wiredem::engine

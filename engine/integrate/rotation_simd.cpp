@@ -67,7 +67,7 @@ void turn_all(Quat* q, const Vec3* theta, std::size_t n)
 {
     std::size_t i = 0;
 #if defined(__x86_64__)
-    if (simd_kernels_in_use())
+    if (simd_isa() == SimdIsa::avx512)
         for (; i + 8 <= n; i += 8) {
             const unsigned done = turn_block_avx512(q + i, theta + i);
             if (done != 0xffu)

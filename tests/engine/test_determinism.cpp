@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <map>
 
@@ -87,23 +88,37 @@ TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
     }
 }
 
-/// The AVX-512 pair kernel (contact/pair_kernel_simd.hpp) takes the lanes it
-/// is sure of and gives the scalar law's bits: the kicked column (contacts
-/// forming, sliding, breaking) hashes the same with it and without it, on 1
-/// and 3 threads, and so does the wired column (grain–wire pairs in the list).
+/// The SIMD paths this CPU can run, each once: what `automatic` picks
+/// (AVX-512 or AVX2) and, on a CPU with AVX-512, the AVX2 kernels too.
+std::vector<SimdKernels> simd_choices()
+{
+    std::vector<SimdKernels> choices;
+    std::vector<SimdIsa> seen;
+    for (SimdKernels k : {SimdKernels::automatic, SimdKernels::avx2}) {
+        set_simd_kernels(k);
+        const SimdIsa isa = simd_isa();
+        if (isa != SimdIsa::none && std::find(seen.begin(), seen.end(), isa) == seen.end()) {
+            choices.push_back(k);
+            seen.push_back(isa);
+        }
+    }
+    set_simd_kernels(SimdKernels::automatic);
+    return choices;
+}
+
+/// The SIMD contact kernels (contact/pair_kernel_simd.hpp; AVX-512 and
+/// AVX2, whichever the CPU has) take the lanes they are sure of and give the
+/// scalar law's bits: the kicked column (contacts forming, sliding,
+/// breaking, grains against the cylinder and the floor) hashes the same with
+/// them and without them, on 1 and 3 threads, and so does the wired column
+/// (grain–wire and grain–membrane pairs in the list).
 TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
 {
-    if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
+    const std::vector<SimdKernels> choices = simd_choices();
+    if (choices.empty()) GTEST_SKIP() << "neither AVX-512 nor AVX2 on this CPU: the scalar path is the only one";
     struct Restore {
         ~Restore() { set_simd_kernels(SimdKernels::automatic); }
     } restore;
-    for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
-        set_simd_kernels(SimdKernels::scalar);
-        const auto scalar = run_column(1, integrator);
-        set_simd_kernels(SimdKernels::automatic);
-        EXPECT_EQ(run_column(1, integrator), scalar);
-        EXPECT_EQ(run_column(3, integrator), scalar);
-    }
     auto wired = [](SimdKernels kernel) {
         set_simd_kernels(kernel);
         Simulation sim(2);
@@ -111,36 +126,63 @@ TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
         EXPECT_EQ(sim.run(300).end, RunEnd::completed);
         return state_hash(sim.world);
     };
-    EXPECT_EQ(wired(SimdKernels::automatic), wired(SimdKernels::scalar));
-
-    // The SIMD path took touching lanes of every kind of pair in the wired
-    // column (grain–grain, grain–wire, grain–membrane), not only apart ones.
-    {
-        Simulation wired_sim(1);
-        test::build_wired_column(wired_sim.world, Integrator::gear5);
-        ASSERT_EQ(wired_sim.run(300).end, RunEnd::completed);
-        World& w = wired_sim.world;
-        const ContactInputs in = contact_inputs(w);
-        std::map<std::pair<BodyKind, BodyKind>, std::size_t> taken_by_kinds;
-        for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
-            const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
-            for (std::size_t l = 0; l < simd_pair_lanes; ++l)
-                if ((taken >> l & 1u) && w.contacts.touching[p + l])
-                    ++taken_by_kinds[{w.contacts.first[p + l].kind(), w.contacts.second[p + l].kind()}];
+    const std::uint64_t wired_scalar = wired(SimdKernels::scalar);
+    std::map<Integrator, std::vector<std::uint64_t>> scalar;
+    for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
+        set_simd_kernels(SimdKernels::scalar);
+        scalar[integrator] = run_column(1, integrator);
+    }
+    for (SimdKernels choice : choices) {
+        set_simd_kernels(choice);
+        const std::size_t lanes = simd_contact_kernels().lanes;
+        SCOPED_TRACE(testing::Message() << lanes << " lanes");
+        for (Integrator integrator : {Integrator::gear5, Integrator::verlet}) {
+            set_simd_kernels(choice);
+            EXPECT_EQ(run_column(1, integrator), scalar[integrator]);
+            EXPECT_EQ(run_column(3, integrator), scalar[integrator]);
         }
-        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::grain}]), 0u);
-        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::wire}]), 0u);
-        EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::membrane}]), 0u);
+        EXPECT_EQ(wired(choice), wired_scalar);
+
+        // The SIMD path took touching lanes of every kind of pair in the wired
+        // column (grain–grain, grain–wire, grain–membrane), not only apart ones.
+        set_simd_kernels(choice);
+        {
+            Simulation wired_sim(1);
+            test::build_wired_column(wired_sim.world, Integrator::gear5);
+            ASSERT_EQ(wired_sim.run(300).end, RunEnd::completed);
+            World& w = wired_sim.world;
+            const ContactInputs in = contact_inputs(w);
+            const SimdContactKernels simd = simd_contact_kernels();
+            std::map<std::pair<BodyKind, BodyKind>, std::size_t> taken_by_kinds;
+            for (std::size_t p = 0; p + lanes <= w.contacts.pair_count(); p += lanes) {
+                const std::uint32_t taken = simd.pair(w.contacts, p, in);
+                for (std::size_t l = 0; l < lanes; ++l)
+                    if ((taken >> l & 1u) && w.contacts.touching[p + l])
+                        ++taken_by_kinds[{w.contacts.first[p + l].kind(), w.contacts.second[p + l].kind()}];
+            }
+            EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::grain}]), 0u);
+            EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::wire}]), 0u);
+            EXPECT_GT((taken_by_kinds[{BodyKind::grain, BodyKind::membrane}]), 0u);
+        }
+        // And touching wall contacts in the kicked column.
+        Simulation sim(1);
+        build_column(sim, Integrator::gear5);
+        ASSERT_EQ(sim.run(2000).end, RunEnd::completed);
+        World& w = sim.world;
+        const ContactInputs in = contact_inputs(w);
+        const SimdContactKernels simd = simd_contact_kernels();
+        std::size_t touching_taken = 0, wall_touching_taken = 0;
+        for (std::size_t p = 0; p + lanes <= w.contacts.pair_count(); p += lanes) {
+            const std::uint32_t taken = simd.pair(w.contacts, p, in);
+            for (std::size_t l = 0; l < lanes; ++l) touching_taken += (taken >> l & 1u) && w.contacts.touching[p + l];
+        }
+        for (std::size_t wall = 0; wall < w.walls.size(); ++wall)
+            for (std::size_t p = w.contacts.wall_start[wall]; p + lanes <= w.contacts.wall_start[wall + 1]; p += lanes) {
+                const std::uint32_t taken = simd.wall(w.contacts, p, w.walls[wall], in);
+                for (std::size_t l = 0; l < lanes; ++l)
+                    wall_touching_taken += (taken >> l & 1u) && w.contacts.touching[p + l];
+            }
+        EXPECT_GT(touching_taken, 0u);
+        EXPECT_GT(wall_touching_taken, 0u);
     }
-    Simulation sim(1);
-    build_column(sim, Integrator::gear5);
-    ASSERT_EQ(sim.run(2000).end, RunEnd::completed);
-    World& w = sim.world;
-    const ContactInputs in = contact_inputs(w);
-    std::size_t touching_taken = 0;
-    for (std::size_t p = 0; p + simd_pair_lanes <= w.contacts.pair_count(); p += simd_pair_lanes) {
-        const std::uint32_t taken = simd_pair_kernel()(w.contacts, p, in);
-        for (std::size_t l = 0; l < simd_pair_lanes; ++l) touching_taken += (taken >> l & 1u) && w.contacts.touching[p + l];
-    }
-    EXPECT_GT(touching_taken, 0u);
 }

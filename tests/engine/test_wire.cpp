@@ -458,7 +458,7 @@ TEST(WireDamping, RigidMotionOfABentWireFeelsOnlyTheSprings)
 // length, with and without the dashpots, in blocks that start anywhere.
 TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
 {
-    if (simd_pair_kernel() == nullptr) GTEST_SKIP() << "no AVX-512 on this CPU: the scalar path is the only one";
+    if (simd_isa() != SimdIsa::avx512) GTEST_SKIP() << "no AVX-512 on this CPU: the wire's scalar path is the only one";
     struct Restore {
         ~Restore() { set_simd_kernels(SimdKernels::automatic); }
     } restore;
