@@ -85,11 +85,6 @@ template <int P>
     return {_mm256_unpacklo_pd(xy02, xy13), _mm256_unpackhi_pd(xy02, xy13), _mm256_setr_pd(p[0][2], p[1][2], p[2][2], p[3][2])};
 }
 
-/// Components of four consecutive records of four doubles, one register each.
-struct Records4 {
-    __m256d x, y, z, w;
-};
-
 /// 4 × 4 transpose: row l of the result is lane l of a, b, c, d.
 [[WIREDEM_AVX2]] inline void transpose4(__m256d& a, __m256d& b, __m256d& c, __m256d& d)
 {
@@ -100,6 +95,25 @@ struct Records4 {
     c = _mm256_permute2f128_pd(ab_lo, cd_lo, 0x31);
     d = _mm256_permute2f128_pd(ab_hi, cd_hi, 0x31);
 }
+
+/// Writes four consecutive 3-vectors (x₀ y₀ z₀ x₁ … z₃, 12 doubles) from
+/// lanes: transposed in registers, then overlapping stores in order (none
+/// past the twelfth double).
+[[WIREDEM_AVX2]] inline void store_vec3s(double* out, const V3& v)
+{
+    __m256d r0 = v.x, r1 = v.y, r2 = v.z, r3 = _mm256_setzero_pd();
+    transpose4(r0, r1, r2, r3); // r_l = x_l y_l z_l 0
+    _mm256_storeu_pd(out, r0);
+    _mm256_storeu_pd(out + 3, r1);
+    _mm256_storeu_pd(out + 6, r2);
+    _mm_storeu_pd(out + 9, _mm256_castpd256_pd128(r3));
+    _mm_store_sd(out + 11, _mm256_extractf128_pd(r3, 1));
+}
+
+/// Components of four consecutive records of four doubles, one register each.
+struct Records4 {
+    __m256d x, y, z, w;
+};
 
 /// The four records at `in`, transposed into lanes.
 [[WIREDEM_AVX2]] inline Records4 load_records4(const double* in)

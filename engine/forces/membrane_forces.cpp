@@ -146,9 +146,9 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
     // preparation's rigid membrane: ~9 % of a paper-size pour's step time).
     if (x.empty() || m.rigid) return;
     const double k = m.edge_stiffness_n_per_m;
-    // Eight elements at a time where the CPU can (same bits, membrane_simd.hpp).
+    // Four or eight elements at a time where the CPU can (same bits, membrane_simd.hpp).
     const MembraneSimdKernels simd = simd_membrane_kernels();
-    const auto simd_part = [&](std::size_t begin, std::size_t end) { return simd ? (end - begin) / 8 * 8 : 0; };
+    const auto simd_part = [&](std::size_t begin, std::size_t end) { return simd ? (end - begin) / simd.lanes * simd.lanes : 0; };
     parallel_for_blocks(pool, m.edges.size(), membrane_block, [&](std::size_t begin, std::size_t end) {
         const std::size_t n = simd_part(begin, end);
         if (n > 0)

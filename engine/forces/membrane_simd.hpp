@@ -1,4 +1,4 @@
-// The membrane's element forces eight at a time (AVX-512), with the scalar
+// The membrane's element forces eight (AVX-512) or four (AVX2) at a time, with the scalar
 // code's operations in its order: the same bits (compiled with
 // -ffp-contract=off, like contact/pair_kernel_simd.cpp, which says why).
 #pragma once
@@ -13,8 +13,9 @@
 namespace wiredem::engine {
 
 /// The kernels of compute_membrane_forces for `count` consecutive elements
-/// (a multiple of 8) starting at the given ones; x is every membrane node.
+/// (a multiple of `lanes`) starting at the given ones; x is every membrane node.
 struct MembraneSimdKernels {
+    std::size_t lanes = 0;
     /// Edge forces: membrane_edge_force_n of each edge.
     void (*edges)(const Vec3* x, const std::array<std::uint32_t, 2>* edges, const double* rest_m,
         double stiffness_n_per_m, MembraneEdgeLaw law, Vec3* force_n, std::size_t count) = nullptr;
@@ -24,7 +25,7 @@ struct MembraneSimdKernels {
     explicit operator bool() const { return edges != nullptr; }
 };
 
-/// The AVX-512 kernels when the SIMD paths run (simd_isa() is avx512), else none.
+/// The kernels of the instruction set in use (simd_isa), or none.
 [[nodiscard]] MembraneSimdKernels simd_membrane_kernels();
 
 } // namespace wiredem::engine

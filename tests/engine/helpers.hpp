@@ -1,9 +1,11 @@
 // Small builders shared by the engine tests.
 #pragma once
 
+#include "contact/pair_kernel_simd.hpp"
 #include "simulation.hpp"
 #include "state/world.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -36,5 +38,36 @@ inline void relax(Simulation& sim, std::uint64_t steps, double damping_per_step)
         for (auto& v : sim.world.grain_rotation.theta[1]) v *= 1.0 - damping_per_step;
     }
 }
+
+} // namespace wiredem::engine::test
+
+namespace wiredem::engine::test {
+
+/// The SIMD paths this CPU can run, each once: what `automatic` picks
+/// (AVX-512 or AVX2) and, on a CPU with AVX-512, the AVX2 kernels too. Leaves
+/// the choice at `automatic`.
+inline std::vector<SimdKernels> simd_choices()
+{
+    std::vector<SimdKernels> choices;
+    std::vector<SimdIsa> seen;
+    for (SimdKernels k : {SimdKernels::automatic, SimdKernels::avx2}) {
+        set_simd_kernels(k);
+        const SimdIsa isa = simd_isa();
+        if (isa != SimdIsa::none && std::find(seen.begin(), seen.end(), isa) == seen.end()) {
+            choices.push_back(k);
+            seen.push_back(isa);
+        }
+    }
+    set_simd_kernels(SimdKernels::automatic);
+    return choices;
+}
+
+/// Puts the SIMD choice back to `automatic` when it goes out of scope.
+struct RestoreSimdKernels {
+    RestoreSimdKernels() = default;
+    RestoreSimdKernels(const RestoreSimdKernels&) = delete;
+    RestoreSimdKernels& operator=(const RestoreSimdKernels&) = delete;
+    ~RestoreSimdKernels() { set_simd_kernels(SimdKernels::automatic); }
+};
 
 } // namespace wiredem::engine::test

@@ -88,24 +88,6 @@ TEST(Determinism, WiredColumnStateHashIdenticalFor1To4Threads)
     }
 }
 
-/// The SIMD paths this CPU can run, each once: what `automatic` picks
-/// (AVX-512 or AVX2) and, on a CPU with AVX-512, the AVX2 kernels too.
-std::vector<SimdKernels> simd_choices()
-{
-    std::vector<SimdKernels> choices;
-    std::vector<SimdIsa> seen;
-    for (SimdKernels k : {SimdKernels::automatic, SimdKernels::avx2}) {
-        set_simd_kernels(k);
-        const SimdIsa isa = simd_isa();
-        if (isa != SimdIsa::none && std::find(seen.begin(), seen.end(), isa) == seen.end()) {
-            choices.push_back(k);
-            seen.push_back(isa);
-        }
-    }
-    set_simd_kernels(SimdKernels::automatic);
-    return choices;
-}
-
 /// The SIMD contact kernels (contact/pair_kernel_simd.hpp; AVX-512 and
 /// AVX2, whichever the CPU has) take the lanes they are sure of and give the
 /// scalar law's bits: the kicked column (contacts forming, sliding,
@@ -114,11 +96,9 @@ std::vector<SimdKernels> simd_choices()
 /// (grain–wire and grain–membrane pairs in the list).
 TEST(Determinism, SimdAndScalarKernelsGiveTheSameBits)
 {
-    const std::vector<SimdKernels> choices = simd_choices();
+    const std::vector<SimdKernels> choices = test::simd_choices();
     if (choices.empty()) GTEST_SKIP() << "neither AVX-512 nor AVX2 on this CPU: the scalar path is the only one";
-    struct Restore {
-        ~Restore() { set_simd_kernels(SimdKernels::automatic); }
-    } restore;
+    const test::RestoreSimdKernels restore;
     auto wired = [](SimdKernels kernel) {
         set_simd_kernels(kernel);
         Simulation sim(2);

@@ -1,12 +1,16 @@
 // The membrane against thin-shell theory, and grains against the mesh.
 #include "energy.hpp"
 #include "forces/membrane_forces.hpp"
+#include "forces/membrane_simd.hpp"
 #include "forces/wire_forces.hpp"
 #include "helpers.hpp"
 #include "laws/hertz.hpp"
 #include "timestep.hpp"
 
 #include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
 
 using namespace wiredem::engine;
 using namespace wiredem::engine::test;
@@ -286,4 +290,61 @@ TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEne
     const double e0 = energy();
     ASSERT_EQ(sim.run(100000).end, RunEnd::completed);
     EXPECT_LT(energy() - e0, 1e-2 * swing);
+}
+
+// The SIMD edge and triangle kernels (forces/membrane_simd.hpp, every
+// instruction set the CPU has) give the scalar path's bits: a membrane with
+// its nodes shaken so that edges are stretched, slack and of zero length,
+// under both edge laws, with blocks that leave a scalar rest.
+TEST(MembraneSimd, EdgesAndTrianglesGiveTheScalarBits)
+{
+    const std::vector<SimdKernels> choices = simd_choices();
+    if (choices.empty()) GTEST_SKIP() << "neither AVX-512 nor AVX2 on this CPU: the scalar path is the only one";
+    const RestoreSimdKernels restore;
+    World w;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    const MembraneSpec spec = small_membrane(10e-3, 13e-3);
+    build_membrane(w, spec);
+    set_membrane_rigid(w, false);
+    w.membrane.pressure_pa = 80e3;
+    auto& x = w.bodies[static_cast<std::size_t>(BodyKind::membrane)].x[0];
+    ASSERT_GT(w.membrane.edges.size() % 8, 0u) << "a scalar rest after the blocks";
+    std::uint64_t state = 99;
+    auto uniform = [&] { // [−1, 1)
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<double>(state >> 11) * 0x1p-52 - 1.0;
+    };
+    const double l = spec.mesh_size_m;
+    for (Vec3& p : x) p += 0.2 * l * Vec3(uniform(), uniform(), uniform());
+    const auto& e0 = w.membrane.edges[37];
+    x[e0[1]] = x[e0[0]]; // an edge of zero length
+    const auto bits_of = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+    std::size_t stretched = 0, slack = 0;
+    for (const MembraneEdgeLaw law : {MembraneEdgeLaw::tension_only, MembraneEdgeLaw::linear}) {
+        w.membrane.edge_law = law;
+        ThreadPool pool(2);
+        set_simd_kernels(SimdKernels::scalar);
+        World scalar = w;
+        compute_membrane_forces(scalar, pool);
+        for (std::size_t e = 0; e < w.membrane.edges.size(); ++e) {
+            const double len = (x[w.membrane.edges[e][1]] - x[w.membrane.edges[e][0]]).norm();
+            (len > w.membrane.edge_rest_m[e] ? stretched : slack) += 1;
+        }
+        for (const SimdKernels choice : choices) {
+            set_simd_kernels(choice);
+            World simd = w;
+            compute_membrane_forces(simd, pool);
+            const MembraneForces &a = scalar.membrane_forces, &b = simd.membrane_forces;
+            SCOPED_TRACE(testing::Message() << "law " << static_cast<int>(law) << ", " << simd_membrane_kernels().lanes << " lanes");
+            for (std::size_t e = 0; e < a.edge_force_n.size(); ++e)
+                for (int c = 0; c < 3; ++c) ASSERT_EQ(bits_of(a.edge_force_n[e][c]), bits_of(b.edge_force_n[e][c])) << "edge " << e;
+            for (std::size_t t = 0; t < a.triangle_force_n.size(); ++t)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(bits_of(a.triangle_force_n[t][c]), bits_of(b.triangle_force_n[t][c])) << "triangle " << t;
+            for (std::size_t i = 0; i < a.node_force_n.size(); ++i)
+                for (int c = 0; c < 3; ++c) ASSERT_EQ(bits_of(a.node_force_n[i][c]), bits_of(b.node_force_n[i][c])) << "node " << i;
+        }
+    }
+    EXPECT_GT(stretched, 100u);
+    EXPECT_GT(slack, 100u);
 }
