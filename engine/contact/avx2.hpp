@@ -71,6 +71,10 @@ template <int P>
 [[WIREDEM_AVX2]] inline Pd mask_div(Pd src, Mask m, Pd a, Pd b) { return blend(m, src, a / b); }
 [[WIREDEM_AVX2]] inline Pd loadu(const double* p) { return _mm256_loadu_pd(p); }
 [[WIREDEM_AVX2]] inline Pd load_lanes(const std::array<double, lanes>& a) { return _mm256_loadu_pd(a.data()); }
+[[WIREDEM_AVX2]] inline void storeu(double* p, Pd a) { _mm256_storeu_pd(p, a); }
+[[WIREDEM_AVX2]] inline void store_lanes(std::array<double, lanes>& out, Pd a) { _mm256_storeu_pd(out.data(), a); }
+/// Every lane.
+[[WIREDEM_AVX2]] inline Mask all_lanes() { return {_mm256_castsi256_pd(_mm256_set1_epi64x(-1))}; }
 
 #define WIREDEM_LANES_FN WIREDEM_AVX2
 #include "contact/lanes_vec3.inc"
@@ -110,6 +114,17 @@ template <int P>
     _mm_store_sd(out + 11, _mm256_extractf128_pd(r3, 1));
 }
 
+/// The four consecutive 3-vectors at `in` (x₀ y₀ z₀ x₁ … z₃, 12 doubles),
+/// into lanes: four overlapping loads (none past the twelfth double)
+/// transposed in registers.
+[[WIREDEM_AVX2]] inline V3 load_consecutive_vec3s(const double* in)
+{
+    __m256d r0 = _mm256_loadu_pd(in), r1 = _mm256_loadu_pd(in + 3), r2 = _mm256_loadu_pd(in + 6);
+    __m256d r3 = _mm256_permute4x64_pd(_mm256_loadu_pd(in + 8), 0x39); // z2 x3 y3 z3 → x3 y3 z3 z2
+    transpose4(r0, r1, r2, r3);
+    return {r0, r1, r2};
+}
+
 /// Components of four consecutive records of four doubles, one register each.
 struct Records4 {
     __m256d x, y, z, w;
@@ -134,7 +149,7 @@ struct Records4 {
     const std::uint32_t write = bits(m);
     for (unsigned l = 0; l < lanes; ++l)
         if (write >> l & 1u)
-            _mm256_storeu_pd(out + 4 * l, blend(keep, _mm256_loadu_pd(out + 4 * l), records[l]));
+            _mm256_storeu_pd(out + 4 * l, components == 0xFu ? records[l] : blend(keep, _mm256_loadu_pd(out + 4 * l), records[l]));
 }
 
 /// Writes four records of eight doubles, record l = lane l of r[0] … r[7], to

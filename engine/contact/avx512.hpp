@@ -54,6 +54,10 @@ template <int P>
 [[WIREDEM_AVX512]] inline Pd mask_div(Pd src, Mask m, Pd a, Pd b) { return _mm512_mask_div_pd(src, m, a, b); }
 [[WIREDEM_AVX512]] inline Pd loadu(const double* p) { return _mm512_loadu_pd(p); }
 [[WIREDEM_AVX512]] inline Pd load_lanes(const std::array<double, lanes>& a) { return _mm512_loadu_pd(a.data()); }
+[[WIREDEM_AVX512]] inline void storeu(double* p, Pd a) { _mm512_storeu_pd(p, a); }
+[[WIREDEM_AVX512]] inline void store_lanes(std::array<double, lanes>& out, Pd a) { _mm512_storeu_pd(out.data(), a); }
+/// Every lane.
+[[WIREDEM_AVX512]] inline Mask all_lanes() { return 0xFF; }
 
 #define WIREDEM_LANES_FN WIREDEM_AVX512
 #include "contact/lanes_vec3.inc"

@@ -75,7 +75,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
     // direction are worked out once per block and serve the spring, its
     // dashpot and the two joints at its ends.
     const WireKernelParams params{k, l0, k_rot, zeta_y, tau_per_dt};
-    // Eight segments and eight joints at a time where the CPU can (same
+    // Four or eight segments and joints at a time where the CPU can (same
     // bits, forces/wire_simd.hpp); the rest one by one.
     const WireSimdKernels simd = simd_wire_kernels();
     parallel_for_blocks(pool, nodes, wire_block, [&](std::size_t begin, std::size_t end) {
@@ -85,7 +85,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         if (first < begin) segment[0] = wire_segment(x[first], x[first + 1]); // the block before writes its force
         std::size_t s = begin;
         if (simd) {
-            const std::size_t n = (segments_end - std::min(begin, segments_end)) / 8 * 8;
+            const std::size_t n = (segments_end - std::min(begin, segments_end)) / simd.lanes * simd.lanes;
             simd.segments(x.data() + s, dx.data() + s, params, segment.data() + (s - first),
                 slots.segment_force_n.data() + s, slots.segment_strain.data() + s, n);
             s += n;
@@ -102,7 +102,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         // Interior joints only: the ends are free, with no bending spring.
         std::size_t i = std::max<std::size_t>(begin, 1);
         if (simd && i < segments_end) {
-            const std::size_t n = (segments_end - i) / 8 * 8;
+            const std::size_t n = (segments_end - i) / simd.lanes * simd.lanes;
             simd.joints(segment.data() + (i - 1 - first), dx.data() + (i - 1), params, rest_angle.data() + i,
                 slots.bending_force_n.data() + i, n);
             i += n;

@@ -1,8 +1,8 @@
-// The wire's segments and joints eight at a time (AVX-512), with the scalar
+// The wire's segments and joints eight (AVX-512) or four (AVX2) at a time, with the scalar
 // laws' operations in their order (laws/wire_bond.hpp; compiled with
 // -ffp-contract=off, like contact/pair_kernel_simd.cpp, which says why): the
 // same bits as compute_wire_forces' scalar path. The joint's angle ζ is the
-// one exception to "eight per instruction": std::atan2 runs lane by lane,
+// one exception to "several per instruction": std::atan2 runs lane by lane,
 // since a vector arctangent would round differently.
 #pragma once
 
@@ -24,8 +24,9 @@ struct WireKernelParams {
 };
 
 /// The kernels of compute_wire_forces for `count` consecutive elements (a
-/// multiple of 8).
+/// multiple of `lanes`).
 struct WireSimdKernels {
+    std::size_t lanes = 0;
     /// Segments s = 0 … count−1 from x[s], x[s+1] (and dx, δt × velocity):
     /// wire_segment into segment[s], the spring with its dashpot into
     /// force_n[s] (on node s), the strain (|d| − l₀)/l₀ into strain[s].
@@ -40,7 +41,7 @@ struct WireSimdKernels {
     explicit operator bool() const { return segments != nullptr; }
 };
 
-/// The AVX-512 kernels when the SIMD paths run (simd_isa() is avx512), else none.
+/// The kernels of the instruction set in use (simd_isa), or none.
 [[nodiscard]] WireSimdKernels simd_wire_kernels();
 
 } // namespace wiredem::engine

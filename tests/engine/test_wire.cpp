@@ -2,6 +2,7 @@
 #include "energy.hpp"
 #include "contact/pair_kernel_simd.hpp"
 #include "forces/wire_forces.hpp"
+#include "forces/wire_simd.hpp"
 #include "helpers.hpp"
 #include "laws/hertz.hpp"
 #include "laws/wire_bond.hpp"
@@ -452,16 +453,16 @@ TEST(WireDamping, RigidMotionOfABentWireFeelsOnlyTheSprings)
     EXPECT_LT((w.wire_forces.node_force_n[2] - still[2]).dot(v), 0.0);
 }
 
-// The AVX-512 segments and joints (forces/wire_simd.hpp) give the scalar
+// The SIMD segments and joints (forces/wire_simd.hpp, every instruction set
+// the CPU has) give the scalar
 // path's bits for every kind of joint: bent elastically, yielding, straight
 // (sin ζ below 10⁻⁶ and below 10⁻⁹), folded back, after a segment of zero
 // length, with and without the dashpots, in blocks that start anywhere.
 TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
 {
-    if (simd_isa() != SimdIsa::avx512) GTEST_SKIP() << "no AVX-512 on this CPU: the wire's scalar path is the only one";
-    struct Restore {
-        ~Restore() { set_simd_kernels(SimdKernels::automatic); }
-    } restore;
+    const std::vector<SimdKernels> choices = simd_choices();
+    if (choices.empty()) GTEST_SKIP() << "neither AVX-512 nor AVX2 on this CPU: the scalar path is the only one";
+    const RestoreSimdKernels restore;
     for (const double yield_strain : {0.05, std::numeric_limits<double>::infinity()}) {
         World w;
         WireSpec spec = paper_wire;
@@ -497,22 +498,28 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             set_simd_kernels(SimdKernels::scalar);
             World scalar = run;
             compute_wire_forces(scalar, pool);
-            set_simd_kernels(SimdKernels::automatic);
-            compute_wire_forces(run, pool);
-            const WireForces &a = scalar.wire_forces, &b = run.wire_forces;
-            const std::vector<double> &a_rest = scalar.wire_rest_angle_rad, &b_rest = run.wire_rest_angle_rad;
-            const auto bits_of = [](double v) { return std::bit_cast<std::uint64_t>(v); };
-            ASSERT_EQ(a.segment_force_n.size(), b.segment_force_n.size());
-            for (std::size_t s = 0; s < a.segment_force_n.size(); ++s) {
-                for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.segment_force_n[s][c]), bits_of(b.segment_force_n[s][c])) << "segment " << s;
-                EXPECT_EQ(bits_of(a.segment_strain[s]), bits_of(b.segment_strain[s])) << "segment " << s;
-            }
-            for (std::size_t i = 0; i < a.node_force_n.size(); ++i) {
-                EXPECT_EQ(bits_of(a_rest[i]), bits_of(b_rest[i])) << "joint " << i;
-                for (int n = 0; n < 3; ++n)
-                    for (int c = 0; c < 3; ++c)
-                        EXPECT_EQ(bits_of(a.bending_force_n[i][n][c]), bits_of(b.bending_force_n[i][n][c])) << "joint " << i;
-                for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.node_force_n[i][c]), bits_of(b.node_force_n[i][c])) << "node " << i;
+            const WireForces& a = scalar.wire_forces;
+            const std::vector<double>& a_rest = scalar.wire_rest_angle_rad;
+            for (const SimdKernels choice : choices) {
+                set_simd_kernels(choice);
+                World simd = run;
+                compute_wire_forces(simd, pool);
+                SCOPED_TRACE(testing::Message() << simd_wire_kernels().lanes << " lanes, damped " << damped);
+                const WireForces& b = simd.wire_forces;
+                const std::vector<double>& b_rest = simd.wire_rest_angle_rad;
+                const auto bits_of = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+                ASSERT_EQ(a.segment_force_n.size(), b.segment_force_n.size());
+                for (std::size_t s = 0; s < a.segment_force_n.size(); ++s) {
+                    for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.segment_force_n[s][c]), bits_of(b.segment_force_n[s][c])) << "segment " << s;
+                    EXPECT_EQ(bits_of(a.segment_strain[s]), bits_of(b.segment_strain[s])) << "segment " << s;
+                }
+                for (std::size_t i = 0; i < a.node_force_n.size(); ++i) {
+                    EXPECT_EQ(bits_of(a_rest[i]), bits_of(b_rest[i])) << "joint " << i;
+                    for (int n = 0; n < 3; ++n)
+                        for (int c = 0; c < 3; ++c)
+                            EXPECT_EQ(bits_of(a.bending_force_n[i][n][c]), bits_of(b.bending_force_n[i][n][c])) << "joint " << i;
+                    for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.node_force_n[i][c]), bits_of(b.node_force_n[i][c])) << "node " << i;
+                }
             }
             // The special joints were there: some yielded, some were straight.
             if (damped && std::isfinite(yield_strain)) {
