@@ -35,8 +35,9 @@ inline void turn(Quat& q, const Vec3& theta) noexcept
     q = (rotation_quaternion(theta) * q).normalized();
 }
 
-/// turn(q[i], theta[i]) for i in [0, n): eight at a time with AVX-512 where
-/// the CPU has it (integrate/rotation_simd.cpp; same bits), else one by one.
+/// turn(q[i], theta[i]) for i in [0, n): eight at a time with AVX-512, four
+/// with AVX2, where the CPU has them (integrate/rotation_simd.cpp; same
+/// bits), else one by one.
 void turn_all(Quat* q, const Vec3* theta, std::size_t n);
 
 } // namespace wiredem::engine
