@@ -1,5 +1,6 @@
 #include "step.hpp"
 
+#include "contact/gather_simd.hpp"
 #include "contact/geometry.hpp"
 #include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
@@ -316,38 +317,59 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     }
 }
 
+namespace {
+
+/// The scalar gather of bodies [begin, end) of one kind (gather_simd.hpp
+/// has the AVX2 one, with the same bits): pairs, then walls in wall order
+/// (ascending contact index); zero while apart. The force on `second` is
+/// (−1)·F (and f + (−F) is f − F exactly); the lever arm r − ξ/2 is the
+/// kernel's own expression.
+template <bool rotates>
+void gather_scalar(const GatherInputs& in, std::size_t begin, std::size_t end)
+{
+    const ContactList& c = *in.contacts;
+    for (std::size_t i = begin; i < end; ++i) {
+        Vec3 f = in.mass_kg[i] * in.gravity_m_per_s2;
+        Vec3 tau = Vec3::Zero();
+        const std::uint32_t last = c.incidence_start[in.flat_offset + i + 1];
+        for (std::uint32_t e = c.incidence_start[in.flat_offset + i]; e < last; ++e) {
+            const Incidence link = c.incidence[e];
+            const ContactOutput& out = c.output[link.contact()];
+            f += link.sign() * out.force_n;
+            if constexpr (rotates) tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+        }
+        if (in.extra_force_n != nullptr) f += in.extra_force_n[i];
+        in.force_n[i] = f;
+        if constexpr (rotates) in.torque_n_m[i] = tau;
+    }
+}
+
+void gather_block_scalar(const GatherInputs& in, std::size_t begin, std::size_t end)
+{
+    if (in.torque_n_m != nullptr) gather_scalar<true>(in, begin, end);
+    else gather_scalar<false>(in, begin, end);
+}
+
+} // namespace
+
 void gather_forces(World& w, ThreadPool& pool)
 {
-    const ContactList& c = w.contacts;
+    const SimdGather simd = simd_gather();
+    const SimdGather gather = simd != nullptr ? simd : &gather_block_scalar;
     for (int k = 0; k < body_kind_count; ++k) {
+        const auto kind = static_cast<BodyKind>(k);
         const TranslationalState& body = w.bodies[k];
-        std::vector<Vec3>& force = w.body_force_n[k];
-        const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
-        const Vec3 g = w.gravity_acts[k] ? w.gravity_m_per_s2 : Vec3(Vec3::Zero());
-        // Pairs, then walls in wall order (ascending contact index); zero
-        // while apart. The force on `second` is (−1)·F (and f + (−F) is f − F
-        // exactly); the lever arm r − ξ/2 is the kernel's own expression.
-        auto body_loop = [&]<bool rotates>(std::bool_constant<rotates>) {
-            parallel_for(pool, body.size(), [&](std::size_t i) {
-                Vec3 f = body.mass_kg[i] * g;
-                Vec3 tau = Vec3::Zero();
-                const std::uint32_t end = c.incidence_start[off + i + 1];
-                for (std::uint32_t e = c.incidence_start[off + i]; e < end; ++e) {
-                    const Incidence in = c.incidence[e];
-                    const ContactOutput& out = c.output[in.contact()];
-                    f += in.sign() * out.force_n;
-                    if constexpr (rotates) tau += (body.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
-                }
-                if (k == static_cast<int>(BodyKind::wire)) f += w.wire_forces.node_force_n[i];
-                if (k == static_cast<int>(BodyKind::membrane)) f += w.membrane_forces.node_force_n[i];
-                force[i] = f;
-                if constexpr (rotates) w.grain_torque_n_m[i] = tau;
-            });
-        };
-        if (k == static_cast<int>(BodyKind::grain))
-            body_loop(std::true_type{});
-        else
-            body_loop(std::false_type{});
+        GatherInputs in;
+        in.contacts = &w.contacts;
+        in.flat_offset = w.flat_offset(kind);
+        in.mass_kg = body.mass_kg.data();
+        in.radius_m = body.radius_m.data();
+        if (w.gravity_acts[k]) in.gravity_m_per_s2 = w.gravity_m_per_s2;
+        if (kind == BodyKind::wire) in.extra_force_n = w.wire_forces.node_force_n.data();
+        if (kind == BodyKind::membrane) in.extra_force_n = w.membrane_forces.node_force_n.data();
+        in.force_n = w.body_force_n[k].data();
+        if (kind == BodyKind::grain) in.torque_n_m = w.grain_torque_n_m.data();
+        parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
     }
     for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }

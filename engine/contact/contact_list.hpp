@@ -25,6 +25,7 @@
 #include "laws/tangential.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -58,16 +59,20 @@ using FlatOffsets = std::array<std::uint32_t, body_kind_count + 1>;
 /// What the kernel writes for a contact every step, in one 64-byte record:
 /// the gather reads one cache line per contact of a body instead of three
 /// (force, n × F_t and overlap from separate arrays), and the AVX-512 kernel
-/// writes a lane's record with one store. All zero while apart.
+/// writes a lane's record with one store. Two halves of four doubles: the
+/// force with the overlap, n × F_t with |F_n|, so a 256-bit load brings a
+/// vector with what multiplies it (the AVX2 gather). All zero while apart.
 struct alignas(64) ContactOutput {
     Vec3 force_n = Vec3::Zero();   ///< this step's force on `first` (−force on a body `second`) [N]
+    double overlap_m = 0.0;        ///< ξ this step, while touching [m]
     /// n × F_t this step (n from first to second): a body's torque from the
     /// contact is its lever arm r − ξ/2 times this [N].
     Vec3 normal_x_tangential_n = Vec3::Zero();
-    double overlap_m = 0.0;        ///< ξ this step, while touching [m]
     double normal_force_n = 0.0;   ///< |F_n| this step [N]
 };
-static_assert(sizeof(ContactOutput) == 64);
+static_assert(sizeof(ContactOutput) == 64 && offsetof(ContactOutput, overlap_m) == 3 * sizeof(double)
+              && offsetof(ContactOutput, normal_x_tangential_n) == 4 * sizeof(double)
+              && offsetof(ContactOutput, normal_force_n) == 7 * sizeof(double));
 
 struct ContactList {
     std::vector<BodyRef> first, second;       ///< see the top; sorted by contact_key

@@ -197,7 +197,7 @@ std::string read_four_output_arrays(const io::Group& root, ContactList& c)
     read("contacts/normal_force_n", normal);
     if (!error.empty()) return error;
     c.output.resize(c.size());
-    for (std::size_t p = 0; p < c.size(); ++p) c.output[p] = {force[p], torque_arm[p], overlap[p], normal[p]};
+    for (std::size_t p = 0; p < c.size(); ++p) c.output[p] = {.force_n = force[p], .overlap_m = overlap[p], .normal_x_tangential_n = torque_arm[p], .normal_force_n = normal[p]};
     return "";
 }
 

@@ -1,0 +1,84 @@
+// Compiled with -ffp-contract=off (engine/CMakeLists.txt): see the header.
+#include "contact/gather_simd.hpp"
+
+#include "contact/pair_kernel_simd.hpp"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+namespace wiredem::engine {
+namespace {
+
+#if defined(__x86_64__)
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in pair_kernel_simd.cpp
+
+static_assert(offsetof(ContactOutput, force_n) == 0 && offsetof(ContactOutput, overlap_m) == 3 * sizeof(double)
+              && offsetof(ContactOutput, normal_x_tangential_n) == 4 * sizeof(double) && alignof(ContactOutput) >= 32);
+
+/// x y z of v, 0.
+[[gnu::target("avx2"), gnu::always_inline]] inline __m256d load3(const Vec3& v)
+{
+    return _mm256_setr_pd(v.x(), v.y(), v.z(), 0.0);
+}
+
+/// x y z of a into v.
+[[gnu::target("avx2"), gnu::always_inline]] inline void store3(Vec3& v, __m256d a)
+{
+    _mm_storeu_pd(v.data(), _mm256_castpd256_pd128(a));
+    _mm_store_sd(v.data() + 2, _mm256_extractf128_pd(a, 1));
+}
+
+template <bool rotates>
+[[gnu::target("avx2")]] void gather_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
+{
+    const ContactList& c = *in.contacts;
+    const double* records = c.output.data()->force_n.data();
+    const __m256d half = _mm256_set1_pd(0.5);
+    for (std::size_t i = begin; i < end; ++i) {
+        // f = m g, then ± each contact's force in incidence order; the lever
+        // arm r − ξ/2 as the scalar gather writes it.
+        const Vec3 weight = in.mass_kg[i] * in.gravity_m_per_s2;
+        __m256d f = load3(weight);
+        __m256d tau = _mm256_setzero_pd();
+        const __m256d r = _mm256_set1_pd(in.radius_m[i]);
+        const std::uint32_t last = c.incidence_start[in.flat_offset + i + 1];
+        for (std::uint32_t e = c.incidence_start[in.flat_offset + i]; e < last; ++e) {
+            const Incidence link = c.incidence[e];
+            const double* record = records + 8 * std::size_t{link.contact()};
+            const __m256d force_overlap = _mm256_load_pd(record);
+            f = f + _mm256_set1_pd(link.sign()) * force_overlap;
+            if constexpr (rotates) {
+                const __m256d overlap = _mm256_permute4x64_pd(force_overlap, 0xFF);
+                tau = tau + (r - half * overlap) * _mm256_load_pd(record + 4);
+            }
+        }
+        if (in.extra_force_n != nullptr) f = f + load3(in.extra_force_n[i]);
+        store3(in.force_n[i], f);
+        if constexpr (rotates) store3(in.torque_n_m[i], tau);
+    }
+}
+
+[[gnu::target("avx2")]] void gather_block_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
+{
+    if (in.torque_n_m != nullptr) gather_avx2<true>(in, begin, end);
+    else gather_avx2<false>(in, begin, end);
+}
+
+#pragma GCC diagnostic pop
+
+#endif
+
+} // namespace
+
+SimdGather simd_gather()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return &gather_block_avx2;
+#endif
+    return nullptr;
+}
+
+} // namespace wiredem::engine
