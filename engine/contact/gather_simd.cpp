@@ -35,7 +35,9 @@ template <bool rotates>
 [[gnu::target("avx2")]] void gather_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
 {
     const ContactList& c = *in.contacts;
-    const double* records = c.output.data()->force_n.data();
+    // Each record as eight doubles (force_n at offset 0; no record at all for
+    // a body kind without contacts).
+    const auto* records = reinterpret_cast<const double*>(c.output.data());
     const __m256d half = _mm256_set1_pd(0.5);
     for (std::size_t i = begin; i < end; ++i) {
         // f = m g, then ± each contact's force in incidence order; the lever
