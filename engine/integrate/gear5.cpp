@@ -1,5 +1,6 @@
 #include "integrate/gear5.hpp"
 
+#include "contact/pair_kernel_simd.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
@@ -22,14 +23,18 @@ namespace {
 // element is the one of the Vec3 expressions it replaces, operation for
 // operation, so the results are bit for bit the same.
 
-// Both loops are built twice, for AVX2 and for the baseline (SSE2), and the
-// CPU's version is chosen when the program loads: four doubles per
-// instruction instead of two. Neither build fuses a multiply–add (AVX2 does
-// not bring FMA), so both give the same bits.
+// Both loops are built twice, for AVX2 and for the baseline (SSE2), from
+// one text (always inlined into a wrapper of each target); the AVX2 one runs
+// where the SIMD paths do (simd_isa(), contact/pair_kernel_simd.hpp): four
+// doubles per instruction instead of two. Neither fuses a multiply–add (the
+// build has -ffp-contract=off, and AVX2 does not bring FMA), so both give the
+// same bits. (Not target_clones: its load-time resolver runs before
+// ThreadSanitizer's runtime is up and crashes an instrumented program.)
 
 /// x₀ and x₁ predicted in place, over n doubles.
-[[gnu::target_clones("avx2", "default")]] void predict_flat(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
-    const double* __restrict x3, const double* __restrict x4, const double* __restrict x5, std::size_t n)
+[[gnu::always_inline]] inline void predict_flat(double* __restrict x0, double* __restrict x1,
+    const double* __restrict x2, const double* __restrict x3, const double* __restrict x4,
+    const double* __restrict x5, std::size_t n)
 {
     for (std::size_t j = 0; j < n; ++j) {
         x0[j] += x1[j] + x2[j] + x3[j] + x4[j] + x5[j];
@@ -38,8 +43,9 @@ namespace {
 }
 
 /// x₂…x₅ predicted, then every derivative corrected by Δ = target − x₂(predicted), over n doubles.
-[[gnu::target_clones("avx2", "default")]] void correct_flat(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict x3,
-    double* __restrict x4, double* __restrict x5, const double* __restrict target, std::size_t n)
+[[gnu::always_inline]] inline void correct_flat(double* __restrict x0, double* __restrict x1,
+    double* __restrict x2, double* __restrict x3, double* __restrict x4, double* __restrict x5,
+    const double* __restrict target, std::size_t n)
 {
     constexpr const double* c = gear5_corrector;
     for (std::size_t j = 0; j < n; ++j) {
@@ -56,10 +62,53 @@ namespace {
     }
 }
 
+using PredictFlat = void (*)(double*, double*, const double*, const double*, const double*, const double*, std::size_t);
+using CorrectFlat = void (*)(double*, double*, double*, double*, double*, double*, const double*, std::size_t);
+
+void predict_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
+    const double* __restrict x3, const double* __restrict x4, const double* __restrict x5, std::size_t n)
+{
+    predict_flat(x0, x1, x2, x3, x4, x5, n);
+}
+void correct_flat_baseline(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target, std::size_t n)
+{
+    correct_flat(x0, x1, x2, x3, x4, x5, target, n);
+}
+#if defined(__x86_64__)
+[[gnu::target("avx2")]] void predict_flat_avx2(double* __restrict x0, double* __restrict x1,
+    const double* __restrict x2, const double* __restrict x3, const double* __restrict x4,
+    const double* __restrict x5, std::size_t n)
+{
+    predict_flat(x0, x1, x2, x3, x4, x5, n);
+}
+[[gnu::target("avx2")]] void correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target, std::size_t n)
+{
+    correct_flat(x0, x1, x2, x3, x4, x5, target, n);
+}
+#endif
+
+/// The predictor and corrector loops of the instruction set in use.
+PredictFlat predictor()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return &predict_flat_avx2;
+#endif
+    return &predict_flat_baseline;
+}
+CorrectFlat corrector()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return &correct_flat_avx2;
+#endif
+    return &correct_flat_baseline;
+}
+
 /// Predicts x₀ and x₁ of bodies [b, e) in place.
 void predict_position_and_velocity(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e)
 {
-    predict_flat(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+    predictor()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), 3 * (e - b));
 }
 
@@ -71,7 +120,7 @@ void correct(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::s
 {
     std::array<Vec3, integrate_block> half_a_dt2;
     for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
-    correct_flat(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+    corrector()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), half_a_dt2.data()->data(),
         3 * (e - b));
 }
