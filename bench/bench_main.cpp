@@ -243,6 +243,17 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
 
 const char* integrator_name(Integrator i) { return i == Integrator::gear5 ? "gear5" : "verlet"; }
 
+/// The explicit SIMD paths the run uses (set_simd_kernels and the CPU).
+const char* simd_name()
+{
+    switch (simd_isa()) {
+    case SimdIsa::avx512: return "avx512";
+    case SimdIsa::avx2: return "avx2";
+    case SimdIsa::none: break;
+    }
+    return "scalar";
+}
+
 /// The per-stage profile as a JSON object: seconds per stage.
 std::string stages_json(const StepProfile& p)
 {
@@ -260,11 +271,11 @@ void print_case_json(const Case& c, double dt)
 {
     std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"rebuilds\":%llu,\"steps\":%llu,"
                 "\"wall_time_s\":%.6f,\"cpu_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
-                "\"ns_per_contact\":%s,\"state_hash\":\"%016llx\",\"stage_s\":%s}\n",
+                "\"ns_per_contact\":%s,\"state_hash\":\"%016llx\",\"simd\":\"%s\",\"stage_s\":%s}\n",
         c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs,
         static_cast<unsigned long long>(c.rebuilds), static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
         c.body_steps_per_s(), c.contacts > 0 ? std::to_string(c.ns_per_contact()).c_str() : "null",
-        static_cast<unsigned long long>(c.hash),
+        static_cast<unsigned long long>(c.hash), simd_name(),
         stages_json(c.profile).c_str());
 }
 
@@ -288,7 +299,7 @@ void print_table(const std::vector<Case>& cases)
             first_of(c).wall_s / c.wall_s);
         same = same && c.hash == first_of(c).hash;
     }
-    std::printf("final states %s across thread counts\n", same ? "bit-identical" : "DIFFER");
+    std::printf("final states %s across thread counts; SIMD paths: %s\n", same ? "bit-identical" : "DIFFER", simd_name());
     std::printf("\nper stage, seconds (share of the step):\n");
     for (const Case& c : cases) {
         std::printf("%-16s %-7s %2u:", c.name.c_str(), integrator_name(c.integrator), c.threads);

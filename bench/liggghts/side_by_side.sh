@@ -143,7 +143,8 @@ time_peer LIGGGHTS "$liggghts" "$here/in.bench"
 # --- table -----------------------------------------------------------------
 echo
 echo "$(date -u '+%Y-%m-%d %H:%M UTC'); $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "$bodies grains, ${packing:-${settle:-default} s settling}, $contacts contacts, δt = $dt s, $steps steps on the packing"
+simd=$(grep -m1 '"case":"settled_packing"' "$work/wiredem.json" | field simd)
+echo "$bodies grains, ${packing:-${settle:-default} s settling}, $contacts contacts, δt = $dt s, $steps steps on the packing; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), wiredem's SIMD paths: ${simd:-unknown}"
 # per core: body-steps per second of wall time / cores; per CPU-s: body-steps per second of CPU time.
 # vs PEER: per core (wall) and per CPU-s, relative to the peer on as many
 # cores (or on 1 if it ran on fewer).
