@@ -1,15 +1,16 @@
-// AVX-512 helpers shared by the SIMD kernels (contact/pair_kernel_simd.cpp,
-// integrate/rotation_simd.cpp, forces/membrane_simd.cpp,
-// forces/wire_simd.cpp): eight lanes of doubles with the arithmetic of the
-// scalar code, and transposes between arrays of small records and lane
-// registers. Include only in files built with -ffp-contract=off (see
+// AVX-512 helpers for the SIMD kernels (the *_lanes.inc texts included by
+// contact/pair_kernel_simd.cpp, integrate/rotation_simd.cpp,
+// forces/membrane_simd.cpp, forces/wire_simd.cpp): eight lanes of doubles
+// with the arithmetic of the scalar code, lane masks, and transposes between
+// arrays of small records and lane registers; avx2.hpp gives the same names
+// for four lanes. Include only in files built with -ffp-contract=off (see
 // pair_kernel_simd.hpp: no fused multiply–add, so the lanes keep the scalar
 // code's bits) and only on x86-64.
 #pragma once
 
-#include <immintrin.h>
-
 #include "core/types.hpp"
+
+#include <immintrin.h>
 
 #include <array>
 #include <cstdint>
