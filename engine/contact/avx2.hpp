@@ -20,7 +20,8 @@ namespace wiredem::engine::avx2 {
 
 // Every helper is inlined into functions built for AVX2, which the CPU is
 // checked for at run time (simd_isa).
-#define WIREDEM_AVX2 gnu::target("avx2"), gnu::always_inline
+#define WIREDEM_AVX2_TARGET gnu::target("avx2")
+#define WIREDEM_AVX2 WIREDEM_AVX2_TARGET, gnu::always_inline
 
 inline constexpr unsigned lanes = 4;
 using Pd = __m256d;

@@ -20,7 +20,8 @@ namespace wiredem::engine::avx512 {
 
 // Every helper is inlined into functions built for AVX-512 (F, VL, BW),
 // which the CPU is checked for at run time (simd_isa).
-#define WIREDEM_AVX512 gnu::target("avx512f,avx512vl,avx512bw"), gnu::always_inline
+#define WIREDEM_AVX512_TARGET gnu::target("avx512f,avx512vl,avx512bw")
+#define WIREDEM_AVX512 WIREDEM_AVX512_TARGET, gnu::always_inline
 
 inline constexpr unsigned lanes = 8;
 // Eight lanes of doubles; GCC's vector extensions give __m512d the

@@ -4,7 +4,7 @@
 #include "contact/pair_kernel_simd.hpp"
 
 #if defined(__x86_64__)
-#include <immintrin.h>
+#include "contact/avx2.hpp"
 #endif
 
 namespace wiredem::engine {
@@ -13,26 +13,26 @@ namespace {
 #if defined(__x86_64__)
 
 #pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in pair_kernel_simd.cpp
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in lanes_for_each_isa.inc
 
 static_assert(offsetof(ContactOutput, force_n) == 0 && offsetof(ContactOutput, overlap_m) == 3 * sizeof(double)
               && offsetof(ContactOutput, normal_x_tangential_n) == 4 * sizeof(double) && alignof(ContactOutput) >= 32);
 
 /// x y z of v, 0.
-[[gnu::target("avx2"), gnu::always_inline]] inline __m256d load3(const Vec3& v)
+[[WIREDEM_AVX2]] inline __m256d load3(const Vec3& v)
 {
     return _mm256_setr_pd(v.x(), v.y(), v.z(), 0.0);
 }
 
 /// x y z of a into v.
-[[gnu::target("avx2"), gnu::always_inline]] inline void store3(Vec3& v, __m256d a)
+[[WIREDEM_AVX2]] inline void store3(Vec3& v, __m256d a)
 {
     _mm_storeu_pd(v.data(), _mm256_castpd256_pd128(a));
     _mm_store_sd(v.data() + 2, _mm256_extractf128_pd(a, 1));
 }
 
 template <bool rotates>
-[[gnu::target("avx2")]] void gather_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
+[[WIREDEM_AVX2_TARGET]] void gather_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
 {
     const ContactList& c = *in.contacts;
     // Each record as eight doubles (force_n at offset 0; no record at all for
@@ -63,7 +63,7 @@ template <bool rotates>
     }
 }
 
-[[gnu::target("avx2")]] void gather_block_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
+[[WIREDEM_AVX2_TARGET]] void gather_block_avx2(const GatherInputs& in, std::size_t begin, std::size_t end)
 {
     if (in.torque_n_m != nullptr) gather_avx2<true>(in, begin, end);
     else gather_avx2<false>(in, begin, end);

@@ -20,13 +20,6 @@ std::atomic<SimdKernels> chosen_kernels{SimdKernels::automatic};
 
 #if defined(__x86_64__)
 
-// GCC 12's own intrinsics (gathers, square roots, max, unpacks, inserts)
-// start from an "undefined" register that -W(maybe-)uninitialized reports
-// when inlined.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-
 // The loads read Vec3 arrays as doubles with a stride of 3, the contact
 // list's ids as 32-bit words and its springs with a stride of 4.
 static_assert(sizeof(Vec3) == 3 * sizeof(double));
@@ -36,26 +29,9 @@ static_assert(sizeof(TangentialState) == 4 * sizeof(double) && offsetof(Tangenti
 /// The spin of a body that does not turn: the scalar path's zero vector.
 constexpr double no_spin[3] = {0.0, 0.0, 0.0};
 
-// One kernel text (pair_kernel_lanes.inc), two instruction sets.
-namespace with_avx512 {
-using namespace avx512;
-#define WIREDEM_LANES_FN WIREDEM_AVX512
-#define WIREDEM_LANES_TARGET gnu::target("avx512f,avx512vl,avx512bw")
-#include "contact/pair_kernel_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx512
-
-namespace with_avx2 {
-using namespace avx2;
-#define WIREDEM_LANES_FN WIREDEM_AVX2
-#define WIREDEM_LANES_TARGET gnu::target("avx2")
-#include "contact/pair_kernel_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx2
-
-#pragma GCC diagnostic pop
+// One kernel text, two instruction sets.
+#define WIREDEM_LANES_KERNELS "contact/pair_kernel_lanes.inc"
+#include "contact/lanes_for_each_isa.inc"
 
 #endif
 

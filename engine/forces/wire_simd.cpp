@@ -18,34 +18,13 @@ namespace {
 
 #if defined(__x86_64__)
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in pair_kernel_simd.cpp
-#pragma GCC diagnostic ignored "-Wuninitialized"
-
 // A WireSegment is a record of four doubles: unit x y z, then the length.
 static_assert(sizeof(WireSegment) == 4 * sizeof(double) && offsetof(WireSegment, length_m) == 3 * sizeof(double));
 static_assert(sizeof(std::array<Vec3, 3>) == 9 * sizeof(double));
 
-// One kernel text (wire_lanes.inc), two instruction sets.
-namespace with_avx512 {
-using namespace avx512;
-#define WIREDEM_LANES_FN WIREDEM_AVX512
-#define WIREDEM_LANES_TARGET gnu::target("avx512f,avx512vl,avx512bw")
-#include "forces/wire_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx512
-
-namespace with_avx2 {
-using namespace avx2;
-#define WIREDEM_LANES_FN WIREDEM_AVX2
-#define WIREDEM_LANES_TARGET gnu::target("avx2")
-#include "forces/wire_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx2
-
-#pragma GCC diagnostic pop
+// One kernel text, two instruction sets.
+#define WIREDEM_LANES_KERNELS "forces/wire_lanes.inc"
+#include "contact/lanes_for_each_isa.inc"
 
 #endif
 

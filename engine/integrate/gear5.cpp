@@ -7,6 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__x86_64__)
+#include "contact/avx2.hpp"
+#endif
+
 namespace wiredem::engine {
 namespace {
 
@@ -76,13 +80,13 @@ void correct_flat_baseline(double* __restrict x0, double* __restrict x1, double*
     correct_flat(x0, x1, x2, x3, x4, x5, target, n);
 }
 #if defined(__x86_64__)
-[[gnu::target("avx2")]] void predict_flat_avx2(double* __restrict x0, double* __restrict x1,
+[[WIREDEM_AVX2_TARGET]] void predict_flat_avx2(double* __restrict x0, double* __restrict x1,
     const double* __restrict x2, const double* __restrict x3, const double* __restrict x4,
     const double* __restrict x5, std::size_t n)
 {
     predict_flat(x0, x1, x2, x3, x4, x5, n);
 }
-[[gnu::target("avx2")]] void correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+[[WIREDEM_AVX2_TARGET]] void correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
     double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target, std::size_t n)
 {
     correct_flat(x0, x1, x2, x3, x4, x5, target, n);

@@ -16,29 +16,11 @@ namespace {
 
 #if defined(__x86_64__)
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized" // GCC 12's intrinsics, as in pair_kernel_simd.cpp
-
 static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x y z w");
 
-// One kernel text (rotation_lanes.inc), two instruction sets.
-namespace with_avx512 {
-using namespace avx512;
-#define WIREDEM_LANES_FN WIREDEM_AVX512
-#define WIREDEM_LANES_TARGET gnu::target("avx512f,avx512vl,avx512bw")
-#include "integrate/rotation_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx512
-
-namespace with_avx2 {
-using namespace avx2;
-#define WIREDEM_LANES_FN WIREDEM_AVX2
-#define WIREDEM_LANES_TARGET gnu::target("avx2")
-#include "integrate/rotation_lanes.inc"
-#undef WIREDEM_LANES_TARGET
-#undef WIREDEM_LANES_FN
-} // namespace with_avx2
+// One kernel text, two instruction sets.
+#define WIREDEM_LANES_KERNELS "integrate/rotation_lanes.inc"
+#include "contact/lanes_for_each_isa.inc"
 
 /// The grains [i, i + lanes) turned by `block`, the lanes it leaves by turn().
 template <std::size_t lanes>
@@ -52,8 +34,6 @@ void turn_blocks(std::uint32_t (*block)(Quat*, const Vec3*), Quat* q, const Vec3
                 if (!(done >> l & 1u)) turn(q[i + l], theta[i + l]);
     }
 }
-
-#pragma GCC diagnostic pop
 
 #endif
 
