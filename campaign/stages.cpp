@@ -332,18 +332,14 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, index), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
 
-    std::filesystem::path partial = dir.test(index);
-    partial += ".partial";
     try {
-        io::File file = io::File::create(partial);
-        io::Group g = file.root().create_group(test_file_group);
-        g.write_double_attribute("confining_pressure_pa", pressures[index]);
-        g.write_int_attribute("threads", sim.threads());
-        write_triaxial_result(g, r.value());
-        file.close();
-        std::filesystem::rename(partial, dir.test(index));
+        io::write_file_atomically(dir.test(index), [&](io::Group& root) {
+            io::Group g = root.create_group(test_file_group);
+            g.write_double_attribute("confining_pressure_pa", pressures[index]);
+            g.write_int_attribute("threads", sim.threads());
+            write_triaxial_result(g, r.value());
+        });
     } catch (const std::exception& e) {
-        std::filesystem::remove(partial, ec);
         return "cannot write " + dir.test(index).string() + ": " + e.what();
     }
     std::filesystem::remove(dir.checkpoint(index), ec);
@@ -403,11 +399,10 @@ json::object definitions_json()
 
 void write_units(io::Dataset d, std::string_view units) { d.write_string_attribute("units", units); }
 
-void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec, const Specimen& specimen,
+/// result.h5's contents, into its root group.
+void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& specimen,
     const std::vector<eng::TriaxialResult>& tests)
 {
-    io::File file = io::File::create(path);
-    io::Group root = file.root();
     root.write_string_attribute("format", "wiredem-result-1");
     root.write_string_dataset("job_spec", json::serialize(api::to_json(spec)));
 
@@ -431,7 +426,6 @@ void write_result_h5(const std::filesystem::path& path, const api::JobSpec& spec
         t.write_double_attribute("confining_pressure_pa", pressures[i]);
         write_triaxial_result(t, tests[i]);
     }
-    file.close();
 }
 
 } // namespace
@@ -525,12 +519,8 @@ StageError analyse(const JobDir& dir, const StageControl& control)
 
     // Writing: result.h5, then summary.json (its presence marks success).
     report(control, "writing", 0.6, "writing result.h5 and summary.json");
-    std::filesystem::path h5_tmp = dir.result_h5();
-    h5_tmp += ".partial";
-    std::error_code ec;
     try {
-        write_result_h5(h5_tmp, spec, specimen, tests);
-        std::filesystem::rename(h5_tmp, dir.result_h5());
+        io::write_file_atomically(dir.result_h5(), [&](io::Group& root) { write_result(root, spec, specimen, tests); });
         eng::io::write_xdmf(dir.result_h5(), dir.result_xdmf()); // ParaView's view of result.h5
 
         json::object summary;
@@ -648,7 +638,6 @@ StageError analyse(const JobDir& dir, const StageControl& control)
 
         write_text_file_atomically(dir.summary(), api::json_document_text(summary) + "\n");
     } catch (const std::exception& ex) {
-        std::filesystem::remove(h5_tmp, ec);
         return std::string("writing the results failed: ") + ex.what();
     }
     report(control, "writing", 1.0, "done");

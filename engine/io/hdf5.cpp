@@ -6,6 +6,8 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <string>
 #include <type_traits>
 
 namespace wiredem::engine::io {
@@ -729,7 +731,33 @@ void File::close()
 {
     silence_automatic_error_printing();
     if (id() < 0) return;
-    check(H5Fclose(handle_.release()), Where{name_, "/"}, "cannot close file");
+    const Where at{name_, "/"};
+    // The file's own identifier counts one.
+    const ssize_t open_objects = H5Fget_obj_count(id(), H5F_OBJ_ALL | H5F_OBJ_LOCAL);
+    if (open_objects < 0) fail(at, "cannot count the file's open objects");
+    if (open_objects > 1)
+        misuse(at, "cannot close file",
+            std::to_string(open_objects - 1) + " group(s), dataset(s) or attribute(s) opened through it are still open");
+    check(H5Fclose(handle_.release()), at, "cannot close file");
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write)
+{
+    std::filesystem::path partial = path;
+    partial += ".partial";
+    try {
+        File file = File::create(partial);
+        {
+            Group root = file.root();
+            write(root);
+        }
+        file.close();
+        std::filesystem::rename(partial, path);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw;
+    }
 }
 
 } // namespace wiredem::engine::io

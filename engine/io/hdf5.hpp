@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -259,7 +260,11 @@ public:
     /// Flushes buffered data of the whole file to disk.
     void flush();
     /// Closes the file, reporting errors (the destructor closes quietly instead).
-    /// Objects still open keep the file open until they close.
+    /// Throws Hdf5Error, leaving the file open, while a group, dataset or
+    /// attribute opened through it is still open: HDF5 would keep the file
+    /// open, unwritten and locked until that object closes, so a file
+    /// "closed" and then renamed could be read half written or refused
+    /// ("unable to lock file") by a reader. Close (scope) those objects first.
     void close();
     /// File name as given.
     [[nodiscard]] const std::string& name() const noexcept { return name_; }
@@ -272,5 +277,12 @@ private:
     detail::Handle handle_;
     std::string name_;
 };
+
+/// Writes a whole HDF5 file so that no reader ever sees it half written:
+/// `write` fills the root group of `path`.partial, which is closed and then
+/// renamed onto `path` (POSIX rename replaces an existing file atomically).
+/// On an exception the partial file is removed and the exception passes on.
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write);
+
 
 } // namespace wiredem::engine::io

@@ -79,33 +79,25 @@ Result<std::uint64_t, std::string> save_snapshot(
     const World& w, const std::filesystem::path& path, const std::function<void(io::Group&)>& write_host)
 {
     const std::uint64_t hash = state_hash(w);
-    std::filesystem::path partial = path;
-    partial += ".partial";
     try {
-        io::File file = io::File::create(partial);
-        io::Group root = file.root();
-        root.write_string_attribute("format", format_name);
-        root.write_int_attribute("version", snapshot_version);
-        root.write_int_attribute("wall_count", static_cast<std::int64_t>(w.walls.size()));
-        root.write_string_attribute("state_hash", hex(hash));
-        for_each_field(w, [&](const std::string& name, const auto& value, FieldRole) {
-            const FlatField f = flatten(value);
-            if (f.is_real) root.write_dataset(name, std::span<const double>(f.real), f.columns);
-            else root.write_dataset(name, std::span<const std::int64_t>(f.integer), f.columns);
+        io::write_file_atomically(path, [&](io::Group& root) {
+            root.write_string_attribute("format", format_name);
+            root.write_int_attribute("version", snapshot_version);
+            root.write_int_attribute("wall_count", static_cast<std::int64_t>(w.walls.size()));
+            root.write_string_attribute("state_hash", hex(hash));
+            for_each_field(w, [&](const std::string& name, const auto& value, FieldRole) {
+                const FlatField f = flatten(value);
+                if (f.is_real) root.write_dataset(name, std::span<const double>(f.real), f.columns);
+                else root.write_dataset(name, std::span<const std::int64_t>(f.integer), f.columns);
+            });
+            if (write_host) {
+                io::Group host = root.create_group(snapshot_host_group);
+                write_host(host);
+            }
         });
-        if (write_host) {
-            io::Group host = root.create_group(snapshot_host_group);
-            write_host(host);
-        }
-        file.close();
     } catch (const std::exception& e) {
-        std::error_code ignored;
-        std::filesystem::remove(partial, ignored);
         return Err("cannot write snapshot " + path.string() + ": " + e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(partial, path, ec);
-    if (ec) return Err("cannot write snapshot " + path.string() + ": " + ec.message());
     return hash;
 }
 

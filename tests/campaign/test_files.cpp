@@ -206,12 +206,10 @@ TEST(CampaignFiles, ATestsRecordReadsBackExactly)
 {
     const fs::path path = temp_file("result");
     const eng::TriaxialResult written = sample_result(5);
-    {
-        io::File f = io::File::create(path);
-        io::Group g = f.root().create_group("test");
+    io::write_file_atomically(path, [&](io::Group& root) {
+        io::Group g = root.create_group("test");
         write_triaxial_result(g, written);
-        f.close();
-    }
+    });
     const io::File f = io::File::open_read_only(path);
     expect_same(read_triaxial_result(f.root().open_group("test")), written);
     fs::remove(path);
@@ -238,12 +236,10 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
     s.result.strength.reset();
     for (const bool sampled : {true, false}) {
         s.last_sample_step = sampled ? 4240 : std::numeric_limits<std::uint64_t>::max(); // "none yet" too
-        {
-            io::File f = io::File::create(path);
-            io::Group g = f.root().create_group("host");
+        io::write_file_atomically(path, [&](io::Group& root) {
+            io::Group g = root.create_group("host");
             write_driver_state(g, s);
-            f.close();
-        }
+        });
         const io::File f = io::File::open_read_only(path);
         const eng::TriaxialDriverState r = read_driver_state(f.root().open_group("host"));
         EXPECT_EQ(r.steps, s.steps);
@@ -295,12 +291,10 @@ TEST(CampaignFiles, ATestSoFarIsNothingThenItsCheckpointThenItsFile)
     }
 
     const eng::TriaxialResult done = sample_result(6);
-    {
-        io::File f = io::File::create(dir.test(1));
-        io::Group g = f.root().create_group(wiredem::campaign::test_file_group);
+    io::write_file_atomically(dir.test(1), [&](io::Group& root) {
+        io::Group g = root.create_group(wiredem::campaign::test_file_group);
         write_triaxial_result(g, done);
-        f.close();
-    }
+    });
     const TestSoFar finished = read_test_so_far(dir, 1, wiredem::campaign::Snapshots::read);
     ASSERT_EQ(finished.state, TestSoFar::State::finished);
     expect_same(finished.record, done);
@@ -328,12 +322,9 @@ TEST(CampaignFiles, APreparationReportReadsBackExactly)
     p.time_step_s = next_value();
     p.settled = true;
     p.top_plate_wall = 3;
-    {
-        io::File f = io::File::create(path);
-        io::Group g = f.root();
+    io::write_file_atomically(path, [&](io::Group& g) {
         write_preparation_report(g, p);
-        f.close();
-    }
+    });
     const io::File f = io::File::open_read_only(path);
     const eng::PreparationReport r = read_preparation_report(f.root());
     EXPECT_EQ(r.grains, p.grains);
@@ -379,12 +370,9 @@ TEST(CampaignFiles, APreparationDriverStateReadsBackExactly)
         s.settled_under_lid = phase == eng::PreparationPhase::following_lid;
         s.top_plate_wall = 2;
         s.wall_time_s = next_value();
-        {
-            io::File f = io::File::create(path);
-            io::Group g = f.root();
+        io::write_file_atomically(path, [&](io::Group& g) {
             write_preparation_state(g, s);
-            f.close();
-        }
+        });
         const io::File f = io::File::open_read_only(path);
         const eng::PreparationDriverState r = read_preparation_state(f.root());
         EXPECT_EQ(r.phase, s.phase);
@@ -414,12 +402,10 @@ TEST(CampaignFiles, ADamagedRecordIsAnErrorNamingWhatIsWrong)
     const fs::path path = temp_file("damaged");
     eng::TriaxialResult r = sample_result(4);
     r.series.sigma1_pa.pop_back(); // one column a row short
-    {
-        io::File f = io::File::create(path);
-        io::Group g = f.root().create_group("test");
+    io::write_file_atomically(path, [&](io::Group& root) {
+        io::Group g = root.create_group("test");
         write_triaxial_result(g, r);
-        f.close();
-    }
+    });
     const io::File f = io::File::open_read_only(path);
     try {
         (void)read_triaxial_result(f.root().open_group("test"));

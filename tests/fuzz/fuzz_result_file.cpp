@@ -70,27 +70,26 @@ void write_bodies(FuzzedDataProvider& in, io::Group& g, bool snapshot)
 
 void write_result(FuzzedDataProvider& in, const std::string& path)
 {
-    io::File f = io::File::create(path);
-    io::Group root = f.root();
-    if (in.ConsumeBool()) root.write_string_attribute("format", "wiredem-result-1");
-    if (in.ConsumeBool()) {
-        io::Group sp = root.create_group("specimen");
-        write_bodies(in, sp, false);
-    }
-    const int tests = in.ConsumeIntegralInRange<int>(0, 3);
-    for (int t = 0; t < tests; ++t) {
-        io::Group tg = root.create_group("tests/sigma3_" + std::to_string(in.ConsumeIntegral<std::int32_t>()));
-        if (in.ConsumeBool()) tg.write_double_attribute("confining_pressure_pa", in.ConsumeFloatingPoint<double>());
-        const int snapshots = in.ConsumeIntegralInRange<int>(0, 3);
-        for (int s = 0; s < snapshots; ++s) {
-            io::Group sg = tg.create_group("snapshots/snapshot_" + std::to_string(in.ConsumeIntegralInRange<int>(-1, 12)));
-            if (in.ConsumeBool()) sg.write_double_attribute("requested_axial_strain", in.ConsumeFloatingPoint<double>());
-            if (in.ConsumeBool()) sg.write_double_attribute("axial_strain", in.ConsumeFloatingPoint<double>());
-            if (in.ConsumeBool()) sg.write_double_attribute("time_s", in.ConsumeFloatingPoint<double>());
-            write_bodies(in, sg, true);
+    io::write_file_atomically(path, [&](io::Group& root) {
+        if (in.ConsumeBool()) root.write_string_attribute("format", "wiredem-result-1");
+        if (in.ConsumeBool()) {
+            io::Group sp = root.create_group("specimen");
+            write_bodies(in, sp, false);
         }
-    }
-    f.close();
+        const int tests = in.ConsumeIntegralInRange<int>(0, 3);
+        for (int t = 0; t < tests; ++t) {
+            io::Group tg = root.create_group("tests/sigma3_" + std::to_string(in.ConsumeIntegral<std::int32_t>()));
+            if (in.ConsumeBool()) tg.write_double_attribute("confining_pressure_pa", in.ConsumeFloatingPoint<double>());
+            const int snapshots = in.ConsumeIntegralInRange<int>(0, 3);
+            for (int s = 0; s < snapshots; ++s) {
+                io::Group sg = tg.create_group("snapshots/snapshot_" + std::to_string(in.ConsumeIntegralInRange<int>(-1, 12)));
+                if (in.ConsumeBool()) sg.write_double_attribute("requested_axial_strain", in.ConsumeFloatingPoint<double>());
+                if (in.ConsumeBool()) sg.write_double_attribute("axial_strain", in.ConsumeFloatingPoint<double>());
+                if (in.ConsumeBool()) sg.write_double_attribute("time_s", in.ConsumeFloatingPoint<double>());
+                write_bodies(in, sg, true);
+            }
+        }
+    });
 }
 
 } // namespace

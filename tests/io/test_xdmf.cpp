@@ -106,29 +106,28 @@ void write_snapshot(Group g, const Sizes& n, double strain, double time_s)
 /// order 100 kPa, 20 kPa so that byte order and pressure order differ), snapshots.
 void write_result(const fs::path& path, const Sizes& n, bool with_tests = true)
 {
-    File f = File::create(path);
-    Group root = f.root();
-    root.write_string_attribute("format", "wiredem-result-1");
-    root.write_string_dataset("job_spec", "{\"name\": \"xdmf test\"}");
-    Group sp = root.create_group("specimen");
-    sp.write_int_attribute("grains", static_cast<std::int64_t>(n.grains));
-    units(sp.write_dataset("grain_position_m", points(n.grains, 0.0)), "m");
-    units(sp.write_dataset("grain_radius_m", std::vector<double>(n.grains, 1.2e-3)), "m");
-    units(sp.write_dataset("wire_node_position_m", points(n.wire_nodes, 0.01)), "m");
-    units(sp.write_dataset("membrane_node_position_m", points(n.membrane_nodes, 0.02)), "m");
-    if (with_tests) {
-        Group t1 = root.create_group("tests/sigma3_100000");
-        t1.write_double_attribute("confining_pressure_pa", 1e5);
-        units(t1.write_dataset("time_s", std::vector<double>{0.0, 0.1}), "s");
-        for (int k = 0; k < 2; ++k)
-            write_snapshot(t1.create_group("snapshots/snapshot_" + std::to_string(k)), n, 0.05 * k, 0.1 * k);
-        Group t2 = root.create_group("tests/sigma3_20000");
-        t2.write_double_attribute("confining_pressure_pa", 2e4);
-        // 11 snapshots: snapshot_10 must come after snapshot_9, not after snapshot_1
-        for (int k = 0; k < 11; ++k)
-            write_snapshot(t2.create_group("snapshots/snapshot_" + std::to_string(k)), n, 0.01 * k, 0.02 * k);
-    }
-    f.close();
+    write_file_atomically(path, [&](Group& root) {
+        root.write_string_attribute("format", "wiredem-result-1");
+        root.write_string_dataset("job_spec", "{\"name\": \"xdmf test\"}");
+        Group sp = root.create_group("specimen");
+        sp.write_int_attribute("grains", static_cast<std::int64_t>(n.grains));
+        units(sp.write_dataset("grain_position_m", points(n.grains, 0.0)), "m");
+        units(sp.write_dataset("grain_radius_m", std::vector<double>(n.grains, 1.2e-3)), "m");
+        units(sp.write_dataset("wire_node_position_m", points(n.wire_nodes, 0.01)), "m");
+        units(sp.write_dataset("membrane_node_position_m", points(n.membrane_nodes, 0.02)), "m");
+        if (with_tests) {
+            Group t1 = root.create_group("tests/sigma3_100000");
+            t1.write_double_attribute("confining_pressure_pa", 1e5);
+            units(t1.write_dataset("time_s", std::vector<double>{0.0, 0.1}), "s");
+            for (int k = 0; k < 2; ++k)
+                write_snapshot(t1.create_group("snapshots/snapshot_" + std::to_string(k)), n, 0.05 * k, 0.1 * k);
+            Group t2 = root.create_group("tests/sigma3_20000");
+            t2.write_double_attribute("confining_pressure_pa", 2e4);
+            // 11 snapshots: snapshot_10 must come after snapshot_9, not after snapshot_1
+            for (int k = 0; k < 11; ++k)
+                write_snapshot(t2.create_group("snapshots/snapshot_" + std::to_string(k)), n, 0.01 * k, 0.02 * k);
+        }
+    });
 }
 
 ptree read_xml(const fs::path& path)
@@ -455,15 +454,13 @@ TEST(XdmfSidecar, WithoutWireThereIsNoWireGrid)
     const fs::path h5 = dir.path() / "result.h5";
     Sizes n;
     n.wire_nodes = 0;
-    {
-        File f = File::create(h5);
-        Group sp = f.root().create_group("specimen");
+    write_file_atomically(h5, [&](Group& root) {
+        Group sp = root.create_group("specimen");
         sp.write_dataset("grain_position_m", points(n.grains, 0.0));
         sp.write_dataset("grain_radius_m", std::vector<double>(n.grains, 1e-3));
         sp.write_dataset("wire_node_position_m", std::span<const Vec3>{});
         sp.write_dataset("membrane_node_position_m", std::span<const Vec3>{});
-        f.close();
-    }
+    });
     const XdmfSummary s = write_xdmf(h5);
     EXPECT_EQ(s.grids, 1u);
     const ptree tree = read_xml(dir.path() / "result.xdmf");

@@ -364,7 +364,9 @@ TEST(LiveSeriesRealRunner, ARunningTestsSeriesGrowsAndIsTheBeginningOfTheFinishe
         EXPECT_EQ(s.at("reached").at("time_s").to_number<double>(), column_of(s, "time_s").back());
         if (partial.empty() || rows > partial.back().at("rows").to_number<std::size_t>()) partial.push_back(s);
 
-        const json::value tests = http(server.port(), "GET", "/v1/jobs/" + id + "/tests").json();
+        const auto tests_reply = http(server.port(), "GET", "/v1/jobs/" + id + "/tests");
+        ASSERT_EQ(tests_reply.status, 200) << tests_reply.body << server.log();
+        const json::value tests = tests_reply.json();
         EXPECT_TRUE(tests.at("partial").as_bool());
         ASSERT_EQ(tests.at("tests").as_array().size(), 2u);
         EXPECT_EQ(tests.at("tests").at(0).at("name"), "sigma3_10000");
