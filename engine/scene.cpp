@@ -25,7 +25,14 @@ double build_container(World& w, const ContainerSpec& spec)
             for (int ix = -half; ix <= half && placed < spec.grains; ++ix) {
                 const double x = ix * pitch, y = iy * pitch;
                 if (std::hypot(x, y) > reach) continue;
-                const Vec3 jitter(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+                // Drawn z, y, x, one statement each: C++ leaves the order in
+                // which a call's arguments are evaluated open (GCC went right
+                // to left, clang left to right: the same seed gave two
+                // scenes). z first is GCC's order, the scenes' so far.
+                const double jz = rng.uniform() - 0.5;
+                const double jy = rng.uniform() - 0.5;
+                const double jx = rng.uniform() - 0.5;
+                const Vec3 jitter(jx, jy, jz);
                 add_grain(w, Vec3(x, y, z) + spec.jitter * gap * jitter, r, grain_mat);
                 ++placed;
                 top = z;

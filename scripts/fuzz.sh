@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (tests/fuzz: clang, ASan + UBSan) into
-# build/fuzz and runs each for a fixed time, or a fixed number of inputs;
+# Builds the libFuzzer targets (tests/fuzz: clang, ASan + UBSan) in
+# build/asan and runs each for a fixed time, or a fixed number of inputs;
 # fails when any target finds a crash or a property violation (the input is
-# then in build/fuzz/artifacts/, reproduce with `build/fuzz/tests/fuzz/TARGET FILE`).
+# then in build/asan/fuzz/artifacts/, reproduce with `build/asan/tests/fuzz/TARGET FILE`).
 # docs/fuzzing.md describes the targets.
 #
 #   scripts/fuzz.sh [-t SECONDS] [-n RUNS] [-j PARALLEL] [TARGET ...]
@@ -11,7 +11,7 @@
 #     -j PARALLEL  targets run at once (default: the number of cores)
 #     TARGET       some of the targets (default: all)
 #
-# Each target keeps its working corpus in build/fuzz/corpus/TARGET (it grows
+# Each target keeps its working corpus in build/asan/fuzz/corpus/TARGET (it grows
 # from run to run) and starts from its seeds (examples/*.json, tests/fuzz/seeds/)
 # with its dictionary (tests/fuzz/*.dict).
 set -euo pipefail
@@ -33,12 +33,12 @@ all=(fuzz_job_spec_text fuzz_job_spec_values fuzz_http_request fuzz_request_pars
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 
-# Only the fuzz targets and the libraries they link: no tests, benchmarks or
-# apps. -O1 with line tables: libFuzzer's usual trade of speed for build time.
-cmake -S . -B build/fuzz -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DWIREDEM_FUZZ=ON -DWIREDEM_BUILD_TESTS=OFF -DWIREDEM_BUILD_BENCH=OFF -DWIREDEM_BUILD_APPS=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" >/dev/null
-cmake --build build/fuzz --parallel "$(nproc)" $(printf -- '--target %s ' "${targets[@]}")
+# The fuzz targets live in the ASan + UBSan build (scripts/build.sh asan:
+# clang, libFuzzer's coverage on every library), beside the tests; only they
+# and the libraries they link are built here.
+bash scripts/build.sh asan "${targets[@]}"
+bin=build/asan/tests/fuzz
+work=build/asan/fuzz
 
 seeds_of() {  # the read-only seed folders of a target
   case "$1" in
@@ -73,20 +73,20 @@ options_of() {
 
 limit=(-max_total_time="$seconds")
 [ -z "$runs" ] || limit=(-runs="$runs")
-mkdir -p build/fuzz/artifacts build/fuzz/logs
+mkdir -p "$work/artifacts" "$work/logs"
 run_one() {
   local t=$1
-  mkdir -p "build/fuzz/corpus/$t"
+  mkdir -p "$work/corpus/$t"
   # -timeout: an input that takes this long is a hang (the validation bound is
   # far below it); -rss_limit_mb: the default 2 GB, stated.
-  if "build/fuzz/tests/fuzz/$t" "${limit[@]}" -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 \
-      -artifact_prefix="build/fuzz/artifacts/$t-" $(dict_of "$t") $(options_of "$t") "build/fuzz/corpus/$t" $(seeds_of "$t") \
-      >"build/fuzz/logs/$t.log" 2>&1; then
-    echo "fuzz: $t: ok, $(grep -o 'Done [0-9]* runs in [0-9]* second(s)' "build/fuzz/logs/$t.log" | tail -1)" \
-      "$(grep -o 'slowest validation.*' "build/fuzz/logs/$t.log" | tail -1)"
+  if "$bin/$t" "${limit[@]}" -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 \
+      -artifact_prefix="$work/artifacts/$t-" $(dict_of "$t") $(options_of "$t") "$work/corpus/$t" $(seeds_of "$t") \
+      >"$work/logs/$t.log" 2>&1; then
+    echo "fuzz: $t: ok, $(grep -o 'Done [0-9]* runs in [0-9]* second(s)' "$work/logs/$t.log" | tail -1)" \
+      "$(grep -o 'slowest validation.*' "$work/logs/$t.log" | tail -1)"
   else
-    echo "fuzz: $t: FAILED (build/fuzz/logs/$t.log; input in build/fuzz/artifacts/$t-*)"
-    grep -m1 -A12 -E 'ERROR|property violated|runtime error' "build/fuzz/logs/$t.log" | head -30
+    echo "fuzz: $t: FAILED ($work/logs/$t.log; input in $work/artifacts/$t-*)"
+    grep -m1 -A12 -E 'ERROR|property violated|runtime error' "$work/logs/$t.log" | head -30
     return 1
   fi
 }

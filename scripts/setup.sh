@@ -13,7 +13,7 @@ packages=(
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
   python3-yaml                                    # scripts/lint-docker.sh checks compose.yaml
   chromium                                        # the web page's browser test (tests/web/), headless
-  # scripts/build.sh clang and scripts/fuzz.sh: clang, and its libFuzzer and
+  # scripts/build.sh asan and clang, scripts/fuzz.sh: clang, and its libFuzzer and
   # sanitizer runtimes (libclang_rt.fuzzer, .asan, .ubsan_standalone), which
   # are only recommended by clang-14, and apt-get here skips recommendations.
   clang libclang-rt-14-dev

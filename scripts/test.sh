@@ -1,18 +1,18 @@
 #!/usr/bin/env bash
 # Installs what is missing, lints the container files, builds and runs the
-# test suite: every file through clang's front end with -Werror
-# (scripts/clang_check.sh); every test in Release (the Slurm executor's
-# among them, on a single-node cluster the test starts: label slurm) but the
-# study-scale run (label study_scale: tests/CMakeLists.txt says how to run
-# it); then under
-# AddressSanitizer + UndefinedBehaviorSanitizer every test but the report
-# script's (label scripts: Python), the Slurm cluster's (label slurm: its
-# pieces run there in the server's unit tests) and the long physical runs (label
-# physics_long: whole column preparations and the end-to-end triaxial runs,
-# a minute or two each under ASan, whose code the sanitizer run still goes
-# through in the determinism and campaign tests); then under ThreadSanitizer
-# the threaded engine tests and the server; then the fuzz targets, each for
-# 30 s (scripts/fuzz.sh).
+# test suite: every test in Release (the Slurm executor's among them, on a
+# single-node cluster the test starts: label slurm) but the study-scale run
+# (label study_scale: tests/CMakeLists.txt says how to run it); then, built
+# with clang under AddressSanitizer + UndefinedBehaviorSanitizer with -Werror
+# and without precompiled headers (scripts/build.sh asan: that build is also
+# the check that every file compiles clang-clean and includes what it uses),
+# every test but the report script's (label scripts: Python), the Slurm
+# cluster's (label slurm: its pieces run there in the server's unit tests) and
+# the long physical runs (label physics_long: whole column preparations and
+# the end-to-end triaxial runs, a minute or two each under ASan, whose code
+# the sanitizer run still goes through in the determinism and campaign
+# tests); then under ThreadSanitizer the threaded engine tests and the server;
+# then the fuzz targets of the same ASan build, each for 30 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -24,15 +24,9 @@ phase() { echo "== $* (at $SECONDS s)"; }
 phase "lint: container files"
 bash scripts/lint-docker.sh
 for variant in release asan; do
-  phase "$variant"
+  phase "build: $variant"
   bash scripts/build.sh "$variant"
 done
-# Debian 12's clang 14 on every file, front end only (scripts/clang_check.sh):
-# the project must compile -Wall -Wextra clean with it as with GCC, and each
-# file must include what it uses (no precompiled headers there). A full clang
-# build of the programs took twice as long and checked fewer files.
-phase "clang (every file, -fsyntax-only -Werror)"
-bash scripts/clang_check.sh
 # ThreadSanitizer only for the threaded code: the engine's thread pool and
 # determinism tests, and the server with the client it is driven through.
 phase "tsan"

@@ -87,8 +87,9 @@ TEST_P(SnapshotRoundTrip, ContinuesBitIdenticallyInThisProcess)
     // another step hashes differently until both lists are rebuilt at the same
     // step again (seen: equal again 400 steps after a forced rebuild on restore).
     for (std::uint64_t done = 0; done < steps_after; done += 100) {
-        original.run(100);
-        resumed.run(100);
+        const RunOutcome a = original.run(100), b = resumed.run(100);
+        ASSERT_EQ(a.end, RunEnd::completed) << "after " << done << " + " << a.steps << " steps";
+        ASSERT_EQ(b.end, RunEnd::completed) << "after " << done << " + " << b.steps << " steps";
         ASSERT_EQ(state_hash(resumed.world), state_hash(original.world)) << "after " << done + 100 << " steps";
         ASSERT_EQ(resumed.world.neighbour_builds, original.world.neighbour_builds);
         ASSERT_EQ(resumed.world.wall_loads[1].total_force_n, original.world.wall_loads[1].total_force_n);

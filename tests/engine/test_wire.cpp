@@ -476,10 +476,14 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             state = state * 6364136223846793005ull + 1442695040888963407ull;
             return static_cast<double>(state >> 11) * 0x1p-52 - 1.0;
         };
+        auto uniform_zyx = [&] { // drawn z, y, x, one per statement (engine/scene.cpp says why)
+            const double z = uniform(), y = uniform();
+            return Vec3(uniform(), y, z);
+        };
         Vec3 p = Vec3::Zero(), last_step = Vec3::Zero();
         for (int i = 0; i < 600; ++i) {
             const double phi = 0.09 * i;
-            Vec3 step = l * Vec3(-std::sin(phi), std::cos(phi), 0.05) + 0.2 * l * Vec3(uniform(), uniform(), uniform());
+            Vec3 step = l * Vec3(-std::sin(phi), std::cos(phi), 0.05) + 0.2 * l * uniform_zyx();
             if (i % 97 == 5) step = Vec3::Zero();                              // a segment of zero length
             if (i % 89 == 7 || i % 89 == 8) step = l * Vec3(0.0, 0.0, 1.0);    // straight: sin ζ = 0
             if (i % 83 == 11) step = l * Vec3(1e-10, 0.0, 1.0);                // sin ζ ≈ 1e-10
@@ -487,7 +491,7 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
             if (i % 73 == 17) step = -last_step;                              // folded back: ζ = π
             p += step;
             last_step = step;
-            append_wire_node(w, p, 0.3 * Vec3(uniform(), uniform(), uniform()));
+            append_wire_node(w, p, 0.3 * uniform_zyx());
         }
         for (std::size_t i = 0; i < w.wire_rest_angle_rad.size(); ++i) w.wire_rest_angle_rad[i] = 0.2 * (1.0 + uniform());
         for (const bool damped : {true, false}) {

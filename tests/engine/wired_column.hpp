@@ -81,9 +81,14 @@ inline std::size_t build_wired_column(World& w, Integrator integrator)
 
     w.dt_s = stable_time_step(w).auto_s; // every body is at rest: no derivative to rescale
     SplitMix64 rng(11);
-    for (std::uint32_t i = 0; i < w.of(BodyKind::grain).size(); ++i)
-        set_velocity(w, {BodyKind::grain, i},
-            Vec3(0.1 * rng.uniform() - 0.05, 0.1 * rng.uniform() - 0.05, 0.1 * rng.uniform() - 0.05));
+    for (std::uint32_t i = 0; i < w.of(BodyKind::grain).size(); ++i) {
+        // z, y, x: one draw per statement, in the order GCC evaluated the
+        // arguments of Vec3(…) when they were drawn inside it (engine/scene.cpp).
+        const double vz = 0.1 * rng.uniform() - 0.05;
+        const double vy = 0.1 * rng.uniform() - 0.05;
+        const double vx = 0.1 * rng.uniform() - 0.05;
+        set_velocity(w, {BodyKind::grain, i}, Vec3(vx, vy, vz));
+    }
     return top_wall;
 }
 

@@ -96,8 +96,11 @@ std::size_t build_lattice_specimen(Simulation& sim, int layers = 9)
             for (int j = -4; j <= 4; ++j) {
                 const double x = i * a + shift, y = j * a + shift;
                 if (std::hypot(x, y) > interior_m) continue;
-                add_grain(w, Vec3(x + jitter * (2.0 * rng.uniform() - 1.0), y + jitter * (2.0 * rng.uniform() - 1.0), z),
-                    r * (1.0 - 0.05 * rng.uniform()), grain_mat);
+                // One draw per statement (engine/scene.cpp says why).
+                const double radius = r * (1.0 - 0.05 * rng.uniform());
+                const double dy = jitter * (2.0 * rng.uniform() - 1.0);
+                const double dx = jitter * (2.0 * rng.uniform() - 1.0);
+                add_grain(w, Vec3(x + dx, y + dy, z), radius, grain_mat);
             }
     }
     const double column_top_m = r + (layers - 1) * layer_m + r;
