@@ -76,6 +76,19 @@ void report(const StageControl& c, const char* stage, double fraction, const std
     if (c.progress) c.progress(stage, std::clamp(fraction, 0.0, 1.0), message);
 }
 
+/// What a preparation in `phase` is doing, for a progress message.
+std::string preparation_phase_text(eng::PreparationPhase phase, std::size_t grains)
+{
+    switch (phase) {
+    case eng::PreparationPhase::pouring: return "pouring " + std::to_string(grains) + " grains";
+    case eng::PreparationPhase::settling: return "settling in the mould";
+    case eng::PreparationPhase::lowering_lid: return "lowering the top plate";
+    case eng::PreparationPhase::settling_under_lid: return "settling under the top plate";
+    case eng::PreparationPhase::following_lid: return "the top plate following the column down";
+    }
+    return "preparing";
+}
+
 std::size_t body_count(const eng::World& w)
 {
     return w.of(eng::BodyKind::grain).size() + w.of(eng::BodyKind::wire).size() + w.of(eng::BodyKind::membrane).size();
@@ -259,20 +272,32 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
         sim.world = std::move(w.value());
         continuation.from = state;
     }
-    continuation.between_steps = checkpointer<eng::PreparationDriverState>(control, dir.specimen_checkpoint(),
-        "the preparation", [](io::Group& host, const eng::PreparationDriverState& st) { write_preparation_state(host, st); });
+    // The phase the preparation is in, for the progress messages: seen
+    // between steps (with the checkpoints, when there are any).
+    eng::PreparationPhase phase = continuation.from ? continuation.from->phase : eng::PreparationPhase::pouring;
+    continuation.between_steps = [&phase,
+                                     save = checkpointer<eng::PreparationDriverState>(control, dir.specimen_checkpoint(),
+                                         "the preparation", [](io::Group& host, const eng::PreparationDriverState& st) {
+                                             write_preparation_state(host, st);
+                                         })](const eng::World& w, const eng::PreparationDriverState& st) {
+        phase = st.phase;
+        if (save) save(w, st);
+    };
     eng::RunControl rc;
     rc.cancel = control.cancel;
     rc.progress_every = 500;
     rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "preparing", f,
-            "pouring " + std::to_string(prep_spec.grain_count) + " grains, step " + std::to_string(done));
+        // The engine's total is the pour's expected steps; the settling
+        // phases after it take as long as the column needs: short of done
+        // until the preparation has returned.
+        const double f = total ? std::min(0.99, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "preparing", f, preparation_phase_text(phase, prep_spec.grain_count) + ", step " + std::to_string(done));
     };
     report(control, "preparing", 0.0, "preparing the specimen");
     auto prepared = eng::prepare_specimen(sim, prep_spec, rc, std::move(continuation));
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
     const eng::PreparationReport prep = prepared.value();
+    report(control, "preparing", 1.0, "specimen prepared in " + std::to_string(prep.steps) + " steps");
 
     // Time step of the tests: the given one, or the auto fraction of the
     // deformable system's critical step (the pouring's is set by impacts).

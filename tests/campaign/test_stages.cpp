@@ -23,6 +23,7 @@
 #include <spawn.h>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <sys/file.h>
 #include <sys/wait.h>
 #include <thread>
@@ -231,12 +232,24 @@ TEST(Stages, ATestTakesTheThreadsOfTheTestsThatEnded)
     campaign::StageControl control;
     control.threads = 2;
     std::vector<double> progress;
-    control.progress = [&](const char*, double f, const std::string&) { progress.push_back(f); };
+    std::vector<std::string> preparing; // the preparation's messages
+    control.progress = [&](const char* stage, double f, const std::string& m) {
+        progress.push_back(f);
+        if (std::string_view(stage) == "preparing") preparing.push_back(m);
+    };
     const campaign::StageError e = campaign::run(spec.value(), campaign::JobDir{two}, control);
     ASSERT_FALSE(e) << *e;
     ASSERT_GT(progress.size(), 2u);
     for (std::size_t i = 1; i < progress.size(); ++i) EXPECT_GE(progress[i], progress[i - 1]) << "call " << i;
     EXPECT_EQ(progress.back(), 1.0);
+    // The preparation's messages say which phase it is in: pouring first,
+    // then the settling phases (not "pouring" to the end), then done.
+    ASSERT_GE(preparing.size(), 3u);
+    const auto says = [](const std::string& m, const char* what) { return m.find(what) != std::string::npos; };
+    EXPECT_TRUE(says(preparing[1], "pouring")) << preparing[1];
+    EXPECT_TRUE(says(preparing.back(), "specimen prepared in")) << preparing.back();
+    const std::string& last_step = preparing[preparing.size() - 2];
+    EXPECT_TRUE(says(last_step, "settling") || says(last_step, "top plate")) << last_step;
     EXPECT_EQ(computed(two / "summary.json"), computed(one / "summary.json"));
     const auto diffs = h5_differences(two / "result.h5", one / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
