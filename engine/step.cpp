@@ -251,14 +251,15 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
     const SimdContactKernels simd = simd_contact_kernels();
     const std::size_t lanes = simd.lanes;
-    parallel_for_blocks(pool, pairs, 256, [&](std::size_t begin, std::size_t end) {
+    constexpr std::size_t pair_block = 256;
+    parallel_for_blocks(pool, pairs, pair_block, [&](std::size_t begin, std::size_t end) {
         std::size_t p = begin;
-        if (simd.pair)
-            for (; p + lanes <= end; p += lanes) {
-                const std::uint32_t done = simd.pair(c, p, in);
-                for (std::size_t l = 0; l < lanes; ++l)
-                    if (!(done >> l & 1u)) pair(p + l);
-            }
+        if (simd.pairs) {
+            p = begin + (end - begin) / lanes * lanes;
+            std::array<std::uint32_t, pair_block> left;
+            const std::size_t n_left = simd.pairs(c, begin, p, in, left.data());
+            for (std::size_t i = 0; i < n_left; ++i) pair(left[i]);
+        }
         for (; p < end; ++p) pair(p);
     });
     auto wall_contact = [&](std::size_t p) {

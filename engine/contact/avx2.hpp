@@ -131,19 +131,23 @@ struct Records4 {
     __m256d x, y, z, w;
 };
 
-/// The four records at `in`, transposed into lanes.
-[[WIREDEM_AVX2]] inline Records4 load_records4(const double* in)
+/// The records of four doubles at p[l], transposed into lanes.
+[[WIREDEM_AVX2]] inline Records4 load_rows4(const std::array<const double*, lanes>& p)
 {
-    Records4 r{_mm256_loadu_pd(in), _mm256_loadu_pd(in + 4), _mm256_loadu_pd(in + 8), _mm256_loadu_pd(in + 12)};
+    Records4 r{_mm256_loadu_pd(p[0]), _mm256_loadu_pd(p[1]), _mm256_loadu_pd(p[2]), _mm256_loadu_pd(p[3])};
     transpose4(r.x, r.y, r.z, r.w);
     return r;
 }
 
-/// Writes the records of the lanes in `m` back to `out`, only the components
-/// in `components` (bit 0 x … bit 3 w) of each; the others keep what `out`
-/// holds when this is called. (A branch per lane: AVX2's masked stores
-/// measured 5–12 % slower on the whole step, on AMD Zen 3.)
-[[WIREDEM_AVX2]] inline void store_records4(double* out, Mask m, Records4 r, unsigned components)
+/// The four consecutive records at `in`, transposed into lanes.
+[[WIREDEM_AVX2]] inline Records4 load_records4(const double* in) { return load_rows4({in, in + 4, in + 8, in + 12}); }
+
+/// Writes the records of four doubles of the lanes in `m` to out[l], only
+/// the components in `components` (bit 0 x … bit 3 w) of each; the others
+/// keep what out[l] holds when this is called. (A branch per lane: AVX2's
+/// masked stores measured 5–12 % slower on the whole step, on AMD Zen 3.)
+[[WIREDEM_AVX2]] inline void store_rows4(
+    const std::array<double*, lanes>& out, Mask m, Records4 r, unsigned components)
 {
     transpose4(r.x, r.y, r.z, r.w);
     const __m256d records[4] = {r.x, r.y, r.z, r.w};
@@ -151,12 +155,18 @@ struct Records4 {
     const std::uint32_t write = bits(m);
     for (unsigned l = 0; l < lanes; ++l)
         if (write >> l & 1u)
-            _mm256_storeu_pd(out + 4 * l, components == 0xFu ? records[l] : blend(keep, _mm256_loadu_pd(out + 4 * l), records[l]));
+            _mm256_storeu_pd(out[l], components == 0xFu ? records[l] : blend(keep, _mm256_loadu_pd(out[l]), records[l]));
 }
 
-/// Writes four records of eight doubles, record l = lane l of r[0] … r[7], to
-/// the 32-byte aligned `out` + 8 l, for the lanes in `m` only.
-[[WIREDEM_AVX2]] inline void store_records8(double* out, Mask m, const __m256d (&r)[8])
+/// store_rows4 to four consecutive records at `out`.
+[[WIREDEM_AVX2]] inline void store_records4(double* out, Mask m, Records4 r, unsigned components)
+{
+    store_rows4({out, out + 4, out + 8, out + 12}, m, r, components);
+}
+
+/// Writes records of eight doubles, record l = lane l of r[0] … r[7], to the
+/// 32-byte aligned out[l], for the lanes in `m` only.
+[[WIREDEM_AVX2]] inline void store_rows8(const std::array<double*, lanes>& out, Mask m, const __m256d (&r)[8])
 {
     __m256d a = r[0], b = r[1], c = r[2], d = r[3], e = r[4], f = r[5], g = r[6], h = r[7];
     transpose4(a, b, c, d);
@@ -165,9 +175,15 @@ struct Records4 {
     const std::uint32_t write = bits(m);
     for (unsigned l = 0; l < lanes; ++l)
         if (write >> l & 1u) {
-            _mm256_store_pd(out + 8 * l, low[l]);
-            _mm256_store_pd(out + 8 * l + 4, high[l]);
+            _mm256_store_pd(out[l], low[l]);
+            _mm256_store_pd(out[l] + 4, high[l]);
         }
+}
+
+/// store_rows8 to four consecutive records at `out`.
+[[WIREDEM_AVX2]] inline void store_records8(double* out, Mask m, const __m256d (&r)[8])
+{
+    store_rows8({out, out + 8, out + 16, out + 24}, m, r);
 }
 
 /// base[index of refs[l]] in lane l.

@@ -109,6 +109,25 @@ struct Records4 {
         _mm512_permutex2var_pd(zw03, low, zw47), _mm512_permutex2var_pd(zw03, high, zw47)};
 }
 
+/// The records of four doubles at `low` and `high`, one per half.
+[[WIREDEM_AVX512]] inline __m512d whole_rows(const double* low, const double* high)
+{
+    return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(low)), _mm256_loadu_pd(high), 1);
+}
+
+/// The records of four doubles at p[l], transposed into lanes (load_vec3s'
+/// transpose, with whole rows).
+[[WIREDEM_AVX512]] inline Records4 load_rows4(const std::array<const double*, 8>& p)
+{
+    const __m512d r04 = whole_rows(p[0], p[4]), r15 = whole_rows(p[1], p[5]);
+    const __m512d r26 = whole_rows(p[2], p[6]), r37 = whole_rows(p[3], p[7]);
+    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), yw01 = _mm512_unpackhi_pd(r04, r15);
+    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), yw23 = _mm512_unpackhi_pd(r26, r37);
+    const __m512i even = lanes_of(0, 1, 8, 9, 4, 5, 12, 13), odd = lanes_of(2, 3, 10, 11, 6, 7, 14, 15);
+    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(yw01, even, yw23),
+        _mm512_permutex2var_pd(xz01, odd, xz23), _mm512_permutex2var_pd(yw01, odd, yw23)};
+}
+
 /// Writes the records of the lanes in `lanes` back to `out`, only the
 /// components in `components` (bit 0 x … bit 3 w) of each.
 [[WIREDEM_AVX512]] inline void store_records4(double* out, __mmask8 lanes, const Records4& r, unsigned components)
@@ -120,6 +139,23 @@ struct Records4 {
         const __m512d records = _mm512_mask_blend_pd(0xcc, xy, zw); // x y from xy, z w from zw
         const auto mask = static_cast<__mmask8>(((lanes >> a & 1u) ? components : 0u) | ((lanes >> b & 1u) ? components << 4 : 0u));
         _mm512_mask_storeu_pd(out + 8 * pair, mask, records);
+    }
+}
+
+/// Writes the records of the lanes in `lanes` to out[l], only the
+/// components in `components` (bit 0 x … bit 3 w) of each (store_records4's
+/// transpose; each record's half of a register stored on its own).
+[[WIREDEM_AVX512]] inline void store_rows4(
+    const std::array<double*, 8>& out, __mmask8 lanes, const Records4& r, unsigned components)
+{
+    const auto keep = static_cast<__mmask8>(components);
+    for (int pair = 0; pair < 4; ++pair) {
+        const long long a = 2 * pair, b = a + 1;
+        const __m512d xy = _mm512_permutex2var_pd(r.x, lanes_of(a, a + 8, 0, 0, b, b + 8, 0, 0), r.y);
+        const __m512d zw = _mm512_permutex2var_pd(r.z, lanes_of(0, 0, a, a + 8, 0, 0, b, b + 8), r.w);
+        const __m512d records = _mm512_mask_blend_pd(0xcc, xy, zw); // x y from xy, z w from zw
+        if (lanes >> a & 1u) _mm256_mask_storeu_pd(out[a], keep, _mm512_castpd512_pd256(records));
+        if (lanes >> b & 1u) _mm256_mask_storeu_pd(out[b], keep, _mm512_extractf64x4_pd(records, 1));
     }
 }
 
@@ -156,9 +192,9 @@ struct Records4 {
 }
 
 /// Writes eight records of eight doubles, record l = lane l of r[0] … r[7]
-/// (an 8 × 8 transpose), to the 64-byte aligned `out` + 8 l, for the lanes
-/// in `lanes` only.
-[[WIREDEM_AVX512]] inline void store_records8(double* out, __mmask8 lanes, const __m512d (&r)[8])
+/// (an 8 × 8 transpose), to the 64-byte aligned out[l], for the lanes in
+/// `lanes` only.
+[[WIREDEM_AVX512]] inline void store_rows8(const std::array<double*, 8>& out, __mmask8 lanes, const __m512d (&r)[8])
 {
     // Pairs (r[2i][k], r[2i+1][k]) in 128-bit blocks: even k, then odd k.
     const __m512d a_even = _mm512_unpacklo_pd(r[0], r[1]), a_odd = _mm512_unpackhi_pd(r[0], r[1]);
@@ -175,7 +211,13 @@ struct Records4 {
         _mm512_shuffle_f64x2(ab04, cd04, 0xdd), _mm512_shuffle_f64x2(ab15, cd15, 0xdd),
         _mm512_shuffle_f64x2(ab26, cd26, 0xdd), _mm512_shuffle_f64x2(ab37, cd37, 0xdd)};
     for (int l = 0; l < 8; ++l)
-        _mm512_mask_store_pd(out + 8 * l, static_cast<__mmask8>((lanes >> l & 1u) ? 0xff : 0x00), records[l]);
+        if (lanes >> l & 1u) _mm512_store_pd(out[l], records[l]);
+}
+
+/// store_rows8 to eight consecutive records at `out`.
+[[WIREDEM_AVX512]] inline void store_records8(double* out, __mmask8 lanes, const __m512d (&r)[8])
+{
+    store_rows8({out, out + 8, out + 16, out + 24, out + 32, out + 40, out + 48, out + 56}, lanes, r);
 }
 
 /// base[index of refs[l]] in lane l.

@@ -4,12 +4,17 @@
 // one kernel text, contact/pair_kernel_lanes.inc, for both; one law, two
 // geometries, as in the scalar pipeline), and with AVX-512 also the grains'
 // turn (integrate/rotation_simd.cpp), the membrane (forces/membrane_simd.cpp)
-// and the wire (forces/wire_simd.cpp). The pair kernel takes any block of
-// consecutive pairs, of any kinds (grains, wire nodes, membrane nodes: the
-// same sphere–sphere law), and of those the lanes that are apart or
-// overlapping with a certain branch of the tangential law (sticking, sliding
-// on, re-sticking, breaking); the other lanes (a NaN, a boundary case) go to
-// the scalar kernel of compute_contact_forces (engine/step.cpp).
+// and the wire (forces/wire_simd.cpp). The pair kernel takes a stretch of
+// pairs of any kinds (grains, wire nodes, membrane nodes: the same
+// sphere–sphere law): it screens them `lanes` at a time for overlap, then
+// runs the law on the overlapping ones packed `lanes` to a block (about a
+// third of the listed pairs of a packing are apart, and a block of
+// consecutive pairs would run the law on them too); it does the pairs that
+// are apart or overlapping with a certain branch of the tangential law
+// (sticking, sliding on, re-sticking, breaking), and returns the others (a
+// NaN, a boundary case) to the scalar kernel of compute_contact_forces
+// (engine/step.cpp). The wall kernel takes `lanes` consecutive contacts of
+// one wall.
 //
 // Same bits as the scalar path. Each lane performs the scalar code's
 // operations (contact/geometry.hpp, laws/hertz.hpp, laws/tangential.hpp) in
@@ -60,14 +65,18 @@ struct ContactInputs {
 /// The inputs of the world's current state (valid until its bodies change).
 [[nodiscard]] ContactInputs contact_inputs(const World& w);
 
-/// Evaluates the contacts [p, p + lanes) of `c` (all body pairs; `lanes`
-/// that of the kernel in use, SimdContactKernels) that it can (above),
-/// writing their slots exactly as the scalar kernel would. Returns the lanes
-/// it did (bit l = contact p + l); the caller evaluates the others.
-using SimdPairKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const ContactInputs& in);
+/// Evaluates the body pairs [begin, end) of `c` (end − begin a multiple of
+/// `lanes`) as the scalar kernel would, save the ones whose indices it
+/// writes to `left` (it returns how many; room for end − begin is enough):
+/// the caller evaluates those.
+using SimdPairRangeKernel = std::size_t (*)(
+    ContactList& c, std::size_t begin, std::size_t end, const ContactInputs& in, std::uint32_t* left);
 
-/// The same for the contacts [p, p + lanes), all of wall `wall` (plane or
-/// cylinder): the lanes whose branch is certain.
+/// Evaluates the contacts [p, p + lanes) of `c`, all of wall `wall` (plane
+/// or cylinder; `lanes` that of the kernels in use, SimdContactKernels),
+/// that it can (above), writing their slots exactly as the scalar kernel
+/// would. Returns the lanes it did (bit l = contact p + l); the caller
+/// evaluates the others.
 using SimdWallKernel = std::uint32_t (*)(ContactList& c, std::size_t p, const Wall& wall, const ContactInputs& in);
 
 /// Which explicit SIMD paths run. Every choice gives the scalar code's bits.
@@ -88,7 +97,7 @@ enum class SimdIsa : std::uint8_t { none, avx2, avx512 };
 /// 0, null kernels) for the scalar path only.
 struct SimdContactKernels {
     std::size_t lanes = 0;
-    SimdPairKernel pair = nullptr;
+    SimdPairRangeKernel pairs = nullptr;
     SimdWallKernel wall = nullptr;
 };
 [[nodiscard]] SimdContactKernels simd_contact_kernels();
