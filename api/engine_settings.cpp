@@ -77,12 +77,17 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
     p.time_step_s = spec.engine.time_step_s.value_or(0.0);
-    p.integrator = spec.engine.integrator == Integrator::verlet ? engine::Integrator::verlet : engine::Integrator::gear5;
+    p.integrator = engine_integrator(spec.engine.integrator);
     p.seed = spec.seed;
     return p;
 }
 
 } // namespace
+
+engine::Integrator engine_integrator(Integrator i)
+{
+    return i == Integrator::verlet ? engine::Integrator::verlet : engine::Integrator::gear5;
+}
 
 engine::PreparationSpec preparation_spec(const JobSpec& spec) { return preparation(spec, true); }
 

@@ -774,7 +774,7 @@ void read_engine(ObjectReader& r, EngineSpec& e)
         r.describe("time_step_s",
             json::object{{"oneOf", json::array{number_schema(time_step_range), json::object{{"const", "auto"}}}},
                 {"default", e.time_step_s ? json::value(*e.time_step_s) : json::value("auto")}},
-            {"s", "δt; \"auto\" uses engine::auto_time_step_fraction (0.5) × the critical step (auto_s of engine::stable_time_step)"});
+            {"s", "δt; \"auto\" uses engine::auto_time_step_fraction (0.5) × the undamped critical step, and at most the critical step with the contacts' and the wire's damping (auto_s of engine::stable_time_step)"});
     if (const json::value* j = r.take("time_step_s")) {
         const std::string path = r.path_of("time_step_s");
         if (j->is_string()) {

@@ -1,5 +1,6 @@
 #include "timestep.hpp"
 
+#include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
 
 #include <algorithm>
@@ -15,18 +16,56 @@ const char* kind_name(int k)
     return names[k];
 }
 
-/// Folds in a spring-type limit: ω² = k/m for a stiffness k [N/m] on a mass m [kg].
-void fold_spring_limit(StableStep& c, double omega2_per_s2, const std::string& what)
+/// Folds in one oscillation: the undamped bound gear5_stability_limit / ω,
+/// and the damped one at ω_damped with damping ratio ζ (for a spring the same
+/// ω; for a contact its sustained stiffness, below).
+void fold_limit(StableStep& c, Integrator integrator, double omega, double omega_damped, double damping_ratio,
+    const std::string& what)
 {
-    if (!(omega2_per_s2 > 0.0)) return;
-    const double dt = gear5_stability_limit / std::sqrt(omega2_per_s2);
+    if (!(omega > 0.0)) return;
+    const double undamped = gear5_stability_limit / omega;
+    if (c.undamped_critical_s == 0.0 || undamped < c.undamped_critical_s) c.undamped_critical_s = undamped;
+    double dt = undamped;
+    if (omega_damped > 0.0) dt = std::min(dt, damped_stability_limit(integrator, damping_ratio) / omega_damped);
     if (c.critical_s == 0.0 || dt < c.critical_s) {
         c.critical_s = dt;
         c.limited_by = what;
     }
 }
 
+/// Folds in a spring of ω² = k/m [N/m over kg] with damping ratio ζ.
+void fold_spring_limit(StableStep& c, Integrator integrator, double omega2_per_s2, double damping_ratio,
+    const std::string& what)
+{
+    if (!(omega2_per_s2 > 0.0)) return;
+    const double omega = std::sqrt(omega2_per_s2);
+    fold_limit(c, integrator, omega, omega, damping_ratio, what);
+}
+
+/// Folds in a Hertz contact on a mass m of tangent stiffness k at the
+/// overlap of its fastest impact and k_ref at the reference overlap. The
+/// undamped bound takes the impact's stiffness; the damped one, with
+/// ζ = ω γ_n / 3, the reference's: damping makes a contact unstable only
+/// over many periods, which a sustained contact (a packing, at most the
+/// reference overlap) has and an impact (half a period) has not.
+void fold_contact_limit(
+    StableStep& c, const StabilityInputs& in, double k_n_per_m, double k_ref_n_per_m, double m_kg, const std::string& what)
+{
+    const double omega = std::sqrt(k_n_per_m / m_kg), omega_ref = std::sqrt(k_ref_n_per_m / m_kg);
+    fold_limit(c, in.integrator, omega, omega_ref, omega_ref * in.normal_damping_s / 3.0, what);
+}
+
 } // namespace
+
+double damped_stability_limit(Integrator integrator, double damping_ratio)
+{
+    const double zeta = std::max(damping_ratio, 0.0);
+    if (integrator == Integrator::verlet)
+        return std::min(gear5_stability_limit, 2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta));
+    // ω δt ζ ≤ gear5_damping_limit / 2, written so that ζ = 0 divides nothing.
+    return zeta * gear5_stability_limit <= 0.5 * gear5_damping_limit ? gear5_stability_limit
+                                                                      : 0.5 * gear5_damping_limit / zeta;
+}
 
 void StabilityInputs::Kind::include(double mass_kg, bool held, double radius_m, double plane_modulus_pa)
 {
@@ -63,7 +102,10 @@ StabilityInputs stability_inputs(const World& w, MembraneAs membrane)
     if (w.of(BodyKind::wire).size() >= 2) {
         in.wire_segment_stiffness_n_per_m = w.wire.axial_stiffness_n_per_m;
         in.wire_node_mass_kg = w.wire.node_mass_kg;
+        in.wire_damping_ratio = wire_damping_ratio;
     }
+    in.normal_damping_s = w.contact.normal_damping_s;
+    in.integrator = w.integrator;
     if (!w.membrane.node_mass_kg.empty() && deformable) { // a rigid membrane does not oscillate
         in.membrane_edge_stiffness_n_per_m = w.membrane.edge_stiffness_n_per_m;
         in.membrane_node_mass_kg = *std::min_element(w.membrane.node_mass_kg.begin(), w.membrane.node_mass_kg.end());
@@ -88,7 +130,8 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const double overlap = std::max(reference_overlap_fraction * r_star,
                 impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(m, impact_speed_m_per_s, e_star, r_star) : 0.0);
             const double k = hertz_stiffness_n_per_m(overlap, e_star, r_star);
-            fold_spring_limit(c, k / m, std::string(kind_name(a)) + "–" + kind_name(b) + " contacts");
+            const double k_ref = hertz_stiffness_n_per_m(reference_overlap_fraction * r_star, e_star, r_star);
+            fold_contact_limit(c, in, k, k_ref, m, std::string(kind_name(a)) + "–" + kind_name(b) + " contacts");
         }
     // Body–wall contacts.
     for (const double wall_modulus : in.wall_plane_moduli_pa)
@@ -99,15 +142,20 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const double overlap = std::max(reference_overlap_fraction * r,
                 impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(kinds[k].min_mass_kg, impact_speed_m_per_s, e_star, r) : 0.0);
             const double kk = hertz_stiffness_n_per_m(overlap, e_star, r);
-            fold_spring_limit(c, kk / kinds[k].min_mass_kg, std::string(kind_name(k)) + "–wall contacts");
+            const double kk_ref = hertz_stiffness_n_per_m(reference_overlap_fraction * r, e_star, r);
+            fold_contact_limit(c, in, kk, kk_ref, kinds[k].min_mass_kg, std::string(kind_name(k)) + "–wall contacts");
         }
     // Springs: the highest chain mode of the wire has ω² = 4 k_elo/m; a node of
     // the membrane mesh has six edges, bounded (Gershgorin) by ω² ≤ 12 k_m/m.
     if (in.wire_node_mass_kg > 0.0)
-        fold_spring_limit(c, 4.0 * in.wire_segment_stiffness_n_per_m / in.wire_node_mass_kg, "wire segments");
+        fold_spring_limit(c, in.integrator, 4.0 * in.wire_segment_stiffness_n_per_m / in.wire_node_mass_kg,
+            in.wire_damping_ratio, "wire segments");
     if (in.membrane_node_mass_kg > 0.0)
-        fold_spring_limit(c, 12.0 * in.membrane_edge_stiffness_n_per_m / in.membrane_node_mass_kg, "membrane edges");
-    c.auto_s = auto_time_step_fraction * c.critical_s;
+        fold_spring_limit(c, in.integrator, 12.0 * in.membrane_edge_stiffness_n_per_m / in.membrane_node_mass_kg, 0.0,
+            "membrane edges");
+    // Accuracy asks for a fraction of the undamped step (steps per period of
+    // the stiffest oscillation); damping lowers only the ceiling.
+    c.auto_s = std::min(auto_time_step_fraction * c.undamped_critical_s, c.critical_s);
     return c;
 }
 

@@ -31,10 +31,29 @@ namespace wiredem::engine {
 /// step: HertzCollision tests for both). Verlet's gain is a cheaper step.
 inline constexpr double gear5_stability_limit = 0.3;
 
-/// Fraction of the critical step used by `auto`: ω δt = 0.15, about 40 steps
-/// per period of the stiffest oscillation (a Hertz collision at the reference
-/// overlap takes ≳ 20 steps, a gentler one more), with an energy drift of the
-/// undamped oscillator below 10⁻³ over 2·10⁵ steps.
+/// Gear-5 with a damping force −c v on a mass m is stable only while
+/// c δt / m stays below about 0.16, whatever the stiffness: on a damped
+/// harmonic oscillator (damping ratio ζ = c / (2 m ω)) it grows without
+/// bound from ω δt ζ = 0.069 at ζ = 0.22, 0.074 at ζ = 0.3, 0.078 at 0.5,
+/// 0.081 at 1 and 0.082 at 20 (c δt/m = 2 ζ ω δt; tests/engine/test_gear5.cpp).
+/// The critical step of a damped oscillation is the smaller of
+/// gear5_stability_limit / ω and this over c/m: ω δt ≤ min(0.3, 0.065 / ζ),
+/// 5–20 % inside the measured bound. Velocity Verlet's exact bound is
+/// ω δt ≤ 2 (√(1 + ζ²) − ζ) (the same test); it is used with the accuracy
+/// bound gear5_stability_limit above.
+inline constexpr double gear5_damping_limit = 0.13;
+
+/// Largest ω δt of an oscillation of damping ratio ζ that `integrator` keeps
+/// bounded, with the margins above (gear5_stability_limit when ζ = 0).
+[[nodiscard]] double damped_stability_limit(Integrator integrator, double damping_ratio);
+
+/// Fraction of the undamped critical step used by `auto`: ω δt = 0.15, about
+/// 40 steps per period of the stiffest oscillation (a Hertz collision at the
+/// reference overlap takes ≳ 20 steps, a gentler one more), with an energy
+/// drift of the undamped oscillator below 10⁻³ over 2·10⁵ steps. `auto` never
+/// exceeds the damped critical step either (StableStep::auto_s): damping does
+/// not ask for more steps per period, it lowers the ceiling (a restitution of
+/// 0.2 or less blew Gear-5 up at ω δt = 0.15).
 inline constexpr double auto_time_step_fraction = 0.5;
 
 /// Reference overlap for the Hertz stiffness, as a fraction of R*.
@@ -62,6 +81,12 @@ struct StabilityInputs {
     double wire_node_mass_kg = 0.0;                 ///< m_w
     double membrane_edge_stiffness_n_per_m = 0.0;   ///< k_m; 0 when the membrane is rigid or absent
     double membrane_node_mass_kg = 0.0;             ///< lightest node mass of the deformable membrane
+    /// γ_n of the contact law: a contact of tangent stiffness K = dF/dξ on a
+    /// mass m has the damping ratio ζ = ω γ_n / 3, ω = √(K/m) [s]
+    double normal_damping_s = 0.0;
+    /// The wire's segments are damped too (wire_damping_ratio on their highest mode).
+    double wire_damping_ratio = 0.0;
+    Integrator integrator = Integrator::gear5;      ///< whose bound applies (damped_stability_limit)
 };
 
 /// How stability_inputs(World) treats the membrane.
@@ -75,15 +100,20 @@ enum class MembraneAs : std::uint8_t {
 
 /// The stable time step and where it comes from.
 struct StableStep {
-    double critical_s = 0.0;   ///< largest stable δt [s]
-    double auto_s = 0.0;       ///< what `auto` uses: auto_time_step_fraction × critical_s [s]
+    double critical_s = 0.0;   ///< largest stable δt, damping included [s]
+    /// The same without damping: gear5_stability_limit over the highest ω [s]
+    double undamped_critical_s = 0.0;
+    /// What `auto` uses: auto_time_step_fraction × undamped_critical_s, or
+    /// critical_s where damping brings that lower [s]
+    double auto_s = 0.0;
     std::string limited_by;    ///< what sets critical_s, e.g. "wire segments", "grain–grain contacts"
 };
 
 /// Critical δt from every kind of contact the inputs allow (lightest body,
-/// stiffest material pair, smallest radius of each kind; body–wall contacts)
-/// and from the springs: the highest chain mode of the wire, ω² = 4 k_elo/m_w,
-/// and a membrane node's six edges, bounded (Gershgorin) by ω² ≤ 12 k_m/m_m.
+/// stiffest material pair, smallest radius of each kind; body–wall contacts),
+/// damped by γ_n, and from the springs: the highest chain mode of the wire,
+/// ω² = 4 k_elo/m_w, damped by its ratio, and a membrane node's six edges,
+/// bounded (Gershgorin) by ω² ≤ 12 k_m/m_m.
 /// @param impact_speed_m_per_s  fastest expected impact: the Hertz stiffness is
 ///        taken at the larger of the reference overlap and the maximum overlap
 ///        of a collision at this speed (heavy, density-scaled grains falling
