@@ -1,19 +1,105 @@
 #include "integrate/verlet.hpp"
 
+#include "contact/pair_kernel_simd.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
+#include <algorithm>
+
+#if defined(__x86_64__)
+#include "contact/avx2.hpp"
+#endif
+
 namespace wiredem::engine {
+namespace {
+
+// Velocity Verlet on scaled derivatives (x₁ = δt v, x₂ = δt²/2 a), as Gear-5's
+// loops in gear5.cpp: a run of consecutive bodies' arrays as flat arrays of
+// doubles, each loop one text built for AVX2 and for the baseline, with the
+// Vec3 expressions' operations element by element (the same bits).
+
+/// First half over n doubles: x₀ ← x₀ + (x₁ + x₂), x₁ ← x₁ + x₂ (the
+/// half-kick with the last step's x₂, then the drift).
+[[gnu::always_inline]] inline void drift_flat(
+    double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
+{
+    for (std::size_t j = 0; j < n; ++j) {
+        x0[j] += x1[j] + x2[j];
+        x1[j] += x2[j];
+    }
+}
+
+/// Second half over n doubles: x₂ ← target (δt²/2 a), x₁ ← x₁ + x₂.
+[[gnu::always_inline]] inline void kick_flat(
+    double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+{
+    for (std::size_t j = 0; j < n; ++j) {
+        x2[j] = target[j];
+        x1[j] += x2[j];
+    }
+}
+
+using DriftFlat = void (*)(double*, double*, const double*, std::size_t);
+using KickFlat = void (*)(double*, double*, const double*, std::size_t);
+
+void drift_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
+{
+    drift_flat(x0, x1, x2, n);
+}
+void kick_flat_baseline(double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+{
+    kick_flat(x1, x2, target, n);
+}
+
+#if defined(__x86_64__)
+[[WIREDEM_AVX2_TARGET]] void drift_flat_avx2(
+    double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
+{
+    drift_flat(x0, x1, x2, n);
+}
+[[WIREDEM_AVX2_TARGET]] void kick_flat_avx2(
+    double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+{
+    kick_flat(x1, x2, target, n);
+}
+#endif
+
+/// The loops of the instruction set in use (simd_isa, as Gear-5's).
+DriftFlat drifter()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return &drift_flat_avx2;
+#endif
+    return &drift_flat_baseline;
+}
+KickFlat kicker()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return &kick_flat_avx2;
+#endif
+    return &kick_flat_baseline;
+}
+
+/// Second half for bodies [b, e) (at most integrate_block) with the
+/// accelerations inv_mass · load (F/m, or τ/I): x₂ = δt²/2 a, x₁ += x₂.
+void kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
+    const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
+{
+    std::array<Vec3, integrate_block> half_a_dt2;
+    for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
+    kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), half_a_dt2.data()->data(), 3 * (e - b));
+}
+
+} // namespace
 
 void verlet_first_half(World& w, ThreadPool& pool)
 {
+    const DriftFlat drift = drifter();
     for (auto& body : w.bodies) {
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
             for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-                for (std::size_t i = b; i < e; ++i) {
-                    body.x[0][i] += body.x[1][i] + body.x[2][i];
-                    body.x[1][i] += body.x[2][i];
-                }
+                drift(flat(body.x[0], b, e).data(), flat(body.x[1], b, e).data(), flat(body.x[2], b, e).data(),
+                    3 * (e - b));
             });
             move_kinematic(body.x, body.motion, begin, end);
         });
@@ -23,7 +109,7 @@ void verlet_first_half(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) rot.theta[1][i] += rot.theta[2][i];
+            flat(rot.theta[1], b, e) += flat(rot.theta[2], b, e); // w₁ += w₂
             // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
@@ -41,22 +127,25 @@ bool verlet_second_half(World& w, ThreadPool& pool)
             pool, body.size(), true,
             [&](std::size_t begin, std::size_t end) {
                 bool ok = true;
-                for (std::size_t i = begin; i < end; ++i) {
-                    if (!is_dynamic(body, i)) continue;
-                    body.x[2][i] = half_dt2 * body.inv_mass_per_kg[i] * force[i];
-                    body.x[1][i] += body.x[2][i];
-                    ok = ok && body.x[0][i].allFinite() && body.x[1][i].allFinite();
-                }
+                for (std::size_t block = begin; block < end; block += integrate_block)
+                    for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
+                        [&](std::size_t b, std::size_t e) {
+                            kick(body.x, b, e, body.inv_mass_per_kg, force, half_dt2);
+                            ok = ok && flat(body.x[0], b, e).allFinite() && flat(body.x[1], b, e).allFinite();
+                        });
                 return ok;
             },
             [](bool a, bool b) { return a && b; });
         finite = finite && body_finite;
     }
     RotationalState& rot = w.grain_rotation;
-    parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
-        if (!is_dynamic(w.of(BodyKind::grain), i)) return;
-        rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * w.grain_torque_n_m[i];
-        rot.theta[1][i] += rot.theta[2][i];
+    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
+    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t block = begin; block < end; block += integrate_block)
+            for_each_run(grain_motion, Motion::dynamic, block, std::min(end, block + integrate_block),
+                [&](std::size_t b, std::size_t e) {
+                    kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+                });
     });
     return finite;
 }
