@@ -59,11 +59,15 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
         in.wire_node_mass_kg = node_mass_kg;
         in.wire_damping_ratio = engine::wire_damping_ratio;
     }
-    // The contacts' damping is left out: γ_n from a restitution is a fit of
-    // 50–250 ms (resolved_normal_damping_s), too much for validating every
-    // submitted job. The run's own step includes it (engine::stable_time_step
-    // of the World), so a heavily damped Gear-5 job runs more steps than this
-    // estimates (docs/model.md, "Integration and time step").
+    // The contacts' damping when given as γ_n. From a restitution it is left
+    // out: that γ_n is a fit of 50–250 ms (resolved_normal_damping_s), too
+    // much for validating every submitted job. The run's own step includes
+    // it (engine::stable_time_step of the World), so a heavily damped Gear-5
+    // job runs up to 1/engine::min_damped_step_fraction times the steps
+    // estimated here, and more is refused when it starts (docs/model.md,
+    // "Integration and time step").
+    if (const auto* given = std::get_if<NormalDampingTime>(&spec.contact.normal_damping))
+        in.normal_damping_s = given->normal_damping_s;
     in.integrator = engine_integrator(spec.engine.integrator);
     const double membrane_node_kg = membrane_node_mass_kg(s.membrane) * scale;
     in.kinds[2].include(membrane_node_kg, false, membrane_contact_radius_m(s.membrane), plane_modulus_pa(s.membrane));

@@ -1021,6 +1021,17 @@ void check_time_step(Validator& v, const JobSpec& spec)
                                          + approx_text(stable.auto_s) + ")");
 }
 
+/// A damping given as γ_n that no explicit step can follow (engine::
+/// min_damped_step_fraction); a restitution's is checked when the run starts
+/// (its γ_n is a 50–250 ms fit, api/derived.hpp).
+void check_damping(Validator& v, const JobSpec& spec)
+{
+    const auto* given = std::get_if<NormalDampingTime>(&spec.contact.normal_damping);
+    if (given == nullptr || !v.clean({"contact", "specimen", "engine"})) return;
+    const StableStep stable = stable_time_step(spec);
+    if (stable.overdamped()) v.note("contact.normal_damping_s", engine::overdamped_error(stable, given->normal_damping_s));
+}
+
 void check_work(Validator& v, const JobSpec& spec)
 {
     if (!v.clean({"specimen", "triaxial", "engine"})) return;
@@ -1043,6 +1054,7 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_hold(v, spec.triaxial);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
+    check_damping(v, spec);
     check_work(v, spec);
 }
 

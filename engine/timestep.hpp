@@ -107,7 +107,22 @@ struct StableStep {
     /// critical_s where damping brings that lower [s]
     double auto_s = 0.0;
     std::string limited_by;    ///< what sets critical_s, e.g. "wire segments", "grain–grain contacts"
+
+    /// Whether damping brings the critical step below
+    /// min_damped_step_fraction of the undamped one (overdamped_error).
+    [[nodiscard]] bool overdamped() const;
 };
+
+/// Damping may lower the critical step to this fraction of the undamped one;
+/// below it a run is refused (overdamped_error) instead of taking more than
+/// ten times the steps its work was estimated at (the estimate made at
+/// validation leaves a restitution's damping out: api/derived.hpp) or, for
+/// a damping without bound, a time without bound.
+inline constexpr double min_damped_step_fraction = 0.1;
+
+/// What to tell a run whose step `s` is overdamped (StableStep::overdamped),
+/// whose contacts have normal damping `normal_damping_s`.
+[[nodiscard]] std::string overdamped_error(const StableStep& s, double normal_damping_s);
 
 /// Critical δt from every kind of contact the inputs allow (lightest body,
 /// stiffest material pair, smallest radius of each kind; body–wall contacts),

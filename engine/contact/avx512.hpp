@@ -71,30 +71,37 @@ template <int P>
     return _mm512_setr_epi64(a, b, c, d, e, f, g, h);
 }
 
-/// x, y and z of the Vec3 at p[l] in lane l: eight loads of x y z (masked to
-/// three doubles, so the last body of an array is not read past) transposed
-/// in registers, cheaper than three gathers on this CPU.
+/// The Vec3s at `low` and `high` as rows x y z 0, one per half (masked to
+/// three doubles, so the last body of an array is not read past).
 [[WIREDEM_AVX512]] inline __m512d two_rows(const double* low, const double* high) // x y z 0 x y z 0
 {
     return _mm512_insertf64x4(
         _mm512_castpd256_pd512(_mm256_maskz_loadu_pd(0x7, low)), _mm256_maskz_loadu_pd(0x7, high), 1);
 }
-[[WIREDEM_AVX512]] inline V3 load_vec3s(const std::array<const double*, 8>& p)
-{
-    const __m512d r04 = two_rows(p[0], p[4]), r15 = two_rows(p[1], p[5]);
-    const __m512d r26 = two_rows(p[2], p[6]), r37 = two_rows(p[3], p[7]);
-    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), y01 = _mm512_unpackhi_pd(r04, r15);
-    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), y23 = _mm512_unpackhi_pd(r26, r37);
-    const __m512i even = lanes_of(0, 1, 8, 9, 4, 5, 12, 13), odd = lanes_of(2, 3, 10, 11, 6, 7, 14, 15);
-    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(y01, even, y23),
-        _mm512_permutex2var_pd(xz01, odd, xz23)};
-}
-
 /// Components of eight consecutive records of four doubles (a quaternion's
 /// x y z w; a spring's x y z and the word holding `sticking`), one register each.
 struct Records4 {
     __m512d x, y, z, w;
 };
+
+/// Rows of four doubles (lane l's x y z w), two per register (r04: lanes 0
+/// and 4, …), transposed into lanes.
+[[WIREDEM_AVX512]] inline Records4 transpose_rows(__m512d r04, __m512d r15, __m512d r26, __m512d r37)
+{
+    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), yw01 = _mm512_unpackhi_pd(r04, r15);
+    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), yw23 = _mm512_unpackhi_pd(r26, r37);
+    const __m512i even = lanes_of(0, 1, 8, 9, 4, 5, 12, 13), odd = lanes_of(2, 3, 10, 11, 6, 7, 14, 15);
+    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(yw01, even, yw23),
+        _mm512_permutex2var_pd(xz01, odd, xz23), _mm512_permutex2var_pd(yw01, odd, yw23)};
+}
+
+/// x, y and z of the Vec3 at p[l] in lane l: eight loads of x y z
+/// transposed in registers, cheaper than three gathers on this CPU.
+[[WIREDEM_AVX512]] inline V3 load_vec3s(const std::array<const double*, 8>& p)
+{
+    const Records4 r = transpose_rows(two_rows(p[0], p[4]), two_rows(p[1], p[5]), two_rows(p[2], p[6]), two_rows(p[3], p[7]));
+    return {r.x, r.y, r.z};
+}
 
 /// The eight records at `in`, transposed into lanes.
 [[WIREDEM_AVX512]] inline Records4 load_records4(const double* in)
@@ -115,17 +122,10 @@ struct Records4 {
     return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(low)), _mm256_loadu_pd(high), 1);
 }
 
-/// The records of four doubles at p[l], transposed into lanes (load_vec3s'
-/// transpose, with whole rows).
+/// The records of four doubles at p[l], transposed into lanes.
 [[WIREDEM_AVX512]] inline Records4 load_rows4(const std::array<const double*, 8>& p)
 {
-    const __m512d r04 = whole_rows(p[0], p[4]), r15 = whole_rows(p[1], p[5]);
-    const __m512d r26 = whole_rows(p[2], p[6]), r37 = whole_rows(p[3], p[7]);
-    const __m512d xz01 = _mm512_unpacklo_pd(r04, r15), yw01 = _mm512_unpackhi_pd(r04, r15);
-    const __m512d xz23 = _mm512_unpacklo_pd(r26, r37), yw23 = _mm512_unpackhi_pd(r26, r37);
-    const __m512i even = lanes_of(0, 1, 8, 9, 4, 5, 12, 13), odd = lanes_of(2, 3, 10, 11, 6, 7, 14, 15);
-    return {_mm512_permutex2var_pd(xz01, even, xz23), _mm512_permutex2var_pd(yw01, even, yw23),
-        _mm512_permutex2var_pd(xz01, odd, xz23), _mm512_permutex2var_pd(yw01, odd, yw23)};
+    return transpose_rows(whole_rows(p[0], p[4]), whole_rows(p[1], p[5]), whole_rows(p[2], p[6]), whole_rows(p[3], p[7]));
 }
 
 /// Writes the records of the lanes in `lanes` back to `out`, only the

@@ -262,6 +262,7 @@ struct Column {
     std::uint8_t plate_mat = 0;
     std::size_t mould_wall = 0;
     bool wire_touches_membrane = false; ///< wire–membrane contact, off while the mould stands
+    StableStep step;                    ///< the pour's stable step (grains, wire, impacts)
 };
 
 Column empty_column(const PreparationSpec& spec)
@@ -314,7 +315,8 @@ Column empty_column(const PreparationSpec& spec)
     // Fastest impact: entering the zone at the pour speed, then falling
     // through the zone and the gap above the pile (≤ 12 r_max).
     const double impact = pour_entry_speed_m_per_s(spec) + std::sqrt(2.0 * w.gravity_m_per_s2.norm() * 12.0 * r_max);
-    w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s : stable_time_step(probe, impact).auto_s;
+    c.step = stable_time_step(probe, impact);
+    w.dt_s = spec.time_step_s > 0.0 ? spec.time_step_s : c.step.auto_s;
     return c;
 }
 
@@ -352,6 +354,7 @@ Result<PreparationReport, std::string> prepare_specimen(
                    + std::to_string(required_membrane_height_m(spec) * 1e3) + " mm)");
 
     Column column = empty_column(spec);
+    if (column.step.overdamped()) return Err(overdamped_error(column.step, column.world.contact.normal_damping_s));
     World& w = sim.world;
     PreparationDriverState st;
     const bool continuing = continuation.from.has_value();

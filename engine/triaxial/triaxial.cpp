@@ -381,9 +381,11 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         for (std::uint32_t i : st.cap_nodes) set_motion(w, {BodyKind::membrane, i}, Motion::kinematic);
     }
     const double dt = w.dt_s;
-    if (const StableStep crit = stable_time_step(w); dt > crit.critical_s)
+    const StableStep crit = stable_time_step(w);
+    if (dt > crit.critical_s)
         return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
                    + " s set by the " + crit.limited_by + " of the deformable system");
+    if (crit.overdamped()) return Err(overdamped_error(crit, w.contact.normal_damping_s));
 
     // Grain properties for the inertial number (mass-scaled density if scaled).
     const TranslationalState& grains = w.of(BodyKind::grain);

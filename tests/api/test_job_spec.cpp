@@ -576,6 +576,10 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
             "2 is too short: pouring 0.0856 m of fill at 0.0299 m/s (the rate that lays specimen.wire.length_m) takes 2.86 s"},
         InvalidCase{"UnstableTimeStep", R"({"engine": {"time_step_s": 1e-5}})", "engine.time_step_s",
             "1e-05 exceeds the stable limit 1.35e-07 set by the wire segments"},
+        // γ_n = 0.01 s on the default grains: damping ratio far above 1 at the
+        // reference overlap, and Gear-5's stable step under a tenth of the undamped one.
+        InvalidCase{"OverdampedContacts", R"({"contact": {"normal_damping_s": 0.01}})", "contact.normal_damping_s",
+            "the contacts' normal damping γ_n = 0.01 s leaves a stable time step of"},
         InvalidCase{"UnstableTimeStepWithoutWire", R"({"specimen": {"wire": {"pattern": "none"}}, "engine": {"time_step_s": 1e-6}})",
             "engine.time_step_s", "set by the membrane edges"},
         InvalidCase{"TooManyBodies", R"({"engine": {"max_bodies": 10000}})", "engine.max_bodies",

@@ -105,6 +105,21 @@ TEST(Preparation, PoursASoundColumnWithoutWire)
     EXPECT_EQ(r.value().wire_nodes, 0u);
 }
 
+TEST(Preparation, RefusesADampingNoExplicitStepCanFollow)
+{
+    // γ_n = 0.1 s: the contacts' damping ratio at the reference overlap is in
+    // the thousands, so Gear-5's damped bound is a tiny fraction of the
+    // undamped step: refused, naming the damping, instead of running for
+    // thousands of times the steps (or blowing up at the undamped step).
+    PreparationSpec spec = small_column(PatternKind::none, test_column_grains);
+    spec.contact.normal_damping_s = 0.1;
+    Simulation sim(1);
+    const auto r = prepare_specimen(sim, spec);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("normal damping γ_n = 0.1 s"), std::string::npos) << r.error();
+    // (The same column with its own damping prepares: PoursASoundColumnWithoutWire.)
+}
+
 class PreparationWithWire : public ::testing::TestWithParam<PatternKind> {};
 
 TEST_P(PreparationWithWire, LaysTheWireWhilePouringASoundColumn)
