@@ -3,7 +3,6 @@
 #include "api/derived.hpp"
 
 #include "api/engine_settings.hpp"
-#include "forces/wire_forces.hpp"
 
 #include "laws/hertz.hpp"
 #include "laws/membrane_edge.hpp"
@@ -57,7 +56,6 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
         in.wire_segment_stiffness_n_per_m
             = engine::wire_axial_stiffness_n_per_m(s.wire.youngs_modulus_pa, s.wire.radius_m, s.wire.segment_length_m);
         in.wire_node_mass_kg = node_mass_kg;
-        in.wire_damping_ratio = engine::wire_damping_ratio;
     }
     // The contacts' damping when given as γ_n. From a restitution it is left
     // out: that γ_n is a fit of 50–250 ms (resolved_normal_damping_s), too

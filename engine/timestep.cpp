@@ -120,7 +120,6 @@ StabilityInputs stability_inputs(const World& w, MembraneAs membrane)
     if (w.of(BodyKind::wire).size() >= 2) {
         in.wire_segment_stiffness_n_per_m = w.wire.axial_stiffness_n_per_m;
         in.wire_node_mass_kg = w.wire.node_mass_kg;
-        in.wire_damping_ratio = wire_damping_ratio;
     }
     in.normal_damping_s = w.contact.normal_damping_s;
     in.integrator = w.integrator;
@@ -167,7 +166,7 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
     // the membrane mesh has six edges, bounded (Gershgorin) by ω² ≤ 12 k_m/m.
     if (in.wire_node_mass_kg > 0.0)
         fold_spring_limit(c, in.integrator, 4.0 * in.wire_segment_stiffness_n_per_m / in.wire_node_mass_kg,
-            in.wire_damping_ratio, "wire segments");
+            wire_damping_ratio, "wire segments"); // its highest mode's Kelvin–Voigt damping
     if (in.membrane_node_mass_kg > 0.0)
         fold_spring_limit(c, in.integrator, 12.0 * in.membrane_edge_stiffness_n_per_m / in.membrane_node_mass_kg, 0.0,
             "membrane edges");

@@ -84,8 +84,6 @@ struct StabilityInputs {
     /// γ_n of the contact law: a contact of tangent stiffness K = dF/dξ on a
     /// mass m has the damping ratio ζ = ω γ_n / 3, ω = √(K/m) [s]
     double normal_damping_s = 0.0;
-    /// The wire's segments are damped too (wire_damping_ratio on their highest mode).
-    double wire_damping_ratio = 0.0;
     Integrator integrator = Integrator::gear5;      ///< whose bound applies (damped_stability_limit)
 };
 

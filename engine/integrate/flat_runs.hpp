@@ -47,6 +47,17 @@ void for_each_run(const std::vector<Motion>& motion, Motion which, std::size_t b
     }
 }
 
+/// δt²/2 · inv_mass · load (F/m, or τ/I) of bodies [b, e), at most
+/// integrate_block of them: the scaled acceleration x₂ both integrators set
+/// from the forces.
+[[nodiscard]] inline std::array<Vec3, integrate_block> scaled_accelerations(std::size_t b, std::size_t e,
+    const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
+{
+    std::array<Vec3, integrate_block> half_a_dt2;
+    for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
+    return half_a_dt2;
+}
+
 /// The kinematic bodies of [begin, end) move by their prescribed x₁ = δt v
 /// (their higher derivatives stay zero): x₀ ← x₀ + x₁.
 inline void move_kinematic(std::array<std::vector<Vec3>, gear_order>& x, const std::vector<Motion>& motion,

@@ -122,8 +122,7 @@ void predict_position_and_velocity(std::array<std::vector<Vec3>, gear_order>& x,
 void correct(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
     const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
 {
-    std::array<Vec3, integrate_block> half_a_dt2;
-    for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
+    const std::array<Vec3, integrate_block> half_a_dt2 = scaled_accelerations(b, e, inv_mass, load, half_dt2);
     corrector()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), half_a_dt2.data()->data(),
         3 * (e - b));

@@ -39,8 +39,8 @@ namespace {
     }
 }
 
-using DriftFlat = void (*)(double*, double*, const double*, std::size_t);
-using KickFlat = void (*)(double*, double*, const double*, std::size_t);
+/// A loop over n doubles of two arrays it updates and one it reads.
+using FlatLoop = void (*)(double*, double*, const double*, std::size_t);
 
 void drift_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
@@ -65,14 +65,14 @@ void kick_flat_baseline(double* __restrict x1, double* __restrict x2, const doub
 #endif
 
 /// The loops of the instruction set in use (simd_isa, as Gear-5's).
-DriftFlat drifter()
+FlatLoop drifter()
 {
 #if defined(__x86_64__)
     if (simd_isa() != SimdIsa::none) return &drift_flat_avx2;
 #endif
     return &drift_flat_baseline;
 }
-KickFlat kicker()
+FlatLoop kicker()
 {
 #if defined(__x86_64__)
     if (simd_isa() != SimdIsa::none) return &kick_flat_avx2;
@@ -85,8 +85,7 @@ KickFlat kicker()
 void kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
     const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
 {
-    std::array<Vec3, integrate_block> half_a_dt2;
-    for (std::size_t i = b; i < e; ++i) half_a_dt2[i - b] = half_dt2 * inv_mass[i] * load[i];
+    const std::array<Vec3, integrate_block> half_a_dt2 = scaled_accelerations(b, e, inv_mass, load, half_dt2);
     kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), half_a_dt2.data()->data(), 3 * (e - b));
 }
 
@@ -94,7 +93,7 @@ void kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size
 
 void verlet_first_half(World& w, ThreadPool& pool)
 {
-    const DriftFlat drift = drifter();
+    const FlatLoop drift = drifter();
     for (auto& body : w.bodies) {
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
             for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
@@ -141,11 +140,9 @@ bool verlet_second_half(World& w, ThreadPool& pool)
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t block = begin; block < end; block += integrate_block)
-            for_each_run(grain_motion, Motion::dynamic, block, std::min(end, block + integrate_block),
-                [&](std::size_t b, std::size_t e) {
-                    kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
-                });
+        for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+            kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+        });
     });
     return finite;
 }
