@@ -18,17 +18,14 @@ const char* kind_name(int k)
     return names[k];
 }
 
-/// Folds in one oscillation: the undamped bound gear5_stability_limit / ω,
-/// and the damped one at ω_damped with damping ratio ζ (for a spring the same
-/// ω; for a contact its sustained stiffness, below).
-void fold_limit(StableStep& c, Integrator integrator, double omega, double omega_damped, double damping_ratio,
-    const std::string& what)
+/// Folds in one oscillation of angular frequency ω with damping ratio ζ:
+/// the undamped bound gear5_stability_limit / ω, and the damped one.
+void fold_limit(StableStep& c, Integrator integrator, double omega, double damping_ratio, const std::string& what)
 {
     if (!(omega > 0.0)) return;
     const double undamped = gear5_stability_limit / omega;
     if (c.undamped_critical_s == 0.0 || undamped < c.undamped_critical_s) c.undamped_critical_s = undamped;
-    double dt = undamped;
-    if (omega_damped > 0.0) dt = std::min(dt, damped_stability_limit(integrator, damping_ratio) / omega_damped);
+    const double dt = std::min(undamped, damped_stability_limit(integrator, damping_ratio) / omega);
     if (c.critical_s == 0.0 || dt < c.critical_s) {
         c.critical_s = dt;
         c.limited_by = what;
@@ -40,22 +37,19 @@ void fold_spring_limit(StableStep& c, Integrator integrator, double omega2_per_s
     const std::string& what)
 {
     if (!(omega2_per_s2 > 0.0)) return;
-    const double omega = std::sqrt(omega2_per_s2);
-    fold_limit(c, integrator, omega, omega, damping_ratio, what);
+    fold_limit(c, integrator, std::sqrt(omega2_per_s2), damping_ratio, what);
 }
 
 /// Folds in a Hertz contact on a mass m of tangent stiffness k at the
-/// overlap of its fastest impact and k_ref at the reference overlap. The
-/// undamped bound takes the impact's stiffness; the damped one, with
-/// ζ = ω γ_n / 3, the reference's (a sustained contact: an impact lasts half
-/// a period). At the impact's overlap it would lower the pour's step of
-/// default jobs; what that leaves open is in docs/model.md ("Open: damping
-/// at impact overlaps").
-void fold_contact_limit(
-    StableStep& c, const StabilityInputs& in, double k_n_per_m, double k_ref_n_per_m, double m_kg, const std::string& what)
+/// deepest overlap it is expected to reach (its fastest impact's, or the
+/// reference). Both bounds take that stiffness: the damping ratio
+/// ζ = ω γ_n / 3 grows with the overlap (c/m = k γ_n √ξ / m, as √ξ), and
+/// taken at the reference overlap instead, runs whose impacts press deeper
+/// blew up (docs/model.md, "Damping at impact overlaps").
+void fold_contact_limit(StableStep& c, const StabilityInputs& in, double k_n_per_m, double m_kg, const std::string& what)
 {
-    const double omega = std::sqrt(k_n_per_m / m_kg), omega_ref = std::sqrt(k_ref_n_per_m / m_kg);
-    fold_limit(c, in.integrator, omega, omega_ref, omega_ref * in.normal_damping_s / 3.0, what);
+    const double omega = std::sqrt(k_n_per_m / m_kg);
+    fold_limit(c, in.integrator, omega, omega * in.normal_damping_s / 3.0, what);
 }
 
 } // namespace
@@ -147,8 +141,7 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const double overlap = std::max(reference_overlap_fraction * r_star,
                 impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(m, impact_speed_m_per_s, e_star, r_star) : 0.0);
             const double k = hertz_stiffness_n_per_m(overlap, e_star, r_star);
-            const double k_ref = hertz_stiffness_n_per_m(reference_overlap_fraction * r_star, e_star, r_star);
-            fold_contact_limit(c, in, k, k_ref, m, std::string(kind_name(a)) + "–" + kind_name(b) + " contacts");
+            fold_contact_limit(c, in, k, m, std::string(kind_name(a)) + "–" + kind_name(b) + " contacts");
         }
     // Body–wall contacts.
     for (const double wall_modulus : in.wall_plane_moduli_pa)
@@ -159,8 +152,7 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const double overlap = std::max(reference_overlap_fraction * r,
                 impact_speed_m_per_s > 0.0 ? hertz_max_overlap_m(kinds[k].min_mass_kg, impact_speed_m_per_s, e_star, r) : 0.0);
             const double kk = hertz_stiffness_n_per_m(overlap, e_star, r);
-            const double kk_ref = hertz_stiffness_n_per_m(reference_overlap_fraction * r, e_star, r);
-            fold_contact_limit(c, in, kk, kk_ref, kinds[k].min_mass_kg, std::string(kind_name(k)) + "–wall contacts");
+            fold_contact_limit(c, in, kk, kinds[k].min_mass_kg, std::string(kind_name(k)) + "–wall contacts");
         }
     // Springs: the highest chain mode of the wire has ω² = 4 k_elo/m; a node of
     // the membrane mesh has six edges, bounded (Gershgorin) by ω² ≤ 12 k_m/m.

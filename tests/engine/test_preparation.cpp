@@ -275,6 +275,112 @@ INSTANTIATE_TEST_SUITE_P(EveryPattern, PreparationWithWire,
 // instantiation so that its name stays findable.)
 INSTANTIATE_TEST_SUITE_P(RadialHelix, PreparationWithWire, ::testing::Values(PatternKind::radial_helix), pattern_label);
 
+namespace {
+
+/// Whether the nozzle is pushing a node out through the grains round the
+/// wire's end: the end kinematic, the node before it held.
+bool pushing_out(const World& w)
+{
+    const TranslationalState& wire = w.of(BodyKind::wire);
+    const std::size_t n = wire.size();
+    return n >= 2 && wire.motion[n - 1] == Motion::kinematic && !is_dynamic(wire, n - 2);
+}
+
+/// The test column with the helix at its fill rate (0.3 m/s), from `seed`.
+PreparationSpec helix_column(std::uint64_t seed)
+{
+    PreparationSpec spec = small_column(PatternKind::helix, test_column_grains);
+    spec.seed = seed;
+    return spec;
+}
+
+} // namespace
+
+TEST(PreparationNozzle, LaysItsWholePathWhateverTheSeed)
+{
+    // Grains landing round the wire's held end bury it, and a nozzle that
+    // only looks upwards and ahead from there for room for the next node
+    // stops laying for good. Seeds 4 and 6 of the helix column, measured
+    // with such a nozzle (the search over the grain alone) at this step: 16
+    // and 25 nodes of 57. Two segments late, the nozzle looks round the
+    // grains, and with no way clear it pushes the wire out through them
+    // (seed 6 does, four times). It lays its path but for the segment not yet
+    // due (< l) and the path it runs while a node is pushed out (at most
+    // 0.95 l at v_z^w, while the nozzle moves on at ω R_a).
+    for (std::uint64_t seed : {4u, 6u}) {
+        const PreparationSpec spec = helix_column(seed);
+        Simulation sim(1);
+        const auto r = prepare_specimen(sim, spec);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_TRUE(r.value().settled) << "seed " << seed;
+        expect_sound_specimen(sim.world, spec, r.value());
+        const double l = spec.wire.segment_length_m;
+        const double pushed_path = spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * 0.95 * l
+                                 / spec.pattern.rise_speed_m_per_s;
+        EXPECT_GT(r.value().wire_length_m, r.value().nozzle_path_m - l - pushed_path) << "seed " << seed;
+        EXPECT_LT(r.value().wire_length_m, r.value().nozzle_path_m + l) << "seed " << seed;
+    }
+}
+
+TEST(PreparationNozzle, APushStoppedHalfWayContinuesBitIdentically)
+{
+    // Seed 6 of the helix column pushes a node out from about step 6 800 for
+    // some 580 steps (l / (v_z^w δt)). Saved 100 steps into that push and
+    // continued on two threads, it is at step 10 000 where the run that was
+    // never stopped is: whether a node is coming out is read from the World
+    // (the end kinematic, the node before it held), not kept by the driver.
+    const PreparationSpec spec = helix_column(6);
+    constexpr std::uint64_t compare_at = 10'000;
+    const std::filesystem::path file = std::filesystem::temp_directory_path()
+                                     / ("wiredem_nozzle_push_" + std::to_string(::getpid()) + ".h5");
+    std::optional<PreparationDriverState> saved;
+    std::uint64_t pushing_for = 0, whole_hash = 0;
+    {
+        Simulation whole(1);
+        std::atomic<bool> cancel{false};
+        RunControl control;
+        control.cancel = &cancel;
+        PreparationContinuation watch;
+        watch.between_steps = [&](const World& w, const PreparationDriverState& s) {
+            pushing_for = pushing_out(w) ? pushing_for + 1 : 0;
+            if (pushing_for == 100 && !saved) {
+                ASSERT_TRUE(save_snapshot(w, file).ok());
+                saved = s;
+            }
+            if (s.steps == compare_at) {
+                whole_hash = state_hash(w);
+                cancel = true;
+            }
+        };
+        const auto r = prepare_specimen(whole, spec, control, watch);
+        ASSERT_FALSE(r.ok());
+        ASSERT_EQ(r.error(), "cancelled");
+    }
+    ASSERT_TRUE(saved) << "no push by step " << compare_at;
+    ASSERT_LT(saved->steps, compare_at);
+    Simulation sim(2);
+    auto w = restore_snapshot(file);
+    ASSERT_TRUE(w.ok()) << w.error();
+    sim.world = std::move(w.value());
+    ASSERT_TRUE(pushing_out(sim.world));
+    std::atomic<bool> cancel{false};
+    RunControl control;
+    control.cancel = &cancel;
+    PreparationContinuation c;
+    c.from = saved;
+    std::uint64_t continued_hash = 0;
+    c.between_steps = [&](const World& w, const PreparationDriverState& s) {
+        if (s.steps != compare_at) return;
+        continued_hash = state_hash(w);
+        cancel = true;
+    };
+    const auto r = prepare_specimen(sim, spec, control, c);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error(), "cancelled");
+    EXPECT_EQ(continued_hash, whole_hash);
+    std::filesystem::remove(file);
+}
+
 /// A short preparation for the determinism tests: the pour, the laying,
 /// some settling, the lid, the release of the wire's end and the lid again,
 /// on 30 grains in a membrane just tall enough (its rigid nodes are most of
