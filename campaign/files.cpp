@@ -563,17 +563,4 @@ eng::PreparationDriverState read_preparation_state(const io::Group& g)
     return s;
 }
 
-void write_text_file_atomically(const std::filesystem::path& path, const std::string& text)
-{
-    std::filesystem::path partial = path;
-    partial += ".partial";
-    {
-        std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.close();
-        if (!out) throw std::runtime_error("cannot write " + partial.string());
-    }
-    std::filesystem::rename(partial, path);
-}
-
 } // namespace wiredem::campaign

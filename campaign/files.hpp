@@ -104,7 +104,4 @@ void write_preparation_report(engine::io::Group& g, const engine::PreparationRep
 void write_preparation_state(engine::io::Group& g, const engine::PreparationDriverState& s);
 [[nodiscard]] engine::PreparationDriverState read_preparation_state(const engine::io::Group& g);
 
-/// Writes `text` to `path` through a temporary file and a rename.
-void write_text_file_atomically(const std::filesystem::path& path, const std::string& text);
-
 } // namespace wiredem::campaign

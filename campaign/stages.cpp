@@ -8,6 +8,7 @@
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
+#include "io/atomic_file.hpp"
 #include "io/snapshot.hpp"
 #include "io/xdmf.hpp"
 #include "simulation.hpp"
@@ -214,13 +215,15 @@ StageError take_specimen(const api::JobSpec& spec, const JobDir& dir, const Stag
     if (!std::filesystem::exists(from.specimen(), ec)) return what + ": no specimen.h5 there (prepare it first)";
     if (auto d = specimen_difference(spec, other.value()))
         return what + ": its job prepares another specimen (they differ in " + *d + ")";
-    std::filesystem::path tmp = dir.specimen();
-    tmp += ".partial";
-    std::filesystem::copy_file(from.specimen(), tmp, std::filesystem::copy_options::overwrite_existing, ec);
-    if (!ec) std::filesystem::rename(tmp, dir.specimen(), ec);
-    if (ec) return "cannot copy " + from.specimen().string() + " to " + dir.specimen().string() + ": " + ec.message();
     try {
-        write_text_file_atomically(dir.job(), text);
+        io::replace_file_atomically(dir.specimen(), [&](const std::filesystem::path& partial) {
+            std::filesystem::copy_file(from.specimen(), partial, std::filesystem::copy_options::overwrite_existing);
+        });
+    } catch (const std::exception& e) {
+        return "cannot copy " + from.specimen().string() + " to " + dir.specimen().string() + ": " + e.what();
+    }
+    try {
+        io::write_text_file_atomically(dir.job(), text);
     } catch (const std::exception& e) {
         return std::string(e.what());
     }
@@ -257,7 +260,7 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     if (ec) return "cannot create " + dir.tests().string() + ": " + ec.message();
     if (!control.specimen_from.empty()) return take_specimen(spec, dir, control, text);
     try {
-        write_text_file_atomically(dir.job(), text);
+        io::write_text_file_atomically(dir.job(), text);
     } catch (const std::exception& e) {
         return std::string(e.what());
     }
@@ -661,7 +664,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         e["density_scale"] = spec.engine.density_scale;
         summary["engine"] = std::move(e);
 
-        write_text_file_atomically(dir.summary(), api::json_document_text(summary) + "\n");
+        io::write_text_file_atomically(dir.summary(), api::json_document_text(summary) + "\n");
     } catch (const std::exception& ex) {
         return std::string("writing the results failed: ") + ex.what();
     }

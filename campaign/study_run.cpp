@@ -1,6 +1,7 @@
 #include "study_run.hpp"
 
 #include "api/json_text.hpp"
+#include "io/atomic_file.hpp"
 
 #include <boost/json.hpp>
 
@@ -95,8 +96,8 @@ std::vector<api::PointOutcome> run_study(const api::Study& study, const std::fil
         if (o.state.empty()) o.state = "cancelled"; // never started
 
     const json::object summary = api::study_summary(study, outcomes);
-    write_text_file_atomically(dir / "summary.json", api::json_document_text(summary) + "\n");
-    write_text_file_atomically(dir / "summary.csv", api::study_summary_csv(summary));
+    engine::io::write_text_file_atomically(dir / "summary.json", api::json_document_text(summary) + "\n");
+    engine::io::write_text_file_atomically(dir / "summary.csv", api::study_summary_csv(summary));
     return outcomes;
 }
 

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 
 #include "display.hpp"
+#include "local_file.hpp"
 #include "run_command.hpp"
 
 #include "api/job_spec.hpp"
@@ -307,15 +308,7 @@ int cmd_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir
     const auto summary = client.request(Method::get, base + "/summary");
     check_reply(summary, "summary of " + id);
     const fs::path summary_file = dir / "summary.json";
-    {
-        const fs::path tmp = dir / "summary.json.part";
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << summary.body;
-        out.close();
-        if (!out) throw CommandError(exit_code::local_io, "cannot write " + tmp.string());
-        fs::rename(tmp, summary_file, ec);
-        if (ec) throw CommandError(exit_code::local_io, "cannot write " + summary_file.string() + ": " + ec.message());
-    }
+    write_local_file(summary_file, summary.body);
 
     const auto head = client.request(Method::head, base + "/result.h5");
     check_reply(head, "result of " + id);
@@ -618,18 +611,8 @@ int cmd_study_fetch(const GlobalOptions& g, const std::string& id, const fs::pat
     check_reply(reply, "summary of study " + id);
     const json::value summary = parse_reply(reply, "summary of study " + id);
     if (!summary.is_object()) throw CommandError(exit_code::network, "summary of study " + id + ": not a JSON object");
-    const auto write = [&](const fs::path& file, const std::string& text) {
-        fs::path tmp = file;
-        tmp += ".part";
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.close();
-        if (!out) throw CommandError(exit_code::local_io, "cannot write " + tmp.string());
-        fs::rename(tmp, file, ec);
-        if (ec) throw CommandError(exit_code::local_io, "cannot write " + file.string() + ": " + ec.message());
-    };
-    write(dir / "summary.json", reply.body); // as the server sent it
-    write(dir / "summary.csv", api::study_summary_csv(summary.as_object()));
+    write_local_file(dir / "summary.json", reply.body); // as the server sent it
+    write_local_file(dir / "summary.csv", api::study_summary_csv(summary.as_object()));
     int fetched = 0, skipped = 0;
     for (const auto& p : summary.at("points").as_array()) {
         const std::string job_id = str(p, "job_id");

@@ -2,6 +2,7 @@
 #include "report_command.hpp"
 
 #include "exit_codes.hpp"
+#include "local_file.hpp"
 
 #include "api/report.hpp"
 
@@ -32,15 +33,7 @@ int cmd_report(const fs::path& out_dir, const fs::path& html_in, const fs::path&
     } catch (const std::exception& e) {
         throw CommandError(exit_code::local_io, std::string(e.what()) + (web_dir_in.empty() ? " (see --web-dir)" : ""));
     }
-    const fs::path tmp = html.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << page;
-        if (!out) throw CommandError(exit_code::local_io, "cannot write " + tmp.string());
-    }
-    std::error_code ec;
-    fs::rename(tmp, html, ec);
-    if (ec) throw CommandError(exit_code::local_io, "cannot write " + html.string() + ": " + ec.message());
+    write_local_file(html, page);
     std::cout << html.string() << " (" << page.size() / 1024 << " KiB)\n";
     return exit_code::ok;
 }

@@ -8,6 +8,8 @@
 #include "progress_line.hpp"
 #include "slurm_client.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <boost/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -37,16 +39,6 @@ namespace {
 constexpr auto persist_interval = std::chrono::seconds(2);
 /// How often a worker checks cancellation and shutdown while a runner runs.
 constexpr auto tick = std::chrono::milliseconds(100);
-
-/// fsync a file or directory; best effort (the data dir may be on a file
-/// system without directory fsync).
-void sync_path(const fs::path& p)
-{
-    const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return;
-    ::fsync(fd);
-    ::close(fd);
-}
 
 std::optional<std::string> read_small_file(const fs::path& p, std::uintmax_t max_bytes)
 {
@@ -397,17 +389,17 @@ void JobQueue::publish(const JobRecord& job)
         fs::remove_all(work, ec);
         return;
     }
-    sync_path(out / "result.h5");
-    sync_path(out / "summary.json");
+    engine::io::sync_path(out / "result.h5");
+    engine::io::sync_path(out / "summary.json");
     fs::rename(out / "result.h5", job_dir / "result.h5");
     // result.xdmf (ParaView's view of result.h5, optional: older runners wrote
     // none) is kept beside it, before the summary that marks success.
     if (fs::is_regular_file(out / "result.xdmf", ec)) {
-        sync_path(out / "result.xdmf");
+        engine::io::sync_path(out / "result.xdmf");
         fs::rename(out / "result.xdmf", job_dir / "result.xdmf");
     }
     fs::rename(out / "summary.json", job_dir / "summary.json");
-    sync_path(job_dir);  // the renames are durable before the store says succeeded
+    engine::io::sync_path(job_dir);  // the renames are durable before the store says succeeded
     const auto bsps = number_at(summary, {"engine", "body_steps_per_second"});
     if (store_.finish(job.id, JobState::succeeded, "", bsps)) {
         spdlog::info("job {}: succeeded", job.id);

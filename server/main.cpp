@@ -10,6 +10,7 @@
 #include "services.hpp"
 
 #include "api/derived.hpp"
+#include "io/atomic_file.hpp"
 
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
@@ -163,13 +164,7 @@ asio::ip::address listen_address(asio::io_context& ioc, const std::string& host)
 
 void write_port_file(const fs::path& file, std::uint16_t port)
 {
-    const fs::path tmp = file.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::trunc);
-        out << port << '\n';
-        if (!out) throw std::runtime_error("cannot write " + tmp.string());
-    }
-    fs::rename(tmp, file);  // readers never see a half-written file
+    wiredem::engine::io::write_text_file_atomically(file, std::to_string(port) + "\n"); // readers never see a half-written file
 }
 
 } // namespace

@@ -3,6 +3,8 @@
 // an Hdf5Error carrying the file, the object path and HDF5's error stack.
 #include "io/hdf5.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <hdf5.h>
 
 #include <algorithm>
@@ -743,21 +745,14 @@ void File::close()
 
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write)
 {
-    std::filesystem::path partial = path;
-    partial += ".partial";
-    try {
+    replace_file_atomically(path, [&](const std::filesystem::path& partial) {
         File file = File::create(partial);
         {
             Group root = file.root();
             write(root);
         }
         file.close();
-        std::filesystem::rename(partial, path);
-    } catch (...) {
-        std::error_code ignored;
-        std::filesystem::remove(partial, ignored);
-        throw;
-    }
+    });
 }
 
 } // namespace wiredem::engine::io

@@ -279,9 +279,9 @@ private:
 };
 
 /// Writes a whole HDF5 file so that no reader ever sees it half written:
-/// `write` fills the root group of `path`.partial, which is closed and then
-/// renamed onto `path` (POSIX rename replaces an existing file atomically).
-/// On an exception the partial file is removed and the exception passes on.
+/// `write` fills the root group of a new file that replace_file_atomically
+/// (io/atomic_file.hpp) then puts in place of `path`. On an exception no
+/// partial file is left and the exception passes on.
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write);
 
 

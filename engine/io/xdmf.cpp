@@ -4,6 +4,8 @@
 // have; arrays with an unexpected shape are left out rather than described wrongly.
 #include "io/xdmf.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include "io/hdf5.hpp"
 
 #include <hdf5.h>
@@ -482,23 +484,7 @@ XdmfSummary write_xdmf(const std::filesystem::path& h5_path, std::filesystem::pa
 
     XdmfSummary summary;
     const std::string text = xdmf_text(h5_path, ref.generic_string(), &summary);
-    std::filesystem::path tmp = xdmf_path;
-    tmp += ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.close();
-        if (!out) {
-            std::filesystem::remove(tmp, ec);
-            throw std::runtime_error("cannot write " + tmp.string());
-        }
-    }
-    std::filesystem::rename(tmp, xdmf_path, ec);
-    if (ec) {
-        std::error_code ignored;
-        std::filesystem::remove(tmp, ignored);
-        throw std::runtime_error("cannot rename " + tmp.string() + " to " + xdmf_path.string() + ": " + ec.message());
-    }
+    write_text_file_atomically(xdmf_path, text);
     return summary;
 }
 

@@ -2,6 +2,7 @@
 // chunked and deflate-compressed, failures throw Hdf5Error naming file and object path
 // without HDF5 printing to stderr, and h5dump (when installed) can read the file.
 #include "io/hdf5.hpp"
+#include "temp_dir.hpp"
 
 #include <hdf5.h>
 
@@ -23,31 +24,10 @@
 
 using namespace wiredem::engine;
 using namespace wiredem::engine::io;
+using wiredem::engine::io::test::TempFile;
 
 namespace {
 
-/// A file name unique to this test and process, removed afterwards.
-class TempFile {
-public:
-    explicit TempFile(const std::string& suffix = ".h5")
-    {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        path_ = std::filesystem::temp_directory_path()
-              / ("wiredem_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_"
-                  + std::to_string(::getpid()) + suffix);
-    }
-    ~TempFile()
-    {
-        std::error_code ignored;
-        std::filesystem::remove(path_, ignored);
-    }
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-    const std::filesystem::path& path() const { return path_; }
-
-private:
-    std::filesystem::path path_;
-};
 
 /// Deflate level of a dataset's creation property list, or −1 when deflate is absent.
 int deflate_level(const Dataset& ds)

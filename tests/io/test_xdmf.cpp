@@ -7,6 +7,7 @@
 // installed, ParaView itself reads the file back.
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
+#include "temp_dir.hpp"
 
 #include <hdf5.h>
 
@@ -32,33 +33,10 @@ using namespace wiredem::engine;
 using namespace wiredem::engine::io;
 namespace fs = std::filesystem;
 using boost::property_tree::ptree;
+using wiredem::engine::io::test::TempDir;
 
 namespace {
 
-/// A directory unique to this test and process, removed afterwards.
-class TempDir {
-public:
-    TempDir()
-    {
-        const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path()
-              / ("wiredem_xdmf_" + std::string(info->test_suite_name()) + "_" + info->name() + "_"
-                  + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir()
-    {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    const fs::path& path() const { return path_; }
-
-private:
-    fs::path path_;
-};
 
 /// Sizes of the synthetic result file.
 struct Sizes {
@@ -234,7 +212,7 @@ TEST(XdmfSidecar, EveryHdfDataItemNamesAnExistingDatasetWithItsDimensionsAndType
     const XdmfSummary s = write_xdmf(h5);
     const fs::path xdmf = dir.path() / "result.xdmf";
     ASSERT_TRUE(fs::exists(xdmf));
-    EXPECT_FALSE(fs::exists(dir.path() / "result.xdmf.tmp"));
+    EXPECT_FALSE(fs::exists(dir.path() / "result.xdmf.partial"));
     EXPECT_TRUE(s.specimen);
     EXPECT_EQ(s.tests, 2u);
     EXPECT_EQ(s.snapshots, 13u);
@@ -474,7 +452,7 @@ TEST(XdmfSidecar, MissingResultFileThrowsAndLeavesNoSidecar)
     const TempDir dir;
     EXPECT_THROW(write_xdmf(dir.path() / "absent.h5"), Hdf5Error);
     EXPECT_FALSE(fs::exists(dir.path() / "absent.xdmf"));
-    EXPECT_FALSE(fs::exists(dir.path() / "absent.xdmf.tmp"));
+    EXPECT_FALSE(fs::exists(dir.path() / "absent.xdmf.partial"));
 }
 
 #ifdef WIREDEM_BIN

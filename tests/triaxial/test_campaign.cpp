@@ -111,7 +111,7 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
 
     // summary.json: the fields of the contract, physically sane.
     ASSERT_TRUE(fs::exists(out / "summary.json"));
-    EXPECT_FALSE(fs::exists(out / "summary.json.tmp"));
+    EXPECT_FALSE(fs::exists(out / "summary.json.partial"));
     const json::value s = json::parse(read_text(out / "summary.json"));
     const json::array& tests = s.at("tests").as_array();
     ASSERT_EQ(tests.size(), 2u);
