@@ -13,6 +13,7 @@
 #include <immintrin.h>
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -190,6 +191,73 @@ struct Records4 {
 [[WIREDEM_AVX2]] inline Pd gather_by_index(const double* base, const BodyRef* refs)
 {
     return _mm256_setr_pd(base[refs[0].index()], base[refs[1].index()], base[refs[2].index()], base[refs[3].index()]);
+}
+
+/// base[at[l]] in lane l.
+[[WIREDEM_AVX2]] inline Pd gather_at(const double* base, const std::array<std::uint32_t, 4>& at)
+{
+    return _mm256_setr_pd(base[at[0]], base[at[1]], base[at[2]], base[at[3]]);
+}
+
+/// out[l] = refs[at[l]], written with one store: read back as a vector (one_kind),
+/// four scalar stores stall the load until they reach the cache.
+[[WIREDEM_AVX2]] inline void gather_refs(const BodyRef* refs, const std::array<std::uint32_t, 4>& at, BodyRef* out)
+{
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+        _mm_setr_epi32(static_cast<int>(refs[at[0]].bits), static_cast<int>(refs[at[1]].bits),
+            static_cast<int>(refs[at[2]].bits), static_cast<int>(refs[at[3]].bits)));
+}
+
+/// For each 4-bit lane mask, the indices that move the set lanes, `width`
+/// units each, to the front in lane order (the rest: `fill`).
+template <class T, unsigned width>
+constexpr std::array<std::array<T, 4 * width>, 16> pack_table(T fill)
+{
+    std::array<std::array<T, 4 * width>, 16> t{};
+    for (unsigned m = 0; m < 16; ++m) {
+        unsigned k = 0;
+        for (unsigned l = 0; l < 4; ++l)
+            if (m >> l & 1u) {
+                for (unsigned b = 0; b < width; ++b) t[m][width * k + b] = static_cast<T>(width * l + b);
+                ++k;
+            }
+        for (; k < 4; ++k)
+            for (unsigned b = 0; b < width; ++b) t[m][width * k + b] = fill;
+    }
+    return t;
+}
+/// Byte shuffles (_mm_shuffle_epi8) that pack 32-bit lanes; 0x80 zeroes.
+inline constexpr auto pack_lanes_table = pack_table<std::uint8_t, 4>(0x80);
+/// 32-bit lane indices (_mm256_permutevar8x32) that pack doubles.
+inline constexpr auto pack_doubles_table = pack_table<std::int32_t, 2>(0);
+
+/// Writes first + l for each lane l set in `lanes_set`, in lane order, to
+/// out[0], out[1], …, and returns how many: one shuffle instead of a branch
+/// per set lane. Writes four words at `out` whatever the count.
+[[WIREDEM_AVX2]] inline std::size_t append_lane_ids(std::uint32_t* out, std::uint32_t first, std::uint32_t lanes_set)
+{
+    const unsigned m = lanes_set & 0xFu;
+    const __m128i ids = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(first)), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128i shuffle = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pack_lanes_table[m].data()));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_shuffle_epi8(ids, shuffle));
+    return static_cast<std::size_t>(std::popcount(m));
+}
+
+/// The lanes whose word has a nonzero low byte (a bool stored there, the
+/// rest of the word padding).
+[[WIREDEM_AVX2]] inline Mask low_byte_set(Pd words)
+{
+    const __m256i low = _mm256_and_si256(_mm256_castpd_si256(words), _mm256_set1_epi64x(0xFF));
+    return ~Mask{_mm256_castsi256_pd(_mm256_cmpeq_epi64(low, _mm256_setzero_si256()))};
+}
+
+
+/// Writes the lanes of `v` in `m`, in lane order, to out[0], out[1], …
+/// (four values at `out` whatever the count).
+[[WIREDEM_AVX2]] inline void compress_store(double* out, Mask m, Pd v)
+{
+    const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pack_doubles_table[bits(m)].data()));
+    _mm256_storeu_pd(out, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), index)));
 }
 
 /// Whether the four references at `refs` are all of the kind of the first.

@@ -13,6 +13,7 @@
 #include <immintrin.h>
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -227,6 +228,42 @@ struct Records4 {
         _mm256_set1_epi32(static_cast<int>(BodyRef::index_mask)));
     return _mm512_i32gather_pd(index, base, 8);
 }
+
+/// base[at[l]] in lane l.
+[[WIREDEM_AVX512]] inline Pd gather_at(const double* base, const std::array<std::uint32_t, 8>& at)
+{
+    return _mm512_i32gather_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(at.data())), base, 8);
+}
+
+/// out[l] = refs[at[l]], written with one store: read back as a vector (one_kind,
+/// gather_by_index), eight scalar stores stall the load until they reach the cache.
+[[WIREDEM_AVX512]] inline void gather_refs(const BodyRef* refs, const std::array<std::uint32_t, 8>& at, BodyRef* out)
+{
+    const __m256i index = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at.data()));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_i32gather_epi32(reinterpret_cast<const int*>(refs), index, 4));
+}
+
+/// Writes first + l for each lane l set in `lanes_set`, in lane order, to
+/// out[0], out[1], …, and returns how many: one compress instead of a branch
+/// per set lane (which lanes are set is a coin toss to the branch predictor).
+/// Writes eight words at `out` whatever the count.
+[[WIREDEM_AVX512]] inline std::size_t append_lane_ids(std::uint32_t* out, std::uint32_t first, std::uint32_t lanes_set)
+{
+    const __m256i ids = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(first)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes_set), ids));
+    return static_cast<std::size_t>(std::popcount(lanes_set & 0xFFu));
+}
+
+/// The lanes whose word has a nonzero low byte (a bool stored there, the
+/// rest of the word padding).
+[[WIREDEM_AVX512]] inline Mask low_byte_set(Pd words)
+{
+    return _mm512_test_epi64_mask(_mm512_castpd_si512(words), _mm512_set1_epi64(0xFF));
+}
+
+/// Writes the lanes of `v` in `m`, in lane order, to out[0], out[1], …
+/// (eight values at `out` whatever the count).
+[[WIREDEM_AVX512]] inline void compress_store(double* out, Mask m, Pd v) { _mm512_storeu_pd(out, _mm512_maskz_compress_pd(m, v)); }
 
 /// Whether the eight references at `refs` are all of the kind of the first.
 [[WIREDEM_AVX512]] inline bool one_kind(const BodyRef* refs)

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <cstring>
 
 #if defined(__x86_64__)
 #include "contact/avx2.hpp"
