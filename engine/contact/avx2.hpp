@@ -251,7 +251,6 @@ inline constexpr auto pack_doubles_table = pack_table<std::int32_t, 2>(0);
     return ~Mask{_mm256_castsi256_pd(_mm256_cmpeq_epi64(low, _mm256_setzero_si256()))};
 }
 
-
 /// Writes the lanes of `v` in `m`, in lane order, to out[0], out[1], …
 /// (four values at `out` whatever the count).
 [[WIREDEM_AVX2]] inline void compress_store(double* out, Mask m, Pd v)
