@@ -9,11 +9,13 @@
 # wall time / two-thread wall time of the same run).
 #
 # usage: bench/compare.sh (--packing FILE | --specimen FILE) [--reps N] [--steps N] [--integrators gear5,verlet]
-#                         [--quiet] BIN...
+#                         [--wire-membrane] [--quiet] BIN...
 #   --packing FILE  a data file written by `wiredem-bench --liggghts-data FILE` (settling a packing
 #                   per run would take minutes)
 #   --specimen FILE a snapshot (a prepared specimen.h5 or a test's checkpoint): the study's column
 #                   with wire and membrane (`wiredem-bench --specimen`); one of the two is required
+#   --wire-membrane with --packing: also time the `wire_membrane` case (the paper-size cell: grains,
+#                   wire and membrane), reported as wm-gear5 and wm-verlet
 #   --reps N        alternations (default 5)
 #   --steps N       timed steps per case (default 1000)
 #   --quiet         before each run, wait (up to 10 min) until the CPUs are ≥ 85 % idle over 2 s
@@ -25,6 +27,7 @@ packing=
 specimen=
 integrators=gear5,verlet
 quiet=0
+wire_membrane=0
 bins=()
 while [ $# -gt 0 ]; do
     case $1 in
@@ -34,12 +37,15 @@ while [ $# -gt 0 ]; do
         --specimen) specimen=$2; shift 2 ;;
         --integrators) integrators=$2; shift 2 ;;
         --quiet) quiet=1; shift ;;
+        --wire-membrane) wire_membrane=1; shift ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         -*) echo "unknown option: $1 (try --help)" >&2; exit 2 ;;
         *) bins+=("$1"); shift ;;
     esac
 done
-if [ -n "$packing" ] && [ -z "$specimen" ]; then input=(--packing "$packing" --no-wire-membrane)
+if [ -n "$packing" ] && [ -z "$specimen" ]; then
+    input=(--packing "$packing")
+    [ "$wire_membrane" = 1 ] || input+=(--no-wire-membrane)
 elif [ -n "$specimen" ] && [ -z "$packing" ]; then input=(--specimen "$specimen")
 else echo "give one of --packing FILE and --specimen FILE (try --help)" >&2; exit 2; fi
 [ ${#bins[@]} -gt 0 ] || { echo "no binaries given (try --help)" >&2; exit 2; }
@@ -76,7 +82,7 @@ awk '
         return n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2
     }
     {
-        key = $1 " " field("integrator"); run = key " " $2
+        key = $1 " " (field("case") == "wire_membrane" ? "wm-" : "") field("integrator"); run = key " " $2
         if (field("threads") == 1) { cpu1[key] = cpu1[key] " " field("cpu_time_s"); wall1[run] = field("wall_time_s") }
         else if (field("threads") == 2) wall2[run] = field("wall_time_s")
         keys[key] = 1; runs[run] = key
@@ -87,8 +93,8 @@ awk '
             for (i = 1; i <= n; ++i) if (v[i] + 0 < mn) mn = v[i] + 0
             cmin[key] = mn; cmed[key] = median(cpu1[key]) }
         for (key in keys) { split(key, k, " "); ref = "0 " k[2]
-            printf "%s %-4s %-7s %14.3f %14.3f %11.2fx %11.2fx %18.2f\n", k[2] " " k[1], "[" k[1] "]", k[2],
+            printf "%s %-4s %-9s %14.3f %14.3f %11.2fx %11.2fx %18.2f\n", k[2] " " k[1], "[" k[1] "]", k[2],
                    cmin[key], cmed[key], cmin[ref] / cmin[key], cmed[ref] / cmed[key], median(speedup[key]) }
     }' "$out" | sort -k1,1 -k2,2n | cut -d" " -f3- |
-    { printf "%-4s %-7s %14s %14s %12s %12s %18s\n" bin method "1T cpu min [s]" "1T cpu med [s]" \
+    { printf "%-4s %-9s %14s %14s %12s %12s %18s\n" bin method "1T cpu min [s]" "1T cpu med [s]" \
           "min vs [0]" "med vs [0]" "2T speed-up (med)"; cat; }

@@ -79,10 +79,17 @@ void move_walls(State& s)
 double effective_skin_m(const World& w)
 {
     if (w.skin_m > 0.0) return w.skin_m;
-    double r_max = 0.0;
-    for (const auto& body : w.bodies)
-        for (double r : body.radius_m) r_max = std::max(r_max, r);
-    return 0.2 * r_max;
+    // The largest radius, over four running maxima that do not wait on each
+    // other (radii are positive: the order of max() does not matter).
+    std::array<double, 4> r_max{};
+    for (const auto& body : w.bodies) {
+        const std::vector<double>& r = body.radius_m;
+        std::size_t i = 0;
+        for (; i + 4 <= r.size(); i += 4)
+            for (std::size_t l = 0; l < 4; ++l) r_max[l] = std::max(r_max[l], r[i + l]);
+        for (; i < r.size(); ++i) r_max[0] = std::max(r_max[0], r[i]);
+    }
+    return 0.2 * std::max(std::max(r_max[0], r_max[1]), std::max(r_max[2], r_max[3]));
 }
 
 bool update_neighbours(World& w, ThreadPool& pool)
@@ -92,24 +99,26 @@ bool update_neighbours(World& w, ThreadPool& pool)
     // A wall added or removed since the last build: its contacts are not listed.
     const bool walls_listed = w.contacts.wall_start.size() == w.walls.size() + 1;
     if (!w.neighbours_dirty && walls_listed && w.position_at_build_m.size() == n) {
-        double max_move2 = 0.0;
-        for (int k = 0; k < body_kind_count; ++k) {
+        // Rebuilt once anything has moved half the skin since the last build.
+        // Whether any has (an or of comparisons, with no chain of maxima that
+        // wait on each other) is the same test as the largest move's.
+        const double limit2 = 0.25 * skin * skin;
+        bool moved = false;
+        for (int k = 0; k < body_kind_count && !moved; ++k) {
             const auto& pos = w.bodies[k].x[0];
-            const std::size_t off = w.flat_offset(static_cast<BodyKind>(k));
-            max_move2 = std::max(max_move2,
-                reduce_blocks(
-                    pool, pos.size(), 0.0,
-                    [&](std::size_t b, std::size_t e) {
-                        double m = 0.0;
-                        for (std::size_t i = b; i < e; ++i)
-                            m = std::max(m, (pos[i] - w.position_at_build_m[off + i]).squaredNorm());
-                        return m;
-                    },
-                    [](double a, double b) { return std::max(a, b); }));
+            const Vec3* at_build = w.position_at_build_m.data() + w.flat_offset(static_cast<BodyKind>(k));
+            moved = reduce_blocks(
+                pool, pos.size(), false,
+                [&](std::size_t b, std::size_t e) {
+                    bool any = false;
+                    for (std::size_t i = b; i < e; ++i) any |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
+                    return any;
+                },
+                [](bool a, bool b) { return a || b; });
         }
-        for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
-            max_move2 = std::max(max_move2, (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm());
-        if (max_move2 < 0.25 * skin * skin) return false;
+        for (std::size_t wi = 0; wi < w.walls.size() && !moved; ++wi)
+            moved = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm() >= limit2;
+        if (!moved) return false;
     }
 
     std::vector<Vec3> pos;

@@ -163,7 +163,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
                             correct(body.x, b, e, body.inv_mass_per_kg, force, half_dt2);
-                            ok = ok && flat(body.x[0], b, e).allFinite();
+                            ok = ok && all_finite(body.x[0], b, e);
                         });
                 }
                 return ok;
