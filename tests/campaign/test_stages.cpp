@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <memory>
 #include <spawn.h>
 #include <sstream>
@@ -41,6 +42,37 @@ namespace json = boost::json;
 
 namespace {
 
+/// This process's scratch directory in the temporary directory, made on first
+/// use: the job file and every case's directory live in it.
+const fs::path& scratch_root()
+{
+    static const fs::path root = [] {
+        const fs::path p = fs::temp_directory_path() / ("wiredem_stages_" + std::to_string(::getpid()));
+        fs::remove_all(p);
+        fs::create_directories(p);
+        return p;
+    }();
+    return root;
+}
+
+/// Removes the scratch directory after the last test when all passed; keeps
+/// it, and says where, when one failed (its logs and files are what to look at).
+class ScratchCleanup : public ::testing::Environment {
+public:
+    void TearDown() override
+    {
+        const fs::path& root = scratch_root();
+        if (::testing::UnitTest::GetInstance()->Failed()) {
+            std::cerr << "wiredem_stages_tests: a test failed; its files are kept in " << root << '\n';
+            return;
+        }
+        std::error_code ignored;
+        fs::remove_all(root, ignored);
+    }
+};
+[[maybe_unused]] const ::testing::Environment* const scratch_cleanup =
+    ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
 /// examples/tiny.json loaded to 2 % instead of 8 % of strain (written once per
 /// process): the stages' orchestration needs a campaign that runs, not the
 /// strain, and a quarter of the loading took these cases from ~20 to ~6 min
@@ -55,7 +87,7 @@ const fs::path& tiny_job()
         json::object& triaxial = job.as_object()["triaxial"].as_object();
         triaxial["target_axial_strain"] = 0.02;
         triaxial["snapshot_strains"] = json::array{0.0, 0.01, 0.02};
-        const fs::path p = fs::temp_directory_path() / ("wiredem_stages_job_" + std::to_string(::getpid()) + ".json");
+        const fs::path p = scratch_root() / "job.json";
         std::ofstream(p) << json::serialize(job);
         return p;
     }();
@@ -64,7 +96,7 @@ const fs::path& tiny_job()
 
 fs::path fresh_dir(const std::string& name)
 {
-    const fs::path dir = fs::temp_directory_path() / ("wiredem_stages_" + name + "_" + std::to_string(::getpid()));
+    const fs::path dir = scratch_root() / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
