@@ -755,7 +755,7 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     optional_number(r, "max_hold_time_s", closed(0.0, 1e3), t.max_hold_time_s,
         {"s", "the hold goes on past hold_time_s until the column has consolidated (σ_1 averaged over 5 ms within 5 % of its target, the top plate slower than the loading speed), at most this long; a warning says when that was not enough"});
     r.choice("consolidation", consolidations, t.consolidation,
-        {nullptr, "what the top plate brings σ_1 to while σ_3 ramps and holds: cell_pressure, σ_1 = σ_3 (the cell pressure on the cap); effective, σ_1 = σ_3,eff, the lateral stress the column feels (membrane included), so loading starts from η ≈ 0 and the column is not driven into extension (docs/model.md, \"Consolidation\"; the study of docs/study.md ran with cell_pressure)"});
+        {nullptr, "what the top plate brings σ_1 to while σ_3 ramps and holds: cell_pressure, σ_1 = σ_3 (the cell pressure on the cap); effective, σ_1 = σ_3,eff, the lateral stress the column feels (membrane included), so loading starts from η ≈ 0 and the column is not driven into extension; a column the membrane does not touch (σ_3,eff = 0) is brought to σ_3 instead, with a warning (docs/model.md, \"Consolidation\"; the study of docs/study.md ran with cell_pressure)"});
     r.number("sample_interval_s", open_closed(0.0, 1e3), t.sample_interval_s,
         {"s", "time between samples of the test record"});
     // The default snapshots follow the target; a given list is checked

@@ -453,12 +453,18 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     // stress σ₃,eff averaged over the rows of the last consolidation window
     // (rows are the only place it is measured; a continued test has the
     // same rows, so the same targets).
+    // A column the membrane does not touch has no σ₃,eff (zero): it is
+    // brought to the applied σ₃ instead, and the result says so.
+    auto effective_sigma3_pa = [&]() -> std::optional<double> {
+        if (result.series.size() == 0) return std::nullopt;
+        const TriaxialSeries& rows = result.series;
+        const double s3_eff = consolidation_window_mean(rows, rows.sigma3_effective_pa, rows.size() - 1);
+        if (std::isfinite(s3_eff) && s3_eff > 0.0) return s3_eff;
+        return std::nullopt;
+    };
     auto consolidation_target_pa = [&] {
-        if (settings.consolidation == Consolidation::effective && result.series.size() > 0) {
-            const TriaxialSeries& rows = result.series;
-            const double s3_eff = consolidation_window_mean(rows, rows.sigma3_effective_pa, rows.size() - 1);
-            if (std::isfinite(s3_eff) && s3_eff > 0.0) return s3_eff;
-        }
+        if (settings.consolidation == Consolidation::effective)
+            if (const std::optional<double> s3_eff = effective_sigma3_pa()) return *s3_eff;
         return w.membrane.pressure_pa;
     };
     auto follow_the_pressure = [&] {
@@ -531,6 +537,12 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         }
         result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
         const double target_pa = consolidation_target_pa();
+        const bool to_effective = settings.consolidation == Consolidation::effective && effective_sigma3_pa();
+        if (settings.consolidation == Consolidation::effective && !to_effective)
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
+                                      + " Pa: consolidation \"effective\" found no lateral stress σ₃,eff on the"
+                                        " membrane (the column does not touch it), so the column was consolidated"
+                                        " to the cell pressure σ₃ instead");
 
         // 2. Loading at constant plate speed, from h₀ now.
         st.reference_height_m = plates_apart_m();
@@ -564,9 +576,8 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
                                       + " Pa had not consolidated when loading started: σ₁ = " + format_number(s1)
                                       + " Pa (mean over the last " + format_number(consolidation_window_s * 1e3)
                                       + " ms), more than " + format_number(100 * max_consolidation_mismatch) + " % off "
-                                      + (settings.consolidation == Consolidation::effective
-                                              ? "σ₃,eff = " + format_number(target_pa) + " Pa"
-                                              : std::string("σ₃"))
+                                      + (to_effective ? "σ₃,eff = " + format_number(target_pa) + " Pa"
+                                                      : std::string("σ₃"))
                                       + " after a hold of " + format_number(result.hold_time_s)
                                       + " s; lengthen hold_time_s or max_hold_time_s");
         snapshot_due();

@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -344,6 +345,27 @@ TEST(TriaxialTest, TopPlateFollowsTheConfiningPressureDuringConsolidation)
     EXPECT_LT(s.height_m[start], s.height_m[0]); // the plate came down to do it
     for (const std::string& warning : r_or.value().warnings)
         EXPECT_EQ(warning.find("consolidated"), std::string::npos) << warning;
+}
+
+TEST(TriaxialTest, EffectiveConsolidationWithoutAnEffectiveStressSaysItUsedTheCellPressure)
+{
+    // The stack of the test above: the membrane never touches it, so there is
+    // no σ₃,eff to consolidate to. The column is brought to the cell pressure,
+    // the result records that target, and a warning says why.
+    Simulation sim(1);
+    const std::size_t top = build_grain_stack(sim, 0.0, MembraneEdgeLaw::linear);
+    TriaxialSettings set = fast_settings(10e3);
+    set.target_axial_strain = 1e-3;
+    set.hold_time_s = 20e-3;
+    set.consolidation = Consolidation::effective;
+    const auto r_or = run_triaxial(sim, top, set);
+    ASSERT_TRUE(r_or.ok()) << r_or.error();
+    const TriaxialResult& r = r_or.value();
+    EXPECT_EQ(r.consolidation, Consolidation::effective);
+    EXPECT_EQ(r.consolidation_target_pa, 10e3);
+    EXPECT_EQ(std::ranges::count_if(r.warnings, [](const std::string& w) {
+        return w.find("found no lateral stress") != std::string::npos;
+    }), 1) << ::testing::PrintToString(r.warnings);
 }
 
 TEST(TriaxialTest, TheHoldGoesOnUntilTheColumnHasConsolidated)
