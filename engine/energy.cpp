@@ -3,6 +3,7 @@
 #include "contact/geometry.hpp"
 #include "laws/hertz.hpp"
 #include "laws/membrane_edge.hpp"
+#include "laws/wire_bond.hpp"
 
 #include <cmath>
 
@@ -59,7 +60,7 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
             }
             if (i >= 1 && i + 1 < xw.size()) {
                 const Vec3 a = xw[i] - xw[i - 1], b = xw[i + 1] - xw[i];
-                const double zeta = std::atan2(a.cross(b).norm(), a.dot(b));
+                const double zeta = bend_angle_rad(a.cross(b).norm(), a.dot(b)); // the law's ζ (any scale of a, b)
                 const double bend = zeta - w.wire_rest_angle_rad[i]; // plastic joints: ζ − ζ₀
                 energy += 0.5 * wire.bending_stiffness_n_m * bend * bend;
             }

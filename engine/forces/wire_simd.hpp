@@ -1,9 +1,8 @@
 // The wire's segments and joints eight (AVX-512) or four (AVX2) at a time, with the scalar
 // laws' operations in their order (laws/wire_bond.hpp; compiled with
 // -ffp-contract=off, like contact/pair_kernel_simd.cpp, which says why): the
-// same bits as compute_wire_forces' scalar path. The joint's angle ζ is the
-// one exception to "several per instruction": std::atan2 runs lane by lane,
-// since a vector arctangent would round differently.
+// same bits as compute_wire_forces' scalar path, the joint's angle ζ
+// included (bend_angle_rad: a polynomial, not std::atan2).
 #pragma once
 
 #include "core/types.hpp"

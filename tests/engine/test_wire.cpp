@@ -10,10 +10,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numbers>
 
 using namespace wiredem::engine;
 using namespace wiredem::engine::test;
@@ -108,6 +111,39 @@ TEST(WireBending, AngleGradientIsTheDerivativeOfZetaAndIsZeroWhereTheDirectionIs
              std::array<Vec3, 3>{Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(1e-3, 1e-3, 0)}})
         for (const Vec3& gi : wire_joint(p[0], p[1], p[2], 1e-5, 0.0, elastic).angle_gradient_per_m)
             EXPECT_EQ(gi, Vec3::Zero());
+}
+
+TEST(WireBending, BendAngleIsTheArctangentWithinAFewUlp)
+{
+    // bend_angle_rad is within 2.4 ulp of the exact arctangent (measured
+    // against 50-digit arithmetic: scripts/fit_bend_angle.py) and glibc's
+    // atan2 within 0.52 ulp, so the two differ by at most 2.9 ulp of ζ.
+    const auto ulps_from_atan2 = [](double s, double c) {
+        const double exact = std::atan2(s, c);
+        const double ulp = std::nextafter(exact, 4.0) - exact;
+        return std::abs(bend_angle_rad(s, c) - exact) / ulp;
+    };
+    double worst = 0.0;
+    const auto at = [&](double zeta, double scale = 1.0) {
+        worst = std::max(worst, ulps_from_atan2(scale * std::abs(std::sin(zeta)), scale * std::cos(zeta)));
+    };
+    const int n = 100000;
+    for (int i = 0; i <= n; ++i) at(std::numbers::pi * i / n);                    // [0, π]
+    for (int i = 0; i <= n; ++i) at(std::pow(10.0, -12.0 + 12.0 * i / n));       // nearly straight
+    for (int i = 0; i <= n; ++i) at(std::numbers::pi - std::pow(10.0, -12.0 + 12.0 * i / n)); // nearly folded back
+    // Where the reduction changes: tan ζ = tan(π/8), π/4, π/2, 3π/4.
+    for (const double edge : {std::atan(bend_angle_tan_pi_8), std::numbers::pi / 4, std::numbers::pi / 2, 3 * std::numbers::pi / 4})
+        for (int i = -1000; i <= 1000; ++i) at(edge + 1e-12 * i);
+    for (int i = 1; i <= 1000; ++i) at(0.003 * i, std::pow(10.0, -3.0 + 6.0 * (i % 7) / 6.0)); // off the unit circle
+    EXPECT_LE(worst, 2.9);
+    // Exact where atan2 is, and NaN in, NaN out.
+    EXPECT_EQ(bend_angle_rad(0.0, 1.0), 0.0);
+    EXPECT_EQ(bend_angle_rad(0.0, -1.0), std::numbers::pi);
+    EXPECT_EQ(bend_angle_rad(1.0, 0.0), std::numbers::pi / 2);
+    EXPECT_EQ(bend_angle_rad(1.0, 1.0), std::numbers::pi / 4);
+    EXPECT_EQ(bend_angle_rad(2.0, -2.0), std::atan2(2.0, -2.0));
+    EXPECT_TRUE(std::isnan(bend_angle_rad(std::numeric_limits<double>::quiet_NaN(), 1.0)));
+    EXPECT_TRUE(std::isnan(bend_angle_rad(0.5, std::numeric_limits<double>::quiet_NaN())));
 }
 
 TEST(WireBending, StraightChainFeelsNoBendingForce)
