@@ -633,6 +633,13 @@ Result<PreparationReport, std::string> prepare_specimen(
             switch (st.phase) {
             case PreparationPhase::pouring:
                 if (w.of(BodyKind::grain).size() >= spec.grain_count) {
+                    // The nozzle stops laying with the pour, if the fill has
+                    // not stopped it before (a wire cover of zero: the fill
+                    // height is reached only by the last grain). Still laying,
+                    // it would leave its end held as it was, a node being
+                    // pushed out drifting on at v_z^w through the settling and
+                    // into the lid.
+                    st.laid_all = with_wire;
                     st.phase = PreparationPhase::settling;
                     stepped = false;
                     continue;
