@@ -47,15 +47,15 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three
 /// Whether motion[b, e) are all `which`. Without an early exit, so that it
 /// vectorises: a 32-byte compare where a loop byte by byte would branch on
 /// each body.
-[[nodiscard]] inline bool all_moving(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
+[[nodiscard]] inline bool all_of_motion(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
 {
     bool other = false;
     for (std::size_t i = b; i < e; ++i) other |= motion[i] != which;
     return !other;
 }
 
-/// Whether any of motion[b, e) is `which` (all_moving's twin).
-[[nodiscard]] inline bool any_moving(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
+/// Whether any of motion[b, e) is `which` (all_of_motion's twin).
+[[nodiscard]] inline bool any_of_motion(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
 {
     bool found = false;
     for (std::size_t i = b; i < e; ++i) found |= motion[i] == which;
@@ -67,7 +67,7 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three
 template <class F>
 void for_each_run(const std::vector<Motion>& motion, Motion which, std::size_t begin, std::size_t end, F&& f)
 {
-    if (begin < end && all_moving(motion, which, begin, end)) { // the usual block: one run
+    if (begin < end && all_of_motion(motion, which, begin, end)) { // the usual block: one run
         f(begin, end);
         return;
     }
@@ -100,7 +100,7 @@ void scale_accelerations(const double* inv_mass, const Vec3* load, double half_d
 inline void move_kinematic(std::array<std::vector<Vec3>, gear_order>& x, const std::vector<Motion>& motion,
     std::size_t begin, std::size_t end)
 {
-    if (!any_moving(motion, Motion::kinematic, begin, end)) return;
+    if (!any_of_motion(motion, Motion::kinematic, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
         if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
 }

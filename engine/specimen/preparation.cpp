@@ -163,8 +163,14 @@ public:
     static void release_end(World& w)
     {
         TranslationalState& wire = w.of(BodyKind::wire);
-        for (std::size_t i = wire.size() - std::min<std::size_t>(wire.size(), 2); i < wire.size(); ++i)
+        for (std::size_t i = first_end_node(wire); i < wire.size(); ++i)
             if (!is_dynamic(wire, i)) set_motion(w, {BodyKind::wire, static_cast<std::uint32_t>(i)}, Motion::dynamic);
+    }
+    /// The first of the nodes the nozzle may hold: the end, and the node
+    /// before it while the end is pushed out.
+    [[nodiscard]] static std::size_t first_end_node(const TranslationalState& wire)
+    {
+        return wire.size() - std::min<std::size_t>(wire.size(), 2);
     }
     /// Whether the lid, coming down, has reached a node of the wire's end
     /// that the nozzle still holds. A held node is never among a wall's
@@ -175,7 +181,7 @@ public:
     [[nodiscard]] static bool lid_reaches_held_end(const World& w, const Wall& lid)
     {
         const TranslationalState& wire = w.of(BodyKind::wire);
-        for (std::size_t i = wire.size() - std::min<std::size_t>(wire.size(), 2); i < wire.size(); ++i)
+        for (std::size_t i = first_end_node(wire); i < wire.size(); ++i)
             if (!is_dynamic(wire, i) && wall_gap(lid, wire.x[0][i]).gap_m <= wire.radius_m[i]) return true;
         return false;
     }
