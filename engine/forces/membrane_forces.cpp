@@ -1,24 +1,19 @@
 #include "forces/membrane_forces.hpp"
 
 #include "forces/membrane_simd.hpp"
+#include "core/assert.hpp"
 #include "laws/membrane_edge.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numbers>
 
 namespace wiredem::engine {
 
-namespace {
-/// Edges or triangles per parallel task of compute_membrane_forces (each
-/// element is written by one task, so the blocking does not change a bit).
-constexpr std::size_t membrane_block = 512;
-} // namespace
-
 void build_membrane(World& w, const MembraneSpec& spec)
 {
     MembraneMesh& m = w.membrane;
+    WIREDEM_ASSERT(w.of(BodyKind::membrane).size() == 0, "one membrane per World");
     m = MembraneMesh{};
     m.radius_m = spec.radius_m;
     m.height_m = spec.height_m;
@@ -38,10 +33,6 @@ void build_membrane(World& w, const MembraneSpec& spec)
     m.node_area_m2 = chord * dz; // the cylinder's area shared equally among the nodes
     const double node_mass = spec.density_scale * m.node_area_m2 * spec.density_kg_per_m3 * spec.thickness_m;
 
-    const std::size_t first = w.of(BodyKind::membrane).size();
-    auto id = [&](std::size_t row, std::size_t col) {
-        return static_cast<std::uint32_t>(first + row * columns + (col % columns));
-    };
     for (std::size_t r = 0; r < rows; ++r)
         for (std::size_t c = 0; c < columns; ++c) {
             const double phi = 2.0 * std::numbers::pi * (static_cast<double>(c) + 0.5 * static_cast<double>(r % 2)) / columns;
@@ -50,70 +41,46 @@ void build_membrane(World& w, const MembraneSpec& spec)
             m.node_fixed.push_back(r == 0 || r + 1 == rows ? 1 : 0);
             m.node_mass_kg.push_back(node_mass);
         }
-    // Two triangles per quad between rows r and r+1. An odd row is turned by
-    // +½ column, so (r, c) neighbours (r+1, c) and (r+1, c−1) when r is odd.
-    for (std::size_t r = 0; r + 1 < rows; ++r)
-        for (std::size_t c = 0; c < columns; ++c) {
-            const bool odd = r % 2 == 1;
-            const std::uint32_t a = id(r, c), b = id(r, c + 1);
-            const std::uint32_t up = id(r + 1, c), up_next = id(r + 1, c + 1);
-            if (!odd) { // (r+1, c) sits half a column after (r, c)
-                m.triangles.push_back({a, b, up});
-                m.triangles.push_back({b, up_next, up});
-            } else {    // (r+1, c+1) sits half a column after (r, c)
-                m.triangles.push_back({a, b, up_next});
-                m.triangles.push_back({a, up_next, up});
-            }
-        }
-    // Orient every triangle so that (b−a)×(c−a) points towards the axis.
+    // The elements in grid order (state/membrane.hpp), at rest in the cylinder.
     const auto& x = w.of(BodyKind::membrane).x[0];
-    for (auto& t : m.triangles) {
-        const Vec3 n = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-        Vec3 out = (x[t[0]] + x[t[1]] + x[t[2]]) / 3.0;
-        out.z() = 0.0;
-        if (n.dot(out) > 0.0) std::swap(t[1], t[2]);
-    }
-    // Unique edges, in ascending (i, j) order.
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> unique;
-    for (const auto& t : m.triangles)
-        for (int e = 0; e < 3; ++e) {
-            const std::uint32_t i = t[e], j = t[(e + 1) % 3];
-            unique[{std::min(i, j), std::max(i, j)}] = 0;
-        }
-    for (const auto& [e, unused] : unique) {
-        // Springs between two fixed rim nodes never act: leave them out.
-        if (m.node_fixed[e.first - first] && m.node_fixed[e.second - first]) continue;
-        m.edges.push_back({e.first, e.second});
-        m.edge_rest_m.push_back((x[e.second] - x[e.first]).norm());
-    }
-    // Incidence lists (node → elements), ascending element id.
-    const std::size_t nodes = first + rows * columns;
-    auto build_csr = [&](std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& list, auto&& for_each_element,
-                         std::size_t elements) {
-        start.assign(nodes + 1, 0);
-        for (std::size_t e = 0; e < elements; ++e) for_each_element(e, [&](std::uint32_t node, std::uint32_t) { ++start[node + 1]; });
-        for (std::size_t n = 0; n < nodes; ++n) start[n + 1] += start[n];
-        list.resize(start.back());
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t e = 0; e < elements; ++e)
-            for_each_element(e, [&](std::uint32_t node, std::uint32_t code) { list[fill[node]++] = code; });
-    };
-    build_csr(m.edge_incidence_start, m.edge_incidence,
-        [&](std::size_t e, auto&& visit) {
-            visit(m.edges[e][0], static_cast<std::uint32_t>(2 * e));
-            visit(m.edges[e][1], static_cast<std::uint32_t>(2 * e + 1));
-        },
-        m.edges.size());
-    build_csr(m.triangle_incidence_start, m.triangle_incidence,
-        [&](std::size_t t, auto&& visit) {
-            for (int k = 0; k < 3; ++k) visit(m.triangles[t][k], static_cast<std::uint32_t>(t));
-        },
-        m.triangles.size());
-    MembraneForces& slots = w.membrane_forces;
-    slots.edge_force_n.assign(m.edges.size(), Vec3::Zero());
-    slots.triangle_force_n.assign(m.triangles.size(), Vec3::Zero());
-    slots.node_force_n.assign(nodes, Vec3::Zero());
+    m.edges = membrane_grid_edges(rows, columns);
+    for (const auto& e : m.edges) m.edge_rest_m.push_back((x[e[1]] - x[e[0]]).norm());
+    m.triangles = membrane_grid_triangles(rows, columns);
+    w.membrane_forces.node_force_n.assign(rows * columns, Vec3::Zero());
     m.rigid = true;
+}
+
+std::vector<std::array<std::uint32_t, 2>> membrane_grid_edges(std::size_t rows, std::size_t columns)
+{
+    const auto node = [&](std::size_t r, std::ptrdiff_t c) {
+        const auto n = static_cast<std::ptrdiff_t>(columns);
+        return static_cast<std::uint32_t>(r * columns + static_cast<std::size_t>((c % n + n) % n));
+    };
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    edges.reserve((rows - 2) * columns + 2 * (rows - 1) * columns);
+    for (std::size_t r = 1; r + 1 < rows; ++r)
+        for (std::size_t c = 0; c < columns; ++c) edges.push_back({node(r, c), node(r, c + 1)});
+    for (const bool second : {false, true})
+        for (std::size_t r = 0; r + 1 < rows; ++r)
+            for (std::size_t c = 0; c < columns; ++c)
+                edges.push_back({node(r, c), node(r + 1, membrane_up_column(r, static_cast<std::ptrdiff_t>(c), second))});
+    return edges;
+}
+
+std::vector<std::array<std::uint32_t, 3>> membrane_grid_triangles(std::size_t rows, std::size_t columns)
+{
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    triangles.reserve(2 * (rows - 1) * columns);
+    for (int which = 0; which < 2; ++which)
+        for (std::size_t r = 0; r + 1 < rows; ++r)
+            for (std::size_t c = 0; c < columns; ++c) {
+                std::array<std::uint32_t, 3> t{};
+                const auto corners = membrane_triangle(r, which);
+                for (int k = 0; k < 3; ++k)
+                    t[k] = static_cast<std::uint32_t>((r + corners[k][0]) * columns + (c + corners[k][1]) % columns);
+                triangles.push_back(t);
+            }
+    return triangles;
 }
 
 void set_membrane_rigid(World& w, bool rigid)
@@ -130,52 +97,195 @@ void set_membrane_rigid(World& w, bool rigid)
     // continues with, hence its bits, depend on when it was built.
     invalidate_neighbours(w);
     if (rigid) { // compute_membrane_forces skips a rigid membrane: nothing it holds moves
-        MembraneForces& slots = w.membrane_forces;
-        std::fill(slots.edge_force_n.begin(), slots.edge_force_n.end(), Vec3::Zero());
-        std::fill(slots.triangle_force_n.begin(), slots.triangle_force_n.end(), Vec3::Zero());
-        std::fill(slots.node_force_n.begin(), slots.node_force_n.end(), Vec3::Zero());
+        std::vector<Vec3>& f = w.membrane_forces.node_force_n;
+        std::fill(f.begin(), f.end(), Vec3::Zero());
     }
 }
+
+namespace {
+
+Vec3 column_of(const MembraneRow& r, std::size_t c) { return {r.x[c], r.y[c], r.z[c]}; }
+void put_column(const MembraneRow& r, std::size_t c, const Vec3& v) { r.x[c] = v.x(), r.y[c] = v.y(), r.z[c] = v.z(); }
+
+// The scalar kernels: what MembraneSimdKernels does lanes at a time, column
+// by column in the same order.
+void scalar_edges(MembraneRow a, MembraneRow b, const double* rest_m, double stiffness_n_per_m, MembraneEdgeLaw law,
+    MembraneRow out, std::size_t count)
+{
+    for (std::size_t c = 0; c < count; ++c)
+        put_column(out, c, membrane_edge_force_n(column_of(a, c), column_of(b, c), rest_m[c], stiffness_n_per_m, law));
+}
+
+void scalar_triangles(MembraneRow a, MembraneRow b, MembraneRow c, double pressure_pa, MembraneRow out, std::size_t count)
+{
+    for (std::size_t i = 0; i < count; ++i) {
+        const Vec3 xa = column_of(a, i);
+        // ½ (b−a)×(c−a) = A n_in: the pressure force σ₃ A n_in, a third per node.
+        put_column(out, i, pressure_pa / 6.0 * (column_of(b, i) - xa).cross(column_of(c, i) - xa));
+    }
+}
+
+void scalar_sums(const MembraneTerm* terms, MembraneRow out, std::size_t count)
+{
+    for (std::size_t c = 0; c < count; ++c) {
+        Vec3 f = Vec3::Zero();
+        for (std::size_t t = 0; t < membrane_terms; ++t) {
+            if (terms[t].subtract) f -= column_of(terms[t].row, c);
+            else f += column_of(terms[t].row, c);
+        }
+        put_column(out, c, f);
+    }
+}
+
+/// Rows of the grid as compute_membrane_forces keeps them: `padded` columns
+/// (a whole number of SIMD blocks) plus one column on either side, each
+/// holding the value of the column it stands for modulo `columns`.
+class RowStore {
+public:
+    RowStore(std::size_t columns, std::size_t padded, std::size_t rows)
+        : columns_(columns), stride_(padded + 2), data_(3 * stride_ * rows, 0.0)
+    {
+    }
+    /// Row k of the store; column c at [c], c from −1 to padded.
+    [[nodiscard]] MembraneRow row(std::size_t k)
+    {
+        double* base = data_.data() + 3 * stride_ * k + 1;
+        return {base, base + stride_, base + 2 * stride_};
+    }
+    /// Fills the columns past the row's end and before its start from the
+    /// ones they stand for.
+    void wrap(MembraneRow r) const
+    {
+        for (double* v : {r.x, r.y, r.z}) {
+            v[-1] = v[columns_ - 1];
+            for (std::size_t c = columns_; c + 1 < stride_; ++c) v[c] = v[c - columns_];
+        }
+    }
+    void clear(MembraneRow r) const
+    {
+        for (double* v : {r.x, r.y, r.z}) std::fill(v - 1, v + stride_ - 1, 0.0);
+    }
+
+private:
+    std::size_t columns_, stride_;
+    std::vector<double> data_;
+};
+
+/// Rows processed per task: each task also works out the elements of the row
+/// below its first (what one row's nodes take from the row below).
+constexpr std::size_t membrane_rows_per_task = 16;
+
+} // namespace
 
 void compute_membrane_forces(World& w, ThreadPool& pool)
 {
     const MembraneMesh& m = w.membrane;
-    MembraneForces& slots = w.membrane_forces;
     const auto& x = w.of(BodyKind::membrane).x[0];
     // Held nodes do not move whatever their springs and the pressure do (the
     // preparation's rigid membrane: ~9 % of a paper-size pour's step time).
     if (x.empty() || m.rigid) return;
-    const double k = m.edge_stiffness_n_per_m;
-    // Four or eight elements at a time where the CPU can (same bits, membrane_simd.hpp).
+    std::vector<Vec3>& node_force = w.membrane_forces.node_force_n;
+    // Columns lanes at a time where the CPU can (same bits, membrane_simd.hpp).
     const MembraneSimdKernels simd = simd_membrane_kernels();
-    const auto simd_part = [&](std::size_t begin, std::size_t end) { return simd ? (end - begin) / simd.lanes * simd.lanes : 0; };
-    parallel_for_blocks(pool, m.edges.size(), membrane_block, [&](std::size_t begin, std::size_t end) {
-        const std::size_t n = simd_part(begin, end);
-        if (n > 0)
-            simd.edges(x.data(), m.edges.data() + begin, m.edge_rest_m.data() + begin, k, m.edge_law,
-                slots.edge_force_n.data() + begin, n);
-        for (std::size_t e = begin + n; e < end; ++e)
-            slots.edge_force_n[e] = membrane_edge_force_n(x[m.edges[e][0]], x[m.edges[e][1]], m.edge_rest_m[e], k, m.edge_law);
-    });
-    const double p = m.pressure_pa;
-    parallel_for_blocks(pool, m.triangles.size(), membrane_block, [&](std::size_t begin, std::size_t end) {
-        const std::size_t n = simd_part(begin, end);
-        if (n > 0) simd.triangles(x.data(), m.triangles.data() + begin, p, slots.triangle_force_n.data() + begin, n);
-        for (std::size_t t = begin + n; t < end; ++t) {
-            const auto& tri = m.triangles[t];
-            // ½ (b−a)×(c−a) = A n_in: the pressure force σ₃ A n_in, a third per node.
-            slots.triangle_force_n[t] = p / 6.0 * (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    const MembraneSimdKernels kernels = simd ? simd : MembraneSimdKernels{1, &scalar_edges, &scalar_triangles, &scalar_sums};
+    const std::size_t rows = m.rows, columns = m.columns;
+    const std::size_t padded = simd ? (columns + simd.lanes - 1) / simd.lanes * simd.lanes : columns;
+    const double k = m.edge_stiffness_n_per_m, p = m.pressure_pa;
+
+    parallel_for_blocks(pool, rows, membrane_rows_per_task, [&](std::size_t begin, std::size_t end) {
+        // Rows of this task: positions of rows r and r+1; rest lengths; the
+        // elements of row r (along, up first, up second, triangle 0, 1) and the
+        // up edges and triangles of row r−1; the node sums.
+        enum : std::size_t { pos_low, pos_high, along, up0, up1, tri0, tri1, below_up0, below_up1, below_tri0, below_tri1, sum, rest, store_rows };
+        RowStore store(columns, padded, store_rows);
+        MembraneRow pos[2] = {store.row(pos_low), store.row(pos_high)};
+        MembraneRow here[5] = {store.row(along), store.row(up0), store.row(up1), store.row(tri0), store.row(tri1)};
+        MembraneRow below[4] = {store.row(below_up0), store.row(below_up1), store.row(below_tri0), store.row(below_tri1)};
+        const MembraneRow rest_rows = store.row(rest);
+        double* rest_of[3] = {rest_rows.x, rest_rows.y, rest_rows.z};
+
+        const auto load_positions = [&](std::size_t r, MembraneRow into) {
+            for (std::size_t c = 0; c < columns; ++c) {
+                const Vec3& v = x[r * columns + c];
+                into.x[c] = v.x(), into.y[c] = v.y(), into.z[c] = v.z();
+            }
+            store.wrap(into);
+        };
+        // The elements node (r, c) owns, for every column: `low` holds row r's
+        // positions, `high` row r+1's.
+        const auto elements = [&](std::size_t r, MembraneRow low, MembraneRow high, MembraneRow* out) {
+            if (r + 1 >= rows) { // the top row owns nothing
+                for (int e = 0; e < 5; ++e) store.clear(out[e]);
+                return;
+            }
+            const auto rests = [&](MembraneEdge kind, double* into) {
+                const double* from = m.edge_rest_m.data() + membrane_edge_index(rows, columns, kind, r, 0);
+                std::copy(from, from + columns, into);
+                for (std::size_t c = columns; c < padded; ++c) into[c] = into[c - columns];
+            };
+            if (r > 0) { // between the rims
+                rests(MembraneEdge::along, rest_of[0]);
+                kernels.edges(low, low.shifted(1), rest_of[0], k, m.edge_law, out[0], padded);
+            } else {
+                store.clear(out[0]);
+            }
+            for (int second = 0; second < 2; ++second) {
+                rests(second ? MembraneEdge::up_second : MembraneEdge::up_first, rest_of[1 + second]);
+                kernels.edges(low, high.shifted(membrane_up_column(r, 0, second == 1)), rest_of[1 + second], k, m.edge_law,
+                    out[1 + second], padded);
+            }
+            for (int which = 0; which < 2; ++which) {
+                const auto corners = membrane_triangle(r, which);
+                MembraneRow at[3];
+                for (int i = 0; i < 3; ++i) at[i] = (corners[i][0] == 0 ? low : high).shifted(corners[i][1]);
+                kernels.triangles(at[0], at[1], at[2], p, out[3 + which], padded);
+            }
+            for (int e = 0; e < 5; ++e) store.wrap(out[e]);
+        };
+
+        // Start from the row below the first: its up edges and triangles.
+        for (int e = 0; e < 4; ++e) store.clear(below[e]);
+        if (begin > 0) {
+            MembraneRow scratch[5] = {here[0], below[0], below[1], below[2], below[3]};
+            load_positions(begin - 1, pos[0]);
+            load_positions(begin, pos[1]);
+            elements(begin - 1, pos[0], pos[1], scratch);
+            std::swap(pos[0], pos[1]);
+        } else {
+            load_positions(begin, pos[0]);
         }
-    });
-    parallel_for(pool, x.size(), [&](std::size_t i) {
-        Vec3 f = Vec3::Zero();
-        for (std::uint32_t e = m.edge_incidence_start[i]; e < m.edge_incidence_start[i + 1]; ++e) {
-            const std::uint32_t code = m.edge_incidence[e];
-            f += (code & 1u) ? Vec3(-slots.edge_force_n[code >> 1]) : slots.edge_force_n[code >> 1];
+        const MembraneRow sums = store.row(sum);
+        for (std::size_t r = begin; r < end; ++r) {
+            if (r + 1 < rows) load_positions(r + 1, pos[1]);
+            elements(r, pos[0], pos[1], here);
+            // Node (r, c)'s twelve terms, in this order: its along edge and
+            // the one of (r, c−1); its up edges; the up edges of row r−1 that
+            // end at it; the triangles of row r, then of row r−1, with a
+            // corner at it.
+            std::array<MembraneTerm, membrane_terms> terms;
+            std::size_t t = 0;
+            terms[t++] = {here[0], false};
+            terms[t++] = {here[0].shifted(-1), true};
+            terms[t++] = {here[1], false};
+            terms[t++] = {here[2], false};
+            for (int second = 0; second < 2; ++second) // row r−1's column c' ends at c' + membrane_up_column(r−1, 0, …)
+                terms[t++] = {below[second].shifted(-membrane_up_column(r + 1, 0, second == 1)), true};
+            for (int lower = 1; lower >= 0; --lower) { // row r's quads (lower corners), then row r−1's (upper corners)
+                const std::size_t quad_row = lower ? r : r + 1; // only its parity counts: r−1 ≡ r+1
+                for (int which = 0; which < 2; ++which) {
+                    const auto corners = membrane_triangle(quad_row, which);
+                    for (const auto& corner : corners)
+                        if (corner[0] == (lower ? 0 : 1))
+                            terms[t++] = {(lower ? here[3 + which] : below[2 + which]).shifted(-corner[1]), false};
+                }
+            }
+            WIREDEM_ASSERT(t == membrane_terms, "twelve terms per node");
+            kernels.sums(terms.data(), sums, padded);
+            for (std::size_t c = 0; c < columns; ++c) node_force[r * columns + c] = Vec3(sums.x[c], sums.y[c], sums.z[c]);
+            // Row r is the next row's row below.
+            for (int e = 0; e < 4; ++e) std::swap(below[e], here[1 + e]);
+            std::swap(pos[0], pos[1]);
         }
-        for (std::uint32_t e = m.triangle_incidence_start[i]; e < m.triangle_incidence_start[i + 1]; ++e)
-            f += slots.triangle_force_n[m.triangle_incidence[e]];
-        slots.node_force_n[i] = f;
     });
 }
 

@@ -1,5 +1,5 @@
 // The membrane's own forces: edge springs and the confining pressure, per
-// element then gathered per node in element order; plus the load of the
+// element then summed per node in a fixed order; plus the load of the
 // specimen (grains and wire) on the membrane, which the triaxial test reads as
 // its effective confining pressure.
 #pragma once
@@ -29,11 +29,18 @@ struct MembraneSpec {
 /// rows are fixed. The membrane starts rigid.
 void build_membrane(World& w, const MembraneSpec& spec);
 
+/// The grid's edges (owner, other) and its triangles, in the order of
+/// state/membrane.hpp.
+[[nodiscard]] std::vector<std::array<std::uint32_t, 2>> membrane_grid_edges(std::size_t rows, std::size_t columns);
+[[nodiscard]] std::vector<std::array<std::uint32_t, 3>> membrane_grid_triangles(std::size_t rows, std::size_t columns);
+
 /// Rigid (nodes held, contact forces still computed) or deformable (all but
 /// the top and bottom rows integrated).
 void set_membrane_rigid(World& w, bool rigid);
 
-/// Stage: edge springs and pressure σ₃ A n_in / 3 per triangle, gathered per node.
+/// Stage: edge springs and pressure σ₃ A n_in / 3 per triangle, summed per
+/// node. Walks the grid row by row: each row's elements, then its nodes'
+/// sums, so that a row's forces are still in cache when its nodes read them.
 void compute_membrane_forces(World& w, ThreadPool& pool);
 
 /// What the grains do to the membrane this step.

@@ -1,5 +1,6 @@
 // Compiled with -ffp-contract=off (engine/CMakeLists.txt): each lane does
-// membrane_edge_force_n's and the pressure's operations in Eigen's order.
+// membrane_edge_force_n's, the pressure's and the node sum's operations in
+// the scalar order.
 #include "forces/membrane_simd.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
@@ -26,8 +27,8 @@ MembraneSimdKernels simd_membrane_kernels()
 {
     switch (simd_isa()) {
 #if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::edges, &with_avx512::triangles};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::edges, &with_avx2::triangles};
+    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::edges, &with_avx512::triangles, &with_avx512::sums};
+    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::edges, &with_avx2::triangles, &with_avx2::sums};
 #endif
     default: return {};
     }

@@ -1,27 +1,50 @@
-// The membrane's element forces eight (AVX-512) or four (AVX2) at a time, with the scalar
-// code's operations in its order: the same bits (compiled with
-// -ffp-contract=off, like contact/pair_kernel_simd.cpp, which says why).
+// The membrane's row kernels eight (AVX-512) or four (AVX2) columns at a
+// time, with the scalar code's operations in its order: the same bits
+// (compiled with -ffp-contract=off, like contact/pair_kernel_simd.cpp, which
+// says why).
 #pragma once
 
-#include "core/types.hpp"
 #include "state/membrane.hpp"
 
-#include <array>
 #include <cstddef>
-#include <cstdint>
 
 namespace wiredem::engine {
 
-/// The kernels of compute_membrane_forces for `count` consecutive elements
-/// (a multiple of `lanes`) starting at the given ones; x is every membrane node.
+/// One row of the grid, one array per component: column c at x[c], y[c],
+/// z[c]. compute_membrane_forces keeps its rows with a column of the other
+/// end of the row on either side (c = −1 and c = columns…), so that a
+/// neighbour one column away is at a fixed offset even where the row wraps
+/// around.
+struct MembraneRow {
+    double* x = nullptr;
+    double* y = nullptr;
+    double* z = nullptr;
+    /// The same row `by` columns further (the neighbour's value at column c).
+    [[nodiscard]] MembraneRow shifted(std::ptrdiff_t by) const { return {x + by, y + by, z + by}; }
+};
+
+/// A term of a node sum: a row of element forces, shifted so that column c
+/// holds the element the node of column c takes, added or subtracted.
+struct MembraneTerm {
+    MembraneRow row;
+    bool subtract = false;
+};
+
+/// The node sums take twelve terms: six edges, six triangles.
+inline constexpr std::size_t membrane_terms = 12;
+
+/// The kernels of compute_membrane_forces for columns 0 … count−1 (count a
+/// multiple of `lanes`); each writes out[c] from its inputs' column c.
 struct MembraneSimdKernels {
     std::size_t lanes = 0;
-    /// Edge forces: membrane_edge_force_n of each edge.
-    void (*edges)(const Vec3* x, const std::array<std::uint32_t, 2>* edges, const double* rest_m,
-        double stiffness_n_per_m, MembraneEdgeLaw law, Vec3* force_n, std::size_t count) = nullptr;
-    /// Pressure forces: p/6 (b − a) × (c − a) of each triangle.
-    void (*triangles)(const Vec3* x, const std::array<std::uint32_t, 3>* triangles, double pressure_pa,
-        Vec3* force_n, std::size_t count) = nullptr;
+    /// membrane_edge_force_n(a[c], b[c], rest[c], k, law): the force on a.
+    void (*edges)(MembraneRow a, MembraneRow b, const double* rest_m, double stiffness_n_per_m,
+        MembraneEdgeLaw law, MembraneRow out, std::size_t count) = nullptr;
+    /// p/6 (b − a) × (c − a) of the triangle (a[c], b[c], c[c]).
+    void (*triangles)(MembraneRow a, MembraneRow b, MembraneRow c, double pressure_pa, MembraneRow out,
+        std::size_t count) = nullptr;
+    /// 0 ± term[0][c] ± … ± term[11][c], in that order.
+    void (*sums)(const MembraneTerm* terms, MembraneRow out, std::size_t count) = nullptr;
     explicit operator bool() const { return edges != nullptr; }
 };
 

@@ -25,11 +25,14 @@
 // contact forces right after a restore sees what it would have seen.
 #include "io/snapshot.hpp"
 
+#include "forces/membrane_forces.hpp"
 #include "io/hdf5.hpp"
 #include "state/state_hash.hpp"
 #include "state/world_fields.hpp"
 
+#include <algorithm>
 #include <cinttypes>
+#include <map>
 #include <cstdio>
 #include <span>
 #include <system_error>
@@ -40,18 +43,18 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2224, "World changed: update for_each_field and this size");
-static_assert(sizeof(Model) == 528, "Model changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2080, "World changed: update for_each_field and this size");
+static_assert(sizeof(Model) == 432, "Model changed: update for_each_field and this size");
 static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
-static_assert(sizeof(Caches) == 640, "Caches changed: update for_each_field and this size");
+static_assert(sizeof(Caches) == 592, "Caches changed: update for_each_field and this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 96, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
 static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field and this size");
 static_assert(sizeof(WireForces) == 96, "WireForces changed: update for_each_field and this size");
-static_assert(sizeof(MembraneMesh) == 296, "MembraneMesh changed: update for_each_field and this size");
-static_assert(sizeof(MembraneForces) == 72, "MembraneForces changed: update for_each_field and this size");
+static_assert(sizeof(MembraneMesh) == 200, "MembraneMesh changed: update for_each_field and this size");
+static_assert(sizeof(MembraneForces) == 24, "MembraneForces changed: update for_each_field and this size");
 static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
 static_assert(sizeof(ContactSettings) == 40, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");
@@ -103,6 +106,48 @@ Result<std::uint64_t, std::string> save_snapshot(
 
 namespace {
 
+/// Whether the membrane's nodes form its grid ("" when they do, or there are none).
+std::string membrane_grid_error(const World& w)
+{
+    const MembraneMesh& m = w.membrane;
+    const std::size_t nodes = w.of(BodyKind::membrane).size();
+    if (nodes == 0) return "";
+    if (m.rows < 2 || m.columns < 3 || m.rows > nodes || nodes / m.rows != m.columns || nodes % m.rows != 0)
+        return "fields membrane/rows and membrane/columns (" + std::to_string(m.rows) + " × " + std::to_string(m.columns)
+               + ") are not a grid of the " + std::to_string(nodes) + " membrane nodes (at least 2 rows of 3)";
+    return "";
+}
+
+/// Versions 2 to 5 list the membrane's edges by (lower, higher) node and its
+/// triangles quad by quad: puts them in grid order (state/membrane.hpp), each
+/// edge with its rest length ("" when done).
+std::string membrane_into_grid_order(World& w)
+{
+    MembraneMesh& m = w.membrane;
+    if (w.of(BodyKind::membrane).size() == 0) return "";
+    if (std::string error = membrane_grid_error(w); !error.empty()) return error;
+    if (m.edge_rest_m.size() != m.edges.size()) return "fields membrane/edges and membrane/edge_rest_m differ in length";
+    std::map<std::pair<std::uint32_t, std::uint32_t>, double> rest;
+    for (std::size_t e = 0; e < m.edges.size(); ++e)
+        rest[std::minmax(m.edges[e][0], m.edges[e][1])] = m.edge_rest_m[e];
+    std::vector<std::array<std::uint32_t, 2>> edges = membrane_grid_edges(m.rows, m.columns);
+    if (edges.size() != rest.size())
+        return "field membrane/edges has " + std::to_string(rest.size()) + " edges, the membrane's grid "
+               + std::to_string(edges.size());
+    std::vector<double> rests;
+    rests.reserve(edges.size());
+    for (const auto& e : edges) {
+        const auto found = rest.find(std::minmax(e[0], e[1]));
+        if (found == rest.end())
+            return "field membrane/edges lacks the grid's edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) + ")";
+        rests.push_back(found->second);
+    }
+    m.edges = std::move(edges);
+    m.edge_rest_m = std::move(rests);
+    m.triangles = membrane_grid_triangles(m.rows, m.columns);
+    return "";
+}
+
 /// What does not fit together in a restored World: the arrays a step
 /// indexes by body, grain, wire node or membrane element must have as many
 /// entries as there are of those ("" when all do). save_snapshot always writes them so;
@@ -138,10 +183,19 @@ std::string mismatched_sizes(const World& w)
     check(error, w.wire_forces.segment_force_n.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_force_n");
     check(error, w.wire_forces.segment_strain.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_strain");
     const MembraneMesh& m = w.membrane;
+    if (error.empty()) error = membrane_grid_error(w);
+    const std::size_t membrane_nodes = w.of(BodyKind::membrane).size();
+    // The force stage walks the grid; energy and volume read the lists.
+    if (error.empty() && membrane_nodes > 0 && m.edges != membrane_grid_edges(m.rows, m.columns))
+        error = "field membrane/edges is not the grid's edges in grid order";
+    if (error.empty() && membrane_nodes > 0 && m.triangles != membrane_grid_triangles(m.rows, m.columns))
+        error = "field membrane/triangles is not the grid's triangles in grid order";
+    if (error.empty() && membrane_nodes == 0 && !(m.edges.empty() && m.triangles.empty()))
+        error = "fields membrane/edges and membrane/triangles list elements of a membrane without nodes";
     check(error, m.edge_rest_m.size(), m.edges.size(), "membrane/edge_rest_m");
-    check(error, w.membrane_forces.edge_force_n.size(), m.edges.size(), "membrane/edge_force_n");
-    check(error, w.membrane_forces.triangle_force_n.size(), m.triangles.size(), "membrane/triangle_force_n");
-    check(error, w.membrane_forces.node_force_n.size(), w.of(BodyKind::membrane).size(), "membrane/node_force_n");
+    check(error, m.node_fixed.size(), membrane_nodes, "membrane/node_fixed");
+    check(error, m.node_mass_kg.size(), membrane_nodes, "membrane/node_mass_kg");
+    check(error, w.membrane_forces.node_force_n.size(), membrane_nodes, "membrane/node_force_n");
     for (const auto& [body, f] : w.point_loads)
         if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
             error = "field point_loads names a body that does not exist";
@@ -222,6 +276,8 @@ Result<World, std::string> restore_snapshot(
         const bool outputs_in_four_arrays = version <= 3;
         // Versions 2 to 4 sort the body pairs by (first, second) alone.
         const bool pairs_by_bodies = version <= 4;
+        // Versions 2 to 5 list the membrane's elements in another order.
+        const bool membrane_by_nodes = version <= 5;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
@@ -245,6 +301,8 @@ Result<World, std::string> restore_snapshot(
             }
             if (!read) error = "field " + name + " has an unexpected shape";
         });
+        if (!error.empty()) return Err(at + ": " + error);
+        if (membrane_by_nodes) error = membrane_into_grid_order(w);
         if (!error.empty()) return Err(at + ": " + error);
         error = mismatched_sizes(w);
         if (!error.empty()) return Err(at + ": " + error);

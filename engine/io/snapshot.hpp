@@ -25,8 +25,9 @@ namespace wiredem::engine {
 /// Version of the snapshot layout; restore_snapshot reads this version only.
 /// Bump it whenever a field is added, removed or changes meaning.
 /// 3: bodies' motion types; 4: one record of outputs per contact; 5: body
-/// pairs grouped by their kinds (pair_key).
-inline constexpr std::int64_t snapshot_version = 5;
+/// pairs grouped by their kinds (pair_key); 6: the membrane's elements in
+/// grid order, without incidence lists or per-element forces.
+inline constexpr std::int64_t snapshot_version = 6;
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";

@@ -367,12 +367,6 @@ void for_each_field(W& w, Visit&& field)
     field("membrane/triangles", m.triangles, R::model);
     field("membrane/node_fixed", m.node_fixed, R::model);
     field("membrane/node_mass_kg", m.node_mass_kg, R::model);
-    field("membrane/edge_incidence_start", m.edge_incidence_start, R::model);
-    field("membrane/edge_incidence", m.edge_incidence, R::model);
-    field("membrane/triangle_incidence_start", m.triangle_incidence_start, R::model);
-    field("membrane/triangle_incidence", m.triangle_incidence, R::model);
-    field("membrane/edge_force_n", w.membrane_forces.edge_force_n, R::output);
-    field("membrane/triangle_force_n", w.membrane_forces.triangle_force_n, R::output);
     field("membrane/node_force_n", w.membrane_forces.node_force_n, R::output);
 
     // Contacts, body pairs and body–wall: the springs and touching flags are

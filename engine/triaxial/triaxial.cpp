@@ -536,13 +536,6 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
             }
         }
         result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
-        const double target_pa = consolidation_target_pa();
-        const bool to_effective = settings.consolidation == Consolidation::effective && effective_sigma3_pa();
-        if (settings.consolidation == Consolidation::effective && !to_effective)
-            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
-                                      + " Pa: consolidation \"effective\" found no lateral stress σ₃,eff on the"
-                                        " membrane (the column does not touch it), so the column was consolidated"
-                                        " to the cell pressure σ₃ instead");
 
         // 2. Loading at constant plate speed, from h₀ now.
         st.reference_height_m = plates_apart_m();
@@ -568,6 +561,15 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
             sample();
         }
         st.loading_start_sample = result.series.size() - 1;
+        // The target over the rows loading_start reads: those of the window
+        // ending at the loading's first row.
+        const double target_pa = consolidation_target_pa();
+        const bool to_effective = settings.consolidation == Consolidation::effective && effective_sigma3_pa();
+        if (settings.consolidation == Consolidation::effective && !to_effective)
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
+                                      + " Pa: consolidation \"effective\" found no lateral stress σ₃,eff on the"
+                                        " membrane (the column does not touch it), so the column was consolidated"
+                                        " to the cell pressure σ₃ instead");
         result.consolidated_sigma1_pa = st.window_sigma1_pa.value_or(result.series.sigma1_pa[st.loading_start_sample]);
         result.consolidation = settings.consolidation;
         result.consolidation_target_pa = target_pa;

@@ -262,6 +262,47 @@ TEST(Snapshot, AVersionFourFileHasItsPairsPutInTheKindsOrder)
     EXPECT_EQ(state_hash(resumed.world), state_hash(original.world));
 }
 
+
+TEST(Snapshot, AVersionFiveFileHasItsMembraneElementsPutInGridOrder)
+{
+    // Until version 5 the membrane's edges were listed by (lower, higher)
+    // node, the triangles quad by quad. Such lists are put in grid order, each
+    // edge with its rest length, and the run continues as the uninterrupted one does.
+    Simulation original(1);
+    ASSERT_NO_FATAL_FAILURE(run_column_to_mid_test(original, Integrator::gear5));
+    World old = original.world;
+    MembraneMesh& m = old.membrane;
+    std::vector<std::size_t> order(m.edges.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return std::minmax(m.edges[a][0], m.edges[a][1]) < std::minmax(m.edges[b][0], m.edges[b][1]);
+    });
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    std::vector<double> rest;
+    for (const std::size_t e : order) {
+        edges.push_back({std::min(m.edges[e][0], m.edges[e][1]), std::max(m.edges[e][0], m.edges[e][1])});
+        rest.push_back(m.edge_rest_m[e]);
+    }
+    ASSERT_NE(edges, m.edges);
+    m.edges = edges;
+    m.edge_rest_m = rest;
+    std::reverse(m.triangles.begin(), m.triangles.end());
+    const std::filesystem::path path = temp_path("version5.h5");
+    ASSERT_TRUE(save_snapshot(old, path).ok());
+    io::File::open_read_write(path).root().write_int_attribute("version", 5);
+    auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_EQ(r.value().membrane.edges, original.world.membrane.edges);
+    EXPECT_EQ(r.value().membrane.edge_rest_m, original.world.membrane.edge_rest_m);
+    EXPECT_EQ(r.value().membrane.triangles, original.world.membrane.triangles);
+
+    Simulation resumed(2);
+    resumed.world = std::move(r).value();
+    original.run(steps_after);
+    resumed.run(steps_after);
+    EXPECT_EQ(state_hash(resumed.world), state_hash(original.world));
+}
 TEST(Snapshot, AMissingFieldIsNamed)
 {
     const std::filesystem::path path = temp_path("truncated.h5");
@@ -302,12 +343,29 @@ TEST(Snapshot, ArraysThatDoNotFitTheBodiesAreRefused)
     }
     {
         World w = sim.world;
-        ASSERT_FALSE(w.membrane_forces.triangle_force_n.empty());
-        w.membrane_forces.triangle_force_n.pop_back();
+        ASSERT_FALSE(w.membrane_forces.node_force_n.empty());
+        w.membrane_forces.node_force_n.pop_back();
         ASSERT_TRUE(save_snapshot(w, path).ok());
         const auto r = restore_snapshot(path);
         ASSERT_FALSE(r.ok());
-        EXPECT_NE(r.error().find("field membrane/triangle_force_n has"), std::string::npos) << r.error();
+        EXPECT_NE(r.error().find("field membrane/node_force_n has"), std::string::npos) << r.error();
+    }
+    {
+        World w = sim.world; // the force stage walks the grid that rows × columns says
+        ASSERT_GT(w.membrane.rows, 2u);
+        --w.membrane.rows;
+        ASSERT_TRUE(save_snapshot(w, path).ok());
+        const auto r = restore_snapshot(path);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find("are not a grid of the"), std::string::npos) << r.error();
+    }
+    {
+        World w = sim.world; // energy and volume read the lists by node
+        std::swap(w.membrane.edges[3], w.membrane.edges[4]);
+        ASSERT_TRUE(save_snapshot(w, path).ok());
+        const auto r = restore_snapshot(path);
+        ASSERT_FALSE(r.ok());
+        EXPECT_NE(r.error().find("field membrane/edges is not the grid's edges"), std::string::npos) << r.error();
     }
     {
         World w = sim.world;
