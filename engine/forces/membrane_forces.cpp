@@ -125,31 +125,38 @@ void scalar_triangles(MembraneRow a, MembraneRow b, MembraneRow c, double pressu
     }
 }
 
-void scalar_sums(const MembraneTerm* terms, MembraneRow out, std::size_t count)
+void scalar_sums(const MembraneRow* terms, Vec3* out, std::size_t count)
 {
     for (std::size_t c = 0; c < count; ++c) {
         Vec3 f = Vec3::Zero();
-        for (std::size_t t = 0; t < membrane_terms; ++t) {
-            if (terms[t].subtract) f -= column_of(terms[t].row, c);
-            else f += column_of(terms[t].row, c);
-        }
-        put_column(out, c, f);
+        for (std::size_t t = 0; t < membrane_added_terms; ++t) f += column_of(terms[t], c);
+        for (std::size_t t = membrane_added_terms; t < membrane_terms; ++t) f -= column_of(terms[t], c);
+        out[c] = f;
     }
+}
+
+void scalar_split(const Vec3* x, MembraneRow out, std::size_t count)
+{
+    for (std::size_t c = 0; c < count; ++c) put_column(out, c, x[c]);
 }
 
 /// Rows of the grid as compute_membrane_forces keeps them: `padded` columns
 /// (a whole number of SIMD blocks) plus one column on either side, each
-/// holding the value of the column it stands for modulo `columns`.
+/// holding the value of the column it stands for modulo `columns`. The
+/// storage is the thread's own, kept from call to call; every column a kernel
+/// reads is written first.
 class RowStore {
 public:
-    RowStore(std::size_t columns, std::size_t padded, std::size_t rows)
-        : columns_(columns), stride_(padded + 2), data_(3 * stride_ * rows, 0.0)
+    RowStore(std::size_t columns, std::size_t padded, std::size_t rows) : columns_(columns), stride_(padded + 2)
     {
+        thread_local std::vector<double> storage;
+        if (storage.size() < 3 * stride_ * rows) storage.resize(3 * stride_ * rows);
+        data_ = storage.data();
     }
     /// Row k of the store; column c at [c], c from −1 to padded.
-    [[nodiscard]] MembraneRow row(std::size_t k)
+    [[nodiscard]] MembraneRow row(std::size_t k) const
     {
-        double* base = data_.data() + 3 * stride_ * k + 1;
+        double* base = data_ + 3 * stride_ * k + 1;
         return {base, base + stride_, base + 2 * stride_};
     }
     /// Fills the columns past the row's end and before its start from the
@@ -168,7 +175,7 @@ public:
 
 private:
     std::size_t columns_, stride_;
-    std::vector<double> data_;
+    double* data_ = nullptr;
 };
 
 /// Rows processed per task: each task also works out the elements of the row
@@ -187,7 +194,7 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
     std::vector<Vec3>& node_force = w.membrane_forces.node_force_n;
     // Columns lanes at a time where the CPU can (same bits, membrane_simd.hpp).
     const MembraneSimdKernels simd = simd_membrane_kernels();
-    const MembraneSimdKernels kernels = simd ? simd : MembraneSimdKernels{1, &scalar_edges, &scalar_triangles, &scalar_sums};
+    const MembraneSimdKernels kernels = simd ? simd : MembraneSimdKernels{1, &scalar_edges, &scalar_triangles, &scalar_sums, &scalar_split};
     const std::size_t rows = m.rows, columns = m.columns;
     const std::size_t padded = simd ? (columns + simd.lanes - 1) / simd.lanes * simd.lanes : columns;
     const double k = m.edge_stiffness_n_per_m, p = m.pressure_pa;
@@ -196,7 +203,7 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
         // Rows of this task: positions of rows r and r+1; rest lengths; the
         // elements of row r (along, up first, up second, triangle 0, 1) and the
         // up edges and triangles of row r−1; the node sums.
-        enum : std::size_t { pos_low, pos_high, along, up0, up1, tri0, tri1, below_up0, below_up1, below_tri0, below_tri1, sum, rest, store_rows };
+        enum : std::size_t { pos_low, pos_high, along, up0, up1, tri0, tri1, below_up0, below_up1, below_tri0, below_tri1, rest, store_rows };
         RowStore store(columns, padded, store_rows);
         MembraneRow pos[2] = {store.row(pos_low), store.row(pos_high)};
         MembraneRow here[5] = {store.row(along), store.row(up0), store.row(up1), store.row(tri0), store.row(tri1)};
@@ -204,11 +211,11 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
         const MembraneRow rest_rows = store.row(rest);
         double* rest_of[3] = {rest_rows.x, rest_rows.y, rest_rows.z};
 
+        // Whole blocks of lanes by the kernel, the rest column by column.
+        const std::size_t whole = columns / kernels.lanes * kernels.lanes;
         const auto load_positions = [&](std::size_t r, MembraneRow into) {
-            for (std::size_t c = 0; c < columns; ++c) {
-                const Vec3& v = x[r * columns + c];
-                into.x[c] = v.x(), into.y[c] = v.y(), into.z[c] = v.z();
-            }
+            kernels.split(x.data() + r * columns, into, whole);
+            scalar_split(x.data() + r * columns + whole, into.shifted(static_cast<std::ptrdiff_t>(whole)), columns - whole);
             store.wrap(into);
         };
         // The elements node (r, c) owns, for every column: `low` holds row r's
@@ -254,34 +261,33 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
         } else {
             load_positions(begin, pos[0]);
         }
-        const MembraneRow sums = store.row(sum);
         for (std::size_t r = begin; r < end; ++r) {
             if (r + 1 < rows) load_positions(r + 1, pos[1]);
             elements(r, pos[0], pos[1], here);
-            // Node (r, c)'s twelve terms, in this order: its along edge and
-            // the one of (r, c−1); its up edges; the up edges of row r−1 that
-            // end at it; the triangles of row r, then of row r−1, with a
-            // corner at it.
-            std::array<MembraneTerm, membrane_terms> terms;
+            // Node (r, c)'s twelve terms, in this order: added, its along
+            // edge, its up edges, the triangles of row r, then of row r−1,
+            // with a corner at it; subtracted, the along edge of (r, c−1)
+            // and the up edges of row r−1 that end at it.
+            std::array<MembraneRow, membrane_terms> terms;
             std::size_t t = 0;
-            terms[t++] = {here[0], false};
-            terms[t++] = {here[0].shifted(-1), true};
-            terms[t++] = {here[1], false};
-            terms[t++] = {here[2], false};
-            for (int second = 0; second < 2; ++second) // row r−1's column c' ends at c' + membrane_up_column(r−1, 0, …)
-                terms[t++] = {below[second].shifted(-membrane_up_column(r + 1, 0, second == 1)), true};
+            terms[t++] = here[0];
+            terms[t++] = here[1];
+            terms[t++] = here[2];
             for (int lower = 1; lower >= 0; --lower) { // row r's quads (lower corners), then row r−1's (upper corners)
                 const std::size_t quad_row = lower ? r : r + 1; // only its parity counts: r−1 ≡ r+1
-                for (int which = 0; which < 2; ++which) {
-                    const auto corners = membrane_triangle(quad_row, which);
-                    for (const auto& corner : corners)
-                        if (corner[0] == (lower ? 0 : 1))
-                            terms[t++] = {(lower ? here[3 + which] : below[2 + which]).shifted(-corner[1]), false};
-                }
+                for (int which = 0; which < 2; ++which)
+                    for (const auto& corner : membrane_triangle(quad_row, which))
+                        if (corner[0] == (lower ? 0 : 1)) terms[t++] = (lower ? here[3 + which] : below[2 + which]).shifted(-corner[1]);
             }
+            WIREDEM_ASSERT(t == membrane_added_terms, "nine terms added");
+            terms[t++] = here[0].shifted(-1);
+            for (int second = 0; second < 2; ++second) // row r−1's column c' ends at c' + membrane_up_column(r−1, 0, …)
+                terms[t++] = below[second].shifted(-membrane_up_column(r + 1, 0, second == 1));
             WIREDEM_ASSERT(t == membrane_terms, "twelve terms per node");
-            kernels.sums(terms.data(), sums, padded);
-            for (std::size_t c = 0; c < columns; ++c) node_force[r * columns + c] = Vec3(sums.x[c], sums.y[c], sums.z[c]);
+            Vec3* out = node_force.data() + r * columns;
+            kernels.sums(terms.data(), out, whole);
+            for (MembraneRow& term : terms) term = term.shifted(static_cast<std::ptrdiff_t>(whole));
+            scalar_sums(terms.data(), out + whole, columns - whole);
             // Row r is the next row's row below.
             for (int e = 0; e < 4; ++e) std::swap(below[e], here[1 + e]);
             std::swap(pos[0], pos[1]);

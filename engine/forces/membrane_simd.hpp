@@ -23,15 +23,10 @@ struct MembraneRow {
     [[nodiscard]] MembraneRow shifted(std::ptrdiff_t by) const { return {x + by, y + by, z + by}; }
 };
 
-/// A term of a node sum: a row of element forces, shifted so that column c
-/// holds the element the node of column c takes, added or subtracted.
-struct MembraneTerm {
-    MembraneRow row;
-    bool subtract = false;
-};
-
-/// The node sums take twelve terms: six edges, six triangles.
-inline constexpr std::size_t membrane_terms = 12;
+/// A node sums twelve element forces (six edges, six triangles): the first
+/// `membrane_added_terms` added, the others subtracted, each from a row
+/// shifted so that column c holds the element the node of column c takes.
+inline constexpr std::size_t membrane_terms = 12, membrane_added_terms = 9;
 
 /// The kernels of compute_membrane_forces for columns 0 … count−1 (count a
 /// multiple of `lanes`); each writes out[c] from its inputs' column c.
@@ -43,8 +38,10 @@ struct MembraneSimdKernels {
     /// p/6 (b − a) × (c − a) of the triangle (a[c], b[c], c[c]).
     void (*triangles)(MembraneRow a, MembraneRow b, MembraneRow c, double pressure_pa, MembraneRow out,
         std::size_t count) = nullptr;
-    /// 0 ± term[0][c] ± … ± term[11][c], in that order.
-    void (*sums)(const MembraneTerm* terms, MembraneRow out, std::size_t count) = nullptr;
+    /// out[c] = 0 + term[0][c] + … + term[8][c] − term[9][c] − … − term[11][c], in that order.
+    void (*sums)(const MembraneRow* terms, Vec3* out, std::size_t count) = nullptr;
+    /// The Vec3s x[0 … count−1] into a row.
+    void (*split)(const Vec3* x, MembraneRow out, std::size_t count) = nullptr;
     explicit operator bool() const { return edges != nullptr; }
 };
 
