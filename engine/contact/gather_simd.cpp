@@ -7,6 +7,8 @@
 #include "contact/avx2.hpp"
 #endif
 
+#include <algorithm>
+
 namespace wiredem::engine {
 namespace {
 
@@ -39,7 +41,19 @@ template <bool rotates>
     // a body kind without contacts).
     const auto* records = reinterpret_cast<const double*>(c.output.data());
     const __m256d half = _mm256_set1_pd(0.5);
+    const avx2::V3 gravity = avx2::broadcast(in.gravity_m_per_s2);
     for (std::size_t i = begin; i < end; ++i) {
+        // Four bodies without a contact (most wire and membrane nodes): m g
+        // (+ extra), and no torque, four at a time in the same operations.
+        if (i + 4 <= end && c.incidence_start[in.flat_offset + i] == c.incidence_start[in.flat_offset + i + 4]) {
+            const __m256d m = _mm256_loadu_pd(in.mass_kg + i);
+            avx2::V3 f{m * gravity.x, m * gravity.y, m * gravity.z};
+            if (in.extra_force_n != nullptr) f = f + avx2::load_consecutive_vec3s(in.extra_force_n[i].data());
+            avx2::store_vec3s(in.force_n[i].data(), f);
+            if constexpr (rotates) std::fill(in.torque_n_m + i, in.torque_n_m + i + 4, Vec3::Zero());
+            i += 3;
+            continue;
+        }
         // f = m g, then ± each contact's force in incidence order; the lever
         // arm r − ξ/2 as the scalar gather writes it.
         const Vec3 weight = in.mass_kg[i] * in.gravity_m_per_s2;
