@@ -49,7 +49,7 @@ std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& vel
         slots.segment_force_n.resize(nodes - 1, Vec3::Zero());
         slots.segment_strain.resize(nodes - 1, 0.0);
     }
-    slots.bending_force_n.resize(nodes, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+    for (std::vector<Vec3>& on : slots.bending_force_n) on.resize(nodes, Vec3::Zero());
     return id;
 }
 
@@ -104,7 +104,8 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         if (simd && i < segments_end) {
             const std::size_t n = (segments_end - i) / simd.lanes * simd.lanes;
             simd.joints(segment.data() + (i - 1 - first), dx.data() + (i - 1), params, rest_angle.data() + i,
-                slots.bending_force_n.data() + i, n);
+                {slots.bending_force_n[0].data() + i, slots.bending_force_n[1].data() + i, slots.bending_force_n[2].data() + i},
+                n);
             i += n;
         }
         for (; i < segments_end; ++i) {
@@ -118,19 +119,32 @@ void compute_wire_forces(World& w, ThreadPool& pool)
                 const double c = tau_per_dt * k_rot * zeta_dot_dt;
                 for (int j = 0; j < 3; ++j) f[j] -= c * g[j];
             }
-            slots.bending_force_n[i] = f;
+            for (int j = 0; j < 3; ++j) slots.bending_force_n[j][i] = f[j];
         }
     });
     // Gather in a fixed order: segments i−1 and i, then the bending couples of
-    // nodes i−1, i and i+1.
-    parallel_for(pool, nodes, [&](std::size_t i) {
+    // the joints at nodes i−1, i and i+1. Nodes 2 … nodes−3 have all five,
+    // lanes at a time where the CPU can.
+    const auto& bending = slots.bending_force_n;
+    const auto node_sum = [&](std::size_t i) {
         Vec3 f = Vec3::Zero();
         if (i > 0) f -= slots.segment_force_n[i - 1];
         if (i + 1 < nodes) f += slots.segment_force_n[i];
-        if (i >= 2) f += slots.bending_force_n[i - 1][2];
-        if (i >= 1 && i + 1 < nodes) f += slots.bending_force_n[i][1];
-        if (i + 2 < nodes) f += slots.bending_force_n[i + 1][0];
+        if (i >= 2) f += bending[2][i - 1];
+        if (i >= 1 && i + 1 < nodes) f += bending[1][i];
+        if (i + 2 < nodes) f += bending[0][i + 1];
         slots.node_force_n[i] = f;
+    };
+    parallel_for_blocks(pool, nodes, wire_block, [&](std::size_t begin, std::size_t end) {
+        std::size_t i = begin;
+        if (simd) {
+            for (; i < std::min<std::size_t>(end, 2); ++i) node_sum(i);
+            const std::size_t inner_end = std::min(end, nodes >= 2 ? nodes - 2 : 0);
+            const std::size_t n = i < inner_end ? (inner_end - i) / simd.lanes * simd.lanes : 0;
+            if (n > 0) simd.nodes(slots.segment_force_n.data() + i, {bending[0].data() + i, bending[1].data() + i, bending[2].data() + i}, slots.node_force_n.data() + i, n);
+            i += n;
+        }
+        for (; i < end; ++i) node_sum(i);
     });
 }
 

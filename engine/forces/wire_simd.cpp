@@ -20,7 +20,6 @@ namespace {
 
 // A WireSegment is a record of four doubles: unit x y z, then the length.
 static_assert(sizeof(WireSegment) == 4 * sizeof(double) && offsetof(WireSegment, length_m) == 3 * sizeof(double));
-static_assert(sizeof(std::array<Vec3, 3>) == 9 * sizeof(double));
 
 // One kernel text, two instruction sets.
 #define WIREDEM_LANES_KERNELS "forces/wire_lanes.inc"
@@ -34,8 +33,8 @@ WireSimdKernels simd_wire_kernels()
 {
     switch (simd_isa()) {
 #if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::segments, &with_avx512::joints};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::segments, &with_avx2::joints};
+    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::segments, &with_avx512::joints, &with_avx512::nodes};
+    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::segments, &with_avx2::joints, &with_avx2::nodes};
 #endif
     default: return {};
     }

@@ -34,9 +34,13 @@ struct WireSimdKernels {
     /// Joints j = 0 … count−1 between segment[j] and segment[j+1], at the
     /// node whose neighbours move by dx[j], dx[j+1], dx[j+2]: wire_joint
     /// with the rest angle rest_angle_rad[j] (updated), its dashpot, the
-    /// forces on the three nodes into force_n[j].
+    /// forces on the three nodes into force_n[0][j], force_n[1][j], force_n[2][j].
     void (*joints)(const WireSegment* segment, const Vec3* dx, const WireKernelParams& p, double* rest_angle_rad,
-        std::array<Vec3, 3>* force_n, std::size_t count) = nullptr;
+        const std::array<Vec3*, 3>& force_n, std::size_t count) = nullptr;
+    /// Nodes i = 0 … count−1 with both segments and all three joints:
+    /// 0 − segment[i−1] + segment[i] + on_next[i−1] + on_node[i] + on_previous[i+1].
+    void (*nodes)(const Vec3* segment_force_n, const std::array<const Vec3*, 3>& bending_force_n, Vec3* out,
+        std::size_t count) = nullptr;
     explicit operator bool() const { return segments != nullptr; }
 };
 

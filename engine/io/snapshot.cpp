@@ -43,16 +43,16 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2080, "World changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2128, "World changed: update for_each_field and this size");
 static_assert(sizeof(Model) == 432, "Model changed: update for_each_field and this size");
 static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
-static_assert(sizeof(Caches) == 592, "Caches changed: update for_each_field and this size");
+static_assert(sizeof(Caches) == 640, "Caches changed: update for_each_field and this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 96, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
 static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field and this size");
-static_assert(sizeof(WireForces) == 96, "WireForces changed: update for_each_field and this size");
+static_assert(sizeof(WireForces) == 144, "WireForces changed: update for_each_field and this size");
 static_assert(sizeof(MembraneMesh) == 200, "MembraneMesh changed: update for_each_field and this size");
 static_assert(sizeof(MembraneForces) == 24, "MembraneForces changed: update for_each_field and this size");
 static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
@@ -179,7 +179,9 @@ std::string mismatched_sizes(const World& w)
     const std::size_t nodes = w.of(BodyKind::wire).size();
     check(error, w.wire_rest_angle_rad.size(), nodes, "wire/rest_angle_rad");
     check(error, w.wire_forces.node_force_n.size(), nodes, "wire/node_force_n");
-    check(error, w.wire_forces.bending_force_n.size(), nodes, "wire/bending_force_n");
+    check(error, w.wire_forces.bending_force_n[0].size(), nodes, "wire/bending_force_on_previous_n");
+    check(error, w.wire_forces.bending_force_n[1].size(), nodes, "wire/bending_force_on_node_n");
+    check(error, w.wire_forces.bending_force_n[2].size(), nodes, "wire/bending_force_on_next_n");
     check(error, w.wire_forces.segment_force_n.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_force_n");
     check(error, w.wire_forces.segment_strain.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_strain");
     const MembraneMesh& m = w.membrane;
@@ -276,8 +278,11 @@ Result<World, std::string> restore_snapshot(
         const bool outputs_in_four_arrays = version <= 3;
         // Versions 2 to 4 sort the body pairs by (first, second) alone.
         const bool pairs_by_bodies = version <= 4;
-        // Versions 2 to 5 list the membrane's elements in another order.
+        // Versions 2 to 5 list the membrane's elements in another order, and
+        // keep a wire joint's three bending forces in one record (an output:
+        // the next step writes them before anything reads them).
         const bool membrane_by_nodes = version <= 5;
+        const bool bending_in_records = version <= 5;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
@@ -287,6 +292,7 @@ Result<World, std::string> restore_snapshot(
             if (!error.empty()) return;
             if (motion_from_inverse_mass && name.ends_with("/motion")) return; // below
             if (outputs_in_four_arrays && name == "contacts/output") return;  // below
+            if (bending_in_records && name.starts_with("wire/bending_force_on_")) return; // below
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;
@@ -302,6 +308,8 @@ Result<World, std::string> restore_snapshot(
             if (!read) error = "field " + name + " has an unexpected shape";
         });
         if (!error.empty()) return Err(at + ": " + error);
+        if (bending_in_records)
+            for (std::vector<Vec3>& on : w.wire_forces.bending_force_n) on.assign(w.of(BodyKind::wire).size(), Vec3::Zero());
         if (membrane_by_nodes) error = membrane_into_grid_order(w);
         if (!error.empty()) return Err(at + ": " + error);
         error = mismatched_sizes(w);

@@ -32,7 +32,9 @@ struct WireChain {
 /// the segments' strain. Sized with the chain (append_wire_node).
 struct WireForces {
     std::vector<Vec3> segment_force_n;      ///< force of segment s on node s (node s+1 gets −)
-    std::vector<std::array<Vec3, 3>> bending_force_n; ///< at interior node i: on i−1, i, i+1
+    /// The bending couple of the joint at interior node i: [0][i] on node
+    /// i−1, [1][i] on node i, [2][i] on node i+1 (zero at the two ends).
+    std::array<std::vector<Vec3>, 3> bending_force_n;
     std::vector<Vec3> node_force_n;         ///< wire forces gathered per node
     /// Current strain of every segment, (|x_{s+1} − x_s| − l_w)/l_w.
     std::vector<double> segment_strain;

@@ -346,7 +346,9 @@ void for_each_field(W& w, Visit&& field)
     field("wire/material", wire.material, R::model);
     field("wire/rest_angle_rad", w.wire_rest_angle_rad, R::state);
     field("wire/segment_force_n", w.wire_forces.segment_force_n, R::output);
-    field("wire/bending_force_n", w.wire_forces.bending_force_n, R::output);
+    field("wire/bending_force_on_previous_n", w.wire_forces.bending_force_n[0], R::output);
+    field("wire/bending_force_on_node_n", w.wire_forces.bending_force_n[1], R::output);
+    field("wire/bending_force_on_next_n", w.wire_forces.bending_force_n[2], R::output);
     field("wire/node_force_n", w.wire_forces.node_force_n, R::output);
     field("wire/segment_strain", w.wire_forces.segment_strain, R::output);
 

@@ -557,7 +557,7 @@ TEST(WireSimd, SegmentsAndJointsGiveTheScalarBits)
                     EXPECT_EQ(bits_of(a_rest[i]), bits_of(b_rest[i])) << "joint " << i;
                     for (int n = 0; n < 3; ++n)
                         for (int c = 0; c < 3; ++c)
-                            EXPECT_EQ(bits_of(a.bending_force_n[i][n][c]), bits_of(b.bending_force_n[i][n][c])) << "joint " << i;
+                            EXPECT_EQ(bits_of(a.bending_force_n[n][i][c]), bits_of(b.bending_force_n[n][i][c])) << "joint " << i;
                     for (int c = 0; c < 3; ++c) EXPECT_EQ(bits_of(a.node_force_n[i][c]), bits_of(b.node_force_n[i][c])) << "node " << i;
                 }
             }
