@@ -200,9 +200,9 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
     const double k = m.edge_stiffness_n_per_m, p = m.pressure_pa;
 
     parallel_for_blocks(pool, rows, membrane_rows_per_task, [&](std::size_t begin, std::size_t end) {
-        // Rows of this task: positions of rows r and r+1; rest lengths; the
-        // elements of row r (along, up first, up second, triangle 0, 1) and the
-        // up edges and triangles of row r−1; the node sums.
+        // The rows this task keeps: positions of rows r and r+1; the
+        // elements of row r (along, up first, up second, triangle 0, 1) and
+        // the up edges and triangles of row r−1; rest lengths (three rows).
         enum : std::size_t { pos_low, pos_high, along, up0, up1, tri0, tri1, below_up0, below_up1, below_tri0, below_tri1, rest, store_rows };
         RowStore store(columns, padded, store_rows);
         MembraneRow pos[2] = {store.row(pos_low), store.row(pos_high)};
