@@ -104,8 +104,8 @@ void set_membrane_rigid(World& w, bool rigid)
 
 namespace {
 
-Vec3 column_of(const MembraneRow& r, std::size_t c) { return {r.x[c], r.y[c], r.z[c]}; }
-void put_column(const MembraneRow& r, std::size_t c, const Vec3& v) { r.x[c] = v.x(), r.y[c] = v.y(), r.z[c] = v.z(); }
+Vec3 column_of(const MembraneRow& r, std::size_t c) { return {r.x()[c], r.y()[c], r.z()[c]}; }
+void put_column(const MembraneRow& r, std::size_t c, const Vec3& v) { r.x()[c] = v.x(), r.y()[c] = v.y(), r.z()[c] = v.z(); }
 
 // The scalar kernels: what MembraneSimdKernels does lanes at a time, column
 // by column in the same order.
@@ -125,12 +125,16 @@ void scalar_triangles(MembraneRow a, MembraneRow b, MembraneRow c, double pressu
     }
 }
 
-void scalar_sums(const MembraneRow* terms, Vec3* out, std::size_t count)
+void scalar_sums(const double* const* terms, std::ptrdiff_t stride, Vec3* out, std::size_t count)
 {
+    const auto term = [&](std::size_t t, std::size_t c) {
+        const double* at = terms[t] + c;
+        return Vec3(at[0], at[stride], at[2 * stride]);
+    };
     for (std::size_t c = 0; c < count; ++c) {
         Vec3 f = Vec3::Zero();
-        for (std::size_t t = 0; t < membrane_added_terms; ++t) f += column_of(terms[t], c);
-        for (std::size_t t = membrane_added_terms; t < membrane_terms; ++t) f -= column_of(terms[t], c);
+        for (std::size_t t = 0; t < membrane_added_terms; ++t) f += term(t, c);
+        for (std::size_t t = membrane_added_terms; t < membrane_terms; ++t) f -= term(t, c);
         out[c] = f;
     }
 }
@@ -156,21 +160,20 @@ public:
     /// Row k of the store; column c at [c], c from −1 to padded.
     [[nodiscard]] MembraneRow row(std::size_t k) const
     {
-        double* base = data_ + 3 * stride_ * k + 1;
-        return {base, base + stride_, base + 2 * stride_};
+        return {data_ + 3 * stride_ * k + 1, static_cast<std::ptrdiff_t>(stride_)};
     }
     /// Fills the columns past the row's end and before its start from the
     /// ones they stand for.
     void wrap(MembraneRow r) const
     {
-        for (double* v : {r.x, r.y, r.z}) {
+        for (double* v : {r.x(), r.y(), r.z()}) {
             v[-1] = v[columns_ - 1];
             for (std::size_t c = columns_; c + 1 < stride_; ++c) v[c] = v[c - columns_];
         }
     }
     void clear(MembraneRow r) const
     {
-        for (double* v : {r.x, r.y, r.z}) std::fill(v - 1, v + stride_ - 1, 0.0);
+        for (double* v : {r.x(), r.y(), r.z()}) std::fill(v - 1, v + stride_ - 1, 0.0);
     }
 
 private:
@@ -202,14 +205,15 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
     parallel_for_blocks(pool, rows, membrane_rows_per_task, [&](std::size_t begin, std::size_t end) {
         // The rows this task keeps: positions of rows r and r+1; the
         // elements of row r (along, up first, up second, triangle 0, 1) and
-        // the up edges and triangles of row r−1; rest lengths (three rows).
+        // the up edges and triangles of row r−1; the rest lengths of the last
+        // block of each kind of edge.
         enum : std::size_t { pos_low, pos_high, along, up0, up1, tri0, tri1, below_up0, below_up1, below_tri0, below_tri1, rest, store_rows };
         RowStore store(columns, padded, store_rows);
         MembraneRow pos[2] = {store.row(pos_low), store.row(pos_high)};
         MembraneRow here[5] = {store.row(along), store.row(up0), store.row(up1), store.row(tri0), store.row(tri1)};
         MembraneRow below[4] = {store.row(below_up0), store.row(below_up1), store.row(below_tri0), store.row(below_tri1)};
         const MembraneRow rest_rows = store.row(rest);
-        double* rest_of[3] = {rest_rows.x, rest_rows.y, rest_rows.z};
+        double* rest_of[3] = {rest_rows.x(), rest_rows.y(), rest_rows.z()};
 
         // Whole blocks of lanes by the kernel, the rest column by column.
         const std::size_t whole = columns / kernels.lanes * kernels.lanes;
@@ -225,22 +229,23 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
                 for (int e = 0; e < 5; ++e) store.clear(out[e]);
                 return;
             }
-            const auto rests = [&](MembraneEdge kind, double* into) {
-                const double* from = m.edge_rest_m.data() + membrane_edge_index(rows, columns, kind, r, 0);
-                std::copy(from, from + columns, into);
-                for (std::size_t c = columns; c < padded; ++c) into[c] = into[c - columns];
+            // The edges of one kind: the whole blocks read their rest lengths
+            // where the mesh keeps them; the last, padded block from a copy
+            // (the row's end may be the list's).
+            const auto edges = [&](MembraneEdge kind, MembraneRow other, MembraneRow into) {
+                const double* rest = m.edge_rest_m.data() + membrane_edge_index(rows, columns, kind, r, 0);
+                kernels.edges(low, other, rest, k, m.edge_law, into, whole);
+                if (whole == padded) return;
+                double* tail = rest_of[static_cast<int>(kind)];
+                for (std::size_t c = whole; c < padded; ++c) tail[c - whole] = rest[c % columns];
+                const auto from = static_cast<std::ptrdiff_t>(whole);
+                kernels.edges(low.shifted(from), other.shifted(from), tail, k, m.edge_law, into.shifted(from), padded - whole);
             };
-            if (r > 0) { // between the rims
-                rests(MembraneEdge::along, rest_of[0]);
-                kernels.edges(low, low.shifted(1), rest_of[0], k, m.edge_law, out[0], padded);
-            } else {
-                store.clear(out[0]);
-            }
-            for (int second = 0; second < 2; ++second) {
-                rests(second ? MembraneEdge::up_second : MembraneEdge::up_first, rest_of[1 + second]);
-                kernels.edges(low, high.shifted(membrane_up_column(r, 0, second == 1)), rest_of[1 + second], k, m.edge_law,
-                    out[1 + second], padded);
-            }
+            if (r > 0) edges(MembraneEdge::along, low.shifted(1), out[0]); // between the rims
+            else store.clear(out[0]);
+            for (int second = 0; second < 2; ++second)
+                edges(second ? MembraneEdge::up_second : MembraneEdge::up_first,
+                    high.shifted(membrane_up_column(r, 0, second == 1)), out[1 + second]);
             for (int which = 0; which < 2; ++which) {
                 const auto corners = membrane_triangle(r, which);
                 MembraneRow at[3];
@@ -268,26 +273,27 @@ void compute_membrane_forces(World& w, ThreadPool& pool)
             // edge, its up edges, the triangles of row r, then of row r−1,
             // with a corner at it; subtracted, the along edge of (r, c−1)
             // and the up edges of row r−1 that end at it.
-            std::array<MembraneRow, membrane_terms> terms;
+            std::array<const double*, membrane_terms> terms;
             std::size_t t = 0;
-            terms[t++] = here[0];
-            terms[t++] = here[1];
-            terms[t++] = here[2];
+            terms[t++] = here[0].data;
+            terms[t++] = here[1].data;
+            terms[t++] = here[2].data;
             for (int lower = 1; lower >= 0; --lower) { // row r's quads (lower corners), then row r−1's (upper corners)
                 const std::size_t quad_row = lower ? r : r + 1; // only its parity counts: r−1 ≡ r+1
                 for (int which = 0; which < 2; ++which)
                     for (const auto& corner : membrane_triangle(quad_row, which))
-                        if (corner[0] == (lower ? 0 : 1)) terms[t++] = (lower ? here[3 + which] : below[2 + which]).shifted(-corner[1]);
+                        if (corner[0] == (lower ? 0 : 1)) terms[t++] = (lower ? here[3 + which] : below[2 + which]).data - corner[1];
             }
             WIREDEM_ASSERT(t == membrane_added_terms, "nine terms added");
-            terms[t++] = here[0].shifted(-1);
+            terms[t++] = here[0].data - 1;
             for (int second = 0; second < 2; ++second) // row r−1's column c' ends at c' + membrane_up_column(r−1, 0, …)
-                terms[t++] = below[second].shifted(-membrane_up_column(r + 1, 0, second == 1));
+                terms[t++] = below[second].data - membrane_up_column(r + 1, 0, second == 1);
             WIREDEM_ASSERT(t == membrane_terms, "twelve terms per node");
             Vec3* out = node_force.data() + r * columns;
-            kernels.sums(terms.data(), out, whole);
-            for (MembraneRow& term : terms) term = term.shifted(static_cast<std::ptrdiff_t>(whole));
-            scalar_sums(terms.data(), out + whole, columns - whole);
+            const std::ptrdiff_t stride = here[0].stride; // every row of the store's
+            kernels.sums(terms.data(), stride, out, whole);
+            for (const double*& term : terms) term += whole;
+            scalar_sums(terms.data(), stride, out + whole, columns - whole);
             // Row r is the next row's row below.
             for (int e = 0; e < 4; ++e) std::swap(below[e], here[1 + e]);
             std::swap(pos[0], pos[1]);

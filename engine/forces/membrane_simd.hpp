@@ -10,17 +10,21 @@
 
 namespace wiredem::engine {
 
-/// One row of the grid, one array per component: column c at x[c], y[c],
-/// z[c]. compute_membrane_forces keeps its rows with a column of the other
-/// end of the row on either side (c = −1 and c = columns…), so that a
-/// neighbour one column away is at a fixed offset even where the row wraps
-/// around.
+/// One row of the grid, one array per component: column c at x()[c],
+/// y()[c], z()[c], the components `stride` doubles apart (one pointer per
+/// row: a node sum reads twelve rows, more than there are registers for
+/// three pointers each). compute_membrane_forces keeps its rows with a
+/// column of the other end of the row on either side (c = −1 and c =
+/// columns…), so that a neighbour one column away is at a fixed offset even
+/// where the row wraps around.
 struct MembraneRow {
-    double* x = nullptr;
-    double* y = nullptr;
-    double* z = nullptr;
+    double* data = nullptr;
+    std::ptrdiff_t stride = 0;
+    [[nodiscard]] double* x() const { return data; }
+    [[nodiscard]] double* y() const { return data + stride; }
+    [[nodiscard]] double* z() const { return data + 2 * stride; }
     /// The same row `by` columns further (the neighbour's value at column c).
-    [[nodiscard]] MembraneRow shifted(std::ptrdiff_t by) const { return {x + by, y + by, z + by}; }
+    [[nodiscard]] MembraneRow shifted(std::ptrdiff_t by) const { return {data + by, stride}; }
 };
 
 /// A node sums twelve element forces (six edges, six triangles): the first
@@ -38,8 +42,9 @@ struct MembraneSimdKernels {
     /// p/6 (b − a) × (c − a) of the triangle (a[c], b[c], c[c]).
     void (*triangles)(MembraneRow a, MembraneRow b, MembraneRow c, double pressure_pa, MembraneRow out,
         std::size_t count) = nullptr;
-    /// out[c] = 0 + term[0][c] + … + term[8][c] − term[9][c] − … − term[11][c], in that order.
-    void (*sums)(const MembraneRow* terms, Vec3* out, std::size_t count) = nullptr;
+    /// out[c] = 0 + term[0][c] + … + term[8][c] − term[9][c] − … − term[11][c], in that order,
+    /// the terms being rows of one store (`terms` their data, `stride` theirs).
+    void (*sums)(const double* const* terms, std::ptrdiff_t stride, Vec3* out, std::size_t count) = nullptr;
     /// The Vec3s x[0 … count−1] into a row.
     void (*split)(const Vec3* x, MembraneRow out, std::size_t count) = nullptr;
     explicit operator bool() const { return edges != nullptr; }
