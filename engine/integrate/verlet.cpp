@@ -29,26 +29,24 @@ namespace {
     }
 }
 
-/// Second half over n doubles: x₂ ← target (δt²/2 a), x₁ ← x₁ + x₂.
-[[gnu::always_inline]] inline void kick_flat(
-    double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+/// Second half over n doubles, x₂ = δt²/2 a already set: x₁ ← x₁ + x₂.
+[[gnu::always_inline]] inline void kick_flat(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    for (std::size_t j = 0; j < n; ++j) {
-        x2[j] = target[j];
-        x1[j] += x2[j];
-    }
+    for (std::size_t j = 0; j < n; ++j) x1[j] += x2[j];
 }
 
 /// A loop over n doubles of two arrays it updates and one it reads.
 using FlatLoop = void (*)(double*, double*, const double*, std::size_t);
+/// A loop over n doubles of an array it updates and one it reads.
+using KickLoop = void (*)(double*, const double*, std::size_t);
 
 void drift_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
     drift_flat(x0, x1, x2, n);
 }
-void kick_flat_baseline(double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+void kick_flat_baseline(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    kick_flat(x1, x2, target, n);
+    kick_flat(x1, x2, n);
 }
 
 #if defined(__x86_64__)
@@ -57,10 +55,9 @@ void kick_flat_baseline(double* __restrict x1, double* __restrict x2, const doub
 {
     drift_flat(x0, x1, x2, n);
 }
-[[WIREDEM_AVX2_TARGET]] void kick_flat_avx2(
-    double* __restrict x1, double* __restrict x2, const double* __restrict target, std::size_t n)
+[[WIREDEM_AVX2_TARGET]] void kick_flat_avx2(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    kick_flat(x1, x2, target, n);
+    kick_flat(x1, x2, n);
 }
 #endif
 
@@ -72,7 +69,7 @@ FlatLoop drifter()
 #endif
     return &drift_flat_baseline;
 }
-FlatLoop kicker()
+KickLoop kicker()
 {
 #if defined(__x86_64__)
     if (simd_isa() != SimdIsa::none) return &kick_flat_avx2;
@@ -85,8 +82,8 @@ FlatLoop kicker()
 void kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
     const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
 {
-    const std::array<Vec3, integrate_block> half_a_dt2 = scaled_accelerations(b, e, inv_mass, load, half_dt2);
-    kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), half_a_dt2.data()->data(), 3 * (e - b));
+    scale_accelerations(inv_mass.data() + b, load.data() + b, half_dt2, e - b, x[2].data() + b);
+    kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), 3 * (e - b));
 }
 
 } // namespace
