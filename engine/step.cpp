@@ -94,7 +94,6 @@ double effective_skin_m(const World& w)
 
 bool update_neighbours(World& w, ThreadPool& pool)
 {
-    const double skin = effective_skin_m(w);
     const std::size_t n = w.body_count();
     // A wall added or removed since the last build: its contacts are not listed.
     const bool walls_listed = w.contacts.wall_start.size() == w.walls.size() + 1;
@@ -102,7 +101,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         // Rebuilt once anything has moved half the skin since the last build.
         // Whether any has (an or of comparisons, with no chain of maxima that
         // wait on each other) is the same test as the largest move's.
-        const double limit2 = 0.25 * skin * skin;
+        const double limit2 = 0.25 * w.skin_at_build_m * w.skin_at_build_m;
         bool moved = false;
         for (int k = 0; k < body_kind_count && !moved; ++k) {
             const auto& pos = w.bodies[k].x[0];
@@ -121,6 +120,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
         if (!moved) return false;
     }
 
+    const double skin = effective_skin_m(w);
     std::vector<Vec3> pos;
     std::vector<double> radius;
     std::vector<BodyRef> ref;
@@ -199,6 +199,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
             effective_radius_m(A.radius_m[ia], B.radius_m[ib]));
     });
     w.position_at_build_m = std::move(pos);
+    w.skin_at_build_m = skin;
     w.neighbours_dirty = false;
     ++w.neighbour_builds;
     return true;

@@ -27,6 +27,7 @@
 
 #include "forces/membrane_forces.hpp"
 #include "io/hdf5.hpp"
+#include "step.hpp"
 #include "state/state_hash.hpp"
 #include "state/world_fields.hpp"
 
@@ -43,10 +44,10 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2128, "World changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2136, "World changed: update for_each_field and this size");
 static_assert(sizeof(Model) == 432, "Model changed: update for_each_field and this size");
 static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
-static_assert(sizeof(Caches) == 640, "Caches changed: update for_each_field and this size");
+static_assert(sizeof(Caches) == 648, "Caches changed: update for_each_field and this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 96, "Wall changed: update for_each_field and this size");
@@ -283,6 +284,8 @@ Result<World, std::string> restore_snapshot(
         // the next step writes them before anything reads them).
         const bool membrane_by_nodes = version <= 5;
         const bool bending_in_records = version <= 5;
+        // Versions 2 to 5 work the skin out every step: the list's is today's.
+        const bool skin_not_kept = version <= 5;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
@@ -293,6 +296,7 @@ Result<World, std::string> restore_snapshot(
             if (motion_from_inverse_mass && name.ends_with("/motion")) return; // below
             if (outputs_in_four_arrays && name == "contacts/output") return;  // below
             if (bending_in_records && name.starts_with("wire/bending_force_on_")) return; // below
+            if (skin_not_kept && name == "skin_at_build_m") return;                       // below
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;
@@ -310,6 +314,7 @@ Result<World, std::string> restore_snapshot(
         if (!error.empty()) return Err(at + ": " + error);
         if (bending_in_records)
             for (std::vector<Vec3>& on : w.wire_forces.bending_force_n) on.assign(w.of(BodyKind::wire).size(), Vec3::Zero());
+        if (skin_not_kept) w.skin_at_build_m = effective_skin_m(w);
         if (membrane_by_nodes) error = membrane_into_grid_order(w);
         if (!error.empty()) return Err(at + ": " + error);
         error = mismatched_sizes(w);

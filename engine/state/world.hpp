@@ -148,6 +148,9 @@ struct Caches {
     ContactList contacts;
     CellGrid grid;
     std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
+    /// The skin the list was built with (effective_skin_m then) [m]: the list
+    /// holds until something moves half of it, whatever skin_m says since.
+    double skin_at_build_m = 0.0;
     /// Where each wall was at the last rebuild: it lists the bodies that may
     /// touch the wall before the next one (gap below r + skin), so the list is
     /// rebuilt as soon as the wall has moved half the skin.

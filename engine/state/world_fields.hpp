@@ -387,6 +387,7 @@ void for_each_field(W& w, Visit&& field)
     field("contacts/incidence", c.incidence, R::cache);
     field("contacts/output", c.output, R::output);
     field("position_at_build_m", w.position_at_build_m, R::cache);
+    field("skin_at_build_m", w.skin_at_build_m, R::cache);
     field("neighbours_dirty", w.neighbours_dirty, R::cache);
     field("neighbour_builds", w.neighbour_builds, R::cache);
 }

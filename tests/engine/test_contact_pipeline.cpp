@@ -209,3 +209,42 @@ TEST(ContactPipeline, RemovingAWallKeepsTheOthersContactsAndANewWallStartsWithNo
     EXPECT_TRUE(w.contacts.wall_touches(0, BodyKind::grain));
     EXPECT_FALSE(w.contacts.wall_touches(lid, BodyKind::grain)); // the lid is far above
 }
+
+TEST(ContactPipeline, AListHoldsForTheSkinItWasBuiltWithWhateverTheSkinIsSetToSince)
+{
+    // One grain flies head-on at a held one, 1.5 skins s apart, and the list
+    // is built with s (the pair is not in it). Then skin_m is raised to 4 s,
+    // with no rebuild. The list holds only until something has moved s/2:
+    // the pair must be listed before they touch, and the impact is Hertz's,
+    // δ_max = (15 m v² / (16 E* √R*))^(2/5) (no damping). Checked against
+    // the new skin (2 s of travel) the grain would be 0.5 s deep before any
+    // contact force.
+    Simulation sim(1);
+    World& w = sim.world;
+    reset_world(w, grain_material, 1e-8);
+    const double s = 0.1 * radius_m, v = 1.0;
+    w.skin_m = s;
+    add_grain(w, Vec3::Zero(), radius_m, 0);
+    set_motion(w, {BodyKind::grain, 0}, Motion::fixed);
+    add_grain(w, Vec3(2.0 * radius_m + 1.5 * s, 0, 0), radius_m, 0, Vec3(-v, 0, 0));
+    sim.step();
+    ASSERT_EQ(w.neighbour_builds, 1u);
+    ASSERT_EQ(w.contacts.pair_count(), 0u) << "1.5 skins apart: not listed";
+    w.skin_m = 4.0 * s;
+
+    const double m = w.of(BodyKind::grain).mass_kg[1];
+    const double e_star = effective_modulus_pa(grain_material.youngs_modulus_pa, grain_material.poisson_ratio,
+        grain_material.youngs_modulus_pa, grain_material.poisson_ratio);
+    const double r_star = effective_radius_m(radius_m, radius_m);
+    const double hertz_m = std::pow(15.0 * m * v * v / (16.0 * e_star * std::sqrt(r_star)), 0.4);
+    double deepest = 0.0;
+    const auto& x = w.of(BodyKind::grain).x[0];
+    while (w.of(BodyKind::grain).x[1][1].x() < 0.0) { // until it bounces back
+        sim.step();
+        deepest = std::max(deepest, 2.0 * radius_m - (x[1] - x[0]).norm());
+        ASSERT_GT(x[1].x(), radius_m) << "it passed into the held grain";
+    }
+    EXPECT_GE(w.neighbour_builds, 2u);
+    // The discrete impact's peak to the integrator's error (10⁴ steps per contact).
+    EXPECT_NEAR(deepest / hertz_m, 1.0, 1e-2);
+}
