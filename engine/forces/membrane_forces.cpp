@@ -50,35 +50,42 @@ void build_membrane(World& w, const MembraneSpec& spec)
     m.rigid = true;
 }
 
+namespace {
+
+/// Node (row, column) of a grid, the column wrapping around (from −columns on).
+std::uint32_t grid_node(std::size_t columns, std::size_t row, std::ptrdiff_t column)
+{
+    const auto n = static_cast<std::ptrdiff_t>(columns);
+    return static_cast<std::uint32_t>(row * columns + static_cast<std::size_t>((column + n) % n));
+}
+
+} // namespace
+
 std::vector<std::array<std::uint32_t, 2>> membrane_grid_edges(std::size_t rows, std::size_t columns)
 {
-    const auto node = [&](std::size_t r, std::ptrdiff_t c) {
-        const auto n = static_cast<std::ptrdiff_t>(columns);
-        return static_cast<std::uint32_t>(r * columns + static_cast<std::size_t>((c % n + n) % n));
-    };
-    std::vector<std::array<std::uint32_t, 2>> edges;
-    edges.reserve((rows - 2) * columns + 2 * (rows - 1) * columns);
-    for (std::size_t r = 1; r + 1 < rows; ++r)
-        for (std::size_t c = 0; c < columns; ++c) edges.push_back({node(r, c), node(r, c + 1)});
-    for (const bool second : {false, true})
-        for (std::size_t r = 0; r + 1 < rows; ++r)
-            for (std::size_t c = 0; c < columns; ++c)
-                edges.push_back({node(r, c), node(r + 1, membrane_up_column(r, static_cast<std::ptrdiff_t>(c), second))});
+    std::vector<std::array<std::uint32_t, 2>> edges(membrane_edge_count(rows, columns));
+    for (std::size_t r = 0; r + 1 < rows; ++r)
+        for (std::size_t c = 0; c < columns; ++c) {
+            const auto column = static_cast<std::ptrdiff_t>(c);
+            if (r > 0) // between the rims
+                edges[membrane_edge_index(rows, columns, MembraneEdge::along, r, c)] = {grid_node(columns, r, column), grid_node(columns, r, column + 1)};
+            for (const bool second : {false, true})
+                edges[membrane_edge_index(rows, columns, second ? MembraneEdge::up_second : MembraneEdge::up_first, r, c)]
+                    = {grid_node(columns, r, column), grid_node(columns, r + 1, membrane_up_column(r, column, second))};
+        }
     return edges;
 }
 
 std::vector<std::array<std::uint32_t, 3>> membrane_grid_triangles(std::size_t rows, std::size_t columns)
 {
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    triangles.reserve(2 * (rows - 1) * columns);
-    for (int which = 0; which < 2; ++which)
-        for (std::size_t r = 0; r + 1 < rows; ++r)
-            for (std::size_t c = 0; c < columns; ++c) {
-                std::array<std::uint32_t, 3> t{};
+    std::vector<std::array<std::uint32_t, 3>> triangles(membrane_triangle_count(rows, columns));
+    for (std::size_t r = 0; r + 1 < rows; ++r)
+        for (std::size_t c = 0; c < columns; ++c)
+            for (int which = 0; which < 2; ++which) {
+                auto& t = triangles[membrane_triangle_index(rows, columns, which, r, c)];
                 const auto corners = membrane_triangle(r, which);
                 for (int k = 0; k < 3; ++k)
-                    t[k] = static_cast<std::uint32_t>((r + corners[k][0]) * columns + (c + corners[k][1]) % columns);
-                triangles.push_back(t);
+                    t[k] = grid_node(columns, r + corners[k][0], static_cast<std::ptrdiff_t>(c) + corners[k][1]);
             }
     return triangles;
 }
@@ -104,7 +111,9 @@ void set_membrane_rigid(World& w, bool rigid)
 
 namespace {
 
-Vec3 column_of(const MembraneRow& r, std::size_t c) { return {r.x()[c], r.y()[c], r.z()[c]}; }
+/// The three components at `at`, `stride` doubles apart.
+Vec3 components_at(const double* at, std::ptrdiff_t stride) { return {at[0], at[stride], at[2 * stride]}; }
+Vec3 column_of(const MembraneRow& r, std::size_t c) { return components_at(r.data + c, r.stride); }
 void put_column(const MembraneRow& r, std::size_t c, const Vec3& v) { r.x()[c] = v.x(), r.y()[c] = v.y(), r.z()[c] = v.z(); }
 
 // The scalar kernels: what MembraneSimdKernels does lanes at a time, column
@@ -127,14 +136,10 @@ void scalar_triangles(MembraneRow a, MembraneRow b, MembraneRow c, double pressu
 
 void scalar_sums(const double* const* terms, std::ptrdiff_t stride, Vec3* out, std::size_t count)
 {
-    const auto term = [&](std::size_t t, std::size_t c) {
-        const double* at = terms[t] + c;
-        return Vec3(at[0], at[stride], at[2 * stride]);
-    };
     for (std::size_t c = 0; c < count; ++c) {
         Vec3 f = Vec3::Zero();
-        for (std::size_t t = 0; t < membrane_added_terms; ++t) f += term(t, c);
-        for (std::size_t t = membrane_added_terms; t < membrane_terms; ++t) f -= term(t, c);
+        for (std::size_t t = 0; t < membrane_added_terms; ++t) f += components_at(terms[t] + c, stride);
+        for (std::size_t t = membrane_added_terms; t < membrane_terms; ++t) f -= components_at(terms[t] + c, stride);
         out[c] = f;
     }
 }

@@ -139,7 +139,7 @@ void compute_wire_forces(World& w, ThreadPool& pool)
         std::size_t i = begin;
         if (simd) {
             for (; i < std::min<std::size_t>(end, 2); ++i) node_sum(i);
-            const std::size_t inner_end = std::min(end, nodes >= 2 ? nodes - 2 : 0);
+            const std::size_t inner_end = std::min(end, nodes - 2); // nodes ≥ 2 here
             const std::size_t n = i < inner_end ? (inner_end - i) / simd.lanes * simd.lanes : 0;
             if (n > 0) simd.nodes(slots.segment_force_n.data() + i, {bending[0].data() + i, bending[1].data() + i, bending[2].data() + i}, slots.node_force_n.data() + i, n);
             i += n;

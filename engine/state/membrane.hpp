@@ -63,6 +63,12 @@ struct MembraneMesh {
 /// The edges a node owns (MembraneMesh).
 enum class MembraneEdge : std::uint8_t { along, up_first, up_second };
 
+/// Edges of a grid: `along` in the rows 1 … rows−2, both `up` in rows 0 … rows−2.
+[[nodiscard]] inline std::size_t membrane_edge_count(std::size_t rows, std::size_t columns) noexcept
+{
+    return (rows - 2) * columns + 2 * (rows - 1) * columns;
+}
+
 /// Index in MembraneMesh::edges of the edge of kind `kind` that node (row,
 /// column) owns: the `along` edges of rows 1 … rows−2, then the `up_first`
 /// and the `up_second` edges of rows 0 … rows−2, each row by row.
@@ -83,6 +89,12 @@ enum class MembraneEdge : std::uint8_t { along, up_first, up_second };
 [[nodiscard]] inline std::ptrdiff_t membrane_up_column(std::size_t row, std::ptrdiff_t column, bool second) noexcept
 {
     return column + (row % 2 == 1 ? 0 : -1) + (second ? 1 : 0);
+}
+
+/// Triangles of a grid: two per node of rows 0 … rows−2.
+[[nodiscard]] inline std::size_t membrane_triangle_count(std::size_t rows, std::size_t columns) noexcept
+{
+    return 2 * (rows - 1) * columns;
 }
 
 /// Index in MembraneMesh::triangles of triangle `which` (0 or 1) of the quad
