@@ -16,6 +16,8 @@
 #include <array>
 
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace wiredem::engine {
@@ -44,22 +46,48 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three
     return all_finite(v.data()->data() + 3 * b, 3 * (e - b));
 }
 
-/// Whether motion[b, e) are all `which`. Without an early exit, so that it
-/// vectorises: a 32-byte compare where a loop byte by byte would branch on
-/// each body.
-[[nodiscard]] inline bool all_of_motion(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
+/// Eight motions read as one word (Motion is one byte).
+[[nodiscard]] inline std::uint64_t motion_word(const Motion* m)
 {
-    bool other = false;
-    for (std::size_t i = b; i < e; ++i) other |= motion[i] != which;
-    return !other;
+    std::uint64_t word;
+    std::memcpy(&word, m, sizeof word);
+    return word;
 }
 
-/// Whether any of motion[b, e) is `which` (all_of_motion's twin).
+/// `which` in each of a word's eight bytes.
+[[nodiscard]] inline std::uint64_t motion_pattern(Motion which)
+{
+    return 0x0101010101010101ull * static_cast<std::uint8_t>(which);
+}
+
+/// Whether motion[b, e) are all `which`. Eight bodies per comparison of
+/// words: the compiler left a loop byte by byte unvectorised (a compare and
+/// an or per body, ~3 % of a Gear-5 step of the paper-size cell).
+[[nodiscard]] inline bool all_of_motion(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
+{
+    const std::uint64_t pattern = motion_pattern(which);
+    std::uint64_t other = 0;
+    std::size_t i = b;
+    for (; i + 8 <= e; i += 8) other |= motion_word(&motion[i]) ^ pattern;
+    for (; i < e; ++i) other |= static_cast<std::uint64_t>(motion[i] != which);
+    return other == 0;
+}
+
+/// Whether any of motion[b, e) is `which` (all_of_motion's twin). A word of
+/// w = motions ^ pattern has a zero byte exactly where a body's motion is
+/// `which`; (w − 0x01…01) & ~w & 0x80…80 is non-zero exactly when w has one.
 [[nodiscard]] inline bool any_of_motion(const std::vector<Motion>& motion, Motion which, std::size_t b, std::size_t e)
 {
-    bool found = false;
-    for (std::size_t i = b; i < e; ++i) found |= motion[i] == which;
-    return found;
+    constexpr std::uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
+    const std::uint64_t pattern = motion_pattern(which);
+    std::uint64_t found = 0;
+    std::size_t i = b;
+    for (; i + 8 <= e; i += 8) {
+        const std::uint64_t w = motion_word(&motion[i]) ^ pattern;
+        found |= (w - ones) & ~w & highs;
+    }
+    for (; i < e; ++i) found |= static_cast<std::uint64_t>(motion[i] == which);
+    return found != 0;
 }
 
 /// Calls f(b, e) for each maximal run [b, e) within [begin, end) of bodies

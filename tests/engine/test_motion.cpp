@@ -5,6 +5,7 @@
 // the velocity of a collision with an infinite mass, and the energy the grain
 // gains is the work of the reported force along the prescribed path.
 #include "helpers.hpp"
+#include "integrate/flat_runs.hpp"
 #include "laws/hertz.hpp"
 #include "step.hpp"
 
@@ -190,4 +191,37 @@ TEST(Motion, SetMotionStopsWhatItMustAndAFreedBodyKeepsItsVelocity)
     set_motion(sim.world, {BodyKind::grain, 1}, Motion::dynamic);
     update_neighbours(sim.world, sim.pool());
     EXPECT_EQ(sim.world.contacts.size(), 1u);
+}
+
+// The integrators find runs of one motion type eight bodies per word
+// (integrate/flat_runs.hpp); against a loop body by body, for every motion at
+// every place of ranges of every length and start up to three words, and for
+// mixed motions drawn at random.
+TEST(Motion, WordWiseRunTestsAgreeWithABodyByBodyLoop)
+{
+    constexpr Motion kinds[] = {Motion::dynamic, Motion::kinematic, Motion::fixed};
+    std::vector<std::vector<Motion>> cases;
+    for (const Motion base : kinds)
+        for (const Motion odd : kinds)
+            for (std::size_t at = 0; at < 26; ++at) {
+                cases.emplace_back(26, base);
+                cases.back()[at] = odd;
+            }
+    std::uint64_t state = 11;
+    for (int c = 0; c < 100; ++c) {
+        cases.emplace_back(26);
+        for (Motion& m : cases.back()) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            m = kinds[(state >> 33) % 3];
+        }
+    }
+    for (const std::vector<Motion>& motion : cases)
+        for (std::size_t b = 0; b <= motion.size(); ++b)
+            for (std::size_t e = b; e <= motion.size(); ++e)
+                for (const Motion which : kinds) {
+                    bool all = true, any = false;
+                    for (std::size_t i = b; i < e; ++i) all = all && motion[i] == which, any = any || motion[i] == which;
+                    ASSERT_EQ(all_of_motion(motion, which, b, e), all) << b << " " << e;
+                    ASSERT_EQ(any_of_motion(motion, which, b, e), any) << b << " " << e;
+                }
 }
