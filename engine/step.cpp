@@ -28,6 +28,7 @@ void begin_run(World& w, ThreadPool& pool)
 {
     evaluate_forces(w, pool, MemoryUpdate::keep);
 
+    invalidate_prediction(w); // x₂ changes
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     for (int k = 0; k < body_kind_count; ++k) {
         TranslationalState& body = w.bodies[k];

@@ -21,11 +21,14 @@ inline constexpr double gear5_corrector[gear_order] = {
     3.0 / 16.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0};
 
 /// Predicts every body's position x₀ and velocity x₁ one step ahead (Taylor /
-/// Pascal triangle); x₂…x₅ are predicted by gear5_correct, which must follow.
+/// Pascal triangle): takes the last corrector's prediction where it holds
+/// (Caches::next_prediction), else reads the stored derivatives; x₂…x₅ are
+/// predicted by gear5_correct, which must follow.
 void gear5_predict(World& w, ThreadPool& pool);
 
 /// Corrects every body with its acceleration F/m (and α = τ/I for grains),
-/// advances orientations, and returns false if a position became non-finite.
+/// advances orientations, predicts x₀ and x₁ of the next step into
+/// Caches::next_prediction, and returns false if a position became non-finite.
 [[nodiscard]] bool gear5_correct(World& w, ThreadPool& pool);
 
 } // namespace wiredem::engine

@@ -20,6 +20,7 @@ std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::
     w.force_of(BodyKind::grain).push_back(Vec3::Zero());
     w.grain_torque_n_m.push_back(Vec3::Zero());
     w.neighbours_dirty = true;
+    invalidate_prediction(w);
     return id;
 }
 
@@ -29,6 +30,7 @@ std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double r
     const std::uint32_t id = w.of(kind).add(position_m, velocity_m_per_s, radius_m, mass_kg, material, w.dt_s);
     w.force_of(kind).push_back(Vec3::Zero());
     w.neighbours_dirty = true;
+    invalidate_prediction(w);
     return id;
 }
 
@@ -71,8 +73,10 @@ Wall make_cylinder(double radius_m, std::uint8_t material)
     return wall;
 }
 
-void set_time_step(State& s, double dt_s)
+void set_time_step(World& w, double dt_s)
 {
+    invalidate_prediction(w);
+    State& s = w;
     const double ratio = dt_s / s.dt_s;
     double scale = 1.0;
     for (int k = 1; k < gear_order; ++k) {
@@ -87,6 +91,7 @@ void set_time_step(State& s, double dt_s)
 void set_integrator(World& w, Integrator integrator)
 {
     if (integrator == w.integrator) return;
+    invalidate_prediction(w);
     for (int k = 3; k < gear_order; ++k) {
         for (auto& body : w.bodies)
             for (Vec3& v : body.x[k]) v.setZero();
@@ -105,9 +110,10 @@ Vec3 angular_velocity_rad_per_s(const State& s, std::uint32_t grain)
     return s.grain_rotation.theta[1][grain] / s.dt_s;
 }
 
-void set_velocity(State& s, BodyRef b, const Vec3& v_m_per_s)
+void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
 {
-    s.of(b.kind()).x[1][b.index()] = v_m_per_s * s.dt_s;
+    invalidate_prediction(w);
+    w.of(b.kind()).x[1][b.index()] = v_m_per_s * w.dt_s;
 }
 
 void set_motion(World& w, BodyRef b, Motion motion)
@@ -115,6 +121,7 @@ void set_motion(World& w, BodyRef b, Motion motion)
     TranslationalState& body = w.of(b.kind());
     const std::uint32_t i = b.index();
     if (body.motion[i] == motion) return;
+    invalidate_prediction(w);
     body.motion[i] = motion;
     const int first_zeroed = motion == Motion::fixed ? 1 : motion == Motion::kinematic ? 2 : gear_order;
     for (int k = first_zeroed; k < gear_order; ++k) body.x[k][i].setZero();
@@ -134,11 +141,20 @@ void place_body(World& w, BodyRef b, const Vec3& position_m)
 {
     TranslationalState& body = w.of(b.kind());
     const std::uint32_t i = b.index();
+    invalidate_prediction(w);
     body.x[0][i] = position_m;
     for (int k = 1; k < gear_order; ++k) body.x[k][i].setZero();
     if (b.kind() == BodyKind::grain)
         for (int k = 1; k < gear_order; ++k) w.grain_rotation.theta[k][i].setZero();
     w.neighbours_dirty = true;
+}
+
+void scale_velocities(World& w, double factor)
+{
+    invalidate_prediction(w);
+    for (auto& body : w.bodies)
+        for (Vec3& v : body.x[1]) v *= factor;
+    for (Vec3& v : w.grain_rotation.theta[1]) v *= factor;
 }
 
 void invalidate_neighbours(World& w)

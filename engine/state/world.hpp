@@ -12,7 +12,11 @@
 // part it needs. state_hash covers the State and the contacts' memory; a
 // snapshot saves everything needed to continue bit for bit (io/snapshot.hpp).
 //
-// Invariants: body ids follow creation order and never change; the scaled
+// Invariants: between steps, bodies change through the mutators below only
+// (they drop what is derived from the bodies: the neighbour list, Gear-5's
+// kept prediction; a direct write to a body's derivatives would be stepped
+// from a stale prediction, which the sanitizer builds stop at); body ids
+// follow creation order and never change; the scaled
 // Gear derivatives are scaled by the current dt_s (set_time_step rescales
 // them); how a body moves is its Motion (set_motion); Caches' per-body and
 // per-wall arrays are sized with the bodies and walls (the add_… mutators).
@@ -137,6 +141,20 @@ struct State {
     [[nodiscard]] const TranslationalState& of(BodyKind k) const { return bodies[static_cast<int>(k)]; }
 };
 
+/// x₀ and x₁ of every dynamic body (θ₀ and θ₁ of every dynamic grain) one
+/// step ahead, as Gear-5's predictor would make them from the corrected
+/// derivatives: the corrector, which holds those in registers, writes them,
+/// and the next step takes them instead of reading the six derivative arrays
+/// again (integrate/gear5.hpp). It holds for step `for_step` unless a mutator
+/// has changed a body since (they set for_step to none). Not saved in a
+/// snapshot: a restored run predicts afresh, with the same bits.
+struct GearPrediction {
+    static constexpr std::uint64_t none = std::numeric_limits<std::uint64_t>::max();
+    std::array<std::array<std::vector<Vec3>, 2>, body_kind_count> x; ///< [kind][x₀, x₁]
+    std::array<std::vector<Vec3>, 2> theta;                          ///< [θ₀, θ₁] of the grains
+    std::uint64_t for_step = none;                                   ///< the step count it was made for
+};
+
 /// What follows from Model and State: rebuilt when a body or wall has moved
 /// half the skin or a mutator invalidated it (the neighbour list), or
 /// rewritten by every step before it is read (the forces).
@@ -157,6 +175,9 @@ struct Caches {
     std::vector<Vec3> wall_point_at_build_m;
     bool neighbours_dirty = true;          ///< set by the mutators (add_…, set_motion, place_body, …), never by hand
     std::uint64_t neighbour_builds = 0;
+    /// Gear-5's prediction of the next step, made by the last step's
+    /// corrector (integrate/gear5.hpp). Every mutator of the bodies drops it.
+    GearPrediction next_prediction;
 
     // Written by every step before anything reads them.
     std::array<std::vector<Vec3>, body_kind_count> body_force_n; ///< total force per body, by BodyKind [N]
@@ -198,7 +219,7 @@ void remove_wall(World& w, std::size_t wall);
 [[nodiscard]] Wall make_cylinder(double radius_m, std::uint8_t material);
 
 /// Changes δt, rescaling every stored Gear derivative (x[k] ∝ δt^k).
-void set_time_step(State& s, double dt_s);
+void set_time_step(World& w, double dt_s);
 
 /// Switches the integrator. Both keep x₀, x₁ = δt v and x₂ = δt²/2 · a;
 /// Gear-5's higher derivatives x₃…x₅ are zeroed, since Verlet does not keep them.
@@ -209,7 +230,7 @@ void set_integrator(World& w, Integrator integrator);
 /// Angular velocity of a grain [rad/s].
 [[nodiscard]] Vec3 angular_velocity_rad_per_s(const State& s, std::uint32_t grain);
 /// Sets a body's velocity (a kinematic body's prescribed velocity).
-void set_velocity(State& s, BodyRef b, const Vec3& v_m_per_s);
+void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s);
 /// Sets how a body moves. A fixed body stops (x₁ … x₅ = 0); a kinematic one
 /// keeps its velocity x₁, which set_velocity prescribes, and loses its
 /// acceleration (x₂ … x₅ = 0); a dynamic one starts from its velocity. The
@@ -221,6 +242,13 @@ void set_kinds_interact(World& w, BodyKind a, BodyKind b, bool interact);
 /// Puts a body at a position, at rest: x₁ … x₅ = 0 (a grain stops turning
 /// too). For set-ups and tests; the neighbour list is rebuilt at the next step.
 void place_body(World& w, BodyRef b, const Vec3& position_m);
+/// Scales every body's velocity and every grain's spin by `factor`: dynamic
+/// relaxation towards a static state, in set-ups and tests (the model itself
+/// has no global damping).
+void scale_velocities(World& w, double factor);
+/// Drops Gear-5's kept prediction: the next step predicts from the stored
+/// derivatives. Every mutator of a body does this itself.
+inline void invalidate_prediction(Caches& c) { c.next_prediction.for_step = GearPrediction::none; }
 /// Drops the neighbour list: the next step rebuilds it. Every mutator above
 /// does this itself; a caller never needs it but to force a rebuild.
 void invalidate_neighbours(World& w);

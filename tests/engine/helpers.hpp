@@ -33,9 +33,7 @@ inline void relax(Simulation& sim, std::uint64_t steps, double damping_per_step)
 {
     for (std::uint64_t s = 0; s < steps; ++s) {
         sim.step();
-        for (auto& body : sim.world.bodies)
-            for (auto& v : body.x[1]) v *= 1.0 - damping_per_step;
-        for (auto& v : sim.world.grain_rotation.theta[1]) v *= 1.0 - damping_per_step;
+        scale_velocities(sim.world, 1.0 - damping_per_step);
     }
 }
 

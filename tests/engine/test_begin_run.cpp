@@ -91,8 +91,9 @@ TEST(BeginRun, AContactApartIsReleasedNotLeftWithItsOldSpring)
     ASSERT_GT(w.contacts.tangential[*p].spring_m.norm(), 0.0);
 
     w.point_loads.clear();
-    w.bodies[0].x[0][0].z() = r + 0.1 * effective_skin_m(w);
-    for (int k = 1; k < gear_order; ++k) w.bodies[0].x[k][0].setZero();
+    Vec3 off = w.bodies[0].x[0][0];
+    off.z() = r + 0.1 * effective_skin_m(w);
+    place_body(w, BodyRef(BodyKind::grain, 0), off);
     begin_run(w, sim.pool());
     ASSERT_TRUE(w.contacts.find(BodyRef(BodyKind::grain, 0), wall_ref(0)).has_value()) << "still a candidate";
     EXPECT_FALSE(w.contacts.touching[*p]);

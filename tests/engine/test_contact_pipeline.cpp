@@ -157,8 +157,9 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
     // Pull it up just off the floor (within the skin: it stays listed).
     World& w = a.world;
     w.point_loads.clear();
-    w.bodies[0].x[0][0].z() = radius_m + 0.1 * effective_skin_m(w);
-    for (int k = 1; k < gear_order; ++k) w.bodies[0].x[k][0].setZero();
+    Vec3 off = w.bodies[0].x[0][0];
+    off.z() = radius_m + 0.1 * effective_skin_m(w);
+    place_body(w, grain, off);
     a.step();
     const auto q = w.contacts.find(grain, wall_ref(0));
     ASSERT_TRUE(q.has_value()) << "still a candidate";

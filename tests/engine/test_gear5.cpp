@@ -34,6 +34,7 @@ Vec3 integrate_single(double dt, int steps, const Vec3& x0, const Vec3& v0, Forc
         else
             w.body_force_n[1][0] = force(w.bodies[1].x[0][0]);
         (void)gear5_correct(w, pool);
+        ++w.step_count; // as step() counts it: the next predict takes the corrector's prediction
         if (max_energy_error) {
             const Vec3 x = w.bodies[1].x[0][0], v = w.bodies[1].x[1][0] / dt;
             const double e = 0.5 * v.squaredNorm() + 0.5 * x.squaredNorm(); // k = m = 1
