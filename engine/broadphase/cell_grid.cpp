@@ -59,10 +59,24 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
     }
     for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
     cell_bodies_.resize(n);
+    slots_.resize(n);
     {
         std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) cell_bodies_[fill[body_cell_[i]]++] = static_cast<std::uint32_t>(i);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint32_t s = fill[body_cell_[i]]++;
+            cell_bodies_[s] = static_cast<std::uint32_t>(i);
+            slots_[s] = {pos[i].x(), pos[i].y(), pos[i].z(), radius[i]};
+        }
     }
+    // Each group's partner ranges with the adjacent ones merged: with every
+    // kind touching, one range.
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> ranges_of(partners.partner_ranges.size());
+    for (std::size_t g = 0; g < ranges_of.size(); ++g)
+        for (const auto& [lo_j, hi_j] : partners.partner_ranges[g]) {
+            if (lo_j >= hi_j) continue;
+            if (!ranges_of[g].empty() && ranges_of[g].back().second == lo_j) ranges_of[g].back().second = hi_j;
+            else ranges_of[g].emplace_back(lo_j, hi_j);
+        }
 
     constexpr std::size_t chunk = 512;
     const std::size_t chunks = (n + chunk - 1) / chunk;
@@ -76,29 +90,34 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
             std::size_t group = 0;
             for (std::size_t i = ch * chunk; i < end; ++i) {
                 while (group + 2 < partners.group_start.size() && i >= partners.group_start[group + 1]) ++group;
-                const auto& ranges = partners.partner_ranges[group];
+                const auto& ranges = ranges_of[group];
+                if (ranges.empty() || ranges.back().second <= i + 1) continue; // no later partner
                 found_j.clear();
-                const std::int64_t cx = coord(pos[i], 0), cy = coord(pos[i], 1), cz = coord(pos[i], 2);
+                const Vec3 p = pos[i];
+                const double radius_i = radius[i];
+                const std::int64_t cx = coord(p, 0), cy = coord(p, 1), cz = coord(p, 2);
+                const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, dims[0] - 1);
                 for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min(cz + 1, dims[2] - 1); ++z)
-                    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min(cy + 1, dims[1] - 1); ++y)
-                        for (std::int64_t x = std::max<std::int64_t>(cx - 1, 0); x <= std::min(cx + 1, dims[0] - 1); ++x) {
-                            const std::size_t c = static_cast<std::size_t>((z * dims[1] + y) * dims[0] + x);
-                            const std::uint32_t* cell_begin = cell_bodies_.data() + cell_start_[c];
-                            const std::uint32_t* cell_end = cell_bodies_.data() + cell_start_[c + 1];
-                            // A cell's bodies ascend: each range of partners
-                            // j > i is a run found by bisection.
-                            for (const auto& [lo, hi] : ranges) {
-                                const auto first = std::max<std::size_t>(lo, i + 1);
-                                for (const std::uint32_t* k = std::lower_bound(cell_begin, cell_end, first);
-                                     k != cell_end && *k < hi; ++k) {
-                                    const std::uint32_t j = *k;
-                                    const double reach = radius[i] + radius[j] + skin_m;
-                                    if ((pos[i] - pos[j]).squaredNorm() >= reach * reach) continue;
-                                    if (filter && !filter(static_cast<std::uint32_t>(i), j)) continue;
-                                    found_j.push_back(j);
-                                }
+                    for (std::int64_t y = std::max<std::int64_t>(cy - 1, 0); y <= std::min(cy + 1, dims[1] - 1); ++y) {
+                        // The row's three cells are consecutive, and so are their slots.
+                        const std::size_t row = static_cast<std::size_t>((z * dims[1] + y) * dims[0]);
+                        const std::uint32_t s_begin = cell_start_[row + static_cast<std::size_t>(x0)];
+                        const std::uint32_t s_end = cell_start_[row + static_cast<std::size_t>(x1) + 1];
+                        for (const auto& [lo_j, hi_j] : ranges) {
+                            const std::uint32_t first = std::max<std::uint32_t>(lo_j, static_cast<std::uint32_t>(i + 1));
+                            for (std::uint32_t s = s_begin; s < s_end; ++s) {
+                                // One branch per candidate: half of them are j < i.
+                                const std::uint32_t j = cell_bodies_[s];
+                                const Slot& q = slots_[s];
+                                const double dx = p.x() - q.x, dy = p.y() - q.y, dz = p.z() - q.z;
+                                const double reach = radius_i + q.r + skin_m;
+                                const bool near = (dx * dx + dy * dy) + dz * dz < reach * reach;
+                                if (!(near & (j >= first) & (j < hi_j))) continue;
+                                if (filter && !filter(static_cast<std::uint32_t>(i), j)) continue;
+                                found_j.push_back(j);
                             }
                         }
+                    }
                 std::sort(found_j.begin(), found_j.end());
                 for (std::uint32_t j : found_j) out.emplace_back(static_cast<std::uint32_t>(i), j);
             }

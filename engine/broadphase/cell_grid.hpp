@@ -1,11 +1,14 @@
 // Candidate-pair search on a uniform cell grid (the neighbour list with a
 // Verlet skin is built from it; see contact/contact_list.hpp).
 //
-// Bodies are binned by a counting sort, so within a cell they ascend by flat
-// index. For every body i the 27 surrounding cells are scanned for partners
-// j > i within r_i + r_j + skin; each fixed-size chunk of i writes its own
-// list and the lists are concatenated in chunk order, so the result is sorted
-// by (i, j) and identical for any thread count. O(N) for bounded density.
+// Bodies are binned by a counting sort, which also copies each body's
+// position and radius into its slot: the three cells of a row along x are
+// consecutive, so the 27 surrounding cells of a body are nine streams of
+// slots. For every body i those are scanned for partners j > i within
+// r_i + r_j + skin; a body whose group has no later partner (the membrane)
+// scans nothing. Each fixed-size chunk of i writes its own list and the lists
+// are concatenated in chunk order, so the result is sorted by (i, j) and
+// identical for any thread count. O(N) for bounded density.
 #pragma once
 
 #include "core/types.hpp"
@@ -48,6 +51,12 @@ private:
     std::vector<std::uint32_t> cell_start_;   ///< CSR offsets, size cells + 1
     std::vector<std::uint32_t> cell_bodies_;  ///< body ids, ascending per cell
     std::vector<std::uint32_t> body_cell_;
+    /// A body's position and radius where cell_bodies_ lists it: the
+    /// candidates of a row of cells are read in one stream.
+    struct Slot {
+        double x, y, z, r;
+    };
+    std::vector<Slot> slots_;
 };
 
 } // namespace wiredem::engine
