@@ -12,15 +12,10 @@
 namespace wiredem::engine {
 namespace {
 
-/// A double is not finite when its exponent bits are all set (±∞ and NaN).
-/// An or-reduction of that test has no branch and no floating-point order,
-/// so the compiler vectorises it.
 [[gnu::always_inline]] inline bool all_finite_loop(const double* v, std::size_t n)
 {
-    constexpr std::uint64_t exponent = 0x7ff0000000000000ull;
     std::uint64_t non_finite = 0;
-    for (std::size_t j = 0; j < n; ++j)
-        non_finite |= static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(v[j]) & exponent) == exponent);
+    for (std::size_t j = 0; j < n; ++j) non_finite |= non_finite_bit(v[j]);
     return non_finite == 0;
 }
 

@@ -14,6 +14,7 @@
 #include "state/body_state.hpp"
 
 #include <array>
+#include <bit>
 
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,15 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three
 [[nodiscard]] inline Eigen::Map<Eigen::ArrayXd> flat(std::vector<Vec3>& v, std::size_t begin, std::size_t end)
 {
     return {v.data()->data() + 3 * begin, static_cast<Eigen::Index>(3 * (end - begin))};
+}
+
+/// 1 if v is not finite (±∞ or NaN: its exponent bits all set), else 0. An
+/// or-reduction of it has no branch and no floating-point order, so loops
+/// that fold it in still vectorise.
+[[nodiscard]] inline std::uint64_t non_finite_bit(double v)
+{
+    constexpr std::uint64_t exponent = 0x7ff0000000000000ull;
+    return static_cast<std::uint64_t>((std::bit_cast<std::uint64_t>(v) & exponent) == exponent);
 }
 
 /// Whether the n doubles at v are all finite (neither ±∞ nor NaN). A

@@ -59,12 +59,14 @@ namespace {
 
 /// x₂…x₅ predicted, then every derivative corrected by Δ = target − x₂(predicted),
 /// and x₀, x₁ of the next step predicted from the corrected ones into next0,
-/// next1 (predict_flat's operations), over n doubles.
-[[gnu::always_inline]] inline void correct_flat(double* __restrict x0, double* __restrict x1,
+/// next1 (predict_flat's operations), over n doubles. Returns whether every
+/// corrected x₀ is finite.
+[[gnu::always_inline]] inline bool correct_flat(double* __restrict x0, double* __restrict x1,
     double* __restrict x2, double* __restrict x3, double* __restrict x4, double* __restrict x5,
     const double* __restrict target, double* __restrict next0, double* __restrict next1, std::size_t n)
 {
     constexpr const double* c = gear5_corrector;
+    std::uint64_t non_finite = 0;
     for (std::size_t j = 0; j < n; ++j) {
         const double p2 = x2[j] + (3.0 * x3[j] + 6.0 * x4[j] + 10.0 * x5[j]);
         const double p3 = x3[j] + (4.0 * x4[j] + 10.0 * x5[j]);
@@ -84,11 +86,13 @@ namespace {
         x5[j] = c5;
         next0[j] = c0 + (c1 + c2 + c3 + c4 + c5);
         next1[j] = c1 + (2.0 * c2 + 3.0 * c3 + 4.0 * c4 + 5.0 * c5);
+        non_finite |= non_finite_bit(c0);
     }
+    return non_finite == 0;
 }
 
 using PredictFlat = void (*)(double*, double*, const double*, const double*, const double*, const double*, std::size_t);
-using CorrectFlat = void (*)(double*, double*, double*, double*, double*, double*, const double*, double*, double*,
+using CorrectFlat = bool (*)(double*, double*, double*, double*, double*, double*, const double*, double*, double*,
     std::size_t);
 
 void predict_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
@@ -96,11 +100,11 @@ void predict_flat_baseline(double* __restrict x0, double* __restrict x1, const d
 {
     predict_flat(x0, x1, x2, x3, x4, x5, n);
 }
-void correct_flat_baseline(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+bool correct_flat_baseline(double* __restrict x0, double* __restrict x1, double* __restrict x2,
     double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
     double* __restrict next0, double* __restrict next1, std::size_t n)
 {
-    correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
+    return correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
 }
 #if defined(__x86_64__)
 [[WIREDEM_AVX2_TARGET]] void predict_flat_avx2(double* __restrict x0, double* __restrict x1,
@@ -109,11 +113,11 @@ void correct_flat_baseline(double* __restrict x0, double* __restrict x1, double*
 {
     predict_flat(x0, x1, x2, x3, x4, x5, n);
 }
-[[WIREDEM_AVX2_TARGET]] void correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+[[WIREDEM_AVX2_TARGET]] bool correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
     double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
     double* __restrict next0, double* __restrict next1, std::size_t n)
 {
-    correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
+    return correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
 }
 #endif
 
@@ -146,12 +150,13 @@ void predict_position_and_velocity(Derivatives& x, std::size_t b, std::size_t e)
 /// Corrects bodies [b, e) (at most integrate_block) with the accelerations
 /// inv_mass · load (F/m, or τ/I): predicts x₂…x₅ from their values of the
 /// last step and applies Δ = δt²/2 · a − x₂(predicted) to every derivative;
-/// then predicts x₀ and x₁ of the next step into `next`.
-void correct(Derivatives& x, Prediction& next, std::size_t b, std::size_t e, const std::vector<double>& inv_mass,
+/// then predicts x₀ and x₁ of the next step into `next`. Returns whether
+/// every corrected x₀ is finite.
+bool correct(Derivatives& x, Prediction& next, std::size_t b, std::size_t e, const std::vector<double>& inv_mass,
     const std::vector<Vec3>& load, double half_dt2)
 {
     const std::array<Vec3, integrate_block> half_a_dt2 = scaled_accelerations(b, e, inv_mass, load, half_dt2);
-    corrector()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+    return corrector()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), half_a_dt2.data()->data(),
         flat(next[0], b, e).data(), flat(next[1], b, e).data(), 3 * (e - b));
 }
@@ -254,8 +259,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
                 for (std::size_t block = begin; block < end; block += integrate_block) {
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
-                            correct(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2);
-                            ok = ok && all_finite(body.x[0], b, e);
+                            ok = correct(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
                         });
                 }
                 return ok;
@@ -268,7 +272,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
     for (auto& v : next.theta) v.resize(rot.orientation.size());
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            correct(rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+            (void)correct(rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
             // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });

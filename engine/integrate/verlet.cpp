@@ -30,23 +30,29 @@ namespace {
 }
 
 /// Second half over n doubles, x₂ = δt²/2 a already set: x₁ ← x₁ + x₂.
-[[gnu::always_inline]] inline void kick_flat(double* __restrict x1, const double* __restrict x2, std::size_t n)
+/// Returns whether every new x₁ is finite.
+[[gnu::always_inline]] inline bool kick_flat(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    for (std::size_t j = 0; j < n; ++j) x1[j] += x2[j];
+    std::uint64_t non_finite = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+        x1[j] += x2[j];
+        non_finite |= non_finite_bit(x1[j]);
+    }
+    return non_finite == 0;
 }
 
 /// A loop over n doubles of two arrays it updates and one it reads.
 using FlatLoop = void (*)(double*, double*, const double*, std::size_t);
-/// A loop over n doubles of an array it updates and one it reads.
-using KickLoop = void (*)(double*, const double*, std::size_t);
+/// A loop over n doubles of an array it updates and one it reads; whether the updated values are finite.
+using KickLoop = bool (*)(double*, const double*, std::size_t);
 
 void drift_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
     drift_flat(x0, x1, x2, n);
 }
-void kick_flat_baseline(double* __restrict x1, const double* __restrict x2, std::size_t n)
+bool kick_flat_baseline(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    kick_flat(x1, x2, n);
+    return kick_flat(x1, x2, n);
 }
 
 #if defined(__x86_64__)
@@ -55,9 +61,9 @@ void kick_flat_baseline(double* __restrict x1, const double* __restrict x2, std:
 {
     drift_flat(x0, x1, x2, n);
 }
-[[WIREDEM_AVX2_TARGET]] void kick_flat_avx2(double* __restrict x1, const double* __restrict x2, std::size_t n)
+[[WIREDEM_AVX2_TARGET]] bool kick_flat_avx2(double* __restrict x1, const double* __restrict x2, std::size_t n)
 {
-    kick_flat(x1, x2, n);
+    return kick_flat(x1, x2, n);
 }
 #endif
 
@@ -79,11 +85,12 @@ KickLoop kicker()
 
 /// Second half for bodies [b, e) (at most integrate_block) with the
 /// accelerations inv_mass · load (F/m, or τ/I): x₂ = δt²/2 a, x₁ += x₂.
-void kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
+/// Returns whether every new x₁ is finite.
+bool kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size_t e,
     const std::vector<double>& inv_mass, const std::vector<Vec3>& load, double half_dt2)
 {
     scale_accelerations(inv_mass.data() + b, load.data() + b, half_dt2, e - b, x[2].data() + b);
-    kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), 3 * (e - b));
+    return kicker()(flat(x[1], b, e).data(), flat(x[2], b, e).data(), 3 * (e - b));
 }
 
 } // namespace
@@ -126,8 +133,8 @@ bool verlet_second_half(World& w, ThreadPool& pool)
                 for (std::size_t block = begin; block < end; block += integrate_block)
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
-                            kick(body.x, b, e, body.inv_mass_per_kg, force, half_dt2);
-                            ok = ok && all_finite(body.x[0], b, e) && all_finite(body.x[1], b, e);
+                            ok = kick(body.x, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
+                            ok = ok && all_finite(body.x[0], b, e);
                         });
                 return ok;
             },
@@ -138,7 +145,7 @@ bool verlet_second_half(World& w, ThreadPool& pool)
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+            (void)kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
         });
     });
     return finite;

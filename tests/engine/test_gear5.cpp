@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <type_traits>
 
 using namespace wiredem::engine;
@@ -117,4 +118,25 @@ TEST(Gear5, DampedStabilityLimitUsedByTheTimeStepHolds)
         }
     }
     EXPECT_EQ(damped_stability_limit(Integrator::gear5, 0.0), gear5_stability_limit);
+}
+
+// The integrators' blow-up check is folded into their last loop (Gear-5's
+// corrector, Verlet's kick): a force that turns infinite or NaN between two
+// steps must be reported by the step that takes it, for both integrators
+// (Verlet's positions are still finite then: its velocity is the first to
+// go), and a finite run reports nothing.
+TEST(Integrators, ANonFiniteForceIsReportedByTheStepThatTakesIt)
+{
+    for (const Integrator integrator : {Integrator::gear5, Integrator::verlet})
+        for (const double bad : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+            Simulation sim(1);
+            World& w = sim.world;
+            w.integrator = integrator;
+            w.dt_s = 1e-5;
+            add_material(w, Material{});
+            for (int i = 0; i < 300; ++i) add_grain(w, Vec3(0.01 * i, 0.0, 0.0), 1e-3, 0); // apart, falling
+            for (int s = 0; s < 5; ++s) ASSERT_FALSE(sim.step().blew_up) << "step " << s;
+            w.point_loads.push_back({BodyRef(BodyKind::grain, 217), Vec3(0.0, bad, 0.0)});
+            EXPECT_TRUE(sim.step().blew_up) << (integrator == Integrator::gear5 ? "gear5 " : "verlet ") << bad;
+        }
 }
