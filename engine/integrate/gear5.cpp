@@ -211,7 +211,10 @@ void gear5_predict(World& w, ThreadPool& pool)
     for (int k = 0; k < body_kind_count; ++k) {
         TranslationalState& body = w.bodies[k];
         Prediction& stored = next.x[k];
-        const bool take = kept && sized_for(stored, body.size());
+        // A kind without a dynamic body (a rigid membrane: all fixed) has no
+        // prediction to take; swapping would only copy all its bodies back.
+        const bool take = kept && sized_for(stored, body.size())
+                       && any_of_motion(body.motion, Motion::dynamic, 0, body.size());
         if (take) std::swap(body.x[0], stored[0]), std::swap(body.x[1], stored[1]);
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
             if (take)
