@@ -1,10 +1,65 @@
 #include "broadphase/cell_grid.hpp"
 
+#include "contact/pair_kernel_simd.hpp"
+
+#if defined(__x86_64__)
+#include "contact/avx2.hpp"
+#include "contact/avx512.hpp"
+#endif
+
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <limits>
 
 namespace wiredem::engine {
+namespace {
+
+/// Padding past the last slot: the widest SIMD path's lanes.
+constexpr std::size_t slot_padding = 8;
+
+/// What a slot must pass to be a candidate of body i at (x, y, z): its id
+/// in [first, hi), and (dx² + dy²) + dz² < ((r_i + r_j) + skin)².
+struct CandidateTest {
+    double x, y, z, radius_m, skin_m;
+    double first, hi;
+};
+
+/// The candidate test one slot at a time; the SIMD paths' operations, lane by lane.
+std::size_t near_scalar(const GridSlots& slots, std::size_t begin, std::size_t end, const CandidateTest& at,
+    std::uint32_t* out)
+{
+    std::size_t found = 0;
+    for (std::size_t s = begin; s < end; ++s) {
+        const double dx = at.x - slots.x[s], dy = at.y - slots.y[s], dz = at.z - slots.z[s];
+        const double reach = (at.radius_m + slots.r[s]) + at.skin_m;
+        const bool near = (dx * dx + dy * dy) + dz * dz < reach * reach;
+        if (near & (slots.id[s] >= at.first) & (slots.id[s] < at.hi)) out[found++] = slots.body[s];
+    }
+    return found;
+}
+
+#if defined(__x86_64__)
+#define WIREDEM_LANES_KERNELS "broadphase/cell_grid_lanes.inc"
+#include "contact/lanes_for_each_isa.inc"
+#endif
+
+using NearRun = std::size_t (*)(const GridSlots&, std::size_t, std::size_t, const CandidateTest&, std::uint32_t*);
+
+/// The candidate test of the instruction set in use (all give the same candidates).
+NearRun near_run_for_isa()
+{
+    switch (simd_isa()) {
+#if defined(__x86_64__)
+    case SimdIsa::avx512: return &with_avx512::near_run;
+    case SimdIsa::avx2: return &with_avx2::near_run;
+#endif
+    default: return &near_scalar;
+    }
+}
+
+} // namespace
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(ThreadPool& pool,
     const std::vector<Vec3>& pos, const std::vector<double>& radius, double skin_m, const PartnerRanges& partners,
@@ -59,15 +114,21 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
     }
     for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
     cell_bodies_.resize(n);
-    slots_.resize(n);
+    GridSlots& slots = slots_;
+    for (auto* v : {&slots.x, &slots.y, &slots.z, &slots.r}) v->assign(n + slot_padding, 0.0);
+    slots.id.assign(n + slot_padding, std::numeric_limits<double>::infinity()); // never in a range
+    slots.body.assign(n + slot_padding, 0);
     {
         std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint32_t s = fill[body_cell_[i]]++;
             cell_bodies_[s] = static_cast<std::uint32_t>(i);
-            slots_[s] = {pos[i].x(), pos[i].y(), pos[i].z(), radius[i]};
+            slots.x[s] = pos[i].x(), slots.y[s] = pos[i].y(), slots.z[s] = pos[i].z(), slots.r[s] = radius[i];
+            slots.id[s] = static_cast<double>(i);
+            slots.body[s] = static_cast<std::uint32_t>(i);
         }
     }
+    const NearRun near_run = near_run_for_isa();
     // Each group's partner ranges with the adjacent ones merged: with every
     // kind touching, one range.
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> ranges_of(partners.partner_ranges.size());
@@ -86,6 +147,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         [&](std::size_t ch) {
             std::vector<Pair>& out = found[ch];
             std::vector<std::uint32_t> found_j;
+            std::vector<std::uint32_t> near; // a run's candidates
             const std::size_t end = std::min(n, (ch + 1) * chunk);
             std::size_t group = 0;
             for (std::size_t i = ch * chunk; i < end; ++i) {
@@ -94,7 +156,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
                 if (ranges.empty() || ranges.back().second <= i + 1) continue; // no later partner
                 found_j.clear();
                 const Vec3 p = pos[i];
-                const double radius_i = radius[i];
+                CandidateTest at{p.x(), p.y(), p.z(), radius[i], skin_m, 0.0, 0.0};
                 const std::int64_t cx = coord(p, 0), cy = coord(p, 1), cz = coord(p, 2);
                 const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min(cx + 1, dims[0] - 1);
                 for (std::int64_t z = std::max<std::int64_t>(cz - 1, 0); z <= std::min(cz + 1, dims[2] - 1); ++z)
@@ -103,19 +165,13 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
                         const std::size_t row = static_cast<std::size_t>((z * dims[1] + y) * dims[0]);
                         const std::uint32_t s_begin = cell_start_[row + static_cast<std::size_t>(x0)];
                         const std::uint32_t s_end = cell_start_[row + static_cast<std::size_t>(x1) + 1];
+                        if (near.size() < s_end - s_begin) near.resize(s_end - s_begin);
                         for (const auto& [lo_j, hi_j] : ranges) {
-                            const std::uint32_t first = std::max<std::uint32_t>(lo_j, static_cast<std::uint32_t>(i + 1));
-                            for (std::uint32_t s = s_begin; s < s_end; ++s) {
-                                // One branch per candidate: half of them are j < i.
-                                const std::uint32_t j = cell_bodies_[s];
-                                const Slot& q = slots_[s];
-                                const double dx = p.x() - q.x, dy = p.y() - q.y, dz = p.z() - q.z;
-                                const double reach = radius_i + q.r + skin_m;
-                                const bool near = (dx * dx + dy * dy) + dz * dz < reach * reach;
-                                if (!(near & (j >= first) & (j < hi_j))) continue;
-                                if (filter && !filter(static_cast<std::uint32_t>(i), j)) continue;
-                                found_j.push_back(j);
-                            }
+                            at.first = static_cast<double>(std::max<std::size_t>(lo_j, i + 1));
+                            at.hi = static_cast<double>(hi_j);
+                            const std::size_t count = near_run(slots, s_begin, s_end, at, near.data());
+                            for (std::size_t k = 0; k < count; ++k)
+                                if (!filter || filter(static_cast<std::uint32_t>(i), near[k])) found_j.push_back(near[k]);
                         }
                     }
                 std::sort(found_j.begin(), found_j.end());

@@ -5,8 +5,10 @@
 // position and radius into its slot: the three cells of a row along x are
 // consecutive, so the 27 surrounding cells of a body are nine streams of
 // slots. For every body i those are scanned for partners j > i within
-// r_i + r_j + skin; a body whose group has no later partner (the membrane)
-// scans nothing. Each fixed-size chunk of i writes its own list and the lists
+// r_i + r_j + skin, eight (AVX-512) or four (AVX2) slots per instruction
+// (cell_grid_lanes.inc; the scalar path tests the same way, so every path
+// finds the same pairs); a body whose group has no later partner (the
+// membrane) scans nothing. Each fixed-size chunk of i writes its own list and the lists
 // are concatenated in chunk order, so the result is sorted by (i, j) and
 // identical for any thread count. O(N) for bounded density.
 #pragma once
@@ -34,6 +36,15 @@ struct PartnerRanges {
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> partner_ranges;
 };
 
+/// The bodies in cell order (a cell's slots ascend by body id), as arrays of
+/// components, so that the candidates of a row of cells are read as streams,
+/// several slots per instruction. Padded past the last slot (id +∞).
+struct GridSlots {
+    std::vector<double> x, y, z, r; ///< position and radius [m]
+    std::vector<double> id;         ///< the body's flat index, as a double (exact)
+    std::vector<std::uint32_t> body; ///< the body's flat index
+};
+
 /// Uniform grid over the bounding box of the bodies.
 class CellGrid {
 public:
@@ -51,12 +62,7 @@ private:
     std::vector<std::uint32_t> cell_start_;   ///< CSR offsets, size cells + 1
     std::vector<std::uint32_t> cell_bodies_;  ///< body ids, ascending per cell
     std::vector<std::uint32_t> body_cell_;
-    /// A body's position and radius where cell_bodies_ lists it: the
-    /// candidates of a row of cells are read in one stream.
-    struct Slot {
-        double x, y, z, r;
-    };
-    std::vector<Slot> slots_;
+    GridSlots slots_;
 };
 
 } // namespace wiredem::engine
