@@ -46,13 +46,16 @@ namespace {
 // same bits. (Not target_clones: its load-time resolver runs before
 // ThreadSanitizer's runtime is up and crashes an instrumented program.)
 
-/// x₀ and x₁ predicted in place, over n doubles.
+/// x₀ (with_position) and x₁ predicted in place, over n doubles. Without
+/// the position (a grain's rotation vector θ₀, which nothing reads) x0 is not
+/// touched.
+template <bool with_position>
 [[gnu::always_inline]] inline void predict_flat(double* __restrict x0, double* __restrict x1,
     const double* __restrict x2, const double* __restrict x3, const double* __restrict x4,
     const double* __restrict x5, std::size_t n)
 {
     for (std::size_t j = 0; j < n; ++j) {
-        x0[j] += x1[j] + x2[j] + x3[j] + x4[j] + x5[j];
+        if constexpr (with_position) x0[j] += x1[j] + x2[j] + x3[j] + x4[j] + x5[j];
         x1[j] += 2.0 * x2[j] + 3.0 * x3[j] + 4.0 * x4[j] + 5.0 * x5[j];
     }
 }
@@ -60,7 +63,9 @@ namespace {
 /// x₂…x₅ predicted, then every derivative corrected by Δ = target − x₂(predicted),
 /// and x₀, x₁ of the next step predicted from the corrected ones into next0,
 /// next1 (predict_flat's operations), over n doubles. Returns whether every
-/// corrected x₀ is finite.
+/// corrected x₀ is finite. Without the position, x0 and next0 are not
+/// touched (and the check is on x₁).
+template <bool with_position>
 [[gnu::always_inline]] inline bool correct_flat(double* __restrict x0, double* __restrict x1,
     double* __restrict x2, double* __restrict x3, double* __restrict x4, double* __restrict x5,
     const double* __restrict target, double* __restrict next0, double* __restrict next1, std::size_t n)
@@ -72,21 +77,25 @@ namespace {
         const double p3 = x3[j] + (4.0 * x4[j] + 10.0 * x5[j]);
         const double p4 = x4[j] + 5.0 * x5[j];
         const double delta = target[j] - p2;
-        const double c0 = x0[j] + c[0] * delta;
         const double c1 = x1[j] + c[1] * delta;
         const double c2 = p2 + c[2] * delta;
         const double c3 = p3 + c[3] * delta;
         const double c4 = p4 + c[4] * delta;
         const double c5 = x5[j] + c[5] * delta;
-        x0[j] = c0;
         x1[j] = c1;
         x2[j] = c2;
         x3[j] = c3;
         x4[j] = c4;
         x5[j] = c5;
-        next0[j] = c0 + (c1 + c2 + c3 + c4 + c5);
         next1[j] = c1 + (2.0 * c2 + 3.0 * c3 + 4.0 * c4 + 5.0 * c5);
-        non_finite |= non_finite_bit(c0);
+        if constexpr (with_position) {
+            const double c0 = x0[j] + c[0] * delta;
+            x0[j] = c0;
+            next0[j] = c0 + (c1 + c2 + c3 + c4 + c5);
+            non_finite |= non_finite_bit(c0);
+        } else {
+            non_finite |= non_finite_bit(c1);
+        }
     }
     return non_finite == 0;
 }
@@ -95,98 +104,120 @@ using PredictFlat = void (*)(double*, double*, const double*, const double*, con
 using CorrectFlat = bool (*)(double*, double*, double*, double*, double*, double*, const double*, double*, double*,
     std::size_t);
 
+template <bool with_position>
 void predict_flat_baseline(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
     const double* __restrict x3, const double* __restrict x4, const double* __restrict x5, std::size_t n)
 {
-    predict_flat(x0, x1, x2, x3, x4, x5, n);
+    predict_flat<with_position>(x0, x1, x2, x3, x4, x5, n);
 }
+template <bool with_position>
 bool correct_flat_baseline(double* __restrict x0, double* __restrict x1, double* __restrict x2,
     double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
     double* __restrict next0, double* __restrict next1, std::size_t n)
 {
-    return correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
+    return correct_flat<with_position>(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
 }
 #if defined(__x86_64__)
+template <bool with_position>
 [[WIREDEM_AVX2_TARGET]] void predict_flat_avx2(double* __restrict x0, double* __restrict x1,
     const double* __restrict x2, const double* __restrict x3, const double* __restrict x4,
     const double* __restrict x5, std::size_t n)
 {
-    predict_flat(x0, x1, x2, x3, x4, x5, n);
+    predict_flat<with_position>(x0, x1, x2, x3, x4, x5, n);
 }
+template <bool with_position>
 [[WIREDEM_AVX2_TARGET]] bool correct_flat_avx2(double* __restrict x0, double* __restrict x1, double* __restrict x2,
     double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
     double* __restrict next0, double* __restrict next1, std::size_t n)
 {
-    return correct_flat(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
+    return correct_flat<with_position>(x0, x1, x2, x3, x4, x5, target, next0, next1, n);
 }
 #endif
 
 /// The predictor and corrector loops of the instruction set in use.
+template <bool with_position>
 PredictFlat predictor()
 {
 #if defined(__x86_64__)
-    if (simd_isa() != SimdIsa::none) return &predict_flat_avx2;
+    if (simd_isa() != SimdIsa::none) return &predict_flat_avx2<with_position>;
 #endif
-    return &predict_flat_baseline;
+    return &predict_flat_baseline<with_position>;
 }
+template <bool with_position>
 CorrectFlat corrector()
 {
 #if defined(__x86_64__)
-    if (simd_isa() != SimdIsa::none) return &correct_flat_avx2;
+    if (simd_isa() != SimdIsa::none) return &correct_flat_avx2<with_position>;
 #endif
-    return &correct_flat_baseline;
+    return &correct_flat_baseline<with_position>;
 }
+
+/// Bodies have a position x₀; a grain's rotation has none that anything
+/// reads (θ₀ would sum rotation vectors, which is no angle in 3D: the
+/// orientation quaternion is the grain's attitude), so θ₀ is not integrated.
+enum class Position : bool { without, with };
 
 using Derivatives = std::array<std::vector<Vec3>, gear_order>;
 using Prediction = std::array<std::vector<Vec3>, 2>;
 
-/// Predicts x₀ and x₁ of bodies [b, e) in place from the six derivative arrays.
+/// Predicts x₀ (with a position) and x₁ of bodies [b, e) in place from the derivative arrays.
+template <Position position>
 void predict_position_and_velocity(Derivatives& x, std::size_t b, std::size_t e)
 {
-    predictor()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+    constexpr bool p = position == Position::with;
+    predictor<p>()(p ? flat(x[0], b, e).data() : nullptr, flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), 3 * (e - b));
 }
 
 /// Corrects bodies [b, e) (at most integrate_block) with the accelerations
 /// inv_mass · load (F/m, or τ/I): predicts x₂…x₅ from their values of the
 /// last step and applies Δ = δt²/2 · a − x₂(predicted) to every derivative;
-/// then predicts x₀ and x₁ of the next step into `next`. Returns whether
-/// every corrected x₀ is finite.
+/// then predicts x₀ (with a position) and x₁ of the next step into `next`.
+/// Returns whether every corrected x₀ (without a position: x₁) is finite.
+template <Position position>
 bool correct(Derivatives& x, Prediction& next, std::size_t b, std::size_t e, const std::vector<double>& inv_mass,
     const std::vector<Vec3>& load, double half_dt2)
 {
+    constexpr bool p = position == Position::with;
     const std::array<Vec3, integrate_block> half_a_dt2 = scaled_accelerations(b, e, inv_mass, load, half_dt2);
-    return corrector()(flat(x[0], b, e).data(), flat(x[1], b, e).data(), flat(x[2], b, e).data(),
+    return corrector<p>()(p ? flat(x[0], b, e).data() : nullptr, flat(x[1], b, e).data(), flat(x[2], b, e).data(),
         flat(x[3], b, e).data(), flat(x[4], b, e).data(), flat(x[5], b, e).data(), half_a_dt2.data()->data(),
-        flat(next[0], b, e).data(), flat(next[1], b, e).data(), 3 * (e - b));
+        p ? flat(next[0], b, e).data() : nullptr, flat(next[1], b, e).data(), 3 * (e - b));
 }
 
 /// Whether `next` holds a prediction of n bodies.
+template <Position position>
 bool sized_for(const Prediction& next, std::size_t n)
 {
-    return next[0].size() == n && next[1].size() == n;
+    return (position == Position::without || next[0].size() == n) && next[1].size() == n;
 }
 
 /// The kept prediction made x₀ and x₁: the arrays swap, and the bodies that
 /// are not dynamic, which the corrector skipped, take their stored values
 /// (which `next` now holds) over [begin, end).
+template <Position position>
 void take_kept(Derivatives& x, const Prediction& stored, const std::vector<Motion>& motion, std::size_t begin,
     std::size_t end)
 {
     if (all_of_motion(motion, Motion::dynamic, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
-        if (motion[i] != Motion::dynamic) x[0][i] = stored[0][i], x[1][i] = stored[1][i];
+        if (motion[i] != Motion::dynamic) {
+            if constexpr (position == Position::with) x[0][i] = stored[0][i];
+            x[1][i] = stored[1][i];
+        }
 }
 
 #if defined(WIREDEM_CHECK_PREDICTION)
 /// The sanitizer builds check every kept prediction against predict_flat's
 /// operations on the stored derivatives, bit for bit: a body changed between
 /// steps by something other than a mutator would step from a stale one.
+template <Position position>
 void check_kept(const Derivatives& x, const Prediction& stored, const std::vector<Motion>& motion, const char* what)
 {
     for (std::size_t i = 0; i < motion.size(); ++i) {
         if (motion[i] != Motion::dynamic) continue;
-        const Vec3 p0 = stored[0][i] + (stored[1][i] + x[2][i] + x[3][i] + x[4][i] + x[5][i]);
+        const Vec3 p0 = position == Position::with ? Vec3(stored[0][i] + (stored[1][i] + x[2][i] + x[3][i] + x[4][i] + x[5][i]))
+                                                   : x[0][i];
         const Vec3 p1 = stored[1][i] + (2.0 * x[2][i] + 3.0 * x[3][i] + 4.0 * x[4][i] + 5.0 * x[5][i]);
         // A NaN's payload may depend on the operand order, which vector code chooses.
         const auto same = [](const Vec3& a, const Vec3& b) {
@@ -213,35 +244,35 @@ void gear5_predict(World& w, ThreadPool& pool)
         Prediction& stored = next.x[k];
         // A kind without a dynamic body (a rigid membrane: all fixed) has no
         // prediction to take; swapping would only copy all its bodies back.
-        const bool take = kept && sized_for(stored, body.size())
+        const bool take = kept && sized_for<Position::with>(stored, body.size())
                        && any_of_motion(body.motion, Motion::dynamic, 0, body.size());
         if (take) std::swap(body.x[0], stored[0]), std::swap(body.x[1], stored[1]);
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
             if (take)
-                take_kept(body.x, stored, body.motion, begin, end);
+                take_kept<Position::with>(body.x, stored, body.motion, begin, end);
             else
                 for_each_run(body.motion, Motion::dynamic, begin, end,
-                    [&](std::size_t b, std::size_t e) { predict_position_and_velocity(body.x, b, e); });
+                    [&](std::size_t b, std::size_t e) { predict_position_and_velocity<Position::with>(body.x, b, e); });
             move_kinematic(body.x, body.motion, begin, end);
         });
 #if defined(WIREDEM_CHECK_PREDICTION)
-        if (take) check_kept(body.x, stored, body.motion, "body");
+        if (take) check_kept<Position::with>(body.x, stored, body.motion, "body");
 #endif
     }
     // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    const bool take = kept && sized_for(next.theta, rot.orientation.size());
-    if (take) std::swap(rot.theta[0], next.theta[0]), std::swap(rot.theta[1], next.theta[1]);
+    const bool take = kept && sized_for<Position::without>(next.theta, rot.orientation.size());
+    if (take) std::swap(rot.theta[1], next.theta[1]);
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         if (take)
-            take_kept(rot.theta, next.theta, grain_motion, begin, end);
+            take_kept<Position::without>(rot.theta, next.theta, grain_motion, begin, end);
         else
             for_each_run(grain_motion, Motion::dynamic, begin, end,
-                [&](std::size_t b, std::size_t e) { predict_position_and_velocity(rot.theta, b, e); });
+                [&](std::size_t b, std::size_t e) { predict_position_and_velocity<Position::without>(rot.theta, b, e); });
     });
 #if defined(WIREDEM_CHECK_PREDICTION)
-    if (take) check_kept(rot.theta, next.theta, grain_motion, "the rotation of grain");
+    if (take) check_kept<Position::without>(rot.theta, next.theta, grain_motion, "the rotation of grain");
 #endif
 }
 
@@ -262,7 +293,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
                 for (std::size_t block = begin; block < end; block += integrate_block) {
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
-                            ok = correct(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
+                            ok = correct<Position::with>(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
                         });
                 }
                 return ok;
@@ -272,10 +303,10 @@ bool gear5_correct(World& w, ThreadPool& pool)
     }
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    for (auto& v : next.theta) v.resize(rot.orientation.size());
+    next.theta[1].resize(rot.orientation.size()); // θ₀ is not integrated
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            (void)correct(rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+            (void)correct<Position::without>(rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
             // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });

@@ -57,10 +57,12 @@ struct TranslationalState {
 
 /// Rotational state of the grains, parallel to their TranslationalState.
 /// The rotation is integrated with the same Gear-5 scheme on a rotation
-/// vector θ: theta[1] = δt ω, theta[2] = δt²/2 · dω/dt, …; theta[0]
-/// accumulates the rotation angle vector and is kept for symmetry only. The
-/// orientation quaternion is advanced from the corrected ω and renormalised
-/// every step. The torque each step gathers is Caches::grain_torque_n_m.
+/// vector θ: theta[1] = δt ω, theta[2] = δt²/2 · dω/dt, …. theta[0] is not
+/// integrated (neither integrator moves it; it keeps the value it was given,
+/// zero): a sum of rotation vectors is no angle in 3D, and nothing reads it.
+/// Until 2026-12-05 Gear-5 summed it. The orientation quaternion is the
+/// grain's attitude, advanced from the corrected ω and renormalised every
+/// step. The torque each step gathers is Caches::grain_torque_n_m.
 struct RotationalState {
     std::array<std::vector<Vec3>, gear_order> theta;
     std::vector<Quat> orientation;            ///< unit quaternion

@@ -141,7 +141,7 @@ struct State {
     [[nodiscard]] const TranslationalState& of(BodyKind k) const { return bodies[static_cast<int>(k)]; }
 };
 
-/// x₀ and x₁ of every dynamic body (θ₀ and θ₁ of every dynamic grain) one
+/// x₀ and x₁ of every dynamic body (θ₁ of every dynamic grain) one
 /// step ahead, as Gear-5's predictor would make them from the corrected
 /// derivatives: the corrector, which holds those in registers, writes them,
 /// and the next step takes them instead of reading the six derivative arrays
@@ -151,7 +151,7 @@ struct State {
 struct GearPrediction {
     static constexpr std::uint64_t none = std::numeric_limits<std::uint64_t>::max();
     std::array<std::array<std::vector<Vec3>, 2>, body_kind_count> x; ///< [kind][x₀, x₁]
-    std::array<std::vector<Vec3>, 2> theta;                          ///< [θ₀, θ₁] of the grains
+    std::array<std::vector<Vec3>, 2> theta;                          ///< [unused, θ₁] of the grains (θ₀ is not integrated)
     std::uint64_t for_step = none;                                   ///< the step count it was made for
 };
 
