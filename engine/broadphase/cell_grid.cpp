@@ -171,7 +171,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
                             at.hi = static_cast<double>(hi_j);
                             const std::size_t count = near_run(slots, s_begin, s_end, at, near.data());
                             for (std::size_t k = 0; k < count; ++k)
-                                if (!filter || filter(static_cast<std::uint32_t>(i), near[k])) found_j.push_back(near[k]);
+                                if (!filter || filter(static_cast<std::uint32_t>(i), near[k]))
+                                    found_j.push_back(near[k]);
                         }
                     }
                 std::sort(found_j.begin(), found_j.end());

@@ -29,7 +29,8 @@ namespace {
 // the prediction is a cache, made with the same operations as a predictor
 // reading them, so the bits are the same as without it. When a mutator has
 // dropped it (a body added, moved or set moving, δt changed) or a run starts,
-// the predictor reads the six arrays as before.
+// the predictor reads the six arrays as before. A grain's rotation keeps no
+// θ₀ (Position::without): only θ₁ is predicted and kept.
 //
 // The loops below treat the six derivative arrays of a run of consecutive
 // bodies as flat arrays of doubles (integrate/flat_runs.hpp). They never
@@ -216,8 +217,9 @@ void check_kept(const Derivatives& x, const Prediction& stored, const std::vecto
 {
     for (std::size_t i = 0; i < motion.size(); ++i) {
         if (motion[i] != Motion::dynamic) continue;
-        const Vec3 p0 = position == Position::with ? Vec3(stored[0][i] + (stored[1][i] + x[2][i] + x[3][i] + x[4][i] + x[5][i]))
-                                                   : x[0][i];
+        const Vec3 p0 = position == Position::with
+                          ? Vec3(stored[0][i] + (stored[1][i] + x[2][i] + x[3][i] + x[4][i] + x[5][i]))
+                          : x[0][i];
         const Vec3 p1 = stored[1][i] + (2.0 * x[2][i] + 3.0 * x[3][i] + 4.0 * x[4][i] + 5.0 * x[5][i]);
         // A NaN's payload may depend on the operand order, which vector code chooses.
         const auto same = [](const Vec3& a, const Vec3& b) {
@@ -248,11 +250,13 @@ void gear5_predict(World& w, ThreadPool& pool)
                        && any_of_motion(body.motion, Motion::dynamic, 0, body.size());
         if (take) std::swap(body.x[0], stored[0]), std::swap(body.x[1], stored[1]);
         parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-            if (take)
+            if (take) {
                 take_kept<Position::with>(body.x, stored, body.motion, begin, end);
-            else
-                for_each_run(body.motion, Motion::dynamic, begin, end,
-                    [&](std::size_t b, std::size_t e) { predict_position_and_velocity<Position::with>(body.x, b, e); });
+            } else {
+                for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+                    predict_position_and_velocity<Position::with>(body.x, b, e);
+                });
+            }
             move_kinematic(body.x, body.motion, begin, end);
         });
 #if defined(WIREDEM_CHECK_PREDICTION)
@@ -262,14 +266,17 @@ void gear5_predict(World& w, ThreadPool& pool)
     // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    const bool take = kept && sized_for<Position::without>(next.theta, rot.orientation.size());
+    const bool take = kept && sized_for<Position::without>(next.theta, rot.orientation.size())
+                   && any_of_motion(grain_motion, Motion::dynamic, 0, grain_motion.size());
     if (take) std::swap(rot.theta[1], next.theta[1]);
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-        if (take)
+        if (take) {
             take_kept<Position::without>(rot.theta, next.theta, grain_motion, begin, end);
-        else
-            for_each_run(grain_motion, Motion::dynamic, begin, end,
-                [&](std::size_t b, std::size_t e) { predict_position_and_velocity<Position::without>(rot.theta, b, e); });
+        } else {
+            for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+                predict_position_and_velocity<Position::without>(rot.theta, b, e);
+            });
+        }
     });
 #if defined(WIREDEM_CHECK_PREDICTION)
     if (take) check_kept<Position::without>(rot.theta, next.theta, grain_motion, "the rotation of grain");
@@ -293,7 +300,8 @@ bool gear5_correct(World& w, ThreadPool& pool)
                 for (std::size_t block = begin; block < end; block += integrate_block) {
                     for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
                         [&](std::size_t b, std::size_t e) {
-                            ok = correct<Position::with>(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
+                            ok = correct<Position::with>(body.x, made, b, e, body.inv_mass_per_kg, force, half_dt2)
+                              && ok;
                         });
                 }
                 return ok;
@@ -306,7 +314,8 @@ bool gear5_correct(World& w, ThreadPool& pool)
     next.theta[1].resize(rot.orientation.size()); // θ₀ is not integrated
     parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            (void)correct<Position::without>(rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+            (void)correct<Position::without>(
+                rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
             // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });

@@ -151,7 +151,8 @@ struct State {
 struct GearPrediction {
     static constexpr std::uint64_t none = std::numeric_limits<std::uint64_t>::max();
     std::array<std::array<std::vector<Vec3>, 2>, body_kind_count> x; ///< [kind][x₀, x₁]
-    std::array<std::vector<Vec3>, 2> theta;                          ///< [unused, θ₁] of the grains (θ₀ is not integrated)
+    /// [unused, θ₁] of the grains (θ₀ is not integrated).
+    std::array<std::vector<Vec3>, 2> theta;
     std::uint64_t for_step = none;                                   ///< the step count it was made for
 };
 

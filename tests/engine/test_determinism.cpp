@@ -110,13 +110,17 @@ TEST(Determinism, GearsKeptPredictionGivesTheBitsOfAFreshOne)
             const std::uint32_t g = 5;
             switch (at) {
             case 100: set_velocity(w, {BodyKind::grain, g}, Vec3(0.01, 0.0, 0.02)); break;
-            case 150: place_body(w, {BodyKind::grain, g + 1}, w.of(BodyKind::grain).x[0][g + 1] + Vec3(0, 0, 1e-6)); break;
+            case 150:
+                place_body(w, {BodyKind::grain, g + 1}, w.of(BodyKind::grain).x[0][g + 1] + Vec3(0, 0, 1e-6));
+                break;
             case 200: set_motion(w, {BodyKind::grain, g + 2}, Motion::kinematic); break;
             case 220: set_velocity(w, {BodyKind::grain, g + 2}, Vec3(0.0, 0.0, -0.01)); break;
             case 250: set_motion(w, {BodyKind::grain, g + 2}, Motion::dynamic); break;
             case 280: set_time_step(w, 0.9 * w.dt_s); break;
             case 300: scale_velocities(w, 0.5); break;
-            case 330: (void)add_grain(w, Vec3(0.02, 0.0, 4e-3), 1e-3, 0, Vec3(0.0, 0.0, -0.1)); break; // outside the membrane
+            case 330: // outside the membrane
+                (void)add_grain(w, Vec3(0.02, 0.0, 4e-3), 1e-3, 0, Vec3(0.0, 0.0, -0.1));
+                break;
             case 360: set_integrator(w, Integrator::verlet); break;
             case 380: set_integrator(w, Integrator::gear5); break;
             default: break;
@@ -129,7 +133,8 @@ TEST(Determinism, GearsKeptPredictionGivesTheBitsOfAFreshOne)
             ASSERT_FALSE(kept.step().blew_up) << "step " << s;
             ASSERT_FALSE(fresh.step().blew_up);
             if (s % 50 == 49) {
-                ASSERT_EQ(state_hash(kept.world), state_hash(fresh.world)) << "step " << s << ", " << threads << " threads";
+                ASSERT_EQ(state_hash(kept.world), state_hash(fresh.world))
+                    << "step " << s << ", " << threads << " threads";
             }
         }
         EXPECT_EQ(kept.world.next_prediction.for_step, kept.world.step_count) << "the last step left a prediction";

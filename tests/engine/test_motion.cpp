@@ -220,7 +220,10 @@ TEST(Motion, WordWiseRunTestsAgreeWithABodyByBodyLoop)
             for (std::size_t e = b; e <= motion.size(); ++e)
                 for (const Motion which : kinds) {
                     bool all = true, any = false;
-                    for (std::size_t i = b; i < e; ++i) all = all && motion[i] == which, any = any || motion[i] == which;
+                    for (std::size_t i = b; i < e; ++i) {
+                        all = all && motion[i] == which;
+                        any = any || motion[i] == which;
+                    }
                     ASSERT_EQ(all_of_motion(motion, which, b, e), all) << b << " " << e;
                     ASSERT_EQ(any_of_motion(motion, which, b, e), any) << b << " " << e;
                 }
