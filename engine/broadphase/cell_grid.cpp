@@ -35,7 +35,7 @@ std::size_t near_scalar(const GridSlots& slots, std::size_t begin, std::size_t e
         const double dx = at.x - slots.x[s], dy = at.y - slots.y[s], dz = at.z - slots.z[s];
         const double reach = (at.radius_m + slots.r[s]) + at.skin_m;
         const bool near = (dx * dx + dy * dy) + dz * dz < reach * reach;
-        if (near & (slots.id[s] >= at.first) & (slots.id[s] < at.hi)) out[found++] = slots.body[s];
+        if (near && slots.id[s] >= at.first && slots.id[s] < at.hi) out[found++] = slots.body[s];
     }
     return found;
 }
