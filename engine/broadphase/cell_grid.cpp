@@ -113,7 +113,6 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         ++cell_start_[c + 1];
     }
     for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-    cell_bodies_.resize(n);
     GridSlots& slots = slots_;
     for (auto* v : {&slots.x, &slots.y, &slots.z, &slots.r}) v->assign(n + slot_padding, 0.0);
     slots.id.assign(n + slot_padding, std::numeric_limits<double>::infinity()); // never in a range
@@ -122,7 +121,6 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint32_t s = fill[body_cell_[i]]++;
-            cell_bodies_[s] = static_cast<std::uint32_t>(i);
             slots.x[s] = pos[i].x(), slots.y[s] = pos[i].y(), slots.z[s] = pos[i].z(), slots.r[s] = radius[i];
             slots.id[s] = static_cast<double>(i);
             slots.body[s] = static_cast<std::uint32_t>(i);

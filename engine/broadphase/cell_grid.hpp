@@ -60,7 +60,6 @@ public:
 
 private:
     std::vector<std::uint32_t> cell_start_;   ///< CSR offsets, size cells + 1
-    std::vector<std::uint32_t> cell_bodies_;  ///< body ids, ascending per cell
     std::vector<std::uint32_t> body_cell_;
     GridSlots slots_;
 };
