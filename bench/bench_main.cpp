@@ -39,6 +39,8 @@ struct Case {
     std::size_t bodies = 0;
     std::size_t contacts = 0;    ///< touching pairs and body–wall contacts at the end
     std::size_t list_pairs = 0;  ///< pairs in the neighbour list (touching or within the skin)
+    std::size_t near_pairs = 0;  ///< of those, the near pairs the kernel evaluates (NearPairs)
+    std::uint64_t near_selections = 0; ///< selections of the near pairs during the timed steps
     std::uint64_t rebuilds = 0;  ///< neighbour-list rebuilds during the timed steps
     std::uint64_t steps = 0;
     double wall_s = 0.0;
@@ -129,6 +131,7 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         Case c;
         sim.profile = &c.profile;
         const std::uint64_t builds0 = sim.world.neighbour_builds;
+        const std::uint64_t selections0 = sim.world.near.selections;
         const double cpu0 = process_cpu_s();
         const auto t0 = std::chrono::steady_clock::now();
         sim.run(steps);
@@ -140,6 +143,8 @@ std::vector<Case> time_cases(const std::string& name, const World& start, std::u
         c.bodies = sim.world.body_count();
         c.contacts = touching(sim.world);
         c.list_pairs = sim.world.contacts.size();
+        c.near_pairs = sim.world.near.pairs.size();
+        c.near_selections = sim.world.near.selections - selections0;
         c.rebuilds = sim.world.neighbour_builds - builds0;
         c.steps = steps;
         c.hash = state_hash(sim.world);
@@ -269,11 +274,13 @@ std::string stages_json(const StepProfile& p)
 
 void print_case_json(const Case& c, double dt)
 {
-    std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"rebuilds\":%llu,\"steps\":%llu,"
+    std::printf("{\"case\":\"%s\",\"integrator\":\"%s\",\"threads\":%u,\"bodies\":%zu,\"contacts\":%zu,\"list_pairs\":%zu,\"near_pairs\":%zu,\"rebuilds\":%llu,"
+                "\"near_selections\":%llu,\"steps\":%llu,"
                 "\"wall_time_s\":%.6f,\"cpu_time_s\":%.6f,\"time_step_s\":%.6g,\"body_steps_per_second\":%.6g,"
                 "\"ns_per_contact\":%s,\"state_hash\":\"%016llx\",\"simd\":\"%s\",\"stage_s\":%s}\n",
-        c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs,
-        static_cast<unsigned long long>(c.rebuilds), static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
+        c.name.c_str(), integrator_name(c.integrator), c.threads, c.bodies, c.contacts, c.list_pairs, c.near_pairs,
+        static_cast<unsigned long long>(c.rebuilds), static_cast<unsigned long long>(c.near_selections),
+        static_cast<unsigned long long>(c.steps), c.wall_s, c.cpu_s, dt,
         c.body_steps_per_s(), c.contacts > 0 ? std::to_string(c.ns_per_contact()).c_str() : "null",
         static_cast<unsigned long long>(c.hash), simd_name(),
         stages_json(c.profile).c_str());

@@ -3,6 +3,7 @@
 #include "contact/gather_simd.hpp"
 #include "contact/geometry.hpp"
 #include "contact/pair_kernel_simd.hpp"
+#include "core/assert.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "integrate/gear5.hpp"
@@ -93,34 +94,157 @@ double effective_skin_m(const World& w)
     return 0.2 * std::max(std::max(r_max[0], r_max[1]), std::max(r_max[2], r_max[3]));
 }
 
+namespace {
+
+/// Whether any body has moved half the skin since the contact list's build
+/// (`list`; looked at only if `check_list`) and near_reselect_fraction of
+/// the near skin since the near pairs' selection (`near`; only if
+/// `check_near`), in one pass over the positions. Each is an or of
+/// comparisons, with no chain of maxima that wait on each other: the same
+/// test as the largest move's.
+struct Moves {
+    bool list = false, near = false;
+};
+Moves body_moves(const World& w, ThreadPool& pool, bool check_list, bool check_near)
+{
+    const double limit2 = 0.25 * w.skin_at_build_m * w.skin_at_build_m;
+    const double near_limit = near_reselect_fraction * w.near.skin_m;
+    const double near_limit2 = near_limit * near_limit;
+    Moves moved;
+    for (int k = 0; k < body_kind_count && !(moved.list && moved.near); ++k) {
+        const auto& pos = w.bodies[k].x[0];
+        const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
+        const Vec3* at_build = w.position_at_build_m.data() + offset;
+        const Vec3* at_selection = w.near.position_m.data() + offset;
+        const auto kind = reduce_blocks(
+            pool, pos.size(), Moves{},
+            [&](std::size_t b, std::size_t e) {
+                bool list = false, near = false;
+                if (check_list && check_near)
+                    for (std::size_t i = b; i < e; ++i) {
+                        list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
+                        near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
+                    }
+                else if (check_list)
+                    for (std::size_t i = b; i < e; ++i) list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
+                else if (check_near)
+                    for (std::size_t i = b; i < e; ++i) near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
+                return Moves{list, near};
+            },
+            [](Moves a, Moves b) { return Moves{a.list || b.list, a.near || b.near}; });
+        moved = {moved.list || kind.list, moved.near || kind.near};
+        // What is known need not be looked at again.
+        check_list = check_list && !moved.list;
+        check_near = check_near && !moved.near;
+    }
+    return moved;
+}
+
+/// Selects the near pairs of the contact list at the current positions
+/// (NearPairs): the body pairs whose gap is below the near skin (or not a
+/// number: the kernel decides those), and each body's incidences on them and
+/// on walls. A listed pair left out that touched at the last evaluation is
+/// apart now, and released as the kernel would release it.
+void select_near_pairs(World& w, ThreadPool& pool)
+{
+    ContactList& c = w.contacts;
+    NearPairs& near = w.near;
+    const double skin = near_skin_fraction * w.skin_at_build_m;
+    const std::size_t pairs = c.pair_count();
+    std::vector<std::uint8_t> is_near(c.size(), 1); // wall contacts: always evaluated
+    parallel_for_blocks(pool, pairs, 1024, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p) {
+            const BodyRef a = c.first[p], b = c.second[p];
+            const TranslationalState& A = w.of(a.kind());
+            const TranslationalState& B = w.of(b.kind());
+            const double reach = A.radius_m[a.index()] + B.radius_m[b.index()] + skin;
+            const bool close = !((B.x[0][b.index()] - A.x[0][a.index()]).squaredNorm() >= reach * reach);
+            is_near[p] = close;
+            if (!close && c.touching[p]) c.release(p);
+        }
+    });
+    near.pairs.clear();
+    near.first.clear();
+    near.second.clear();
+    for (std::uint32_t p = 0; p < pairs; ++p)
+        if (is_near[p]) {
+            near.pairs.push_back(p);
+            near.first.push_back(c.first[p]);
+            near.second.push_back(c.second[p]);
+        }
+
+    // Each body's incidences on the contacts kept, in the list's order.
+    const std::size_t n = w.body_count();
+    near.incidence_start.resize(n + 1);
+    near.incidence.resize(c.incidence.size());
+    std::uint32_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        near.incidence_start[i] = kept;
+        for (std::uint32_t e = c.incidence_start[i]; e < c.incidence_start[i + 1]; ++e) {
+            near.incidence[kept] = c.incidence[e];
+            kept += is_near[c.incidence[e].contact()];
+        }
+    }
+    near.incidence_start[n] = kept;
+    near.incidence.resize(kept);
+
+    near.position_m.resize(n);
+    double drift2 = 0.0;
+    for (int k = 0; k < body_kind_count; ++k) {
+        const auto& pos = w.bodies[k].x[0];
+        const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
+        std::copy(pos.begin(), pos.end(), near.position_m.begin() + offset);
+        const Vec3* at_build = w.position_at_build_m.data() + offset;
+        for (std::size_t i = 0; i < pos.size(); ++i) drift2 = std::max(drift2, (pos[i] - at_build[i]).squaredNorm());
+    }
+    near.drift_m = std::sqrt(drift2);
+    near.skin_m = skin;
+    near.for_build = w.neighbour_builds;
+    ++near.selections;
+}
+
+/// Rebuilds the contact list at the current positions.
+void rebuild_contact_list(World& w, ThreadPool& pool);
+
+} // namespace
+
 bool update_neighbours(World& w, ThreadPool& pool)
 {
     const std::size_t n = w.body_count();
     // A wall added or removed since the last build: its contacts are not listed.
     const bool walls_listed = w.contacts.wall_start.size() == w.walls.size() + 1;
-    if (!w.neighbours_dirty && walls_listed && w.position_at_build_m.size() == n) {
-        // Rebuilt once anything has moved half the skin since the last build.
-        // Whether any has (an or of comparisons, with no chain of maxima that
-        // wait on each other) is the same test as the largest move's.
-        const double limit2 = 0.25 * w.skin_at_build_m * w.skin_at_build_m;
-        bool moved = false;
-        for (int k = 0; k < body_kind_count && !moved; ++k) {
-            const auto& pos = w.bodies[k].x[0];
-            const Vec3* at_build = w.position_at_build_m.data() + w.flat_offset(static_cast<BodyKind>(k));
-            moved = reduce_blocks(
-                pool, pos.size(), false,
-                [&](std::size_t b, std::size_t e) {
-                    bool any = false;
-                    for (std::size_t i = b; i < e; ++i) any |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
-                    return any;
-                },
-                [](bool a, bool b) { return a || b; });
-        }
-        for (std::size_t wi = 0; wi < w.walls.size() && !moved; ++wi)
-            moved = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm() >= limit2;
-        if (!moved) return false;
+    bool rebuild = w.neighbours_dirty || !walls_listed || w.position_at_build_m.size() != n;
+    bool reselect = w.near.for_build != w.neighbour_builds || w.near.position_m.size() != n;
+    if (!rebuild) {
+        // The list is rebuilt once anything has moved half the skin since its
+        // build, the near pairs selected again once a body has moved
+        // near_reselect_fraction of the near skin since theirs. A body that
+        // has not moved that far since the selection has moved less than that
+        // plus the drift (the largest move from the build to the selection)
+        // since the build. While that sum is at most 0.45 skins (a margin far
+        // above rounding), no body can need a rebuild where none needs a
+        // selection, and the near test alone runs; else both, in one pass.
+        // Either way the list is rebuilt at the steps its own test says.
+        const double skin = w.skin_at_build_m;
+        const bool near_bounds_list =
+            !reselect && w.near.drift_m + near_reselect_fraction * w.near.skin_m <= 0.45 * skin;
+        Moves moved = body_moves(w, pool, !near_bounds_list, !reselect);
+        if (near_bounds_list && moved.near) moved.list = body_moves(w, pool, true, false).list;
+        rebuild = moved.list;
+        reselect = reselect || moved.near;
+        for (std::size_t wi = 0; wi < w.walls.size() && !rebuild; ++wi)
+            rebuild = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm() >= 0.25 * skin * skin;
     }
+    if (rebuild) rebuild_contact_list(w, pool);
+    if (rebuild || reselect) select_near_pairs(w, pool);
+    return rebuild;
+}
 
+namespace {
+
+void rebuild_contact_list(World& w, ThreadPool& pool)
+{
+    const std::size_t n = w.body_count();
     const double skin = effective_skin_m(w);
     std::vector<Vec3> pos;
     std::vector<double> radius;
@@ -203,10 +327,7 @@ bool update_neighbours(World& w, ThreadPool& pool)
     w.skin_at_build_m = skin;
     w.neighbours_dirty = false;
     ++w.neighbour_builds;
-    return true;
 }
-
-namespace {
 
 /// The contact kernel: from a contact's geometry (or its absence) to its
 /// force, spring and slots, with the laws of laws/. One writer per slot.
@@ -216,11 +337,7 @@ namespace {
     if (!overlaps) {
         // Apart: the contact (and its spring) is gone. Slots of a contact
         // that was apart already are zero: leave them alone.
-        if (c.touching[p]) {
-            c.tangential[p] = TangentialState{};
-            c.output[p] = ContactOutput{};
-            c.touching[p] = 0;
-        }
+        if (c.touching[p]) c.release(p);
         return;
     }
     const double rate = g.velocity_m_per_s.dot(g.normal); // dξ/dt, > 0 while approaching
@@ -258,20 +375,27 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
     };
-    // Four or eight pairs at a time where the CPU can (same bits,
-    // contact/pair_kernel_simd.hpp); the lanes it leaves, and the rest, one by one.
+    // The near pairs only (NearPairs: the others are apart); four or eight
+    // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
+    // the lanes it leaves, and the rest, one by one.
+    WIREDEM_ASSERT(w.near.for_build == w.neighbour_builds && w.near.position_m.size() == w.body_count(),
+        "compute_contact_forces: the near pairs are not those of the contact list (update_neighbours first)");
+    const std::vector<std::uint32_t>& near = w.near.pairs;
     const SimdContactKernels simd = simd_contact_kernels();
     const std::size_t lanes = simd.lanes;
     constexpr std::size_t pair_block = 256;
-    parallel_for_blocks(pool, pairs, pair_block, [&](std::size_t begin, std::size_t end) {
-        std::size_t p = begin;
+    parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
+        const std::uint32_t* ids = near.data() + begin;
+        const std::size_t count = end - begin;
+        std::size_t q = 0;
         if (simd.pairs) {
-            p = begin + (end - begin) / lanes * lanes;
+            q = count / lanes * lanes;
             std::array<std::uint32_t, pair_block> left;
-            const std::size_t n_left = simd.pairs(c, begin, p, in, left.data());
+            const std::size_t n_left =
+                simd.pairs(c, ids, w.near.first.data() + begin, w.near.second.data() + begin, q, in, left.data());
             for (std::size_t i = 0; i < n_left; ++i) pair(left[i]);
         }
-        for (; p < end; ++p) pair(p);
+        for (; q < count; ++q) pair(ids[q]);
     });
     auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
@@ -332,8 +456,8 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
 namespace {
 
 /// The scalar gather of bodies [begin, end) of one kind (gather_simd.hpp
-/// has the AVX2 one, with the same bits): pairs, then walls in wall order
-/// (ascending contact index); zero while apart. The force on `second` is
+/// has the AVX2 one, with the same bits): near pairs, then walls in wall
+/// order (ascending contact index); zero while apart. The force on `second` is
 /// (−1)·F (and f + (−F) is f − F exactly); the lever arm r − ξ/2 is the
 /// kernel's own expression.
 template <bool rotates>
@@ -343,9 +467,9 @@ void gather_scalar(const GatherInputs& in, std::size_t begin, std::size_t end)
     for (std::size_t i = begin; i < end; ++i) {
         Vec3 f = in.mass_kg[i] * in.gravity_m_per_s2;
         Vec3 tau = Vec3::Zero();
-        const std::uint32_t last = c.incidence_start[in.flat_offset + i + 1];
-        for (std::uint32_t e = c.incidence_start[in.flat_offset + i]; e < last; ++e) {
-            const Incidence link = c.incidence[e];
+        const std::uint32_t last = in.incidence_start[in.flat_offset + i + 1];
+        for (std::uint32_t e = in.incidence_start[in.flat_offset + i]; e < last; ++e) {
+            const Incidence link = in.incidence[e];
             const ContactOutput& out = c.output[link.contact()];
             f += link.sign() * out.force_n;
             if constexpr (rotates) tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
@@ -364,6 +488,14 @@ void gather_block_scalar(const GatherInputs& in, std::size_t begin, std::size_t 
 
 } // namespace
 
+// Each body sums the records of its near pairs and walls (NearPairs), in the
+// contact list's order; the pairs left out are apart, their records zero.
+// Leaving them out gives the bits of a sum over every listed contact: a zero
+// record adds +0 (as first side) or −0 (as second) to the force, and +0 to
+// the torque ((r − 0/2)·(+0)). x + (−0) is x for every x, and x + (+0) is x
+// unless x is −0. Neither sum can be −0 where a zero record would come: the
+// torque starts at +0, the force at m g with every component −0 made +0, and
+// a sum of IEEE additions rounded to nearest is −0 only if both terms are.
 void gather_forces(World& w, ThreadPool& pool)
 {
     const SimdGather simd = simd_gather();
@@ -373,10 +505,13 @@ void gather_forces(World& w, ThreadPool& pool)
         const TranslationalState& body = w.bodies[k];
         GatherInputs in;
         in.contacts = &w.contacts;
+        in.incidence_start = w.near.incidence_start.data();
+        in.incidence = w.near.incidence.data();
         in.flat_offset = w.flat_offset(kind);
         in.mass_kg = body.mass_kg.data();
         in.radius_m = body.radius_m.data();
-        if (w.gravity_acts[k]) in.gravity_m_per_s2 = w.gravity_m_per_s2;
+        // + 0: a component −0 becomes +0 (see above).
+        if (w.gravity_acts[k]) in.gravity_m_per_s2 = w.gravity_m_per_s2 + Vec3::Zero();
         if (kind == BodyKind::wire) in.extra_force_n = w.wire_forces.node_force_n.data();
         if (kind == BodyKind::membrane) in.extra_force_n = w.membrane_forces.node_force_n.data();
         in.force_n = w.body_force_n[k].data();

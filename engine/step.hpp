@@ -40,14 +40,27 @@ void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory);
 
 /// Moves walls with their prescribed velocity by one step.
 void move_walls(State& s);
+/// The near skin (NearPairs) as a fraction of the contact list's skin.
+inline constexpr double near_skin_fraction = 0.25;
+/// The near pairs are selected again once a body has moved this fraction of
+/// the near skin since the last selection. Below one half: the pairs left out
+/// had a gap of at least the near skin, and two bodies that each move less
+/// than 0.4 of it leave at least 0.2 of it, far above the rounding of the
+/// gap and move tests.
+inline constexpr double near_reselect_fraction = 0.4;
+
 /// Rebuilds the contact list (body pairs and body–wall contacts) if a body or
 /// a wall moved more than half the skin since the last build, or bodies or
-/// walls were added. Returns true if it rebuilt.
+/// walls were added, and selects the near pairs (NearPairs) after a rebuild
+/// or once a body has moved near_reselect_fraction of the near skin. Returns
+/// true if it rebuilt the list.
 bool update_neighbours(World& w, ThreadPool& pool);
-/// Evaluates every contact of the list, body pairs and body–wall contacts,
-/// with one kernel (geometry adapters in contact/geometry.hpp, the laws of
-/// laws/; one writer per contact slot), then totals each wall's force. With
-/// `keep`, the contacts' memory is not advanced (ContactInputs::memory).
+/// Evaluates the near body pairs of the list and every body–wall contact
+/// (the other listed pairs are apart until the next selection), with one
+/// kernel (geometry adapters in contact/geometry.hpp, the laws of laws/; one
+/// writer per contact slot), then totals each wall's force. With `keep`, the
+/// contacts' memory is not advanced (ContactInputs::memory). Needs the near
+/// pairs of the current list (update_neighbours).
 void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory = MemoryUpdate::commit);
 /// Sums each body's contact, element and gravity forces in a fixed order.
 void gather_forces(World& w, ThreadPool& pool);

@@ -232,15 +232,15 @@ inline constexpr auto pack_lanes_table = pack_table<std::uint8_t, 4>(0x80);
 /// 32-bit lane indices (_mm256_permutevar8x32) that pack doubles.
 inline constexpr auto pack_doubles_table = pack_table<std::int32_t, 2>(0);
 
-/// Writes first + l for each lane l set in `lanes_set`, in lane order, to
-/// out[0], out[1], …, and returns how many: one shuffle instead of a branch
-/// per set lane. Writes four words at `out` whatever the count.
-[[WIREDEM_AVX2]] inline std::size_t append_lane_ids(std::uint32_t* out, std::uint32_t first, std::uint32_t lanes_set)
+/// Writes ids[l] for each lane l set in `lanes_set`, in lane order, to
+/// out[0], out[1], …, and returns how many (one shuffle, no branch per set
+/// lane). Writes four words at `out` whatever the count.
+[[WIREDEM_AVX2]] inline std::size_t append_ids(std::uint32_t* out, const std::uint32_t* ids, std::uint32_t lanes_set)
 {
     const unsigned m = lanes_set & 0xFu;
-    const __m128i ids = _mm_add_epi32(_mm_set1_epi32(static_cast<int>(first)), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ids));
     const __m128i shuffle = _mm_loadu_si128(reinterpret_cast<const __m128i*>(pack_lanes_table[m].data()));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_shuffle_epi8(ids, shuffle));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_shuffle_epi8(v, shuffle));
     return static_cast<std::size_t>(std::popcount(m));
 }
 

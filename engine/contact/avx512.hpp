@@ -244,14 +244,15 @@ struct Records4 {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_i32gather_epi32(reinterpret_cast<const int*>(refs), index, 4));
 }
 
-/// Writes first + l for each lane l set in `lanes_set`, in lane order, to
+/// Writes ids[l] for each lane l set in `lanes_set`, in lane order, to
 /// out[0], out[1], …, and returns how many: one compress instead of a branch
 /// per set lane (which lanes are set is a coin toss to the branch predictor).
 /// Writes eight words at `out` whatever the count.
-[[WIREDEM_AVX512]] inline std::size_t append_lane_ids(std::uint32_t* out, std::uint32_t first, std::uint32_t lanes_set)
+[[WIREDEM_AVX512]] inline std::size_t append_ids(std::uint32_t* out, const std::uint32_t* ids, std::uint32_t lanes_set)
 {
-    const __m256i ids = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(first)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes_set), ids));
+    const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids));
+    const __m256i packed = _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes_set), v);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), packed);
     return static_cast<std::size_t>(std::popcount(lanes_set & 0xFFu));
 }
 

@@ -97,6 +97,15 @@ struct ContactList {
     /// may be a wall_ref.
     [[nodiscard]] std::optional<std::size_t> find(BodyRef first_side, BodyRef second_side) const;
 
+    /// Contact p is apart: its spring, outputs and touching flag go back to
+    /// zero (what every slot of a contact apart holds).
+    void release(std::size_t p)
+    {
+        tangential[p] = TangentialState{};
+        output[p] = ContactOutput{};
+        touching[p] = 0;
+    }
+
     /// Whether a body of `kind` touches wall `wall` this step (false for a
     /// wall added since the last rebuild).
     [[nodiscard]] bool wall_touches(std::size_t wall, BodyKind kind) const;
@@ -122,6 +131,38 @@ struct ContactList {
 private:
     /// wall_start and the incidence list, from first and second.
     void index(std::size_t walls, const FlatOffsets& flat);
+};
+
+/// The listed body pairs that may touch before any body has moved a part of
+/// the near skin (a second, shorter Verlet list inside the contact list):
+/// those whose gap was below that skin at the selection. The kernel
+/// evaluates only these (and every wall contact), and the gather reads only
+/// their records. Every other listed pair stays apart until the next
+/// selection: its slots are zero (the selection clears a pair that touched
+/// last step and is apart now, as the kernel would), and leaving a zero
+/// record out of a body's sum changes no bit (gather_forces says why). So
+/// which pairs are near, and when they were selected, never shows in a
+/// result: a snapshot does not keep them, and a restored run selects afresh.
+/// Selected by update_neighbours at every rebuild of the contact list and
+/// whenever a body has moved near_reselect_fraction of the near skin since.
+struct NearPairs {
+    static constexpr std::uint64_t none = ~std::uint64_t{0};
+    std::vector<std::uint32_t> pairs;           ///< indices of body pairs in the contact list, ascending
+    std::vector<BodyRef> first, second;         ///< their sides (ContactList::first, second), read in a row
+    /// Each flat body's incidences (ContactList::incidence, in its order)
+    /// on near pairs and on walls: CSR offsets, size bodies + 1.
+    std::vector<std::uint32_t> incidence_start;
+    std::vector<Incidence> incidence;
+    std::vector<Vec3> position_m;               ///< flat positions at the selection
+
+    double skin_m = 0.0;                        ///< the near skin of the selection [m]
+    /// The largest move of a body from the contact list's build to the
+    /// selection [m]: with the near limit, it bounds a body's move since the
+    /// build (update_neighbours).
+    double drift_m = 0.0;
+
+    std::uint64_t for_build = none;             ///< the contact list's build (neighbour_builds) it was made from
+    std::uint64_t selections = 0;               ///< how many selections so far (a statistic)
 };
 
 } // namespace wiredem::engine

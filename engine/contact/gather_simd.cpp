@@ -45,7 +45,7 @@ template <bool rotates>
     for (std::size_t i = begin; i < end; ++i) {
         // Four bodies without a contact (most wire and membrane nodes): m g
         // (+ extra), and no torque, four at a time in the same operations.
-        if (i + 4 <= end && c.incidence_start[in.flat_offset + i] == c.incidence_start[in.flat_offset + i + 4]) {
+        if (i + 4 <= end && in.incidence_start[in.flat_offset + i] == in.incidence_start[in.flat_offset + i + 4]) {
             const __m256d m = _mm256_loadu_pd(in.mass_kg + i);
             avx2::V3 f{m * gravity.x, m * gravity.y, m * gravity.z};
             if (in.extra_force_n != nullptr) f = f + avx2::load_consecutive_vec3s(in.extra_force_n[i].data());
@@ -60,9 +60,9 @@ template <bool rotates>
         __m256d f = load3(weight);
         __m256d tau = _mm256_setzero_pd();
         const __m256d r = _mm256_set1_pd(in.radius_m[i]);
-        const std::uint32_t last = c.incidence_start[in.flat_offset + i + 1];
-        for (std::uint32_t e = c.incidence_start[in.flat_offset + i]; e < last; ++e) {
-            const Incidence link = c.incidence[e];
+        const std::uint32_t last = in.incidence_start[in.flat_offset + i + 1];
+        for (std::uint32_t e = in.incidence_start[in.flat_offset + i]; e < last; ++e) {
+            const Incidence link = in.incidence[e];
             const double* record = records + 8 * std::size_t{link.contact()};
             const __m256d force_overlap = _mm256_load_pd(record);
             f = f + _mm256_set1_pd(link.sign()) * force_overlap;

@@ -15,7 +15,10 @@ namespace wiredem::engine {
 
 /// What the gather of one body kind reads and writes.
 struct GatherInputs {
-    const ContactList* contacts = nullptr;
+    const ContactList* contacts = nullptr;   ///< the records (ContactList::output)
+    /// Each flat body's incidences to sum (NearPairs): CSR offsets and links.
+    const std::uint32_t* incidence_start = nullptr;
+    const Incidence* incidence = nullptr;
     std::size_t flat_offset = 0;         ///< flat index of the kind's first body
     const double* mass_kg = nullptr;
     const double* radius_m = nullptr;

@@ -75,8 +75,8 @@ SimdContactKernels simd_contact_kernels()
 {
     switch (simd_isa()) {
 #if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::pair_range, &with_avx512::wall_block};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::pair_range, &with_avx2::wall_block};
+    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::pair_ids, &with_avx512::wall_block};
+    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::pair_ids, &with_avx2::wall_block};
 #endif
     default: return {};
     }

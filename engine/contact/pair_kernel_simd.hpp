@@ -4,7 +4,7 @@
 // one kernel text, contact/pair_kernel_lanes.inc, for both; one law, two
 // geometries, as in the scalar pipeline), and with AVX-512 also the grains'
 // turn (integrate/rotation_simd.cpp), the membrane (forces/membrane_simd.cpp)
-// and the wire (forces/wire_simd.cpp). The pair kernel takes a stretch of
+// and the wire (forces/wire_simd.cpp). The pair kernel takes a list of
 // pairs of any kinds (grains, wire nodes, membrane nodes: the same
 // sphere–sphere law): it screens them `lanes` at a time for overlap, then
 // runs the law on the overlapping ones packed `lanes` to a block (about a
@@ -65,12 +65,12 @@ struct ContactInputs {
 /// The inputs of the world's current state (valid until its bodies change).
 [[nodiscard]] ContactInputs contact_inputs(const World& w);
 
-/// Evaluates the body pairs [begin, end) of `c` (end − begin a multiple of
-/// `lanes`) as the scalar kernel would, save the ones whose indices it
-/// writes to `left` (it returns how many; room for end − begin is enough):
-/// the caller evaluates those.
-using SimdPairRangeKernel = std::size_t (*)(
-    ContactList& c, std::size_t begin, std::size_t end, const ContactInputs& in, std::uint32_t* left);
+/// Evaluates the body pairs ids[0 … n) of `c`, whose sides are first[k] and
+/// second[k] (n a multiple of `lanes`; the near pairs, NearPairs), as the
+/// scalar kernel would, save the ones whose indices it writes to `left` (it
+/// returns how many; room for n is enough): the caller evaluates those.
+using SimdPairKernel = std::size_t (*)(ContactList& c, const std::uint32_t* ids, const BodyRef* first,
+    const BodyRef* second, std::size_t n, const ContactInputs& in, std::uint32_t* left);
 
 /// Evaluates the contacts [p, p + lanes) of `c`, all of wall `wall` (plane
 /// or cylinder; `lanes` that of the kernels in use, SimdContactKernels),
@@ -97,7 +97,7 @@ enum class SimdIsa : std::uint8_t { none, avx2, avx512 };
 /// 0, null kernels) for the scalar path only.
 struct SimdContactKernels {
     std::size_t lanes = 0;
-    SimdPairRangeKernel pairs = nullptr;
+    SimdPairKernel pairs = nullptr;
     SimdWallKernel wall = nullptr;
 };
 [[nodiscard]] SimdContactKernels simd_contact_kernels();

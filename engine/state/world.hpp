@@ -165,6 +165,7 @@ struct Caches {
     /// the listed contact: a rebuild carries it over (ContactList::rebuild),
     /// and state_hash covers it.
     ContactList contacts;
+    NearPairs near;                        ///< the pairs of `contacts` that the kernel evaluates
     CellGrid grid;
     std::vector<Vec3> position_at_build_m; ///< flat positions at the last rebuild
     /// The skin the list was built with (effective_skin_m then) [m]: the list

@@ -3,12 +3,16 @@
 // contacts live in the contact list with their tangential memory.
 #include "helpers.hpp"
 #include "laws/hertz.hpp"
+#include "scene.hpp"
+#include "step.hpp"
 #include "timestep.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <vector>
 
 using namespace wiredem::engine;
 using namespace wiredem::engine::test;
@@ -248,4 +252,173 @@ TEST(ContactPipeline, AListHoldsForTheSkinItWasBuiltWithWhateverTheSkinIsSetToSi
     EXPECT_GE(w.neighbour_builds, 2u);
     // The discrete impact's peak to the integrator's error (10⁴ steps per contact).
     EXPECT_NEAR(deepest / hertz_m, 1.0, 1e-2);
+}
+
+// The near pairs (NearPairs): the kernel evaluates the listed pairs whose gap
+// was below the near skin at the last selection, the gather sums only their
+// records, and leaving the others out changes no bit.
+namespace {
+
+/// A column of soft grains falling into a cylinder, kicked sideways: pairs
+/// come near, touch and part, so the near pairs are selected again and again.
+void build_kicked_column(Simulation& sim, const Vec3& gravity)
+{
+    ContainerSpec spec;
+    spec.container_radius_m = 6e-3;
+    spec.grains = 400;
+    spec.grain.youngs_modulus_pa = 1e8;
+    spec.seed = 11;
+    build_container(sim.world, spec);
+    sim.world.gravity_m_per_s2 = gravity;
+    sim.world.contact.normal_damping_s = 1e-5;
+    sim.world.dt_s = stable_time_step(sim.world).auto_s;
+    SplitMix64 rng(5);
+    for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i) {
+        const double vx = rng.uniform() - 0.5;
+        const double vy = rng.uniform() - 0.5;
+        set_velocity(sim.world, {BodyKind::grain, i}, Vec3(vx, vy, -1.0));
+    }
+}
+
+/// The gap r_a + r_b − |x_b − x_a| of listed pair p, negated: > 0 apart.
+double pair_gap_m(const World& w, std::size_t p)
+{
+    const BodyRef a = w.contacts.first[p], b = w.contacts.second[p];
+    const TranslationalState &A = w.of(a.kind()), &B = w.of(b.kind());
+    return (B.x[0][b.index()] - A.x[0][a.index()]).norm() - A.radius_m[a.index()] - B.radius_m[b.index()];
+}
+
+} // namespace
+
+TEST(NearPairs, EveryListedPairLeftOutIsApartWithItsSlotsZero)
+{
+    Simulation sim(1);
+    build_kicked_column(sim, Vec3(0, 0, -9.81));
+    World& w = sim.world;
+    std::size_t left_out = 0;
+    const std::uint64_t selections0 = w.near.selections;
+    for (int s = 0; s < 1500; ++s) {
+        ASSERT_EQ(sim.run(1).end, RunEnd::completed);
+        const ContactList& c = w.contacts;
+        ASSERT_EQ(w.near.for_build, w.neighbour_builds);
+        std::vector<bool> is_near(c.pair_count(), false);
+        for (std::uint32_t p : w.near.pairs) is_near[p] = true;
+        for (std::size_t p = 0; p < c.pair_count(); ++p) {
+            if (is_near[p]) continue;
+            ++left_out;
+            // At least 0.2 near skins when the kernel ran; the corrector
+            // has moved the bodies by far less since.
+            ASSERT_GT(pair_gap_m(w, p), 0.1 * w.near.skin_m) << "pair " << p << " at step " << s;
+            ASSERT_EQ(c.touching[p], 0) << "pair " << p;
+            ASSERT_TRUE(c.tangential[p].spring_m.isZero(0.0) && c.tangential[p].sticking);
+            ASSERT_TRUE(c.output[p].force_n.isZero(0.0) && c.output[p].normal_x_tangential_n.isZero(0.0)
+                        && c.output[p].overlap_m == 0.0 && c.output[p].normal_force_n == 0.0);
+        }
+    }
+    // Not vacuous: pairs were left out, selections came while the column moved.
+    EXPECT_GT(left_out, 10000u);
+    EXPECT_GT(w.near.selections - selections0, 10u);
+    EXPECT_GT(w.neighbour_builds, 2u);
+}
+
+TEST(NearPairs, APairThatTouchedAndIsFarAtTheSelectionIsReleased)
+{
+    // Two grains pressed together, evaluated; then one is moved (by hand,
+    // between calls of the stages) 0.3 skins away: less than half the skin,
+    // so the list stays, but more than the near skin, so the selection
+    // leaves the pair out, and must release it as the kernel would.
+    Simulation sim(1);
+    World& w = sim.world;
+    reset_world(w, grain_material, 1e-7);
+    add_grain(w, Vec3(0, 0, 0), radius_m, 0);
+    add_grain(w, Vec3(1.99 * radius_m, 0, 0), radius_m, 0, Vec3(0.01, 0.02, 0));
+    update_neighbours(w, sim.pool());
+    compute_contact_forces(w, sim.pool());
+    ASSERT_EQ(w.contacts.size(), 1u);
+    ASSERT_EQ(w.contacts.touching[0], 1);
+    ASSERT_FALSE(w.contacts.tangential[0].spring_m.isZero(0.0));
+    w.bodies[0].x[0][1].x() += 0.31 * w.skin_at_build_m;
+    const std::uint64_t selections = w.near.selections;
+    EXPECT_FALSE(update_neighbours(w, sim.pool()));
+    EXPECT_EQ(w.near.selections, selections + 1);
+    ASSERT_EQ(w.contacts.size(), 1u);
+    EXPECT_TRUE(w.near.pairs.empty());
+    EXPECT_EQ(w.contacts.touching[0], 0);
+    EXPECT_TRUE(w.contacts.tangential[0].spring_m.isZero(0.0) && w.contacts.tangential[0].sticking);
+    EXPECT_TRUE(w.contacts.output[0].force_n.isZero(0.0) && w.contacts.output[0].normal_force_n == 0.0);
+    compute_contact_forces(w, sim.pool());
+    gather_forces(w, sim.pool());
+    EXPECT_TRUE(w.body_force_n[0][0].isZero(0.0) && w.body_force_n[0][1].isZero(0.0));
+}
+
+TEST(NearPairs, TheGatherGivesTheBitsOfASumOverEveryListedContact)
+{
+    // Gravity with a −0 component too: the force starts from +0 there.
+    for (const Vec3& gravity : {Vec3(0, 0, -9.81), Vec3(-0.0, 0.0, -9.81)}) {
+        Simulation sim(1);
+        build_kicked_column(sim, gravity);
+        World& w = sim.world;
+        std::size_t compared = 0;
+        for (int s = 0; s < 600; ++s) {
+            ASSERT_EQ(sim.run(1).end, RunEnd::completed);
+            if (s % 50 != 49) continue;
+            // The scalar gather's sum over every listed contact of each grain.
+            const ContactList& c = w.contacts;
+            const TranslationalState& g = w.of(BodyKind::grain);
+            const Vec3 weight_per_kg = w.gravity_m_per_s2 + Vec3::Zero();
+            for (std::size_t i = 0; i < g.size(); ++i) {
+                Vec3 f = g.mass_kg[i] * weight_per_kg;
+                Vec3 tau = Vec3::Zero();
+                for (std::uint32_t e = c.incidence_start[i]; e < c.incidence_start[i + 1]; ++e) {
+                    const ContactOutput& out = c.output[c.incidence[e].contact()];
+                    f += c.incidence[e].sign() * out.force_n;
+                    tau += (g.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+                }
+                ASSERT_EQ(std::memcmp(f.data(), w.body_force_n[0][i].data(), sizeof f), 0) << "grain " << i;
+                ASSERT_EQ(std::memcmp(tau.data(), w.grain_torque_n_m[i].data(), sizeof tau), 0) << "grain " << i;
+                ++compared;
+            }
+            EXPECT_LT(w.near.pairs.size(), c.pair_count()); // some records were left out
+        }
+        EXPECT_GT(compared, 0u);
+    }
+}
+
+TEST(NearPairs, TheListIsRebuiltAtHalfItsSkinAndTheNearPairsSelectedAtTheirLimit)
+{
+    // Bodies moved by hand between calls of update_neighbours (no step).
+    Simulation sim(1);
+    World& w = sim.world;
+    reset_world(w, grain_material, 1e-7);
+    for (int i = 0; i < 4; ++i) add_grain(w, Vec3(2.5 * radius_m * i, 0, 0), radius_m, 0);
+    ASSERT_TRUE(update_neighbours(w, sim.pool()));
+    const double skin = w.skin_at_build_m;
+    ASSERT_DOUBLE_EQ(w.near.skin_m, near_skin_fraction * skin);
+    const double near_limit = near_reselect_fraction * w.near.skin_m; // 0.1 skin
+    std::vector<Vec3>& x = w.bodies[0].x[0];
+    const std::vector<Vec3> built = x;
+    auto place = [&](int body, double from_build) { x[body] = built[body] + Vec3(0, from_build * skin, 0); };
+    auto update = [&](bool rebuilt, bool selected) {
+        const std::uint64_t builds = w.neighbour_builds, selections = w.near.selections;
+        EXPECT_EQ(update_neighbours(w, sim.pool()), rebuilt);
+        EXPECT_EQ(w.neighbour_builds - builds, rebuilt ? 1u : 0u);
+        EXPECT_EQ(w.near.selections - selections, selected ? 1u : 0u);
+    };
+    const double n = near_limit / skin;
+    place(0, 0.9 * n);
+    update(false, false);
+    place(0, 1.1 * n); // selected again: body 0 has drifted 0.11 skins from the build
+    update(false, true);
+    // Body 0 on, one selection per near limit, until its drift leaves less
+    // than a near limit below 0.45 skins: from then on both tests run.
+    for (double at = 2.2 * n; at < 0.45; at += 1.1 * n) {
+        place(0, at);
+        update(false, true);
+    }
+    place(1, 0.5 * n); // another body, below its near limit: nothing
+    update(false, false);
+    place(0, 0.49);    // below half the skin from the build, less than the near limit since the selection
+    update(false, false);
+    place(0, 0.51);    // half the skin: rebuilt, and selected with it
+    update(true, true);
 }

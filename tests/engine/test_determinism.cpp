@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <map>
+#include <numeric>
 
 using namespace wiredem::engine;
 
@@ -195,8 +196,9 @@ namespace {
 std::vector<bool> pairs_taken(const SimdContactKernels& simd, ContactList& c, const ContactInputs& in)
 {
     const std::size_t end = c.pair_count() / simd.lanes * simd.lanes;
-    std::vector<std::uint32_t> left(end);
-    const std::size_t n_left = simd.pairs(c, 0, end, in, left.data());
+    std::vector<std::uint32_t> ids(end), left(end);
+    std::iota(ids.begin(), ids.end(), 0u);
+    const std::size_t n_left = simd.pairs(c, ids.data(), c.first.data(), c.second.data(), end, in, left.data());
     std::vector<bool> taken(end, true);
     for (std::size_t i = 0; i < n_left; ++i) taken[left[i]] = false;
     return taken;
