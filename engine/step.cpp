@@ -114,8 +114,9 @@ Moves body_moves(const World& w, ThreadPool& pool, bool check_list, bool check_n
     for (int k = 0; k < body_kind_count && !(moved.list && moved.near); ++k) {
         const auto& pos = w.bodies[k].x[0];
         const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
-        const Vec3* at_build = w.position_at_build_m.data() + offset;
-        const Vec3* at_selection = w.near.position_m.data() + offset;
+        // Only the positions looked at: the other array may be empty.
+        const Vec3* at_build = check_list ? w.position_at_build_m.data() + offset : nullptr;
+        const Vec3* at_selection = check_near ? w.near.position_m.data() + offset : nullptr;
         const auto kind = reduce_blocks(
             pool, pos.size(), Moves{},
             [&](std::size_t b, std::size_t e) {

@@ -5,11 +5,12 @@
 // geometries, as in the scalar pipeline), and with AVX-512 also the grains'
 // turn (integrate/rotation_simd.cpp), the membrane (forces/membrane_simd.cpp)
 // and the wire (forces/wire_simd.cpp). The pair kernel takes a list of
-// pairs of any kinds (grains, wire nodes, membrane nodes: the same
-// sphere–sphere law): it screens them `lanes` at a time for overlap, then
-// runs the law on the overlapping ones packed `lanes` to a block (about a
-// third of the listed pairs of a packing are apart, and a block of
-// consecutive pairs would run the law on them too); it does the pairs that
+// pairs of any kinds (the near pairs, NearPairs; grains, wire nodes,
+// membrane nodes: the same sphere–sphere law): it screens them `lanes` at a
+// time for overlap, then runs the law on the overlapping ones packed
+// `lanes` to a block (about a fifth of the near pairs of a packing at rest
+// are apart, and a block of consecutive pairs would run the law on them
+// too); it does the pairs that
 // are apart or overlapping with a certain branch of the tangential law
 // (sticking, sliding on, re-sticking, breaking), and returns the others (a
 // NaN, a boundary case) to the scalar kernel of compute_contact_forces
