@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 
 namespace wiredem::engine {
 void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
@@ -152,6 +153,18 @@ void select_near_pairs(World& w, ThreadPool& pool)
     NearPairs& near = w.near;
     const double skin = near_skin_fraction * w.skin_at_build_m;
     const std::size_t pairs = c.pair_count();
+    near.for_build = w.neighbour_builds;
+    ++near.selections;
+    if (near.all) {
+        near.pairs.resize(pairs);
+        std::iota(near.pairs.begin(), near.pairs.end(), 0u);
+        for (auto* v : {&near.first, &near.second}) v->clear();
+        near.incidence_start.clear();
+        near.incidence.clear();
+        near.position_m.clear();
+        near.skin_m = near.drift_m = 0.0;
+        return;
+    }
     std::vector<std::uint8_t> is_near(c.size(), 1); // wall contacts: always evaluated
     parallel_for_blocks(pool, pairs, 1024, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = begin; p < end; ++p) {
@@ -200,8 +213,6 @@ void select_near_pairs(World& w, ThreadPool& pool)
     }
     near.drift_m = std::sqrt(drift2);
     near.skin_m = skin;
-    near.for_build = w.neighbour_builds;
-    ++near.selections;
 }
 
 /// Rebuilds the contact list at the current positions.
@@ -215,8 +226,14 @@ bool update_neighbours(World& w, ThreadPool& pool)
     // A wall added or removed since the last build: its contacts are not listed.
     const bool walls_listed = w.contacts.wall_start.size() == w.walls.size() + 1;
     bool rebuild = w.neighbours_dirty || !walls_listed || w.position_at_build_m.size() != n;
-    bool reselect = w.near.for_build != w.neighbour_builds || w.near.position_m.size() != n;
-    if (!rebuild) {
+    bool reselect = w.near.for_build != w.neighbour_builds || (!w.near.all && w.near.position_m.size() != n);
+    if (!rebuild && w.near.all && !reselect) {
+        // Every listed pair near: the list's own test alone.
+        rebuild = body_moves(w, pool, true, false).list;
+        for (std::size_t wi = 0; wi < w.walls.size() && !rebuild; ++wi)
+            rebuild = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm()
+                   >= 0.25 * w.skin_at_build_m * w.skin_at_build_m;
+    } else if (!rebuild) {
         // The list is rebuilt once anything has moved half the skin since its
         // build, the near pairs selected again once a body has moved
         // near_reselect_fraction of the near skin since theirs. A body that
@@ -236,7 +253,14 @@ bool update_neighbours(World& w, ThreadPool& pool)
         for (std::size_t wi = 0; wi < w.walls.size() && !rebuild; ++wi)
             rebuild = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm() >= 0.25 * skin * skin;
     }
-    if (rebuild) rebuild_contact_list(w, pool);
+    if (rebuild) {
+        // The last list's life decides whether this one's pairs are selected.
+        NearPairs& near = w.near;
+        near.all = near.list_built_at_step != NearPairs::none
+                && w.step_count - near.list_built_at_step < near_min_list_life_steps;
+        near.list_built_at_step = w.step_count;
+        rebuild_contact_list(w, pool);
+    }
     if (rebuild || reselect) select_near_pairs(w, pool);
     return rebuild;
 }
@@ -379,7 +403,8 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     // The near pairs only (NearPairs: the others are apart); four or eight
     // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
     // the lanes it leaves, and the rest, one by one.
-    WIREDEM_ASSERT(w.near.for_build == w.neighbour_builds && w.near.position_m.size() == w.body_count(),
+    WIREDEM_ASSERT(
+        w.near.for_build == w.neighbour_builds && (w.near.all || w.near.position_m.size() == w.body_count()),
         "compute_contact_forces: the near pairs are not those of the contact list (update_neighbours first)");
     const std::vector<std::uint32_t>& near = w.near.pairs;
     const SimdContactKernels simd = simd_contact_kernels();
@@ -392,8 +417,10 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         if (simd.pairs) {
             q = count / lanes * lanes;
             std::array<std::uint32_t, pair_block> left;
-            const std::size_t n_left =
-                simd.pairs(c, ids, w.near.first.data() + begin, w.near.second.data() + begin, q, in, left.data());
+            // Every pair near: ids[k] = begin + k, whose sides are the list's.
+            const BodyRef* first = (w.near.all ? c.first.data() : w.near.first.data()) + begin;
+            const BodyRef* second = (w.near.all ? c.second.data() : w.near.second.data()) + begin;
+            const std::size_t n_left = simd.pairs(c, ids, first, second, q, in, left.data());
             for (std::size_t i = 0; i < n_left; ++i) pair(left[i]);
         }
         for (; q < count; ++q) pair(ids[q]);
@@ -506,8 +533,8 @@ void gather_forces(World& w, ThreadPool& pool)
         const TranslationalState& body = w.bodies[k];
         GatherInputs in;
         in.contacts = &w.contacts;
-        in.incidence_start = w.near.incidence_start.data();
-        in.incidence = w.near.incidence.data();
+        in.incidence_start = (w.near.all ? w.contacts.incidence_start : w.near.incidence_start).data();
+        in.incidence = (w.near.all ? w.contacts.incidence : w.near.incidence).data();
         in.flat_offset = w.flat_offset(kind);
         in.mass_kg = body.mass_kg.data();
         in.radius_m = body.radius_m.data();

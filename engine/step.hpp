@@ -48,6 +48,11 @@ inline constexpr double near_skin_fraction = 0.25;
 /// than 0.4 of it leave at least 0.2 of it, far above the rounding of the
 /// gap and move tests.
 inline constexpr double near_reselect_fraction = 0.4;
+/// A contact list whose last one lived fewer steps than this takes all its
+/// pairs as near (NearPairs::all): where bodies cross the skin in a few
+/// steps (a column being poured), selections would come every step or two
+/// and cost more than they save.
+inline constexpr std::uint64_t near_min_list_life_steps = 100;
 
 /// Rebuilds the contact list (body pairs and body–wall contacts) if a body or
 /// a wall moved more than half the skin since the last build, or bodies or

@@ -163,6 +163,12 @@ struct NearPairs {
 
     std::uint64_t for_build = none;             ///< the contact list's build (neighbour_builds) it was made from
     std::uint64_t selections = 0;               ///< how many selections so far (a statistic)
+    /// Every listed pair is near, until the next rebuild (the list is rebuilt
+    /// too often for selections to pay, update_neighbours): `pairs` is 0, 1,
+    /// …, and the list's own sides and incidences serve (`first`, `second`,
+    /// `incidence_start`, `incidence` and `position_m` are left empty).
+    bool all = false;
+    std::uint64_t list_built_at_step = none;    ///< the step count at the contact list's last rebuild
 };
 
 } // namespace wiredem::engine

@@ -259,8 +259,10 @@ TEST(ContactPipeline, AListHoldsForTheSkinItWasBuiltWithWhateverTheSkinIsSetToSi
 // records, and leaving the others out changes no bit.
 namespace {
 
-/// A column of soft grains falling into a cylinder, kicked sideways: pairs
-/// come near, touch and part, so the near pairs are selected again and again.
+/// A column of soft grains falling into a cylinder, nudged sideways: pairs
+/// come near, touch and part, so the near pairs are selected again and
+/// again, slowly enough that the list lives near_min_list_life_steps and
+/// more (else every listed pair is near).
 void build_kicked_column(Simulation& sim, const Vec3& gravity)
 {
     ContainerSpec spec;
@@ -276,7 +278,7 @@ void build_kicked_column(Simulation& sim, const Vec3& gravity)
     for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i) {
         const double vx = rng.uniform() - 0.5;
         const double vy = rng.uniform() - 0.5;
-        set_velocity(sim.world, {BodyKind::grain, i}, Vec3(vx, vy, -1.0));
+        set_velocity(sim.world, {BodyKind::grain, i}, 0.05 * Vec3(vx, vy, -1.0));
     }
 }
 
@@ -297,10 +299,12 @@ TEST(NearPairs, EveryListedPairLeftOutIsApartWithItsSlotsZero)
     World& w = sim.world;
     std::size_t left_out = 0;
     const std::uint64_t selections0 = w.near.selections;
-    for (int s = 0; s < 1500; ++s) {
+    std::size_t selected_steps = 0;
+    for (int s = 0; s < 3000; ++s) {
         ASSERT_EQ(sim.run(1).end, RunEnd::completed);
         const ContactList& c = w.contacts;
         ASSERT_EQ(w.near.for_build, w.neighbour_builds);
+        selected_steps += !w.near.all;
         std::vector<bool> is_near(c.pair_count(), false);
         for (std::uint32_t p : w.near.pairs) is_near[p] = true;
         for (std::size_t p = 0; p < c.pair_count(); ++p) {
@@ -319,6 +323,7 @@ TEST(NearPairs, EveryListedPairLeftOutIsApartWithItsSlotsZero)
     EXPECT_GT(left_out, 10000u);
     EXPECT_GT(w.near.selections - selections0, 10u);
     EXPECT_GT(w.neighbour_builds, 2u);
+    EXPECT_GT(selected_steps, 2000u);
 }
 
 TEST(NearPairs, APairThatTouchedAndIsFarAtTheSelectionIsReleased)
@@ -421,4 +426,17 @@ TEST(NearPairs, TheListIsRebuiltAtHalfItsSkinAndTheNearPairsSelectedAtTheirLimit
     update(false, false);
     place(0, 0.51);    // half the skin: rebuilt, and selected with it
     update(true, true);
+    // That list lived no step (the last one was built at the same step
+    // count): every pair of this one is near, and there is no near test.
+    EXPECT_TRUE(w.near.all);
+    EXPECT_EQ(w.near.pairs.size(), w.contacts.pair_count());
+    const std::vector<Vec3> rebuilt = x;
+    x[2] = rebuilt[2] + Vec3(0, 1.1 * near_limit, 0);
+    update(false, false);
+    // A list that lived long enough: this one's pairs are selected again.
+    w.step_count += near_min_list_life_steps;
+    x[2] = rebuilt[2] + Vec3(0, 0.51 * skin, 0);
+    update(true, true);
+    EXPECT_FALSE(w.near.all);
+    EXPECT_EQ(w.near.position_m.size(), w.body_count());
 }
