@@ -227,26 +227,22 @@ bool update_neighbours(World& w, ThreadPool& pool)
     const bool walls_listed = w.contacts.wall_start.size() == w.walls.size() + 1;
     bool rebuild = w.neighbours_dirty || !walls_listed || w.position_at_build_m.size() != n;
     bool reselect = w.near.for_build != w.neighbour_builds || (!w.near.all && w.near.position_m.size() != n);
-    if (!rebuild && w.near.all && !reselect) {
-        // Every listed pair near: the list's own test alone.
-        rebuild = body_moves(w, pool, true, false).list;
-        for (std::size_t wi = 0; wi < w.walls.size() && !rebuild; ++wi)
-            rebuild = (w.walls[wi].point_m - w.wall_point_at_build_m[wi]).squaredNorm()
-                   >= 0.25 * w.skin_at_build_m * w.skin_at_build_m;
-    } else if (!rebuild) {
+    if (!rebuild) {
         // The list is rebuilt once anything has moved half the skin since its
         // build, the near pairs selected again once a body has moved
-        // near_reselect_fraction of the near skin since theirs. A body that
-        // has not moved that far since the selection has moved less than that
-        // plus the drift (the largest move from the build to the selection)
-        // since the build. While that sum is at most 0.45 skins (a margin far
-        // above rounding), no body can need a rebuild where none needs a
-        // selection, and the near test alone runs; else both, in one pass.
-        // Either way the list is rebuilt at the steps its own test says.
+        // near_reselect_fraction of the near skin since theirs (with every
+        // listed pair near, never). A body that has not moved that far since
+        // the selection has moved less than that plus the drift (the largest
+        // move from the build to the selection) since the build. While that
+        // sum is at most 0.45 skins (a margin far above rounding), no body can
+        // need a rebuild where none needs a selection, and the near test alone
+        // runs; else both, in one pass. Either way the list is rebuilt at the
+        // steps its own test says.
         const double skin = w.skin_at_build_m;
+        const bool check_near = !reselect && !w.near.all;
         const bool near_bounds_list =
-            !reselect && w.near.drift_m + near_reselect_fraction * w.near.skin_m <= 0.45 * skin;
-        Moves moved = body_moves(w, pool, !near_bounds_list, !reselect);
+            check_near && w.near.drift_m + near_reselect_fraction * w.near.skin_m <= 0.45 * skin;
+        Moves moved = body_moves(w, pool, !near_bounds_list, check_near);
         if (near_bounds_list && moved.near) moved.list = body_moves(w, pool, true, false).list;
         rebuild = moved.list;
         reselect = reselect || moved.near;
