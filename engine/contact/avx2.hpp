@@ -77,6 +77,7 @@ template <int P>
 [[WIREDEM_AVX2]] inline void store_lanes(std::array<double, lanes>& out, Pd a) { _mm256_storeu_pd(out.data(), a); }
 /// Every lane.
 [[WIREDEM_AVX2]] inline Mask all_lanes() { return {_mm256_castsi256_pd(_mm256_set1_epi64x(-1))}; }
+/// No lane.
 [[WIREDEM_AVX2]] inline Mask no_lanes() { return {_mm256_setzero_pd()}; }
 
 #define WIREDEM_LANES_FN WIREDEM_AVX2

@@ -61,6 +61,7 @@ template <int P>
 [[WIREDEM_AVX512]] inline void store_lanes(std::array<double, lanes>& out, Pd a) { _mm512_storeu_pd(out.data(), a); }
 /// Every lane.
 [[WIREDEM_AVX512]] inline Mask all_lanes() { return 0xFF; }
+/// No lane.
 [[WIREDEM_AVX512]] inline Mask no_lanes() { return 0; }
 
 #define WIREDEM_LANES_FN WIREDEM_AVX512

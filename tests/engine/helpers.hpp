@@ -2,8 +2,10 @@
 #pragma once
 
 #include "contact/pair_kernel_simd.hpp"
+#include "scene.hpp"
 #include "simulation.hpp"
 #include "state/world.hpp"
+#include "timestep.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -67,5 +69,31 @@ struct RestoreSimdKernels {
     RestoreSimdKernels& operator=(const RestoreSimdKernels&) = delete;
     ~RestoreSimdKernels() { set_simd_kernels(SimdKernels::automatic); }
 };
+
+} // namespace wiredem::engine::test
+
+namespace wiredem::engine::test {
+
+/// A small column of soft grains falling into a cylinder: 400 grains
+/// (E = 10⁸ Pa: a large δt, the same code paths) in R = 6 mm, γ_n = 10⁻⁵ s,
+/// the automatic δt, each grain kicked to `kick` · (u_x − ½, u_y − ½, −1)
+/// m/s with u drawn from `kick_seed`: contacts form, slide and break.
+inline void build_kicked_column(World& w, std::uint64_t seed, std::uint64_t kick_seed, double kick)
+{
+    ContainerSpec spec;
+    spec.container_radius_m = 6e-3;
+    spec.grains = 400;
+    spec.grain.youngs_modulus_pa = 1e8;
+    spec.seed = seed;
+    build_container(w, spec);
+    w.contact.normal_damping_s = 1e-5;
+    w.dt_s = stable_time_step(w).auto_s;
+    SplitMix64 rng(kick_seed);
+    for (std::uint32_t i = 0; i < w.bodies[0].size(); ++i) {
+        const double vy = rng.uniform() - 0.5; // drawn y first: one scene for every compiler (engine/scene.cpp)
+        const double vx = rng.uniform() - 0.5;
+        set_velocity(w, {BodyKind::grain, i}, kick * Vec3(vx, vy, -1.0));
+    }
+}
 
 } // namespace wiredem::engine::test

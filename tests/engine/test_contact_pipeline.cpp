@@ -259,27 +259,14 @@ TEST(ContactPipeline, AListHoldsForTheSkinItWasBuiltWithWhateverTheSkinIsSetToSi
 // records, and leaving the others out changes no bit.
 namespace {
 
-/// A column of soft grains falling into a cylinder, nudged sideways: pairs
-/// come near, touch and part, so the near pairs are selected again and
-/// again, slowly enough that the list lives near_min_list_life_steps and
+/// The kicked column nudged gently (0.05 of the kick), gravity `gravity`:
+/// pairs come near, touch and part, so the near pairs are selected again
+/// and again, slowly enough that the list lives near_min_list_life_steps and
 /// more (else every listed pair is near).
 void build_kicked_column(Simulation& sim, const Vec3& gravity)
 {
-    ContainerSpec spec;
-    spec.container_radius_m = 6e-3;
-    spec.grains = 400;
-    spec.grain.youngs_modulus_pa = 1e8;
-    spec.seed = 11;
-    build_container(sim.world, spec);
+    test::build_kicked_column(sim.world, 11, 5, 0.05);
     sim.world.gravity_m_per_s2 = gravity;
-    sim.world.contact.normal_damping_s = 1e-5;
-    sim.world.dt_s = stable_time_step(sim.world).auto_s;
-    SplitMix64 rng(5);
-    for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i) {
-        const double vx = rng.uniform() - 0.5;
-        const double vy = rng.uniform() - 0.5;
-        set_velocity(sim.world, {BodyKind::grain, i}, 0.05 * Vec3(vx, vy, -1.0));
-    }
 }
 
 /// The gap r_a + r_b − |x_b − x_a| of listed pair p, negated: > 0 apart.

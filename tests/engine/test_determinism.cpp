@@ -22,20 +22,7 @@ namespace {
 void build_column(Simulation& sim, Integrator integrator)
 {
     sim.world.integrator = integrator;
-    ContainerSpec spec;
-    spec.container_radius_m = 6e-3;
-    spec.grains = 400;
-    spec.grain.youngs_modulus_pa = 1e8; // soft grains: large δt, same code paths
-    spec.seed = 7;
-    build_container(sim.world, spec);
-    sim.world.contact.normal_damping_s = 1e-5;
-    sim.world.dt_s = stable_time_step(sim.world).auto_s;
-    SplitMix64 rng(3);
-    for (std::uint32_t i = 0; i < sim.world.bodies[0].size(); ++i) {
-        const double vy = rng.uniform() - 0.5; // drawn y first: one scene for every compiler (engine/scene.cpp)
-        const double vx = rng.uniform() - 0.5;
-        set_velocity(sim.world, {BodyKind::grain, i}, Vec3(vx, vy, -1.0));
-    }
+    test::build_kicked_column(sim.world, 7, 3, 1.0);
 }
 
 /// That column's state hash every 250 steps.
