@@ -620,8 +620,12 @@ void read_specimen(ObjectReader& r, SpecimenSpec& s)
         {"m", "H_m, height of the membrane"});
     r.integer("grain_count", IntRange{1, 100'000'000}, s.grain_count,
         {"1", "N_p. Not the paper's 1000, which fills only a few percent of the column (model spec §8)"});
-    r.number("grain_radius_m", open_closed(0.0, 0.1), s.grain_radius_m,
-        {"m", "r_p, mean grain radius"});
+    // From 10 µm down, adhesion, which the contact law leaves out, grows
+    // comparable to the contact forces a confining pressure of 10 kPa makes
+    // (pull-off 1.5 π γ r against 4 p r², γ ≈ 0.05 J/m²); far below, r³
+    // (a grain's volume, the column's fill) underflows to zero.
+    r.number("grain_radius_m", closed(1e-5, 0.1), s.grain_radius_m,
+        {"m", "r_p, mean grain radius; not below 10 µm, where adhesion (not modelled) matters"});
     r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread,
         {"1", "s: radii uniform in r_p·(1 ± s); 0 = monodisperse"});
     {

@@ -143,7 +143,7 @@ struct SpecimenSpec {
     double membrane_height_m = 0.12;           ///< H_m [m], (0, 10]
     /// N_p, [1, 1e8]. 8000, not the paper's 1000: the model spec §8.
     std::uint64_t grain_count = 8000;
-    double grain_radius_m = 1.23e-3;           ///< r_p, mean radius [m], (0, 0.1]
+    double grain_radius_m = 1.23e-3;           ///< r_p, mean radius [m], [1e-5, 0.1]
     /// s: radii uniform in r_p (1 ± s); 0 = monodisperse. [0, 0.5).
     double grain_radius_spread = 0.0;
     GrainMaterialSpec grain;                   ///< grain material
