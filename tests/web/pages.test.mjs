@@ -102,7 +102,7 @@ function watch(page) {
   return w;
 }
 
-let browser, tmp, server, mainId, xssId, summary;
+let browser, tmp, server, mainId, xssId, growId, summary;
 
 async function newPage() {
   const page = await browser.newPage();
@@ -123,7 +123,7 @@ function assertShown(text, expected, what) {
 
 before(async () => {
   tmp = mkdtempSync(path.join(tmpdir(), 'wiredem-web-'));
-  // Checkpoints every 0.2 s: the running job's curves grow several times on its page.
+  // Checkpoints every 0.2 s: a running job's curves grow on its page.
   server = await Server.start(tmp, ['--checkpoint-seconds', '0.2']);
   const spec = readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8');
   const main = await server.api('POST', '/v1/jobs', { body: spec });
@@ -133,6 +133,16 @@ before(async () => {
   const xss = await server.api('POST', '/v1/jobs', { body: JSON.stringify({ ...JSON.parse(spec), name: xssName }) });
   assert.equal(xss.status, 201);
   xssId = xss.json.id;
+  // Then a job whose tests load 20 times slower than the main job's (each
+  // lasts tens of seconds, not the main job's one or two): its page is
+  // watched until its curves have grown, whatever the machine's speed, and
+  // the job is cancelled then.
+  const slow = JSON.parse(spec);
+  slow.name = 'web test: the slow job whose curves grow';
+  slow.triaxial.plate_speed_m_per_s /= 20;
+  const grow = await server.api('POST', '/v1/jobs', { body: JSON.stringify(slow) });
+  assert.equal(grow.status, 201, JSON.stringify(grow.json));
+  growId = grow.json.id;
   browser = await puppeteer.launch({
     executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
     headless: true,
@@ -150,11 +160,12 @@ after(async () => {
   if (tmp) rmSync(tmp, { recursive: true, force: true });
 });
 
-test('job list: the job appears, its progress moves, a tag-like name is text, the state filter and cancel work; the running job\'s curves grow on its page', async () => {
+test('job list: the job appears, its progress moves, a tag-like name is text, the state filter and cancel work; a running job\'s curves grow on its page', async () => {
   const { page, w } = await newPage();
-  // The job's own page, open while it runs: its curves, from the tests' checkpoints, grow.
+  // The slow job's own page, open from while it is queued: it follows the
+  // job into its tests, and its curves, from the tests' checkpoints, grow.
   const { page: livePage, w: liveWatch } = await newPage();
-  await livePage.goto(`${server.url}/#/jobs/${mainId}`);
+  await livePage.goto(`${server.url}/#/jobs/${growId}`);
   await page.bringToFront();
   await page.goto(`${server.url}/#/`);
   await page.waitForSelector(`tr[data-id="${xssId}"]`);
@@ -174,27 +185,47 @@ test('job list: the job appears, its progress moves, a tag-like name is text, th
   assert.deepEqual(await page.$$eval('#jobs tbody tr[data-id]', (rows) => rows.map((r) => r.dataset.id)), [xssId]);
   await page.select('#state-filter', '');
 
-  // The main job's progress bar, sampled as the list refreshes, until it has
-  // succeeded; meanwhile the points of its live q–ε plot (every test's loading rows so far).
+  // The main job's progress bar, sampled as the list refreshes, until it has succeeded.
   const seen = new Set();
-  const livePoints = [];
   const deadline = Date.now() + 420000;  // a few seconds alone; minutes on a loaded CI machine
   for (;;) {
     await sleep(300);
     const row = await page.$eval(`tr[data-id="${mainId}"]`, (r) => ({ state: r.dataset.state, progress: r.querySelector('progress').value })).catch(() => null);
     if (row && ['preparing', 'running'].includes(row.state)) seen.add(row.progress);
+    if (row && row.state === 'succeeded') break;
+    assert.ok(row === null || ['queued', 'preparing', 'running'].includes(row.state), `main job ${row && row.state}: ${server.log()}`);
+    assert.ok(Date.now() < deadline, `job not finished: ${server.log()}`);
+  }
+  assert.ok(seen.size >= 2, `progress should move in the list, saw ${[...seen]}`);
+
+  // The slow job's live q–ε plot (every test's loading rows so far), as its
+  // page refreshes, until it has grown twice; then the job is cancelled.
+  const livePoints = [];
+  for (;;) {
+    await sleep(300);
     const live = await livePage.evaluate(() => {
       const plot = document.querySelector('#live-curves #plot-q');
       const note = document.querySelector('#live-note');
       return plot && note ? { points: plot.wiredemPlot.series.reduce((n, s) => n + s.x.length, 0), partial: note.dataset.partial !== undefined } : null;
     });
     if (live && live.partial && live.points > 0 && live.points !== livePoints.at(-1)) livePoints.push(live.points);
-    if (row && row.state === 'succeeded') break;
-    assert.ok(Date.now() < deadline, `job not finished: ${server.log()}`);
+    if (livePoints.length >= 3) break;
+    const state = (await server.api('GET', `/v1/jobs/${growId}`)).json.state;
+    assert.ok(['queued', 'preparing', 'running'].includes(state), `the slow job is ${state} before its curves grew (${livePoints} points): ${server.log()}`);
+    assert.ok(Date.now() < deadline, `the slow job's curves did not grow (${livePoints} points): ${server.log()}`);
   }
-  assert.ok(seen.size >= 2, `progress should move in the list, saw ${[...seen]}`);
-  assert.ok(livePoints.length >= 2, `the running job's curves should grow on its page, saw ${livePoints} points`);
-  assert.deepEqual(livePoints, [...livePoints].sort((a, b) => a - b), 'and only grow');
+  assert.deepEqual(livePoints, [...livePoints].sort((a, b) => a - b), `the running job's curves only grow: ${livePoints}`);
+  assert.equal((await server.api('DELETE', `/v1/jobs/${growId}`)).status, 200);
+  assert.equal((await server.waitFor(growId, ['cancelled'], 60000)).state, 'cancelled');
+  // The page is in the background: poll on a timer, not on animation frames.
+  await livePage.waitForFunction(() => document.querySelector('#job-state')?.textContent === 'cancelled', { polling: 200 });
+  // Its partial curves stay, and say where the tests stopped, not that they run.
+  const note = await livePage.waitForFunction(() => {
+    const text = document.querySelector('#live-note')?.textContent ?? '';
+    return text.includes('the job was cancelled') && text;
+  }, { polling: 200 }).then((h) => h.jsonValue());
+  assert.ok(note.includes('stopped') && !note.includes('running'), note);
+  assert.ok(await livePage.evaluate(() => document.querySelector('#live-curves #plot-q').wiredemPlot.series.length > 0));
   assert.deepEqual(liveWatch.problems, []);
   await livePage.close();
   summary = (await server.api('GET', `/v1/jobs/${mainId}/summary`)).json;

@@ -34,6 +34,9 @@ export function show(main, id) {
       try { await live.update(); } catch (e) { console.warn('live curves:', e.message); }
       if (stopped) return;
     }
+    // A job cancelled or failed while its tests ran: its partial curves
+    // stay (the routes answer 409 from now on), saying where the tests stopped.
+    if (live && (job.state === 'cancelled' || job.state === 'failed')) live.ended(job.state);
     if (job.state === 'succeeded' && !shownResults) {
       shownResults = true;
       if (live) { live.dispose(); live = null; }
@@ -90,12 +93,28 @@ class LiveCurves {
     }));
     this.clear();
     this.drawn = key;
-    const state = (t) => (t.state === 'running' && t.reached
-      ? `running, reached t = ${num(t.reached.time_s, 3)} s, ε₁ = ${num(t.reached.axial_strain, 3)}` : t.state || 'finished');
-    this.box.append(el('p', { class: 'muted', id: 'live-note', 'data-partial': tests.some((t) => t.partial) },
-      'Partial results, as the tests have recorded them so far: ',
-      tests.map((t) => `${kPaLabel(t.attributes.confining_pressure_pa)} ${state(t)}`).join('; '), '.'));
+    this.tests = tests;
+    this.box.append(this.note(null));
     renderCurves(this.box, null, tests, series);
+  }
+
+  /// What the curves are: the tests' states, or where they stopped if the job
+  /// ended (`jobState` cancelled or failed; null while it runs).
+  note(jobState) {
+    const state = (t) => {
+      if (t.state !== 'running') return t.state || 'finished';
+      const at = t.reached ? ` t = ${num(t.reached.time_s, 3)} s, ε₁ = ${num(t.reached.axial_strain, 3)}` : '';
+      return jobState ? `stopped${at ? ` at${at}` : ''}` : `running${at ? `, reached${at}` : ''}`;
+    };
+    return el('p', { class: 'muted', id: 'live-note', 'data-partial': this.tests.some((t) => t.partial) },
+      jobState ? `Partial results: the job was ${jobState}; its tests had recorded this much: `
+        : 'Partial results, as the tests have recorded them so far: ',
+      this.tests.map((t) => `${kPaLabel(t.attributes.confining_pressure_pa)} ${state(t)}`).join('; '), '.');
+  }
+
+  ended(jobState) {
+    const shown = this.box.querySelector('#live-note');
+    if (shown && this.tests) shown.replaceWith(this.note(jobState));
   }
 
   clear() {
