@@ -146,7 +146,8 @@ Moves body_moves(const World& w, ThreadPool& pool, bool check_list, bool check_n
 /// (NearPairs): the body pairs whose gap is below the near skin (or not a
 /// number: the kernel decides those), and each body's incidences on them and
 /// on walls. A listed pair left out that touched at the last evaluation is
-/// apart now, and released as the kernel would release it.
+/// apart now, and released as the kernel would release it. With
+/// NearPairs::all, every listed pair, with no test.
 void select_near_pairs(World& w, ThreadPool& pool)
 {
     ContactList& c = w.contacts;
@@ -154,11 +155,11 @@ void select_near_pairs(World& w, ThreadPool& pool)
     const double skin = near_skin_fraction * w.skin_at_build_m;
     const std::size_t pairs = c.pair_count();
     near.for_build = w.neighbour_builds;
-    ++near.selections;
     if (near.all) {
         near.pairs.resize(pairs);
         std::iota(near.pairs.begin(), near.pairs.end(), 0u);
-        for (auto* v : {&near.first, &near.second}) v->clear();
+        near.first.clear();
+        near.second.clear();
         near.incidence_start.clear();
         near.incidence.clear();
         near.position_m.clear();
@@ -213,6 +214,7 @@ void select_near_pairs(World& w, ThreadPool& pool)
     }
     near.drift_m = std::sqrt(drift2);
     near.skin_m = skin;
+    ++near.selections;
 }
 
 /// Rebuilds the contact list at the current positions.
@@ -413,10 +415,8 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         if (simd.pairs) {
             q = count / lanes * lanes;
             std::array<std::uint32_t, pair_block> left;
-            // Every pair near: ids[k] = begin + k, whose sides are the list's.
-            const BodyRef* first = (w.near.all ? c.first.data() : w.near.first.data()) + begin;
-            const BodyRef* second = (w.near.all ? c.second.data() : w.near.second.data()) + begin;
-            const std::size_t n_left = simd.pairs(c, ids, first, second, q, in, left.data());
+            const std::size_t n_left = simd.pairs(c, ids, w.near.first_of(c).data() + begin,
+                w.near.second_of(c).data() + begin, q, in, left.data());
             for (std::size_t i = 0; i < n_left; ++i) pair(left[i]);
         }
         for (; q < count; ++q) pair(ids[q]);
@@ -529,8 +529,8 @@ void gather_forces(World& w, ThreadPool& pool)
         const TranslationalState& body = w.bodies[k];
         GatherInputs in;
         in.contacts = &w.contacts;
-        in.incidence_start = (w.near.all ? w.contacts.incidence_start : w.near.incidence_start).data();
-        in.incidence = (w.near.all ? w.contacts.incidence : w.near.incidence).data();
+        in.incidence_start = w.near.incidence_start_of(w.contacts).data();
+        in.incidence = w.near.incidence_of(w.contacts).data();
         in.flat_offset = w.flat_offset(kind);
         in.mass_kg = body.mass_kg.data();
         in.radius_m = body.radius_m.data();

@@ -47,9 +47,11 @@ struct Incidence {
     Incidence() = default;
     Incidence(std::uint32_t contact_index, bool is_first) : bits(contact_index << 1 | (is_first ? 0u : 1u)) {}
     [[nodiscard]] std::uint32_t contact() const { return bits >> 1; }
-    [[nodiscard]] bool is_first() const { return (bits & 1u) == 0; }
+    /// 0 if the body is first, 1 if second.
+    [[nodiscard]] std::uint32_t side() const { return bits & 1u; }
+    [[nodiscard]] bool is_first() const { return side() == 0; }
     /// +1 for first, −1 for second: the sign of the contact's force on the body.
-    [[nodiscard]] double sign() const { return 1.0 - 2.0 * static_cast<double>(bits & 1u); }
+    [[nodiscard]] double sign() const { return 1.0 - 2.0 * static_cast<double>(side()); }
 };
 
 /// Flat index of the first body of each kind (grains, wire, membrane) and,
@@ -162,13 +164,27 @@ struct NearPairs {
     double drift_m = 0.0;
 
     std::uint64_t for_build = none;             ///< the contact list's build (neighbour_builds) it was made from
-    std::uint64_t selections = 0;               ///< how many selections so far (a statistic)
+    std::uint64_t selections = 0;               ///< how many selections so far (a statistic; `all` makes none)
     /// Every listed pair is near, until the next rebuild (the list is rebuilt
     /// too often for selections to pay, update_neighbours): `pairs` is 0, 1,
     /// …, and the list's own sides and incidences serve (`first`, `second`,
     /// `incidence_start`, `incidence` and `position_m` are left empty).
     bool all = false;
     std::uint64_t list_built_at_step = none;    ///< the step count at the contact list's last rebuild
+
+    /// The near pairs' sides (indexed as `pairs`), and each flat body's
+    /// incidences on them and on walls: the contact list's own while every
+    /// pair is near (then `pairs[k]` is k).
+    [[nodiscard]] const std::vector<BodyRef>& first_of(const ContactList& c) const { return all ? c.first : first; }
+    [[nodiscard]] const std::vector<BodyRef>& second_of(const ContactList& c) const { return all ? c.second : second; }
+    [[nodiscard]] const std::vector<std::uint32_t>& incidence_start_of(const ContactList& c) const
+    {
+        return all ? c.incidence_start : incidence_start;
+    }
+    [[nodiscard]] const std::vector<Incidence>& incidence_of(const ContactList& c) const
+    {
+        return all ? c.incidence : incidence;
+    }
 };
 
 } // namespace wiredem::engine

@@ -41,7 +41,7 @@ template <bool rotates>
     // a body kind without contacts).
     const auto* records = reinterpret_cast<const double*>(c.output.data());
     const __m256d half = _mm256_set1_pd(0.5);
-    // Incidence::sign(), +1 for first and −1 for second, read from a table.
+    // Incidence::sign(), read from a table by side().
     static constexpr double signs[2] = {1.0, -1.0};
     const avx2::V3 gravity = avx2::broadcast(in.gravity_m_per_s2);
     for (std::size_t i = begin; i < end; ++i) {
@@ -67,7 +67,7 @@ template <bool rotates>
             const Incidence link = in.incidence[e];
             const double* record = records + 8 * std::size_t{link.contact()};
             const __m256d force_overlap = _mm256_load_pd(record);
-            f = f + _mm256_broadcast_sd(&signs[link.bits & 1u]) * force_overlap;
+            f = f + _mm256_broadcast_sd(&signs[link.side()]) * force_overlap;
             if constexpr (rotates) {
                 const __m256d overlap = _mm256_broadcast_sd(record + 3); // ξ, loaded again rather than shuffled
                 tau = tau + (r - half * overlap) * _mm256_load_pd(record + 4);

@@ -70,10 +70,6 @@ struct RestoreSimdKernels {
     ~RestoreSimdKernels() { set_simd_kernels(SimdKernels::automatic); }
 };
 
-} // namespace wiredem::engine::test
-
-namespace wiredem::engine::test {
-
 /// A small column of soft grains falling into a cylinder: 400 grains
 /// (E = 10⁸ Pa: a large δt, the same code paths) in R = 6 mm, γ_n = 10⁻⁵ s,
 /// the automatic δt, each grain kicked to `kick` · (u_x − ½, u_y − ½, −1)
