@@ -102,6 +102,7 @@ class LiveCurves {
   /// ended (`jobState` cancelled or failed; null while it runs).
   note(jobState) {
     const state = (t) => {
+      if (jobState && t.state === 'waiting') return 'not started';
       if (t.state !== 'running') return t.state || 'finished';
       const at = t.reached ? ` t = ${num(t.reached.time_s, 3)} s, ε₁ = ${num(t.reached.axial_strain, 3)}` : '';
       return jobState ? `stopped${at ? ` at${at}` : ''}` : `running${at ? `, reached${at}` : ''}`;
