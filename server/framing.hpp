@@ -8,11 +8,29 @@
 
 #include "http.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace wiredem::server {
+
+/// The largest `--max-header-bytes`. Beast's fields store a field's name and
+/// value with 16-bit lengths and throw std::length_error, from inside the
+/// parser, for a value of 65 534 bytes or more. The session's read buffer holds
+/// at most the header limit (read_buffer_limit), and a field has to fit in it
+/// with its name, so below this limit no field can reach that size.
+inline constexpr std::uint32_t max_header_bytes_limit = 65535;
+
+/// The most bytes a session's read buffer holds: the header limit. A request's
+/// headers, each chunk-size line of a chunked body and its trailer must fit in
+/// it, so a trailer is bounded like the headers (Beast bounds only the
+/// headers): a larger one ends the read with http::error::buffer_overflow,
+/// answered 431 like headers over the limit.
+[[nodiscard]] constexpr std::size_t read_buffer_limit(std::uint32_t max_header_bytes) noexcept
+{
+    return max_header_bytes;
+}
 
 /// Why a request's framing is refused: the reply to send before closing.
 struct FramingProblem {

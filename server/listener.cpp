@@ -61,4 +61,18 @@ void Listener::on_accept(boost::system::error_code ec, tcp::socket socket)
     do_accept();
 }
 
+void run_io_loop(asio::io_context& ioc) noexcept
+{
+    for (;;) {
+        try {
+            ioc.run();
+            return;
+        } catch (const std::exception& e) {
+            spdlog::error("an I/O handler threw ({}): its connection is closed, the server carries on", e.what());
+        } catch (...) {
+            spdlog::error("an I/O handler threw: its connection is closed, the server carries on");
+        }
+    }
+}
+
 } // namespace wiredem::server

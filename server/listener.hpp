@@ -45,4 +45,13 @@ private:
     std::shared_ptr<ConnectionTable> connections_ = make_connection_table();
 };
 
+/// Runs `ioc` on the calling thread until it is stopped. No exception ends an
+/// I/O thread, and with it the server: one that escapes a handler is logged and
+/// the loop resumes (asio allows run() again after a throw). The handler that
+/// threw is destroyed in the unwinding, and with it its hold on a session, so
+/// that connection is closed; every other one carries on. The causes known
+/// are prevented where they arise (Beast's std::length_error for a field of
+/// 64 KiB: read_buffer_limit); this is the net for the unknown ones.
+void run_io_loop(boost::asio::io_context& ioc) noexcept;
+
 } // namespace wiredem::server

@@ -3,6 +3,7 @@
 // on io_threads threads → wait for SIGINT/SIGTERM → stop accepting, stop the
 // runners and requeue their jobs, let replies drain, exit 0.
 #include "config.hpp"
+#include "framing.hpp"
 #include "job_queue.hpp"
 #include "job_store.hpp"
 #include "listener.hpp"
@@ -221,7 +222,9 @@ int main(int argc, char** argv)
     app.add_option("--max-samples-per-test", cfg.max_samples_per_test, "estimated rows of a test's time series")
         ->capture_default_str()->check(CLI::Range(1.0, 1e12));
     app.add_option("--max-body-bytes", cfg.max_body_bytes, "request body limit")->capture_default_str()->check(CLI::Range(1024, 1 << 30));
-    app.add_option("--max-header-bytes", cfg.max_header_bytes, "request header limit")->capture_default_str()->check(CLI::Range(1024, 1 << 20));
+    app.add_option("--max-header-bytes", cfg.max_header_bytes,
+           "request header limit, and of a chunked body's trailer (up to 65535: Beast stores a field's length in 16 bits)")
+        ->capture_default_str()->check(CLI::Range(std::uint32_t{1024}, max_header_bytes_limit));
     unsigned idle_timeout_s = static_cast<unsigned>(cfg.idle_timeout.count());
     app.add_option("--idle-timeout", idle_timeout_s, "seconds a connection may wait with nothing of a request sent")
         ->capture_default_str()->check(CLI::Range(1u, 3600u));
@@ -380,7 +383,7 @@ int main(int argc, char** argv)
     });
 
     std::vector<std::thread> io_threads;
-    for (unsigned i = 0; i < cfg.io_threads; ++i) io_threads.emplace_back([&ioc] { ioc.run(); });
+    for (unsigned i = 0; i < cfg.io_threads; ++i) io_threads.emplace_back([&ioc] { run_io_loop(ioc); });
 
     const int sig = stop_signal.get_future().get();
     spdlog::info("{}: stopping (running jobs go back to the queue)", sig == SIGINT ? "SIGINT" : "SIGTERM");

@@ -24,6 +24,7 @@
 #include <boost/beast/http/write.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -64,7 +65,7 @@ public:
     /// to be refused (refuse()).
     Session(tcp::socket&& socket, Router& router, const ServerConfig& config, Metrics& metrics,
         std::shared_ptr<ConnectionTable> table)
-        : stream_(std::move(socket)), router_(router), config_(config), metrics_(metrics), table_(std::move(table))
+        : stream_(std::move(socket)), buffer_(read_buffer_limit(config.max_header_bytes)), router_(router), config_(config), metrics_(metrics), table_(std::move(table))
     {
         beast::error_code ec;
         const auto ep = stream_.socket().remote_endpoint(ec);
@@ -116,7 +117,7 @@ private:
         evicting_ = false;  // a claim that came as its last request began has lapsed
         idle_entry_ = table_->idle(weak_from_this());
         stream_.expires_after(config_.idle_timeout);
-        stream_.async_read_some(buffer_.prepare(first_read_bytes), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+        stream_.async_read_some(buffer_.prepare(std::min(first_read_bytes, buffer_.max_size())), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
             self->table_->busy(*self->idle_entry_);
             self->idle_entry_.reset();
             if (ec == asio::error::eof) return self->do_close();
@@ -158,6 +159,9 @@ private:
         if (ec == http::error::header_limit)
             return reply_and_close(http::status::request_header_fields_too_large, "headers_too_large",
                 "request headers exceed " + std::to_string(config_.max_header_bytes) + " bytes");
+        if (ec == http::error::buffer_overflow)  // a chunked body's trailer or chunk line: read_buffer_limit
+            return reply_and_close(http::status::request_header_fields_too_large, "headers_too_large",
+                "a chunked body's trailer or chunk line exceeds " + std::to_string(config_.max_header_bytes) + " bytes");
         if (ec && ec.category() == http::make_error_code(http::error::bad_target).category())  // ill-formed HTTP
             return reply_and_close(http::status::bad_request, "bad_request", "malformed HTTP request: " + ec.message());
         if (ec) return log_failure(ec, "read");
@@ -260,7 +264,7 @@ private:
     }
 
     beast::tcp_stream stream_;
-    beast::flat_buffer buffer_;
+    beast::flat_buffer buffer_;  ///< at most read_buffer_limit bytes
     std::optional<http::request_parser<http::string_body>> parser_;
     Router& router_;
     const ServerConfig& config_;

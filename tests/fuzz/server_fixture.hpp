@@ -7,6 +7,7 @@
 
 #include "fuzz_check.hpp"
 
+#include "framing.hpp"
 #include "job_queue.hpp"
 #include "job_store.hpp"
 #include "router.hpp"
@@ -42,6 +43,9 @@ public:
         config_.data_dir = data_dir_;
         config_.listen_port = 8080;
         config_.runner = "/bin/false";
+        // The largest header limit the server allows, so fuzz_http_request
+        // reaches fields of every size the parser can be given.
+        config_.max_header_bytes = server::max_header_bytes_limit;
         store_ = std::make_unique<server::JobStore>(":memory:");
         restore();
         queue_ = std::make_unique<server::JobQueue>(*store_, server::QueueConfig{data_dir_, config_.runner});
