@@ -18,8 +18,10 @@ specimens with other test settings (scripts/study.sh --specimens-from RUNS),
 and adds to tables.md each retest beside its original, test by test, and η at
 yield per pattern with the retests in place of their originals.
 
-Needs Debian's /usr/bin/python3 with numpy, h5py and matplotlib
-(python3-numpy, python3-h5py, python3-matplotlib); nothing else.
+Reads the campaigns with the wiredem package (python/, docs/python.md), from
+the source tree when it is not installed, and draws with its plot helpers.
+Needs Debian's /usr/bin/python3 with numpy, pandas, h5py and matplotlib
+(python3-numpy, python3-pandas, python3-h5py, python3-matplotlib); nothing else.
 """
 import argparse
 import json
@@ -28,7 +30,6 @@ import os
 import re
 import sys
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")  # files only, no display
@@ -39,6 +40,13 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Line3DCollection  # noqa: E402
 
+try:
+    import wiredem  # noqa: E402
+except ImportError:  # not installed: the package of this source tree
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+    import wiredem  # noqa: E402
+from wiredem import plots  # noqa: E402
+
 PATTERNS = ("none", "helix", "spiral_helix", "radial_helix")
 PATTERN_LABEL = {"none": "no wire", "helix": "helix", "spiral_helix": "spiral helix",
                  "radial_helix": "radial helix"}
@@ -47,7 +55,6 @@ PATTERN_COLOUR = {"none": "#555555", "helix": "#1f77b4", "spiral_helix": "#d6272
 # Line styles too, so that envelopes that coincide stay distinguishable.
 PATTERN_STYLE = {"none": "-", "helix": "--", "spiral_helix": "-.", "radial_helix": (0, (1, 1))}
 CAMPAIGN_NAME = re.compile(r"^(none|helix|spiral_helix|radial_helix)-seed(\d+)(\.json)?$")
-LOADING = 2  # the `phase` of the loading rows (0 ramp, 1 hold, 2 loading)
 
 # The radial helix's hairpin gap is 2.5 r_w (the Nozzle's NozzlePath in
 # engine/specimen/preparation.cpp); the loop lengths below follow
@@ -172,7 +179,8 @@ def loop_lengths_m(wire):
 # Campaigns
 
 class Campaign:
-    """One campaign: its summary, and its result.h5 and full job spec when present."""
+    """One campaign: its summary, and its result (wiredem.Result: result.h5 with the
+    summary beside it) and full job spec when present."""
 
     def __init__(self, pattern, seed, summary_path, h5_path):
         self.pattern, self.seed = pattern, seed
@@ -181,10 +189,10 @@ class Campaign:
             self.summary = json.load(f)
         self.h5 = h5_path if h5_path and os.path.isfile(h5_path) else None
         self.job = None
+        self.result = None
         if self.h5:
-            with h5py.File(self.h5, "r") as f:
-                raw = f["job_spec"][()]
-                self.job = json.loads(raw.decode() if isinstance(raw, bytes) else raw)
+            self.result = wiredem.open(self.h5)
+            self.job = self.result.job_spec
 
     def tests(self):
         """summary tests[], by ascending confining pressure."""
@@ -215,7 +223,7 @@ def find_campaigns(runs, report_missing=True):
             continue
         try:
             c = Campaign(pattern, seed, summary, h5)
-        except (OSError, ValueError, KeyError) as e:
+        except (OSError, ValueError, KeyError, wiredem.WiredemError) as e:
             notes.append(f"{entry}: unreadable ({e}), skipped")
             skipped.add((pattern, seed))
             continue
@@ -243,20 +251,6 @@ def lead(campaigns):
     """The campaign drawn bold or alone: seed 1, else the lowest seed with result.h5."""
     with_h5 = [c for c in campaigns if c.h5]
     return next((c for c in with_h5 if c.seed == 1), with_h5[0] if with_h5 else None)
-
-
-def test_groups(f):
-    """The /tests groups of an open result.h5, by ascending confining pressure."""
-    groups = [f["tests"][k] for k in f["tests"]]
-    return sorted(groups, key=lambda g: float(g.attrs["confining_pressure_pa"]))
-
-
-def snapshots(group):
-    """A test group's snapshots, by ascending measured axial strain."""
-    if "snapshots" not in group:
-        return []
-    snaps = [group["snapshots"][k] for k in group["snapshots"]]
-    return sorted(snaps, key=lambda s: float(s.attrs["axial_strain"]))
 
 
 # ---------------------------------------------------------------------------
@@ -331,9 +325,8 @@ def specimen_values(c):
         v["laid_pct"] = 100.0 * v["wire_length_m"] / v["nozzle_path_m"]
     else:
         v["laid_pct"] = None
-    if v["prep_wall_s"] is None and c.h5:  # summaries from before the key existed
-        with h5py.File(c.h5, "r") as f:
-            v["prep_wall_s"] = float(f["specimen"].attrs["wall_time_s"])
+    if v["prep_wall_s"] is None and c.result:  # summaries from before the key existed
+        v["prep_wall_s"] = float(c.result.specimen.attributes["wall_time_s"])
     if c.pattern == "none":  # "—" rather than rows of zeros
         v.update({k: None for k in WIRE_KEYS})
     return v
@@ -374,10 +367,9 @@ def specimen_tables(by_pattern):
 # 2. Specimen pictures
 
 def specimen_picture(p, c, out, made):
-    with h5py.File(c.h5, "r") as f:
-        s = f["specimen"]
-        gp, gr, wp = s["grain_position_m"][:] * 1e3, s["grain_radius_m"][:] * 1e3, s["wire_node_position_m"][:] * 1e3
-        height = float(s.attrs["pile_height_m"]) * 1e3
+    s = c.result.specimen
+    gp, gr, wp = s.grain_position_m * 1e3, s.grain_radius_m * 1e3, s.wire_node_position_m * 1e3
+    height = float(s.attributes["pile_height_m"]) * 1e3
     radius = c.job["specimen"]["membrane_radius_m"] * 1e3
     with_wire = len(wp) > 1
     # Tall enough for the column's aspect (the study's is 3:1, main.json's 2:3);
@@ -443,6 +435,9 @@ def specimen_picture(p, c, out, made):
 # ---------------------------------------------------------------------------
 # 3. Curves
 
+CURVE_COLUMNS = ("stress_ratio", "deviatoric_stress_pa", "volumetric_strain")
+
+
 def curves_figure(p, campaigns, colours, out, made):
     bold = lead(campaigns)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
@@ -450,36 +445,10 @@ def curves_figure(p, campaigns, colours, out, made):
         if not c.h5:
             continue
         lw, alpha = (2.0, 1.0) if c is bold else (0.8, 0.6)
-        by_pressure = {t["confining_pressure_pa"]: t for t in c.tests()}
-        with h5py.File(c.h5, "r") as f:
-            for g in test_groups(f):
-                s3 = float(g.attrs["confining_pressure_pa"])
-                rows = g["phase"][:] == LOADING
-                ea = g["axial_strain"][:][rows] * 100
-                col = colours.get(s3, "k")
-                axes[0].plot(ea, g["stress_ratio"][:][rows], color=col, lw=lw, alpha=alpha)
-                axes[1].plot(ea, g["deviatoric_stress_pa"][:][rows] / 1e3, color=col, lw=lw, alpha=alpha)
-                axes[2].plot(ea, g["volumetric_strain"][:][rows] * 100, color=col, lw=lw, alpha=alpha)
-                t = by_pressure.get(s3)
-                y = t and t.get("yield")
-                if y and y.get("axial_strain") is not None:
-                    kw = dict(marker="o", ms=7 if c is bold else 5, mfc=col, mec="k", ls="none", zorder=5)
-                    axes[0].plot(y["axial_strain"] * 100, y["stress_ratio"], **kw)
-                    axes[1].plot(y["axial_strain"] * 100, y["deviatoric_stress_pa"] / 1e3, **kw)
-                if t and t.get("peak_axial_strain") is not None:
-                    axes[1].plot(t["peak_axial_strain"] * 100, t["peak_deviatoric_stress_pa"] / 1e3, marker="^",
-                                 ms=7 if c is bold else 5, mfc="white", mec=col, mew=1.5, ls="none", zorder=5)
-    axes[0].set_ylabel("stress ratio η = (σ₁ − σ₃,eff)/(σ₁ + σ₃,eff)")
-    axes[0].set_title("stress ratio (mobilised sin φ)")
-    axes[1].set_ylabel("q = σ₁ − σ₃,eff [kPa]")
-    axes[1].set_title("deviatoric stress")
-    axes[2].set_ylabel("volumetric strain ε_v [%] (contraction > 0)")
-    axes[2].set_title("volumetric strain")
-    axes[2].axhline(0.0, color="0.7", lw=0.8)
-    for ax in axes:
-        ax.set_xlabel("axial strain ε_a [%]")
-        ax.grid(alpha=0.3)
-        ax.set_xlim(left=0)
+        for t in c.result.tests:  # yield and max-q marked at the engine's states (summary.json)
+            plots.draw_test_curves(axes, t, CURVE_COLUMNS, colour=colours.get(t.confining_pressure_pa, "k"), lw=lw,
+                                   alpha=alpha, marker_size=7 if c is bold else 5)
+    plots.label_curve_axes(axes, CURVE_COLUMNS)
     handles = [Line2D([], [], color=col, lw=2, label=f"σ₃ = {kpa(s3)}") for s3, col in colours.items()]
     handles += [Line2D([], [], color="k", lw=2, label=f"seed {bold.seed}" if bold else "seed 1"),
                 Line2D([], [], color="k", lw=0.8, alpha=0.6, label="other seeds"),
@@ -513,20 +482,15 @@ def mohr_figure(p, campaigns, colours, out, made):
             y = t.get("yield")
             if not y or y.get("sigma1_pa") is None:
                 continue
-            s1, s3 = y["sigma1_pa"] / 1e3, y["sigma3_effective_pa"] / 1e3
-            centre, radius = 0.5 * (s1 + s3), 0.5 * (s1 - s3)
-            ang = np.linspace(0, np.pi, 120)
-            col = colours.get(t["confining_pressure_pa"], "k")
-            ax.plot(centre + radius * np.cos(ang), radius * np.sin(ang), color=col,
-                    lw=1.8 if c is bold else 0.8, alpha=1.0 if c is bold else 0.6)
-            ax.plot(centre, radius, "o", color=col, ms=4)
-            sigma_max, tau_max = max(sigma_max, s1), max(tau_max, radius)
+            radius = plots.draw_mohr_circle(ax, y["sigma1_pa"], y["sigma3_effective_pa"],
+                                            colours.get(t["confining_pressure_pa"], "k"),
+                                            lw=1.8 if c is bold else 0.8, alpha=1.0 if c is bold else 0.6)
+            sigma_max, tau_max = max(sigma_max, y["sigma1_pa"] / 1e3), max(tau_max, radius)
     sigma = np.linspace(0.0, 1.05 * sigma_max if sigma_max else 1.0, 50)
     for c in campaigns:  # each seed's own envelope, thin
-        mc = c.summary.get("mohr_coulomb") or {}
-        if mc.get("friction_angle_deg") is not None:
-            ax.plot(sigma, mc["cohesion_pa"] / 1e3 + sigma * math.tan(math.radians(mc["friction_angle_deg"])),
-                    color=PATTERN_COLOUR[p], lw=0.6, alpha=0.5)
+        mc = wiredem.MohrCoulomb.from_json(c.summary.get("mohr_coulomb"))
+        if mc.friction_angle_deg is not None:
+            plots.draw_envelope(ax, mc, sigma, color=PATTERN_COLOUR[p], lw=0.6, alpha=0.5)
     st = fit_stats(campaigns, "mohr_coulomb")
     phi, c_pa, alpha = st["phi"][0], st["c"][0], st["alpha"][0]
     if phi is not None:
@@ -959,15 +923,14 @@ def tests_table(by_pattern):
 
 def wire_snapshot(c):
     """(σ₃, axial strain, segment strains) of the highest-pressure test's last snapshot, or None."""
-    with h5py.File(c.h5, "r") as f:
-        groups = test_groups(f)
-        if not groups:
-            return None
-        snaps = snapshots(groups[-1])
-        if not snaps or snaps[-1]["wire_segment_strain"].shape[0] < 2:
-            return None
-        return (float(groups[-1].attrs["confining_pressure_pa"]), float(snaps[-1].attrs["axial_strain"]),
-                snaps[-1]["wire_segment_strain"][:])
+    tests = c.result.tests
+    if not tests or not tests[-1].snapshots:
+        return None
+    last = tests[-1].snapshots[-1]
+    strain = last.wire_segment_strain
+    if strain.shape[0] < 2:
+        return None
+    return tests[-1].confining_pressure_pa, last.axial_strain, strain
 
 
 def is_lag(v):
@@ -1004,16 +967,10 @@ def wire_figure_and_rows(p, campaigns, out, made):
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(11, 7.5))
     head = next((d for d in done if d[0] is bold), done[0])
     c, s3, ea, strain, seg, r, lags, loops = head
-    s = (np.arange(len(strain)) + 0.5) * seg
-    ax1.plot(s, strain * 100, color=PATTERN_COLOUR[p], lw=0.8)
-    ax1.axhline(np.mean(strain) * 100, color="k", ls="--", lw=1)
+    plots.draw_wire_strain(ax1, strain, seg, PATTERN_COLOUR[p])
     i = int(np.argmax(strain))
-    ax1.plot(s[i], strain[i] * 100, "v", color="k", ms=8)
-    ax1.set_xlabel("position along the wire s [m] (from the end laid first)")
-    ax1.set_ylabel("segment strain [%] (stretch > 0)")
     ax1.set_title(f"segment strain, {PATTERN_LABEL[p]}, seed {c.seed}: σ₃ = {kpa(s3)}, ε_a = {ea * 100:.1f} %; "
                   f"mean {np.mean(strain) * 100:.3f} % (dashed), max {strain[i] * 100:.3f} % (▼)", fontsize=10)
-    ax1.grid(alpha=0.3)
     found = [v for d in done for v in d[6].values() if is_lag(v)]
     longest = max([v for _, v in loops] + found + [0.0])
     shown = min(len(strain) * seg / 2, max(5 * longest, 20 * seg))
@@ -1070,24 +1027,22 @@ def force_network_figure(campaigns, out, made):
     target = y.get("axial_strain")
     if target is None:
         target = tests[-1].get("peak_axial_strain")
-    with h5py.File(c.h5, "r") as f:
-        g = test_groups(f)[-1]
-        snaps = snapshots(g)
-        if not snaps or target is None:
-            return f"{c.name}: no snapshot or no yield strain"
-        snap = min(snaps, key=lambda s: abs(float(s.attrs["axial_strain"]) - target))
-        ea = float(snap.attrs["axial_strain"])
-        positions = [snap["grain_position_m"][:], snap["wire_node_position_m"][:].reshape(-1, 3),
-                     snap["membrane_node_position_m"][:]]
-        radii = snap["grain_radius_m"][:]
-        bodies = snap["contact_bodies"][:]
-        fn = snap["contact_normal_force_n"][:]
-        wall_bodies = snap["wall_contact_bodies"][:]
-        wall_force = snap["wall_contact_force_n"][:]
-        s3 = float(g.attrs["confining_pressure_pa"])
-        # The column's height at the snapshot, from the nearest row of the time series.
-        row = int(np.argmin(np.abs(g["time_s"][:] - float(snap.attrs["time_s"]))))
-        height = float(g["height_m"][row])
+    g = c.result.tests[-1]
+    if not g.snapshots or target is None:
+        return f"{c.name}: no snapshot or no yield strain"
+    snap = g.snapshot_near(target)
+    ea = snap.axial_strain
+    positions = snap.body_positions_m()
+    radii = snap.array("grain_radius_m")
+    bodies = snap.array("contact_bodies")
+    fn = snap.array("contact_normal_force_n")
+    wall_bodies = snap.array("wall_contact_bodies")
+    wall_force = snap.array("wall_contact_force_n")
+    s3 = g.confining_pressure_pa
+    # The column's height at the snapshot, from the nearest row of the time series.
+    series = g.series
+    row = int(np.argmin(np.abs(series["time_s"].to_numpy() - snap.time_s)))
+    height = float(series["height_m"].iloc[row])
     r_mean = float(np.mean(radii))
     a = np.array([positions[k][i] for k, i in bodies[:, :2]]) if len(bodies) else np.zeros((0, 3))
     b = np.array([positions[k][i] for k, i in bodies[:, 2:]]) if len(bodies) else np.zeros((0, 3))

@@ -1,0 +1,513 @@
+"""A campaign's results as numpy arrays and pandas DataFrames.
+
+Reads what ``wiredem run``, ``wiredem analyse`` and ``wiredem fetch`` write
+(docs/results.md): ``result.h5`` (format ``wiredem-result-1``, a ``units``
+attribute on every numeric dataset) and, beside it, ``summary.json``. Every
+figure the engine computed — the yield and max-q states, the residual stress
+ratio, the Mohr–Coulomb fits, the volume fractions, the wire's autocorrelation
+lags — is read from these files as the runner wrote it, never recomputed here.
+
+Units travel with the data: a DataFrame carries ``frame.attrs["units"]``
+(column → unit string, ``"1"`` for dimensionless values and counts), an array
+:meth:`Specimen.units` / :meth:`Snapshot.units`; names end in their unit
+(``_m``, ``_pa``, ``_s``) as everywhere in wiredem.
+
+Files are opened for each read and closed again: a :class:`Result` holds no
+HDF5 handle, and series are cached once read.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Union
+
+import h5py
+import numpy as np
+import pandas as pd
+
+from .errors import ResultError
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: ``phase`` of a series row: 0 pressure ramp, 1 hold, 2 loading (docs/results.md).
+RAMP, HOLD, LOADING = 0, 1, 2
+
+#: Body kinds of ``contact_bodies`` (docs/results.md).
+BODY_KINDS = {0: "grain", 1: "wire", 2: "membrane"}
+
+
+def _text(value: Any) -> str:
+    return value.decode("utf-8") if isinstance(value, bytes) else str(value)
+
+
+def _attr(value: Any) -> Any:
+    """An HDF5 attribute as a plain Python value."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray):
+        return value.tolist() if value.shape else value.item()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _attributes(obj: Any) -> Dict[str, Any]:
+    return {k: _attr(v) for k, v in obj.attrs.items()}
+
+
+def _units(ds: Any) -> Optional[str]:
+    u = ds.attrs.get("units")
+    return None if u is None else _text(u)
+
+
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class MohrCoulomb:
+    """A Mohr–Coulomb envelope τ = c + σ tan φ as the engine fitted it (summary.json).
+
+    ``mohr_coulomb`` goes through the yield states, ``mohr_coulomb_max_q``
+    through the states at the maximum of q (docs/results.md). Values are None
+    when the fit was impossible; ``error`` then says why.
+    """
+
+    friction_angle_deg: Optional[float]     #: φ [°]
+    cohesion_pa: Optional[float]            #: c [Pa]
+    r_squared: Optional[float]              #: of the fit through the circle tops; None with one test
+    paper_top_line_angle_deg: Optional[float]  #: α, the slope of the line through the tops (the paper's figure)
+    cohesion_fixed_at_zero: Optional[bool]  #: True with a single test (c = 0 imposed)
+    states: Optional[str]                   #: which states it went through
+    error: Optional[str]                    #: why there is no fit, if there is none
+    raw: Dict[str, Any] = field(repr=False, compare=False, default_factory=dict)  #: the JSON object as written
+
+    @staticmethod
+    def from_json(obj: Optional[Dict[str, Any]]) -> "MohrCoulomb":
+        obj = obj or {}
+        return MohrCoulomb(obj.get("friction_angle_deg"), obj.get("cohesion_pa"), obj.get("r_squared"),
+                           obj.get("paper_top_line_angle_deg"), obj.get("cohesion_fixed_at_zero"),
+                           obj.get("states"), obj.get("error"), dict(obj))
+
+    def shear_stress_pa(self, normal_stress_pa: Any) -> Any:
+        """The envelope's τ [Pa] at normal stresses σ [Pa] (a number or an array), for drawing it."""
+        if self.friction_angle_deg is None or self.cohesion_pa is None:
+            raise ResultError(f"no Mohr-Coulomb fit: {self.error or 'no friction angle'}")
+        return self.cohesion_pa + np.asarray(normal_stress_pa) * math.tan(math.radians(self.friction_angle_deg))
+
+
+class Specimen:
+    """The prepared specimen (``/specimen``): grains, wire and membrane as arrays [m, rad]."""
+
+    def __init__(self, path: Path) -> None:
+        self._path = path
+        with h5py.File(path, "r") as f:
+            if "specimen" not in f:
+                raise ResultError(f"{path}: no /specimen")
+            g = f["specimen"]
+            #: the group's attributes (grains, wire_length_m, volume fractions, settled, …)
+            self.attributes: Dict[str, Any] = _attributes(g)
+            self._units = {k: _units(g[k]) for k in g if isinstance(g[k], h5py.Dataset)}
+
+    @property
+    def arrays(self) -> List[str]:
+        """The names of its datasets."""
+        return list(self._units)
+
+    def units(self, name: str) -> Optional[str]:
+        """The units of array ``name`` (None in a file written without them)."""
+        return self._units[name]
+
+    def array(self, name: str) -> np.ndarray:
+        """One dataset as a numpy array (e.g. ``grain_position_m``, N×3)."""
+        if name not in self._units:
+            raise ResultError(f"{self._path}: /specimen has no {name} (it has {', '.join(self._units)})")
+        with h5py.File(self._path, "r") as f:
+            return f["specimen"][name][()]
+
+    @property
+    def grain_position_m(self) -> np.ndarray:
+        """Grain centres, N×3 [m]."""
+        return self.array("grain_position_m")
+
+    @property
+    def grain_radius_m(self) -> np.ndarray:
+        """Grain radii, N [m]."""
+        return self.array("grain_radius_m")
+
+    @property
+    def wire_node_position_m(self) -> np.ndarray:
+        """Wire nodes in the order laid, W×3 [m] (0×3 without wire)."""
+        return self.array("wire_node_position_m").reshape(-1, 3)
+
+    @property
+    def wire_rest_angle_rad(self) -> np.ndarray:
+        """The rest angle ζ₀ of each wire node's plastic joint, W [rad]."""
+        return self.array("wire_rest_angle_rad")
+
+    @property
+    def membrane_node_position_m(self) -> np.ndarray:
+        """Membrane nodes, M×3 [m]."""
+        return self.array("membrane_node_position_m")
+
+    def grains(self) -> pd.DataFrame:
+        """One row per grain: ``x_m``, ``y_m``, ``z_m``, ``radius_m`` (units in ``attrs["units"]``)."""
+        p = self.grain_position_m
+        frame = pd.DataFrame({"x_m": p[:, 0], "y_m": p[:, 1], "z_m": p[:, 2], "radius_m": self.grain_radius_m})
+        frame.index.name = "grain"
+        frame.attrs["units"] = {"x_m": "m", "y_m": "m", "z_m": "m", "radius_m": "m"}
+        return frame
+
+
+class Snapshot:
+    """One snapshot of a test (``…/snapshots/snapshot_<k>``): the column at a strain."""
+
+    def __init__(self, path: Path, group: str, attributes: Dict[str, Any], units: Dict[str, Optional[str]]) -> None:
+        self._path, self._group = path, group
+        #: requested_axial_strain, axial_strain, time_s
+        self.attributes = attributes
+        self._units = units
+        self.index = int(group.rsplit("_", 1)[1])  #: k of snapshot_<k>
+
+    def __repr__(self) -> str:
+        return f"<Snapshot {self.index} at axial strain {self.axial_strain:.4g}>"
+
+    @property
+    def axial_strain(self) -> float:
+        """The measured axial strain at the snapshot."""
+        return float(self.attributes["axial_strain"])
+
+    @property
+    def requested_axial_strain(self) -> float:
+        """The strain asked for (``triaxial.snapshot_strains``)."""
+        return float(self.attributes.get("requested_axial_strain", math.nan))
+
+    @property
+    def time_s(self) -> float:
+        """Simulated time of the snapshot [s]."""
+        return float(self.attributes.get("time_s", math.nan))
+
+    @property
+    def arrays(self) -> List[str]:
+        """The names of its datasets."""
+        return list(self._units)
+
+    def units(self, name: str) -> Optional[str]:
+        """The units of array ``name``."""
+        return self._units[name]
+
+    def array(self, name: str) -> np.ndarray:
+        """One dataset as a numpy array (``grain_position_m``, ``wire_segment_strain``, …)."""
+        if name not in self._units:
+            raise ResultError(f"{self._path}: {self._group} has no {name}")
+        with h5py.File(self._path, "r") as f:
+            return f[self._group][name][()]
+
+    @property
+    def wire_segment_strain(self) -> np.ndarray:
+        """The strain of each wire segment (stretch > 0), W − 1, in the order laid."""
+        return self.array("wire_segment_strain")
+
+    def force_network(self) -> pd.DataFrame:
+        """The contacts between bodies, one row each.
+
+        Columns: ``kind_a``, ``index_a``, ``kind_b``, ``index_b`` (kinds 0 grain,
+        1 wire, 2 membrane: :data:`BODY_KINDS`), ``force_x_n``, ``force_y_n``,
+        ``force_z_n`` (the force on the first body) and ``normal_force_n``.
+        """
+        bodies = self.array("contact_bodies").reshape(-1, 4)
+        force = self.array("contact_force_n").reshape(-1, 3)
+        frame = pd.DataFrame({"kind_a": bodies[:, 0], "index_a": bodies[:, 1], "kind_b": bodies[:, 2],
+                              "index_b": bodies[:, 3], "force_x_n": force[:, 0], "force_y_n": force[:, 1],
+                              "force_z_n": force[:, 2], "normal_force_n": self.array("contact_normal_force_n")})
+        frame.index.name = "contact"
+        frame.attrs["units"] = {"kind_a": "1", "index_a": "1", "kind_b": "1", "index_b": "1", "force_x_n": "N",
+                                "force_y_n": "N", "force_z_n": "N", "normal_force_n": "N"}
+        return frame
+
+    def wall_contacts(self) -> pd.DataFrame:
+        """The contacts with the plates and walls: ``wall``, ``kind``, ``index``, the force on the body."""
+        bodies = self.array("wall_contact_bodies").reshape(-1, 3)
+        force = self.array("wall_contact_force_n").reshape(-1, 3)
+        frame = pd.DataFrame({"wall": bodies[:, 0], "kind": bodies[:, 1], "index": bodies[:, 2],
+                              "force_x_n": force[:, 0], "force_y_n": force[:, 1], "force_z_n": force[:, 2]})
+        frame.index.name = "contact"
+        frame.attrs["units"] = {"wall": "1", "kind": "1", "index": "1", "force_x_n": "N", "force_y_n": "N",
+                                "force_z_n": "N"}
+        return frame
+
+    def body_positions_m(self) -> Dict[int, np.ndarray]:
+        """{body kind: positions N×3 [m]} (grains, wire nodes, membrane nodes), for placing contacts."""
+        names = {0: "grain_position_m", 1: "wire_node_position_m", 2: "membrane_node_position_m"}
+        return {k: self.array(n).reshape(-1, 3) for k, n in names.items() if n in self._units}
+
+
+class Test:
+    """One triaxial test (``/tests/sigma3_<σ₃>``): its time series, states and snapshots."""
+
+    def __init__(self, path: Path, group: str, summary: Optional[Dict[str, Any]]) -> None:
+        self._path, self._group = path, group
+        self.name = group.rsplit("/", 1)[1]  #: ``sigma3_20000``
+        #: summary.json's ``tests[]`` entry of this test (None without summary.json)
+        self.summary = summary
+        with h5py.File(path, "r") as f:
+            g = f[group]
+            #: the group's attributes as the runner wrote them (docs/results.md)
+            self.attributes: Dict[str, Any] = _attributes(g)
+            self._columns = {k: _units(g[k]) for k in g if isinstance(g[k], h5py.Dataset)}
+            snaps = []
+            if "snapshots" in g and isinstance(g["snapshots"], h5py.Group):
+                for k in g["snapshots"]:
+                    s = g["snapshots"][k]
+                    snaps.append(Snapshot(path, s.name, _attributes(s),
+                                          {n: _units(s[n]) for n in s if isinstance(s[n], h5py.Dataset)}))
+        #: the snapshots, by ascending measured axial strain
+        self.snapshots: List[Snapshot] = sorted(snaps, key=lambda s: (s.axial_strain, s.index))
+        self._series: Optional[pd.DataFrame] = None
+
+    def __repr__(self) -> str:
+        return f"<Test {self.name}: {len(self.snapshots)} snapshots>"
+
+    @property
+    def confining_pressure_pa(self) -> float:
+        """The applied σ₃ [Pa]."""
+        return float(self.attributes["confining_pressure_pa"])
+
+    @property
+    def units(self) -> Dict[str, Optional[str]]:
+        """{column: units} of the time series."""
+        return dict(self._columns)
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The whole time series (ramp, hold, loading), one row per sample.
+
+        Columns as docs/results.md lists them (``time_s``, ``phase``,
+        ``axial_strain``, ``sigma1_pa``, ``stress_ratio``, …), units in
+        ``frame.attrs["units"]``; the index is the sample number (``yield_sample``
+        and ``peak_sample`` point into it).
+        """
+        if self._series is None:
+            with h5py.File(self._path, "r") as f:
+                g = f[self._group]
+                data = {k: g[k][()] for k in self._columns}
+            order = ["time_s", "phase"] + [k for k in self._columns if k not in ("time_s", "phase")]
+            frame = pd.DataFrame({k: data[k] for k in order if k in data})
+            frame.index.name = "sample"
+            frame.attrs["units"] = {k: self._columns[k] for k in frame.columns}
+            frame.attrs["test"] = self.name
+            self._series = frame
+        return self._series.copy()
+
+    @property
+    def loading(self) -> pd.DataFrame:
+        """The rows of the loading phase (``phase == 2``): the curves against axial strain."""
+        s = self.series
+        out = s[s["phase"] == LOADING] if "phase" in s else s
+        out.attrs = dict(s.attrs)
+        return out
+
+    def curve(self, column: str = "stress_ratio", loading_only: bool = True) -> pd.DataFrame:
+        """``axial_strain`` and one column (default the stress ratio η) as a two-column DataFrame."""
+        s = self.loading if loading_only else self.series
+        if column not in s:
+            raise ResultError(f"{self.name}: no column {column} (it has {', '.join(s.columns)})")
+        out = s[["axial_strain", column]]
+        out.attrs = {"units": {k: s.attrs["units"].get(k) for k in ("axial_strain", column)}, "test": self.name}
+        return out
+
+    @property
+    def yield_state(self) -> Optional[Dict[str, Any]]:
+        """The state at the maximum of the smoothed stress ratio (docs/model.md, "How yield is read").
+
+        summary.json's ``tests[].yield`` (``shape``, ``stress_ratio``,
+        ``axial_strain``, ``sigma1_pa``, ``sigma3_effective_pa``,
+        ``deviatoric_stress_pa``) when there is a summary; else the group's
+        ``yield_*`` attributes (without q, which only the summary holds) and
+        ``sample``. None when the curves could not be read.
+        """
+        if self.summary is not None:
+            return self.summary.get("yield")
+        a = self.attributes
+        if "yield_stress_ratio" not in a:
+            return None
+        out = {"shape": a.get("yield_shape"), "stress_ratio": a["yield_stress_ratio"],
+               "axial_strain": a.get("yield_axial_strain"), "sigma1_pa": a.get("yield_sigma1_pa"),
+               "sigma3_effective_pa": a.get("yield_sigma3_effective_pa")}
+        if "yield_sample" in a:
+            out["sample"] = a["yield_sample"]
+        return out
+
+    @property
+    def max_q_state(self) -> Dict[str, Any]:
+        """The state at the raw maximum of q: ``deviatoric_stress_pa``, ``axial_strain``,
+        ``sigma1_pa``, ``sigma3_effective_pa``, ``shape`` (peak, plateau, rising: of the
+        smoothed q curve) and ``sample`` (its row in :attr:`series`).
+
+        summary.json's ``tests[].peak_*`` when there is a summary, else the group's ``peak_*``
+        attributes (the same numbers: the runner writes both).
+        """
+        a, s = self.attributes, self.summary
+        state = {"deviatoric_stress_pa": a.get("peak_deviatoric_stress_pa"), "axial_strain": a.get("peak_axial_strain"),
+                 "sigma1_pa": a.get("peak_sigma1_pa"), "sigma3_effective_pa": a.get("peak_sigma3_effective_pa"),
+                 "shape": a.get("max_q_shape"), "sample": a.get("peak_sample")}
+        if s is not None:
+            state.update({"deviatoric_stress_pa": s.get("peak_deviatoric_stress_pa"),
+                          "axial_strain": s.get("peak_axial_strain"), "sigma1_pa": s.get("sigma1_pa"),
+                          "sigma3_effective_pa": s.get("sigma3_effective_pa"), "shape": s.get("max_q_shape")})
+        return state
+
+    @property
+    def residual_stress_ratio(self) -> Optional[float]:
+        """The mean raw stress ratio over the last end window of strain (None when unread)."""
+        if self.summary is not None:
+            return self.summary.get("residual_stress_ratio")
+        return self.attributes.get("residual_stress_ratio")
+
+    @property
+    def quasi_static(self) -> bool:
+        """The engine's verdict: I ≤ 10⁻³ and mean kinetic/elastic ≤ 10⁻² during loading."""
+        return bool(self.attributes.get("quasi_static"))
+
+    @property
+    def warnings(self) -> List[str]:
+        """The test's own warnings (not quasi-static, not consolidated, …)."""
+        w = self.attributes.get("warnings")
+        return list(json.loads(w)) if isinstance(w, str) and w else []
+
+    def snapshot_near(self, axial_strain: float) -> Snapshot:
+        """The snapshot whose measured axial strain is nearest the one given."""
+        if not self.snapshots:
+            raise ResultError(f"{self.name}: no snapshots")
+        return min(self.snapshots, key=lambda s: abs(s.axial_strain - axial_strain))
+
+
+class Result:
+    """A campaign's results: ``result.h5`` and, when beside it, ``summary.json``.
+
+    Open with :func:`wiredem.open`. ``tests`` are by ascending confining
+    pressure; the Mohr–Coulomb fits and the summary's figures need
+    ``summary.json`` (a bare ``result.h5`` has the series, states and snapshots).
+    """
+
+    def __init__(self, h5_path: Path, summary_path: Optional[Path]) -> None:
+        self.path = h5_path  #: the result.h5
+        #: summary.json as a dict, or None when there is none beside result.h5
+        self.summary: Optional[Dict[str, Any]] = None
+        if summary_path is not None:
+            try:
+                self.summary = json.loads(summary_path.read_text())
+            except (OSError, ValueError) as e:
+                raise ResultError(f"{summary_path}: not readable as JSON ({e})") from e
+        try:
+            f = h5py.File(h5_path, "r")
+        except OSError as e:
+            raise ResultError(f"{h5_path}: not an HDF5 file ({e})") from e
+        with f:
+            #: the root's ``format`` (``wiredem-result-1``), None in a file without it
+            self.format: Optional[str] = _attr(f.attrs["format"]) if "format" in f.attrs else None
+            if "job_spec" not in f or "tests" not in f:
+                raise ResultError(f"{h5_path}: not a wiredem result (no /job_spec or /tests)")
+            #: the job spec it ran with, every field (``api::to_json``)
+            self.job_spec: Dict[str, Any] = json.loads(_text(f["job_spec"][()]))
+            groups = [f["tests"][k].name for k in f["tests"]]
+        by_pressure = {}
+        for t in (self.summary or {}).get("tests", []):
+            by_pressure[float(t["confining_pressure_pa"])] = t
+        tests = []
+        for g in groups:
+            probe = Test(h5_path, g, None)
+            probe.summary = by_pressure.get(probe.confining_pressure_pa)
+            tests.append(probe)
+        #: the tests, by ascending confining pressure
+        self.tests: List[Test] = sorted(tests, key=lambda t: t.confining_pressure_pa)
+        self._specimen: Optional[Specimen] = None
+
+    def __repr__(self) -> str:
+        return f"<Result {self.name!r}: {len(self.tests)} tests, {self.path}>"
+
+    @property
+    def name(self) -> str:
+        """The job's name."""
+        return str(self.job_spec.get("name", ""))
+
+    @property
+    def specimen(self) -> Specimen:
+        """The prepared specimen."""
+        if self._specimen is None:
+            self._specimen = Specimen(self.path)
+        return self._specimen
+
+    def test(self, key: Union[str, float]) -> Test:
+        """A test by its name (``sigma3_20000``) or its confining pressure [Pa]."""
+        for t in self.tests:
+            if (isinstance(key, str) and t.name == key) or (not isinstance(key, str)
+                                                           and t.confining_pressure_pa == float(key)):
+                return t
+        raise ResultError(f"{self.path}: no test {key} (tests: {', '.join(t.name for t in self.tests)})")
+
+    def _summary(self, what: str) -> Dict[str, Any]:
+        if self.summary is None:
+            raise ResultError(f"{self.path}: {what} is in summary.json, and there is none beside it")
+        return self.summary
+
+    @property
+    def mohr_coulomb(self) -> MohrCoulomb:
+        """The envelope through the yield states (summary ``mohr_coulomb``)."""
+        return MohrCoulomb.from_json(self._summary("the Mohr-Coulomb fit").get("mohr_coulomb"))
+
+    @property
+    def mohr_coulomb_max_q(self) -> MohrCoulomb:
+        """The envelope through the states at the maximum of q (summary ``mohr_coulomb_max_q``)."""
+        return MohrCoulomb.from_json(self._summary("the Mohr-Coulomb fit").get("mohr_coulomb_max_q"))
+
+    @property
+    def warnings(self) -> List[str]:
+        """summary.json's warnings (not settled, not quasi-static, fit or autocorrelation problems)."""
+        return list(self._summary("the warnings").get("warnings", []))
+
+    def stress_ratio_curves(self, loading_only: bool = True) -> Dict[float, pd.DataFrame]:
+        """{σ₃ [Pa]: DataFrame of ``axial_strain`` and ``stress_ratio``} of every test."""
+        return {t.confining_pressure_pa: t.curve("stress_ratio", loading_only) for t in self.tests}
+
+    def tests_frame(self) -> pd.DataFrame:
+        """One row per test: σ₃, the yield state (``yield_*``), the max-q state (``max_q_*``),
+        the residual stress ratio and the quasi-static verdict, as the engine wrote them."""
+        rows = []
+        for t in self.tests:
+            row: Dict[str, Any] = {"test": t.name, "confining_pressure_pa": t.confining_pressure_pa}
+            y = t.yield_state or {}
+            for k in ("stress_ratio", "axial_strain", "sigma1_pa", "sigma3_effective_pa", "deviatoric_stress_pa",
+                      "shape"):
+                row[f"yield_{k}"] = y.get(k)
+            for k, v in t.max_q_state.items():
+                if k != "sample":
+                    row[f"max_q_{k}"] = v
+            row["residual_stress_ratio"] = t.residual_stress_ratio
+            row["quasi_static"] = t.quasi_static
+            rows.append(row)
+        return pd.DataFrame(rows).set_index("test")
+
+
+def open_result(path: PathLike) -> Result:
+    """Opens a result: a ``result.h5``, or a folder holding one (what ``wiredem run -o DIR``
+    writes, ``wiredem fetch ID -o DIR`` downloads, or :meth:`Client.fetch` writes).
+
+    ``summary.json`` beside the file is read too when it is there.
+    """
+    p = Path(os.fspath(path))
+    if p.is_dir():
+        h5 = p / "result.h5"
+        if not h5.is_file():
+            hint = " (a campaign that has not been analysed yet: run `wiredem analyse` on it)" \
+                if (p / "tests").is_dir() or (p / "specimen.h5").is_file() else ""
+            raise ResultError(f"{p}: no result.h5{hint}")
+    elif p.is_file():
+        h5 = p
+    else:
+        raise ResultError(f"{p}: no such file or folder")
+    summary = h5.parent / "summary.json"
+    return Result(h5, summary if summary.is_file() else None)
+
