@@ -185,13 +185,13 @@ class Client:
         unknown = set(headers) - set(route.headers)
         if unknown:
             raise WiredemError(f"{route.method} {route.path} sends no header {sorted(unknown)}")
+        target = self._target(route, path_params or {}, query)
         self.sent.append((name, tuple(sorted(query)), tuple(sorted(headers))))
         if self.token:
             headers["Authorization"] = f"Bearer {self.token}"
         if body is not None:
             headers["Content-Type"] = "application/json"
-        request = urllib.request.Request(self._target(route, path_params or {}, query), data=body,
-                                         headers=headers, method=route.method)
+        request = urllib.request.Request(target, data=body, headers=headers, method=route.method)
         try:
             with urllib.request.urlopen(request, timeout=self.timeout_s) as response:
                 status, reply_headers = response.status, dict(response.headers.items())
@@ -551,9 +551,13 @@ class Client:
         from .study import Study
         summary = self.study_summary(study_id)
         points: Dict[int, JSON] = {}
+        seeds: Dict[int, Any] = {}
         for point in summary.get("points", []):
+            index = int(point["index"])
+            if point.get("job_id") and "seed" not in (point.get("values") or {}):
+                seeds[index] = (self.job(point["job_id"]).get("spec") or {}).get("seed")  # the base's seed
             if point.get("state") == "succeeded" and point.get("job_id"):
-                points[int(point["index"])] = self.summary(point["job_id"])
-        return Study(summary, points)
+                points[index] = self.summary(point["job_id"])
+        return Study(summary, points, seeds=seeds)
 
 

@@ -148,13 +148,16 @@ class Study:
 
 
 def _seed_of_point(folder: Path) -> Any:
-    """The seed of a point folder's job (job.json of `wiredem study run`), or None."""
+    """The seed of a point folder's job: its job.json (`wiredem study run`), else the job
+    spec in its result.h5 (`wiredem study fetch`); None when it has neither."""
     job = folder / "job.json"
-    if job.is_file():
-        try:
+    try:
+        if job.is_file():
             return json.loads(job.read_text()).get("seed")
-        except ValueError:
-            return None
+        if (folder / "result.h5").is_file():
+            return open_result(folder / "result.h5").job_spec.get("seed")
+    except (ValueError, ResultError):
+        return None
     return None
 
 
@@ -173,7 +176,8 @@ def open_study(path: PathLike) -> Study:
     for p in summary["points"]:
         k = int(p["index"])
         sj = folder / "points" / str(k) / "summary.json"
-        seeds[k] = _seed_of_point(folder / "points" / str(k))
+        if "seed" not in (p.get("values") or {}):
+            seeds[k] = _seed_of_point(folder / "points" / str(k))
         if p.get("state") == "succeeded" and sj.is_file():
             points[k] = json.loads(sj.read_text())
     return Study(summary, points, folder, seeds)

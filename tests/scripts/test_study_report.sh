@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Tests of scripts/study_report.py (tests/scripts/test_study_report.py) on a
-# synthetic RUNS tree, with Debian's python3 and its numpy, h5py and
-# matplotlib (the report's only dependencies). A few seconds; exit status
+# synthetic RUNS tree, with Debian's python3 and its numpy, pandas, h5py and
+# matplotlib (the report's only dependencies, with the wiredem package of python/). A few seconds; exit status
 # non-zero on failure.
 #
 #   bash tests/scripts/test_study_report.sh
