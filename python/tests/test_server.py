@@ -3,7 +3,11 @@ resumable downloads, live series and a study."""
 from __future__ import annotations
 
 import json
+import os
 import re
+import signal
+import subprocess
+import time
 from pathlib import Path
 from typing import Any, Dict, List
 
@@ -193,3 +197,31 @@ def test_a_study_is_one_tidy_frame_from_the_server_and_from_its_fetched_folder(s
     point = fetched.result(1)
     assert point.job_spec["seed"] == 2 and point.mohr_coulomb.friction_angle_deg == \
         fetched.point_summaries[1]["mohr_coulomb"]["friction_angle_deg"]
+
+
+def test_a_server_with_a_token_answers_the_client_that_sends_it(runner_bin: Path, tmp_path: Path) -> None:
+    server_bin = os.environ.get("WIREDEM_SERVER_BIN") or str(ROOT / "build" / "release" / "bin" / "wiredem-server")
+    token = tmp_path / "token"
+    token.write_text("s3cret-token\n")
+    token.chmod(0o600)
+    port_file = tmp_path / "port"
+    process = subprocess.Popen([server_bin, "--listen", "127.0.0.1:0", "--port-file", str(port_file), "--data-dir",
+                                str(tmp_path / "data"), "--runner", str(runner_bin), "--token-file", str(token),
+                                "--web-dir", "none", "--log-level", "error"])
+    try:
+        deadline = time.monotonic() + 30
+        while not (port_file.is_file() and port_file.read_text().strip()):
+            assert process.poll() is None and time.monotonic() < deadline, "the server did not start"
+            time.sleep(0.05)
+        url = f"http://127.0.0.1:{port_file.read_text().strip()}"
+        with pytest.raises(wiredem.ApiError) as e:
+            wiredem.Client(url).health()
+        assert (e.value.status, e.value.code) == (401, "unauthorized")
+        with pytest.raises(wiredem.ApiError) as e:
+            wiredem.Client(url, token="wrong").jobs()
+        assert e.value.status == 401
+        assert wiredem.Client(url, token_file=token).health()["status"] == "ok"
+        assert wiredem.Client(url, token="s3cret-token").jobs() == []
+    finally:
+        process.send_signal(signal.SIGTERM)
+        process.wait(timeout=15)

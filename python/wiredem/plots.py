@@ -140,7 +140,7 @@ def plot_mohr(result: Result, ax: Optional["Axes"] = None, max_q: bool = False) 
         top, sigma_max = max(top, r), max(sigma_max, state["sigma1_pa"] * 1e-3)
     fit = result.mohr_coulomb_max_q if max_q else result.mohr_coulomb
     sigma = np.linspace(0.0, 1.05 * sigma_max if sigma_max else 1.0, 50)
-    if fit.friction_angle_deg is not None:
+    if fit.friction_angle_deg is not None and fit.cohesion_pa is not None:
         draw_envelope(ax, fit, sigma, color="k", lw=2,
                       label=f"τ = c + σ tan φ: φ = {fit.friction_angle_deg:.1f}°, c = {fit.cohesion_pa / 1e3:.2f} kPa")
     ax.set_xlim(0, sigma[-1])
