@@ -69,6 +69,9 @@ def test_a_submitted_job_is_waited_for_with_progress_and_succeeds(server: Server
     assert {j["state"] for j in seen} <= {"queued", "preparing", "running", "succeeded"}
     assert all(j["progress"] is None or 0.0 <= j["progress"] <= 1.0 for j in seen)
     assert job["id"] in [j["id"] for j in client.jobs(state="succeeded", all_pages=True)]
+    one_by_one = [j["id"] for j in client.jobs(limit=1, all_pages=True)]  # following next_cursor
+    assert len(one_by_one) >= 2 and one_by_one == [j["id"] for j in client.jobs(limit=500)]
+    assert len(client.jobs(limit=1)) == 1
     assert client.summary(job["id"])["name"] == "tiny"
 
 
@@ -175,7 +178,9 @@ def test_a_study_is_one_tidy_frame_from_the_server_and_from_its_fetched_folder(s
     base["triaxial"]["target_axial_strain"] = 0.04  # half the loading: the frame's plumbing, not the physics
     base["triaxial"]["snapshot_strains"] = [0.04]
     study = client.submit_study({"name": "seeds", "base": base, "vary": {"seed": [1, 2]}})
-    client.wait_study(study["id"], interval_s=0.2, timeout_s=240)
+    done = client.wait_study(study["id"], interval_s=0.2, timeout_s=240)
+    assert done["jobs_by_state"]["succeeded"] == 2
+    assert study["id"] in [s["id"] for s in client.studies(limit=1, all_pages=True)]
     fetched = wiredem.open_study(client.fetch_study(study["id"], tmp_path / "study"))
     served = client.study_results(study["id"])
     for s in (served, fetched):

@@ -269,11 +269,15 @@ class Client:
 
     def jobs(self, state: Optional[str] = None, limit: Optional[int] = None, all_pages: bool = False) -> List[JSON]:
         """Jobs, newest first (one page of ``limit``, or every page with ``all_pages``)."""
+        return self._pages("listJobs", "jobs", {"state": state, "limit": limit}, all_pages)
+
+    def _pages(self, route: str, key: str, query: Dict[str, Any], all_pages: bool) -> List[JSON]:
+        """The ``key`` list of one page of a listing route, or of every page (following ``next_cursor``)."""
         out: List[JSON] = []
         cursor: Optional[str] = None
         while True:
-            page = self._json("listJobs", query={"state": state, "limit": limit, "cursor": cursor}, what="list")
-            out.extend(page.get("jobs", []))
+            page = self._json(route, query={**query, "cursor": cursor}, what=route)
+            out.extend(page.get(key, []))
             cursor = page.get("next_cursor")
             if not all_pages or not cursor:
                 return out
@@ -300,11 +304,24 @@ class Client:
 
         Network errors (a restarting server) are retried for up to a minute.
         """
+        job = self._poll(lambda: self.job(job_id), lambda j: j.get("state") in FINAL_STATES, interval_s,
+                         timeout_s, progress, lambda j: f"job {job_id} still {j.get('state')} after {timeout_s:g} s")
+        if check and job.get("state") == "failed":
+            raise JobFailed(job)
+        if check and job.get("state") == "cancelled":
+            raise JobCancelled(job)
+        return job
+
+    @staticmethod
+    def _poll(get: Callable[[], JSON], ended: Callable[[JSON], bool], interval_s: float, timeout_s: Optional[float],
+              progress: Optional[Callable[[JSON], None]], late: Callable[[JSON], str]) -> JSON:
+        """Calls ``get`` every ``interval_s`` until ``ended`` says so; network errors (a restarting
+        server) are retried for up to a minute, as the ``wiredem`` command does."""
         started = time.monotonic()
         failing_since: Optional[float] = None
         while True:
             try:
-                job = self.job(job_id)
+                doc = get()
                 failing_since = None
             except NetworkError:
                 now = time.monotonic()
@@ -314,16 +331,11 @@ class Client:
                 time.sleep(interval_s)
                 continue
             if progress is not None:
-                progress(job)
-            state = job.get("state")
-            if state in FINAL_STATES:
-                if check and state == "failed":
-                    raise JobFailed(job)
-                if check and state == "cancelled":
-                    raise JobCancelled(job)
-                return job
+                progress(doc)
+            if ended(doc):
+                return doc
             if timeout_s is not None and time.monotonic() - started > timeout_s:
-                raise WaitTimeout(f"job {job_id} still {state} after {timeout_s:g} s")
+                raise WaitTimeout(late(doc))
             time.sleep(interval_s)
 
     def summary(self, job_id: str) -> JSON:
@@ -487,14 +499,7 @@ class Client:
 
     def studies(self, limit: Optional[int] = None, all_pages: bool = False) -> List[JSON]:
         """Studies, newest first, each with its jobs counted by state."""
-        out: List[JSON] = []
-        cursor: Optional[str] = None
-        while True:
-            page = self._json("listStudies", query={"limit": limit, "cursor": cursor}, what="list studies")
-            out.extend(page.get("studies", []))
-            cursor = page.get("next_cursor")
-            if not all_pages or not cursor:
-                return out
+        return self._pages("listStudies", "studies", {"limit": limit}, all_pages)
 
     def cancel_study(self, study_id: str) -> JSON:
         """Cancels every job of the study that has not ended."""
@@ -508,29 +513,16 @@ class Client:
                    progress: Optional[Callable[[JSON], None]] = None, check: bool = True) -> JSON:
         """Polls a study until every job has ended; raises :class:`StudyFailed` (with ``check``)
         when one did not succeed. Network errors are retried for up to a minute."""
-        started = time.monotonic()
-        failing_since: Optional[float] = None
-        while True:
-            try:
-                study = self.study(study_id)
-                failing_since = None
-            except NetworkError:
-                now = time.monotonic()
-                failing_since = failing_since or now
-                if now - failing_since > 60.0:
-                    raise
-                time.sleep(interval_s)
-                continue
-            if progress is not None:
-                progress(study)
-            counts = study.get("jobs_by_state") or {}
-            if not any(n for s, n in counts.items() if s not in FINAL_STATES):
-                if check and any(n for s, n in counts.items() if s != "succeeded"):
-                    raise StudyFailed(study)
-                return study
-            if timeout_s is not None and time.monotonic() - started > timeout_s:
-                raise WaitTimeout(f"study {study_id} still has jobs to run after {timeout_s:g} s")
-            time.sleep(interval_s)
+        def counts(study: JSON) -> Dict[str, int]:
+            return study.get("jobs_by_state") or {}
+
+        study = self._poll(lambda: self.study(study_id),
+                           lambda st: not any(n for s, n in counts(st).items() if s not in FINAL_STATES),
+                           interval_s, timeout_s, progress,
+                           lambda st: f"study {study_id} still has jobs to run after {timeout_s:g} s")
+        if check and any(n for s, n in counts(study).items() if s != "succeeded"):
+            raise StudyFailed(study)
+        return study
 
     def fetch_study(self, study_id: str, directory: Union[str, "os.PathLike[str]"]) -> Path:
         """Writes the study's ``summary.json`` and each succeeded point's files in

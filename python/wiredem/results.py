@@ -98,18 +98,14 @@ class MohrCoulomb:
         return self.cohesion_pa + np.asarray(normal_stress_pa) * math.tan(math.radians(self.friction_angle_deg))
 
 
-class Specimen:
-    """The prepared specimen (``/specimen``): grains, wire and membrane as arrays [m, rad]."""
+class _Arrays:
+    """A group of arrays in a file (the specimen, a snapshot), read one by one on demand."""
 
-    def __init__(self, path: Path) -> None:
-        self._path = path
-        with h5py.File(path, "r") as f:
-            if "specimen" not in f:
-                raise ResultError(f"{path}: no /specimen")
-            g = f["specimen"]
-            #: the group's attributes (grains, wire_length_m, volume fractions, settled, …)
-            self.attributes: Dict[str, Any] = _attributes(g)
-            self._units = {k: _units(g[k]) for k in g if isinstance(g[k], h5py.Dataset)}
+    def __init__(self, path: Path, group: str, attributes: Dict[str, Any], units: Dict[str, Optional[str]]) -> None:
+        self._path, self._group = path, group
+        #: the group's attributes as the runner wrote them
+        self.attributes = attributes
+        self._units = units
 
     @property
     def arrays(self) -> List[str]:
@@ -123,9 +119,28 @@ class Specimen:
     def array(self, name: str) -> np.ndarray:
         """One dataset as a numpy array (e.g. ``grain_position_m``, N×3)."""
         if name not in self._units:
-            raise ResultError(f"{self._path}: /specimen has no {name} (it has {', '.join(self._units)})")
+            raise ResultError(f"{self._path}: {self._group} has no {name} (it has {', '.join(self._units)})")
         with h5py.File(self._path, "r") as f:
-            return f["specimen"][name][()]
+            return f[self._group][name][()]
+
+
+def _dataset_units(g: Any) -> Dict[str, Optional[str]]:
+    """{dataset name: units} of a group's datasets."""
+    return {k: _units(g[k]) for k in g if isinstance(g[k], h5py.Dataset)}
+
+
+class Specimen(_Arrays):
+    """The prepared specimen (``/specimen``): grains, wire and membrane as arrays [m, rad].
+
+    ``attributes``: grains, wire_length_m, volume fractions, settled, … (docs/results.md).
+    """
+
+    def __init__(self, path: Path) -> None:
+        with h5py.File(path, "r") as f:
+            if "specimen" not in f:
+                raise ResultError(f"{path}: no /specimen")
+            g = f["specimen"]
+            super().__init__(path, g.name, _attributes(g), _dataset_units(g))
 
     @property
     def grain_position_m(self) -> np.ndarray:
@@ -161,14 +176,14 @@ class Specimen:
         return frame
 
 
-class Snapshot:
-    """One snapshot of a test (``…/snapshots/snapshot_<k>``): the column at a strain."""
+class Snapshot(_Arrays):
+    """One snapshot of a test (``…/snapshots/snapshot_<k>``): the column at a strain.
+
+    ``attributes``: requested_axial_strain, axial_strain, time_s.
+    """
 
     def __init__(self, path: Path, group: str, attributes: Dict[str, Any], units: Dict[str, Optional[str]]) -> None:
-        self._path, self._group = path, group
-        #: requested_axial_strain, axial_strain, time_s
-        self.attributes = attributes
-        self._units = units
+        super().__init__(path, group, attributes, units)
         self.index = int(group.rsplit("_", 1)[1])  #: k of snapshot_<k>
 
     def __repr__(self) -> str:
@@ -188,22 +203,6 @@ class Snapshot:
     def time_s(self) -> float:
         """Simulated time of the snapshot [s]."""
         return float(self.attributes.get("time_s", math.nan))
-
-    @property
-    def arrays(self) -> List[str]:
-        """The names of its datasets."""
-        return list(self._units)
-
-    def units(self, name: str) -> Optional[str]:
-        """The units of array ``name``."""
-        return self._units[name]
-
-    def array(self, name: str) -> np.ndarray:
-        """One dataset as a numpy array (``grain_position_m``, ``wire_segment_strain``, …)."""
-        if name not in self._units:
-            raise ResultError(f"{self._path}: {self._group} has no {name}")
-        with h5py.File(self._path, "r") as f:
-            return f[self._group][name][()]
 
     @property
     def wire_segment_strain(self) -> np.ndarray:
@@ -256,13 +255,12 @@ class Test:
             g = f[group]
             #: the group's attributes as the runner wrote them (docs/results.md)
             self.attributes: Dict[str, Any] = _attributes(g)
-            self._columns = {k: _units(g[k]) for k in g if isinstance(g[k], h5py.Dataset)}
+            self._columns = _dataset_units(g)
             snaps = []
             if "snapshots" in g and isinstance(g["snapshots"], h5py.Group):
                 for k in g["snapshots"]:
                     s = g["snapshots"][k]
-                    snaps.append(Snapshot(path, s.name, _attributes(s),
-                                          {n: _units(s[n]) for n in s if isinstance(s[n], h5py.Dataset)}))
+                    snaps.append(Snapshot(path, s.name, _attributes(s), _dataset_units(s)))
         #: the snapshots, by ascending measured axial strain
         self.snapshots: List[Snapshot] = sorted(snaps, key=lambda s: (s.axial_strain, s.index))
         self._series: Optional[pd.DataFrame] = None
