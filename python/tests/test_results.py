@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+import subprocess
 from pathlib import Path
 from typing import Any, Dict
 
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import wiredem
-from conftest import Server
+from conftest import TINY, Server
 
 
 def test_a_folder_and_its_result_file_open_alike(tiny_dir: Path) -> None:
@@ -25,6 +26,19 @@ def test_a_folder_and_its_result_file_open_alike(tiny_dir: Path) -> None:
 def test_the_runners_own_job_folder_opens(server: Server, tiny_job: Dict[str, Any]) -> None:
     r = wiredem.open(server.data_dir / "jobs" / tiny_job["id"])
     assert r.summary is not None and len(r.tests) == 2
+
+
+def test_a_local_run_folder_opens_with_the_figures_of_the_served_job(runner_bin: Path, tiny_dir: Path,
+                                                                    tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    subprocess.run([str(runner_bin), "run", str(TINY), "-o", str(out), "--threads", "1"], check=True,
+                   capture_output=True, timeout=300)
+    local, served = wiredem.open(out), wiredem.open(tiny_dir)
+    # the engine is deterministic for any thread count: the same states, fits and curves
+    assert local.mohr_coulomb == served.mohr_coulomb
+    for a, b in zip(local.tests, served.tests):
+        assert a.yield_state == b.yield_state
+        assert a.series.equals(b.series)
 
 
 def test_each_series_holds_every_dataset_of_its_group_with_its_units(tiny_dir: Path) -> None:
