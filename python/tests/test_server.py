@@ -58,7 +58,7 @@ def test_the_client_sends_nothing_its_route_table_does_not_declare(server: Serve
     assert client.sent == [], "a refused request must not have been counted as sent"
 
 
-def test_a_submitted_job_is_waited_for_with_progress_and_succeeds(server: Server) -> None:
+def test_a_submitted_job_is_waited_for_with_progress_and_succeeds(server: Server, tiny_job: Dict[str, Any]) -> None:
     client = server.client()
     seen: List[Dict[str, Any]] = []
     job = client.submit(json.loads(TINY.read_text()))
@@ -69,7 +69,7 @@ def test_a_submitted_job_is_waited_for_with_progress_and_succeeds(server: Server
     assert {j["state"] for j in seen} <= {"queued", "preparing", "running", "succeeded"}
     assert all(j["progress"] is None or 0.0 <= j["progress"] <= 1.0 for j in seen)
     assert job["id"] in [j["id"] for j in client.jobs(state="succeeded", all_pages=True)]
-    one_by_one = [j["id"] for j in client.jobs(limit=1, all_pages=True)]  # following next_cursor
+    one_by_one = [j["id"] for j in client.jobs(limit=1, all_pages=True)]  # following next_cursor (2 jobs or more)
     assert len(one_by_one) >= 2 and one_by_one == [j["id"] for j in client.jobs(limit=500)]
     assert len(client.jobs(limit=1)) == 1
     assert client.summary(job["id"])["name"] == "tiny"

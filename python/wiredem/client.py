@@ -80,6 +80,16 @@ ROUTES: Dict[str, Route] = dict([
 ])
 
 
+# Straight to the server, as the wiredem command goes: no proxy from the environment
+# (http_proxy would send loopback requests elsewhere) and no redirects followed.
+class _NoRedirect(urllib.request.HTTPRedirectHandler):
+    def redirect_request(self, *args: Any, **kwargs: Any) -> None:
+        return None
+
+
+_OPENER = urllib.request.build_opener(urllib.request.ProxyHandler({}), _NoRedirect())
+
+
 class _Reply:
     """An HTTP reply: status, headers (lower-case names), body bytes."""
 
@@ -193,7 +203,7 @@ class Client:
             headers["Content-Type"] = "application/json"
         request = urllib.request.Request(target, data=body, headers=headers, method=route.method)
         try:
-            with urllib.request.urlopen(request, timeout=self.timeout_s) as response:
+            with _OPENER.open(request, timeout=self.timeout_s) as response:
                 status, reply_headers = response.status, dict(response.headers.items())
                 if sink is None:
                     return _Reply(status, reply_headers, response.read())
