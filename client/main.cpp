@@ -6,10 +6,12 @@
 #include "exit_codes.hpp"
 #include "export_command.hpp"
 #include "report_command.hpp"
+#include "autocorrelation_command.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <optional>
 
 using namespace wiredem::client;
 
@@ -163,6 +165,14 @@ int main(int argc, char** argv)
     export_xdmf->add_option("result", h5_file, "result file (docs/results.md)")->required();
     export_xdmf->add_option("-o,--output", xdmf_file, "XDMF file (default: RESULT with the extension .xdmf)");
 
+    auto* autocorrelation = app.add_subcommand("autocorrelation",
+        "the autocorrelation of a result file's wire strains at a snapshot, as JSON (what the server's route answers)");
+    std::string ac_test;
+    std::optional<long long> ac_snapshot;
+    autocorrelation->add_option("result", h5_file, "result file (docs/results.md)")->required();
+    autocorrelation->add_option("--test", ac_test, "test group, e.g. sigma3_20000 (default: the highest pressure)");
+    autocorrelation->add_option("--snapshot", ac_snapshot, "snapshot index k (default: the test's last)");
+
     auto* report = app.add_subcommand("report", "write OUT/report.html: the results of a run's output folder as one page that opens without a server");
     std::string report_dir, report_file, web_dir;
     report->add_option("out", report_dir, "output folder of wiredem run or wiredem fetch (summary.json, result.h5)")->required();
@@ -201,6 +211,7 @@ int main(int argc, char** argv)
         if (*study_fetch) return cmd_study_fetch(g, id, out_dir);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
         if (*report) return cmd_report(report_dir, report_file, web_dir);
+        if (*autocorrelation) return cmd_autocorrelation(h5_file, ac_test, ac_snapshot);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;
         return e.code;

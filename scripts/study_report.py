@@ -19,7 +19,9 @@ and adds to tables.md each retest beside its original, test by test, and η at
 yield per pattern with the retests in place of their originals.
 
 Reads the campaigns with the wiredem package (python/, docs/python.md), from
-the source tree when it is not installed, and draws with its plot helpers.
+the source tree when it is not installed, and draws with its plot helpers; the
+wire's autocorrelation R(lag) is the engine's, from the `wiredem` binary
+(--wiredem, default $WIREDEM_BIN, the PATH, or build/release/bin/wiredem).
 Needs Debian's /usr/bin/python3 with numpy, pandas, h5py and matplotlib
 (python3-numpy, python3-pandas, python3-h5py, python3-matplotlib); nothing else.
 """
@@ -28,6 +30,7 @@ import json
 import math
 import os
 import re
+import shutil
 import sys
 
 import matplotlib
@@ -100,26 +103,13 @@ def difference_exceeds_scatter(a, b):
     return delta, bound, abs(delta) > bound
 
 
-def autocorrelation(signal):
-    """R(k) of engine/analysis/autocorrelation.hpp, for drawing only.
-
-    R(k) = 1/((N - k) s²) sum_{t < N-k} (X_t - m)(X_{t+k} - m) for k = 0 … N-1, with
-    m the mean and s² the population variance (1/N) of the whole signal, so R(0) = 1.
-    None for fewer than 2 samples or a constant signal (no correlation is defined).
-    The lags the report marks on it are the engine's, read from summary.json
-    (summary_lags): the maxima are the result, and one computation of them is
-    enough; the curve under them only has to be the same R.
-    """
-    x = np.asarray(signal, dtype=float)
-    n = x.size
-    if n < 2:
-        return None
-    d = x - x.mean()
-    variance = float(np.mean(d * d))
-    if not math.sqrt(variance) > 1e-12 * float(np.max(np.abs(x))) or variance == 0.0:
-        return None
-    sums = np.correlate(d, d, mode="full")[n - 1:]  # sums[k] = sum_t d_t d_{t+k}
-    return sums / ((n - np.arange(n)) * variance)
+def autocorrelation(snapshot, wiredem=None):
+    """R(lag) of a snapshot's wire segment strains, the engine's (`wiredem autocorrelation`,
+    engine/analysis/autocorrelation.hpp, through the wiredem package): the function
+    summary.json's lags come from, so the curve drawn under them is theirs. None
+    when there is none (fewer than 2 segments, a constant signal)."""
+    reply = snapshot.wire_autocorrelation(wiredem)
+    return None if reply["error"] else np.asarray(reply["coefficients"], dtype=float)
 
 
 # summary.json's wire lags (docs/results.md): the first local maximum of R after
@@ -922,7 +912,7 @@ def tests_table(by_pattern):
 # 6. Wire strain
 
 def wire_snapshot(c):
-    """(σ₃, axial strain, segment strains) of the highest-pressure test's last snapshot, or None."""
+    """(σ₃, axial strain, segment strains, the snapshot) of the highest-pressure test's last snapshot, or None."""
     tests = c.result.tests
     if not tests or not tests[-1].snapshots:
         return None
@@ -930,7 +920,7 @@ def wire_snapshot(c):
     strain = last.wire_segment_strain
     if strain.shape[0] < 2:
         return None
-    return tests[-1].confining_pressure_pa, last.axial_strain, strain
+    return tests[-1].confining_pressure_pa, last.axial_strain, strain, last
 
 
 def is_lag(v):
@@ -943,7 +933,7 @@ def lag_cell(lag_m):
     return lag_m if lag_m == "absent" else fmt(lag_m and lag_m * 1e3, ".2f")
 
 
-def wire_figure_and_rows(p, campaigns, out, made):
+def wire_figure_and_rows(p, campaigns, out, made, wiredem=None):
     bold = lead(campaigns)
     rows, done = [], []
     for c in campaigns:
@@ -952,9 +942,9 @@ def wire_figure_and_rows(p, campaigns, out, made):
         snap = wire_snapshot(c)
         if snap is None:
             continue
-        s3, ea, strain = snap
+        s3, ea, strain, last = snap
         seg = c.job["specimen"]["wire"]["segment_length_m"]
-        r = autocorrelation(strain)
+        r = autocorrelation(last, wiredem)
         lags = summary_lags(c.summary)
         loops = loop_lengths_m(c.job["specimen"]["wire"])
         done.append((c, s3, ea, strain, seg, r, lags, loops))
@@ -1121,12 +1111,22 @@ def runtime_table(by_pattern):
 
 # ---------------------------------------------------------------------------
 
+def default_wiredem():
+    """$WIREDEM_BIN, else wiredem on the PATH, else this tree's Release build (None when none is there)."""
+    built = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "build", "release", "bin",
+                         "wiredem")
+    return os.environ.get("WIREDEM_BIN") or shutil.which("wiredem") or (built if os.path.isfile(built) else None)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="Figures and tables of the study (docs/study.md).")
     ap.add_argument("runs", help="folder of the campaigns <pattern>-seed<k>/ (scripts/study.sh --runs)")
     ap.add_argument("--out", default="docs/study", help="output folder (default docs/study)")
     ap.add_argument("--retests", help="folder of campaigns tested again from the specimens of RUNS' campaigns "
                                       "of the same names (scripts/study.sh --specimens-from)")
+    ap.add_argument("--wiredem", default=default_wiredem(),
+                    help="the wiredem binary, whose `wiredem autocorrelation` gives the wire's R(lag) "
+                         "(default: $WIREDEM_BIN, else wiredem on the PATH, else build/release/bin/wiredem)")
     args = ap.parse_args(argv)
     for folder in (args.runs, args.retests):
         if folder is not None and not os.path.isdir(folder):
@@ -1173,7 +1173,7 @@ def main(argv=None):
     wire_rows = []
     for p, cs in by_pattern.items():
         if p != "none":
-            wire_rows += wire_figure_and_rows(p, cs, figures, made)
+            wire_rows += wire_figure_and_rows(p, cs, figures, made, args.wiredem)
     md.append("\n## Wire strain\n\nThe segment strains of the highest-pressure test at its last snapshot "
               "(the largest strain), the snapshot summary.json's lags are read from "
               "(engine/analysis/autocorrelation.hpp, docs/model.md \"Wire autocorrelation\"): the first "

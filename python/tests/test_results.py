@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import subprocess
 from pathlib import Path
 from typing import Any, Dict
@@ -179,3 +180,48 @@ def test_with_fields_sets_dotted_paths_on_a_copy() -> None:
     assert spec == {"name": "a", "triaxial": {"confining_pressures_pa": [20000]},
                     "specimen": {"wire": {"pattern": "helix"}}, "seed": 3}
     assert base["triaxial"]["confining_pressures_pa"] == [1]
+
+
+def test_a_files_wire_autocorrelation_is_the_servers(server: Server, tiny_job: Dict[str, Any], tiny_dir: Path,
+                                                      runner_bin: Path) -> None:
+    client = server.client()
+    for t in wiredem.open(tiny_dir).tests:
+        for s in t.snapshots:
+            assert s.wire_autocorrelation(runner_bin) == client.wire_autocorrelation(tiny_job["id"], t.name, s.index)
+
+
+def test_the_autocorrelation_of_a_sine_peaks_at_its_period(tiny_dir: Path, tmp_path: Path, runner_bin: Path) -> None:
+    """x_t = sin(a t), a = 2π/P, N a multiple of P (mean 0, variance 1/2): with the engine's
+    R(k) = Σ_{t<N−k} x_t x_{t+k} / ((N − k) s²) = cos(a k) − Σ_{t<N−k} cos(a (2t + k)) / (N − k),
+    and |Σ_{t<M} cos(a (2t + k))| = |sin(a M) cos(a (M − 1 + k))| / |sin a| ≤ 1/|sin a|; so R(0) = 1,
+    |R(k) − cos(a k)| ≤ 1/((N − k) |sin a|), and the first maximum after 0 is at k = P."""
+    path = tmp_path / "result.h5"
+    shutil.copyfile(tiny_dir / "result.h5", path)
+    period, segments = 40, 400
+    with h5py.File(path, "r+") as f:
+        snap = f["tests/sigma3_20000/snapshots/snapshot_2"]
+        del snap["wire_segment_strain"]
+        snap["wire_segment_strain"] = 1e-3 * np.sin(2 * np.pi * np.arange(segments) / period)
+    r = wiredem.open(path)
+    seg = r.job_spec["specimen"]["wire"]["segment_length_m"]
+    reply = r.test(20000).snapshots[-1].wire_autocorrelation(runner_bin)
+    assert reply["error"] is None and reply["segments"] == segments
+    assert reply["coefficients"][0] == pytest.approx(1.0, abs=1e-12)
+    a, k = 2 * np.pi / period, np.arange(segments // 2)
+    bound = 1 / ((segments - k) * abs(np.sin(a))) + 1e-12
+    assert (np.abs(np.array(reply["coefficients"][: segments // 2]) - np.cos(a * k)) <= bound).all()
+    assert reply["first_maximum_lag_m"] == pytest.approx(period * seg, rel=1e-12)
+    assert reply["prominent_maximum_lag_m"] == pytest.approx(period * seg, rel=1e-12)
+    with pytest.raises(wiredem.ResultError, match="no wiredem binary"):
+        r.test(20000).snapshots[-1].wire_autocorrelation(tmp_path / "no-such-binary")
+
+
+def test_the_autocorrelation_command_names_what_the_file_does_not_hold(tiny_dir: Path, runner_bin: Path) -> None:
+    h5 = str(tiny_dir / "result.h5")
+    for args, code, message in ((["--snapshot", "99"], 9, "has no snapshot 99"), (["--test", "sigma3_1"], 9, "has no test"),
+                                (["--snapshot", "-1"], 2, "0 or more")):
+        run = subprocess.run([str(runner_bin), "autocorrelation", h5, *args], capture_output=True, text=True)
+        assert run.returncode == code and message in run.stderr, (args, run.returncode, run.stderr)
+    default = subprocess.run([str(runner_bin), "autocorrelation", h5], capture_output=True, text=True, check=True)
+    last = wiredem.open(tiny_dir).tests[-1].snapshots[-1]
+    assert json.loads(default.stdout) == last.wire_autocorrelation(runner_bin)  # the highest pressure's last

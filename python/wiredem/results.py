@@ -20,6 +20,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import shutil
+import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Union
@@ -37,6 +39,14 @@ RAMP, HOLD, LOADING = 0, 1, 2
 
 #: Body kinds of ``contact_bodies`` (docs/results.md).
 BODY_KINDS = {0: "grain", 1: "wire", 2: "membrane"}
+
+
+def find_wiredem(given: Optional[PathLike] = None) -> str:
+    """The ``wiredem`` binary: ``given``, else ``$WIREDEM_BIN``, else ``wiredem`` on the PATH."""
+    name = os.fspath(given) if given is not None else os.environ.get("WIREDEM_BIN") or shutil.which("wiredem")
+    if not name or not (os.path.isfile(name) and os.access(name, os.X_OK)):
+        raise ResultError(f"no wiredem binary ({name or 'none on the PATH'}): give its path or set $WIREDEM_BIN")
+    return name
 
 
 def _text(value: Any) -> str:
@@ -208,6 +218,31 @@ class Snapshot(_Arrays):
     def wire_segment_strain(self) -> np.ndarray:
         """The strain of each wire segment (stretch > 0), W − 1, in the order laid."""
         return self.array("wire_segment_strain")
+
+    @property
+    def test_name(self) -> str:
+        """The name of the test it belongs to (``sigma3_20000``)."""
+        return self._group.strip("/").split("/")[1]
+
+    def wire_autocorrelation(self, wiredem: Optional[PathLike] = None) -> Dict[str, Any]:
+        """The engine's autocorrelation of :attr:`wire_segment_strain`, with its maxima.
+
+        ``segment_length_m``, ``segments``, ``lag_m``, ``coefficients`` R(lag),
+        ``first_maximum_lag_m`` (the first local maximum after lag 0),
+        ``prominent_maximum_lag_m`` (the first above the white-noise band) and
+        ``error`` (why there is none): the reply of the server's
+        ``…/snapshots/{k}/wire_autocorrelation``, computed by the ``wiredem``
+        binary (``wiredem autocorrelation``) from this file, so that R has one
+        implementation, the one summary.json's lags come from. ``wiredem`` is the
+        binary's path; default ``$WIREDEM_BIN``, else ``wiredem`` on the PATH.
+        """
+        binary = find_wiredem(wiredem)
+        run = subprocess.run([binary, "autocorrelation", str(self._path), "--test", self.test_name,
+                              "--snapshot", str(self.index)], capture_output=True, text=True)
+        if run.returncode != 0:
+            raise ResultError(run.stderr.strip() or f"{binary} autocorrelation exited {run.returncode}")
+        reply: Dict[str, Any] = json.loads(run.stdout)
+        return reply
 
     def force_network(self) -> pd.DataFrame:
         """The contacts between bodies, one row each.

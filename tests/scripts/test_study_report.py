@@ -314,15 +314,14 @@ class StudyReport(unittest.TestCase):
         self.assertEqual(report.summary_lags({"wire": {"autocorrelation_lag_m": None}}),
                          {"autocorrelation_lag_m": None, "autocorrelation_prominent_lag_m": "absent"})
 
-    def test_autocorrelation_matches_the_engine_formula(self):
-        x = np.random.default_rng(3).normal(size=60)
-        r = report.autocorrelation(x)
-        m, var = x.mean(), x.var()
-        for k in (0, 1, 7, 59):
-            direct = sum((x[t] - m) * (x[t + k] - m) for t in range(60 - k)) / ((60 - k) * var)
-            self.assertAlmostEqual(r[k], direct, places=12)
-        self.assertIsNone(report.autocorrelation(np.full(10, 0.3)))  # constant: undefined
-        self.assertIsNone(report.autocorrelation([1.0]))
+    def test_the_wire_autocorrelation_is_the_engines(self):
+        # R of the synthetic sine from `wiredem autocorrelation` (the package's door to the engine's
+        # function): 1 at lag 0, its first maximum after 0 at the sine's period, 40 segments.
+        c = report.find_campaigns(self.runs)[0]["helix"][0]
+        r = report.autocorrelation(report.wire_snapshot(c)[3], report.default_wiredem())
+        self.assertAlmostEqual(r[0], 1.0, places=12)
+        k = int(np.argmax(r[1:60])) + 1
+        self.assertEqual(k, PERIOD_SEGMENTS)
 
     def test_loop_lengths(self):
         wire = {"pattern": "helix", "helix_radius_m": 0.012}
