@@ -8,6 +8,12 @@
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
 #include "temp_dir.hpp"
+#ifdef WIREDEM_BIN
+#include "api/job_spec.hpp"
+#include "api/result_data.hpp"
+
+#include <boost/json/serialize.hpp>
+#endif
 
 #include <hdf5.h>
 
@@ -473,6 +479,36 @@ TEST(XdmfSidecar, ExportCommandWritesTheSidecarNextToTheResult)
     const int rc = std::system(bad.c_str());
     ASSERT_TRUE(WIFEXITED(rc));
     EXPECT_EQ(WEXITSTATUS(rc), 9);
+}
+
+// `wiredem autocorrelation` (client/autocorrelation_command.cpp): the server
+// route's reply (api::wire_autocorrelation_json) for a file's snapshot, with
+// the segment length of the file's job; by default the highest pressure's last.
+TEST(AutocorrelationCommand, AnswersWhatTheServerRouteAnswersForASnapshot)
+{
+    const TempDir dir;
+    const fs::path h5 = dir.path() / "result.h5";
+    const Sizes n{5, 9, 6};
+    write_result(h5, n);
+    const auto run = [&](const std::string& args) {
+        const fs::path out = dir.path() / "out.txt";
+        const std::string cmd = std::string(WIREDEM_BIN) + " autocorrelation '" + h5.string() + "' " + args + " > '"
+                              + out.string() + "' 2>&1";
+        const int rc = std::system(cmd.c_str());
+        std::ifstream in(out);
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        return std::pair{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, text};
+    };
+    std::vector<double> strains;  // write_snapshot's: 1e-3 s for segment s
+    for (std::size_t s = 0; s + 1 < n.wire_nodes; ++s) strains.push_back(1e-3 * static_cast<double>(s));
+    const double segment_m = wiredem::api::parse_job_spec(R"({"name": "xdmf test"})").value().specimen.wire.segment_length_m;
+    const std::string expected = boost::json::serialize(wiredem::api::wire_autocorrelation_json(strains, segment_m));
+    EXPECT_EQ(run(""), std::pair(0, expected));  // sigma3_100000, the highest pressure: its last, snapshot_1
+    EXPECT_EQ(run("--test sigma3_20000 --snapshot 10"), std::pair(0, expected));
+    EXPECT_EQ(run("--snapshot 2").first, 9);  // sigma3_100000 has snapshots 0 and 1
+    EXPECT_EQ(run("--test sigma3_1").first, 9);
+    EXPECT_EQ(run("--snapshot -1").first, 2);
 }
 #endif
 
