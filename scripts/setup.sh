@@ -11,7 +11,7 @@ packages=(
   libcli11-dev libspdlog-dev libfmt-dev libsqlite3-dev
   sqlite3                                         # the server tests forge a damaged store with it
   python3-numpy python3-h5py python3-matplotlib   # scripts/study_report.py and its test
-  python3-pandas python3-pytest python3-mypy python3-setuptools python3-pip  # the Python package (python/) and its tests
+  python3-pandas python3-pytest python3-mypy python3-setuptools python3-pip python3-venv  # the Python package (python/) and its tests
   python3-yaml                                    # scripts/lint-docker.sh checks compose.yaml
   chromium                                        # the web page's browser test (tests/web/), headless
   # scripts/build.sh asan and clang, scripts/fuzz.sh: clang, and its libFuzzer and
