@@ -59,3 +59,9 @@ def test_the_wire_strain_is_drawn_along_the_wire() -> None:
     peak = _markers(ax, "v")[0]
     assert peak.get_ydata()[0] == pytest.approx(3.0)
     plt.close(fig)
+
+
+def test_a_column_without_wire_has_no_wire_strain_to_draw(tiny_dir: Path) -> None:
+    with pytest.raises(ValueError, match="without wire"):
+        plots.plot_wire_strain(wiredem.open(tiny_dir))
+    plt.close("all")

@@ -158,6 +158,8 @@ def draw_wire_strain(ax: "Axes", strain: Any, segment_length_m: float, colour: A
     """Segment strains [%] against the position along the wire [m] (from the end laid first),
     the mean dashed and the largest marked ▼."""
     strain = np.asarray(strain, dtype=float)
+    if strain.size == 0:
+        raise ValueError("no wire segments to draw (a column without wire)")
     s = (np.arange(len(strain)) + 0.5) * segment_length_m
     ax.plot(s, strain * 100.0, color=colour, lw=lw)
     ax.axhline(float(np.mean(strain)) * 100.0, color="k", ls="--", lw=1)
