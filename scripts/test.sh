@@ -6,7 +6,8 @@
 # with clang under AddressSanitizer + UndefinedBehaviorSanitizer with -Werror
 # and without precompiled headers (scripts/build.sh asan: that build is also
 # the check that every file compiles clang-clean and includes what it uses),
-# every test but the report script's (label scripts: Python), the Slurm
+# every test but the Python ones (label scripts: the report script's, and the
+# package's, python/, which also has the label python), the Slurm
 # cluster's (label slurm: its pieces run there in the server's unit tests) and
 # the long physical runs (label physics_long: whole column preparations and
 # the end-to-end triaxial runs, a minute or two each under ASan, whose code
