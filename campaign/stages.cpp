@@ -217,10 +217,14 @@ StageError take_specimen(const api::JobSpec& spec, const JobDir& dir, const Stag
         return what + ": its job prepares another specimen (they differ in " + *d + ")";
     try {
         io::replace_file_atomically(dir.specimen(), [&](const std::filesystem::path& partial) {
-            std::filesystem::copy_file(from.specimen(), partial, std::filesystem::copy_options::overwrite_existing);
+            std::error_code copy_ec;
+            std::filesystem::copy_file(from.specimen(), partial, std::filesystem::copy_options::overwrite_existing, copy_ec);
+            if (copy_ec == std::errc::no_space_on_device) throw io::WriteError(copy_ec.value(), dir.specimen());
+            if (copy_ec) throw std::filesystem::filesystem_error("cannot copy", from.specimen(), partial, copy_ec);
         });
     } catch (const std::exception& e) {
-        return "cannot copy " + from.specimen().string() + " to " + dir.specimen().string() + ": " + e.what();
+        return io::write_failure_text(
+            "cannot copy " + from.specimen().string() + " to " + dir.specimen().string() + ": ", e);
     }
     try {
         io::write_text_file_atomically(dir.job(), text);
@@ -368,7 +372,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
             write_triaxial_result(g, r.value());
         });
     } catch (const std::exception& e) {
-        return "cannot write " + dir.test(index).string() + ": " + e.what();
+        return io::write_failure_text("cannot write " + dir.test(index).string() + ": ", e);
     }
     std::filesystem::remove(dir.checkpoint(index), ec);
     return std::nullopt;
@@ -666,7 +670,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
 
         io::write_text_file_atomically(dir.summary(), api::json_document_text(summary) + "\n");
     } catch (const std::exception& ex) {
-        return std::string("writing the results failed: ") + ex.what();
+        return io::write_failure_text("writing the results failed: ", ex);
     }
     report(control, "writing", 1.0, "done");
     return std::nullopt;

@@ -1,6 +1,8 @@
 // Job files through openat(…, O_NOFOLLOW), one component at a time.
 #include "job_files.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -41,6 +43,8 @@ UniqueFd open_dir_at(int parent, const std::string& name, bool create)
 [[noreturn]] void fail(const std::string& what, const fs::path& path)
 {
     const int err = errno;
+    // A full disk: one line the router answers with 507 and a worker waits on.
+    if (err == ENOSPC || err == EDQUOT) throw engine::io::WriteError(err, path);
     throw std::runtime_error("cannot " + what + " " + path.string() + ": "
                              + (err == ELOOP || err == ENOTDIR ? std::string("it is a symbolic link or not a folder")
                                                                : std::string(std::strerror(err))));

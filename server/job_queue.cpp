@@ -39,6 +39,8 @@ namespace {
 constexpr auto persist_interval = std::chrono::seconds(2);
 /// How often a worker checks cancellation and shutdown while a runner runs.
 constexpr auto tick = std::chrono::milliseconds(100);
+/// How long a worker waits after a full disk kept it from starting a job.
+constexpr auto no_space_pause = std::chrono::seconds(5);
 
 std::optional<std::string> read_small_file(const fs::path& p, std::uintmax_t max_bytes)
 {
@@ -183,12 +185,30 @@ void JobQueue::worker_loop(unsigned index)
             else run_job(*job);
         } catch (const std::exception& e) {
             // Nothing here may stop the worker: fail this job and take the next.
-            spdlog::error("job {}: {}", job->id, e.what());
             {
                 std::lock_guard lock(mutex_);
                 active_.erase(job->id);
             }
-            store_.finish(job->id, JobState::failed, std::string("server error: ") + e.what(), std::nullopt);
+            const auto* write = dynamic_cast<const engine::io::WriteError*>(&e);
+            try {
+                if (write && write->no_space()) {
+                    // A full disk passes once space is freed: the job waits in
+                    // the queue (the attempt uncounted) and the worker a while,
+                    // instead of failing every queued job in turn.
+                    spdlog::error("job {}: {}; queued again, next try in {} s", job->id, e.what(), no_space_pause.count());
+                    store_.requeue(job->id);
+                    std::unique_lock lock(mutex_);
+                    wake_.wait_for(lock, no_space_pause, [&] { return stopping_; });
+                } else {
+                    spdlog::error("job {}: {}", job->id, e.what());
+                    store_.finish(job->id, JobState::failed, std::string("server error: ") + e.what(), std::nullopt);
+                }
+            } catch (const std::exception& again) {
+                // The store cannot record it either (its disk is full): the
+                // job stays active there, and a restart queues it again
+                // (requeue_interrupted).
+                spdlog::error("job {}: the job store cannot record what happened: {}", job->id, again.what());
+            }
         }
     }
     spdlog::debug("worker {} stopped", index);

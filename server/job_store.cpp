@@ -3,8 +3,11 @@
 // conditional state moves) are atomic.
 #include "job_store.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <sqlite3.h>
 
+#include <cerrno>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -12,8 +15,19 @@
 namespace wiredem::server {
 namespace {
 
+/// A full disk (SQLITE_FULL, or a write that met ENOSPC or EDQUOT) is an
+/// io::WriteError naming the database file, which the router answers with
+/// 507 (router.cpp); anything else a runtime_error with SQLite's message.
 [[noreturn]] void fail(sqlite3* db, const std::string& what)
 {
+    if (db) {
+        const int system_errno = sqlite3_system_errno(db);
+        const bool full = sqlite3_errcode(db) == SQLITE_FULL || system_errno == ENOSPC || system_errno == EDQUOT;
+        if (full) {
+            const char* file = sqlite3_db_filename(db, "main");
+            throw engine::io::WriteError(system_errno == EDQUOT ? EDQUOT : ENOSPC, file ? file : "the job store");
+        }
+    }
     throw std::runtime_error("sqlite: " + what + ": " + (db ? sqlite3_errmsg(db) : "out of memory"));
 }
 
@@ -23,6 +37,7 @@ void exec(sqlite3* db, const char* sql)
     if (sqlite3_exec(db, sql, nullptr, nullptr, &err) != SQLITE_OK) {
         std::string msg = err ? err : "unknown error";
         sqlite3_free(err);
+        if (sqlite3_errcode(db) == SQLITE_FULL) fail(db, sql);
         throw std::runtime_error(std::string("sqlite: ") + msg + " in: " + sql);
     }
 }

@@ -6,6 +6,8 @@
 
 #include "origin.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include "handlers/jobs.hpp"
 #include "handlers/meta.hpp"
 #include "handlers/results.hpp"
@@ -205,6 +207,15 @@ Response Router::dispatch(const Request& req) noexcept
     Response res = [&]() -> Response {
         try {
             return route(req);
+        } catch (const engine::io::WriteError& e) {
+            // A full disk (the store's or a job folder's) passes once space is
+            // freed: 507, with when to try again, not a 500.
+            spdlog::error("{} {}: {}", std::string(req.method_string()), std::string(req.target()), e.what());
+            if (!e.no_space()) return error_response(req, http::status::internal_server_error, "internal", e.what());
+            auto res = error_response(req, http::status::insufficient_storage, "insufficient_storage",
+                "the server's disk is full (" + std::string(e.what()) + "); try again once space is freed");
+            res.set(http::field::retry_after, std::to_string(svc_.config.retry_after.count()));
+            return res;
         } catch (const std::exception& e) {
             spdlog::error("{} {}: {}", std::string(req.method_string()), std::string(req.target()), e.what());
             return error_response(req, http::status::internal_server_error, "internal", e.what());

@@ -713,6 +713,31 @@ File File::open_read_write(const std::filesystem::path& path)
     return File(owned(f, H5Fclose), name);
 }
 
+File File::create_in_memory(const std::filesystem::path& name_path)
+{
+    silence_automatic_error_printing();
+    const std::string name = name_path.string();
+    const Where at{name, "/"};
+    detail::Handle fapl = owned(check_id(H5Pcreate(H5P_FILE_ACCESS), at, "cannot create file access list"), H5Pclose);
+    // Grows by 1 MiB; no backing store: the file never reaches the disk.
+    check(H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, 0), at, "cannot select the in-memory driver");
+    hid_t f = check_id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), at, "cannot create file in memory");
+    return File(owned(f, H5Fclose), name);
+}
+
+std::string File::image()
+{
+    silence_automatic_error_printing();
+    const Where at{name_, "/"};
+    if (id() < 0) misuse(at, "cannot take the file's image", "file is closed");
+    check(H5Fflush(id(), H5F_SCOPE_GLOBAL), at, "cannot flush file");
+    const ssize_t size = H5Fget_file_image(id(), nullptr, 0);
+    if (size < 0) fail(at, "cannot size the file's image");
+    std::string bytes(static_cast<std::size_t>(size), '\0');
+    if (H5Fget_file_image(id(), bytes.data(), bytes.size()) != size) fail(at, "cannot take the file's image");
+    return bytes;
+}
+
 Group File::root() const
 {
     silence_automatic_error_printing();
@@ -746,12 +771,17 @@ void File::close()
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write)
 {
     replace_file_atomically(path, [&](const std::filesystem::path& partial) {
-        File file = File::create(partial);
+        std::string bytes;
         {
-            Group root = file.root();
-            write(root);
+            File file = File::create_in_memory(path);
+            {
+                Group root = file.root();
+                write(root);
+            }
+            bytes = file.image();
+            file.close();
         }
-        file.close();
+        write_file_bytes(partial, bytes, path);
     });
 }
 

@@ -254,6 +254,13 @@ public:
     [[nodiscard]] static File open_read_only(const std::filesystem::path& path);
     /// Opens an existing file for reading and writing.
     [[nodiscard]] static File open_read_write(const std::filesystem::path& path);
+    /// Creates a file that lives in memory only (HDF5's core driver without a
+    /// backing store): nothing touches the disk; image() gives its bytes.
+    /// `name` only names it in messages.
+    [[nodiscard]] static File create_in_memory(const std::filesystem::path& name);
+
+    /// The bytes of the whole file as it would be on disk, flushed first.
+    [[nodiscard]] std::string image();
 
     /// The root group "/" (its attributes are the file's global attributes).
     [[nodiscard]] Group root() const;
@@ -282,6 +289,15 @@ private:
 /// `write` fills the root group of a new file that replace_file_atomically
 /// (io/atomic_file.hpp) then puts in place of `path`. On an exception no
 /// partial file is left and the exception passes on.
+///
+/// The file is built in memory (File::create_in_memory) and its bytes
+/// written by write_file_bytes, so that no HDF5 call ever meets a failing
+/// disk: a write error (a full disk) is a WriteError, one line naming the
+/// reason and `path`, and every HDF5 identifier is closed. (On disk, HDF5's
+/// sec2 driver leaves a file whose write failed unclosable: H5Dclose and
+/// H5Fclose fail, and the library's exit handler, H5_term_library, then
+/// crashes closing them.) The cost: the file's bytes in memory twice, the
+/// image and its copy, while it is written.
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(Group& root)>& write);
 
 

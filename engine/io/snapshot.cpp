@@ -26,6 +26,7 @@
 #include "io/snapshot.hpp"
 
 #include "forces/membrane_forces.hpp"
+#include "io/atomic_file.hpp"
 #include "io/hdf5.hpp"
 #include "step.hpp"
 #include "state/state_hash.hpp"
@@ -105,7 +106,7 @@ Result<std::uint64_t, std::string> save_snapshot(
             }
         });
     } catch (const std::exception& e) {
-        return Err("cannot write snapshot " + path.string() + ": " + e.what());
+        return Err(io::write_failure_text("cannot write snapshot " + path.string() + ": ", e));
     }
     return hash;
 }

@@ -440,7 +440,7 @@ json::object error_reply(std::string_view description, std::initializer_list<std
 
 /// What any operation can be answered besides its own replies: the router
 /// and the session answer these before (or instead of) a handler.
-void add_common_replies(json::object& responses, bool needs_token, bool has_body)
+void add_common_replies(json::object& responses, bool needs_token, bool has_body, bool writes)
 {
     auto add = [&](const char* status, json::object reply) {
         if (!responses.contains(status)) responses[status] = std::move(reply);
@@ -458,6 +458,9 @@ void add_common_replies(json::object& responses, bool needs_token, bool has_body
     add("500", error_reply("internal: the server could not answer (its log says why)"));
     if (has_body)
         add("503", error_reply("busy: --max-pending-submits are waiting for validation", {{"Retry-After", "seconds"}}));
+    if (writes)
+        add("507", error_reply("insufficient_storage: the data directory's disk is full (the message names the file "
+                               "that could not be written)", {{"Retry-After", "seconds"}}));
     add("503", error_reply("too_many_connections: every one of --max-connections is busy with a request (sent at "
                            "once on connecting; the connection is closed)", {{"Retry-After", "seconds"}}));
 }
@@ -513,7 +516,8 @@ void complete_from_route_table(json::object& doc)
         if (!r.operation_id.empty()) (*op)["operationId"] = r.operation_id;
         else if (!op->contains("operationId")) (*op)["operationId"] = operation_id_of(r.path);
         (*op)["tags"] = json::array{json::string(r.tag)};
-        add_common_replies((*op)["responses"].as_object(), r.path.substr(0, 4) == "/v1/", r.method == http::verb::post);
+        add_common_replies((*op)["responses"].as_object(), r.path.substr(0, 4) == "/v1/", r.method == http::verb::post,
+            r.method == http::verb::post || r.method == http::verb::delete_);
         if (r.method == http::verb::get)
             item->as_object()["head"] = head_of(*op, std::string((*op)["operationId"].as_string()) + "Head");
     }

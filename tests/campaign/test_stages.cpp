@@ -13,7 +13,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <csignal>
 #include <fcntl.h>
 #include <filesystem>
@@ -26,6 +28,7 @@
 #include <string>
 #include <string_view>
 #include <sys/file.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -436,6 +439,73 @@ TEST(Stages, ARunStoppedHalfWayIsContinuedByRunningItAgain)
     EXPECT_EQ(first.find("(eta"), std::string::npos) << first;
     for (std::string line; std::getline(lines, line);)
         EXPECT_EQ(line.find("(eta -"), std::string::npos) << line;
+}
+
+namespace {
+
+/// The reference run's job directory without its results, in `out`: what an
+/// analysis starts from.
+void copy_for_analysis(const fs::path& out)
+{
+    fs::copy(reference_run(), out, fs::copy_options::recursive);
+    for (const char* name : {"result.h5", "result.xdmf", "summary.json"}) fs::remove(out / name);
+}
+
+/// The last line of a process's stderr.
+std::string last_line_of(std::string text)
+{
+    while (!text.empty() && text.back() == '\n') text.pop_back();
+    const auto nl = text.find_last_of('\n');
+    return nl == std::string::npos ? text : text.substr(nl + 1);
+}
+
+/// What a full disk must give: exit 1 (not a crash in HDF5's exit handler),
+/// one line naming the reason and result.h5, no partial file, no results.
+void expect_one_clean_failure(const Outcome& o, const fs::path& out)
+{
+    EXPECT_TRUE(WIFEXITED(o.status)) << "killed by signal " << WTERMSIG(o.status) << "\n" << o.err;
+    EXPECT_EQ(o.code(), 1) << o.err;
+    EXPECT_EQ(last_line_of(o.err), "wiredem: no space left on device writing " + (out / "result.h5").string()) << o.err;
+    EXPECT_FALSE(fs::exists(fs::symlink_status(out / "result.h5.partial")));
+    EXPECT_FALSE(fs::exists(out / "result.h5"));
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
+} // namespace
+
+// A full disk while the results are written, injected: result.h5's partial
+// file is a symbolic link to /dev/full, whose every write fails with ENOSPC.
+// (Before: the HDF5 error, exit 1, then SIGSEGV in libhdf5's exit handler.)
+TEST(Stages, AFullDiskEndsTheAnalysisWithOneClearLine)
+{
+    const fs::path dir = fresh_dir("full_disk"), out = dir / "out";
+    copy_for_analysis(out);
+    fs::create_symlink("/dev/full", out / "result.h5.partial");
+    expect_one_clean_failure(run_wiredem({"analyse", out.string()}, dir / "log"), out);
+}
+
+// The same on a real full file system: a tmpfs just large enough for the
+// job directory (mounted by the test: root or CAP_SYS_ADMIN; skipped where
+// mount is refused, the case above covers the same code).
+TEST(Stages, AFullFileSystemEndsTheAnalysisWithOneClearLine)
+{
+    const fs::path dir = fresh_dir("full_tmpfs"), mnt = dir / "mnt";
+    const fs::path staged = dir / "staged";
+    copy_for_analysis(staged);
+    std::uintmax_t bytes = 0;
+    for (const auto& e : fs::recursive_directory_iterator(staged))
+        if (e.is_regular_file()) bytes += (e.file_size() + 4095) / 4096 * 4096;
+    fs::create_directories(mnt);
+    const std::string options = "size=" + std::to_string(bytes + 16384);
+    if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, options.c_str()) != 0)
+        GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+    struct Unmount {
+        fs::path at;
+        ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
+    } unmount{mnt};
+    const fs::path out = mnt / "out";
+    fs::copy(staged, out, fs::copy_options::recursive);
+    expect_one_clean_failure(run_wiredem({"analyse", out.string()}, dir / "log"), out);
 }
 
 TEST(Stages, BadRequestsGetClearErrors)

@@ -62,3 +62,23 @@ TEST(AtomicFile, AFileThatCannotBeWrittenIsAnErrorNamingIt)
         EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
     }
 }
+
+// A full disk, injected: the partial file is a symbolic link to /dev/full,
+// whose every write fails with ENOSPC. The error is one line naming the
+// reason and the file (not its ".partial"); the old file stays, the link goes.
+TEST(AtomicFile, AFullDiskIsOneLineNamingTheFile)
+{
+    const TempDir dir;
+    const fs::path file = dir.path() / "summary.json";
+    write_text_file_atomically(file, "old\n");
+    fs::create_symlink("/dev/full", dir.path() / "summary.json.partial");
+    try {
+        write_text_file_atomically(file, std::string(100000, 'x'));
+        FAIL() << "no error";
+    } catch (const WriteError& e) {
+        EXPECT_EQ(std::string(e.what()), "no space left on device writing " + file.string());
+        EXPECT_TRUE(e.no_space());
+    }
+    EXPECT_EQ(read_text(file), "old\n");
+    EXPECT_FALSE(fs::exists(fs::symlink_status(dir.path() / "summary.json.partial")));
+}

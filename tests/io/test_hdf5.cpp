@@ -1,6 +1,7 @@
 // HDF5 output layer: everything written is read back unchanged, numeric datasets are
 // chunked and deflate-compressed, failures throw Hdf5Error naming file and object path
 // without HDF5 printing to stderr, and h5dump (when installed) can read the file.
+#include "io/atomic_file.hpp"
 #include "io/hdf5.hpp"
 #include "temp_dir.hpp"
 
@@ -19,6 +20,7 @@
 #include <optional>
 #include <stdexcept>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -164,6 +166,49 @@ TEST(Hdf5File, WritingAtomicallyLeavesTheFileWholeOrAsItWas)
     const File r = File::open_read_only(tmp.path());
     EXPECT_EQ(r.root().open_group("a").read_int_attribute("version"), 1);
     EXPECT_FALSE(r.root().exists("b"));
+}
+
+// A full disk, injected (the partial file a symbolic link to /dev/full,
+// where every write fails with ENOSPC): the writer throws one line naming the
+// reason and the file, leaves no partial file and no HDF5 identifier open, and
+// the library's exit handler (H5close, what H5_term_library runs at exit) goes
+// through: with HDF5 writing to the disk itself, H5Dclose and H5Fclose failed
+// and left the file open, and the exit handler crashed (SIGSEGV) closing it.
+// In a child process, which the crash would kill.
+TEST(Hdf5File, AFullDiskIsOneLineAndLeavesNoIdentifierOpen)
+{
+    const TempFile tmp;
+    std::filesystem::path partial = tmp.path();
+    partial += ".partial";
+    std::filesystem::create_symlink("/dev/full", partial);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        int code = 0;
+        try {
+            write_file_atomically(tmp.path(), [](Group& root) {
+                std::vector<double> values(200000);
+                for (std::size_t i = 0; i < values.size(); ++i) values[i] = static_cast<double>(i * 2654435761u % 1000003);
+                root.write_dataset("values", std::span<const double>(values));
+            });
+            code = 10;  // no error
+        } catch (const WriteError& e) {
+            if (std::string(e.what()) != "no space left on device writing " + tmp.path().string()) code = 11;
+        } catch (const std::exception&) {
+            code = 12;  // another error than a WriteError
+        }
+        if (std::filesystem::exists(std::filesystem::symlink_status(partial))) code = code ? code : 13;
+        if (H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL) != 0) code = code ? code : 14;
+        if (H5close() < 0) code = code ? code : 15;
+        ::_exit(code);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    std::error_code ignored;
+    std::filesystem::remove(partial, ignored);
+    ASSERT_TRUE(WIFEXITED(status)) << "the child was killed by signal " << WTERMSIG(status);
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "10: no error, 11: another message, 12: not a WriteError, 13: the partial "
+                                         "file stayed, 14: an HDF5 identifier stayed open, 15: H5close failed";
 }
 
 TEST(Hdf5Attribute, RewritingReplacesTypeAndValue)

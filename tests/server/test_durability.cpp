@@ -7,7 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <cstdlib>
 #include <fstream>
@@ -301,6 +305,54 @@ TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
     EXPECT_EQ(exit_code_on(tmp.path() / "data", log), 3) << log;
     EXPECT_NE(log.find("another wiredem-server uses"), std::string::npos) << log;
     EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
+}
+
+// A full disk under the data directory: a submit is answered 507 with
+// Retry-After (the store cannot take it), not 500, the server keeps
+// answering, and once space is freed the same submit is taken. A real small
+// tmpfs, mounted by the test (root or CAP_SYS_ADMIN; skipped where mount is
+// refused: tests/io's WriteError cases inject the same full disk without a
+// mount, and the route maps any io::WriteError alike).
+TEST(Durability, AFullDiskIsAnswered507WithRetryAfterUntilSpaceIsFreed)
+{
+    TempDir tmp;
+    const fs::path small = tmp.path() / "small";
+    fs::create_directories(small);
+    if (::mount("tmpfs", small.c_str(), "tmpfs", 0, "size=8m,mode=0700") != 0)
+        GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+    struct Unmount {
+        fs::path at;
+        ~Unmount() { ::umount2(at.c_str(), MNT_DETACH); }
+    } unmount{small};
+    {
+        ServerProcess server(small / "data", {"--jobs", "1"});
+        const auto first = http(server.port(), "POST", "/v1/jobs", R"({"name": "before"})");
+        ASSERT_EQ(first.status, 201) << first.body;
+        poll_job(server.port(), std::string(first.json().at("id").as_string()), is_final);
+
+        // Every byte taken.
+        {
+            std::ofstream filler(small / "filler", std::ios::binary);
+            const std::string block(1 << 16, 'x');
+            while (filler.write(block.data(), static_cast<std::streamsize>(block.size()))) {
+            }
+        }
+        RawReply full;
+        for (int k = 0; k < 20 && full.status != 507; ++k)  // the store's journal may hold a little room of its own
+            full = http(server.port(), "POST", "/v1/jobs", R"({"name": "while full )" + std::to_string(k) + "\"}");
+        EXPECT_EQ(full.status, 507) << full.body;
+        EXPECT_EQ(full.error_code(), "insufficient_storage") << full.body;
+        EXPECT_TRUE(full.headers.count("retry-after")) << full.body;
+        EXPECT_NE(full.body.find("no space left on device"), std::string::npos) << full.body;
+        EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
+
+        fs::remove(small / "filler");
+        const auto after = http(server.port(), "POST", "/v1/jobs", R"({"name": "after"})");
+        EXPECT_EQ(after.status, 201) << after.body;
+        EXPECT_EQ(state_of(poll_job(server.port(), std::string(after.json().at("id").as_string()), is_final, std::chrono::seconds(40))), "succeeded")
+            << server.log();
+        EXPECT_EQ(server.terminate(), 0) << server.log();
+    }
 }
 
 } // namespace
