@@ -11,6 +11,7 @@
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
+#include "api/utf8.hpp"
 #include "specimen/preparation.hpp"
 
 #include <boost/json.hpp>
@@ -111,9 +112,6 @@ struct IntRange {
 };
 
 constexpr std::size_t max_name_chars = 200;
-/// A comment is a note, not a document: every copy of the job (the store,
-/// job.json, the result file) carries it.
-constexpr std::size_t max_comment_chars = 10'000;
 constexpr std::size_t max_pressures = 16;
 constexpr std::size_t max_snapshots = 64;
 /// The column must be at least this many largest-grain diameters wide. The
@@ -324,13 +322,6 @@ bool read_choice(Validator& v, const json::value& j, const std::string& path,
     return false;
 }
 
-/// Number of Unicode code points in valid UTF-8 (Boost.JSON has checked it).
-std::size_t utf8_length(std::string_view s)
-{
-    std::size_t n = 0;
-    for (const char c : s) n += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u;
-    return n;
-}
 
 // --------------------------------------------------------- object-level reads
 
@@ -817,11 +808,8 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
         if (n > max_name_chars)
             v.fail("name", "is " + std::to_string(n) + " characters long; at most " + std::to_string(max_name_chars)
                                + " are allowed");
-        for (const char c : spec.name)
-            if (static_cast<unsigned char>(c) < 0x20u || c == 0x7F) {
-                v.fail("name", "contains a control character; the name must be a single line of text");
-                break;
-            }
+        if (has_control_character(spec.name))
+            v.fail("name", "contains a control character; the name must be a single line of text");
     }
     r.text("comment", spec.comment, {nullptr, "free text"});
     if (v.recording())

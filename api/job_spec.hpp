@@ -230,6 +230,10 @@ struct EngineSpec {
     friend bool operator==(const EngineSpec&, const EngineSpec&) = default;
 };
 
+/// A comment is a note, not a document: every copy of the job (the store,
+/// job.json, the result file) carries it, and a study's its document.
+inline constexpr std::size_t max_comment_chars = 10'000;
+
 /// One job: a specimen prepared once and tested at every confining pressure.
 struct JobSpec {
     std::string name = "job";                  ///< ≤ 200 characters, no control characters

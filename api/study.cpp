@@ -1,6 +1,7 @@
 #include "api/study.hpp"
 
 #include "api/json_text.hpp"
+#include "api/utf8.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -30,15 +31,6 @@ bool is_field_path(std::string_view p)
         previous = c;
     }
     return true;
-}
-
-/// Cuts `text` to at most `n` bytes at a UTF-8 character boundary.
-std::string cut_utf8(std::string text, std::size_t n)
-{
-    if (text.size() <= n) return text;
-    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
-    text.resize(n);
-    return text;
 }
 
 /// Sets `value` at the dotted `path` of `doc`, creating missing objects; an
@@ -180,9 +172,15 @@ engine::Result<Study, std::vector<FieldError>> parse_study(const json::value& do
         add(errors, "name", "a non-empty string is required");
     else if (n->as_string().size() > max_name_chars)
         add(errors, "name", "longer than " + std::to_string(max_name_chars) + " bytes");
+    else if (has_control_character(n->as_string()))
+        add(errors, "name", "contains a control character; the name must be a single line of text");
     else
         study.name = std::string(n->as_string());
-    if (const json::value* c = d.if_contains("comment"); c && !c->is_string()) add(errors, "comment", "must be a string");
+    if (const json::value* c = d.if_contains("comment"); c && !c->is_string())
+        add(errors, "comment", "must be a string");
+    else if (c && utf8_length(c->as_string()) > max_comment_chars)  // bounded as a job's (api/job_spec.hpp)
+        add(errors, "comment", "is " + std::to_string(utf8_length(c->as_string())) + " characters long; at most "
+                                   + std::to_string(max_comment_chars) + " are allowed");
     const json::value* base = d.if_contains("base");
     if (!base || !base->is_object()) add(errors, "base", "the base job, an object, is required");
 

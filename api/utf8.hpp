@@ -62,4 +62,47 @@ namespace wiredem::api {
     return out;
 }
 
+/// `text` cut to at most `n` bytes at a UTF-8 character boundary.
+[[nodiscard]] inline std::string cut_utf8(std::string text, std::size_t n)
+{
+    if (text.size() <= n) return text;
+    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
+    text.resize(n);
+    return text;
+}
+
+/// `text` made valid (valid_utf8) and bounded to about `max_bytes`: a longer
+/// one is cut at a character boundary and ends "… (N bytes)", N its length
+/// as given. What a reply echoes of a request (a path, a value, a header)
+/// stays a line, however large the request.
+[[nodiscard]] inline std::string bounded_echo(std::string_view text, std::size_t max_bytes)
+{
+    if (text.size() <= max_bytes)
+        if (std::string whole = valid_utf8(text); whole.size() <= max_bytes) return whole;
+    return cut_utf8(valid_utf8(text.substr(0, max_bytes)), max_bytes) + "… (" + std::to_string(text.size()) + " bytes)";
+}
+
+/// Number of Unicode code points in valid UTF-8.
+[[nodiscard]] inline std::size_t utf8_length(std::string_view s)
+{
+    std::size_t n = 0;
+    for (const char c : s) n += (static_cast<unsigned char>(c) & 0xC0u) != 0x80u;
+    return n;
+}
+
+/// Whether valid UTF-8 `text` holds a control character: C0 (U+0000–U+001F),
+/// DEL (U+007F) or C1 (U+0080–U+009F; U+009B is a terminal's CSI, which
+/// starts an escape sequence as ESC [ does).
+[[nodiscard]] inline bool has_control_character(std::string_view text)
+{
+    char32_t cp = 0;
+    for (std::size_t i = 0; i < text.size();) {
+        const std::size_t n = utf8_sequence_at(text, i, cp);
+        if (n == 0) return true;  // not text at all
+        if (cp < 0x20 || (cp >= 0x7f && cp <= 0x9f)) return true;
+        i += n;
+    }
+    return false;
+}
+
 } // namespace wiredem::api

@@ -61,11 +61,14 @@ HttpClient make_client(const GlobalOptions& g)
     return HttpClient(parse_server_url(url), token_file.empty() ? std::string() : read_token(token_file), g.timeout);
 }
 
-void check_id(const std::string& id)
+/// `what`: "job" or "study", as the command names its id.
+void check_id(const std::string& id, std::string_view what = "job")
 {
     bool ok = id.size() == 24;
     for (char c : id) ok = ok && ((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'));
-    if (!ok) throw CommandError(exit_code::usage, "'" + id + "' is not a job id (24 lower-case hex digits)");
+    if (!ok)
+        throw CommandError(exit_code::usage,
+            "'" + printable(id) + "' is not a " + std::string(what) + " id (24 lower-case hex digits)");
 }
 
 /// Throws CommandError for any reply that is not 2xx, with the server's own
@@ -516,7 +519,7 @@ int cmd_study_submit(const GlobalOptions& g, const fs::path& study_file, bool wa
 
 int cmd_study_status(const GlobalOptions& g, const std::string& id)
 {
-    check_id(id);
+    check_id(id, "study");
     auto client = make_client(g);
     const auto reply = client.request(Method::get, "/v1/studies/" + id);
     check_reply(reply, "study " + id);
@@ -539,7 +542,7 @@ int cmd_study_status(const GlobalOptions& g, const std::string& id)
 
 int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w)
 {
-    check_id(id);
+    check_id(id, "study");
     auto client = make_client(g);
     const auto started = clock_type::now();
     std::optional<clock_type::time_point> failing_since;
@@ -576,7 +579,7 @@ int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOpti
 
 int cmd_study_cancel(const GlobalOptions& g, const std::string& id)
 {
-    check_id(id);
+    check_id(id, "study");
     auto client = make_client(g);
     const auto reply = client.request(Method::del, "/v1/studies/" + id);
     check_reply(reply, "cancel study " + id);
@@ -586,9 +589,20 @@ int cmd_study_cancel(const GlobalOptions& g, const std::string& id)
     return exit_code::ok;
 }
 
+int cmd_study_delete(const GlobalOptions& g, const std::string& id)
+{
+    check_id(id, "study");
+    auto client = make_client(g);
+    const auto reply = client.request(Method::del, "/v1/studies/" + id + "?remove=true");
+    check_reply(reply, "delete study " + id);
+    if (g.json) print_json(json::object{{"id", id}, {"deleted", true}});
+    else std::cout << "study " << id << " deleted with its jobs and their files" << std::endl;
+    return exit_code::ok;
+}
+
 int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv)
 {
-    check_id(id);
+    check_id(id, "study");
     auto client = make_client(g);
     const auto reply = client.request(Method::get, "/v1/studies/" + id + "/summary");
     check_reply(reply, "summary of study " + id);
@@ -602,7 +616,7 @@ int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv)
 
 int cmd_study_fetch(const GlobalOptions& g, const std::string& id, const fs::path& dir)
 {
-    check_id(id);
+    check_id(id, "study");
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw CommandError(exit_code::local_io, "cannot create " + dir.string() + ": " + ec.message());

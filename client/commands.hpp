@@ -75,6 +75,9 @@ int cmd_study_status(const GlobalOptions& g, const std::string& id);
 int cmd_study_wait(const GlobalOptions& g, const std::string& id, const WaitOptions& w);
 /// `study cancel`: cancels every job of the study that has not ended.
 int cmd_study_cancel(const GlobalOptions& g, const std::string& id);
+/// `study delete`: deletes a study whose jobs have all ended, with its jobs
+/// and their files (DELETE /v1/studies/{id}?remove=true).
+int cmd_study_delete(const GlobalOptions& g, const std::string& id);
 /// `study summary`: the table of φ and c over the seeds and per point (or CSV, or JSON).
 int cmd_study_summary(const GlobalOptions& g, const std::string& id, bool csv);
 /// `study fetch`: DIR/summary.json, DIR/summary.csv and each succeeded

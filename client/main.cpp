@@ -152,6 +152,8 @@ int main(int argc, char** argv)
     add_wait_options(study_wait);
     auto* study_cancel = study->add_subcommand("cancel", "cancel every job of a study that has not ended");
     study_cancel->add_option("id", id, "study id")->required();
+    auto* study_delete = study->add_subcommand("delete", "delete a study whose jobs have all ended, with its jobs and their files");
+    study_delete->add_option("id", id, "study id")->required();
     auto* study_summary = study->add_subcommand("summary", "phi and c over the seeds and per point");
     study_summary->add_option("id", id, "study id")->required();
     bool study_csv = false;
@@ -207,6 +209,7 @@ int main(int argc, char** argv)
         if (*study_status) return cmd_study_status(g, id);
         if (*study_wait) return cmd_study_wait(g, id, wait_opts);
         if (*study_cancel) return cmd_study_cancel(g, id);
+        if (*study_delete) return cmd_study_delete(g, id);
         if (*study_summary) return cmd_study_summary(g, id, study_csv);
         if (*study_fetch) return cmd_study_fetch(g, id, out_dir);
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);

@@ -21,6 +21,14 @@ StringResponse text_response(const Request& req, http::status status, std::strin
     return res;
 }
 
+StringResponse no_content_response(const Request& req)
+{
+    StringResponse res{http::status::no_content, req.version()};
+    res.set(http::field::server, server_name);
+    res.keep_alive(req.keep_alive());
+    return res;
+}
+
 StringResponse json_response(const Request& req, http::status status, const boost::json::value& body)
 {
     std::string text = api::json_document_text(body);
@@ -32,15 +40,23 @@ StringResponse error_response(const Request& req, http::status status, std::stri
     std::string_view message, std::string_view field, const std::vector<FieldProblem>& details)
 {
     // The message and the field may echo what the client sent (a Host
-    // header, a decoded query parameter), which need not be UTF-8; a JSON
-    // text must be (RFC 8259 §8.1), and Boost.JSON writes strings unchecked.
+    // header, a decoded query parameter, a path), which need not be UTF-8; a
+    // JSON text must be (RFC 8259 §8.1), and Boost.JSON writes strings
+    // unchecked. Each is bounded (api::bounded_echo), and so is the number of
+    // details: a hostile request of a megabyte gets a reply of kilobytes.
     boost::json::object err;
     err["code"] = code;
-    err["message"] = api::valid_utf8(message);
-    err["field"] = field.empty() ? boost::json::value(nullptr) : boost::json::value(api::valid_utf8(field));
+    err["message"] = api::bounded_echo(message, max_error_message_bytes);
+    err["field"] = field.empty() ? boost::json::value(nullptr)
+                                 : boost::json::value(api::bounded_echo(field, max_error_field_bytes));
     if (!details.empty()) {
         boost::json::array list;
-        for (const auto& d : details) list.push_back(boost::json::object{{"field", d.field}, {"message", d.message}});
+        for (std::size_t k = 0; k < details.size() && k < max_error_details; ++k)
+            list.push_back(boost::json::object{{"field", api::bounded_echo(details[k].field, max_error_field_bytes)},
+                {"message", api::bounded_echo(details[k].message, max_error_message_bytes)}});
+        if (details.size() > max_error_details)
+            list.push_back(boost::json::object{{"field", nullptr},
+                {"message", "and " + std::to_string(details.size() - max_error_details) + " more problems"}});
         err["details"] = std::move(list);
     }
     return json_response(req, status, boost::json::object{{"error", std::move(err)}});

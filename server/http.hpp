@@ -42,9 +42,18 @@ struct FieldProblem {
 /// A reply with a JSON body; keep-alive and version follow the request.
 [[nodiscard]] StringResponse json_response(const Request& req, http::status status, const boost::json::value& body);
 
+/// A reply without a body (204 No Content: a deletion done).
+[[nodiscard]] StringResponse no_content_response(const Request& req);
+
 /// A reply with a text body of the given content type.
 [[nodiscard]] StringResponse text_response(const Request& req, http::status status, std::string body,
     std::string_view content_type);
+
+/// What an error reply echoes at most: bytes of its message and of each
+/// field name (longer ones are cut and say their length), and details.
+inline constexpr std::size_t max_error_message_bytes = 1024;
+inline constexpr std::size_t max_error_field_bytes = 256;
+inline constexpr std::size_t max_error_details = 100;
 
 /// An error reply: `code` is a stable machine-readable word (e.g.
 /// "invalid_job"), `message` one human-readable line, `field` the offending

@@ -10,6 +10,7 @@
 
 #include "api/job_spec.hpp"
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -73,6 +74,20 @@ struct StudyRecord {
     std::int64_t created_ms = 0;           ///< Unix time [ms]
     std::string document_json;             ///< the study document as submitted (parsed and re-serialised)
     std::vector<std::string> job_ids;      ///< the point's job, by point index
+};
+
+/// Job counts per state, indexed by JobState.
+using StateCounts = std::array<std::int64_t, std::size(all_job_states)>;
+
+/// What a list of studies shows of one: its columns and its jobs counted
+/// by state, read without its document or its jobs' specs.
+struct StudyListRow {
+    std::int64_t seq = 0;
+    std::string id;
+    std::string name;
+    std::int64_t created_ms = 0;
+    std::size_t points = 0;
+    StateCounts jobs_by_state{};
 };
 
 /// The Slurm jobs that run a job under `wiredem-server --executor slurm`

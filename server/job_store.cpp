@@ -8,6 +8,7 @@
 #include <sqlite3.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -302,6 +303,16 @@ JobStore::~JobStore() { sqlite3_close(db_); }
 
 namespace {
 
+/// A study's jobs, by point.
+std::vector<std::string> study_job_ids_locked(sqlite3* db, const std::string& id)
+{
+    Statement j(db, "SELECT job_id FROM study_jobs WHERE study_id = ? ORDER BY point");
+    j.bind(1, id);
+    std::vector<std::string> ids;
+    while (j.step()) ids.push_back(j.text(0));
+    return ids;
+}
+
 std::optional<StudyRecord> get_study_locked(sqlite3* db, const std::string& id)
 {
     Statement s(db, "SELECT seq, id, name, created_ms, document FROM studies WHERE id = ?");
@@ -313,9 +324,7 @@ std::optional<StudyRecord> get_study_locked(sqlite3* db, const std::string& id)
     r.name = s.text(2);
     r.created_ms = s.int64(3);
     r.document_json = s.text(4);
-    Statement j(db, "SELECT job_id FROM study_jobs WHERE study_id = ? ORDER BY point");
-    j.bind(1, id);
-    while (j.step()) r.job_ids.push_back(j.text(0));
+    r.job_ids = study_job_ids_locked(db, id);
     return r;
 }
 
@@ -355,17 +364,79 @@ std::optional<StudyRecord> JobStore::get_study(const std::string& id)
     return get_study_locked(db_, id);
 }
 
-std::vector<StudyRecord> JobStore::list_studies(std::int64_t before_seq, int limit)
+std::vector<StudyListRow> JobStore::list_studies(std::int64_t before_seq, int limit)
 {
     std::lock_guard lock(mutex_);
-    Statement s(db_, "SELECT id FROM studies WHERE seq < ? ORDER BY seq DESC LIMIT ?");
+    // The columns before `document` only (the last: SQLite stops short of its
+    // overflow pages), and the jobs counted by state through the index of
+    // study_jobs' primary key; no spec is read.
+    Statement s(db_, "SELECT seq, id, name, created_ms FROM studies WHERE seq < ? ORDER BY seq DESC LIMIT ?");
     s.bind(1, before_seq > 0 ? before_seq : std::numeric_limits<std::int64_t>::max()).bind(2, limit);
-    std::vector<std::string> ids;
-    while (s.step()) ids.push_back(s.text(0));
-    std::vector<StudyRecord> out;
-    for (const auto& id : ids)
-        if (auto r = get_study_locked(db_, id)) out.push_back(std::move(*r));
+    std::vector<StudyListRow> out;
+    while (s.step()) {
+        StudyListRow r;
+        r.seq = s.int64(0);
+        r.id = s.text(1);
+        r.name = s.text(2);
+        r.created_ms = s.int64(3);
+        out.push_back(std::move(r));
+    }
+    for (StudyListRow& r : out) {
+        Statement c(db_, "SELECT jobs.state, COUNT(*) FROM study_jobs JOIN jobs ON jobs.id = study_jobs.job_id"
+                         " WHERE study_jobs.study_id = ? GROUP BY jobs.state");
+        c.bind(1, r.id);
+        while (c.step())
+            if (auto st = job_state_from_string(c.text(0))) r.jobs_by_state[static_cast<std::size_t>(*st)] = c.int64(1);
+        Statement n(db_, "SELECT COUNT(*) FROM study_jobs WHERE study_id = ?");
+        n.bind(1, r.id);
+        if (n.step()) r.points = static_cast<std::size_t>(n.int64(0));
+    }
     return out;
+}
+
+namespace {
+
+/// Deletes a study, its points and its jobs (in the caller's transaction).
+void delete_study_locked(sqlite3* db, const std::string& id, const std::vector<std::string>& job_ids)
+{
+    Statement p(db, "DELETE FROM study_jobs WHERE study_id = ?");
+    p.bind(1, id).run();
+    for (const auto& job : job_ids) {
+        Statement sl(db, "DELETE FROM slurm_jobs WHERE job_id = ?");
+        sl.bind(1, job).run();
+        Statement j(db, "DELETE FROM jobs WHERE id = ?");
+        j.bind(1, job).run();
+    }
+    Statement st(db, "DELETE FROM studies WHERE id = ?");
+    st.bind(1, id).run();
+}
+
+/// Whether every job of the study has ended.
+bool study_ended_locked(sqlite3* db, const std::string& id)
+{
+    Statement s(db, "SELECT 1 FROM study_jobs JOIN jobs ON jobs.id = study_jobs.job_id WHERE study_jobs.study_id = ?"
+                    " AND jobs.state NOT IN ('succeeded', 'failed', 'cancelled') LIMIT 1");
+    s.bind(1, id);
+    return !s.step();
+}
+
+} // namespace
+
+RemoveOutcome JobStore::remove_study(const std::string& id, std::vector<std::string>& job_ids)
+{
+    std::lock_guard lock(mutex_);
+    Transaction tx(db_);
+    {
+        Statement s(db_, "SELECT 1 FROM studies WHERE id = ?");
+        s.bind(1, id);
+        if (!s.step()) return RemoveOutcome::not_found;
+    }
+    if (!study_ended_locked(db_, id)) return RemoveOutcome::not_final;
+    std::vector<std::string> ids = study_job_ids_locked(db_, id);
+    delete_study_locked(db_, id, ids);
+    tx.commit();
+    job_ids = std::move(ids);
+    return RemoveOutcome::removed;
 }
 
 InsertOutcome JobStore::insert(const JobRecord& job, std::size_t max_queued, JobRecord& out)
@@ -501,17 +572,31 @@ std::vector<std::string> JobStore::remove_finished_beyond(std::size_t keep)
 {
     std::lock_guard lock(mutex_);
     Transaction tx(db_);
-    std::vector<std::string> ids;
+    // (job, its study or "") beyond the bound, most recently ended first.
+    std::vector<std::pair<std::string, std::string>> beyond;
     {
         Statement s(db_,
-            "SELECT id FROM jobs WHERE state IN ('succeeded', 'failed', 'cancelled')"
-            " AND id NOT IN (SELECT job_id FROM study_jobs) ORDER BY finished_ms DESC, seq DESC LIMIT -1 OFFSET ?");
+            "SELECT jobs.id, COALESCE(study_jobs.study_id, '') FROM jobs LEFT JOIN study_jobs ON study_jobs.job_id = jobs.id"
+            " WHERE jobs.state IN ('succeeded', 'failed', 'cancelled')"
+            " ORDER BY jobs.finished_ms DESC, jobs.seq DESC LIMIT -1 OFFSET ?");
         s.bind(1, static_cast<std::int64_t>(keep));
-        while (s.step()) ids.push_back(s.text(0));
+        while (s.step()) beyond.emplace_back(s.text(0), s.text(1));
     }
-    for (const auto& id : ids) {
-        Statement s(db_, "DELETE FROM jobs WHERE id = ?");
-        s.bind(1, id).run();
+    std::vector<std::string> ids;
+    std::vector<std::string> studies_seen;
+    for (const auto& [id, study] : beyond) {
+        if (study.empty()) {
+            Statement s(db_, "DELETE FROM jobs WHERE id = ?");
+            s.bind(1, id).run();
+            ids.push_back(id);
+            continue;
+        }
+        if (std::find(studies_seen.begin(), studies_seen.end(), study) != studies_seen.end()) continue;
+        studies_seen.push_back(study);
+        if (!study_ended_locked(db_, study)) continue;  // kept whole until its last job ends
+        const std::vector<std::string> of_study = study_job_ids_locked(db_, study);
+        delete_study_locked(db_, study, of_study);
+        ids.insert(ids.end(), of_study.begin(), of_study.end());
     }
     tx.commit();
     return ids;

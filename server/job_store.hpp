@@ -45,9 +45,6 @@ enum class RemoveOutcome {
     not_found,
 };
 
-/// Job counts per state, indexed by JobState.
-using StateCounts = std::array<std::int64_t, std::size(all_job_states)>;
-
 /// The job table (see the file comment for durability and threading).
 class JobStore {
 public:
@@ -93,9 +90,10 @@ public:
     /// not one of a study's points.
     RemoveOutcome remove(const std::string& id);
 
-    /// The retention bound: removes the ended jobs (not a study's) beyond
-    /// the `keep` most recently finished. Returns their ids (their files are
-    /// the caller's to remove).
+    /// The retention bound: removes the ended jobs beyond the `keep` most
+    /// recently finished. A study's job goes with its whole study, once every
+    /// job of the study has ended (a study is kept or removed whole). Returns
+    /// the removed jobs' ids (their files are the caller's to remove).
     std::vector<std::string> remove_finished_beyond(std::size_t keep);
 
     /// Puts an active job back into the queue (graceful shutdown); the
@@ -132,8 +130,15 @@ public:
     /// The study with this id, with its jobs' ids by point.
     [[nodiscard]] std::optional<StudyRecord> get_study(const std::string& id);
 
-    /// Up to `limit` studies, newest first, with seq < `before_seq` (0: no bound).
-    [[nodiscard]] std::vector<StudyRecord> list_studies(std::int64_t before_seq, int limit);
+    /// Up to `limit` studies, newest first, with seq < `before_seq` (0: no
+    /// bound): what a list shows, counted in SQL, without reading a study's
+    /// document or its jobs' specs (a document may be large).
+    [[nodiscard]] std::vector<StudyListRow> list_studies(std::int64_t before_seq, int limit);
+
+    /// Removes a study whose jobs have all ended, with its jobs; `job_ids`
+    /// receives their ids (their files are the caller's to remove).
+    /// not_final while one of them has not ended.
+    RemoveOutcome remove_study(const std::string& id, std::vector<std::string>& job_ids);
 
     /// Records the Slurm jobs submitted for a job (replacing earlier ones):
     /// a restarted server follows them instead of submitting again.

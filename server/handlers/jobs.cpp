@@ -349,10 +349,7 @@ Response handle_delete_job(const Request& req, const std::string& id, const Quer
     }
     if (!remove_job_dir(svc.config.data_dir, id))
         spdlog::warn("job {}: deleted, but its folder could not be removed", id);
-    http::response<http::string_body> res{http::status::no_content, req.version()};
-    res.set(http::field::server, server_name);
-    res.keep_alive(req.keep_alive());
-    return res;
+    return no_content_response(req);
 }
 
 Response handle_get_summary(const Request& req, const std::string& id, Services& svc)

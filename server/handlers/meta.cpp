@@ -185,12 +185,18 @@ constexpr const char* openapi_text = R"json({
         }
       },
       "delete": {
-        "summary": "Cancel every job of the study that has not ended",
+        "summary": "Cancel every job of the study that has not ended; with remove=true, delete a study whose jobs have all ended, with its jobs and their files",
+        "parameters": [{"name": "remove", "in": "query", "required": false,
+          "description": "true: delete the study, every job of which must have ended, with its jobs and their files, instead of cancelling them",
+          "schema": {"type": "string", "enum": ["true"]}}],
         "responses": {
-          "200": {"description": "The study", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/StudyInfo"}}}},
+          "200": {"description": "Its jobs cancelled", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/StudyInfo"}}}},
+          "204": {"description": "remove=true: deleted with its jobs and their files"},
           "400": {"$ref": "#/components/responses/Error"},
           "401": {"$ref": "#/components/responses/Error"},
-          "404": {"$ref": "#/components/responses/Error"}
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"description": "not_finished: remove of a study with a job that has not ended",
+                  "content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
         }
       }
     },
@@ -375,9 +381,10 @@ constexpr const char* openapi_text = R"json({
       "State": {"type": "string", "enum": ["queued", "preparing", "running", "succeeded", "failed", "cancelled"]},
       "Study": {"type": "object", "required": ["name", "base"],
         "description": "docs/studies.md: the base job and either vary (field path -> list of values, a full grid) or points (a list of {field path: value}); every point is validated as a job; at most --max-study-points points.",
-        "properties": {"name": {"type": "string", "maxLength": 200}, "comment": {"type": "string"},
+        "properties": {"name": {"type": "string", "maxLength": 200}, "comment": {"type": "string", "maxLength": 10000},
           "base": {"$ref": "#/components/schemas/JobSpec"},
-          "vary": {"type": "object", "additionalProperties": {"type": "array", "minItems": 1}},
+          "vary": {"type": "object", "additionalProperties": {"type": "array", "minItems": 1,
+            "items": {"description": "one value of the field (its type is the field's)"}}},
           "points": {"type": "array", "minItems": 1, "items": {"type": "object"}}}},
       "StudyInfo": {"type": "object", "required": ["id", "url", "name", "created_at", "points", "jobs_by_state", "links"],
         "properties": {"id": {"type": "string"}, "url": {"type": "string"}, "name": {"type": "string"},

@@ -1,9 +1,13 @@
 #include "studies.hpp"
 
+#include "../job_files.hpp"
+#include "jobs.hpp"
+
 #include "api/json_text.hpp"
 #include "api/study.hpp"
 
 #include <boost/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include <charconv>
 #include <fstream>
@@ -35,13 +39,19 @@ api::Study parse_stored(const StudyRecord& r)
     return std::move(s.value());
 }
 
-/// Jobs by state, for lists and the study itself.
-json::object counts(const std::vector<std::optional<JobRecord>>& jobs)
+/// Jobs by state, as a list and the study itself show them.
+json::object counts_json(const StateCounts& counts)
 {
     json::object c;
-    for (JobState s : all_job_states) c[to_string(s)] = 0;
+    for (JobState s : all_job_states) c[to_string(s)] = counts[static_cast<std::size_t>(s)];
+    return c;
+}
+
+StateCounts counts(const std::vector<std::optional<JobRecord>>& jobs)
+{
+    StateCounts c{};
     for (const auto& j : jobs)
-        if (j) c[to_string(j->state)] = c[to_string(j->state)].to_number<std::int64_t>() + 1;
+        if (j) ++c[static_cast<std::size_t>(j->state)];
     return c;
 }
 
@@ -52,17 +62,23 @@ std::vector<std::optional<JobRecord>> jobs_of(const StudyRecord& r, Services& sv
     return jobs;
 }
 
-json::object study_json(const StudyRecord& r, const std::vector<std::optional<JobRecord>>& jobs)
+/// A study's resource (StudyInfo); a list shows it for each study.
+json::object study_json(const StudyListRow& r)
 {
     json::object o;
     o["id"] = r.id;
     o["url"] = study_url(r.id);
     o["name"] = r.name;
     o["created_at"] = format_rfc3339(r.created_ms);
-    o["points"] = r.job_ids.size();
-    o["jobs_by_state"] = counts(jobs);
+    o["points"] = r.points;
+    o["jobs_by_state"] = counts_json(r.jobs_by_state);
     o["links"] = json::object{{"self", study_url(r.id)}, {"summary", study_url(r.id) + "/summary"}};
     return o;
+}
+
+json::object study_json(const StudyRecord& r, const std::vector<std::optional<JobRecord>>& jobs)
+{
+    return study_json(StudyListRow{r.seq, r.id, r.name, r.created_ms, r.job_ids.size(), counts(jobs)});
 }
 
 std::optional<json::value> read_summary(const std::filesystem::path& file)
@@ -132,6 +148,7 @@ Response handle_submit_study(const Request& req, Services& svc)
     }
     svc.metrics.jobs_submitted.fetch_add(jobs.size(), std::memory_order_relaxed);
     svc.queue.notify();
+    apply_retention(svc);
     auto res = json_response(req, http::status::created, study_json(stored, jobs_of(stored, svc)));
     res.set(http::field::location, study_url(stored.id));
     return res;
@@ -165,7 +182,7 @@ Response handle_list_studies(const Request& req, const QueryParams& params, Serv
     }
     const auto rows = svc.store.list_studies(cursor, limit);
     json::array studies;
-    for (const auto& r : rows) studies.push_back(study_json(r, jobs_of(r, svc)));
+    for (const auto& r : rows) studies.push_back(study_json(r));
     json::object body;
     body["studies"] = std::move(studies);
     body["next_cursor"] = static_cast<int>(rows.size()) == limit && !rows.empty()
@@ -197,8 +214,32 @@ Response handle_get_study(const Request& req, const std::string& id, Services& s
     return json_response(req, http::status::ok, o);
 }
 
-Response handle_cancel_study(const Request& req, const std::string& id, Services& svc)
+Response handle_delete_study(const Request& req, const std::string& id, const QueryParams& params, Services& svc)
 {
+    // As a job's DELETE (handlers/jobs.cpp): removing is asked for in so many
+    // words (?remove=true), and only once every job of the study has ended.
+    bool remove = false;
+    for (const auto& [key, value] : params) {
+        if (key != "remove" || value != "true" || remove)
+            return error_response(req, http::status::bad_request, "bad_parameter",
+                "the only parameter here is remove=true (delete an ended study with its jobs and their files)", key);
+        remove = true;
+    }
+    if (remove) {
+        std::vector<std::string> job_ids;
+        switch (svc.store.remove_study(id, job_ids)) {
+        case RemoveOutcome::not_found: return study_not_found(req, id);
+        case RemoveOutcome::not_final:
+        case RemoveOutcome::in_study:
+            return error_response(req, http::status::conflict, "not_finished",
+                "study " + id + " has jobs that have not ended; cancel it first (DELETE without ?remove)", "id");
+        case RemoveOutcome::removed: break;
+        }
+        for (const auto& job : job_ids)
+            if (!remove_job_dir(svc.config.data_dir, job))
+                spdlog::warn("job {}: deleted with study {}, but its folder could not be removed", job, id);
+        return no_content_response(req);
+    }
     const auto r = svc.store.get_study(id);
     if (!r) return study_not_found(req, id);
     for (const auto& job : r->job_ids)

@@ -19,8 +19,11 @@ namespace wiredem::server {
 [[nodiscard]] Response handle_list_studies(const Request& req, const QueryParams& params, Services& svc);
 /// GET /v1/studies/{id}: the study with each point's values and job.
 [[nodiscard]] Response handle_get_study(const Request& req, const std::string& id, Services& svc);
-/// DELETE /v1/studies/{id}: cancels every job of the study that has not ended.
-[[nodiscard]] Response handle_cancel_study(const Request& req, const std::string& id, Services& svc);
+/// DELETE /v1/studies/{id}: cancels every job of the study that has not
+/// ended; with ?remove=true, deletes a study whose jobs have all ended, with
+/// its jobs and their files (204; 409 while one has not ended).
+[[nodiscard]] Response handle_delete_study(
+    const Request& req, const std::string& id, const QueryParams& params, Services& svc);
 /// GET /v1/studies/{id}/summary: api::study_summary of its jobs as they are now.
 [[nodiscard]] Response handle_get_study_summary(const Request& req, const std::string& id, Services& svc);
 
