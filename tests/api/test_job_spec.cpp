@@ -534,6 +534,8 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         InvalidCase{"NameTooLong", R"({"name": ")" + std::string(201, 'x') + "\"}", "name",
             "is 201 characters long; at most 200"},
         InvalidCase{"NameOnTwoLines", R"({"name": "a\nb"})", "name", "control character"},
+        InvalidCase{"NameWithAC1Control", R"({"name": "a\u009b2Jb"})", "name", "control character"},
+        InvalidCase{"NameWithDelete", R"({"name": "a\u007fb"})", "name", "control character"},
         InvalidCase{"CommentTooLong", R"({"comment": ")" + std::string(10'001, 'x') + "\"}", "comment",
             "is 10001 characters long; at most 10000"},
         // both damping forms

@@ -156,6 +156,21 @@ TEST(Study, MalformedStudiesAreRefusedWithTheirField)
     EXPECT_TRUE(has_error(s.error(), "base", "object")) << all(s.error());
 }
 
+// A study's comment is bounded as a job's (api::max_comment_chars), and its
+// name is one line of text as a job's: C1 controls included (U+009B is a
+// terminal's CSI).
+TEST(Study, ItsCommentIsBoundedAndItsNameOneLineAsAJobs)
+{
+    auto s = parse_study(study_with({{"comment", std::string(10'000, 'x')}, {"vary", json::object{{"seed", json::array{1}}}}}));
+    EXPECT_TRUE(s.ok());
+    s = parse_study(study_with({{"comment", std::string(10'001, 'x')}, {"vary", json::object{{"seed", json::array{1}}}}}));
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(has_error(s.error(), "comment", "is 10001 characters long; at most 10000")) << all(s.error());
+    s = parse_study(study_with({{"name", "a\u009bb"}, {"vary", json::object{{"seed", json::array{1}}}}}));
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(has_error(s.error(), "name", "control character")) << all(s.error());
+}
+
 TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
 {
     const auto s = parse_study(study_with({{"vary", json::object{{"specimen.wire.pattern", json::array{"none", "helix"}},

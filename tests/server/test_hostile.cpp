@@ -143,6 +143,28 @@ TEST_F(HostileInput, ErrorsThatEchoTheRequestAreStillValidUtf8Json)
     EXPECT_EQ(param.error_code(), "bad_parameter") << param.body;
 }
 
+// What an error reply echoes is bounded: a 0.9 MB unknown key (once a 400
+// of 2.7 MB, the key in the field and the message, control bytes escaped)
+// is cut and says its length; a thousand unknown keys give 100 details and
+// one "and N more problems".
+TEST_F(HostileInput, ErrorRepliesEchoTheRequestBoundedNotWhole)
+{
+    const auto huge = http(port(), "POST", "/v1/jobs", "{\"" + std::string(900'000, 'k') + "\": 1}");
+    EXPECT_EQ(huge.status, 400);
+    EXPECT_EQ(huge.error_code(), "invalid_job") << huge.body.substr(0, 300);
+    EXPECT_LT(huge.body.size(), 8192u);
+    EXPECT_NE(huge.body.find("(900000 bytes)"), std::string::npos) << huge.body.substr(0, 3000);
+
+    std::string many = "{";
+    for (int k = 0; k < 1000; ++k) many += (k ? ", \"" : "\"") + std::string("bogus_") + std::to_string(k) + "\": 1";
+    many += "}";
+    const auto r = http(port(), "POST", "/v1/jobs", many);
+    EXPECT_EQ(r.status, 400);
+    const json::array& details = r.json().at("error").at("details").as_array();
+    ASSERT_EQ(details.size(), 101u);
+    EXPECT_EQ(details.back().at("message").as_string(), "and 900 more problems");
+}
+
 TEST_F(HostileInput, AnotherSitesPageCannotReachTheServer)
 {
     // DNS rebinding: a page of evil.example whose name now points at

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <functional>
 #include <thread>
 
 namespace wiredem::test {
@@ -62,12 +63,31 @@ TEST(Responsiveness, StatusLatencyUnderAFloodOfSubmits)
     // requests meanwhile must not wait for validations: they run on the
     // submit threads, not on the I/O threads. (Before, with validation on the
     // I/O threads, p50 rose from 0.14 ms to 100 ms and p99 to 300 ms.)
+    //
+    // The bound is relative to this machine as it is now, never an absolute
+    // time (a sanitizer, or another build beside the test, slows everything:
+    // under ASan on a busy machine an honest p50 was 40 ms). Measured here
+    // first, without the flood: the status request's idle median and one
+    // validation's median. A status request waiting behind validations waits
+    // a good part of one; one served beside them does not.
     TempDir tmp;
     ServerProcess server(tmp.path() / "data");
     const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "status target"})");
     ASSERT_EQ(r.status, 201);
     const std::string id(r.json().at("id").as_string());
     const std::string heavy = R"({"specimen": {"wire": {"pattern": "spiral_helix"}}, "engine": {"max_bodies": 100}})";
+    const auto median_ms = [](const std::function<void()>& request, int n) {
+        std::vector<double> t;
+        for (int i = 0; i < n; ++i) {
+            const auto t0 = std::chrono::steady_clock::now();
+            request();
+            t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        }
+        std::sort(t.begin(), t.end());
+        return t[t.size() / 2];
+    };
+    const double idle_p50 = median_ms([&] { EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + id).status, 200); }, 100);
+    const double validation_ms = median_ms([&] { EXPECT_EQ(http(server.port(), "POST", "/v1/jobs", heavy).status, 400); }, 5);
     std::atomic<bool> stop{false};
     std::atomic<int> posted{0}, refused{0};
     std::vector<std::thread> flood;
@@ -91,15 +111,20 @@ TEST(Responsiveness, StatusLatencyUnderAFloodOfSubmits)
     for (auto& t : flood) t.join();
     std::sort(ms.begin(), ms.end());
     const double p50 = ms[149], p99 = ms[296];
-    std::printf("[ latency  ] 300 GET /v1/jobs/{id} under a flood of %d submits (4 clients): p50 %.2f ms, p99 %.2f ms\n",
-        posted.load(), p50, p99);
+    std::printf("[ latency  ] 300 GET /v1/jobs/{id} under a flood of %d submits (4 clients): p50 %.2f ms, p99 %.2f ms "
+                "(idle p50 %.2f ms, one validation %.1f ms)\n",
+        posted.load(), p50, p99, idle_p50, validation_ms);
     RecordProperty("p50_ms", std::to_string(p50));
     RecordProperty("p99_ms", std::to_string(p99));
+    RecordProperty("idle_p50_ms", std::to_string(idle_p50));
+    RecordProperty("validation_ms", std::to_string(validation_ms));
     EXPECT_EQ(refused.load(), posted.load()) << "every flooding submit was refused (400, or 503 when too many wait)";
     EXPECT_GT(posted.load(), 0);
-    // A validation takes 50–250 ms: a status reply stuck behind one would
-    // show as a median of that order.
-    EXPECT_LT(p50, 25.0);
+    // A status reply stuck behind validations would show as a median of the
+    // order of one (before: p50 100 ms beside validations of 50–250 ms);
+    // served beside them, it waits for a core at most, far less.
+    EXPECT_LT(p50, std::max(validation_ms / 4.0, 10.0 * idle_p50))
+        << "idle p50 " << idle_p50 << " ms, one validation " << validation_ms << " ms";
 }
 
 } // namespace

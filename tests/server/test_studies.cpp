@@ -117,6 +117,63 @@ TEST(Studies, CancellingAStudyCancelsEveryJobThatHasNotEnded)
     EXPECT_EQ(count(s, "cancelled"), 4) << json::serialize(s);
 }
 
+// A study whose jobs have all ended is deleted with them and their folders
+// (DELETE ?remove=true, `wiredem study delete`), not before; and its jobs
+// count towards --max-finished-jobs: once the study's oldest job is beyond
+// the bound, the study goes whole.
+TEST(Studies, AnEndedStudyIsDeletedWholeByRequestOrByTheRetentionBound)
+{
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    ServerProcess server(data, {"--jobs", "1", "--max-finished-jobs", "3"}, 0.05);
+    const auto submit = [&](const std::string& name) {
+        const auto r = http(server.port(), "POST", "/v1/studies", study_text(name, {{"seed", json::array{1, 2}}}));
+        EXPECT_EQ(r.status, 201) << r.body;
+        return std::string(r.json().at("id").as_string());
+    };
+    const auto job_ids = [&](const std::string& id) {
+        std::vector<std::string> ids;
+        for (const auto& p : http(server.port(), "GET", "/v1/studies/" + id).json().at("jobs").as_array())
+            ids.emplace_back(p.at("job").at("id").as_string());
+        return ids;
+    };
+
+    const std::string first = submit("deleted");
+    const auto first_jobs = job_ids(first);
+    const auto early = http(server.port(), "DELETE", "/v1/studies/" + first + "?remove=true");
+    EXPECT_EQ(early.status, 409) << early.body;
+    EXPECT_EQ(early.error_code(), "not_finished");
+    poll_study(server.port(), first, all_ended);
+    EXPECT_EQ(http(server.port(), "DELETE", "/v1/studies/" + first + "?remove=false").status, 400);
+    const auto c = run_client({"study", "delete", first, "--server", server.url()});
+    EXPECT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_EQ(http(server.port(), "GET", "/v1/studies/" + first).status, 404);
+    for (const auto& job : first_jobs) {
+        EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + job).status, 404);
+        EXPECT_FALSE(fs::exists(data / "jobs" / job));
+    }
+    EXPECT_EQ(http(server.port(), "GET", "/v1/studies").json().at("studies").as_array().size(), 0u);
+
+    // Retention: the study's two jobs end first, then two jobs; the third
+    // job's submit finds four ended jobs, the oldest the study's.
+    const std::string kept = submit("retained");
+    const auto kept_jobs = job_ids(kept);
+    poll_study(server.port(), kept, all_ended);
+    std::vector<std::string> later;
+    for (int k = 0; k < 3; ++k) {
+        const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "later)" + std::to_string(k) + "\"}");
+        ASSERT_EQ(r.status, 201) << r.body;
+        later.emplace_back(r.json().at("id").as_string());
+        EXPECT_EQ(http(server.port(), "GET", "/v1/studies/" + kept).status, k < 2 ? 200 : 404) << k;
+        poll_job(server.port(), later.back(), [](const json::value& j) {
+            const auto st = state_of(j);
+            return st == "succeeded" || st == "failed" || st == "cancelled";
+        });
+    }
+    for (const auto& job : kept_jobs) EXPECT_FALSE(fs::exists(data / "jobs" / job));
+    for (const auto& job : later) EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + job).status, 200);
+}
+
 TEST(Studies, HostileStudiesAreRefusedWithTheFieldAndNothingIsCreated)
 {
     TempDir tmp;
@@ -144,6 +201,11 @@ TEST(Studies, HostileStudiesAreRefusedWithTheFieldAndNothingIsCreated)
     refused(study_text("slow", {{"triaxial.plate_speed_m_per_s", json::array{0.01, 1e-9}}}), 400,
         "points[1] (triaxial.plate_speed_m_per_s=1e-09): triaxial.plate_speed_m_per_s", "--max-steps-per-job");
     refused("[1, 2]", 400, "", "a study must be a JSON object");
+    {  // a comment bounded as a job's
+        json::object doc = json::parse(study_text("long", {{"seed", json::array{1}}})).as_object();
+        doc["comment"] = std::string(10'001, 'x');
+        refused(json::serialize(doc), 400, "comment", "at most 10000");
+    }
     refused("{", 400, "", "invalid_json");
     // More jobs than the queue takes: 429, and none of them created.
     refused(study_text("q1", {{"seed", json::array{1, 2, 3, 4, 5, 6, 7, 8}}}), 201, "", "");
