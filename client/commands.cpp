@@ -100,7 +100,9 @@ void check_reply(const HttpReply& r, const std::string& what)
     std::string line = what + ": " + printable(message) + " (HTTP " + std::to_string(r.status) + ")";
     if (r.status == 429 && !r.header("retry-after").empty()) line += "; retry after " + r.header("retry-after") + " s";
     int exit = exit_code::server_refused;
-    if (r.status == 400 && (code == "invalid_job" || code == "invalid_json")) exit = exit_code::invalid_job;
+    // A study refused is a file that is not valid, as a job refused is (3).
+    if (r.status == 400 && (code == "invalid_job" || code == "invalid_json" || code == "invalid_study"))
+        exit = exit_code::invalid_job;
     else if (r.status == 401 || r.status == 403) exit = exit_code::unauthorized;
     else if (r.status == 404) exit = exit_code::not_found;
     throw CommandError(exit, line + details);
@@ -443,9 +445,9 @@ int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(
 
 namespace {
 
-api::Study load_study(const fs::path& file, std::size_t max_points)
+/// The study in `text`, read from `file` (named in the error).
+api::Study parse_study_file(const std::string& text, const fs::path& file, std::size_t max_points)
 {
-    const std::string text = read_file(file, "study file");
     auto study = api::parse_study(std::string_view(text), max_points);
     if (!study) {
         std::string msg = "study file " + file.string() + " is not a valid study:";
@@ -454,6 +456,11 @@ api::Study load_study(const fs::path& file, std::size_t max_points)
         throw CommandError(exit_code::invalid_job, msg);
     }
     return std::move(study).value();
+}
+
+api::Study load_study(const fs::path& file, std::size_t max_points)
+{
+    return parse_study_file(read_file(file, "study file"), file, max_points);
 }
 
 /// "3 succeeded, 1 running, 2 queued": the non-zero counts of a study.
@@ -505,8 +512,9 @@ int cmd_study_submit(const GlobalOptions& g, const fs::path& study_file, bool wa
 {
     // The document as written goes to the server, after the same checks
     // (the server also applies its own limit on points).
-    (void)load_study(study_file, std::numeric_limits<std::size_t>::max());
+    // Read once: a pipe or /dev/stdin gives its bytes only once.
     const std::string body = read_file(study_file, "study file");
+    (void)parse_study_file(body, study_file, std::numeric_limits<std::size_t>::max());
     auto client = make_client(g);
     const auto reply = client.request(Method::post, "/v1/studies", body);
     check_reply(reply, "submit " + study_file.string());

@@ -11,7 +11,7 @@ namespace exit_code {
 inline constexpr int ok = 0;              ///< done; for wait/submit --wait: the job succeeded
 inline constexpr int job_failed = 1;      ///< the job ended failed
 inline constexpr int usage = 2;           ///< bad command line or server URL
-inline constexpr int invalid_job = 3;     ///< the job file is not a valid job (local check or server 400)
+inline constexpr int invalid_job = 3;     ///< the job or study file is not valid (local check or server 400)
 inline constexpr int not_found = 4;       ///< no such job (404)
 inline constexpr int unauthorized = 5;    ///< token missing or wrong (401/403)
 inline constexpr int server_refused = 6;  ///< other 4xx/5xx: queue full (429), not finished yet (409), server error

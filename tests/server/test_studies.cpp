@@ -8,6 +8,11 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <fstream>
 #include <thread>
 
 namespace wiredem::test {
@@ -172,6 +177,38 @@ TEST(Studies, AnEndedStudyIsDeletedWholeByRequestOrByTheRetentionBound)
     }
     for (const auto& job : kept_jobs) EXPECT_FALSE(fs::exists(data / "jobs" / job));
     for (const auto& job : later) EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + job).status, 200);
+}
+
+// `study submit` reads its file once, so a pipe or /dev/stdin works: here a
+// FIFO its writer fills once (a second open for reading, the old client's,
+// found it empty and sent an empty body). A study the server refuses exits
+// 3, as a job it refuses does (it exited 6).
+TEST(Studies, StudySubmitReadsItsFileOnceAndExitsAsJobSubmitDoes)
+{
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data", {"--jobs", "1", "--max-study-points", "1"});
+    const fs::path fifo = tmp.path() / "study.fifo";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string text = study_text("piped", {{"seed", json::array{1}}});
+    std::thread writer([&] {
+        std::ofstream(fifo) << text;  // once the client opens it
+        for (int i = 0; i < 300; ++i) {  // a second reader, if one comes, finds it empty
+            const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+            if (fd >= 0) {
+                ::close(fd);
+                break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    });
+    const auto piped = run_client({"study", "submit", fifo.string(), "--server", server.url()});
+    writer.join();
+    EXPECT_EQ(piped.exit_code, 0) << piped.err;
+
+    write_file(tmp.path() / "two.json", study_text("two", {{"seed", json::array{1, 2}}}));
+    const auto refused = run_client({"study", "submit", (tmp.path() / "two.json").string(), "--server", server.url()});
+    EXPECT_EQ(refused.exit_code, 3) << refused.err;
+    EXPECT_NE(refused.err.find("more than the limit of 1"), std::string::npos) << refused.err;
 }
 
 TEST(Studies, HostileStudiesAreRefusedWithTheFieldAndNothingIsCreated)
