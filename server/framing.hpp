@@ -1,5 +1,5 @@
-// Whether a request's body framing can be trusted (RFC 9112 §6): checked on
-// the headers, before the body is read. Beast frames a request with, say,
+// Whether a request's body framing can be trusted (RFC 9112 §6), and its
+// headers are otherwise sound: checked on the headers, before the body is read. Beast frames a request with, say,
 // `Transfer-Encoding: gzip` as having no body, and what the client meant as
 // the body would then be read as the next request (smuggling). A pure
 // function of the headers, so that the HTTP fuzz target runs the session's
@@ -41,7 +41,15 @@ struct FramingProblem {
 
 /// A problem when the body would be framed by anything but a single
 /// `chunked` coding, or by Transfer-Encoding and Content-Length together;
-/// nullopt when the framing is sound.
+/// when a header that must be single (Host, RFC 9112 §3.2; Origin and
+/// Idempotency-Key, which the router reads once) comes twice (400: which
+/// one is meant?); when an Expect asks for anything but 100-continue (417);
+/// nullopt when the headers are sound.
 [[nodiscard]] std::optional<FramingProblem> framing_problem(const http::fields& headers);
+
+/// Whether the client waits for "100 Continue" before it sends the body
+/// (Expect: 100-continue, RFC 9110 §10.1.1, on an HTTP/1.1 request with a
+/// body): the session sends it once the headers have passed framing_problem.
+[[nodiscard]] bool expects_continue(const http::request_header<>& headers);
 
 } // namespace wiredem::server

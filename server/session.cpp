@@ -144,6 +144,18 @@ private:
         if (ec) return on_read(ec, bytes);
         if (auto problem = framing_problem(parser_->get()))
             return reply_and_close(problem->status, problem->code, problem->message);
+        if (expects_continue(parser_->get())) {  // the client sends its body once it has this
+            auto interim = std::make_shared<http::response<http::empty_body>>(http::status::continue_, 11);
+            return http::async_write(stream_, *interim, [self = shared_from_this(), interim](beast::error_code wec, std::size_t) {
+                if (wec) return self->log_failure(wec, "write");
+                self->read_body();
+            });
+        }
+        read_body();
+    }
+
+    void read_body()
+    {
         http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&Session::on_read, shared_from_this()));
     }
 

@@ -6,6 +6,12 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <fstream>
 #include <iterator>
 
@@ -163,6 +169,56 @@ TEST_F(HostileInput, ErrorRepliesEchoTheRequestBoundedNotWhole)
     const json::array& details = r.json().at("error").at("details").as_array();
     ASSERT_EQ(details.size(), 101u);
     EXPECT_EQ(details.back().at("message").as_string(), "and 900 more problems");
+}
+
+// Expect: 100-continue is answered with 100 as soon as the headers pass
+// (curl waited a second for it on every submit), and the body then read;
+// any other expectation is 417.
+TEST_F(HostileInput, ExpectContinueIsAnsweredWith100BeforeTheBody)
+{
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    ASSERT_GE(fd, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(port());
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    const std::string body = R"({"name": "expecting"})";
+    const std::string head = "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                             "Content-Length: " + std::to_string(body.size()) + "\r\nExpect: 100-continue\r\n"
+                             "Connection: close\r\n\r\n";
+    ASSERT_EQ(::send(fd, head.data(), head.size(), MSG_NOSIGNAL), static_cast<ssize_t>(head.size()));
+    const auto read_some = [&](int timeout_ms) {
+        pollfd p{fd, POLLIN, 0};
+        if (::poll(&p, 1, timeout_ms) <= 0) return std::string();
+        char buf[4096];
+        const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+        return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+    };
+    const std::string interim = read_some(5000);
+    EXPECT_EQ(interim.rfind("HTTP/1.1 100 Continue\r\n", 0), 0u) << interim;
+    ASSERT_EQ(::send(fd, body.data(), body.size(), MSG_NOSIGNAL), static_cast<ssize_t>(body.size()));
+    std::string reply;
+    for (std::string more; !(more = read_some(5000)).empty();) reply += more;
+    ::close(fd);
+    EXPECT_EQ(reply.rfind("HTTP/1.1 201", 0), 0u) << reply;
+
+    const auto other = raw_exchange(port(), "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                                            "Content-Length: 2\r\nExpect: 200-ok\r\nConnection: close\r\n\r\n{}");
+    EXPECT_EQ(other.status, 417) << other.body;
+}
+
+// Host, Origin and Idempotency-Key given twice are refused (RFC 9112 §3.2
+// for Host): the first was taken, and a proxy may have read the second.
+TEST_F(HostileInput, SingleHeadersGivenTwiceAre400)
+{
+    for (const std::string twice : {"Host: 127.0.0.1\r\nHost: evil.example\r\n",
+             "Host: 127.0.0.1\r\nOrigin: http://127.0.0.1\r\nOrigin: http://evil.example\r\n",
+             "Host: 127.0.0.1\r\nIdempotency-Key: a\r\nIdempotency-Key: b\r\n"}) {
+        const auto r = raw_exchange(port(), "GET /v1/health HTTP/1.1\r\n" + twice + "Connection: close\r\n\r\n");
+        EXPECT_EQ(r.status, 400) << twice << r.body;
+        EXPECT_NE(r.body.find("more than once"), std::string::npos) << r.body;
+    }
 }
 
 TEST_F(HostileInput, AnotherSitesPageCannotReachTheServer)
