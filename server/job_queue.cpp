@@ -77,10 +77,34 @@ void JobQueue::start()
             store_.demote_to_failed(id, "result files missing at server start");
         }
     }
+    sweep_leftovers();
     std::lock_guard lock(mutex_);
     if (started_) return;
     started_ = true;
     for (unsigned i = 0; i < config_.concurrent_jobs; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
+}
+
+void JobQueue::sweep_leftovers()
+{
+    const fs::path jobs = config_.data_dir / "jobs";
+    std::error_code ec;
+    if (fs::is_symlink(jobs, ec)) return;  // remove_job_dir's rule: never follow one
+    std::vector<std::string> ids;
+    for (fs::directory_iterator it(jobs, ec), end; !ec && it != end; it.increment(ec))
+        if (const std::string id = it->path().filename().string(); is_valid_job_id(id)) ids.push_back(id);
+    for (const auto& id : ids) {
+        const auto job = store_.get(id);
+        if (!job) {
+            spdlog::warn("job folder {} names no job (a removal was interrupted): removed", id);
+            remove_job_dir(config_.data_dir, id);
+            continue;
+        }
+        const fs::path work = jobs / id / "work";
+        if (is_final(job->state) && fs::exists(fs::symlink_status(work, ec))) {
+            spdlog::warn("job {}: {}, its work folder left (a clean-up was interrupted): removed", id, to_string(job->state));
+            fs::remove_all(work, ec);
+        }
+    }
 }
 
 void JobQueue::notify()
@@ -178,6 +202,8 @@ void JobQueue::worker_loop(unsigned index)
             spdlog::error("job {}: interrupted {} times, giving up", job->id, job->attempts - 1);
             store_.finish(job->id, JobState::failed,
                 "gave up after " + std::to_string(job->attempts - 1) + " interrupted attempts", std::nullopt);
+            std::error_code ec;
+            fs::remove_all(fs::absolute(config_.data_dir / "jobs" / job->id / "work"), ec);  // its checkpoints
             continue;
         }
         try {

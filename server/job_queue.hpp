@@ -86,7 +86,8 @@ public:
     JobQueue& operator=(const JobQueue&) = delete;
 
     /// Requeues jobs interrupted by a crash, checks the files of succeeded
-    /// jobs, and starts the workers.
+    /// jobs, sweeps what an interrupted clean-up left (sweep_leftovers), and
+    /// starts the workers.
     void start();
 
     /// Wakes a worker: a job was queued. Thread-safe, non-blocking.
@@ -126,6 +127,10 @@ private:
     };
 
     void worker_loop(unsigned index);
+    /// At start: removes the work folder of every job that has ended, and
+    /// the folders no job names (a kill -9 during a clean-up, or between a
+    /// DELETE's row and its folder, leaves them half removed).
+    void sweep_leftovers();
     /// Registers a claimed job as active unless it was cancelled or the
     /// queue stops meanwhile (then it is requeued or its work removed).
     bool begin_attempt(const JobRecord& job);

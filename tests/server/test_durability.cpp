@@ -307,6 +307,48 @@ TEST(Durability, SecondServerOnTheSameDataDirectoryRefusesToStart)
     EXPECT_EQ(http(server.port(), "GET", "/v1/health").status, 200);
 }
 
+// What an interrupted clean-up leaves is swept at start: the work folder of
+// an ended job (a kill -9 while it was being removed), and a folder no job
+// names (between a DELETE's row and its folder). A job that gives up after
+// its interrupted attempts leaves no work folder (it kept its checkpoints).
+TEST(Durability, LeftoverWorkFoldersAreSweptAndAJobThatGivesUpLeavesNone)
+{
+    TempDir tmp;
+    const fs::path data = tmp.path() / "data";
+    std::string ended, gives_up;
+    {
+        ServerProcess server(data, {"--jobs", "1"}, 0.01);
+        for (std::string* id : {&ended, &gives_up}) {
+            const auto r = http(server.port(), "POST", "/v1/jobs", R"({"name": "swept"})");
+            ASSERT_EQ(r.status, 201);
+            *id = std::string(r.json().at("id").as_string());
+            ASSERT_EQ(state_of(poll_job(server.port(), *id, is_final)), "succeeded");
+        }
+        ASSERT_EQ(server.terminate(), 0);
+    }
+    const std::string orphan = "0123456789abcdef01234567";
+    for (const auto& id : {ended, gives_up, orphan}) {
+        fs::create_directories(data / "jobs" / id / "work" / "out" / "tests");
+        write_file(data / "jobs" / id / "work" / "out" / "tests" / "test_0.checkpoint.h5", "half removed");
+    }
+    // Interrupted in its 5th attempt: the next start is its 6th, one too many.
+    const std::string forge = "sqlite3 '" + (data / "jobs.sqlite3").string()
+                            + "' \"UPDATE jobs SET state = 'running', attempts = 5 WHERE id = '" + gives_up + "'\"";
+    ASSERT_EQ(std::system(forge.c_str()), 0) << "needs the sqlite3 command";
+
+    ServerProcess server(data, {"--jobs", "1"}, 0.01);
+    const auto given_up = poll_job(server.port(), gives_up, is_final);
+    EXPECT_EQ(state_of(given_up), "failed");
+    EXPECT_NE(json::serialize(given_up).find("gave up after 5 interrupted attempts"), std::string::npos);
+    for (int i = 0; i < 100 && fs::exists(data / "jobs" / gives_up / "work"); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_FALSE(fs::exists(data / "jobs" / gives_up / "work"));
+    EXPECT_FALSE(fs::exists(data / "jobs" / ended / "work"));
+    EXPECT_TRUE(fs::is_regular_file(data / "jobs" / ended / "result.h5"));
+    EXPECT_EQ(http(server.port(), "GET", "/v1/jobs/" + ended + "/summary").status, 200);
+    EXPECT_FALSE(fs::exists(data / "jobs" / orphan));
+}
+
 // A full disk under the data directory: a submit is answered 507 with
 // Retry-After (the store cannot take it), not 500, the server keeps
 // answering, and once space is freed the same submit is taken. A real small
