@@ -11,9 +11,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <string_view>
 #include <system_error>
+#include <vector>
+
+extern char** environ;
 
 namespace wiredem::server {
 namespace {
@@ -34,8 +44,80 @@ void write_all(int fd, const char* s)
     }
 }
 
+/// The server's children by ChildProcess, until reaped: the sweep
+/// (kill_escaped) leaves them to their own ChildProcess. Held across fork,
+/// so that no sweep sees a new child before it is listed here.
+std::mutex children_mutex;
+std::set<pid_t> children;
+std::atomic<unsigned> tag_counter{0};
+
+constexpr std::string_view tag_variable = "WIREDEM_RUNNER_TAG=";
+
+/// The parent pid and state of process `pid` from /proc/PID/stat.
+bool read_stat(pid_t pid, pid_t& ppid, char& state)
+{
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string text;
+    std::getline(in, text);
+    const auto paren = text.rfind(')');  // the name may hold spaces and ')'
+    if (paren == std::string::npos) return false;
+    std::istringstream rest(text.substr(paren + 1));
+    long parent = 0;
+    if (!(rest >> state >> parent)) return false;
+    ppid = static_cast<pid_t>(parent);
+    return true;
+}
+
+/// Whether process `pid`'s environment holds `entry` ("NAME=value").
+bool environment_holds(pid_t pid, const std::string& entry)
+{
+    std::ifstream in("/proc/" + std::to_string(pid) + "/environ", std::ios::binary);
+    for (std::string var; std::getline(in, var, '\0');)
+        if (var == entry) return true;
+    return false;
+}
+
+/// Kills and reaps the server's children that carry `tag` (a runner's
+/// escaped descendants, reparented to the server, its subreaper), until none
+/// is left (one killed may leave children of its own, reparented in turn);
+/// reaps the other children that are not ChildProcesses' and have ended
+/// (zombies of strays). A few passes at most.
+void kill_escaped(const std::string& tag)
+{
+    const std::string entry = std::string(tag_variable) + tag;
+    const pid_t self = ::getpid();
+    for (int pass = 0; pass < 8; ++pass) {
+        std::vector<pid_t> tagged;
+        {
+            std::lock_guard lock(children_mutex);
+            std::error_code ec;
+            for (std::filesystem::directory_iterator it("/proc", ec), end; !ec && it != end; it.increment(ec)) {
+                const std::string name = it->path().filename().string();
+                if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+                const pid_t pid = static_cast<pid_t>(std::stol(name));
+                pid_t ppid = 0;
+                char state = '?';
+                if (!read_stat(pid, ppid, state) || ppid != self || children.count(pid)) continue;
+                if (state == 'Z') {
+                    int status = 0;
+                    ::waitpid(pid, &status, WNOHANG);
+                } else if (environment_holds(pid, entry)) {
+                    tagged.push_back(pid);
+                }
+            }
+        }
+        if (tagged.empty()) return;
+        for (const pid_t pid : tagged) {
+            ::kill(pid, SIGKILL);
+            int status = 0;
+            while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+            }
+        }
+    }
+}
+
 /// Child side of fork(); never returns.
-[[noreturn]] void exec_child(char* const* argv, const char* cwd, int out_w, int err_w, pid_t parent)
+[[noreturn]] void exec_child(char* const* argv, char* const* envp, const char* cwd, int out_w, int err_w, pid_t parent)
 {
     // Signals are blocked (see spawn): drop the server's handlers before they
     // can run here. Asio's handler writes to a pipe this process inherited, so
@@ -62,7 +144,7 @@ void write_all(int fd, const char* s)
         write_all(2, "cannot enter the job directory\n");
         ::_exit(127);
     }
-    ::execv(argv[0], argv);
+    ::execve(argv[0], argv, envp);
     write_all(2, "cannot execute the runner ");
     write_all(2, argv[0]);
     write_all(2, ": ");
@@ -80,6 +162,16 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::file
     for (auto& a : args) cargv.push_back(a.data());
     cargv.push_back(nullptr);
     const std::string cwd_str = cwd.string();
+    // The environment, with this child's tag (built before fork: the child
+    // may only make async-signal-safe calls).
+    tag_ = std::to_string(::getpid()) + "-" + std::to_string(tag_counter.fetch_add(1));
+    std::vector<std::string> env;
+    for (char** e = environ; e && *e; ++e)
+        if (std::string_view(*e).substr(0, tag_variable.size()) != tag_variable) env.emplace_back(*e);
+    env.push_back(std::string(tag_variable) + tag_);
+    std::vector<char*> cenv;
+    for (auto& e : env) cenv.push_back(e.data());
+    cenv.push_back(nullptr);
 
     int out[2];
     int err[2];
@@ -95,8 +187,11 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::file
     sigset_t all, previous;
     ::sigfillset(&all);
     ::pthread_sigmask(SIG_BLOCK, &all, &previous);
+    std::unique_lock listed(children_mutex);
     const pid_t pid = ::fork();
-    if (pid == 0) exec_child(cargv.data(), cwd_str.c_str(), out[1], err[1], parent);
+    if (pid == 0) exec_child(cargv.data(), cenv.data(), cwd_str.c_str(), out[1], err[1], parent);
+    if (pid > 0) children.insert(pid);
+    listed.unlock();
     ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     if (pid < 0) {
         const int e = errno;
@@ -117,7 +212,7 @@ ChildProcess::~ChildProcess()
     if (const pid_t pid = pid_.load(); pid > 0) {
         ::kill(-pid, SIGKILL);
         int status = 0;
-        ::waitpid(pid, &status, 0);
+        reap(status, true);
     }
     if (out_fd_ >= 0) ::close(out_fd_);
     if (err_fd_ >= 0) ::close(err_fd_);
@@ -149,6 +244,21 @@ bool reap_with_group(pid_t pid, int& status, bool block)
 }
 
 } // namespace
+
+bool ChildProcess::reap(int& status, bool block)
+{
+    const pid_t pid = pid_.load();
+    if (!reap_with_group(pid, status, block)) return false;
+    pid_ = -1;
+    {
+        std::lock_guard lock(children_mutex);
+        children.erase(pid);
+    }
+    kill_escaped(tag_);
+    return true;
+}
+
+bool become_subreaper() { return ::prctl(PR_SET_CHILD_SUBREAPER, 1) == 0; }
 
 int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_stdout_line,
     const std::function<void()>& on_tick, std::chrono::milliseconds tick)
@@ -198,10 +308,9 @@ int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_
             on_tick();
             next_tick = clock::now() + tick;
             if (!reaped) {
-                if (reap_with_group(pid_.load(), status, false)) {
+                if (reap(status, false)) {
                     reaped = true;
                     reaped_at = clock::now();
-                    pid_ = -1;
                 }
             } else if (clock::now() - reaped_at > std::chrono::seconds(2)) {
                 break;  // the runner is gone but something it started still holds the pipes
@@ -209,10 +318,7 @@ int ChildProcess::run_to_exit(const std::function<void(const std::string&)>& on_
         }
     }
     if (!line.empty()) on_stdout_line(line);
-    if (!reaped) {
-        reap_with_group(pid_.load(), status, true);
-        pid_ = -1;
-    }
+    if (!reaped) reap(status, true);
     if (stderr_tail_.size() > stderr_tail_bytes) stderr_tail_.erase(0, stderr_tail_.size() - stderr_tail_bytes);
     return status;
 }

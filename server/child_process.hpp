@@ -5,6 +5,15 @@
 // so a kill -9 of the server leaves no runner writing into a job directory.
 // Every descriptor but 0, 1, 2 is closed in the child.
 //
+// What leaves the group (setsid, a daemon's double fork) is found by a tag in
+// its environment, WIREDEM_RUNNER_TAG, which the child gets and its
+// descendants inherit: once the runner has ended, every process of the
+// server's children that carries the runner's tag is killed and reaped. They
+// are the server's children because the server is their subreaper
+// (become_subreaper: an orphan goes to the nearest subreaper, not to init).
+// A descendant that clears its environment still escapes; only a cgroup
+// would hold it.
+//
 // Thread safety: one ChildProcess belongs to one worker thread, except
 // signal(), which any thread may call.
 #pragma once
@@ -48,15 +57,28 @@ public:
     /// The child's pid (also its process group id).
     [[nodiscard]] pid_t pid() const { return pid_; }
 
+    /// The value of WIREDEM_RUNNER_TAG in the child's environment.
+    [[nodiscard]] const std::string& tag() const { return tag_; }
+
     static constexpr std::size_t max_line_bytes = 64 * 1024;
     static constexpr std::size_t stderr_tail_bytes = 4096;
 
 private:
+    /// Reaps the runner (reap_with_group), then what left its group.
+    bool reap(int& status, bool block);
+
+    std::string tag_;
     std::atomic<pid_t> pid_{-1};
     int out_fd_ = -1;
     int err_fd_ = -1;
     std::string stderr_tail_;
 };
+
+/// Makes this process the subreaper of its descendants (PR_SET_CHILD_SUBREAPER):
+/// a runner's orphan becomes the server's child, which ChildProcess kills
+/// and reaps once that runner has ended (see the file comment). Call once,
+/// before the first ChildProcess. Returns false when the kernel refuses.
+bool become_subreaper();
 
 /// "exited with status 3" / "killed by signal 9 (Killed)".
 [[nodiscard]] std::string describe_wait_status(int status);

@@ -67,6 +67,10 @@ JobQueue::~JobQueue() { stop(); }
 
 void JobQueue::start()
 {
+    // A runner's descendant that leaves its process group (setsid) and is
+    // orphaned comes to the server, which kills it with its runner
+    // (child_process.hpp), instead of going to init and outliving the job.
+    if (!become_subreaper()) spdlog::warn("cannot become the subreaper of the runners: what they leave behind may outlive them");
     for (const auto& id : store_.requeue_interrupted())
         spdlog::warn("job {}: interrupted by a restart, queued again", id);
     for (const auto& id : store_.succeeded_ids()) {

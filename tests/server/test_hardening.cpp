@@ -10,6 +10,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -198,6 +199,37 @@ TEST(DataDirectory, OtherUsersCannotReadTheStoreOrTheResults)
             EXPECT_NE(server.log().find("may be read by other users (mode 0644)"), std::string::npos) << server.log();
         }
     }
+}
+
+// A runner's grandchild that leaves the runner's process group (setsid)
+// and outlives it is killed with it: the server is the subreaper of its
+// runners' descendants and kills the orphans carrying the runner's tag
+// (child_process.hpp). Before, it went to init and ran on.
+TEST(Runners, ADescendantThatLeftTheProcessGroupIsKilledWithItsRunner)
+{
+    TempDir tmp;
+    const fs::path pid_file = tmp.path() / "escaped.pid";
+    const fs::path runner = tmp.path() / "escaping_runner.sh";
+    write_file(runner, "#!/bin/sh\n"
+                       "setsid sh -c 'echo $$ > \"" + pid_file.string() + ".tmp\"; mv \"" + pid_file.string() + ".tmp\" \""
+                           + pid_file.string() + "\"; exec sleep 300' </dev/null >/dev/null 2>&1 &\n"
+                       "while [ ! -s \"" + pid_file.string() + "\" ]; do sleep 0.05; done\n"
+                       "echo 'runner: gave up, leaving a daemon behind' >&2\n"
+                       "exit 1\n");
+    fs::permissions(runner, fs::perms::owner_all);
+    ServerProcess server(tmp.path() / "data", {"--runner", runner.string(), "--jobs", "1"});
+    const std::string id = submit(server.port(), "escaping");
+    const auto job = poll_job(server.port(), id, is_final);
+    EXPECT_EQ(state_of(job), "failed");
+    ASSERT_TRUE(fs::exists(pid_file));
+    const pid_t escaped = static_cast<pid_t>(std::stol(read_file(pid_file)));
+    bool gone = false;
+    for (int i = 0; i < 100 && !gone; ++i) {
+        gone = ::kill(escaped, 0) != 0;
+        if (!gone) std::this_thread::sleep_for(20ms);
+    }
+    EXPECT_TRUE(gone) << "pid " << escaped << " outlived its runner";
+    if (!gone) ::kill(escaped, SIGKILL);
 }
 
 TEST(Connections, IdleConnectionsCannotLockOthersOut)
