@@ -184,8 +184,13 @@ int main(int argc, char** argv)
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e);
-        return rc == 0 ? exit_code::ok : exit_code::usage;
+        if (e.get_exit_code() == 0) {  // --help, --version
+            app.exit(e);
+            return exit_code::ok;
+        }
+        // One line, as every other error (CLI11's own adds "Run with --help …").
+        std::cerr << "wiredem: " << e.what() << " (wiredem --help lists the commands and options)" << std::endl;
+        return exit_code::usage;
     }
     g.timeout = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000.0));
     if (wait_timeout > 0) wait_opts.timeout_s = wait_timeout;

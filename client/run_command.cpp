@@ -71,6 +71,10 @@ public:
         const auto now = Clock::now();
         if (!force && now - last_ < std::chrono::milliseconds(500)) return;
         last_ = now;
+        // The plain lines name the stage, then the message: one that starts
+        // with the stage's word ("preparing the specimen") is not preceded
+        // by it again ("preparing   0.0% preparing the specimen").
+        const bool says_stage = message.rfind(stage, 0) == 0;
         const bool has_eta = fraction < 1.0 && eta_.has_value();
         std::string eta_text;  // appended: GCC 12's -Wrestrict misfires on "literal" + std::string
         if (has_eta) {
@@ -91,12 +95,13 @@ public:
             const int filled = static_cast<int>(fraction * width);
             std::string bar(static_cast<std::size_t>(filled), '#');
             bar.resize(width, '.');
-            std::fprintf(stderr, "\r[%s] %5.1f%% %-9s %s%s\033[K", bar.c_str(), 100.0 * fraction, stage, message.c_str(),
-                eta_text.c_str());
+            std::fprintf(stderr, "\r[%s] %5.1f%% %s%s\033[K", bar.c_str(), 100.0 * fraction,
+                (says_stage ? message : std::string(stage) + " " + message).c_str(), eta_text.c_str());
             std::fflush(stderr);
             dirty_ = true;
         } else {
-            std::fprintf(stderr, "%s %5.1f%% %s%s\n", stage, 100.0 * fraction, message.c_str(), eta_text.c_str());
+            if (says_stage) std::fprintf(stderr, "%5.1f%% %s%s\n", 100.0 * fraction, message.c_str(), eta_text.c_str());
+            else std::fprintf(stderr, "%s %5.1f%% %s%s\n", stage, 100.0 * fraction, message.c_str(), eta_text.c_str());
         }
     }
 
@@ -175,7 +180,11 @@ int run_stage(bool json_progress, campaign::StageControl control,
         return fail(progress, ex.what());
     }
     if (g_cancel.load()) return fail(progress, "cancelled");
-    progress.report("writing", 1.0, "done in " + std::to_string(seconds_since(t_start)) + " s", true);
+    // This run's time: a directory continued from an earlier run's files
+    // took that run's time too, which this process did not see.
+    char took[64];
+    std::snprintf(took, sizeof took, "done: this run took %.1f s", seconds_since(t_start));
+    progress.report("writing", 1.0, took, true);
     progress.finish_line();
     return 0;
 }

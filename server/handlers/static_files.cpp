@@ -22,6 +22,26 @@ std::shared_ptr<int> owned_fd(int fd)
     });
 }
 
+/// If-None-Match against the file's (strong) ETag, compared weakly as RFC
+/// 9110 §13.1.2 asks: "*", or any entry of the list, W/ or not, that is it.
+bool none_match_hits(std::string_view header, std::string_view etag) noexcept
+{
+    const auto trim = [](std::string_view v) {
+        while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+        while (!v.empty() && (v.back() == ' ' || v.back() == '\t')) v.remove_suffix(1);
+        return v;
+    };
+    if (trim(header) == "*") return true;
+    while (!header.empty()) {
+        const auto comma = header.find(',');
+        std::string_view entry = trim(header.substr(0, comma));
+        header = comma == std::string_view::npos ? std::string_view() : header.substr(comma + 1);
+        if (entry.substr(0, 2) == "W/") entry.remove_prefix(2);
+        if (entry == etag) return true;
+    }
+    return false;
+}
+
 bool plain_name(std::string_view s) noexcept
 {
     if (s.empty() || s.size() > 255 || s.front() == '.') return false;
@@ -103,7 +123,7 @@ Response handle_static(const Request& req, const std::vector<std::string>& seg_i
     char etag_buf[64];
     std::snprintf(etag_buf, sizeof etag_buf, "\"%llx-%llx\"", static_cast<unsigned long long>(st.st_size),
         static_cast<unsigned long long>(st.st_mtim.tv_sec) * 1000000000ull + static_cast<unsigned long long>(st.st_mtim.tv_nsec));
-    if (auto inm = req.find(http::field::if_none_match); inm != req.end() && inm->value() == etag_buf) {
+    if (auto inm = req.find(http::field::if_none_match); inm != req.end() && none_match_hits(inm->value(), etag_buf)) {
         StringResponse res{http::status::not_modified, req.version()};
         set_page_headers(res.base());
         res.set(http::field::etag, etag_buf);

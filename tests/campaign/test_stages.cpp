@@ -469,6 +469,12 @@ void expect_one_clean_failure(const Outcome& o, const fs::path& out)
     EXPECT_FALSE(fs::exists(fs::symlink_status(out / "result.h5.partial")));
     EXPECT_FALSE(fs::exists(out / "result.h5"));
     EXPECT_FALSE(fs::exists(out / "summary.json"));
+    // Its progress lines say the stage once ("writing  60.0% writing
+    // result.h5 …" said it twice).
+    std::istringstream lines(o.err);
+    for (std::string line; std::getline(lines, line);)
+        EXPECT_EQ(line.find("writing  60.0% writing"), std::string::npos) << line;
+    EXPECT_NE(o.err.find("60.0% writing result.h5"), std::string::npos) << o.err;
 }
 
 } // namespace

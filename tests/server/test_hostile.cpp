@@ -479,8 +479,15 @@ TEST(Client, ErrorsAreOneLineWithDocumentedExitCodes)
     EXPECT_EQ(invalid.exit_code, 3) << "validated locally before any network";
     EXPECT_NE(invalid.err.find("seed: "), std::string::npos) << invalid.err;
     EXPECT_EQ(run_client({"submit", (tmp.path() / "missing.json").string()}).exit_code, 9);
+    const auto not_an_id = run_client({"study", "status", "zz"});
+    EXPECT_EQ(not_an_id.exit_code, 2);
+    EXPECT_EQ(not_an_id.err, "wiredem: 'zz' is not a study id (24 lower-case hex digits)\n");
     EXPECT_EQ(run_client({"status", "nope"}).exit_code, 2);
-    EXPECT_EQ(run_client({"frobnicate"}).exit_code, 2);
+    const auto usage = run_client({"frobnicate"});  // CLI11's error: one line too
+    EXPECT_EQ(usage.exit_code, 2);
+    EXPECT_EQ(std::count(usage.err.begin(), usage.err.end(), '\n'), 1) << usage.err;
+    EXPECT_EQ(usage.err.rfind("wiredem: ", 0), 0u) << usage.err;
+    EXPECT_EQ(run_client({"--help"}).exit_code, 0);
     EXPECT_EQ(run_client({"list", "--server", "https://127.0.0.1:1"}).exit_code, 2);
     const auto refused = run_client({"list", "--server", "http://127.0.0.1:9", "--timeout", "2"});
     EXPECT_EQ(refused.exit_code, 7);

@@ -51,6 +51,10 @@ TEST(StaticFiles, ServesThePageWithItsTypeAndAStrictPolicy)
     const auto again = http(server.port(), "GET", "/js/main.js", {}, {{"If-None-Match", js.headers.at("etag")}});
     EXPECT_EQ(again.status, 304);
     EXPECT_TRUE(again.body.empty());
+    // Compared weakly (RFC 9110 §13.1.2): W/ and lists match, "*" too; another tag does not.
+    for (const std::string inm : {"W/" + js.headers.at("etag"), "\"other\", " + js.headers.at("etag"), std::string("*")})
+        EXPECT_EQ(http(server.port(), "GET", "/js/main.js", {}, {{"If-None-Match", inm}}).status, 304) << inm;
+    EXPECT_EQ(http(server.port(), "GET", "/js/main.js", {}, {{"If-None-Match", "W/\"other\""}}).status, 200);
     const auto head = http(server.port(), "HEAD", "/js/main.js");
     EXPECT_EQ(head.status, 200);
     EXPECT_EQ(head.headers.at("content-length"), std::to_string(js.body.size()));
