@@ -75,6 +75,13 @@ SlurmClient::SlurmClient(SlurmOptions options) : options_(std::move(options))
                                      + " is not on PATH (install Slurm's client commands, e.g. Debian's slurm-client)");
     }
     sacct_ = find_on_path("sacct");  // optional: only with an accounting database it knows more than squeue
+    // The controller must answer now: a server started without one failed
+    // its first job, much later, with squeue's error (a DNS failure).
+    const CommandResult r = run_command(
+        {squeue_.string(), "--noheader", "--name=wiredem-controller-check", "--format=%i"}, command_limit);
+    if (!r.ok())
+        throw std::runtime_error("--executor slurm: the Slurm controller does not answer (squeue "
+                                 + describe_wait_status(r.status) + "): " + one_line(r.err.empty() ? r.out : r.err));
 }
 
 SlurmIds SlurmClient::submit(const std::string& job_id, const SlurmFiles& files, std::size_t tests,

@@ -31,8 +31,9 @@ struct CommandResult {
 /// A job's Slurm jobs: submission, their states, cancellation.
 class SlurmClient {
 public:
-    /// Finds sbatch, squeue and scancel (and sacct if installed) on PATH.
-    /// @throws std::runtime_error naming what is missing
+    /// Finds sbatch, squeue and scancel (and sacct if installed) on PATH,
+    /// and asks the controller (squeue) whether it answers.
+    /// @throws std::runtime_error naming what is missing, or squeue's error
     explicit SlurmClient(SlurmOptions options);
 
     [[nodiscard]] const SlurmOptions& options() const { return options_; }

@@ -583,7 +583,10 @@ Response handle_health(const Request& req, Services& svc)
     body["queued"] = counts[static_cast<std::size_t>(JobState::queued)];
     body["running"] = svc.queue.busy_workers();
     body["workers"] = svc.queue.config().concurrent_jobs;
-    body["threads_per_job"] = svc.queue.config().threads_per_job;
+    // Each stage's threads: under Slurm, the CPUs each Slurm job asks for
+    // (--slurm-cpus-per-task, passed to wiredem as --threads).
+    const auto& queue_config = svc.queue.config();
+    body["threads_per_job"] = queue_config.slurm ? queue_config.slurm->cpus_per_task : queue_config.threads_per_job;
     body["executor"] = svc.queue.config().slurm ? "slurm" : "local";
     return json_response(req, http::status::ok, body);
 }
