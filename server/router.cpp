@@ -143,6 +143,13 @@ const std::vector<Route>& route_table()
     return table;
 }
 
+const std::vector<Route>& page_openapi_routes()
+{
+    static const std::vector<Route> pages{{"/", http::verb::get, "getPage", "page", false, nullptr},
+        {"/{file}", http::verb::get, "getPageFile", "page", false, nullptr}};
+    return pages;
+}
+
 Router::Router(Services& services)
     : svc_(services), submit_pool_(services.config.submit_threads), data_pool_(services.config.data_threads)
 {

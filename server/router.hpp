@@ -55,6 +55,11 @@ struct Route {
 /// Every operation the router dispatches by.
 [[nodiscard]] const std::vector<Route>& route_table();
 
+/// The web page's paths as the OpenAPI document names them ("/" and
+/// "/{file}", tag "page"): answered after the table, outside /v1, by
+/// handle_static (handlers/static_files.hpp); no handler of their own here.
+[[nodiscard]] const std::vector<Route>& page_openapi_routes();
+
 /// Dispatches requests to the handlers; holds the services and the submit threads.
 class Router {
 public:

@@ -239,6 +239,23 @@ constexpr const char* openapi_text = R"json({
     "/metrics": {
       "get": {"summary": "Prometheus metrics (no authentication)", "security": [],
               "responses": {"200": {"description": "Text exposition format 0.0.4", "content": {"text/plain": {"schema": {"type": "string"}}}}}}
+    },
+    "/": {
+      "get": {"summary": "The web page (docs/web.md): index.html of --web-dir (no authentication; it asks for the token itself)", "security": [],
+              "responses": {"200": {"description": "index.html", "headers": {"ETag": {"schema": {"type": "string"}}},
+                                    "content": {"text/html": {"schema": {"type": "string"}}}},
+                            "304": {"description": "If-None-Match names the file's ETag (compared weakly)"},
+                            "404": {"$ref": "#/components/responses/Error"}}}
+    },
+    "/{file}": {
+      "parameters": [{"name": "file", "in": "path", "required": true, "schema": {"type": "string"},
+        "description": "a file of the web page below --web-dir, e.g. js/main.js: plain names (letters, digits, _ - .), not starting with a dot, in folders (the template names one segment; the page's files may be folders deep)"}],
+      "get": {"summary": "A file of the web page (no authentication); any other path outside /v1 is 404", "security": [],
+              "responses": {"200": {"description": "The file, with its content type (only the page's known file types are served)",
+                                    "headers": {"ETag": {"schema": {"type": "string"}}},
+                                    "content": {"*/*": {"schema": {"type": "string", "format": "binary"}}}},
+                            "304": {"description": "If-None-Match names the file's ETag (compared weakly)"},
+                            "404": {"$ref": "#/components/responses/Error"}}}
     }
   },
   "components": {
@@ -513,6 +530,8 @@ void complete_from_route_table(json::object& doc)
     // The result data routes (handlers/results.hpp): GET each, tag "results".
     for (const auto& [path, item] : result_data_openapi_paths())
         ops.emplace_back("GET", Route{path, http::verb::get, {}, "results", true, nullptr});
+    // The web page's files, answered outside /v1 (handlers/static_files.hpp).
+    for (const auto& page : page_openapi_routes()) ops.emplace_back("GET", page);
     for (const auto& [method, r] : ops) {
         json::value* item = paths.if_contains(r.path);
         std::string name = method;
@@ -532,7 +551,8 @@ void complete_from_route_table(json::object& doc)
         json::object{{"name", "jobs"}, {"description", "Submit, follow, cancel and delete jobs"}},
         json::object{{"name", "results"}, {"description", "A succeeded job's summary, result file and data"}},
         json::object{{"name", "studies"}, {"description", "Parameter studies: one job per point"}},
-        json::object{{"name", "service"}, {"description", "Health, metrics, this document, the job spec's schema"}}};
+        json::object{{"name", "service"}, {"description", "Health, metrics, this document, the job spec's schema"}},
+        json::object{{"name", "page"}, {"description", "The web page's files (docs/web.md), served outside /v1"}}};
 }
 
 /// The summary's shape strings (tests[].max_q_shape, tests[].yield.shape) as

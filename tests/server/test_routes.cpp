@@ -65,6 +65,19 @@ TEST(OpenApi, EveryOperationOfTheRoutersTableIsDocumentedWithItsMethods)
     }
 }
 
+// The web page's files are served outside the table (handle_static): the
+// document names them too, with HEAD, as the table's GETs.
+TEST(OpenApi, TheWebPagesRoutesAreDocumented)
+{
+    for (const Route& r : page_openapi_routes()) {
+        const json::value* item = paths().if_contains(r.path);
+        ASSERT_TRUE(item) << r.path << " is served but not documented";
+        EXPECT_EQ(item->at("get").at("operationId").as_string(), r.operation_id);
+        EXPECT_EQ(item->at("get").at("tags").at(0).as_string(), "page");
+        EXPECT_TRUE(item->as_object().contains("head")) << r.path;
+    }
+}
+
 TEST(OpenApi, EveryDocumentedOperationIsOneTheRouterAnswers)
 {
     std::set<std::string> operation_ids;
@@ -77,6 +90,9 @@ TEST(OpenApi, EveryDocumentedOperationIsOneTheRouterAnswers)
                 served = served || (r.path == path && lower(http::to_string(r.method)) == method);
             // the result data routes, answered before the table (handlers/results.hpp)
             if (!served && method == "get") served = is_result_data_route(result_data_segment(path));
+            // the web page's files, answered after it (handlers/static_files.hpp)
+            for (const Route& r : page_openapi_routes())
+                served = served || (r.path == path && method == "get");
             EXPECT_TRUE(served) << key << " " << path << " is documented but not served";
             ASSERT_TRUE(op.as_object().contains("operationId")) << key << " " << path;
             EXPECT_TRUE(operation_ids.insert(std::string(op.at("operationId").as_string())).second)
