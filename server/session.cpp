@@ -4,10 +4,12 @@
 // the reply instead of a reset.
 //
 // Idle connections (nothing of a request received yet: just accepted, or
-// kept alive between requests) get the short --idle-timeout, and are the ones
+// kept alive between requests) get the short --idle-timeout, and they and
+// the connections whose request's headers are still coming are the ones
 // given up when --max-connections are open and another client connects: a
-// client holding many idle connections cannot lock the others out. Only when
-// every connection is busy with a request is a newcomer refused, with a 503.
+// client holding many connections idle, or each with a byte sent, cannot
+// lock the others out. Only when every connection is busy with a request
+// whose headers are in is a newcomer refused, with a 503.
 #include "session.hpp"
 
 #include "framing.hpp"
@@ -118,13 +120,23 @@ private:
         idle_entry_ = table_->idle(weak_from_this());
         stream_.expires_after(config_.idle_timeout);
         stream_.async_read_some(buffer_.prepare(std::min(first_read_bytes, buffer_.max_size())), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
-            self->table_->busy(*self->idle_entry_);
-            self->idle_entry_.reset();
+            if (ec) self->leave_idle();
             if (ec == asio::error::eof) return self->do_close();
             if (ec) return self->log_failure(ec, self->evicted_ ? "idle, closed to make room" : "idle");
             self->buffer_.commit(n);
-            self->read_request();
+            self->read_request();  // still evictable until its headers are in (on_header)
         });
+    }
+
+    /// The session leaves the idle list: from here on it is not closed to
+    /// make room. That is once a request's headers are complete, not at its
+    /// first byte: connections that each sent a byte held every place for the
+    /// read timeout, and newcomers heard 503 until then.
+    void leave_idle()
+    {
+        if (!idle_entry_) return;
+        table_->busy(*idle_entry_);
+        idle_entry_.reset();
     }
 
     void read_request()
@@ -141,6 +153,7 @@ private:
     /// connection closed.
     void on_header(beast::error_code ec, std::size_t bytes)
     {
+        leave_idle();
         if (ec) return on_read(ec, bytes);
         if (auto problem = framing_problem(parser_->get()))
             return reply_and_close(problem->status, problem->code, problem->message);

@@ -250,13 +250,35 @@ TEST(Connections, IdleConnectionsCannotLockOthersOut)
     EXPECT_TRUE(idle.front()->closed_within(2000ms)) << "the longest idle connection made room";
 }
 
+// Connections that each send a byte (or part of their headers) and stall
+// held every place for the read timeout, and newcomers heard 503 until
+// then: until its headers are in, a connection is given up for a newcomer
+// as an idle one is.
+TEST(Connections, ConnectionsThatSendAByteCannotLockOthersOut)
+{
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data", {"--max-connections", "8", "--read-timeout", "60"});
+    std::vector<std::unique_ptr<HeldConnection>> stalled;
+    for (int i = 0; i < 8; ++i) {
+        stalled.push_back(std::make_unique<HeldConnection>(server.port(), i % 2 ? "G" : "GET /v1/health HTTP/1.1\r\nHo"));
+        std::this_thread::sleep_for(20ms);  // in order: the first is the oldest
+    }
+    std::this_thread::sleep_for(200ms);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto health = http(server.port(), "GET", "/v1/health");
+    EXPECT_EQ(health.status, 200) << health.body;
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
+    EXPECT_TRUE(stalled.front()->closed_within(2000ms)) << "the oldest stalled connection made room";
+}
+
 TEST(Connections, WhenEveryConnectionIsBusyANewcomerHearsSo)
 {
     TempDir tmp;
     ServerProcess server(tmp.path() / "data", {"--max-connections", "4", "--read-timeout", "30"});
     std::vector<std::unique_ptr<HeldConnection>> busy;
-    for (int i = 0; i < 4; ++i)  // each in the middle of its request's headers
-        busy.push_back(std::make_unique<HeldConnection>(server.port(), "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n"));
+    for (int i = 0; i < 4; ++i)  // each with its headers in, in the middle of its body
+        busy.push_back(std::make_unique<HeldConnection>(server.port(),
+            "POST /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{"));
     std::this_thread::sleep_for(300ms);
     const auto refused = http(server.port(), "GET", "/v1/health");
     EXPECT_EQ(refused.status, 503);
