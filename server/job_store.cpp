@@ -22,8 +22,9 @@ namespace {
 [[noreturn]] void fail(sqlite3* db, const std::string& what)
 {
     if (db) {
+        const int code = sqlite3_errcode(db);
         const int system_errno = sqlite3_system_errno(db);
-        const bool full = sqlite3_errcode(db) == SQLITE_FULL || system_errno == ENOSPC || system_errno == EDQUOT;
+        const bool full = code == SQLITE_FULL || (code == SQLITE_IOERR && (system_errno == ENOSPC || system_errno == EDQUOT));
         if (full) {
             const char* file = sqlite3_db_filename(db, "main");
             throw engine::io::WriteError(system_errno == EDQUOT ? EDQUOT : ENOSPC, file ? file : "the job store");
