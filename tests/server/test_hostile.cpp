@@ -166,7 +166,8 @@ TEST_F(HostileInput, ErrorRepliesEchoTheRequestBoundedNotWhole)
     many += "}";
     const auto r = http(port(), "POST", "/v1/jobs", many);
     EXPECT_EQ(r.status, 400);
-    const json::array& details = r.json().at("error").at("details").as_array();
+    const json::value doc = r.json();
+    const json::array& details = doc.at("error").at("details").as_array();
     ASSERT_EQ(details.size(), 101u);
     EXPECT_EQ(details.back().at("message").as_string(), "and 900 more problems");
 }

@@ -57,9 +57,10 @@ TEST(Responsiveness, StatusLatencyWhileAJobBurnsEveryCore)
 
 TEST(Responsiveness, StatusLatencyUnderAFloodOfSubmits)
 {
-    // Four clients post specs with a wire as fast as they can. Each costs
-    // 50–250 ms of validation (the restitution fit integrates collisions) and
-    // is refused at its last check (max_bodies), so nothing is queued. Status
+    // Four clients post specs with a wire as fast as they can. Each is
+    // validated (1–20 ms now; 50–250 ms when the restitution fit integrated
+    // collisions at every submit) and refused at its last check
+    // (max_bodies), so nothing is queued. Status
     // requests meanwhile must not wait for validations: they run on the
     // submit threads, not on the I/O threads. (Before, with validation on the
     // I/O threads, p50 rose from 0.14 ms to 100 ms and p99 to 300 ms.)
@@ -121,9 +122,13 @@ TEST(Responsiveness, StatusLatencyUnderAFloodOfSubmits)
     EXPECT_EQ(refused.load(), posted.load()) << "every flooding submit was refused (400, or 503 when too many wait)";
     EXPECT_GT(posted.load(), 0);
     // A status reply stuck behind validations would show as a median of the
-    // order of one (before: p50 100 ms beside validations of 50–250 ms);
-    // served beside them, it waits for a core at most, far less.
-    EXPECT_LT(p50, std::max(validation_ms / 4.0, 10.0 * idle_p50))
+    // order of one (before: p50 100 ms beside validations of 50–250 ms, 700
+    // times the idle median); served beside them, it waits for the I/O
+    // threads' share of the cores, a few idle medians (measured: 2.9 times
+    // in Release on a 2-core machine at load 12; under ASan on a busy
+    // machine p50 was 40 ms). 30 idle medians, or a quarter of a validation
+    // where one is slow, whichever is more.
+    EXPECT_LT(p50, std::max(validation_ms / 4.0, 30.0 * idle_p50))
         << "idle p50 " << idle_p50 << " ms, one validation " << validation_ms << " ms";
 }
 
