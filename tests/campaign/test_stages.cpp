@@ -469,12 +469,6 @@ void expect_one_clean_failure(const Outcome& o, const fs::path& out)
     EXPECT_FALSE(fs::exists(fs::symlink_status(out / "result.h5.partial")));
     EXPECT_FALSE(fs::exists(out / "result.h5"));
     EXPECT_FALSE(fs::exists(out / "summary.json"));
-    // Its progress lines say the stage once ("writing  60.0% writing
-    // result.h5 …" said it twice).
-    std::istringstream lines(o.err);
-    for (std::string line; std::getline(lines, line);)
-        EXPECT_EQ(line.find("writing  60.0% writing"), std::string::npos) << line;
-    EXPECT_NE(o.err.find("60.0% writing result.h5"), std::string::npos) << o.err;
 }
 
 } // namespace
@@ -525,7 +519,12 @@ TEST(Stages, BadRequestsGetClearErrors)
     EXPECT_EQ(o.code(), 1);
     EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
 
-    ASSERT_TRUE(run_wiredem({"prepare", tiny_job().string(), "-o", out.string()}, dir / "log").ok());
+    const Outcome prepared = run_wiredem({"prepare", tiny_job().string(), "-o", out.string()}, dir / "log");
+    ASSERT_TRUE(prepared.ok()) << prepared.err;
+    // Its progress lines say the stage once: a message that starts with it
+    // is not preceded by it ("preparing   0.0% preparing the specimen").
+    EXPECT_EQ(prepared.err.find("preparing   0.0% preparing"), std::string::npos) << prepared.err;
+    EXPECT_NE(prepared.err.find("  0.0% preparing the specimen"), std::string::npos) << prepared.err;
     o = run_wiredem({"test", out.string(), "--index", "2"}, dir / "log");
     EXPECT_EQ(o.code(), 1);
     EXPECT_NE(o.err.find("out of range"), std::string::npos) << o.err;
