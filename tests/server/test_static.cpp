@@ -52,7 +52,7 @@ TEST(StaticFiles, ServesThePageWithItsTypeAndAStrictPolicy)
     EXPECT_EQ(again.status, 304);
     EXPECT_TRUE(again.body.empty());
     // Compared weakly (RFC 9110 §13.1.2): W/ and lists match, "*" too; another tag does not.
-    for (const std::string inm : {"W/" + js.headers.at("etag"), "\"other\", " + js.headers.at("etag"), std::string("*")})
+    for (const std::string& inm : {"W/" + js.headers.at("etag"), "\"other\", " + js.headers.at("etag"), std::string("*")})
         EXPECT_EQ(http(server.port(), "GET", "/js/main.js", {}, {{"If-None-Match", inm}}).status, 304) << inm;
     EXPECT_EQ(http(server.port(), "GET", "/js/main.js", {}, {{"If-None-Match", "W/\"other\""}}).status, 200);
     const auto head = http(server.port(), "HEAD", "/js/main.js");
