@@ -337,6 +337,12 @@ json::object study_summary(const Study& study, const std::vector<PointOutcome>& 
         row["friction_angle_deg"] = number_or_null(find(s, {"mohr_coulomb", "friction_angle_deg"}));
         row["cohesion_pa"] = number_or_null(find(s, {"mohr_coulomb", "cohesion_pa"}));
         row["r_squared"] = number_or_null(find(s, {"mohr_coulomb", "r_squared"}));
+        // What could make those three misread (summary.json mohr_coulomb.caveats), by code.
+        json::array caveats;
+        if (const json::value* cs = find(s, {"mohr_coulomb", "caveats"}); cs && cs->is_array())
+            for (const json::value& c : cs->as_array())
+                if (const json::value* code = find(c, {"code"}); code && code->is_string()) caveats.push_back(*code);
+        row["fit_caveats"] = std::move(caveats);
         json::array pressures, yield_q, max_q, shapes;
         if (const json::value* tests = find(s, {"tests"}); tests && tests->is_array())
             for (const json::value& t : tests->as_array()) {
@@ -392,6 +398,8 @@ json::object study_summary(const Study& study, const std::vector<PointOutcome>& 
     out["groups"] = std::move(grouped);
     out["definitions"] = json::object{
         {"friction_angle_deg", "Mohr-Coulomb through the yield states (summary.json mohr_coulomb)"},
+        {"fit_caveats", "the codes of that fit's caveats (summary.json mohr_coulomb.caveats): its phi, c and R2 are an "
+                        "unconstrained line to be read with them"},
         {"groups", "points equal but for seed; sd is the sample standard deviation (n - 1), null below n = 2"}};
     return out;
 }
@@ -408,7 +416,7 @@ std::string study_summary_csv(const json::object& summary)
     const char* columns[] = {"state", "job_id", "friction_angle_deg", "cohesion_pa", "r_squared",
         "confining_pressures_pa", "yield_deviatoric_stress_pa", "yield_shape", "max_deviatoric_stress_pa",
         "grain_volume_fraction", "wire_volume_fraction", "core_grain_volume_fraction", "wire_length_m",
-        "autocorrelation_lag_m", "autocorrelation_prominent_lag_m", "error"};
+        "autocorrelation_lag_m", "autocorrelation_prominent_lag_m", "fit_caveats", "error"};
     for (const char* c : columns) csv << ',' << c;
     csv << '\n';
     if (const json::value* rows = summary.if_contains("points"); rows && rows->is_array())

@@ -380,6 +380,16 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
 
 namespace {
 
+/// One envelope's figures: φ [deg], c [Pa] and R² (null when the fit leaves no degree of freedom).
+json::object envelope_json(const eng::analysis::MohrEnvelope& e)
+{
+    json::object o;
+    o["friction_angle_deg"] = finite_or_null(e.friction_angle_rad * 180.0 / std::numbers::pi);
+    o["cohesion_pa"] = finite_or_null(e.cohesion_pa);
+    o["r_squared"] = e.r_squared ? finite_or_null(*e.r_squared) : json::value(nullptr);
+    return o;
+}
+
 /// A Mohr–Coulomb fit as the summary reports it, with the states it went through.
 json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::string_view states)
 {
@@ -394,9 +404,28 @@ json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, 
     mc["r_squared"] = figure([](const auto& g) { return g.r_squared ? finite_or_null(*g.r_squared) : json::value(nullptr); });
     mc["paper_top_line_angle_deg"]
         = figure([](const auto& g) { return finite_or_null(g.paper_top_line_angle_rad * 180.0 / std::numbers::pi); });
+    json::array caveats;
+    if (f)
+        for (const eng::analysis::FitCaveat c : f->caveats)
+            caveats.push_back(json::object{{"code", eng::analysis::to_string(c)}, {"message", eng::analysis::describe(c, *f)}});
+    mc["caveats"] = std::move(caveats);
+    mc["nonnegative"] = figure([](const auto& g) { return json::value(envelope_json(g.nonnegative)); });
+    mc["cohesionless"] = figure([](const auto& g) { return json::value(envelope_json(g.cohesionless)); });
     if (!f) mc["error"] = fit.error();
     mc["states"] = states;
     return mc;
+}
+
+/// The fit's caveats as warnings, each after `what` ("Mohr-Coulomb fit (yield states)").
+void warn_of_caveats(std::vector<std::string>& warnings, const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit,
+    std::string_view what)
+{
+    if (!fit.ok()) {
+        warnings.push_back(std::string(what) + ": " + fit.error());
+        return;
+    }
+    for (const eng::analysis::FitCaveat c : fit.value().caveats)
+        warnings.push_back(std::string(what) + ": " + eng::analysis::describe(c, fit.value()));
 }
 
 /// What the summary's strength figures mean, with the tolerances used.
@@ -426,6 +455,13 @@ json::object definitions_json()
                                "bound of the band of a correlated signal)";
     d["friction_angle"] = "tangent fit: sin(phi) = slope of the least-squares line through the circle tops (p, t), "
                           "c = intercept / cos(phi); paper_top_line_angle_deg = atan(slope), the paper's reading";
+    d["constrained_fits"] = "the same least squares of t = c cos(phi) + p sin(phi) over the circle tops, constrained: "
+                            "nonnegative with c >= 0 and phi >= 0, cohesionless with c = 0 (one parameter); r_squared "
+                            "1 - SS_res/SS_tot with SS_tot about the mean t of the tops, null when the fit leaves no "
+                            "degree of freedom";
+    d["caveats"] = "single_pressure: c = 0 imposed; two_pressures: the line is exact by construction (no r_squared); "
+                   "narrow_band: the circles' centres span less than the smallest centre's distance from sigma = 0; "
+                   "negative_cohesion: c < 0; negative_friction_angle: phi < 0";
     return d;
 }
 
@@ -520,9 +556,9 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     using Fit = eng::Result<eng::analysis::MohrCoulombFit, std::string>;
     const Fit fit = yield_states.size() == tests.size() ? eng::analysis::fit_mohr_coulomb(yield_states)
                                                         : Fit(eng::Err(std::string("a test has no yield state")));
-    if (!fit.ok()) warnings.push_back("Mohr-Coulomb fit (yield states): " + fit.error());
+    warn_of_caveats(warnings, fit, "Mohr-Coulomb fit (yield states)");
     const auto fit_max_q = eng::analysis::fit_mohr_coulomb(max_q_states);
-    if (!fit_max_q.ok()) warnings.push_back("Mohr-Coulomb fit (maximum of q): " + fit_max_q.error());
+    warn_of_caveats(warnings, fit_max_q, "Mohr-Coulomb fit (maximum of q)");
     std::size_t rising = 0;
     for (const auto& t : tests) rising += t.strength && t.strength->stress_ratio.shape == eng::analysis::CurveShape::rising;
     if (rising > 0)

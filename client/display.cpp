@@ -152,6 +152,11 @@ std::string format_study_summary(const json::value& summary)
                 << pad_left(fmt("%.1f", number(at(p, {"friction_angle_deg"}))), 9) << "  "
                 << pad_left(fmt("%.2f", scaled(number(at(p, {"cohesion_pa"})), 1e-3)), 8) << "  "
                 << pad_left(fmt("%.3f", number(at(p, {"r_squared"}))), 5);
+            // A fit with caveats (negative c, two pressures, ...): an unconstrained line, said so.
+            if (const json::value* cs = at(p, {"fit_caveats"}); cs && cs->is_array() && !cs->get_array().empty()) {
+                out << "  (!)";
+                for (const json::value& c : cs->get_array()) out << ' ' << text(&c);
+            }
             if (const std::string e = text(at(p, {"error"}), ""); !e.empty()) out << "  " << e;
             out << "\n";
         }
@@ -241,13 +246,30 @@ std::string format_summary(const json::value& summary)
             out << '\n';
         }
 
+    // The unconstrained fit, marked when it has caveats (negative c or phi,
+    // two pressures, a narrow band: engine/analysis/mohr_coulomb.hpp), each
+    // caveat's sentence below it, and the constrained fits beside it; all
+    // read from summary.json, none recomputed.
     const auto envelope = [&](const char* title, std::string_view key) {
+        const json::value* caveats = at(summary, {key, "caveats"});
+        const bool flagged = caveats && caveats->is_array() && !caveats->get_array().empty();
+        const char* mark = flagged ? "  (!) unconstrained fit: see below" : "";
+        const auto constrained = [&](std::string_view which) {
+            return "phi = " + fmt("%.2f deg", number(at(summary, {key, which, "friction_angle_deg"})))
+                 + ", c = " + fmt("%.2f kPa", kpa(number(at(summary, {key, which, "cohesion_pa"}))))
+                 + ", R^2 = " + fmt("%.4f", number(at(summary, {key, which, "r_squared"})));
+        };
         out << '\n' << title << '\n'
-            << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {key, "friction_angle_deg"}))) << '\n'
-            << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {key, "cohesion_pa"})))) << '\n'
-            << "  fit R^2             " << fmt("%.4f", number(at(summary, {key, "r_squared"}))) << '\n'
+            << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {key, "friction_angle_deg"}))) << mark << '\n'
+            << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {key, "cohesion_pa"})))) << mark << '\n'
+            << "  fit R^2             " << fmt("%.4f", number(at(summary, {key, "r_squared"}))) << mark << '\n'
             << "  top-line angle      " << fmt("%.2f deg", number(at(summary, {key, "paper_top_line_angle_deg"})))
             << "  (the paper's reading: atan of the circle tops' slope)\n";
+        if (const json::value* nn = at(summary, {key, "nonnegative"}); nn && nn->is_object())
+            out << "  with c >= 0, phi >= 0  " << constrained("nonnegative") << '\n'
+                << "  with c = 0             " << constrained("cohesionless") << '\n';
+        if (flagged)
+            for (const auto& c : caveats->get_array()) out << "  (!) " << text(at(c, {"message"})) << '\n';
     };
     envelope("Mohr-Coulomb envelope through the yield states", "mohr_coulomb");
     if (at(summary, {"mohr_coulomb_max_q"})) envelope("Mohr-Coulomb envelope through the maxima of q", "mohr_coulomb_max_q");

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -82,7 +83,7 @@ TEST(MohrCoulombFit, NoisyPeaksGiveRSquaredBelowOneAndANearbyEnvelope)
     EXPECT_NEAR(fit.value().cohesion_pa, 12e3, 3e3);
 }
 
-TEST(MohrCoulombFit, TwoPressuresFitExactly)
+TEST(MohrCoulombFit, TwoPressuresFitExactlyAndSaySoInsteadOfAnRSquared)
 {
     const std::vector<PeakState> all = tangent_peaks(30.0 * deg, 5e3);
     const std::vector<PeakState> peaks = {all[0], all[3]};
@@ -90,7 +91,14 @@ TEST(MohrCoulombFit, TwoPressuresFitExactly)
     ASSERT_TRUE(fit.ok()) << fit.error();
     EXPECT_NEAR(fit.value().friction_angle_rad, 30.0 * deg, 1e-9);
     EXPECT_NEAR(fit.value().cohesion_pa, 5e3, 1e-9 * 5e3);
-    EXPECT_NEAR(*fit.value().r_squared, 1.0, 1e-12);
+    // Two points, two parameters: any line is exact, so R² = 1 would mean nothing.
+    EXPECT_FALSE(fit.value().r_squared.has_value());
+    EXPECT_EQ(fit.value().caveats, std::vector<FitCaveat>{FitCaveat::two_pressures});
+    // The one-parameter c = 0 fit has a degree of freedom left, and c = 5 kPa
+    // is not zero: its R² is below 1.
+    ASSERT_TRUE(fit.value().cohesionless.r_squared.has_value());
+    EXPECT_LT(*fit.value().cohesionless.r_squared, 1.0);
+    EXPECT_NE(describe(FitCaveat::two_pressures, fit.value()).find("exact by construction"), std::string::npos);
 }
 
 TEST(MohrCoulombFit, SinglePressureGivesFrictionAngleWithCohesionFixedAtZero)
@@ -156,4 +164,157 @@ TEST(MohrCoulombFit, RejectsSingleTestWithoutPositiveMeanStress)
 {
     const std::vector<PeakState> peaks = {{0.0, 0.0}};
     EXPECT_FALSE(fit_mohr_coulomb(peaks).ok());
+}
+
+// The constrained fits: least squares of the same tangency condition
+// t = a + p tan α (a = c cos φ, tan α = sin φ) with a ≥ 0, tan α ≥ 0, or a = 0.
+
+namespace {
+
+double sum_of_squares(const MohrCoulombFit& fit, double a_pa, double b)
+{
+    double ss = 0.0;
+    for (const MohrCircle& m : fit.circles) ss += (m.radius_pa - a_pa - b * m.centre_pa) * (m.radius_pa - a_pa - b * m.centre_pa);
+    return ss;
+}
+
+/// No point of a fine grid over the quadrant a ≥ 0, 0 ≤ b < 1 (edges
+/// included) has a smaller sum of squares than the envelope `e`: a check of
+/// the constrained minimum that does not use the closed forms.
+void expect_minimal_over_the_quadrant(const MohrCoulombFit& fit, const MohrEnvelope& e, double a_max_pa)
+{
+    const double best = sum_of_squares(fit, e.intercept_pa, e.slope);
+    for (int i = 0; i <= 400; ++i)
+        for (int j = 0; j <= 400; ++j) {
+            const double a = a_max_pa * i / 400.0, b = 0.99 * j / 400.0;
+            ASSERT_GE(sum_of_squares(fit, a, b), best * (1.0 - 1e-12)) << "a = " << a << " Pa, tan(alpha) = " << b;
+        }
+}
+
+} // namespace
+
+TEST(MohrCoulombFit, CirclesOfACohesionlessEnvelopeGiveTheCEqualsZeroFitExactly)
+{
+    const auto fit = fit_mohr_coulomb(tangent_peaks(32.0 * deg, 0.0));
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    const MohrEnvelope& c0 = fit.value().cohesionless;
+    EXPECT_NEAR(c0.friction_angle_rad, 32.0 * deg, 1e-12);
+    EXPECT_EQ(c0.cohesion_pa, 0.0);
+    EXPECT_EQ(c0.intercept_pa, 0.0);
+    ASSERT_TRUE(c0.r_squared.has_value());
+    EXPECT_NEAR(*c0.r_squared, 1.0, 1e-12);
+    // The free fit finds the same line (c within rounding of 0, which may be
+    // either side of it), and so does the fit with c ≥ 0.
+    EXPECT_NEAR(fit.value().cohesion_pa, 0.0, 1e-9 * 200e3);
+    EXPECT_NEAR(fit.value().nonnegative.friction_angle_rad, 32.0 * deg, 1e-12);
+    EXPECT_NEAR(fit.value().nonnegative.cohesion_pa, 0.0, 1e-9 * 200e3);
+}
+
+TEST(MohrCoulombFit, CEqualsZeroFitIsTheOneParameterLeastSquaresThroughTheOrigin)
+{
+    std::vector<PeakState> peaks = tangent_peaks(30.0 * deg, 8e3);
+    peaks[1].sigma1_pa -= 4e3;
+    const auto fit = fit_mohr_coulomb(peaks);
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    const MohrEnvelope& c0 = fit.value().cohesionless;
+    // d/db Σ (t − b p)² = 0 at the fitted slope, and no other slope does better.
+    double gradient = 0.0, scale = 0.0;
+    for (const MohrCircle& m : fit.value().circles) {
+        gradient += m.centre_pa * (m.radius_pa - c0.slope * m.centre_pa);
+        scale += m.centre_pa * m.radius_pa;
+    }
+    EXPECT_NEAR(gradient, 0.0, 1e-12 * scale);
+    for (double db : {-1e-3, 1e-3}) EXPECT_GT(sum_of_squares(fit.value(), 0.0, c0.slope + db), sum_of_squares(fit.value(), 0.0, c0.slope));
+    EXPECT_NEAR(std::sin(c0.friction_angle_rad), c0.slope, 1e-15);
+    // c = 8 kPa ignored: a steeper line through the origin, and a worse R².
+    EXPECT_GT(c0.friction_angle_rad, fit.value().friction_angle_rad);
+    EXPECT_LT(*c0.r_squared, *fit.value().r_squared);
+}
+
+TEST(MohrCoulombFit, NegativeFreeCohesionPutsTheNonnegativeFitOnTheBoundCEqualsZero)
+{
+    // Circles tangent to τ = −5 kPa + σ tan 30°: the free fit finds c < 0 exactly.
+    const auto fit = fit_mohr_coulomb(tangent_peaks(30.0 * deg, -5e3));
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    EXPECT_NEAR(fit.value().cohesion_pa, -5e3, 1e-9 * 5e3);
+    EXPECT_EQ(fit.value().caveats, std::vector<FitCaveat>{FitCaveat::negative_cohesion});
+    const MohrEnvelope& nn = fit.value().nonnegative;
+    EXPECT_EQ(nn.cohesion_pa, 0.0); // on the bound, exactly
+    EXPECT_GT(nn.friction_angle_rad, 0.0);
+    // On the bound a = 0 the best slope is the c = 0 fit's, and moving off
+    // the bound (a > 0) makes it worse: Σ residuals ≤ 0 there (KKT).
+    EXPECT_EQ(nn.slope, fit.value().cohesionless.slope);
+    double residuals = 0.0;
+    for (const MohrCircle& m : fit.value().circles) residuals += m.radius_pa - nn.slope * m.centre_pa;
+    EXPECT_LT(residuals, 0.0);
+    expect_minimal_over_the_quadrant(fit.value(), nn, 20e3);
+    const std::string text = describe(FitCaveat::negative_cohesion, fit.value());
+    EXPECT_NE(text.find("c = -5.0 kPa"), std::string::npos) << text;
+    EXPECT_NE(text.find("c >= 0 and phi >= 0: phi = "), std::string::npos) << text;
+}
+
+TEST(MohrCoulombFit, FallingCircleTopsPutTheNonnegativeFitOnTheBoundPhiEqualsZero)
+{
+    // t falls as p rises (30, 25, 20 kPa at p = 50, 65, 80 kPa): φ < 0 free.
+    const std::vector<PeakState> peaks = {{80e3, 20e3}, {90e3, 40e3}, {100e3, 60e3}};
+    const auto fit = fit_mohr_coulomb(peaks);
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    EXPECT_LT(fit.value().friction_angle_rad, 0.0);
+    EXPECT_NE(std::find(fit.value().caveats.begin(), fit.value().caveats.end(), FitCaveat::negative_friction_angle),
+        fit.value().caveats.end());
+    const MohrEnvelope& nn = fit.value().nonnegative;
+    // On the bound φ = 0: τ = c, the mean of the tops (Σ (t − a)² is least at t̄).
+    EXPECT_EQ(nn.slope, 0.0);
+    EXPECT_NEAR(nn.cohesion_pa, 25e3, 1e-9 * 25e3);
+    EXPECT_NEAR(*nn.r_squared, 0.0, 1e-12); // the mean explains nothing of the spread
+    expect_minimal_over_the_quadrant(fit.value(), nn, 60e3);
+}
+
+TEST(MohrCoulombFit, NonnegativeFitIsTheFreeFitWhenThatSatisfiesTheBounds)
+{
+    std::vector<PeakState> peaks = tangent_peaks(35.0 * deg, 12e3);
+    peaks[2].sigma1_pa += 3e3;
+    const auto fit = fit_mohr_coulomb(peaks);
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    EXPECT_TRUE(fit.value().caveats.empty());
+    EXPECT_EQ(fit.value().nonnegative.cohesion_pa, fit.value().cohesion_pa);
+    EXPECT_EQ(fit.value().nonnegative.friction_angle_rad, fit.value().friction_angle_rad);
+    EXPECT_EQ(fit.value().nonnegative.r_squared, fit.value().r_squared);
+    expect_minimal_over_the_quadrant(fit.value(), fit.value().nonnegative, 30e3);
+}
+
+TEST(MohrCoulombFit, ANarrowBandOfCirclesIsFlaggedAndAWideOneIsNot)
+{
+    // σ₃ = 100, 110, 120 kPa: centres ~ 160-190 kPa, a band of ~30 kPa
+    // extrapolated over ~160 kPa to σ = 0.
+    std::vector<PeakState> narrow;
+    for (double s3 : {100e3, 110e3, 120e3}) narrow.push_back(tangent_peak(30.0 * deg, 2e3, s3));
+    const auto a = fit_mohr_coulomb(narrow);
+    ASSERT_TRUE(a.ok()) << a.error();
+    EXPECT_EQ(a.value().caveats, std::vector<FitCaveat>{FitCaveat::narrow_band});
+    EXPECT_NE(describe(FitCaveat::narrow_band, a.value()).find("narrow band"), std::string::npos);
+    // The edge: centres p and 2p span exactly their distance from 0 (not narrow);
+    // a little less is narrow.
+    // t = 10 kPa + 0.4 p at p = 100, 200, 160 kPa (σ₁ = p + t, σ₃ = p − t):
+    const std::vector<PeakState> edge = {{150e3, 50e3}, {290e3, 110e3}, {234e3, 86e3}};
+    const auto b = fit_mohr_coulomb(edge);
+    ASSERT_TRUE(b.ok()) << b.error();
+    EXPECT_TRUE(b.value().caveats.empty());
+    const std::vector<PeakState> inside = {{150e3, 50e3}, {288.6e3, 109.4e3}, {234e3, 86e3}}; // p = 199 kPa
+    const auto c = fit_mohr_coulomb(inside);
+    ASSERT_TRUE(c.ok()) << c.error();
+    EXPECT_EQ(c.value().caveats, std::vector<FitCaveat>{FitCaveat::narrow_band});
+    EXPECT_TRUE(fit_mohr_coulomb(tangent_peaks(30.0 * deg, 2e3)).value().caveats.empty());
+}
+
+TEST(MohrCoulombFit, OnePressureSaysThatCWasImposed)
+{
+    const std::vector<PeakState> peaks = {{300e3, 100e3}};
+    const auto fit = fit_mohr_coulomb(peaks);
+    ASSERT_TRUE(fit.ok()) << fit.error();
+    EXPECT_EQ(fit.value().caveats, std::vector<FitCaveat>{FitCaveat::single_pressure});
+    EXPECT_EQ(fit.value().cohesionless.slope, fit.value().slope);
+    EXPECT_EQ(fit.value().nonnegative.slope, fit.value().slope);
+    EXPECT_FALSE(fit.value().cohesionless.r_squared.has_value());
+    EXPECT_STREQ(to_string(FitCaveat::single_pressure), "single_pressure");
 }

@@ -184,7 +184,10 @@ TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
         o.state = i < 4 ? "succeeded" : "failed";
         if (i < 4)
             o.summary = json::object{{"mohr_coulomb", json::object{{"friction_angle_deg", phi[i]}, {"cohesion_pa", 1000.0 * i},
-                                                                    {"r_squared", 0.99}}},
+                                                                    {"r_squared", 0.99},
+                                                                    {"caveats", i == 0 ? json::array{json::object{{"code", "narrow_band"}, {"message", "m"}},
+                                                                                                     json::object{{"code", "negative_cohesion"}, {"message", "m"}}}
+                                                                                       : json::array{}}}}},
                 {"tests", json::array{json::object{{"confining_pressure_pa", 2e4}, {"peak_deviatoric_stress_pa", 5e4},
                     {"yield", json::object{{"deviatoric_stress_pa", 4e4}, {"shape", "peak"}}}}}},
                 {"specimen", json::object{{"grain_volume_fraction", 0.6}}},
@@ -209,6 +212,8 @@ TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
     const json::object& row = sum.at("points").as_array()[0].as_object();
     EXPECT_EQ(row.at("yield_deviatoric_stress_pa"), (json::array{4e4}));
     EXPECT_EQ(row.at("job_id"), "job0");
+    EXPECT_EQ(row.at("fit_caveats"), (json::array{"narrow_band", "negative_cohesion"}));
+    EXPECT_EQ(sum.at("points").as_array()[1].at("fit_caveats"), json::array{});
 
     const std::string csv = study_summary_csv(sum);
     std::istringstream lines(csv);
@@ -216,6 +221,6 @@ TEST(Study, TheSummaryGroupsReplicatesWithMeanSpreadAndCount)
     std::getline(lines, header);
     std::getline(lines, first);
     EXPECT_EQ(header.rfind("index,specimen.wire.pattern,seed,state,job_id,friction_angle_deg", 0), 0u) << header;
-    EXPECT_EQ(first, "0,none,1,succeeded,job0,30,0,0.99,20000,40000,peak,50000,0.6,,,,0.04,0.1175,");
+    EXPECT_EQ(first, "0,none,1,succeeded,job0,30,0,0.99,20000,40000,peak,50000,0.6,,,,0.04,0.1175,narrow_band;negative_cohesion,");
     EXPECT_NE(csv.find("\"boom, \"\"quoted\"\"\""), std::string::npos) << csv; // a comma and quotes, escaped
 }

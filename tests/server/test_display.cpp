@@ -5,6 +5,8 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace wiredem::client {
 namespace {
 namespace json = boost::json;
@@ -52,6 +54,48 @@ TEST(ClientDisplay, DurationsReadLikeAClock)
     EXPECT_EQ(format_duration(80), "1m20s");
     EXPECT_EQ(format_duration(4000), "1h06m");
     EXPECT_EQ(format_duration(-1), "-");
+}
+
+TEST(ClientDisplay, AFlaggedFitIsMarkedWithItsCaveatsAndTheConstrainedFitsBesideIt)
+{
+    const json::value summary = json::parse(R"({
+      "mohr_coulomb": {"friction_angle_deg": 21.3, "cohesion_pa": -2100, "r_squared": 0.97,
+        "caveats": [{"code": "negative_cohesion", "message": "negative cohesion c = -2.1 kPa: read it as c = 0"}],
+        "nonnegative": {"friction_angle_deg": 19.75, "cohesion_pa": 0, "r_squared": 0.95},
+        "cohesionless": {"friction_angle_deg": 19.75, "cohesion_pa": 0, "r_squared": 0.95}},
+      "mohr_coulomb_max_q": {"friction_angle_deg": 18.0, "cohesion_pa": 500, "r_squared": null, "caveats": [],
+        "nonnegative": {"friction_angle_deg": 18.0, "cohesion_pa": 500, "r_squared": null},
+        "cohesionless": {"friction_angle_deg": 18.9, "cohesion_pa": 0, "r_squared": 0.8}}})");
+    const std::string table = format_summary(summary);
+    const std::size_t yield = table.find("through the yield states"), max_q = table.find("through the maxima of q");
+    ASSERT_NE(yield, std::string::npos) << table;
+    ASSERT_NE(max_q, std::string::npos) << table;
+    const std::string flagged = table.substr(yield, max_q - yield), plain = table.substr(max_q);
+    for (const char* expected : {"-2.10 kPa  (!) unconstrained fit", "21.30 deg  (!) unconstrained fit",
+             "with c >= 0, phi >= 0  phi = 19.75 deg, c = 0.00 kPa, R^2 = 0.9500",
+             "(!) negative cohesion c = -2.1 kPa: read it as c = 0"})
+        EXPECT_NE(flagged.find(expected), std::string::npos) << expected << "\n" << table;
+    EXPECT_EQ(plain.find("(!)"), std::string::npos) << "a fit without caveats is not marked\n" << table;
+    EXPECT_NE(plain.find("fit R^2             -"), std::string::npos) << table;
+    EXPECT_NE(plain.find("with c = 0             phi = 18.90 deg, c = 0.00 kPa, R^2 = 0.8000"), std::string::npos) << table;
+}
+
+TEST(ClientDisplay, AStudyPointWhoseFitHasCaveatsIsMarked)
+{
+    const json::value summary = json::parse(R"({"name": "s", "points": [
+      {"index": 0, "values": {"seed": 1}, "state": "succeeded", "friction_angle_deg": 21.3, "cohesion_pa": -2100,
+       "r_squared": null, "fit_caveats": ["two_pressures", "negative_cohesion"]},
+      {"index": 1, "values": {"seed": 2}, "state": "succeeded", "friction_angle_deg": 20.0, "cohesion_pa": 100,
+       "r_squared": 0.9, "fit_caveats": []}]})");
+    const std::string table = format_study_summary(summary);
+    std::istringstream lines(table);
+    std::string line, first, second;
+    while (std::getline(lines, line)) {
+        if (line.find("seed=1") != std::string::npos) first = line;
+        if (line.find("seed=2") != std::string::npos) second = line;
+    }
+    EXPECT_NE(first.find("(!) two_pressures negative_cohesion"), std::string::npos) << table;
+    EXPECT_EQ(second.find("(!)"), std::string::npos) << table;
 }
 
 TEST(ClientDisplay, SummaryTableGivesYieldAndMaxQPerPressureInKpaAndBothEnvelopes)

@@ -170,7 +170,19 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
         const double c = (tops[0].second - tops[0].first * sin_phi) / std::cos(phi);
         EXPECT_NEAR(at(s, {"mohr_coulomb_max_q", "friction_angle_deg"}).to_number<double>(), phi * 180.0 / std::numbers::pi, 1e-9);
         EXPECT_NEAR(at(s, {"mohr_coulomb_max_q", "cohesion_pa"}).to_number<double>(), c, 1e-9 * std::abs(c) + 1e-6);
-        EXPECT_NEAR(at(s, {"mohr_coulomb_max_q", "r_squared"}).to_number<double>(), 1.0, 1e-12);
+        // ... and so it has no R² and says why, in the fit and in the warnings.
+        EXPECT_TRUE(at(s, {"mohr_coulomb_max_q", "r_squared"}).is_null());
+        for (const char* fit : {"mohr_coulomb", "mohr_coulomb_max_q"}) {
+            EXPECT_EQ(at(s, {fit, "caveats"}).as_array().at(0).at("code"), "two_pressures") << fit;
+            EXPECT_TRUE(at(s, {fit, "cohesionless", "r_squared"}).is_number()) << fit;
+            EXPECT_GE(at(s, {fit, "nonnegative", "cohesion_pa"}).to_number<double>(), 0.0) << fit;
+            EXPECT_GE(at(s, {fit, "nonnegative", "friction_angle_deg"}).to_number<double>(), 0.0) << fit;
+            EXPECT_EQ(at(s, {fit, "cohesionless", "cohesion_pa"}).to_number<double>(), 0.0) << fit;
+        }
+        EXPECT_EQ(std::ranges::count_if(s.at("warnings").as_array(), [](const json::value& w) {
+            return std::string_view(w.as_string()).find("two pressures: a line passes through any two circle tops")
+                != std::string_view::npos;
+        }), 2);
     }
     EXPECT_TRUE(s.at("definitions").as_object().contains("yield"));
     for (const char* k : {"grain_volume_fraction", "wire_volume_fraction", "sample_volume_m3", "grains", "wire_nodes",

@@ -5,7 +5,10 @@
 // figures, the number of series and points of each plot (read from the data
 // the page drew, not from pixels), the Mohr envelope against φ and c, the
 // wire's autocorrelation lag against the summary's, and the 3D canvas against
-// its background in a screenshot. Every page must load without a console
+// its background in a screenshot; the flagged Mohr-Coulomb fits wherever they
+// are shown; the 3D view's wire seen (by ray casts in its scene graph and by
+// its colours in screenshots), its framing and colour bar; the compare
+// view's colours and dashes; a submit form no wider than the window. Every page must load without a console
 // error or a failed request; a job named like an HTML tag shows as text.
 //
 // Run through ctest (tests/web/run.sh). WIREDEM_WEB_SCREENSHOTS=DIR saves the
@@ -258,6 +261,7 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
     }
   }
   assert.equal(await page.$$eval('#warnings li', (li) => li.length), summary.warnings.length, 'every warning is shown');
+  await checkFlaggedFit(page, 'job page');
 
   // Each curve plot: one series per test, as many points as the test's loading rows in the series route.
   const { tests } = (await server.api('GET', `/v1/jobs/${mainId}/tests`)).json;
@@ -292,6 +296,10 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
     if (summary.tests.length === 2) assert.ok(Math.abs((mc.cohesion_pa / 1000 + p * tanPhi) * cosPhi - r) < 1e-6 * r, 'the envelope touches the circle');
   }
   assert.ok(mohr.series.some((s) => s.label.startsWith('slope of the tops')), 'the slope-of-the-tops line is drawn and labelled');
+  checkMohrAxis(mohr, 'job page');
+  // The volumetric strain says which sign is compaction.
+  assert.match(await page.$eval('#plot-volumetric .note', (e) => e.textContent), /positive when the column compacts/);
+  assert.match(plots['plot-volumetric'].title + (await page.$eval('#plot-volumetric', (e) => e.textContent)), /> 0 compaction/);
 
   // The wire: segments along its length, and the autocorrelation of the snapshot the summary's lag comes from.
   assert.equal(plots['plot-wire-strain'].series[0].x.length, summary.specimen.wire_nodes - 1);
@@ -312,21 +320,139 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   const before = await canvas.screenshot({ encoding: 'base64' });
   const notBackground = await page.evaluate(countNotBackground, before);
   assert.ok(notBackground > 0.05, `the 3D view is blank: ${notBackground} of its pixels differ from the background`);
+  // The specimen fills the frame: what is not background spans most of the canvas's height.
+  const extent = await page.evaluate(extentNotBackground, before);
+  assert.ok(extent.height > 0.7, `the specimen spans ${extent.height} of the canvas's height`);
+  // A colour bar with the strain scale of the wire's colours.
+  assert.equal(await page.$eval('#view3d-colour-bar', (e) => e.hidden), false, 'the colour bar is shown');
+  assert.equal(await page.$eval('#view3d-colour-max', (e) => e.textContent), `+${Number((view.maxAbsStrain * 1000).toPrecision(2))}·10⁻³`);
+
+  // The wire is seen (the scene graph: the share of its segments whose
+  // midpoint is the first thing a ray from the camera meets). By default the
+  // grains are drawn small, so most of it shows; full-size grains hide most
+  // of it, and cutting half of them away reveals it again.
+  const wireSeen = () => page.$eval('#view3d-canvas', (c) => c.wiredemWireVisibility());
+  assert.equal(await page.$eval('#view3d-grain-mode', (e) => e.value), 'small', 'a specimen with wire shows its grains small');
+  const seenSmall = await wireSeen();
+  await page.select('#view3d-grain-mode', 'solid');
+  await sleep(300);
+  const solid = await canvas.screenshot({ encoding: 'base64' });
+  const seenSolid = await wireSeen();
   await page.click('#view3d-cut');
   await sleep(300);
   const cut = await canvas.screenshot({ encoding: 'base64' });
-  assert.ok(await page.evaluate(fractionChanged, before, cut) > 0.01, 'cutting half away changes the picture');
+  const seenCut = await wireSeen();
+  assert.ok(seenSmall > 0.6, `small grains: ${seenSmall} of the wire is seen`);
+  assert.ok(seenSolid < seenSmall, `full-size grains hide more of the wire (${seenSolid}) than small ones (${seenSmall})`);
+  assert.ok(seenCut > 0.45 && seenCut > seenSolid + 0.2, `cutting half of the grains away reveals the wire: ${seenSolid} → ${seenCut}`);
+  assert.ok(await page.evaluate(fractionChanged, solid, cut) > 0.01, 'cutting half away changes the picture');
+  // ... and in pixels: the wire's strain colours (blue or red, g ≈ b or r ≈ g) cover more of the cut picture.
+  const [wirePixelsSolid, wirePixelsCut] = [await page.evaluate(countStrainColoured, solid), await page.evaluate(countStrainColoured, cut)];
+  assert.ok(wirePixelsCut > 1.5 * wirePixelsSolid, `wire-coloured pixels: ${wirePixelsSolid} → ${wirePixelsCut} when cut`);
+  if (screenshots) await canvas.screenshot({ path: path.join(screenshots, 'web-3d-cut.png') });
   await page.click('#view3d-cut');
+  await page.select('#view3d-grain-mode', 'small');
+  await sleep(300);
   await shot(page, 'web-job.png', { fullPage: true });
   if (screenshots) {
-    await page.click('#view3d-grains');
-    await sleep(300);
     await canvas.screenshot({ path: path.join(screenshots, 'web-3d.png') });
-    await page.click('#view3d-grains');
+    const caveats = await page.$('#fit-caveats');
+    if (caveats) {
+      const mohrBox = await page.$('#plot-mohr');
+      await mohrBox.scrollIntoView();
+      await mohrBox.screenshot({ path: path.join(screenshots, 'web-mohr-flagged.png') });
+      await page.$eval('#figures', (e) => e.scrollIntoView());
+      const top = await page.$eval('#figures', (e) => e.getBoundingClientRect().top);
+      const bottom = await page.$eval('#fit-caveats', (e) => e.getBoundingClientRect().bottom);
+      await page.screenshot({ path: path.join(screenshots, 'web-fit-caveats.png'), clip: { x: 0, y: top - 8, width: 1400, height: bottom - top + 16 } });
+    }
   }
   assert.deepEqual(w.problems, []);
   await page.close();
 });
+
+/// The flagged fit where a page shows it: every caveat of summary.json's
+/// fits in #fit-caveats, φ, c and R² marked, the constrained fits shown, and
+/// the caveats among the warnings. (The test job has two pressures, so its
+/// fits always have the caveat two_pressures, and no R².)
+async function checkFlaggedFit(page, where) {
+  const mc = summary.mohr_coulomb;
+  assert.ok(mc.caveats.some((c) => c.code === 'two_pressures'), `${where}: two pressures are flagged: ${JSON.stringify(mc.caveats)}`);
+  assert.equal(mc.r_squared, null, 'no R² through two circles');
+  const shown = await page.$$eval('#fit-caveats li', (li) => li.map((e) => ({ code: e.dataset.code, text: e.textContent })));
+  const expected = [...mc.caveats, ...summary.mohr_coulomb_max_q.caveats];
+  assert.equal(shown.length, expected.length, `${where}: every caveat is shown`);
+  for (const [i, c] of expected.entries()) {
+    assert.equal(shown[i].code, c.code);
+    assert.ok(shown[i].text.endsWith(c.message), `${where}: ${shown[i].text}`);
+    assert.ok(summary.warnings.some((w) => w.endsWith(c.message)), `the warnings hold ${c.message}`);
+  }
+  for (const key of ['friction_angle_deg', 'cohesion_pa', 'r_squared']) {
+    const tile = await page.$eval(`[data-figure="${key}"]`, (e) => ({ flagged: e.classList.contains('flagged'), label: e.querySelector('.label').textContent, caveats: e.dataset.caveats }));
+    assert.ok(tile.flagged && tile.label.endsWith('⚠'), `${where}: ${key} is marked: ${JSON.stringify(tile)}`);
+    assert.equal(tile.caveats, mc.caveats.map((c) => c.code).join(' '));
+  }
+  assert.equal(await page.$eval('[data-figure="r_squared"] .value', (e) => e.textContent), '—');
+  const nn = await page.$eval('[data-figure="nonnegative"] .value', (e) => e.textContent);
+  const [phi, c] = nn.split(', ');
+  assertShown(phi.replace('°', ''), mc.nonnegative.friction_angle_deg, `${where}: φ with c ≥ 0`);
+  assertShown(c.replace(' kPa', ''), mc.nonnegative.cohesion_pa / 1000 || 0, `${where}: c with c ≥ 0`);
+  assert.ok(mc.nonnegative.cohesion_pa >= 0 && mc.nonnegative.friction_angle_deg >= 0, JSON.stringify(mc.nonnegative));
+  assertShown(await page.$eval('[data-figure="cohesionless_friction_angle_deg"] .value', (e) => e.textContent), mc.cohesionless.friction_angle_deg, `${where}: φ with c = 0`);
+}
+
+/// The Mohr plot's τ axis shows a negative intercept, and the constrained fits are drawn when they differ.
+function checkMohrAxis(mohr, where) {
+  const mc = summary.mohr_coulomb;
+  assert.equal(mohr.envelope.flagged, mc.caveats.length > 0);
+  if (mc.cohesion_pa < 0) assert.ok(mohr.yMin < mc.cohesion_pa / 1000, `${where}: the τ axis starts at ${mohr.yMin}, below c = ${mc.cohesion_pa / 1000} kPa`);
+  else assert.ok(mohr.yMin <= 0, where);
+  const differs = mc.nonnegative.cohesion_pa !== mc.cohesion_pa || mc.nonnegative.friction_angle_deg !== mc.friction_angle_deg;
+  assert.equal(mohr.constrained.includes('nonnegative'), differs, `${where}: the c ≥ 0 fit is drawn when it differs`);
+  const nnLine = mohr.series.find((s) => s.label.startsWith('fit with c ≥ 0'));
+  if (nnLine) assert.ok(Math.abs(nnLine.y[0] - mc.nonnegative.cohesion_pa / 1000) < 1e-9 * Math.max(...nnLine.y.map(Math.abs)));
+}
+
+/// In the page: the share of the canvas's height and width that what is not background spans.
+async function extentNotBackground(png) {
+  const img = new Image();
+  img.src = `data:image/png;base64,${png}`;
+  await img.decode();
+  const c = document.createElement('canvas');
+  c.width = img.width; c.height = img.height;
+  const ctx = c.getContext('2d');
+  ctx.drawImage(img, 0, 0);
+  const d = ctx.getImageData(0, 0, c.width, c.height).data;
+  let top = c.height, bottom = -1, left = c.width, right = -1;
+  for (let y = 0; y < c.height; ++y)
+    for (let x = 0; x < c.width; ++x) {
+      const i = 4 * (y * c.width + x);
+      if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) <= 24) continue;
+      top = Math.min(top, y); bottom = Math.max(bottom, y); left = Math.min(left, x); right = Math.max(right, x);
+    }
+  return { height: bottom < 0 ? 0 : (bottom - top + 1) / c.height, width: right < 0 ? 0 : (right - left + 1) / c.width };
+}
+
+/// In the page: pixels in the wire's strain colours (view3d.js's strainColour:
+/// red (1, 1 − t, 1 − t) or blue (1 + t, 1 + t, 1), so g = b below r, or r = g
+/// below b), which neither the grains' sand (r > g > b) nor the background
+/// (grey) has; the force network, also red, must be hidden or thin.
+async function countStrainColoured(png) {
+  const img = new Image();
+  img.src = `data:image/png;base64,${png}`;
+  await img.decode();
+  const c = document.createElement('canvas');
+  c.width = img.width; c.height = img.height;
+  const ctx = c.getContext('2d');
+  ctx.drawImage(img, 0, 0);
+  const d = ctx.getImageData(0, 0, c.width, c.height).data;
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
+    if ((Math.abs(g - b) <= 6 && r - g >= 40) || (Math.abs(r - g) <= 6 && b - r >= 40)) ++n;
+  }
+  return n;
+}
 
 /// In the page: the fraction of pixels of a PNG (base64) that differ from its corner pixel.
 async function countNotBackground(png) {
@@ -393,6 +519,15 @@ test('submit: a form from the job spec\'s schema; an invalid spec shows each err
     assert.ok(shown.includes(d.message), `${d.field}: shows '${shown}', the API says '${d.message}'`);
   }
   await shot(page, 'web-submit.png', { fullPage: true });
+  // The field table is no wider than the window, at the test's width and a narrower one.
+  for (const width of [1400, 1000]) {
+    await page.setViewport({ width, height: 1000 });
+    await sleep(200);
+    const fits = await page.evaluate(() => ({ page: document.documentElement.scrollWidth, window: window.innerWidth,
+      table: document.querySelector('#spec-fields').getBoundingClientRect().right }));
+    assert.ok(fits.page <= fits.window && fits.table <= fits.window, `at ${width} px: ${JSON.stringify(fits)}`);
+  }
+  await page.setViewport({ width: 1400, height: 1000 });
 
   const good = { ...JSON.parse(readFileSync(path.join(sourceDir, 'tests/web/job.json'), 'utf8')), name: 'submitted from the page' };
   await setSpec(JSON.stringify(good));
@@ -414,15 +549,42 @@ test('compare: the φ/c table and the overlaid envelopes and curves', async () =
   const { page, w } = await newPage();
   await page.goto(`${server.url}/#/compare/${mainId}`);
   await page.waitForSelector('#compare-q');
-  const phi = await page.$eval(`#compare-table tr[data-id="${mainId}"] td[data-key="friction_angle_deg"]`, (e) => e.textContent);
-  assertShown(phi, summary.mohr_coulomb.friction_angle_deg, 'φ');
+  const phi = await page.$eval(`#compare-table tr[data-id="${mainId}"] td[data-key="friction_angle_deg"]`, (e) => ({ text: e.textContent, title: e.title }));
+  // A flagged fit is marked, its caveats in the cell's title.
+  assertShown(phi.text.replace(' ⚠', ''), summary.mohr_coulomb.friction_angle_deg, 'φ');
+  assert.ok(phi.text.endsWith(' ⚠') && phi.title.includes(summary.mohr_coulomb.caveats[0].message), JSON.stringify(phi));
   const plots = await page.evaluate(() => ({ env: document.querySelector('#compare-envelopes').wiredemPlot, q: document.querySelector('#compare-q').wiredemPlot }));
   assert.equal(plots.env.series.length, 1);
   assert.equal(plots.q.series.length, summary.tests.length);
-  await shot(page, 'web-compare.png', { fullPage: true });
+  await checkCompareLegend(page, [mainId]);
   assert.deepEqual(w.problems, []);
   await page.close();
 });
+
+/// The compare page's q curves: one colour per job, one dash per confining
+/// pressure (the same in every job), both in the legend's swatches; the
+/// chooser names each job with its id and time, so two jobs of one name differ.
+async function checkCompareLegend(page, ids) {
+  const q = await page.$eval('#compare-q', (e) => e.wiredemPlot);
+  const swatches = await page.$$eval('#compare-q .swatches li', (li) => li.map((e) => ({ dash: e.dataset.dash, text: e.textContent,
+    stroke: e.querySelector('line').getAttribute('stroke'), dasharray: e.querySelector('line').getAttribute('stroke-dasharray') })));
+  assert.equal(swatches.length, q.series.length, 'a swatch per curve');
+  const pressureOf = (label) => label.match(/σ₃ = ([0-9.]+) kPa/)[1];
+  for (const [i, s] of swatches.entries()) {
+    assert.equal(s.stroke, q.legend[i].color);
+    assert.equal(s.dasharray ?? '', q.legend[i].dash.join(' '));
+    for (const [j, o] of swatches.entries()) {
+      const samePressure = pressureOf(q.legend[i].label) === pressureOf(q.legend[j].label);
+      const sameJob = q.legend[i].label.split(', σ₃')[0] === q.legend[j].label.split(', σ₃')[0];
+      assert.equal(s.dash === o.dash, samePressure, `dash: ${s.text} / ${o.text}`);
+      assert.equal(s.stroke === o.stroke, sameJob, `colour: ${s.text} / ${o.text}`);
+    }
+  }
+  const picks = await page.$$eval('label.pick', (l) => l.map((e) => ({ id: e.querySelector('input').value, text: e.textContent })));
+  for (const p of picks) assert.ok(p.text.includes(p.id.slice(0, 8)) && /\d\d:\d\d/.test(p.text), `the chooser names ${p.id}: ${p.text}`);
+  assert.equal(new Set(picks.map((p) => p.text)).size, picks.length, 'no two jobs look alike in the chooser');
+  for (const id of ids) assert.ok(swatches.some((s) => s.text.includes(id.slice(0, 8))), `the legend names ${id}`);
+}
 
 test('studies: the list, a study\'s points with their jobs and the summary over the seeds, links to each job, the compare view pre-filled, cancel', async () => {
   // Two seeds of the test job made cheap (no wire, a faster pour, loaded to 3 %; seconds each):
@@ -459,8 +621,14 @@ test('studies: the list, a study\'s points with their jobs and the summary over 
   assert.equal(summary.points.length, 2);
   for (const p of summary.points) {
     const row = `#study-points tr[data-index="${p.index}"]`;
-    assertShown(await page.$eval(`${row} td[data-key="friction_angle_deg"]`, (e) => e.textContent), p.friction_angle_deg, `φ of point ${p.index}`);
-    assertShown(await page.$eval(`${row} td[data-key="cohesion_pa"]`, (e) => e.textContent), p.cohesion_pa / 1000, `c of point ${p.index}`);
+    // Two pressures: every point's fit is flagged.
+    assert.ok(p.fit_caveats.includes('two_pressures'), JSON.stringify(p.fit_caveats));
+    for (const [key, value] of [['friction_angle_deg', p.friction_angle_deg], ['cohesion_pa', p.cohesion_pa / 1000]]) {
+      const cell = await page.$eval(`${row} td[data-key="${key}"]`, (e) => ({ text: e.textContent, caveats: e.dataset.caveats }));
+      assert.ok(cell.text.endsWith(' ⚠'), `${key} of point ${p.index} is marked: ${cell.text}`);
+      assert.equal(cell.caveats, p.fit_caveats.join(' '));
+      assertShown(cell.text.replace(' ⚠', ''), value, `${key} of point ${p.index}`);
+    }
     assert.equal(await page.$eval(`${row} td.name a`, (a) => a.getAttribute('href')), `#/jobs/${p.job_id}`);
   }
   // The group over the seeds: mean ± sd (n), as the summary computed them.
@@ -478,6 +646,8 @@ test('studies: the list, a study\'s points with their jobs and the summary over 
   await page.waitForSelector('#compare-q');
   const compared = await page.$$eval('#compare-table tbody tr', (rows) => rows.map((r) => r.dataset.id));
   assert.deepEqual(compared.sort(), summary.points.map((p) => p.job_id).sort());
+  await checkCompareLegend(page, compared);
+  await shot(page, 'web-compare.png', { fullPage: true });
   assert.deepEqual(w.problems, []);
   await page.close();
 });
@@ -499,7 +669,9 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   await page.waitForSelector('#main[data-rendered="true"]');
   assert.equal(await page.$eval('#job-name', (e) => e.textContent), summary.name ?? (await server.api('GET', `/v1/jobs/${mainId}`)).json.name);
   assertShown(await page.$eval('[data-figure="friction_angle_deg"] .value', (e) => e.textContent), summary.mohr_coulomb.friction_angle_deg, 'φ');
+  await checkFlaggedFit(page, 'offline report');
   const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
+  checkMohrAxis(plots['plot-mohr'], 'offline report');
   for (const id of ['plot-q', 'plot-ratio', 'plot-volumetric']) assert.equal(plots[id].series.length, summary.tests.length, id);
   const env = plots['plot-mohr'].series.find((s) => s.label.startsWith('envelope'));
   const tanPhi = Math.tan((summary.mohr_coulomb.friction_angle_deg * Math.PI) / 180);

@@ -17,8 +17,11 @@ function sorted(x, y) {
 /// Draws `series` ([{label, x, y, color?, dash?, width?}]) into a new box in
 /// `parent`. `markers`: vertical lines [{x, label}], each label a line below the
 /// previous one's (markers a few pixels apart stay readable). `equalAspect`: one unit
-/// of x as long as one of y (Mohr circles stay round).
-export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = [], equalAspect = false, note, height = 320 }) {
+/// of x as long as one of y (Mohr circles stay round), y from `yMin` (≤ 0) up,
+/// with a line along y = 0 when yMin < 0.
+/// `swatches`: a legend of its own below the plot, each entry a short line in
+/// the series' colour, width and dash (uPlot's legend shows the colour only).
+export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = [], equalAspect = false, yMin = 0, note, height = 320, swatches = false }) {
   const box = el('div', { class: 'plot', id }, el('h3', {}, title));
   parent.append(box);
   box.wiredemPlot = { title, series: series.map((s) => ({ label: s.label, x: [...s.x], y: [...s.y] })) };
@@ -35,11 +38,11 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
     const xmax = Math.max(...xs) * 1.05;
     const xmin = Math.min(0, ...xs);
     scales.x.range = () => [xmin, xmax];
-    scales.y = { range: () => [0, ((xmax - xmin) * (height - 60)) / (width - 80)] };
+    scales.y = { range: () => [yMin, yMin + ((xmax - xmin) * (height - 60)) / (width - 80)] };
   }
   const opts = {
     width, height, scales,
-    legend: { live: false },
+    legend: { live: false, show: !swatches },
     cursor: { drag: { x: true, y: true } },
     axes: [{ label: xLabel }, { label: yLabel, size: 70 }],
     series: [{ label: xLabel }, ...series.map((s, i) => ({
@@ -48,6 +51,16 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
     }))],
     hooks: { draw: [(u) => {
       const ctx = u.ctx;
+      if (equalAspect && yMin < 0) {  // where τ = 0 is, once the axis goes below it
+        const cy = u.valToPos(0, 'y', true);
+        ctx.save();
+        ctx.strokeStyle = '#57606a';
+        ctx.beginPath();
+        ctx.moveTo(u.bbox.left, cy);
+        ctx.lineTo(u.bbox.left + u.bbox.width, cy);
+        ctx.stroke();
+        ctx.restore();
+      }
       for (const [i, m] of markers.entries()) {
         const cx = u.valToPos(m.x, 'x', true);
         ctx.save();
@@ -67,8 +80,28 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
     }] },
   };
   box.uplot = new uPlot(opts, data, box);
+  if (swatches) box.append(swatchLegend(opts.series.slice(1)));
+  box.wiredemPlot.legend = opts.series.slice(1).map((s) => ({ label: s.label, color: s.stroke, dash: s.dash ? [...s.dash] : [] }));
   if (note) box.append(el('p', { class: 'note' }, note));
   return box;
+}
+
+const svgNs = 'http://www.w3.org/2000/svg';
+
+/// A legend of line samples (SVG with presentation attributes: no inline style, which the CSP refuses).
+function swatchLegend(series) {
+  return el('ul', { class: 'swatches' }, series.map((s) => {
+    const svg = document.createElementNS(svgNs, 'svg');
+    svg.setAttribute('width', '44');
+    svg.setAttribute('height', '10');
+    svg.setAttribute('aria-hidden', 'true');
+    const line = document.createElementNS(svgNs, 'line');
+    for (const [k, v] of Object.entries({ x1: 1, y1: 5, x2: 43, y2: 5, stroke: s.stroke, 'stroke-width': s.width }))
+      line.setAttribute(k, String(v));
+    if (s.dash) line.setAttribute('stroke-dasharray', s.dash.join(' '));
+    svg.append(line);
+    return el('li', { 'data-dash': s.dash ? s.dash.join(' ') : 'solid' }, svg, ` ${s.label}`);
+  }));
 }
 
 /// Upper half of a Mohr circle through σ3 and σ1 as (σ, τ) points, σ ascending.

@@ -18,6 +18,11 @@ export const kPaLabel = (pa) => `σ₃ = ${num(pa / 1000, 4)} kPa`;
 /// A length in metres shown in mm, or '—' when there is none.
 const mm = (m) => (m != null ? num(m * 1000, 4) : '—');
 
+/// The sign of ε_v = (V₀ − V)/V₀ (engine/analysis/stress.hpp): positive when
+/// the column compacts, negative when it dilates; said on the axis and under the plot.
+const volumetricLabel = 'ε_v  (> 0 compaction, < 0 dilation)';
+const volumetricNote = 'ε_v = (V₀ − V)/V₀: positive when the column compacts (its volume falls), negative when it dilates.';
+
 /// The columns the curves need (the series route's ?columns=).
 export const curveColumns = 'axial_strain,deviatoric_stress_pa,stress_ratio,volumetric_strain,phase';
 
@@ -31,13 +36,17 @@ export function renderSummary(body, summary) {
   const mc = summary.mohr_coulomb || {};
   const mcq = summary.mohr_coulomb_max_q || {};
   const sp = summary.specimen || {};
+  const nn = mc.nonnegative || {};
+  const c0 = mc.cohesionless || {};
   body.append(el('h2', {}, 'Summary'),
     el('div', { class: 'figures', id: 'figures' },
-      figure('φ (yield) [°]', num(mc.friction_angle_deg, 4), 'friction_angle_deg'),
-      figure('c (yield) [kPa]', kpa(mc.cohesion_pa), 'cohesion_pa'),
-      figure('R²', num(mc.r_squared, 4), 'r_squared'),
+      fitFigure(mc, 'φ (yield) [°]', num(mc.friction_angle_deg, 4), 'friction_angle_deg'),
+      fitFigure(mc, 'c (yield) [kPa]', kpa(mc.cohesion_pa), 'cohesion_pa'),
+      fitFigure(mc, 'R²', num(mc.r_squared, 4), 'r_squared'),
+      figure('φ, c with c ≥ 0, φ ≥ 0', `${num(nn.friction_angle_deg, 4)}°, ${kpa(nn.cohesion_pa)} kPa`, 'nonnegative'),
+      figure('φ with c = 0 [°]', num(c0.friction_angle_deg, 4), 'cohesionless_friction_angle_deg'),
       figure('α, slope of the tops [°]', num(mc.paper_top_line_angle_deg, 4), 'paper_top_line_angle_deg'),
-      figure('φ (max q) [°]', num(mcq.friction_angle_deg, 4), 'max_q_friction_angle_deg'),
+      fitFigure(mcq, 'φ (max q) [°]', num(mcq.friction_angle_deg, 4), 'max_q_friction_angle_deg'),
       figure('grain volume fraction', num(sp.grain_volume_fraction, 4), 'grain_volume_fraction'),
       figure('wire volume fraction', num(sp.wire_volume_fraction, 4), 'wire_volume_fraction'),
       figure('grains', sp.grains ?? '—', 'grains'),
@@ -45,6 +54,7 @@ export function renderSummary(body, summary) {
       figure('wire autocorrelation lag [mm]', mm((summary.wire || {}).autocorrelation_lag_m), 'autocorrelation_lag_m'),
       figure('wire prominent lag [mm]', mm((summary.wire || {}).autocorrelation_prominent_lag_m), 'autocorrelation_prominent_lag_m')),
     mc.error ? el('div', { class: 'error-box' }, `Mohr–Coulomb fit: ${mc.error}`) : '',
+    caveatBox(mc, mcq),
     el('table', { id: 'tests-table' },
       el('thead', {}, el('tr', {}, ['σ₃ [kPa]', 'peak q [kPa]', 'σ₁ at peak [kPa]', 'σ₃,eff at peak [kPa]', 'ε at peak', 'max q shape', 'yield η', 'yield ε', 'quasi-static'].map((h) => el('th', {}, h)))),
       el('tbody', {}, (summary.tests || []).map((t) => el('tr', { 'data-pressure': t.confining_pressure_pa },
@@ -58,6 +68,31 @@ export function renderSummary(body, summary) {
         el('td', { class: 'num' }, t.yield ? num(t.yield.axial_strain, 4) : '—'),
         el('td', {}, t.quasi_static === false ? 'no' : t.quasi_static ? 'yes' : '—'))))));
 
+}
+
+/// The caveats of a Mohr–Coulomb fit of summary.json ([] when it has none):
+/// [{code, message}], made by the engine's analysis (engine/analysis/mohr_coulomb.hpp).
+export const fitCaveats = (mc) => (mc && Array.isArray(mc.caveats) ? mc.caveats : []);
+
+/// A summary tile of an unconstrained fit, marked ⚠ (class `flagged`, the
+/// codes in data-caveats) when the fit has caveats.
+function fitFigure(mc, label, value, id) {
+  const caveats = fitCaveats(mc);
+  if (!caveats.length) return figure(label, value, id);
+  const tile = figure(`${label} ⚠`, value, id);
+  tile.classList.add('flagged');
+  tile.dataset.caveats = caveats.map((c) => c.code).join(' ');
+  tile.title = 'an unconstrained fit: read the caveats below';
+  return tile;
+}
+
+/// What the flagged figures are: each fit's caveats in a sentence, under the tiles.
+function caveatBox(mc, mcq) {
+  const items = [['yield states', mc], ['maxima of q', mcq]].flatMap(([what, fit]) =>
+    fitCaveats(fit).map((c) => el('li', { 'data-code': c.code }, `Mohr–Coulomb fit through the ${what}: ${c.message}`)));
+  if (!items.length) return '';
+  return el('div', { class: 'caveats', id: 'fit-caveats' },
+    el('h3', {}, '⚠ The fitted envelope is an unconstrained line: read it with these caveats'), el('ul', {}, items));
 }
 
 /// q, the stress ratio and the volumetric strain against axial strain for
@@ -77,12 +112,16 @@ export function renderCurves(body, summary, tests, series) {
   });
   linePlot(grid, { id: 'plot-q', title: 'Deviatoric stress q against axial strain (loading)', xLabel: 'axial strain ε₁', yLabel: 'q [kPa]', series: curves('deviatoric_stress_pa', 1e-3) });
   linePlot(grid, { id: 'plot-ratio', title: 'Stress ratio (σ₁ − σ₃)/(σ₁ + σ₃) against axial strain', xLabel: 'axial strain ε₁', yLabel: 'stress ratio', series: curves('stress_ratio') });
-  linePlot(grid, { id: 'plot-volumetric', title: 'Volumetric strain against axial strain', xLabel: 'axial strain ε₁', yLabel: 'volumetric strain', series: curves('volumetric_strain') });
+  linePlot(grid, { id: 'plot-volumetric', title: 'Volumetric strain against axial strain', xLabel: 'axial strain ε₁', yLabel: volumetricLabel, series: curves('volumetric_strain'),
+    note: volumetricNote });
   if (summary) mohrPlot(grid, summary);
 }
 
 /// Mohr circles at yield (σ₃,eff and σ₁ of each test's yield state), the fitted
-/// envelope τ = c + σ tan φ and the line through the circle tops t = c cos φ + p tan α.
+/// envelope τ = c + σ tan φ (marked ⚠ when it has caveats), the constrained
+/// fits of summary.json beside it (c ≥ 0 and φ ≥ 0; c = 0) when they differ
+/// from it, and the line through the circle tops t = c cos φ + p tan α. The τ
+/// axis goes below 0 when an envelope does (a negative c is not hidden).
 export function mohrPlot(parent, summary, id = 'plot-mohr') {
   const mc = summary.mohr_coulomb || {};
   const states = (summary.tests || []).filter((t) => t.yield && t.yield.sigma1_pa != null);
@@ -91,19 +130,37 @@ export function mohrPlot(parent, summary, id = 'plot-mohr') {
     return { label: `yield at ${kPaLabel(t.confining_pressure_pa)}`, ...c };
   });
   const sigmaMax = Math.max(1, ...states.map((t) => t.yield.sigma1_pa / 1000)) * 1.05;
+  const line = (phiDeg, cPa) => {
+    const c = cPa / 1000, tanPhi = Math.tan((phiDeg * Math.PI) / 180);
+    return { x: [0, sigmaMax], y: [c, c + sigmaMax * tanPhi] };
+  };
+  const flagged = fitCaveats(mc).length > 0;
   if (mc.friction_angle_deg != null && mc.cohesion_pa != null) {
-    const tanPhi = Math.tan((mc.friction_angle_deg * Math.PI) / 180);
     const c = mc.cohesion_pa / 1000;
-    series.push({ label: `envelope φ = ${num(mc.friction_angle_deg, 3)}°, c = ${num(c, 3)} kPa`, x: [0, sigmaMax], y: [c, c + sigmaMax * tanPhi], color: '#1d2330', width: 2, envelope: true });
+    series.push({ label: `envelope φ = ${num(mc.friction_angle_deg, 3)}°, c = ${num(c, 3)} kPa${flagged ? ' (unconstrained ⚠)' : ''}`,
+      ...line(mc.friction_angle_deg, mc.cohesion_pa), color: '#1d2330', width: 2, envelope: true });
+    const differs = (e) => e && e.friction_angle_deg != null && e.cohesion_pa != null
+      && (e.friction_angle_deg !== mc.friction_angle_deg || e.cohesion_pa !== mc.cohesion_pa);
+    if (differs(mc.nonnegative))
+      series.push({ label: `fit with c ≥ 0, φ ≥ 0: φ = ${num(mc.nonnegative.friction_angle_deg, 3)}°, c = ${num(mc.nonnegative.cohesion_pa / 1000, 3)} kPa`,
+        ...line(mc.nonnegative.friction_angle_deg, mc.nonnegative.cohesion_pa), color: '#1a7f37', width: 2, dash: [10, 5], constrained: 'nonnegative' });
+    if (differs(mc.cohesionless) && (!differs(mc.nonnegative) || mc.cohesionless.friction_angle_deg !== mc.nonnegative.friction_angle_deg
+        || mc.cohesionless.cohesion_pa !== mc.nonnegative.cohesion_pa))
+      series.push({ label: `fit with c = 0: φ = ${num(mc.cohesionless.friction_angle_deg, 3)}°`,
+        ...line(mc.cohesionless.friction_angle_deg, 0), color: '#0a7e8c', width: 1.5, dash: [2, 4], constrained: 'cohesionless' });
     if (mc.paper_top_line_angle_deg != null) {
       const tanAlpha = Math.tan((mc.paper_top_line_angle_deg * Math.PI) / 180);
       const a = c * Math.cos((mc.friction_angle_deg * Math.PI) / 180);
       series.push({ label: `slope of the tops α = ${num(mc.paper_top_line_angle_deg, 3)}° (not φ)`, x: [0, sigmaMax], y: [a, a + sigmaMax * tanAlpha], color: '#8250df', dash: [6, 4] });
     }
   }
-  const box = linePlot(parent, { id, title: 'Mohr circles at yield', xLabel: 'σ [kPa]', yLabel: 'τ [kPa]', series, equalAspect: true,
-    note: mc.states || '' });
-  box.wiredemPlot.envelope = { friction_angle_deg: mc.friction_angle_deg, cohesion_pa: mc.cohesion_pa };
+  const lowest = Math.min(0, ...series.filter((s) => !s.label.startsWith('yield')).flatMap((s) => s.y));
+  const yMin = lowest < 0 ? lowest - 0.1 * sigmaMax : 0;
+  const box = linePlot(parent, { id, title: 'Mohr circles at yield', xLabel: 'σ [kPa]', yLabel: 'τ [kPa]', series, equalAspect: true, yMin,
+    note: [mc.states || '', flagged ? 'The black envelope is an unconstrained fit; see the caveats above the plots.' : ''].filter(Boolean).join(' ') });
+  box.wiredemPlot.envelope = { friction_angle_deg: mc.friction_angle_deg, cohesion_pa: mc.cohesion_pa, flagged };
+  box.wiredemPlot.yMin = yMin;
+  box.wiredemPlot.constrained = series.filter((s) => s.constrained).map((s) => s.constrained);
   return box;
 }
 

@@ -95,6 +95,15 @@ function spread(s, scale = 1) {
   return `${num(s.mean * scale, 4)} ± ${s.sd == null ? '—' : num(s.sd * scale, 3)} (${s.n})`;
 }
 
+/// φ, c or R² of a point, marked ⚠ when its fit has caveats (the codes in the
+/// title; the sentences are on the job's page).
+function fitCell(row, key, text) {
+  const caveats = row.fit_caveats || [];
+  if (!caveats.length) return el('td', { class: 'num', 'data-key': key }, text);
+  return el('td', { class: 'num flagged', 'data-key': key, 'data-caveats': caveats.join(' '),
+    title: `an unconstrained fit: ${caveats.join(', ').replaceAll('_', ' ')} (the job's page says more)` }, `${text} ⚠`);
+}
+
 function renderBody(body, study, summary) {
   const rows = new Map(summary.points.map((p) => [p.index, p]));
   replace(body,
@@ -110,9 +119,9 @@ function renderBody(body, study, summary) {
           el('td', { class: 'name' }, job.id ? el('a', { href: `#/jobs/${job.id}` }, job.name || job.id) : '—'),
           el('td', {}, job.state ? el('span', { class: `state state-${job.state}` }, job.state) : '—'),
           el('td', {}, finalStates.has(job.state) ? '' : el('progress', { max: 1, value: job.progress ?? 0 })),
-          el('td', { class: 'num', 'data-key': 'friction_angle_deg' }, num(row.friction_angle_deg, 4)),
-          el('td', { class: 'num', 'data-key': 'cohesion_pa' }, kpa(row.cohesion_pa)),
-          el('td', { class: 'num', 'data-key': 'r_squared' }, num(row.r_squared, 4)),
+          fitCell(row, 'friction_angle_deg', num(row.friction_angle_deg, 4)),
+          fitCell(row, 'cohesion_pa', kpa(row.cohesion_pa)),
+          fitCell(row, 'r_squared', num(row.r_squared, 4)),
           el('td', { class: 'message' }, job.error || row.error || job.message || ''));
       }))),
     el('h2', {}, 'Over the seeds'),

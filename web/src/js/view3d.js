@@ -4,12 +4,21 @@
 // the bodies' centres with a radius proportional to the normal force, a
 // snapshot slider, orbit/zoom, and a cut-away half. Positions arrive as
 // float32 arrays from the result data routes; the scene is in millimetres.
+//
+// The wire lies inside the packing, so the grains can be drawn small (a
+// third of their radius: the packing stays readable and the wire shows
+// between them; the default when there is a wire) or not at all, and the
+// cut-away removes the half of the grains, membrane and forces towards the
+// camera, wherever it has orbited to; the wire is never cut. A colour bar
+// gives the strain scale. The camera frames the specimen's bounding sphere.
 import * as THREE from '../vendor/three.module.js';
 import { OrbitControls } from '../vendor/OrbitControls.js';
 import { json, array } from './api.js';
 import { el, replace, num } from './dom.js';
 
 const mm = 1000;
+/// How large the grains are drawn in the "small" mode, as a fraction of their radius.
+const smallGrainScale = 1 / 3;
 const zAxis = new THREE.Vector3(0, 1, 0);  // CylinderGeometry's axis
 
 /// Blue (most compressed) – white – red (most stretched), symmetric about 0.
@@ -51,6 +60,15 @@ export class View3d {
     this.slider = el('input', { type: 'range', id: 'view3d-snapshot', min: 0, max: 0, step: 1, value: 0, disabled: true, 'aria-label': 'snapshot' });
     this.sliderLabel = el('span', { id: 'view3d-snapshot-label' }, '');
     this.toggles = {};
+    this.grainMode = el('select', { id: 'view3d-grain-mode', 'aria-label': 'how the grains are drawn' },
+      el('option', { value: 'small' }, 'small (the wire shows)'), el('option', { value: 'solid' }, 'full size'),
+      el('option', { value: 'none' }, 'hidden'));
+    this.grainMode.addEventListener('change', () => { this.grainModeChosen = true; this.applyToggles(); });
+    this.colourBar = el('div', { class: 'colour-bar', id: 'view3d-colour-bar', hidden: true },
+      el('span', { class: 'colour-bar-title' }, 'wire segment strain'),
+      el('span', { class: 'colour-bar-end', id: 'view3d-colour-min' }, ''), el('span', { class: 'colour-bar-ramp' }),
+      el('span', { class: 'colour-bar-end', id: 'view3d-colour-max' }, ''),
+      el('span', { class: 'muted' }, 'blue compressed · white 0 · red stretched'));
     const toggle = (key, label, on) => {
       const box = el('input', { type: 'checkbox', checked: on, id: `view3d-${key}` });
       box.addEventListener('change', () => this.applyToggles());
@@ -61,9 +79,9 @@ export class View3d {
     this.error = el('div');
     parent.append(el('h2', {}, '3D view'), el('div', { class: 'view3d' },
       el('div', { class: 'controls' }, el('label', {}, 'Show ', this.source), el('label', {}, 'Snapshot ', this.slider), this.sliderLabel,
-        toggle('grains', 'grains', true), toggle('wire', 'wire', true), toggle('membrane', 'membrane', true),
+        el('label', {}, 'Grains ', this.grainMode), toggle('wire', 'wire', true), toggle('membrane', 'membrane', true),
         toggle('forces', 'force network', true), toggle('cut', 'cut away half', false)),
-      this.error, this.canvas, this.info));
+      this.error, this.canvas, this.colourBar, this.info));
 
     try {
       this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: true, preserveDrawingBuffer: true });
@@ -85,7 +103,8 @@ export class View3d {
     this.controls.addEventListener('change', () => this.render());
     this.group = new THREE.Group();
     this.scene.add(this.group);
-    this.cut = new THREE.Plane(new THREE.Vector3(0, -1, 0), 0);
+    // Keeps what lies beyond the orbit's target as seen from the camera (set in render()).
+    this.cut = new THREE.Plane(new THREE.Vector3(0, 1, 0), 0);
     this.resize = () => this.fit();
     window.addEventListener('resize', this.resize);
     this.source.addEventListener('change', () => this.select());
@@ -149,14 +168,12 @@ export class View3d {
     this.meshes = {};
 
     if (n) {
+      // Double-sided: a grain the cut-away opens shows its inside, not the grains behind it.
       const sphere = new THREE.InstancedMesh(new THREE.SphereGeometry(1, 20, 14),
-        new THREE.MeshStandardMaterial({ color: 0xb39b72, roughness: 0.85 }), n);
-      const m = new THREE.Matrix4(), p = new THREE.Vector3(), q = new THREE.Quaternion(), s = new THREE.Vector3();
-      for (let i = 0; i < n; ++i) {
-        const r = radii.data[i] * mm;
-        sphere.setMatrixAt(i, m.compose(pos(grains, i, p), q, s.set(r, r, r)));
-      }
+        new THREE.MeshStandardMaterial({ color: 0xb39b72, roughness: 0.85, side: THREE.DoubleSide }), n);
       this.meshes.grains = sphere;
+      this.grainRadii = radii.data;
+      this.grainPositions = grains;
       this.group.add(sphere);
     }
     const wireRadius = (this.job.spec?.specimen?.wire?.radius_m ?? 5e-4) * mm;
@@ -198,34 +215,109 @@ export class View3d {
       stats.contacts = count;
       stats.maxNormalForceN = fmax;
     }
+    this.setColourBar(stats.maxAbsStrain);
     this.canvas.wiredemView = stats;
+    this.canvas.wiredemWireVisibility = () => this.wireVisibility();
     this.info.textContent = `${stats.grains} grains · ${stats.wireSegments} wire segments` +
       (stats.maxAbsStrain ? ` (colour: segment strain, ±${num(stats.maxAbsStrain, 2)}, blue compressed, red stretched)` : '') +
       ` · ${stats.membraneTriangles} membrane triangles · ${stats.contacts} contacts (radius ∝ normal force)`;
 
-    if (!this.framed && n) {
-      const box = new THREE.Box3().setFromObject(this.meshes.grains);
-      const centre = box.getCenter(new THREE.Vector3());
-      const size = box.getSize(new THREE.Vector3());
-      this.cut.constant = centre.y;
-      this.controls.target.copy(centre);
-      const d = Math.max(size.x, size.y, size.z) * 2.6;
-      this.camera.position.set(centre.x + d * 0.8, centre.y - d, centre.z + d * 0.35);
-      this.controls.update();
-      this.framed = true;
-    }
+    if (!this.grainModeChosen) this.grainMode.value = stats.wireSegments ? 'small' : 'solid';
     this.applyToggles();
+    if (!this.framed && n) this.frame();
+  }
+
+  /// Points the camera at the specimen (membrane and grains) from the side,
+  /// a little above, at the distance at which its bounding sphere just fits
+  /// the narrower of the two fields of view.
+  frame() {
+    const box = new THREE.Box3();
+    for (const key of ['grains', 'membrane', 'wire']) if (this.meshes[key]) box.expandByObject(this.meshes[key]);
+    const sphere = box.getBoundingSphere(new THREE.Sphere());
+    this.fit();  // the aspect of the canvas as laid out
+    const vertical = THREE.MathUtils.degToRad(this.camera.fov);
+    const horizontal = 2 * Math.atan(Math.tan(vertical / 2) * this.camera.aspect);
+    const d = sphere.radius / Math.sin(Math.min(vertical, horizontal) / 2);
+    const dir = new THREE.Vector3(0.62, -0.77, 0.16).normalize();
+    this.controls.target.copy(sphere.center);
+    this.camera.position.copy(sphere.center).addScaledVector(dir, d);
+    this.camera.near = d / 100;
+    this.camera.far = d * 10;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.framed = true;
+    this.render();
+  }
+
+  /// Places every grain at its radius, or a third of it, from the kept arrays.
+  placeGrains() {
+    const sphere = this.meshes?.grains;
+    if (!sphere) return;
+    const scale = this.grainMode.value === 'small' ? smallGrainScale : 1;
+    if (this.grainScale === scale && sphere === this.scaledMesh) return;
+    const m = new THREE.Matrix4(), p = new THREE.Vector3(), q = new THREE.Quaternion(), s = new THREE.Vector3();
+    const g = this.grainPositions.data;
+    for (let i = 0; i < this.grainRadii.length; ++i) {
+      const r = this.grainRadii[i] * mm * scale;
+      sphere.setMatrixAt(i, m.compose(p.set(g[3 * i] * mm, g[3 * i + 1] * mm, g[3 * i + 2] * mm), q, s.set(r, r, r)));
+    }
+    sphere.instanceMatrix.needsUpdate = true;
+    sphere.computeBoundingSphere();
+    sphere.computeBoundingBox();
+    this.grainScale = scale;
+    this.scaledMesh = sphere;
+  }
+
+  /// The colour bar of the wire's strain: ±the snapshot's largest |strain|.
+  setColourBar(maxAbs) {
+    this.colourBar.hidden = !maxAbs;
+    this.colourBar.querySelector('#view3d-colour-min').textContent = maxAbs ? `−${num(maxAbs * 1000, 2)}·10⁻³` : '';
+    this.colourBar.querySelector('#view3d-colour-max').textContent = maxAbs ? `+${num(maxAbs * 1000, 2)}·10⁻³` : '';
+  }
+
+  /// The fraction of the wire's segments whose midpoint is the first thing
+  /// a ray from the camera meets (what the browser test reads): the wire is
+  /// seen, not hidden by grains, membrane or forces.
+  wireVisibility() {
+    const wire = this.meshes?.wire;
+    if (!wire || !wire.visible) return 0;
+    this.scene.updateMatrixWorld();
+    const targets = ['grains', 'forces', 'wire'].map((k) => this.meshes[k]).filter((m) => m && m.visible);
+    const ray = new THREE.Raycaster();
+    const m = new THREE.Matrix4(), mid = new THREE.Vector3(), ndc = new THREE.Vector3();
+    const planes = this.toggles.cut.checked ? [this.cut] : [];
+    let seen = 0;
+    for (let i = 0; i < wire.count; ++i) {
+      wire.getMatrixAt(i, m);
+      mid.setFromMatrixPosition(m);
+      ndc.copy(mid).project(this.camera);
+      ray.setFromCamera(ndc, this.camera);
+      // The first hit that the cut-away has not removed (the wire is never cut).
+      const hit = ray.intersectObjects(targets, false).find((h) => h.object === wire || planes.every((pl) => pl.distanceToPoint(h.point) >= 0));
+      if (hit && hit.object === wire) ++seen;  // this segment or its neighbour at the joint
+    }
+    return wire.count ? seen / wire.count : 0;
   }
 
   applyToggles() {
     if (!this.renderer) return;
-    for (const key of ['grains', 'wire', 'membrane', 'forces']) if (this.meshes?.[key]) this.meshes[key].visible = this.toggles[key].checked;
-    this.renderer.clippingPlanes = this.toggles.cut.checked ? [this.cut] : [];
+    for (const key of ['wire', 'membrane', 'forces']) if (this.meshes?.[key]) this.meshes[key].visible = this.toggles[key].checked;
+    if (this.meshes?.grains) this.meshes.grains.visible = this.grainMode.value !== 'none';
+    this.placeGrains();
+    // Everything but the wire is cut (the wire is what the cut is for).
+    const cut = this.toggles.cut.checked ? [this.cut] : [];
+    for (const key of ['grains', 'membrane', 'forces']) if (this.meshes?.[key]) this.meshes[key].material.clippingPlanes = cut;
+    this.renderer.localClippingEnabled = true;
     this.fit();
   }
 
   render() {
-    if (this.renderer) this.renderer.render(this.scene, this.camera);
+    if (!this.renderer) return;
+    // The cut: the plane through the orbit's target facing the camera, so
+    // the half towards the viewer goes whichever side it looks from.
+    const towards = new THREE.Vector3().subVectors(this.controls.target, this.camera.position).normalize();
+    this.cut.setFromNormalAndCoplanarPoint(towards, this.controls.target);
+    this.renderer.render(this.scene, this.camera);
   }
 
   dispose() {
