@@ -59,9 +59,12 @@ def fit_sentence(mc):
     caveats = [c["code"] for c in mc.get("caveats", [])]
     if caveats:
         nn, c0 = mc["nonnegative"], mc["cohesionless"]
-        text += (", an unconstrained line with " + "; and ".join(CAVEAT_WORDS.get(c, c) for c in caveats)
-                 + f"; the fit with c ≥ 0 and φ ≥ 0 gives φ = {number(nn['friction_angle_deg'], 1)}°, "
-                 f"c = {kpa(nn['cohesion_pa'])} kPa, the fit with c = 0 φ = {number(c0['friction_angle_deg'], 1)}°")
+        text += ", an unconstrained line with " + "; and ".join(CAVEAT_WORDS.get(c, c) for c in caveats)
+        if nn["cohesion_pa"] == 0 and nn["friction_angle_deg"] == c0["friction_angle_deg"]:
+            text += f"; the best fit with c ≥ 0 and φ ≥ 0 is the one with c = 0, φ = {number(c0['friction_angle_deg'], 1)}°"
+        else:
+            text += (f"; the best fit with c ≥ 0 and φ ≥ 0 gives φ = {number(nn['friction_angle_deg'], 1)}°, "
+                     f"c = {kpa(nn['cohesion_pa'])} kPa, the one with c = 0 φ = {number(c0['friction_angle_deg'], 1)}°")
     return text
 
 

@@ -96,8 +96,13 @@ MohrEnvelope free_envelope(const MohrCoulombFit& fit) noexcept
 
 std::string describe(FitCaveat caveat, const MohrCoulombFit& fit)
 {
-    const std::string instead = "; the fit with c >= 0 and phi >= 0: " + figures(fit.nonnegative)
-                              + ", with c = 0: phi = " + format_deg(fit.cohesionless.friction_angle_rad);
+    // The constrained fits to read instead; one figure when the best line with
+    // c >= 0 and phi >= 0 is the one through the origin.
+    const bool same = fit.nonnegative.intercept_pa == 0.0 && fit.nonnegative.slope == fit.cohesionless.slope;
+    const std::string instead = same
+        ? "; the best fit with c >= 0 and phi >= 0 is the one with c = 0: phi = " + format_deg(fit.cohesionless.friction_angle_rad)
+        : "; the best fit with c >= 0 and phi >= 0: " + figures(fit.nonnegative) + ", the one with c = 0: phi = "
+            + format_deg(fit.cohesionless.friction_angle_rad);
     switch (caveat) {
     case FitCaveat::single_pressure:
         return "one pressure: c = 0 was imposed and phi = " + format_deg(fit.friction_angle_rad)

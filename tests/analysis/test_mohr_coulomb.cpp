@@ -250,7 +250,7 @@ TEST(MohrCoulombFit, NegativeFreeCohesionPutsTheNonnegativeFitOnTheBoundCEqualsZ
     expect_minimal_over_the_quadrant(fit.value(), nn, 20e3);
     const std::string text = describe(FitCaveat::negative_cohesion, fit.value());
     EXPECT_NE(text.find("c = -5.0 kPa"), std::string::npos) << text;
-    EXPECT_NE(text.find("c >= 0 and phi >= 0: phi = "), std::string::npos) << text;
+    EXPECT_NE(text.find("the best fit with c >= 0 and phi >= 0 is the one with c = 0: phi = "), std::string::npos) << text;
 }
 
 TEST(MohrCoulombFit, FallingCircleTopsPutTheNonnegativeFitOnTheBoundPhiEqualsZero)
@@ -268,6 +268,9 @@ TEST(MohrCoulombFit, FallingCircleTopsPutTheNonnegativeFitOnTheBoundPhiEqualsZer
     EXPECT_NEAR(nn.cohesion_pa, 25e3, 1e-9 * 25e3);
     EXPECT_NEAR(*nn.r_squared, 0.0, 1e-12); // the mean explains nothing of the spread
     expect_minimal_over_the_quadrant(fit.value(), nn, 60e3);
+    const std::string text = describe(FitCaveat::negative_friction_angle, fit.value());
+    EXPECT_NE(text.find("the best fit with c >= 0 and phi >= 0: phi = 0.0 deg, c = 25.0 kPa, the one with c = 0: phi = "),
+        std::string::npos) << text;
 }
 
 TEST(MohrCoulombFit, NonnegativeFitIsTheFreeFitWhenThatSatisfiesTheBounds)

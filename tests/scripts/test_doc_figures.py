@@ -42,8 +42,11 @@ class DocFigures(unittest.TestCase):
                                          nn={"friction_angle_deg": 19.93, "cohesion_pa": 0.0, "r_squared": 0.9},
                                          c0={"friction_angle_deg": 19.93, "cohesion_pa": 0.0, "r_squared": 0.9}))
         self.assertTrue(s.startswith("φ = 21.3°, c = −2.1 kPa (R² = 0.97), an unconstrained line with a negative c"), s)
-        self.assertIn("c ≥ 0 and φ ≥ 0 gives φ = 19.9°, c = 0.0 kPa", s)
-        self.assertIn("the fit with c = 0 φ = 19.9°", s)
+        self.assertTrue(s.endswith("the best fit with c ≥ 0 and φ ≥ 0 is the one with c = 0, φ = 19.9°"), s)
+        s = doc_figures.fit_sentence(fit(-3.0, 5000.0, 0.5, ["negative_friction_angle"],
+                                         nn={"friction_angle_deg": 0.0, "cohesion_pa": 4100.0, "r_squared": 0.0},
+                                         c0={"friction_angle_deg": 9.04, "cohesion_pa": 0.0, "r_squared": -3.0}))
+        self.assertTrue(s.endswith("with c ≥ 0 and φ ≥ 0 gives φ = 0.0°, c = 4.1 kPa, the one with c = 0 φ = 9.0°"), s)
 
     def test_a_fit_without_caveats_is_its_figures_alone(self):
         self.assertEqual(doc_figures.fit_sentence(fit(30.04, 1960.0, 0.994)), "φ = 30.0°, c = 2.0 kPa (R² = 0.99)")

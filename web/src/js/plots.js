@@ -24,7 +24,7 @@ function sorted(x, y) {
 export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = [], equalAspect = false, yMin = 0, note, height = 320, swatches = false }) {
   const box = el('div', { class: 'plot', id }, el('h3', {}, title));
   parent.append(box);
-  box.wiredemPlot = { title, series: series.map((s) => ({ label: s.label, x: [...s.x], y: [...s.y] })) };
+  box.wiredemPlot = { title, xLabel, yLabel, series: series.map((s) => ({ label: s.label, x: [...s.x], y: [...s.y] })) };
   if (series.length === 0 || series.every((s) => s.x.length === 0)) {
     box.append(el('p', { class: 'muted' }, 'Nothing to draw.'));
     return box;

@@ -143,7 +143,7 @@ export function mohrPlot(parent, summary, id = 'plot-mohr') {
       && (e.friction_angle_deg !== mc.friction_angle_deg || e.cohesion_pa !== mc.cohesion_pa);
     if (differs(mc.nonnegative))
       series.push({ label: `fit with c ≥ 0, φ ≥ 0: φ = ${num(mc.nonnegative.friction_angle_deg, 3)}°, c = ${num(mc.nonnegative.cohesion_pa / 1000, 3)} kPa`,
-        ...line(mc.nonnegative.friction_angle_deg, mc.nonnegative.cohesion_pa), color: '#1a7f37', width: 2, dash: [10, 5], constrained: 'nonnegative' });
+        ...line(mc.nonnegative.friction_angle_deg, mc.nonnegative.cohesion_pa), color: '#d9480f', width: 2, dash: [10, 5], constrained: 'nonnegative' });
     if (differs(mc.cohesionless) && (!differs(mc.nonnegative) || mc.cohesionless.friction_angle_deg !== mc.nonnegative.friction_angle_deg
         || mc.cohesionless.cohesion_pa !== mc.nonnegative.cohesion_pa))
       series.push({ label: `fit with c = 0: φ = ${num(mc.cohesionless.friction_angle_deg, 3)}°`,

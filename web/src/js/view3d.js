@@ -33,9 +33,17 @@ function strainColour(e, maxAbs, out) {
 function cylinders(count, ends, radius, colour, material) {
   const mesh = new THREE.InstancedMesh(new THREE.CylinderGeometry(1, 1, 1, 8, 1), material, Math.max(1, count));
   mesh.count = count;
+  placeCylinders(mesh, ends, radius);
+  const c = new THREE.Color();
+  if (colour) for (let i = 0; i < count; ++i) mesh.setColorAt(i, colour(i, c));
+  return mesh;
+}
+
+/// Sets each cylinder's matrix: from a[i] to b[i], radius r[i].
+function placeCylinders(mesh, ends, radius) {
   const m = new THREE.Matrix4(), q = new THREE.Quaternion(), dir = new THREE.Vector3(), mid = new THREE.Vector3(), s = new THREE.Vector3();
-  const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Color();
-  for (let i = 0; i < count; ++i) {
+  const a = new THREE.Vector3(), b = new THREE.Vector3();
+  for (let i = 0; i < mesh.count; ++i) {
     ends(i, a, b);
     dir.subVectors(b, a);
     const len = dir.length();
@@ -44,9 +52,10 @@ function cylinders(count, ends, radius, colour, material) {
     const r = radius(i);
     m.compose(mid, q, s.set(r, len, r));
     mesh.setMatrixAt(i, m);
-    if (colour) mesh.setColorAt(i, colour(i, c));
   }
-  return mesh;
+  mesh.instanceMatrix.needsUpdate = true;
+  mesh.boundingSphere = null;
+  mesh.boundingBox = null;
 }
 
 export class View3d {
@@ -206,11 +215,16 @@ export class View3d {
       for (const r of radii.data) rmin = Math.min(rmin, r * mm);
       const count = bodies.shape[0];
       const end = (k, idx, out) => { const src = sources[k]; return src ? pos(src, idx, out) : out.set(0, 0, 0); };
-      this.meshes.forces = cylinders(count, (i, a, b) => {
+      const ends = (i, a, b) => {
         end(bodies.data[4 * i], bodies.data[4 * i + 1], a);
         end(bodies.data[4 * i + 2], bodies.data[4 * i + 3], b);
-      }, (i) => (fmax > 0 ? 0.45 * rmin * Math.abs(force.data[i]) / fmax : 0), null,
-      new THREE.MeshStandardMaterial({ color: 0x8b1a1a, roughness: 0.6 }));
+      };
+      // The chains are as thick as the grains are drawn (placeGrains scales them with the grains).
+      this.placeForces = (scale) => placeCylinders(this.meshes.forces, ends,
+        (i) => (fmax > 0 ? 0.45 * rmin * scale * Math.abs(force.data[i]) / fmax : 0));
+      this.meshes.forces = cylinders(count, ends, (i) => (fmax > 0 ? 0.45 * rmin * Math.abs(force.data[i]) / fmax : 0), null,
+      // Slate, not red: the wire's colours are the strain's.
+      new THREE.MeshStandardMaterial({ color: 0x4b5563, roughness: 0.6 }));
       this.group.add(this.meshes.forces);
       stats.contacts = count;
       stats.maxNormalForceN = fmax;
@@ -227,23 +241,40 @@ export class View3d {
     if (!this.framed && n) this.frame();
   }
 
-  /// Points the camera at the specimen (membrane and grains) from the side,
-  /// a little above, at the distance at which its bounding sphere just fits
-  /// the narrower of the two fields of view.
+  /// Points the camera at the specimen (its grains and wire, at full size:
+  /// the membrane reaches above a column that has settled) from the side, a
+  /// little above, and moves it until the box's corners span 90 % of the
+  /// narrower side of the frame.
   frame() {
     const box = new THREE.Box3();
-    for (const key of ['grains', 'membrane', 'wire']) if (this.meshes[key]) box.expandByObject(this.meshes[key]);
-    const sphere = box.getBoundingSphere(new THREE.Sphere());
+    const n = this.grainRadii.length, g = this.grainPositions.data;
+    for (let i = 0; i < n; ++i) {
+      const r = this.grainRadii[i] * mm;
+      box.expandByPoint(new THREE.Vector3(g[3 * i] * mm - r, g[3 * i + 1] * mm - r, g[3 * i + 2] * mm - r));
+      box.expandByPoint(new THREE.Vector3(g[3 * i] * mm + r, g[3 * i + 1] * mm + r, g[3 * i + 2] * mm + r));
+    }
+    if (this.meshes.wire) box.expandByObject(this.meshes.wire);
+    const centre = box.getCenter(new THREE.Vector3());
+    const corners = [0, 1, 2, 3, 4, 5, 6, 7].map((k) => new THREE.Vector3(
+      k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z));
     this.fit();  // the aspect of the canvas as laid out
-    const vertical = THREE.MathUtils.degToRad(this.camera.fov);
-    const horizontal = 2 * Math.atan(Math.tan(vertical / 2) * this.camera.aspect);
-    const d = sphere.radius / Math.sin(Math.min(vertical, horizontal) / 2);
     const dir = new THREE.Vector3(0.62, -0.77, 0.16).normalize();
-    this.controls.target.copy(sphere.center);
-    this.camera.position.copy(sphere.center).addScaledVector(dir, d);
-    this.camera.near = d / 100;
-    this.camera.far = d * 10;
-    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    // Start from the bounding sphere's distance, then scale by how much of
+    // the frame the corners take (perspective: a few rounds converge).
+    let d = box.getBoundingSphere(new THREE.Sphere()).radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov) / 2);
+    const ndc = new THREE.Vector3();
+    for (let round = 0; round < 6; ++round) {
+      this.camera.position.copy(centre).addScaledVector(dir, d);
+      this.camera.near = d / 100;
+      this.camera.far = d * 10;
+      this.camera.lookAt(centre);
+      this.camera.updateProjectionMatrix();
+      this.camera.updateMatrixWorld();
+      const span = Math.max(...corners.map((c) => Math.max(Math.abs(ndc.copy(c).project(this.camera).x), Math.abs(ndc.y))));
+      d *= span / 0.9;
+    }
+    this.camera.position.copy(centre).addScaledVector(dir, d);
     this.controls.update();
     this.framed = true;
     this.render();
@@ -264,6 +295,7 @@ export class View3d {
     sphere.instanceMatrix.needsUpdate = true;
     sphere.computeBoundingSphere();
     sphere.computeBoundingBox();
+    if (this.meshes.forces) this.placeForces(scale);
     this.grainScale = scale;
     this.scaledMesh = sphere;
   }
