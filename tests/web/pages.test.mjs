@@ -320,11 +320,10 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   const canvas = await page.$('#view3d-canvas');
   await canvas.scrollIntoView();
   const before = await canvas.screenshot({ encoding: 'base64' });
-  const notBackground = await page.evaluate(countNotBackground, before);
-  assert.ok(notBackground > 0.05, `the 3D view is blank: ${notBackground} of its pixels differ from the background`);
+  const shown = await page.evaluate(pixelStats, before);
+  assert.ok(shown.notBackground > 0.05, `the 3D view is blank: ${shown.notBackground} of its pixels differ from the background`);
   // The specimen fills the frame: what is not background spans most of the canvas's height.
-  const extent = await page.evaluate(extentNotBackground, before);
-  assert.ok(extent.height > 0.7, `the specimen spans ${extent.height} of the canvas's height`);
+  assert.ok(shown.height > 0.7, `the specimen spans ${shown.height} of the canvas's height`);
   // A colour bar with the strain scale of the wire's colours.
   assert.equal(await page.$eval('#view3d-colour-bar', (e) => e.hidden), false, 'the colour bar is shown');
   assert.equal(await page.$eval('#view3d-colour-max', (e) => e.textContent), `+${Number((view.maxAbsStrain * 1000).toPrecision(2))}·10⁻³`);
@@ -346,12 +345,15 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   await sleep(300);
   const cut = await canvas.screenshot({ encoding: 'base64' });
   const seenCut = await wireSeen();
+  const cutAway = await page.evaluate(pixelStats, solid, cut);
+  const [wirePixelsSolid, wirePixelsCut] = [cutAway.strainColoured, cutAway.b.strainColoured];
+  console.log(`3D view: wire seen ${seenSmall} (small grains), ${seenSolid} (full size), ${seenCut} (full size, cut); `
+    + `wire-coloured pixels ${wirePixelsSolid} → ${wirePixelsCut} when cut; specimen spans ${shown.height} of the height`);
   assert.ok(seenSmall > 0.6, `small grains: ${seenSmall} of the wire is seen`);
   assert.ok(seenSolid < seenSmall, `full-size grains hide more of the wire (${seenSolid}) than small ones (${seenSmall})`);
   assert.ok(seenCut > 0.35 && seenCut > seenSolid + 0.2, `cutting half of the grains away reveals the wire: ${seenSolid} → ${seenCut}`);
-  assert.ok(await page.evaluate(fractionChanged, solid, cut) > 0.01, 'cutting half away changes the picture');
+  assert.ok(cutAway.changed > 0.01, 'cutting half away changes the picture');
   // ... and in pixels: the wire's strain colours (blue or red, g ≈ b or r ≈ g) cover more of the cut picture.
-  const [wirePixelsSolid, wirePixelsCut] = [await page.evaluate(countStrainColoured, solid), await page.evaluate(countStrainColoured, cut)];
   assert.ok(wirePixelsCut > 1.5 * wirePixelsSolid, `wire-coloured pixels: ${wirePixelsSolid} → ${wirePixelsCut} when cut`);
   if (screenshots) await canvas.screenshot({ path: path.join(screenshots, 'web-3d-cut.png') });
   await page.click('#view3d-cut');
@@ -419,66 +421,17 @@ function checkMohrAxis(mohr, where) {
   if (nnLine) assert.ok(Math.abs(nnLine.y[0] - mc.nonnegative.cohesion_pa / 1000) < 1e-9 * Math.max(...nnLine.y.map(Math.abs)));
 }
 
-/// In the page: the share of the canvas's height and width that what is not background spans.
-async function extentNotBackground(png) {
-  const img = new Image();
-  img.src = `data:image/png;base64,${png}`;
-  await img.decode();
-  const c = document.createElement('canvas');
-  c.width = img.width; c.height = img.height;
-  const ctx = c.getContext('2d');
-  ctx.drawImage(img, 0, 0);
-  const d = ctx.getImageData(0, 0, c.width, c.height).data;
-  let top = c.height, bottom = -1, left = c.width, right = -1;
-  for (let y = 0; y < c.height; ++y)
-    for (let x = 0; x < c.width; ++x) {
-      const i = 4 * (y * c.width + x);
-      if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) <= 24) continue;
-      top = Math.min(top, y); bottom = Math.max(bottom, y); left = Math.min(left, x); right = Math.max(right, x);
-    }
-  return { height: bottom < 0 ? 0 : (bottom - top + 1) / c.height, width: right < 0 ? 0 : (right - left + 1) / c.width };
-}
-
-/// In the page: pixels in the wire's strain colours (view3d.js's strainColour:
-/// red (1, 1 − t, 1 − t) or blue (1 + t, 1 + t, 1), so g = b below r, or r = g
-/// below b), which neither the grains' sand (r > g > b) nor the background
-/// (grey) has; the force network, also red, must be hidden or thin.
-async function countStrainColoured(png) {
-  const img = new Image();
-  img.src = `data:image/png;base64,${png}`;
-  await img.decode();
-  const c = document.createElement('canvas');
-  c.width = img.width; c.height = img.height;
-  const ctx = c.getContext('2d');
-  ctx.drawImage(img, 0, 0);
-  const d = ctx.getImageData(0, 0, c.width, c.height).data;
-  let n = 0;
-  for (let i = 0; i < d.length; i += 4) {
-    const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
-    if ((Math.abs(g - b) <= 6 && r - g >= 40) || (Math.abs(r - g) <= 6 && b - r >= 40)) ++n;
-  }
-  return n;
-}
-
-/// In the page: the fraction of pixels of a PNG (base64) that differ from its corner pixel.
-async function countNotBackground(png) {
-  const img = new Image();
-  img.src = `data:image/png;base64,${png}`;
-  await img.decode();
-  const c = document.createElement('canvas');
-  c.width = img.width; c.height = img.height;
-  const ctx = c.getContext('2d');
-  ctx.drawImage(img, 0, 0);
-  const d = ctx.getImageData(0, 0, c.width, c.height).data;
-  let n = 0;
-  for (let i = 0; i < d.length; i += 4)
-    if (Math.abs(d[i] - d[0]) + Math.abs(d[i + 1] - d[1]) + Math.abs(d[i + 2] - d[2]) > 24) ++n;
-  return n / (d.length / 4);
-}
-
-/// In the page: the fraction of pixels that differ between two PNGs of one size.
-async function fractionChanged(a, b) {
-  const pixels = async (png) => {
+/// In the page: what the PNG screenshots `a` (and `b`, of the same size)
+/// show, from their pixels. A pixel is background when it is within 24 (sum
+/// of |Δ| over r, g, b) of the corner pixel. For each image: `notBackground`,
+/// the fraction of other pixels; `height` and `width`, the share of the
+/// image that they span; `strainColoured`, the pixels in the wire's strain
+/// colours (view3d.js's strainColour: red (1, 1 − t, 1 − t) or blue
+/// (1 + t, 1 + t, 1), so g = b below r, or r = g below b), which neither the
+/// grains' sand (r > g > b), the slate force chains nor the grey background
+/// has. With `b`: `changed`, the fraction of pixels that differ between them.
+async function pixelStats(a, b) {
+  const decode = async (png) => {
     const img = new Image();
     img.src = `data:image/png;base64,${png}`;
     await img.decode();
@@ -486,13 +439,33 @@ async function fractionChanged(a, b) {
     c.width = img.width; c.height = img.height;
     const ctx = c.getContext('2d');
     ctx.drawImage(img, 0, 0);
-    return ctx.getImageData(0, 0, c.width, c.height).data;
+    return { w: c.width, h: c.height, d: ctx.getImageData(0, 0, c.width, c.height).data };
   };
-  const [p, q] = [await pixels(a), await pixels(b)];
-  let n = 0;
-  for (let i = 0; i < p.length; i += 4)
-    if (Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]) > 24) ++n;
-  return n / (p.length / 4);
+  const differ = (d, i, e, j) => Math.abs(d[i] - e[j]) + Math.abs(d[i + 1] - e[j + 1]) + Math.abs(d[i + 2] - e[j + 2]) > 24;
+  const stats = ({ w, h, d }) => {
+    let n = 0, wire = 0, top = h, bottom = -1, left = w, right = -1;
+    for (let y = 0; y < h; ++y)
+      for (let x = 0; x < w; ++x) {
+        const i = 4 * (y * w + x);
+        const [r, g, bl] = [d[i], d[i + 1], d[i + 2]];
+        if ((Math.abs(g - bl) <= 6 && r - g >= 40) || (Math.abs(r - g) <= 6 && bl - r >= 40)) ++wire;
+        if (!differ(d, i, d, 0)) continue;
+        ++n;
+        top = Math.min(top, y); bottom = Math.max(bottom, y); left = Math.min(left, x); right = Math.max(right, x);
+      }
+    return { notBackground: n / (w * h), strainColoured: wire,
+      height: bottom < 0 ? 0 : (bottom - top + 1) / h, width: right < 0 ? 0 : (right - left + 1) / w };
+  };
+  const p = await decode(a);
+  const out = stats(p);
+  if (b) {
+    const q = await decode(b);
+    let n = 0;
+    for (let i = 0; i < p.d.length; i += 4) if (differ(p.d, i, q.d, i)) ++n;
+    out.changed = n / (p.w * p.h);
+    out.b = stats(q);
+  }
+  return out;
 }
 
 test('submit: a form from the job spec\'s schema; an invalid spec shows each error next to its field; a valid one creates a job, which the job page cancels', async () => {
