@@ -2,15 +2,15 @@
 #include "triaxial/triaxial.hpp"
 
 #include "analysis/stress.hpp"
-#include "energy.hpp"
 #include "forces/membrane_forces.hpp"
-#include "laws/hertz.hpp"
 #include "specimen/preparation.hpp"
 #include "timestep.hpp"
+#include "triaxial/formwork.hpp"
+#include "triaxial/loading.hpp"
+#include "triaxial/pressure.hpp"
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -19,27 +19,6 @@
 
 namespace wiredem::engine {
 namespace {
-
-/// Force the column exerts on plate `wall` along the plate's inward normal,
-/// > 0 in compression (the wall's load is the force the bodies exert on it).
-double plate_compression_n(const World& w, std::size_t wall)
-{
-    return -w.wall_loads[wall].total_force_n.dot(w.walls[wall].normal);
-}
-
-/// σ₃(t) during the ramp: ½(1 − cos(π t/T)) of the target, the target from T on.
-double ramped_pressure_pa(double target_pa, double t_s, double ramp_s)
-{
-    if (t_s >= ramp_s) return target_pa;
-    return target_pa * 0.5 * (1.0 - std::cos(std::numbers::pi * t_s / ramp_s));
-}
-
-std::string format_number(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
-}
 
 bool is_plate(const World& w, std::size_t wall, double normal_z)
 {
@@ -81,110 +60,7 @@ std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, 
     return std::nullopt;
 }
 
-/// Sorted, de-duplicated snapshot strains within [0, target], always with 0 and target.
-std::vector<double> snapshot_plan(const TriaxialSettings& s)
-{
-    std::vector<double> plan{0.0, s.target_axial_strain};
-    for (double e : s.snapshot_strains) plan.push_back(std::clamp(e, 0.0, s.target_axial_strain));
-    std::sort(plan.begin(), plan.end());
-    plan.erase(std::unique(plan.begin(), plan.end()), plan.end());
-    return plan;
-}
-
 } // namespace
-
-void TriaxialSeries::push_back(const TriaxialSample& s)
-{
-    time_s.push_back(s.time_s);
-    phase.push_back(static_cast<std::uint8_t>(s.phase));
-    axial_strain.push_back(s.axial_strain);
-    height_m.push_back(s.height_m);
-    top_plate_force_n.push_back(s.top_plate_force_n);
-    bottom_plate_force_n.push_back(s.bottom_plate_force_n);
-    column_radius_m.push_back(s.column_radius_m);
-    confining_pressure_pa.push_back(s.confining_pressure_pa);
-    sigma1_pa.push_back(s.sigma1_pa);
-    sigma3_effective_pa.push_back(s.sigma3_effective_pa);
-    deviatoric_stress_pa.push_back(s.deviatoric_stress_pa);
-    stress_ratio.push_back(s.stress_ratio);
-    kinetic_energy_j.push_back(s.kinetic_energy_j);
-    elastic_energy_j.push_back(s.elastic_energy_j);
-    contacts.push_back(s.contacts);
-    sliding_contacts.push_back(s.sliding_contacts);
-    membrane_contacts.push_back(s.membrane_contacts);
-    wire_strain_mean.push_back(s.wire_strain_mean);
-    wire_strain_max.push_back(s.wire_strain_max);
-    inertial_number.push_back(s.inertial_number);
-}
-
-QuasiStaticVerdict quasi_static_verdict(const TriaxialSeries& s, std::size_t loading_start)
-{
-    QuasiStaticVerdict v;
-    double ratio_sum = 0.0;
-    std::size_t rows = 0;
-    for (std::size_t i = loading_start; i < s.size(); ++i, ++rows) {
-        v.max_inertial_number = std::max(v.max_inertial_number, s.inertial_number[i]);
-        const double ratio = s.elastic_energy_j[i] > 0.0 ? s.kinetic_energy_j[i] / s.elastic_energy_j[i]
-                                                         : std::numeric_limits<double>::infinity();
-        v.max_kinetic_to_elastic = std::max(v.max_kinetic_to_elastic, ratio);
-        ratio_sum += ratio;
-    }
-    v.mean_kinetic_to_elastic = rows > 0 ? ratio_sum / static_cast<double>(rows) : 0.0;
-    if (v.max_inertial_number > max_quasi_static_inertial_number)
-        v.warning = "inertial number reached " + format_number(v.max_inertial_number) + " (quasi-static below "
-                  + format_number(max_quasi_static_inertial_number) + ")";
-    if (v.mean_kinetic_to_elastic > max_quasi_static_energy_ratio)
-        v.warning += std::string(v.warning.empty() ? "" : "; ") + "kinetic/elastic energy averaged "
-                   + format_number(v.mean_kinetic_to_elastic) + " over the loading (quasi-static below "
-                   + format_number(max_quasi_static_energy_ratio) + ")";
-    v.quasi_static = v.warning.empty();
-    return v;
-}
-
-double consolidation_window_mean(const TriaxialSeries& s, const std::vector<double>& column, std::size_t last)
-{
-    double sum = 0.0;
-    std::size_t n = 0;
-    for (std::size_t i = last + 1; i-- > 0 && s.time_s[i] >= s.time_s[last] - consolidation_window_s; ++n)
-        sum += column[i];
-    return sum / static_cast<double>(n);
-}
-
-std::optional<LoadingStart> loading_start(const TriaxialSeries& s)
-{
-    const auto loading = static_cast<std::uint8_t>(TriaxialPhase::loading);
-    const auto row = std::find(s.phase.begin(), s.phase.end(), loading);
-    if (row == s.phase.end()) return std::nullopt;
-    LoadingStart l;
-    l.sample = static_cast<std::size_t>(row - s.phase.begin());
-    l.sigma1_pa = consolidation_window_mean(s, s.sigma1_pa, l.sample);
-    l.sigma3_effective_pa = consolidation_window_mean(s, s.sigma3_effective_pa, l.sample);
-    l.stress_ratio = analysis::stress_ratio(l.sigma1_pa, l.sigma3_effective_pa);
-    const double h_first = s.height_m.front();
-    const double h_min = *std::min_element(s.height_m.begin(), s.height_m.begin() + static_cast<std::ptrdiff_t>(l.sample) + 1);
-    l.axial_strain = analysis::axial_strain(h_first, s.height_m[l.sample]);
-    l.rebound_axial_strain = (s.height_m[l.sample] - h_min) / h_first;
-    l.radial_strain = (s.column_radius_m.front() - s.column_radius_m[l.sample]) / s.column_radius_m.front();
-    return l;
-}
-
-bool within_consolidation_mismatch(double sigma1_pa, double target_pa) noexcept
-{
-    return std::isfinite(sigma1_pa) && std::isfinite(target_pa)
-        && std::abs(sigma1_pa - target_pa) <= max_consolidation_mismatch * std::abs(target_pa);
-}
-
-const char* to_string(Consolidation c) noexcept
-{
-    return c == Consolidation::effective ? "effective" : "cell_pressure";
-}
-
-std::optional<Consolidation> consolidation_from_string(std::string_view text) noexcept
-{
-    for (const Consolidation c : {Consolidation::cell_pressure, Consolidation::effective})
-        if (text == to_string(c)) return c;
-    return std::nullopt;
-}
 
 std::pair<std::uint64_t, std::uint64_t> triaxial_progress(const TriaxialDriverState& st) noexcept
 {
@@ -203,7 +79,7 @@ double longest_hold_s(const TriaxialSettings& s)
 
 double loading_time_s(const TriaxialSettings& s, double height_m)
 {
-    return s.target_axial_strain * height_m / s.plate_speed_m_per_s;
+    return loading_time_s(s.target_axial_strain, height_m, s.plate_speed_m_per_s);
 }
 
 std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m, double dt_s)
@@ -212,126 +88,6 @@ std::uint64_t expected_triaxial_steps(const TriaxialSettings& s, double height_m
     // than hold_time_s; run_triaxial re-counts when the loading starts.
     const auto pre_load = static_cast<std::uint64_t>(std::ceil((s.pressure_ramp_time_s + longest_hold_s(s)) / dt_s));
     return pre_load + static_cast<std::uint64_t>(std::ceil(loading_time_s(s, height_m) / dt_s));
-}
-
-std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_volume_m3)
-{
-    std::vector<double> e(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i)
-        e[i] = analysis::volumetric_strain(
-            initial_volume_m3, analysis::cylinder_volume_m3(s.column_radius_m[i], s.height_m[i]));
-    return e;
-}
-
-TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
-    std::size_t bottom_plate_wall, double initial_height_m)
-{
-    TriaxialSample s;
-    const Wall& top = w.walls[top_plate_wall];
-    const Wall& bottom = w.walls[bottom_plate_wall];
-    s.height_m = top.point_m.z() - bottom.point_m.z();
-    s.axial_strain = analysis::axial_strain(initial_height_m, s.height_m);
-    s.top_plate_force_n = plate_compression_n(w, top_plate_wall);
-    s.bottom_plate_force_n = plate_compression_n(w, bottom_plate_wall);
-
-    // Column radius (the model spec §6.3): grains touching the membrane, each
-    // counted once. The grain–membrane pairs are one group of the list,
-    // sorted by (grain, node) (pair_key), so a grain's are consecutive.
-    const TranslationalState& grains = w.of(BodyKind::grain);
-    const ContactList& c = w.contacts;
-    std::vector<double> radial_m;
-    std::uint32_t previous = std::numeric_limits<std::uint32_t>::max();
-    for (std::size_t p = 0; p < c.size(); ++p) {
-        if (!c.touching[p] || c.first[p].kind() != BodyKind::grain || c.second[p].kind() != BodyKind::membrane) continue;
-        const std::uint32_t g = c.first[p].index();
-        if (g == previous) continue;
-        previous = g;
-        const Vec3& x = grains.x[0][g];
-        radial_m.push_back(std::hypot(x.x(), x.y()));
-    }
-    double radius_sum_m = 0.0, enclosing_m = 0.0;
-    for (std::size_t i = 0; i < grains.size(); ++i) {
-        radius_sum_m += grains.radius_m[i];
-        const Vec3& x = grains.x[0][i];
-        enclosing_m = std::max(enclosing_m, std::hypot(x.x(), x.y()) + grains.radius_m[i]);
-    }
-    const double mean_grain_radius_m = grains.size() ? radius_sum_m / static_cast<double>(grains.size()) : 0.0;
-    s.column_radius_m = analysis::column_radius_m(radial_m, mean_grain_radius_m).value_or(enclosing_m);
-
-    const MembraneLoad load = membrane_contact_load(w, pool);
-    s.membrane_contacts = load.contacts;
-    s.sigma1_pa = analysis::axial_stress_pa(s.top_plate_force_n, s.column_radius_m);
-    s.sigma3_effective_pa = analysis::effective_confining_pressure_pa(load.normal_force_n, s.column_radius_m, s.height_m);
-    s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
-    s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
-    s.volume_m3 = analysis::cylinder_volume_m3(s.column_radius_m, s.height_m);
-    s.kinetic_energy_j = kinetic_energy_j(w, pool);
-    s.elastic_energy_j = elastic_energy(w, pool).total_j(); // held bodies carry none
-
-    struct Count {
-        std::uint64_t touching = 0, sliding = 0;
-    };
-    const Count pairs = reduce_blocks(
-        pool, c.size(), Count{},
-        [&](std::size_t b, std::size_t e) {
-            Count n;
-            for (std::size_t p = b; p < e; ++p)
-                if (c.touching[p]) {
-                    ++n.touching;
-                    if (!c.tangential[p].sticking) ++n.sliding;
-                }
-            return n;
-        },
-        [](Count a, const Count& b) {
-            a.touching += b.touching;
-            a.sliding += b.sliding;
-            return a;
-        });
-    s.contacts = pairs.touching; // body pairs and body–wall contacts
-    s.sliding_contacts = pairs.sliding;
-
-    const std::vector<double>& strain = w.wire_forces.segment_strain;
-    if (!strain.empty()) {
-        double sum = 0.0, max = strain.front();
-        for (double e : strain) {
-            sum += e;
-            max = std::max(max, e);
-        }
-        s.wire_strain_mean = sum / static_cast<double>(strain.size());
-        s.wire_strain_max = max;
-    }
-    return s;
-}
-
-TriaxialSnapshot take_triaxial_snapshot(const World& w)
-{
-    TriaxialSnapshot snap;
-    const TranslationalState& g = w.of(BodyKind::grain);
-    snap.grain_position_m = g.x[0];
-    snap.grain_radius_m = g.radius_m;
-    snap.grain_velocity_m_per_s.reserve(g.size());
-    for (const Vec3& v : g.x[1]) snap.grain_velocity_m_per_s.push_back(v / w.dt_s);
-    snap.wire_node_position_m = w.of(BodyKind::wire).x[0];
-    snap.wire_segment_strain = w.wire_forces.segment_strain;
-    snap.membrane_node_position_m = w.of(BodyKind::membrane).x[0];
-    snap.membrane_triangles = w.membrane.triangles;
-
-    ForceNetwork& f = snap.forces;
-    const ContactList& c = w.contacts;
-    for (std::size_t p = 0; p < c.pair_count(); ++p) {
-        if (!c.touching[p]) continue;
-        f.first.push_back(c.first[p]);
-        f.second.push_back(c.second[p]);
-        f.force_n.push_back(c.output[p].force_n);
-        f.normal_force_n.push_back(c.output[p].normal_force_n);
-    }
-    for (std::size_t p = c.pair_count(); p < c.size(); ++p) { // by wall, then body
-        if (c.output[p].force_n.isZero(0.0)) continue;
-        f.wall.push_back(c.second[p].index());
-        f.wall_body.push_back(c.first[p]);
-        f.wall_force_n.push_back(c.output[p].force_n);
-    }
-    return snap;
 }
 
 Result<TriaxialResult, std::string> run_triaxial(
@@ -348,7 +104,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     ThreadPool& pool = sim.pool();
     if (auto e = validate(w, top_plate_wall, settings)) return Err(*e);
     constexpr std::size_t bottom_plate_wall = 0;
-    TranslationalState& nodes = w.of(BodyKind::membrane);
+    const TranslationalState& nodes = w.of(BodyKind::membrane);
     const auto plates_apart_m = [&] {
         return w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
     };
@@ -359,15 +115,8 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     TriaxialDriverState st = continued ? std::move(*continuation.from) : TriaxialDriverState{};
     TriaxialResult& result = st.result;
     if (!continued) {
-        // 1. Deformable membrane; the part at and above the top plate is sealed to the cap.
-        set_membrane_rigid(w, false);
-        const double plate_z = w.walls[top_plate_wall].point_m.z();
-        for (std::uint32_t i = 0; i < nodes.size(); ++i) {
-            if (nodes.x[0][i].z() + nodes.radius_m[i] <= plate_z) continue;
-            set_motion(w, {BodyKind::membrane, i}, Motion::kinematic); // moves with the plate, below
-            set_velocity(w, {BodyKind::membrane, i}, Vec3::Zero());
-            st.cap_nodes.push_back(i);
-        }
+        // Formwork: the membrane becomes the cell's, sealed to the cap.
+        st.cap_nodes = seal_membrane_to_cap(w, top_plate_wall);
         if (settings.real_weights)
             set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
         w.membrane.pressure_pa = 0.0;
@@ -397,7 +146,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     const double pre_load_s = settings.pressure_ramp_time_s + settings.hold_time_s;
     const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil(pre_load_s / dt));
     const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
-    const std::vector<double> plan = snapshot_plan(settings);
+    const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
     if (continued
         && (st.next_snapshot > plan.size() || (st.loading && st.loading_start_sample >= result.series.size())
             || !(st.reference_height_m > 0.0) || !(st.column_radius_m > 0.0)))
@@ -424,14 +173,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     };
     auto snapshot_due = [&] {
         const double strain = analysis::axial_strain(st.reference_height_m, plates_apart_m());
-        while (st.next_snapshot < plan.size() && strain >= plan[st.next_snapshot]) {
-            TriaxialSnapshot snap = take_triaxial_snapshot(w);
-            snap.requested_axial_strain = plan[st.next_snapshot];
-            snap.axial_strain = strain;
-            snap.time_s = static_cast<double>(st.steps) * dt;
-            result.snapshots.push_back(std::move(snap));
-            ++st.next_snapshot;
-        }
+        take_due_snapshots(w, plan, st.next_snapshot, strain, static_cast<double>(st.steps) * dt, result.snapshots);
         return strain;
     };
     // Consolidation: while σ₃ ramps and holds, the top plate is the cell's
@@ -469,39 +211,23 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     };
     auto follow_the_pressure = [&] {
         const double target_n = consolidation_target_pa() * std::numbers::pi * st.column_radius_m * st.column_radius_m;
-        const double net_down_n = target_n - plate_compression_n(w, top_plate_wall);
         double& v = w.walls[top_plate_wall].velocity_m_per_s.z();
-        v = std::clamp(v - dt * net_down_n / piston_mass_kg, -max_piston_speed, max_piston_speed);
+        v = piston_velocity_m_per_s(v, target_n, plate_compression_n(w, top_plate_wall), dt, piston_mass_kg, max_piston_speed);
     };
-    // One step: σ₃ for the time reached, the cap nodes carried with the plate.
-    // A checkpoint may be taken before it (not before the first step of this
-    // run: that state is the one the run started from), also when the run is
-    // about to be cancelled: a host saves on its way out.
-    bool first_of_run = true;
+    // One step (loading.hpp): σ₃ for the time reached (pressure), the plate
+    // following it until loading (consolidation), the cap nodes carried with
+    // the plate (formwork); then a row every sample_every steps (sampling).
+    ColumnTestStepper<TriaxialDriverState> stepper(
+        sim, control, continuation.between_steps, st, "the triaxial test", wall_start);
     auto advance = [&]() -> std::optional<std::string> {
-        if (continuation.between_steps && !first_of_run) {
-            st.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-            continuation.between_steps(w, st);
-            st.wall_time_s -= std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-        }
-        first_of_run = false;
-        if (control.cancel && control.cancel->load(std::memory_order_relaxed))
-            return "cancelled after " + std::to_string(st.steps) + " steps of the triaxial test";
-        const std::uint64_t n = st.steps;
-        w.membrane.pressure_pa = ramped_pressure_pa(
-            settings.confining_pressure_pa, static_cast<double>(n + 1) * dt, settings.pressure_ramp_time_s);
-        if (!st.loading) follow_the_pressure();
-        const Vec3 v = w.walls[top_plate_wall].velocity_m_per_s;
-        for (std::uint32_t i : st.cap_nodes) set_velocity(w, {BodyKind::membrane, i}, v);
-        const StepReport report = sim.step();
-        ++st.steps;
-        if (report.blew_up)
-            return "the simulation blew up after " + std::to_string(st.steps)
-                 + " steps of the triaxial test (time step too large for the loading?)";
-        if (control.progress && control.progress_every > 0 && st.steps % control.progress_every == 0) {
-            const auto [done, total] = triaxial_progress(st);
-            control.progress(done, total);
-        }
+        auto prescribe = [&] {
+            const std::uint64_t n = st.steps;
+            w.membrane.pressure_pa = ramped_pressure_pa(
+                settings.confining_pressure_pa, static_cast<double>(n + 1) * dt, settings.pressure_ramp_time_s);
+            if (!st.loading) follow_the_pressure();
+            carry_with_cap(w, st.cap_nodes, top_plate_wall);
+        };
+        if (auto e = stepper.step(prescribe, [&] { return triaxial_progress(st); })) return e;
         if ((st.steps - 1) % sample_every == 0) {
             sample();
             st.column_radius_m = result.series.column_radius_m.back();
@@ -587,16 +313,9 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     }
     const double h0 = st.reference_height_m;
     const std::size_t loading_start_sample = st.loading_start_sample;
-    bool stopped_early = false;
-    for (;;) {
-        if (auto e = advance()) return Err(*e);
-        const double strain = snapshot_due();
-        if (strain >= settings.target_axial_strain) break;
-        if (control.after_step && !control.after_step(w, StepReport{})) {
-            stopped_early = true;
-            break;
-        }
-    }
+    const auto end = load_to_target(w, control, settings.target_axial_strain, advance, snapshot_due, [](double) { return false; });
+    if (!end.ok()) return Err(end.error());
+    const bool stopped_early = end.value() == LoadingEnd::host;
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     if (st.last_sample_step != st.steps) sample(); // the end of the test is always a row
 
@@ -648,8 +367,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
 
     result.steps = st.steps;
     result.simulated_time_s = static_cast<double>(st.steps) * dt;
-    result.wall_time_s
-        = st.wall_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    result.wall_time_s = stepper.wall_time_s();
     return std::move(result);
 }
 
