@@ -4,9 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
-#include <utility>
 #include <string>
+#include <utility>
 
 namespace wiredem::engine::analysis {
 
@@ -244,6 +245,13 @@ Result<MohrCoulombFit, std::string> fit_mohr_coulomb(std::span<const PeakState> 
     if (fit.cohesion_pa < 0.0) fit.caveats.push_back(FitCaveat::negative_cohesion);
     if (fit.friction_angle_rad < 0.0) fit.caveats.push_back(FitCaveat::negative_friction_angle);
     return fit;
+}
+
+double unconfined_strength_pa(double friction_angle_rad, double cohesion_pa) noexcept
+{
+    const double s = std::sin(friction_angle_rad);
+    if (!std::isfinite(cohesion_pa) || !(s < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+    return 2.0 * cohesion_pa * std::cos(friction_angle_rad) / (1.0 - s);
 }
 
 } // namespace wiredem::engine::analysis

@@ -114,6 +114,12 @@ struct MohrCoulombFit {
 /// of the free fit or of a constrained one (possible only when some σ₃ ≤ 0).
 [[nodiscard]] Result<MohrCoulombFit, std::string> fit_mohr_coulomb(std::span<const PeakState> peaks);
 
+/// The unconfined compressive strength the envelope predicts [Pa]: the σ₁ of
+/// the circle through σ₃ = 0 that touches τ = c + σ tan φ,
+/// 2c cos φ / (1 − sin φ) (docs/model.md, "The free-standing test"). NaN for
+/// φ ≥ 90° or a non-finite input; negative when c is.
+[[nodiscard]] double unconfined_strength_pa(double friction_angle_rad, double cohesion_pa) noexcept;
+
 /// Centre and radius of the Mohr circle of one peak state. No checks.
 [[nodiscard]] MohrCircle mohr_circle(const PeakState& peak) noexcept;
 

@@ -381,8 +381,8 @@ private:
     PreparationDriverState::NozzleState& st_;
 };
 
-/// Kinetic energy of grains (translation and rotation) and wire nodes, the
-/// nodes' masses divided by their extra scale M [J]. Serial, in id order.
+} // namespace
+
 double settling_energy_j(const World& w, double wire_mass_scale)
 {
     double e = 0.0;
@@ -399,8 +399,6 @@ double settling_energy_j(const World& w, double wire_mass_scale)
         if (is_dynamic(n, i)) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
     return e;
 }
-
-} // namespace
 
 void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor)
 {

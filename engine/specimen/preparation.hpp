@@ -94,6 +94,11 @@ struct PreparationReport {
 /// anything (the model spec §3). Call again after adding wire nodes.
 void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor);
 
+/// Kinetic energy of grains (translation and rotation) and wire nodes, the
+/// nodes' masses divided by their extra scale M [J]: what the settling
+/// criterion reads (settle_kinetic_energy_per_grain_j). Serial, in id order.
+[[nodiscard]] double settling_energy_j(const World& w, double wire_mass_scale);
+
 /// The fill rate may be at most this times the nozzle's rise speed v_z^w when
 /// a wire is laid. The nozzle follows the top of the pile under it, which
 /// rises unevenly; at v_fill = v_z^w it fell behind and was blocked (a

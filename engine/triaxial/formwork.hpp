@@ -8,6 +8,13 @@
 // is sealed to the top cap, every membrane node within its contact radius of
 // the top plate or above it is clamped to the cap when the test starts: held
 // (not integrated) and carried with the plate's velocity.
+//
+// Free-standing test (engine/triaxial/free_standing.hpp): the formwork goes.
+// The membrane's radius opens at a constant speed (its nodes move radially
+// outwards, kinematic: nothing the column does slows them), so the column
+// loses its lateral support gradually instead of in one step that would
+// turn the elastic energy of its squeeze into a kick; then the membrane
+// stops and no longer touches the grains or the wire.
 #pragma once
 
 #include "state/world.hpp"
@@ -25,5 +32,13 @@ namespace wiredem::engine {
 
 /// Gives the clamped nodes the top plate's velocity for the next step.
 void carry_with_cap(World& w, const std::vector<std::uint32_t>& cap_nodes, std::size_t top_plate_wall);
+
+/// Sets every membrane node moving radially outwards at `speed_m_per_s`
+/// (kinematic; a node on the axis stays).
+void open_formwork(World& w, double speed_m_per_s);
+
+/// Stops the membrane's nodes (fixed) and turns off its contacts with the
+/// grains and the wire: the formwork is gone.
+void close_formwork(World& w);
 
 } // namespace wiredem::engine

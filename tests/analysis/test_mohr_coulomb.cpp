@@ -320,4 +320,21 @@ TEST(MohrCoulombFit, OnePressureSaysThatCWasImposed)
     EXPECT_EQ(fit.value().nonnegative.slope, fit.value().slope);
     EXPECT_FALSE(fit.value().cohesionless.r_squared.has_value());
     EXPECT_STREQ(to_string(FitCaveat::single_pressure), "single_pressure");
+// The unconfined strength is the circle through σ₃ = 0 that touches the
+// envelope: its centre q/2 lies q/2 from the line τ = c + σ tan φ, whose
+// distance from (σ, 0) is (c + σ tan φ) cos φ. And the envelope fitted to
+// circles touching one line predicts that line's unconfined strength.
+TEST(UnconfinedStrength, IsTheCircleThroughZeroTouchingTheEnvelope)
+{
+    for (const double phi : {10.0 * deg, 30.0 * deg, 45.0 * deg})
+        for (const double c : {1e3, 20e3}) {
+            const double q = unconfined_strength_pa(phi, c);
+            EXPECT_NEAR((c + 0.5 * q * std::tan(phi)) * std::cos(phi), 0.5 * q, 1e-9 * q) << phi / deg << "° " << c;
+            const auto fit = fit_mohr_coulomb(tangent_peaks(phi, c));
+            ASSERT_TRUE(fit.ok()) << fit.error();
+            EXPECT_NEAR(unconfined_strength_pa(fit.value().friction_angle_rad, fit.value().cohesion_pa), q, 1e-6 * q);
+        }
+    EXPECT_EQ(unconfined_strength_pa(30.0 * deg, 0.0), 0.0); // a cohesionless envelope: no unconfined strength
+    EXPECT_TRUE(std::isnan(unconfined_strength_pa(90.0 * deg, 1e3)));
+    EXPECT_TRUE(std::isnan(unconfined_strength_pa(30.0 * deg, std::numeric_limits<double>::quiet_NaN())));
 }

@@ -1,0 +1,505 @@
+// The free-standing test driver; see free_standing.hpp.
+#include "triaxial/free_standing.hpp"
+
+#include "analysis/stress.hpp"
+#include "energy.hpp"
+#include "specimen/preparation.hpp"
+#include "timestep.hpp"
+#include "triaxial/formwork.hpp"
+#include "triaxial/loading.hpp"
+#include "triaxial/pressure.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <span>
+
+namespace wiredem::engine {
+namespace {
+
+bool is_plate(const World& w, std::size_t wall, double normal_z)
+{
+    return wall < w.walls.size() && w.walls[wall].shape == Wall::Shape::plane
+        && w.walls[wall].normal.isApprox(Vec3(0.0, 0.0, normal_z));
+}
+
+std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const FreeStandingSettings& s)
+{
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    auto fraction = [](double v) { return v > 0.0 && v < 1.0; };
+    if (!positive(s.removal_time_s)) return "removal_time_s: " + format_number(s.removal_time_s) + " must be > 0";
+    if (!positive(s.removal_distance_m))
+        return "removal_distance_m: " + format_number(s.removal_distance_m) + " must be > 0";
+    if (!positive(s.escape_distance_m))
+        return "escape_distance_m: " + format_number(s.escape_distance_m) + " must be > 0";
+    if (!positive(s.settle_kinetic_energy_per_grain_j))
+        return "settle_kinetic_energy_per_grain_j: " + format_number(s.settle_kinetic_energy_per_grain_j) + " must be > 0";
+    if (!positive(s.max_settling_time_s))
+        return "max_settling_time_s: " + format_number(s.max_settling_time_s) + " must be > 0";
+    if (!fraction(s.max_height_loss))
+        return "max_height_loss: " + format_number(s.max_height_loss) + " must lie in (0, 1)";
+    if (s.dead_load) {
+        if (!positive(s.dead_load->force_n))
+            return "dead_load.force_n: " + format_number(s.dead_load->force_n) + " must be > 0";
+        if (!(std::isfinite(s.dead_load->ramp_time_s) && s.dead_load->ramp_time_s >= 0.0))
+            return "dead_load.ramp_time_s: " + format_number(s.dead_load->ramp_time_s) + " must be ≥ 0";
+        if (!positive(s.dead_load->hold_time_s))
+            return "dead_load.hold_time_s: " + format_number(s.dead_load->hold_time_s) + " must be > 0";
+    }
+    if (!positive(s.plate_speed_m_per_s))
+        return "plate_speed_m_per_s: " + format_number(s.plate_speed_m_per_s) + " must be > 0";
+    if (!fraction(s.target_axial_strain))
+        return "target_axial_strain: " + format_number(s.target_axial_strain) + " must lie in (0, 1)";
+    if (!(s.failure_drop > 0.0 && s.failure_drop <= 1.0))
+        return "failure_drop: " + format_number(s.failure_drop) + " must lie in (0, 1]";
+    if (!positive(s.sample_interval_s))
+        return "sample_interval_s: " + format_number(s.sample_interval_s) + " must be > 0";
+    for (double e : s.snapshot_strains)
+        if (!std::isfinite(e)) return "snapshot_strains: every strain must be finite";
+    if (!is_plate(w, 0, 1.0)) return "wall 0 must be the bottom plate (a plane with its normal pointing up)";
+    if (!is_plate(w, top_plate_wall, -1.0))
+        return "wall " + std::to_string(top_plate_wall) + " must be the top plate (a plane with its normal pointing down)";
+    if (w.of(BodyKind::grain).size() == 0) return "the world has no grains";
+    if (w.of(BodyKind::membrane).size() == 0) return "the world has no membrane (the formwork to remove)";
+    if (!(w.dt_s > 0.0)) return "the time step is not set";
+    return std::nullopt;
+}
+
+/// √(2⟨ρ²⟩) + ⟨r⟩ of the grains `in` selects (0 without any).
+template <class In>
+double equivalent_radius_m(const std::vector<Vec3>& x, const std::vector<double>& radius_m, In&& in, std::uint32_t& count)
+{
+    double rho2_sum = 0.0, r_sum = 0.0;
+    count = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!in(i)) continue;
+        rho2_sum += x[i].x() * x[i].x() + x[i].y() * x[i].y();
+        r_sum += radius_m[i];
+        ++count;
+    }
+    if (count == 0) return 0.0;
+    const double n = static_cast<double>(count);
+    return std::sqrt(2.0 * rho2_sum / n) + r_sum / n;
+}
+
+bool standing(const Vec3& x, double escape_distance_m) { return std::hypot(x.x(), x.y()) <= escape_distance_m; }
+
+} // namespace
+
+const char* to_string(FreeStandingPhase p) noexcept
+{
+    switch (p) {
+    case FreeStandingPhase::removal: return "removal";
+    case FreeStandingPhase::settling: return "settling";
+    case FreeStandingPhase::dead_load: return "dead_load";
+    case FreeStandingPhase::loading: return "loading";
+    }
+    return "loading";
+}
+
+StandingColumn standing_column(const World& w, double escape_distance_m)
+{
+    StandingColumn c;
+    const double bottom_m = w.walls[0].point_m.z();
+    const TranslationalState& g = w.of(BodyKind::grain);
+    std::uint32_t count = 0;
+    c.radius_m = equivalent_radius_m(g.x[0], g.radius_m, [&](std::size_t i) { return standing(g.x[0][i], escape_distance_m); }, count);
+    c.escaped_grains = g.size() - count;
+    for (const TranslationalState* s : {&g, &w.of(BodyKind::wire)})
+        for (std::size_t i = 0; i < s->size(); ++i)
+            if (standing(s->x[0][i], escape_distance_m))
+                c.top_m = std::max(c.top_m, s->x[0][i].z() + s->radius_m[i] - bottom_m);
+    return c;
+}
+
+RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m,
+    double escape_distance_m)
+{
+    RadiusProfile p;
+    if (position_m.empty()) return p;
+    double r_sum = 0.0, top = 0.0;
+    for (std::size_t i = 0; i < position_m.size(); ++i) {
+        r_sum += radius_m[i];
+        if (standing(position_m[i], escape_distance_m)) top = std::max(top, position_m[i].z() - bottom_m);
+    }
+    const double slice_m = 2.0 * r_sum / static_cast<double>(position_m.size());
+    const auto slices = static_cast<std::size_t>(std::floor(top / slice_m)) + 1;
+    for (std::size_t k = 0; k < slices; ++k) {
+        const double lo = bottom_m + static_cast<double>(k) * slice_m, hi = lo + slice_m;
+        std::uint32_t count = 0;
+        const double r = equivalent_radius_m(position_m, radius_m, [&](std::size_t i) {
+            const double z = position_m[i].z();
+            return z >= lo && z < hi && standing(position_m[i], escape_distance_m);
+        }, count);
+        if (count == 0) continue;
+        p.height_m.push_back((static_cast<double>(k) + 0.5) * slice_m);
+        p.radius_m.push_back(r);
+        p.grains.push_back(count);
+    }
+    return p;
+}
+
+double axial_force_through_plane_n(const World& w, double z_m)
+{
+    auto above = [&](BodyRef b) { return w.of(b.kind()).x[0][b.index()].z() > z_m; };
+    double up_n = 0.0;
+    const ContactList& c = w.contacts;
+    for (std::size_t p = 0; p < c.pair_count(); ++p) { // pairs: the force on `first`, −it on `second`
+        if (!c.touching[p]) continue;
+        const bool a = above(c.first[p]), b = above(c.second[p]);
+        if (a == b) continue;
+        up_n += a ? c.output[p].force_n.z() : -c.output[p].force_n.z();
+    }
+    const TranslationalState& n = w.of(BodyKind::wire);
+    const WireForces& f = w.wire_forces;
+    for (std::size_t s = 0; s + 1 < n.size(); ++s) { // segment s: its force on node s, −it on node s + 1
+        const bool a = n.x[0][s].z() > z_m, b = n.x[0][s + 1].z() > z_m;
+        if (a == b) continue;
+        up_n += a ? f.segment_force_n[s].z() : -f.segment_force_n[s].z();
+    }
+    for (std::size_t j = 1; j + 1 < n.size(); ++j) { // the joint at node j on nodes j − 1, j, j + 1
+        const bool side[3] = {n.x[0][j - 1].z() > z_m, n.x[0][j].z() > z_m, n.x[0][j + 1].z() > z_m};
+        if (side[0] == side[1] && side[1] == side[2]) continue;
+        for (int k = 0; k < 3; ++k)
+            if (side[k]) up_n += f.bending_force_n[static_cast<std::size_t>(k)][j].z();
+    }
+    return up_n;
+}
+
+double column_weight_n(const World& w)
+{
+    double down_n = 0.0;
+    for (std::size_t k = 0; k < body_kind_count; ++k) {
+        if (!w.gravity_acts[k]) continue;
+        const TranslationalState& b = w.bodies[k];
+        for (std::size_t i = 0; i < b.size(); ++i)
+            if (is_dynamic(b, i)) down_n -= b.mass_kg[i] * w.gravity_m_per_s2.z();
+    }
+    for (const auto& [body, force] : w.point_loads) down_n -= force.z();
+    return down_n;
+}
+
+std::uint64_t expected_free_standing_steps(const FreeStandingSettings& s, double height_m, double dt_s)
+{
+    double t = s.removal_time_s + s.max_settling_time_s + loading_time_s(s.target_axial_strain, height_m, s.plate_speed_m_per_s);
+    if (s.dead_load) t += s.dead_load->ramp_time_s + s.dead_load->hold_time_s;
+    return static_cast<std::uint64_t>(std::ceil(t / dt_s));
+}
+
+Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::size_t top_plate_wall,
+    const FreeStandingSettings& settings, const RunControl& control, FreeStandingContinuation continuation)
+{
+    const auto wall_start = std::chrono::steady_clock::now();
+    World& w = sim.world;
+    ThreadPool& pool = sim.pool();
+    if (auto e = validate(w, top_plate_wall, settings)) return Err(*e);
+    constexpr std::size_t bottom_plate_wall = 0;
+    const TranslationalState& grains = w.of(BodyKind::grain);
+    const auto plates_apart_m = [&] {
+        return w.walls[top_plate_wall].point_m.z() - w.walls[bottom_plate_wall].point_m.z();
+    };
+    const double dt = w.dt_s;
+    const bool continued = continuation.from.has_value();
+    FreeStandingDriverState st = continued ? std::move(*continuation.from) : FreeStandingDriverState{};
+    FreeStandingResult& result = st.result;
+    const double removal_speed = settings.removal_distance_m / settings.removal_time_s;
+    if (!continued) {
+        // Formwork: what the column stands like before it goes.
+        const StandingColumn before = standing_column(w, settings.escape_distance_m);
+        result.settling.height_before_m = before.top_m;
+        result.settling.radius_before_m = before.radius_m;
+        result.settling.profile_before
+            = radius_profile(grains.x[0], grains.radius_m, w.walls[bottom_plate_wall].point_m.z(), settings.escape_distance_m);
+        st.reference_height_m = before.top_m;
+        st.reference_radius_m = before.radius_m;
+        if (settings.real_weights)
+            set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
+        w.membrane.pressure_pa = 0.0;
+        open_formwork(w, removal_speed);
+        w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, removal_speed);
+        result.time_step_s = dt;
+    } else if (st.steps > std::numeric_limits<std::uint64_t>::max() / 2 || !(st.reference_height_m > 0.0)
+               || !(st.reference_radius_m > 0.0)) {
+        return Err(std::string("the test's saved state is inconsistent (steps or heights)"));
+    }
+    const StableStep crit = stable_time_step(w);
+    if (dt > crit.critical_s)
+        return Err("time step " + format_number(dt) + " s exceeds the stable limit " + format_number(crit.critical_s)
+                   + " s set by the " + crit.limited_by);
+    if (crit.overdamped()) return Err(overdamped_error(crit, w.contact.normal_damping_s));
+
+    double radius_sum_m = 0.0, column_mass_kg = 0.0;
+    for (double r : grains.radius_m) radius_sum_m += r;
+    for (double m : grains.mass_kg) column_mass_kg += m;
+    const double grain_radius_m = radius_sum_m / static_cast<double>(grains.size());
+    const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
+    const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
+    const double density_scale = settings.real_weights ? settings.real_weights->density_scale : 1.0;
+    const auto steps_of = [&](double t_s) { return static_cast<std::uint64_t>(std::ceil(t_s / dt)); };
+    const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
+    const auto check_every = static_cast<std::uint64_t>(std::max(1.0, std::round(1e-3 / dt)));
+    const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
+    if (continued && st.next_snapshot > plan.size())
+        return Err(std::string("the test's saved state is inconsistent (snapshot plan)"));
+    const std::uint64_t expected = expected_free_standing_steps(settings, st.reference_height_m, dt);
+    const double bottom_m = w.walls[bottom_plate_wall].point_m.z();
+
+    // Sampling: the triaxial row, with the free column's radius and σ₁ on
+    // its settled cross-section.
+    auto sample = [&] {
+        TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, st.reference_height_m);
+        s.time_s = static_cast<double>(st.steps) * dt;
+        s.column_radius_m = standing_column(w, settings.escape_distance_m).radius_m;
+        s.sigma1_pa = analysis::axial_stress_pa(s.top_plate_force_n, st.reference_radius_m);
+        s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
+        s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
+        s.volume_m3 = analysis::cylinder_volume_m3(s.column_radius_m, s.height_m);
+        // The membrane's springs are no part of the column (stretched as it
+        // opens, then gone): the stored energy is the contacts' and the wire's.
+        const ElasticEnergy stored = elastic_energy(w, pool);
+        s.elastic_energy_j = stored.contacts_j + stored.wire_j;
+        if (st.phase == FreeStandingPhase::loading) // ε̇ = v/h₀, with the column's own σ₁ as the pressure
+            s.inertial_number = analysis::inertial_number(
+                settings.plate_speed_m_per_s / st.reference_height_m, grain_radius_m, grain_density, s.sigma1_pa);
+        result.series.push_back(s);
+        result.series.phase.back() = static_cast<std::uint8_t>(st.phase);
+        st.last_sample_step = st.steps;
+    };
+    auto sample_unless_taken = [&] {
+        if (st.last_sample_step != st.steps) sample();
+    };
+
+    ColumnTestStepper<FreeStandingDriverState> stepper(
+        sim, control, continuation.between_steps, st, "the free-standing test", wall_start);
+    auto progress = [&] { return std::pair<std::uint64_t, std::uint64_t>{st.steps, std::max(expected, st.steps)}; };
+    auto advance = [&](auto&& prescribe) -> std::optional<std::string> {
+        if (auto e = stepper.step(prescribe, progress)) return e;
+        if ((st.steps - 1) % sample_every == 0) sample();
+        return std::nullopt;
+    };
+    auto nothing = [] {};
+    auto place_plate_on_column = [&] {
+        Wall& plate = w.walls[top_plate_wall];
+        plate.point_m.z() = bottom_m + st.reference_height_m;
+        plate.velocity_m_per_s.setZero();
+        invalidate_neighbours(w);
+    };
+
+    // 1. Removal: the membrane opens and the plate rises at removal_speed.
+    if (st.phase == FreeStandingPhase::removal) {
+        const std::uint64_t removal_steps = steps_of(settings.removal_time_s);
+        while (st.steps - st.phase_start_step < removal_steps) {
+            if (auto e = advance(nothing)) return Err(*e);
+            result.settling.max_removal_kinetic_energy_j
+                = std::max(result.settling.max_removal_kinetic_energy_j, kinetic_energy_j(w, pool));
+        }
+        sample_unless_taken();
+        close_formwork(w);
+        w.walls[top_plate_wall].velocity_m_per_s.setZero();
+        st.window_kinetic_energy_j = kinetic_energy_j(w, pool);
+        st.phase = FreeStandingPhase::settling;
+        st.phase_start_step = st.steps;
+    }
+
+    // 2. Settling under the column's own weight until at rest (the
+    // preparation's criterion, looked at every millisecond) or the limit.
+    if (st.phase == FreeStandingPhase::settling) {
+        // The bottom plate's force is averaged over each check interval τ:
+        // over it, mean F − W = ΔP/τ (the column's vertical momentum), and
+        // |P| ≤ √(2 M K) bounds the difference (free_standing.hpp).
+        const std::uint64_t max_steps = steps_of(settings.max_settling_time_s);
+        SettlingReading& r = result.settling;
+        r.weight_n = column_weight_n(w);
+        double moving_mass_kg = 0.0;
+        for (const TranslationalState& b : w.bodies)
+            for (std::size_t i = 0; i < b.size(); ++i)
+                if (is_dynamic(b, i)) moving_mass_kg += b.mass_kg[i];
+        bool at_rest = false;
+        while (st.steps - st.phase_start_step < max_steps) {
+            if (auto e = advance(nothing)) return Err(*e);
+            st.window_force_n += plate_compression_n(w, bottom_plate_wall);
+            if ((st.steps - st.phase_start_step) % check_every != 0) continue;
+            const double ke = kinetic_energy_j(w, pool);
+            r.base_force_n = st.window_force_n / static_cast<double>(check_every);
+            r.base_force_tolerance_n = (std::sqrt(2.0 * moving_mass_kg * st.window_kinetic_energy_j)
+                                           + std::sqrt(2.0 * moving_mass_kg * ke))
+                                     / (static_cast<double>(check_every) * dt);
+            st.window_force_n = 0.0;
+            st.window_kinetic_energy_j = ke;
+            if (settling_energy_j(w, wire_mass_scale) / static_cast<double>(grains.size())
+                < settings.settle_kinetic_energy_per_grain_j * density_scale) {
+                at_rest = true;
+                break;
+            }
+        }
+        sample_unless_taken();
+        r.at_rest = at_rest;
+        r.time_to_rest_s = static_cast<double>(st.steps - st.phase_start_step) * dt;
+        const StandingColumn after = standing_column(w, settings.escape_distance_m);
+        r.height_m = after.top_m;
+        r.radius_m = after.radius_m;
+        r.escaped_grains = after.escaped_grains;
+        r.height_loss = (r.height_before_m - r.height_m) / r.height_before_m;
+        r.stands = at_rest && r.height_loss <= settings.max_height_loss;
+        r.profile = radius_profile(grains.x[0], grains.radius_m, bottom_m, settings.escape_distance_m);
+        if (!at_rest)
+            result.warnings.push_back("the free column was not at rest after " + format_number(settings.max_settling_time_s)
+                                      + " s of settling; lengthen max_settling_time_s");
+        if (!(after.top_m > 0.0 && after.radius_m > 0.0))
+            return Err(std::string("no grain is left standing within escape_distance_m of the axis"));
+        st.reference_height_m = after.top_m;
+        st.reference_radius_m = after.radius_m;
+        place_plate_on_column();
+        st.phase = settings.dead_load ? FreeStandingPhase::dead_load : FreeStandingPhase::loading;
+        st.phase_start_step = st.steps;
+    }
+
+    const double max_plate_speed = max_piston_speed_factor * settings.plate_speed_m_per_s;
+    auto strain_now = [&] { return analysis::axial_strain(st.reference_height_m, plates_apart_m()); };
+
+    // 3. Dead load: the plate is a piston of the column's mass pushed by F(t).
+    if (st.phase == FreeStandingPhase::dead_load) {
+        const DeadLoad& d = *settings.dead_load;
+        const std::uint64_t ramp_steps = steps_of(d.ramp_time_s), hold_steps = steps_of(d.hold_time_s);
+        auto push = [&] {
+            const double t = static_cast<double>(st.steps + 1 - st.phase_start_step) * dt;
+            double& v = w.walls[top_plate_wall].velocity_m_per_s.z();
+            v = piston_velocity_m_per_s(v, ramped_pressure_pa(d.force_n, t, d.ramp_time_s),
+                plate_compression_n(w, top_plate_wall), dt, column_mass_kg, max_plate_speed);
+        };
+        if (!result.dead_load) { // the reading grows in the result, which a checkpoint saves
+            result.dead_load = DeadLoadReading{};
+            result.dead_load->force_n = d.force_n;
+            result.dead_load->stress_pa = analysis::axial_stress_pa(d.force_n, st.reference_radius_m);
+        }
+        DeadLoadReading& r = *result.dead_load;
+        bool collapsed = false;
+        while (st.steps - st.phase_start_step < ramp_steps + hold_steps) {
+            if (auto e = advance(push)) return Err(*e);
+            if (st.steps - st.phase_start_step == ramp_steps) r.strain_at_load = strain_now();
+            if (strain_now() >= settings.target_axial_strain) {
+                collapsed = true;
+                break;
+            }
+        }
+        sample_unless_taken();
+        if (ramp_steps == 0) r.strain_at_load = 0.0;
+        r.strain_at_end = strain_now();
+        r.creep_strain = r.strain_at_end - r.strain_at_load;
+        r.holds = !collapsed && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
+        st.phase = FreeStandingPhase::loading;
+        st.phase_start_step = st.steps;
+    }
+
+    // 4. Unconfined compression at constant plate speed, from h₀ of the
+    // settled column, to failure or the target strain.
+    const analysis::CurveTolerances tol;
+    auto track_row = [&] { // a row of the compression was just taken: the largest σ₁ and its snapshot
+        const double s1 = result.series.sigma1_pa.back();
+        if (!(s1 > st.max_sigma1_pa)) return;
+        st.max_sigma1_pa = s1;
+        TriaxialSnapshot snap = take_triaxial_snapshot(w);
+        snap.axial_strain = snap.requested_axial_strain = result.series.axial_strain.back();
+        snap.time_s = result.series.time_s.back();
+        result.peak_snapshot = std::move(snap);
+    };
+    if (!st.loading_begun) {
+        st.loading_begun = true;
+        if (st.last_sample_step == st.steps) { // this step's row belongs to the loading
+            result.series.phase.back() = static_cast<std::uint8_t>(FreeStandingPhase::loading);
+            result.series.inertial_number.back() = analysis::inertial_number(settings.plate_speed_m_per_s
+                / st.reference_height_m, grain_radius_m, grain_density, result.series.sigma1_pa.back());
+        } else {
+            sample();
+        }
+        result.loading_start_sample = result.series.size() - 1;
+        track_row();
+        take_due_snapshots(w, plan, st.next_snapshot, strain_now(), static_cast<double>(st.steps) * dt, result.snapshots);
+        w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
+    }
+    const std::size_t from = result.loading_start_sample;
+    auto strain_after_step = [&] {
+        const double strain = strain_now();
+        take_due_snapshots(w, plan, st.next_snapshot, strain, static_cast<double>(st.steps) * dt, result.snapshots);
+        if (st.last_sample_step == st.steps) track_row();
+        return strain;
+    };
+    // Failure: σ₁ averaged over the rows of the last smoothing_strain has
+    // stayed below (1 − failure_drop) of the largest such average for the
+    // last end_window_strain of strain (looked at on rows; a dip of the
+    // noisy curve, or the plate's first touch, is not a failure).
+    auto failed = [&](double strain) {
+        if (st.last_sample_step != st.steps) return false;
+        const TriaxialSeries& s = result.series;
+        const std::size_t last = s.size() - 1;
+        double sum = 0.0;
+        std::size_t n = 0;
+        for (std::size_t i = last + 1; i-- > from && s.axial_strain[i] >= s.axial_strain[last] - tol.smoothing_strain; ++n)
+            sum += s.sigma1_pa[i];
+        const double mean = sum / static_cast<double>(n);
+        st.max_window_sigma1_pa = std::max(st.max_window_sigma1_pa, mean);
+        if (!(mean < (1.0 - settings.failure_drop) * st.max_window_sigma1_pa)) {
+            st.below_since_strain = std::numeric_limits<double>::quiet_NaN();
+            return false;
+        }
+        if (std::isnan(st.below_since_strain)) st.below_since_strain = strain;
+        return strain - st.below_since_strain >= tol.end_window_strain;
+    };
+    const auto end = load_to_target(
+        w, control, settings.target_axial_strain, [&] { return advance(nothing); }, strain_after_step, failed);
+    if (!end.ok()) return Err(end.error());
+    w.walls[top_plate_wall].velocity_m_per_s.setZero();
+    if (st.last_sample_step != st.steps) {
+        sample();
+        track_row();
+    }
+
+    // Reading the compression (analysis/strength.hpp's rules on σ₁).
+    const TriaxialSeries& ts = result.series;
+    const auto at = static_cast<std::ptrdiff_t>(from);
+    const std::span<const double> strain(ts.axial_strain.begin() + at, ts.axial_strain.end());
+    const std::span<const double> s1(ts.sigma1_pa.begin() + at, ts.sigma1_pa.end());
+    auto reading = analysis::read_curve(strain, analysis::smooth_over_strain(strain, s1, tol.smoothing_strain), tol);
+    if (reading.ok()) {
+        CompressionReading c;
+        c.strength = reading.value();
+        c.strength.index += from;
+        c.strength_axial_strain = ts.axial_strain[c.strength.index];
+        const auto max = std::max_element(s1.begin(), s1.end());
+        c.max_sigma1_pa = *max;
+        c.max_sigma1_sample = from + static_cast<std::size_t>(max - s1.begin());
+        c.failed = end.value() == LoadingEnd::done;
+        if (result.peak_snapshot) {
+            const TriaxialSnapshot& p = *result.peak_snapshot;
+            c.profile_at_peak = radius_profile(p.grain_position_m, p.grain_radius_m, bottom_m, settings.escape_distance_m);
+            c.wire_strain_at_peak = p.wire_segment_strain;
+            for (double e : p.wire_segment_strain)
+                c.wire_tension_at_peak_n.push_back(w.wire.axial_stiffness_n_per_m * e * w.wire.segment_length_m);
+        }
+        c.profile_at_end = radius_profile(grains.x[0], grains.radius_m, bottom_m, settings.escape_distance_m);
+        result.compression = std::move(c);
+    } else {
+        result.warnings.push_back("unconfined compression: no strength read: " + reading.error());
+    }
+    // Quasi-static verdict over the rows that bear load: from the first
+    // compression row at bearing_fraction of the largest σ₁ on (before, the
+    // plate has no stress scale: I = ε̇ d √(ρ/σ₁) is unbounded at σ₁ → 0).
+    std::size_t bearing = from;
+    while (bearing + 1 < ts.size() && !(ts.sigma1_pa[bearing] >= bearing_fraction * st.max_sigma1_pa)) ++bearing;
+    result.verdict = quasi_static_verdict(ts, bearing);
+    if (!result.verdict.quasi_static) {
+        result.verdict.warning = "the unconfined compression was not quasi-static: " + result.verdict.warning
+                               + "; lower the plate speed or the density scaling";
+        result.warnings.push_back(result.verdict.warning);
+    }
+    if (end.value() == LoadingEnd::host)
+        result.warnings.push_back("stopped by the host at axial strain " + format_number(ts.axial_strain.back())
+                                  + " before the target " + format_number(settings.target_axial_strain));
+    result.steps = st.steps;
+    result.simulated_time_s = static_cast<double>(st.steps) * dt;
+    result.wall_time_s = stepper.wall_time_s();
+    return std::move(result);
+}
+
+} // namespace wiredem::engine

@@ -1,0 +1,259 @@
+// The free-standing test (issue 39) on a prepared World: the column is taken
+// out of its formwork and loaded with nothing around it, as a printed column
+// stands in a building. A sequence of the phases the triaxial test shares
+// (formwork.hpp, loading.hpp, sampling.hpp):
+//
+//   1. removal   the formwork goes without a kick: the rigid membrane's radius
+//                opens at a constant speed by removal_distance_m over
+//                removal_time_s while the top plate rises as far, then the
+//                membrane no longer touches anything;
+//   2. settling  the column settles on the bottom plate under its real weight
+//                until it is at rest by the preparation's kinetic-energy
+//                criterion (or max_settling_time_s): whether it stands, its
+//                height loss, its radius against height, the grains that left
+//                it (beyond escape_distance_m from the axis);
+//   3. dead load (optional) the top plate is set on the column and pushes it
+//                with a constant force (ramped in), held for a stated time:
+//                does it hold, and how much does it creep;
+//   4. loading   unconfined compression: the top plate moves down at a
+//                constant speed until the column fails (its axial stress fell
+//                to 1 − failure_drop of its largest) or the target strain.
+//
+// Conventions as in sampling.hpp. The axial strain is measured from h₀, the
+// height of the settled column (the top of its highest standing grain or
+// wire node above the bottom plate); σ₁ = F_top / (π r₀²), the nominal
+// stress on the settled column's cross-section (r₀ its equivalent radius,
+// standing_column), as an unconfined compression test reports it. The
+// unconfined compressive strength is the maximum of σ₁ smoothed over
+// CurveTolerances::smoothing_strain, with the triaxial yield's peak /
+// plateau / rising reading (analysis/strength.hpp). docs/model.md, "The
+// free-standing test", derives every criterion.
+//
+// Deterministic for any thread count; a continued test ends bit-identically.
+// Nothing throws across this API.
+#pragma once
+
+#include "analysis/strength.hpp"
+#include "core/result.hpp"
+#include "simulation.hpp"
+#include "triaxial/sampling.hpp"
+#include "triaxial/triaxial.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace wiredem::engine {
+
+/// The phases of a free-standing test (the series' phase column).
+enum class FreeStandingPhase : std::uint8_t { removal = 0, settling = 1, dead_load = 2, loading = 3 };
+
+/// "removal", "settling", "dead_load", "loading".
+[[nodiscard]] const char* to_string(FreeStandingPhase p) noexcept;
+
+/// The quasi-static verdict of the compression reads the rows from the
+/// first one at which σ₁ reached this fraction of its largest value on: the
+/// toe before the plate bears on the column has no stress scale for the
+/// inertial number.
+inline constexpr double bearing_fraction = 0.1;
+
+/// A constant force on the top plate, held for a time.
+struct DeadLoad {
+    double force_n = 0.0;                 ///< F [N], > 0
+    /// The force rises over this time as ½(1 − cos(π t/T)) [s], ≥ 0.
+    double ramp_time_s = 0.01;
+    double hold_time_s = 0.05;            ///< F held this long after the ramp [s], > 0
+};
+
+/// Parameters of one free-standing test. All SI.
+struct FreeStandingSettings {
+    /// The formwork opens over this time [s], > 0: the membrane's radius
+    /// grows at removal_distance_m / removal_time_s (docs/model.md: a
+    /// column the membrane squeezed gains at most 2 M v² of kinetic energy
+    /// from a removal at speed v).
+    double removal_time_s = 0.02;
+    /// How far the membrane's radius opens, and the top plate rises [m], > 0.
+    double removal_distance_m = 5e-3;
+    /// A grain whose centre is farther than this from the axis has left the
+    /// column [m], > 0.
+    double escape_distance_m = 0.03;
+    /// At rest when the kinetic energy per grain (the preparation's
+    /// criterion, settling_energy_j, masses scaled by s only) is below this
+    /// × density_scale [J], > 0.
+    double settle_kinetic_energy_per_grain_j = 1e-9;
+    double max_settling_time_s = 0.5;     ///< settling ends here even if not at rest [s], > 0
+    /// The column stands when it came to rest with a height loss
+    /// (h_before − h₀)/h_before of at most this, in (0, 1).
+    double max_height_loss = 0.1;
+    std::optional<DeadLoad> dead_load;    ///< none: no dead-load phase
+    double plate_speed_m_per_s = 1e-3;    ///< top plate speed in compression [m/s], > 0
+    double target_axial_strain = 0.1;     ///< compression ends here at the latest, in (0, 1)
+    /// The column has failed when its axial stress, averaged over the rows of
+    /// the last smoothing_strain of axial strain, has stayed below (1 − this)
+    /// of the largest such average over the last end_window_strain of strain
+    /// (analysis::CurveTolerances), in (0, 1]; 1: compress to the target.
+    double failure_drop = 0.5;
+    double sample_interval_s = 1e-3;      ///< time between rows [s], > 0
+    /// Axial strains of the compression at which to take snapshots (0 and the
+    /// target are always added; clamped to [0, target]).
+    std::vector<double> snapshot_strains{};
+    /// As TriaxialSettings::real_weights: the test starts by giving every body its real weight.
+    std::optional<TriaxialSettings::MassScaling> real_weights;
+};
+
+/// The standing part of a column: the grains (and wire nodes) within the
+/// escape distance of the axis.
+struct StandingColumn {
+    double top_m = 0.0;          ///< highest top of a standing grain or wire node above the bottom plate [m]
+    /// Equivalent radius √(2⟨ρ²⟩) + ⟨r⟩ of the standing grains (ρ their
+    /// centres' distance from the axis): the radius of a uniformly filled
+    /// cylinder with the same second moment of its grain centres [m].
+    double radius_m = 0.0;
+    std::size_t escaped_grains = 0;  ///< grains beyond the escape distance
+};
+
+/// The standing column of `w` (bottom plate: wall 0).
+[[nodiscard]] StandingColumn standing_column(const World& w, double escape_distance_m);
+
+/// A radius profile: the equivalent radius (as StandingColumn's) of the
+/// standing grains in horizontal slices of one mean grain diameter, from the
+/// bottom plate up.
+struct RadiusProfile {
+    std::vector<double> height_m;  ///< slice centres above the bottom plate [m]
+    std::vector<double> radius_m;  ///< equivalent radius of the slice [m]
+    std::vector<std::uint32_t> grains;  ///< standing grains in the slice
+};
+
+/// The profile of grains at `position_m` with radii `radius_m` standing on a
+/// bottom plate at `bottom_m` (slices without a grain are left out).
+[[nodiscard]] RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
+    double bottom_m, double escape_distance_m);
+
+/// The vertical force the part of the system above the plane z = `z_m`
+/// receives from the part below it through contacts and wire bonds (springs
+/// and joints), > 0 pushing up [N]: every interaction with members on both
+/// sides counts with its force on the members above (a body is above when
+/// its centre is). Reads the forces of the last step; deterministic.
+[[nodiscard]] double axial_force_through_plane_n(const World& w, double z_m);
+
+/// The weight of the moving bodies of `w` as the World applies it: m g of
+/// every dynamic body gravity acts on, and the vertical point loads (the
+/// wire's real weight under mass scaling), > 0 downwards [N].
+[[nodiscard]] double column_weight_n(const World& w);
+
+/// What settling did to the column.
+struct SettlingReading {
+    bool at_rest = false;            ///< the kinetic-energy criterion was met
+    double time_to_rest_s = 0.0;     ///< from the end of the removal [s] (the limit when not at rest)
+    double height_before_m = 0.0;    ///< the standing column's height before the removal [m]
+    double height_m = 0.0;           ///< h₀ after settling [m]
+    double height_loss = 0.0;        ///< (before − after)/before
+    double radius_before_m = 0.0;    ///< equivalent radius before the removal [m]
+    double radius_m = 0.0;           ///< r₀ after settling [m]
+    std::size_t escaped_grains = 0;  ///< grains beyond the escape distance
+    /// The self-weight check: the column's weight (column_weight_n), and the
+    /// bottom plate's force averaged over the last millisecond of settling,
+    /// which equals it within base_force_tolerance_n, the largest change of
+    /// the column's vertical momentum over that time divided by it,
+    /// (√(2 M K₀) + √(2 M K₁))/τ (M the moving mass, K₀ and K₁ the kinetic
+    /// energies at the two ends: |P| ≤ √(2 M K)) [N].
+    double weight_n = 0.0;
+    double base_force_n = 0.0;
+    double base_force_tolerance_n = 0.0;
+    bool stands = false;             ///< at rest and height_loss ≤ max_height_loss
+    double max_removal_kinetic_energy_j = 0.0; ///< largest kinetic energy during the removal [J]
+    RadiusProfile profile_before;    ///< radius against height before the removal
+    RadiusProfile profile;           ///< and after settling
+};
+
+/// The dead load's reading.
+struct DeadLoadReading {
+    double force_n = 0.0;             ///< F [N]
+    double stress_pa = 0.0;           ///< F / (π r₀²) [Pa]
+    double strain_at_load = 0.0;      ///< ε_a when the ramp ended
+    double strain_at_end = 0.0;       ///< ε_a when the hold ended
+    double creep_strain = 0.0;        ///< strain_at_end − strain_at_load
+    /// The column carried F to the end of the hold: its strain stayed below
+    /// the target strain and the plate came to rest (slower than the
+    /// compression speed at the end).
+    bool holds = false;
+};
+
+/// The unconfined compression's reading.
+struct CompressionReading {
+    /// The maximum of the smoothed σ₁ and its kind (peak / plateau /
+    /// rising: a rising curve's value is a lower bound); its index is a row
+    /// of the series.
+    analysis::CurveReading strength;
+    double strength_axial_strain = 0.0;       ///< ε_a there: the strain at failure
+    double max_sigma1_pa = 0.0;               ///< the largest raw σ₁ [Pa] …
+    std::size_t max_sigma1_sample = 0;        ///< … its row
+    bool failed = false;                      ///< ended by failure_drop before the target
+    RadiusProfile profile_at_peak;            ///< the bulge at the largest raw σ₁
+    RadiusProfile profile_at_end;             ///< and at the end
+    std::vector<double> wire_strain_at_peak;  ///< segment strain along the wire at the largest raw σ₁
+    std::vector<double> wire_tension_at_peak_n; ///< E_w π r_w² × that strain [N]
+};
+
+/// Everything one free-standing test produced.
+struct FreeStandingResult {
+    TriaxialSeries series;                    ///< phase column: FreeStandingPhase values
+    std::vector<TriaxialSnapshot> snapshots;  ///< compression snapshots in ascending strain
+    std::optional<TriaxialSnapshot> peak_snapshot; ///< at the largest raw σ₁ (force network there)
+    SettlingReading settling;
+    std::optional<DeadLoadReading> dead_load;
+    std::optional<CompressionReading> compression; ///< empty, with a warning, when the curve cannot be read
+    std::size_t loading_start_sample = 0;     ///< first compression row
+    QuasiStaticVerdict verdict;               ///< over the compression rows that bear load
+    std::vector<std::string> warnings;
+    std::uint64_t steps = 0;
+    double time_step_s = 0.0;
+    double simulated_time_s = 0.0;
+    double wall_time_s = 0.0;
+};
+
+/// The driver's own state between two steps (a checkpoint saves it with the World).
+struct FreeStandingDriverState {
+    std::uint64_t steps = 0;
+    FreeStandingPhase phase = FreeStandingPhase::removal;
+    std::uint64_t phase_start_step = 0;       ///< step at which the current phase began
+    double reference_height_m = 0.0;          ///< h₀ for ε_a (the standing height until settled) [m]
+    double reference_radius_m = 0.0;          ///< r₀ for σ₁ [m]
+    std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
+    std::size_t next_snapshot = 0;
+    double max_sigma1_pa = 0.0;               ///< largest raw σ₁ of the compression so far
+    double max_window_sigma1_pa = 0.0;        ///< largest trailing-window mean σ₁ so far
+    /// Strain since which that mean has been below the failure level (NaN: it is not).
+    double below_since_strain = std::numeric_limits<double>::quiet_NaN();
+    bool loading_begun = false;
+    double window_force_n = 0.0;              ///< settling: bottom plate force summed over the window so far
+    double window_kinetic_energy_j = 0.0;     ///< settling: kinetic energy as the window began [J]               ///< the compression's first row is taken, the plate moving
+    double wall_time_s = 0.0;
+    FreeStandingResult result;
+};
+
+/// How a host checkpoints a free-standing test and continues one (as TriaxialContinuation).
+struct FreeStandingContinuation {
+    std::function<void(const World&, const FreeStandingDriverState&)> between_steps;
+    std::optional<FreeStandingDriverState> from;
+};
+
+/// Steps a test is expected to take (the removal, the longest settling, the
+/// dead load and the compression to the target) on a column of height `height_m`.
+[[nodiscard]] std::uint64_t expected_free_standing_steps(const FreeStandingSettings& s, double height_m, double dt_s);
+
+/// Runs one free-standing test on `sim.world` (grains, optional wire, the
+/// rigid membrane of the preparation, bottom plate = wall 0, top plate =
+/// `top_plate_wall`, δt set), leaving the World in its final state.
+/// RunControl as run_triaxial's. Errors: settings out of range (naming the
+/// field), walls missing, no grains, no membrane, δt above the stable step,
+/// cancelled, blew up.
+[[nodiscard]] Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::size_t top_plate_wall,
+    const FreeStandingSettings& settings, const RunControl& control = {}, FreeStandingContinuation continuation = {});
+
+} // namespace wiredem::engine

@@ -1,0 +1,298 @@
+// The free-standing test (engine/triaxial/free_standing.hpp) against physics:
+// the formwork goes without a kick (a kinetic-energy bound from the removal
+// speed), the bottom plate carries the column's weight at rest, the top
+// plate's force is the force the contacts carry through the column, a fast
+// plate is flagged as not quasi-static; the readings' pure functions on
+// configurations with a known answer. Tiny columns (column_specimens.hpp).
+#include "energy.hpp"
+#include "state/state_hash.hpp"
+#include "triaxial/formwork.hpp"
+#include "triaxial/free_standing.hpp"
+
+#include "column_specimens.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+using namespace wiredem::engine;
+using namespace wiredem::engine::test;
+
+namespace {
+
+/// Settings of the tests: short phases, a fast but quasi-static plate.
+FreeStandingSettings quick_settings()
+{
+    FreeStandingSettings s;
+    s.removal_time_s = 5e-3;
+    s.removal_distance_m = 1e-3;
+    s.escape_distance_m = 0.02;
+    s.settle_kinetic_energy_per_grain_j = 1e-9;
+    s.max_settling_time_s = 0.1;
+    s.plate_speed_m_per_s = 0.01;
+    s.target_axial_strain = 0.01;
+    s.sample_interval_s = 0.2e-3;
+    return s;
+}
+
+/// Total mass of the grains [kg].
+double grain_mass_kg(const World& w)
+{
+    double m = 0.0;
+    for (double mi : w.of(BodyKind::grain).mass_kg) m += mi;
+    return m;
+}
+
+/// The lattice specimen without gravity, its membrane pushed `squeeze_m`
+/// inwards (kinematically, slowly) and the column brought to rest inside it:
+/// a column whose formwork holds elastic energy.
+std::size_t squeezed_lattice(Simulation& sim, double squeeze_m)
+{
+    const std::size_t lid = build_lattice_specimen(sim, 3);
+    World& w = sim.world;
+    w.gravity_m_per_s2 = Vec3::Zero();
+    const double squeeze_time_s = 5e-3;
+    open_formwork(w, -squeeze_m / squeeze_time_s);
+    for (double t = 0.0; t < squeeze_time_s; t += w.dt_s) sim.step();
+    for (std::uint32_t i = 0; i < w.of(BodyKind::membrane).size(); ++i) set_motion(w, {BodyKind::membrane, i}, Motion::fixed);
+    for (double t = 0.0; t < 10e-3; t += w.dt_s) sim.step();
+    bring_to_rest(sim);
+    return lid;
+}
+
+/// The largest kinetic energy of the rows of the removal and the settling
+/// (gravity off: no motion but what the removal released) [J].
+double largest_kinetic_energy_before_loading_j(const FreeStandingResult& r)
+{
+    double e = 0.0;
+    for (std::size_t i = 0; i < r.series.size(); ++i)
+        if (r.series.phase[i] <= static_cast<std::uint8_t>(FreeStandingPhase::settling))
+            e = std::max(e, r.series.kinetic_energy_j[i]);
+    return e;
+}
+
+} // namespace
+
+// A membrane that squeezes the column stores elastic energy E in the
+// contacts. Taken away in one step, it releases much of E as motion; opened
+// at a speed v, every body follows a boundary that recedes at v: a body on a
+// spring whose end starts moving at v has the speed v(1 − cos ωt) ≤ 2v (and a
+// rod's free end the incident wave's v doubled), so the kinetic energy stays
+// below ½ M (2v)² = 2 M v² (M the grains' mass) whatever E is.
+TEST(FreeStanding, FormworkRemovalGivesNoKick)
+{
+    const double squeeze_m = 0.1 * grain_radius_m;
+    FreeStandingSettings s = quick_settings();
+    s.removal_distance_m = 2.0 * squeeze_m; // the squeezed column relaxes within the squeeze
+    s.removal_time_s = 0.1;
+    const double v = s.removal_distance_m / s.removal_time_s;
+
+    Simulation slow_sim(1);
+    const std::size_t lid = squeezed_lattice(slow_sim, squeeze_m);
+    const double stored_j = elastic_energy(slow_sim.world, slow_sim.pool()).total_j();
+    const double bound_j = 2.0 * grain_mass_kg(slow_sim.world) * v * v;
+    ASSERT_GT(stored_j, 50.0 * bound_j) << "the squeeze must store far more than the bound for the test to mean anything";
+    const auto slow = run_free_standing(slow_sim, lid, s);
+    ASSERT_TRUE(slow.ok()) << slow.error();
+    EXPECT_LE(slow.value().settling.max_removal_kinetic_energy_j, bound_j);
+    EXPECT_LE(largest_kinetic_energy_before_loading_j(slow.value()), bound_j);
+
+    // The same formwork gone in one step: a kick of a good part of E.
+    Simulation fast_sim(1);
+    const std::size_t fast_lid = squeezed_lattice(fast_sim, squeeze_m);
+    s.removal_time_s = fast_sim.world.dt_s;
+    const auto fast = run_free_standing(fast_sim, fast_lid, s);
+    ASSERT_TRUE(fast.ok()) << fast.error();
+    EXPECT_GT(largest_kinetic_energy_before_loading_j(fast.value()), 10.0 * bound_j);
+}
+
+// At rest on the bottom plate, the column's weight goes into the plate: over
+// the last millisecond of settling, mean F − W = ΔP/τ, and |P| ≤ √(2 M K)
+// bounds it (base_force_tolerance_n). The driver's two numbers come from
+// different places, the plate's contact forces and the bodies' masses. A
+// stack of grains, which stands; at rest by a criterion strict enough for the
+// bound to be 1 % of the weight: (√(2 M K₀) + √(2 M K₁))/τ ≈ 2 N √(2 m e)/τ
+// for N grains of mass m at e per grain, against W = N m g, so e below
+// (g τ / 2)² m / 2 · 10⁻⁴ (≈ 7.5·10⁻¹⁵ J for these grains); K₀, a check
+// before the column came to rest, is above the criterion, so 10⁻¹⁶ J.
+TEST(FreeStanding, TheBottomPlateCarriesTheColumnsWeightAtRest)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    FreeStandingSettings s = quick_settings();
+    s.settle_kinetic_energy_per_grain_j = 1e-16;
+    s.max_settling_time_s = 0.3;
+    const auto r = run_free_standing(sim, lid, s);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const SettlingReading& st = r.value().settling;
+    ASSERT_TRUE(st.at_rest);
+    EXPECT_TRUE(st.stands);
+    const double weight_n = -grain_mass_kg(sim.world) * sim.world.gravity_m_per_s2.z();
+    EXPECT_NEAR(st.weight_n, weight_n, 1e-12 * weight_n);
+    EXPECT_LT(st.base_force_tolerance_n, 0.01 * weight_n) << "the bound must be tight enough to mean something";
+    EXPECT_NEAR(st.base_force_n, weight_n, st.base_force_tolerance_n);
+    EXPECT_EQ(st.escaped_grains, 0u);
+    ASSERT_EQ(st.profile.grains.size(), static_cast<std::size_t>(stack_grains)); // one grain per slice of a diameter
+    for (std::size_t k = 0; k < st.profile.radius_m.size(); ++k) EXPECT_NEAR(st.profile.radius_m[k], grain_radius_m, 1e-6);
+}
+
+// The force the top plate measures is the force the contacts carry through
+// any horizontal plane of the column below it plus the weight between: for
+// the grains above the plane, F_plane − F_top − W_above = dP_above/dt. A
+// stack of grains on the axis compressed without confinement, the plane
+// between its second and third grain; averaged over a window τ the identity
+// holds with ΔP_above/τ from the grains' own momenta.
+TEST(FreeStanding, ThePlatesForceIsTheForceThroughTheColumn)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    World& w = sim.world;
+    FreeStandingSettings s = quick_settings();
+    s.target_axial_strain = 0.01;
+    s.plate_speed_m_per_s = 0.002;
+    const double plane_z = 4.0 * grain_radius_m; // between grains 2 and 3 (centres at 3r and 5r)
+    const TranslationalState& g = w.of(BodyKind::grain);
+    auto momentum_above = [&] {
+        double p = 0.0;
+        for (std::size_t i = 0; i < g.size(); ++i)
+            if (g.x[0][i].z() > plane_z) p += g.mass_kg[i] * g.x[1][i].z() / w.dt_s;
+        return p;
+    };
+    auto weight_above = [&] {
+        double m = 0.0;
+        for (std::size_t i = 0; i < g.size(); ++i)
+            if (g.x[0][i].z() > plane_z) m += g.mass_kg[i];
+        return -m * w.gravity_m_per_s2.z();
+    };
+    double sum_n = 0.0, top_sum_n = 0.0, p0 = 0.0;
+    std::uint64_t n = 0;
+    RunControl rc;
+    rc.after_step = [&](const World&, const StepReport&) {
+        if (n == 0) p0 = momentum_above();
+        else {
+            sum_n += axial_force_through_plane_n(w, plane_z) - plate_compression_n(w, lid) - weight_above();
+            top_sum_n += plate_compression_n(w, lid);
+        }
+        ++n;
+        return true;
+    };
+    const auto r = run_free_standing(sim, lid, s, rc);
+    ASSERT_TRUE(r.ok()) << r.error();
+    ASSERT_GT(n, 100u);
+    const double steps = static_cast<double>(n - 1);
+    const double mean_top_n = top_sum_n / steps;
+    ASSERT_GT(mean_top_n, 10.0 * weight_above()) << "the plate must load the stack";
+    // dP/dt from the first to the last step of the window, over its steps.
+    const double dp_dt_n = (momentum_above() - p0) / (steps * w.dt_s);
+    EXPECT_NEAR(sum_n / steps, dp_dt_n, 1e-6 * mean_top_n);
+}
+
+// A plate fast enough to throw the grains is flagged; a slow one is not.
+// The stack's σ₁ rows carry I = ε̇ d √(ρ/σ₁) from the bearing rows on.
+TEST(FreeStanding, AFastPlateIsFlaggedAsNotQuasiStatic)
+{
+    for (const double speed : {0.0005, 1.0}) {
+        Simulation sim(1);
+        const std::size_t lid = build_grain_stack(sim, 0.0);
+        FreeStandingSettings s = quick_settings();
+        s.plate_speed_m_per_s = speed;
+        s.target_axial_strain = 0.01;
+        s.sample_interval_s = std::min(0.2e-3, 0.1 * s.target_axial_strain * 10 * grain_radius_m / speed);
+        const auto r = run_free_standing(sim, lid, s);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_EQ(r.value().verdict.quasi_static, speed < 0.1) << "plate at " << speed << " m/s: " << r.value().verdict.warning;
+    }
+}
+
+// A test stopped between two steps in any phase and continued from the World
+// and the driver's state saved there ends as the one never stopped, bit for
+// bit (what a campaign's resume rests on).
+TEST(FreeStanding, ATestContinuedFromAnyPhaseEndsBitIdentically)
+{
+    Simulation whole(2);
+    const std::size_t top = build_grain_stack(whole, 0.0);
+    FreeStandingSettings s = quick_settings();
+    s.dead_load = DeadLoad{0.05, 2e-3, 3e-3};
+    std::vector<std::pair<World, FreeStandingDriverState>> saved;
+    FreeStandingContinuation c;
+    c.between_steps = [&](const World& w, const FreeStandingDriverState& st) {
+        if (saved.size() <= static_cast<std::size_t>(st.phase) && st.steps > st.phase_start_step + 5)
+            saved.emplace_back(w, st);
+    };
+    const auto full = run_free_standing(whole, top, s, {}, c);
+    ASSERT_TRUE(full.ok()) << full.error();
+    ASSERT_EQ(saved.size(), 4u); // removal, settling, dead load, loading
+    ASSERT_TRUE(full.value().dead_load.has_value());
+    EXPECT_TRUE(full.value().dead_load->holds); // 0.05 N on a stack of elastic grains
+    const std::uint64_t end_hash = state_hash(whole.world);
+    for (std::size_t k = 0; k < saved.size(); ++k) {
+        SCOPED_TRACE(std::string("continued in ") + to_string(saved[k].second.phase));
+        Simulation rest(1 + k % 2);
+        rest.world = saved[k].first;
+        FreeStandingContinuation from;
+        from.from = saved[k].second;
+        const auto r = run_free_standing(rest, top, s, {}, from);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_EQ(state_hash(rest.world), end_hash);
+        const FreeStandingResult &a = r.value(), &b = full.value();
+        EXPECT_EQ(a.steps, b.steps);
+        EXPECT_EQ(a.settling.time_to_rest_s, b.settling.time_to_rest_s);
+        EXPECT_EQ(a.settling.base_force_n, b.settling.base_force_n);
+        EXPECT_EQ(a.dead_load->strain_at_load, b.dead_load->strain_at_load);
+        EXPECT_EQ(a.dead_load->creep_strain, b.dead_load->creep_strain);
+        ASSERT_EQ(a.series.size(), b.series.size());
+        for (std::size_t i = 0; i < a.series.size(); ++i) {
+            EXPECT_EQ(a.series.sigma1_pa[i], b.series.sigma1_pa[i]) << "row " << i;
+            EXPECT_EQ(a.series.kinetic_energy_j[i], b.series.kinetic_energy_j[i]) << "row " << i;
+        }
+        ASSERT_TRUE(a.compression && b.compression);
+        EXPECT_EQ(a.compression->strength.value, b.compression->strength.value);
+    }
+}
+
+TEST(FreeStanding, RejectsSettingsOutOfRangeNamingTheField)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    FreeStandingSettings s = quick_settings();
+    s.removal_time_s = 0.0;
+    auto r = run_free_standing(sim, lid, s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("removal_time_s"), std::string::npos) << r.error();
+    s = quick_settings();
+    s.dead_load = DeadLoad{-1.0, 0.01, 0.01};
+    r = run_free_standing(sim, lid, s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("dead_load.force_n"), std::string::npos) << r.error();
+}
+
+// A radius profile of a filled cylinder of radius R: its grain centres fill
+// a disc of radius R − r uniformly, so ⟨ρ²⟩ = (R − r)²/2 and the equivalent
+// radius √(2⟨ρ²⟩) + r is R (to the sampling of the disc).
+TEST(RadiusProfile, AFilledCylinderHasItsRadiusInEverySlice)
+{
+    const double r = 1e-3, R = 10e-3;
+    std::vector<Vec3> x;
+    std::vector<double> radius;
+    // Centres on a fine polar grid with equal area per point.
+    for (int layer = 0; layer < 4; ++layer)
+        for (int k = 0; k < 400; ++k) {
+            const double rho = (R - r) * std::sqrt((k + 0.5) / 400.0);
+            const double phi = 2.399963 * k; // golden angle
+            x.emplace_back(rho * std::cos(phi), rho * std::sin(phi), r + 2.0 * r * layer);
+            radius.push_back(r);
+        }
+    const RadiusProfile p = radius_profile(x, radius, 0.0, 1.0);
+    ASSERT_EQ(p.radius_m.size(), 4u);
+    for (std::size_t k = 0; k < 4; ++k) {
+        EXPECT_NEAR(p.radius_m[k], R, 1e-3 * R);
+        EXPECT_NEAR(p.height_m[k], r + 2.0 * r * static_cast<double>(k), 1e-12);
+        EXPECT_EQ(p.grains[k], 400u);
+    }
+    // A grain beyond the escape distance is not in the profile.
+    x.emplace_back(0.5, 0.0, r);
+    radius.push_back(r);
+    EXPECT_EQ(radius_profile(x, radius, 0.0, 0.1).grains[0], 400u);
+}
