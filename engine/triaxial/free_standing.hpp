@@ -179,8 +179,9 @@ struct DeadLoadReading {
     double strain_at_end = 0.0;       ///< ε_a when the hold ended
     double creep_strain = 0.0;        ///< strain_at_end − strain_at_load
     /// The column carried F to the end of the hold: its strain stayed below
-    /// the target strain and the plate came to rest (slower than the
-    /// compression speed at the end).
+    /// the target strain throughout (a column that gives way runs the plate
+    /// down to it; the piston's own oscillation on a stiff column is no
+    /// failure, and the creep strain says how much it gave).
     bool holds = false;
 };
 
