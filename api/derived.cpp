@@ -144,6 +144,8 @@ WorkEstimate estimated_work(const JobSpec& spec)
         w.test_steps.push_back(test_s / w.time_step_s);
         longest = std::max(longest, w.test_steps.back());
     }
+    if (spec.free_standing.enabled)
+        w.free_standing_steps = engine::longest_free_standing_time_s(free_standing_settings(spec), height_m) / w.time_step_s;
     // A row every max(1, round(interval / δt)) steps, and the last one.
     w.samples_per_test = longest / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
     return w;

@@ -65,8 +65,14 @@ struct WorkEstimate {
     /// order of triaxial.confining_pressures_pa.
     std::vector<double> test_steps;
     double samples_per_test = 0.0;   ///< rows of the time series of the longest test
+    /// The free-standing test's longest run (removal, the longest settling,
+    /// the dead load, the compression to the target); 0 when it does not run.
+    double free_standing_steps = 0.0;
     /// Every test.
-    [[nodiscard]] double tests_total_steps() const { return std::accumulate(test_steps.begin(), test_steps.end(), 0.0); }
+    [[nodiscard]] double tests_total_steps() const
+    {
+        return std::accumulate(test_steps.begin(), test_steps.end(), 0.0) + free_standing_steps;
+    }
     /// Preparation and every test.
     [[nodiscard]] double total_steps() const { return preparation_steps + tests_total_steps(); }
 };

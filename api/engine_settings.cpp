@@ -112,4 +112,24 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test
     return t;
 }
 
+engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
+{
+    const FreeStandingSpec& f = spec.free_standing;
+    engine::FreeStandingSettings s;
+    s.removal_time_s = f.removal_time_s;
+    s.removal_distance_m = f.removal_distance_m;
+    s.escape_distance_m = escape_distance_m(spec);
+    s.settle_kinetic_energy_per_grain_j = f.settle_kinetic_energy_per_grain_j;
+    s.max_settling_time_s = f.max_settling_time_s;
+    s.max_height_loss = f.max_height_loss;
+    if (f.dead_load_n) s.dead_load = engine::DeadLoad{*f.dead_load_n, f.dead_load_ramp_time_s, f.dead_load_hold_time_s};
+    s.plate_speed_m_per_s = f.plate_speed_m_per_s;
+    s.target_axial_strain = f.target_axial_strain;
+    s.failure_drop = f.failure_drop;
+    s.sample_interval_s = f.sample_interval_s;
+    s.snapshot_strains = {0.5 * f.target_axial_strain};
+    s.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};
+    return s;
+}
+
 } // namespace wiredem::api

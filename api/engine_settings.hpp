@@ -8,6 +8,7 @@
 
 #include "api/job_spec.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 namespace wiredem::api {
@@ -30,6 +31,10 @@ namespace wiredem::api {
 /// The settings of the job's test `test` (an index into
 /// triaxial.confining_pressures_pa) (the model spec §6).
 [[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test);
+
+/// The settings of the job's free-standing test (free_standing; whether it
+/// runs is free_standing.enabled).
+[[nodiscard]] engine::FreeStandingSettings free_standing_settings(const JobSpec& spec);
 
 /// The engine's pattern kind for a job's pattern.
 [[nodiscard]] engine::PatternKind pattern_kind(WirePattern p);

@@ -88,6 +88,7 @@ struct Range {
 constexpr Range open_closed(double lo, double hi) { return {lo, hi, true, false}; }
 constexpr Range closed(double lo, double hi) { return {lo, hi, false, false}; }
 constexpr Range closed_open(double lo, double hi) { return {lo, hi, false, true}; }
+constexpr Range open_open(double lo, double hi) { return {lo, hi, true, true}; }
 
 // Shared ranges (documented in docs/job-spec.md).
 constexpr Range modulus_range = open_closed(0.0, 1e13);       // up to ~10× diamond
@@ -762,6 +763,45 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
         {"1", "axial strains at which the wire elongation profile and the force network are saved; the default follows the target"});
 }
 
+void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
+{
+    if (r.validator().recording())
+        r.describe("enabled", json::object{{"type", "boolean"}, {"default", f.enabled}},
+            {nullptr, "run the free-standing test after the triaxial tests: the formwork removed, the column settled on the bottom plate, an optional dead load, unconfined compression (docs/model.md, \"The free-standing test\")"});
+    if (const json::value* j = r.take("enabled")) {
+        if (j->is_bool())
+            f.enabled = j->get_bool();
+        else
+            r.validator().fail(r.path_of("enabled"), "expected true or false, got " + std::string(kind_text(*j)));
+    }
+    r.number("removal_time_s", open_closed(0.0, 1e3), f.removal_time_s,
+        {"s", "the formwork (the membrane's radius) opens over this time: slowly enough that the column gets no kick (its kinetic energy stays below 2 M v², v = removal_distance_m / removal_time_s); a release like the collapse experiments' is of order √(h/g) or less"});
+    r.number("removal_distance_m", open_closed(0.0, 1.0), f.removal_distance_m,
+        {"m", "how far the membrane's radius opens, and the top plate rises, before the formwork is gone; more than the column's elastic expansion"});
+    optional_number(r, "escape_distance_m", open_closed(0.0, 100.0), f.escape_distance_m,
+        {"m", "a grain whose centre is farther than this from the axis has left the column; more than specimen.membrane_radius_m; null (or absent) = 1.5 × it"});
+    r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), f.settle_kinetic_energy_per_grain_j,
+        {"J", "the free column is at rest when the mean kinetic energy per grain is below this (the preparation's criterion)"});
+    r.number("max_settling_time_s", open_closed(0.0, 1e4), f.max_settling_time_s,
+        {"s", "settling ends here at the latest (a warning says the column was not at rest)"});
+    r.number("max_height_loss", open_open(0.0, 1.0), f.max_height_loss,
+        {"1", "the column stands when it came to rest having lost at most this fraction of its height"});
+    optional_number(r, "dead_load_n", open_closed(0.0, 1e9), f.dead_load_n,
+        {"N", "a constant force on the top plate after settling, held for dead_load_hold_time_s: does the column hold, how much does it creep; null (or absent) = none"});
+    r.number("dead_load_ramp_time_s", closed(0.0, 1e3), f.dead_load_ramp_time_s,
+        {"s", "the dead load rises over this time as ½(1 − cos πt/T)"});
+    r.number("dead_load_hold_time_s", open_closed(0.0, 1e3), f.dead_load_hold_time_s,
+        {"s", "the dead load is then held this long"});
+    r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), f.plate_speed_m_per_s,
+        {"m/s", "the top plate's speed in the unconfined compression"});
+    r.number("target_axial_strain", open_closed(0.0, 0.5), f.target_axial_strain,
+        {"1", "the compression ends at this ε_a at the latest"});
+    r.number("failure_drop", open_closed(0.0, 1.0), f.failure_drop,
+        {"1", "the column has failed, and the compression ends, when σ_1 (averaged over 0.5 % of strain) has stayed below (1 − this) of its largest such average for 2 % of strain; 1: compress to the target"});
+    r.number("sample_interval_s", open_closed(0.0, 1e3), f.sample_interval_s,
+        {"s", "time between samples of the test record"});
+}
+
 void read_engine(ObjectReader& r, EngineSpec& e)
 {
     const Range time_step_range = open_closed(0.0, 1e-3);
@@ -835,6 +875,11 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
         ObjectReader t(v, r.take("triaxial"), "triaxial");
         read_triaxial(t, spec.triaxial);
         t.finish();
+    }
+    {
+        ObjectReader f(v, r.take("free_standing"), "free_standing");
+        read_free_standing(f, spec.free_standing);
+        f.finish();
     }
     {
         ObjectReader e(v, r.take("engine"), "engine");
@@ -1026,7 +1071,7 @@ void check_damping(Validator& v, const JobSpec& spec)
 
 void check_work(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen", "triaxial", "engine"})) return;
+    if (!v.clean({"specimen", "triaxial", "free_standing", "engine"})) return;
     const WorkEstimate work = estimated_work(spec);
     if (work.total_steps() <= max_steps_of_any_job) return;
     v.note(work_field(spec, work),
@@ -1035,8 +1080,20 @@ void check_work(Validator& v, const JobSpec& spec)
             + "; no job may take more than " + approx_text(max_steps_of_any_job));
 }
 
+/// The escape distance must lie beyond the column's own radius.
+void check_escape_distance(Validator& v, const JobSpec& spec)
+{
+    const auto& given = spec.free_standing.escape_distance_m;
+    if (!given || !v.clean({"free_standing.escape_distance_m", "specimen.membrane_radius_m"})) return;
+    if (*given <= spec.specimen.membrane_radius_m)
+        v.note("free_standing.escape_distance_m",
+            exact_text(*given) + " is not beyond specimen.membrane_radius_m " + exact_text(spec.specimen.membrane_radius_m)
+                + ": grains at the column's edge would count as having left it");
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
+    check_escape_distance(v, spec);
     check_grain_size(v, spec.specimen);
     check_grain_volume(v, spec);
     check_wire_fits(v, spec.specimen);
@@ -1154,6 +1211,26 @@ json::object triaxial_json(const TriaxialSpec& t)
     };
 }
 
+json::object free_standing_json(const FreeStandingSpec& f)
+{
+    return {
+        {"enabled", f.enabled},
+        {"removal_time_s", f.removal_time_s},
+        {"removal_distance_m", f.removal_distance_m},
+        {"escape_distance_m", optional_json(f.escape_distance_m)},
+        {"settle_kinetic_energy_per_grain_j", f.settle_kinetic_energy_per_grain_j},
+        {"max_settling_time_s", f.max_settling_time_s},
+        {"max_height_loss", f.max_height_loss},
+        {"dead_load_n", optional_json(f.dead_load_n)},
+        {"dead_load_ramp_time_s", f.dead_load_ramp_time_s},
+        {"dead_load_hold_time_s", f.dead_load_hold_time_s},
+        {"plate_speed_m_per_s", f.plate_speed_m_per_s},
+        {"target_axial_strain", f.target_axial_strain},
+        {"failure_drop", f.failure_drop},
+        {"sample_interval_s", f.sample_interval_s},
+    };
+}
+
 json::object engine_json(const EngineSpec& e)
 {
     json::object o;
@@ -1251,15 +1328,18 @@ engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const char* text
 
 json::value to_json(const JobSpec& spec)
 {
-    return json::object{
+    json::object o{
         {"name", spec.name},
         {"comment", spec.comment},
         {"seed", spec.seed},
         {"specimen", specimen_json(spec.specimen)},
         {"contact", contact_json(spec.contact)},
         {"triaxial", triaxial_json(spec.triaxial)},
-        {"engine", engine_json(spec.engine)},
     };
+    // Only a job that asks for it (job_spec.hpp): the files of every other job stay as they were.
+    if (!(spec.free_standing == FreeStandingSpec{})) o["free_standing"] = free_standing_json(spec.free_standing);
+    o["engine"] = engine_json(spec.engine);
+    return o;
 }
 
 } // namespace wiredem::api

@@ -210,6 +210,31 @@ struct TriaxialSpec {
     friend bool operator==(const TriaxialSpec&, const TriaxialSpec&) = default;
 };
 
+/// The free-standing test (issue 39; engine/triaxial/free_standing.hpp):
+/// after the triaxial tests, the prepared column's formwork is removed, the
+/// column settles on the bottom plate, optionally carries a dead load, and is
+/// compressed unconfined. Not run unless `enabled`.
+struct FreeStandingSpec {
+    bool enabled = false;                      ///< run the test
+    double removal_time_s = 0.02;              ///< the formwork opens over this time [s], (0, 1e3]
+    double removal_distance_m = 5e-3;          ///< by this much (radius), the top plate lifted as far [m], (0, 1]
+    /// A grain farther than this from the axis has left the column [m],
+    /// (0, 100], more than specimen.membrane_radius_m; nullopt: 1.5 × it.
+    std::optional<double> escape_distance_m;
+    double settle_kinetic_energy_per_grain_j = 1e-9; ///< at rest below this [J], (0, 1]
+    double max_settling_time_s = 0.5;          ///< settling ends here at the latest [s], (0, 1e4]
+    double max_height_loss = 0.1;              ///< stands at rest with at most this height loss, (0, 1)
+    /// A dead load on the top plate after settling [N], (0, 1e9]; nullopt: none.
+    std::optional<double> dead_load_n;
+    double dead_load_ramp_time_s = 0.01;       ///< the load rises over this [s], [0, 1e3]
+    double dead_load_hold_time_s = 0.05;       ///< then is held this long [s], (0, 1e3]
+    double plate_speed_m_per_s = 1e-3;         ///< the compression's plate speed [m/s], (0, 10]
+    double target_axial_strain = 0.1;          ///< the compression ends here at the latest, (0, 0.5]
+    double failure_drop = 0.5;                 ///< failed when σ₁ stays below (1 − this) of its largest, (0, 1]
+    double sample_interval_s = 1e-3;           ///< time between rows [s], (0, 1e3]
+    friend bool operator==(const FreeStandingSpec&, const FreeStandingSpec&) = default;
+};
+
 /// Numerical settings.
 struct EngineSpec {
     /// δt [s]: nullopt = "auto" (auto_s of stable_time_step); a number must be
@@ -242,9 +267,20 @@ struct JobSpec {
     SpecimenSpec specimen;                     ///< what is prepared
     ContactSpec contact;                       ///< the contact law
     TriaxialSpec triaxial;                     ///< how it is tested
+    /// The free-standing test. to_json writes it only when it differs from
+    /// the default (no test), so that the job files and results of jobs
+    /// without it stay as they were.
+    FreeStandingSpec free_standing;
     EngineSpec engine;                         ///< numerical settings
     friend bool operator==(const JobSpec&, const JobSpec&) = default;
 };
+
+/// The free-standing test's escape distance in force [m]: the given one, or
+/// 1.5 × the membrane's radius.
+[[nodiscard]] inline double escape_distance_m(const JobSpec& spec)
+{
+    return spec.free_standing.escape_distance_m.value_or(1.5 * spec.specimen.membrane_radius_m);
+}
 
 /// One problem in a job document.
 struct FieldError {

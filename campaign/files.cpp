@@ -43,6 +43,7 @@ namespace {
 
 /// Units of the phase column: what its integers mean.
 constexpr std::string_view phase_units = "0 ramp, 1 hold, 2 loading";
+constexpr std::string_view free_standing_phase_units = "0 removal, 1 settling, 2 dead_load, 3 loading";
 
 void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
 
@@ -225,6 +226,89 @@ eng::analysis::CurveReading read_curve(const io::Group& g, const std::string& pr
     return c;
 }
 
+/// A record's time series: its columns, then `phase` (meaning `phase_meaning`).
+void write_series(io::Group& g, const eng::TriaxialSeries& s, std::string_view phase_meaning)
+{
+    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view u) {
+        units(g.write_dataset(name, std::span(column)), u);
+    });
+    std::vector<std::int32_t> phase(s.phase.begin(), s.phase.end());
+    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), phase_meaning);
+}
+
+/// What write_series wrote; a phase must lie in [0, last_phase].
+eng::TriaxialSeries read_series(const io::Group& g, std::int64_t last_phase)
+{
+    eng::TriaxialSeries s;
+    for_each_series_column(s, [&](const char* name, auto& column, std::string_view) {
+        using T = typename std::remove_cvref_t<decltype(column)>::value_type;
+        if constexpr (std::is_same_v<T, double>) {
+            column = read_doubles(g, name);
+        } else {
+            const io::Dataset d = g.open_dataset(name);
+            column.clear();
+            for (std::int64_t x : d.read_int64s()) {
+                if (x < 0) throw std::runtime_error(d.path() + ": negative count");
+                column.push_back(static_cast<T>(x));
+            }
+        }
+    });
+    const io::Dataset phase = g.open_dataset("phase");
+    for (std::int64_t p : phase.read_int64s()) {
+        if (p < 0 || p > last_phase)
+            throw std::runtime_error(phase.path() + ": a phase is not in 0.." + std::to_string(last_phase));
+        s.phase.push_back(static_cast<std::uint8_t>(p));
+    }
+    const std::size_t rows = s.size();
+    bool same_length = s.phase.size() == rows;
+    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view) {
+        // ε_v is derived when the test ends: empty in a running test's record.
+        if (column.size() != rows && !(std::string_view(name) == "volumetric_strain" && column.empty()))
+            same_length = false;
+    });
+    if (!same_length) throw std::runtime_error(g.path() + ": the time series differ in length");
+    return s;
+}
+
+void write_snapshots(io::Group& g, const std::vector<eng::TriaxialSnapshot>& snapshots)
+{
+    io::Group snaps = g.create_group("snapshots");
+    for (std::size_t i = 0; i < snapshots.size(); ++i)
+        write_snapshot(snaps.create_group("snapshot_" + std::to_string(i)), snapshots[i]);
+}
+
+std::vector<eng::TriaxialSnapshot> read_snapshots(const io::Group& g)
+{
+    std::vector<eng::TriaxialSnapshot> out;
+    const io::Group snaps = g.open_group("snapshots");
+    const std::vector<std::string> names = snaps.child_names();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const std::string name = "snapshot_" + std::to_string(i);
+        if (!snaps.exists(name)) throw std::runtime_error(snaps.path() + ": " + name + " is missing");
+        out.push_back(read_snapshot(snaps.open_group(name)));
+    }
+    return out;
+}
+
+void write_profile(io::Group g, const eng::RadiusProfile& p)
+{
+    units(g.write_dataset("height_m", std::span<const double>(p.height_m)), "m");
+    units(g.write_dataset("radius_m", std::span<const double>(p.radius_m)), "m");
+    std::vector<std::int64_t> grains(p.grains.begin(), p.grains.end());
+    units(g.write_dataset("grains", std::span<const std::int64_t>(grains)), "1");
+}
+
+eng::RadiusProfile read_profile(const io::Group& g)
+{
+    eng::RadiusProfile p;
+    p.height_m = read_doubles(g, "height_m");
+    p.radius_m = read_doubles(g, "radius_m");
+    for (std::int64_t n : g.open_dataset("grains").read_int64s()) p.grains.push_back(static_cast<std::uint32_t>(n));
+    if (p.radius_m.size() != p.height_m.size() || p.grains.size() != p.height_m.size())
+        throw std::runtime_error(g.path() + ": the profile's columns differ in length");
+    return p;
+}
+
 } // namespace
 
 void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
@@ -265,15 +349,8 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
     g.write_string_attribute("warnings", json::serialize(warnings));
 
-    for_each_series_column(r.series, [&](const char* name, const auto& column, std::string_view u) {
-        units(g.write_dataset(name, std::span(column)), u);
-    });
-    std::vector<std::int32_t> phase(r.series.phase.begin(), r.series.phase.end());
-    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), phase_units);
-
-    io::Group snaps = g.create_group("snapshots");
-    for (std::size_t i = 0; i < r.snapshots.size(); ++i)
-        write_snapshot(snaps.create_group("snapshot_" + std::to_string(i)), r.snapshots[i]);
+    write_series(g, r.series, phase_units);
+    write_snapshots(g, r.snapshots);
 }
 
 eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots)
@@ -318,43 +395,132 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots
     const json::value warnings = json::parse(g.read_string_attribute("warnings"));
     for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
 
-    for_each_series_column(r.series, [&](const char* name, auto& column, std::string_view) {
-        using T = typename std::remove_cvref_t<decltype(column)>::value_type;
-        if constexpr (std::is_same_v<T, double>) {
-            column = read_doubles(g, name);
-        } else {
-            const io::Dataset d = g.open_dataset(name);
-            column.clear();
-            for (std::int64_t x : d.read_int64s()) {
-                if (x < 0) throw std::runtime_error(d.path() + ": negative count");
-                column.push_back(static_cast<T>(x));
-            }
-        }
-    });
-    const io::Dataset phase = g.open_dataset("phase");
-    for (std::int64_t p : phase.read_int64s()) {
-        if (p < 0 || p > static_cast<std::int64_t>(eng::TriaxialPhase::loading))
-            throw std::runtime_error(phase.path() + ": a phase is not 0, 1 or 2");
-        r.series.phase.push_back(static_cast<std::uint8_t>(p));
-    }
+    r.series = read_series(g, static_cast<std::int64_t>(eng::TriaxialPhase::loading));
     const std::size_t rows = r.series.size();
-    bool same_length = r.series.phase.size() == rows;
-    for_each_series_column(r.series, [&](const char* name, const auto& column, std::string_view) {
-        // ε_v is derived when the test ends: empty in a running test's record.
-        if (column.size() != rows && !(std::string_view(name) == "volumetric_strain" && column.empty()))
-            same_length = false;
-    });
-    if (!same_length) throw std::runtime_error(g.path() + ": the time series differ in length");
     if (rows > 0 && r.peak_sample >= rows) throw std::runtime_error(g.path() + ": peak_sample is past the series");
 
     if (snapshots == Snapshots::skip) return r;
-    const io::Group snaps = g.open_group("snapshots");
-    const std::vector<std::string> names = snaps.child_names();
-    for (std::size_t i = 0; i < names.size(); ++i) {
-        const std::string name = "snapshot_" + std::to_string(i);
-        if (!snaps.exists(name)) throw std::runtime_error(snaps.path() + ": " + name + " is missing");
-        r.snapshots.push_back(read_snapshot(snaps.open_group(name)));
+    r.snapshots = read_snapshots(g);
+    return r;
+}
+
+void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
+{
+    const eng::SettlingReading& s = r.settling;
+    g.write_int_attribute("at_rest", s.at_rest ? 1 : 0);
+    g.write_double_attribute("time_to_rest_s", s.time_to_rest_s);
+    g.write_double_attribute("height_before_m", s.height_before_m);
+    g.write_double_attribute("height_m", s.height_m);
+    g.write_double_attribute("height_loss", s.height_loss);
+    g.write_double_attribute("radius_before_m", s.radius_before_m);
+    g.write_double_attribute("radius_m", s.radius_m);
+    g.write_int_attribute("escaped_grains", static_cast<std::int64_t>(s.escaped_grains));
+    g.write_double_attribute("weight_n", s.weight_n);
+    g.write_double_attribute("base_force_n", s.base_force_n);
+    g.write_double_attribute("base_force_tolerance_n", s.base_force_tolerance_n);
+    g.write_int_attribute("stands", s.stands ? 1 : 0);
+    g.write_double_attribute("max_removal_kinetic_energy_j", s.max_removal_kinetic_energy_j);
+    write_profile(g.create_group("profile_before"), s.profile_before);
+    write_profile(g.create_group("profile_settled"), s.profile);
+    if (r.dead_load) {
+        const eng::DeadLoadReading& d = *r.dead_load;
+        g.write_double_attribute("dead_load_n", d.force_n);
+        g.write_double_attribute("dead_load_stress_pa", d.stress_pa);
+        g.write_double_attribute("dead_load_strain_at_load", d.strain_at_load);
+        g.write_double_attribute("dead_load_strain_at_end", d.strain_at_end);
+        g.write_double_attribute("dead_load_creep_strain", d.creep_strain);
+        g.write_int_attribute("dead_load_holds", d.holds ? 1 : 0);
     }
+    if (r.compression) {
+        const eng::CompressionReading& c = *r.compression;
+        write_curve(g, "strength", c.strength);
+        g.write_double_attribute("strength_axial_strain", c.strength_axial_strain);
+        g.write_double_attribute("max_sigma1_pa", c.max_sigma1_pa);
+        g.write_int_attribute("max_sigma1_sample", static_cast<std::int64_t>(c.max_sigma1_sample));
+        g.write_int_attribute("failed", c.failed ? 1 : 0);
+        write_profile(g.create_group("profile_at_peak"), c.profile_at_peak);
+        write_profile(g.create_group("profile_at_end"), c.profile_at_end);
+        units(g.write_dataset("wire_strain_at_peak", std::span<const double>(c.wire_strain_at_peak)), "1");
+        units(g.write_dataset("wire_tension_at_peak_n", std::span<const double>(c.wire_tension_at_peak_n)), "N");
+    }
+    g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(r.loading_start_sample));
+    g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
+    g.write_double_attribute("max_inertial_number", r.verdict.max_inertial_number);
+    g.write_double_attribute("mean_kinetic_to_elastic", r.verdict.mean_kinetic_to_elastic);
+    g.write_double_attribute("max_kinetic_to_elastic", r.verdict.max_kinetic_to_elastic);
+    g.write_string_attribute("quasi_static_warning", r.verdict.warning);
+    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute("time_step_s", r.time_step_s);
+    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
+    g.write_double_attribute("wall_time_s", r.wall_time_s);
+    json::array warnings;
+    for (const std::string& w : r.warnings) warnings.emplace_back(w);
+    g.write_string_attribute("warnings", json::serialize(warnings));
+    write_series(g, r.series, free_standing_phase_units);
+    write_snapshots(g, r.snapshots);
+    if (r.peak_snapshot) write_snapshot(g.create_group("peak_snapshot"), *r.peak_snapshot);
+}
+
+eng::FreeStandingResult read_free_standing_result(const io::Group& g)
+{
+    eng::FreeStandingResult r;
+    eng::SettlingReading& s = r.settling;
+    s.at_rest = g.read_int_attribute("at_rest") != 0;
+    s.time_to_rest_s = g.read_double_attribute("time_to_rest_s");
+    s.height_before_m = g.read_double_attribute("height_before_m");
+    s.height_m = g.read_double_attribute("height_m");
+    s.height_loss = g.read_double_attribute("height_loss");
+    s.radius_before_m = g.read_double_attribute("radius_before_m");
+    s.radius_m = g.read_double_attribute("radius_m");
+    s.escaped_grains = read_index(g, "escaped_grains");
+    s.weight_n = g.read_double_attribute("weight_n");
+    s.base_force_n = g.read_double_attribute("base_force_n");
+    s.base_force_tolerance_n = g.read_double_attribute("base_force_tolerance_n");
+    s.stands = g.read_int_attribute("stands") != 0;
+    s.max_removal_kinetic_energy_j = g.read_double_attribute("max_removal_kinetic_energy_j");
+    s.profile_before = read_profile(g.open_group("profile_before"));
+    s.profile = read_profile(g.open_group("profile_settled"));
+    if (g.has_attribute("dead_load_n")) {
+        eng::DeadLoadReading d;
+        d.force_n = g.read_double_attribute("dead_load_n");
+        d.stress_pa = g.read_double_attribute("dead_load_stress_pa");
+        d.strain_at_load = g.read_double_attribute("dead_load_strain_at_load");
+        d.strain_at_end = g.read_double_attribute("dead_load_strain_at_end");
+        d.creep_strain = g.read_double_attribute("dead_load_creep_strain");
+        d.holds = g.read_int_attribute("dead_load_holds") != 0;
+        r.dead_load = d;
+    }
+    if (g.has_attribute("strength_shape")) {
+        eng::CompressionReading c;
+        c.strength = read_curve(g, "strength");
+        c.strength_axial_strain = g.read_double_attribute("strength_axial_strain");
+        c.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
+        c.max_sigma1_sample = read_index(g, "max_sigma1_sample");
+        c.failed = g.read_int_attribute("failed") != 0;
+        c.profile_at_peak = read_profile(g.open_group("profile_at_peak"));
+        c.profile_at_end = read_profile(g.open_group("profile_at_end"));
+        c.wire_strain_at_peak = read_doubles(g, "wire_strain_at_peak");
+        c.wire_tension_at_peak_n = read_doubles(g, "wire_tension_at_peak_n");
+        r.compression = std::move(c);
+    }
+    r.loading_start_sample = read_index(g, "loading_start_sample");
+    r.verdict.quasi_static = g.read_int_attribute("quasi_static") != 0;
+    r.verdict.max_inertial_number = g.read_double_attribute("max_inertial_number");
+    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute("mean_kinetic_to_elastic");
+    r.verdict.max_kinetic_to_elastic = g.read_double_attribute("max_kinetic_to_elastic");
+    r.verdict.warning = g.read_string_attribute("quasi_static_warning");
+    r.steps = static_cast<std::uint64_t>(g.read_int_attribute("steps"));
+    r.time_step_s = g.read_double_attribute("time_step_s");
+    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
+    r.wall_time_s = g.read_double_attribute("wall_time_s");
+    const json::value warnings = json::parse(g.read_string_attribute("warnings"));
+    for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
+    r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::loading));
+    const std::size_t rows = r.series.size();
+    if (r.loading_start_sample >= rows || (r.compression && r.compression->strength.index >= rows))
+        throw std::runtime_error(g.path() + ": a row index is past the series");
+    r.snapshots = read_snapshots(g);
+    if (g.exists("peak_snapshot")) r.peak_snapshot = read_snapshot(g.open_group("peak_snapshot"));
     return r;
 }
 

@@ -25,6 +25,7 @@
 #include "api/result_data.hpp"
 #include "io/hdf5.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <cstddef>
@@ -50,7 +51,13 @@ struct JobDir {
     [[nodiscard]] std::filesystem::path specimen_lock() const { return root / "specimen.lock"; }
     [[nodiscard]] std::filesystem::path test_lock(std::size_t k) const;
     [[nodiscard]] std::filesystem::path analyse_lock() const { return root / "analyse.lock"; }
+    /// The free-standing test's record (group free_standing_file_group) and its lock.
+    [[nodiscard]] std::filesystem::path free_standing() const { return tests() / "free_standing.h5"; }
+    [[nodiscard]] std::filesystem::path free_standing_lock() const { return tests() / "free_standing.lock"; }
 };
+
+/// The group of free_standing.h5, and of result.h5, that holds the free-standing test.
+inline constexpr const char* free_standing_group = "free_standing";
 
 /// The group of test_K.h5 that holds the test's record.
 inline constexpr const char* test_file_group = "test";
@@ -78,6 +85,15 @@ void write_triaxial_result(engine::io::Group& g, const engine::TriaxialResult& r
 /// column a running test's record leaves empty (volumetric_strain, derived
 /// when the test ends) is left out.
 [[nodiscard]] std::vector<api::SeriesColumn> series_columns(const engine::TriaxialSeries& s);
+
+/// The free-standing test's record (docs/results.md): attributes (the
+/// settling, the dead load, the compression's reading, the verdict, times,
+/// warnings), the time series (phase: engine::FreeStandingPhase), the radius
+/// profiles, the wire at the largest σ₁, the snapshots and the one at the
+/// largest σ₁.
+void write_free_standing_result(engine::io::Group& g, const engine::FreeStandingResult& r);
+/// Reads what write_free_standing_result wrote. Throws like read_triaxial_result.
+[[nodiscard]] engine::FreeStandingResult read_free_standing_result(const engine::io::Group& g);
 
 /// The test driver's state, its partial result in the subgroup "result".
 void write_driver_state(engine::io::Group& g, const engine::TriaxialDriverState& s);

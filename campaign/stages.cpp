@@ -176,7 +176,7 @@ std::optional<std::string> specimen_difference(const api::JobSpec& a, const api:
 {
     auto specimen_part = [](const api::JobSpec& spec) {
         json::object o = api::to_json(spec).as_object();
-        for (const char* key : {"triaxial", "name", "comment"}) o.erase(key);
+        for (const char* key : {"triaxial", "free_standing", "name", "comment"}) o.erase(key);
         if (auto* engine = o.if_contains("engine"); engine && engine->is_object()) engine->as_object().erase("threads");
         return o;
     };
@@ -378,6 +378,45 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     return std::nullopt;
 }
 
+StageError run_free_standing_test(const JobDir& dir, const StageControl& control)
+{
+    auto job = read_job(dir);
+    if (!job.ok()) return job.error();
+    const api::JobSpec& spec = job.value();
+    if (!spec.free_standing.enabled) return std::nullopt;
+    std::error_code ec;
+    if (std::filesystem::exists(dir.free_standing(), ec)) return std::nullopt; // done already
+    const std::string label = "the free-standing test";
+    auto lock = StageLock::acquire(dir.free_standing_lock(), label + " of " + dir.root.string(), control.lock_wait_s, control.cancel);
+    if (!lock.ok()) return lock.error();
+    if (std::filesystem::exists(dir.free_standing(), ec)) return std::nullopt;
+    auto specimen = read_specimen(dir);
+    if (!specimen.ok()) return specimen.error();
+    const std::size_t top_plate = specimen.value().report.top_plate_wall;
+    eng::Simulation sim(control.threads);
+    sim.world = std::move(specimen.value().world);
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "testing", f, label + ", step " + std::to_string(done));
+    };
+    report(control, "testing", 0.0, label);
+    auto r = eng::run_free_standing(sim, top_plate, api::free_standing_settings(spec), rc);
+    if (!r.ok()) return label + " failed: " + r.error();
+    try {
+        io::write_file_atomically(dir.free_standing(), [&](io::Group& root) {
+            io::Group g = root.create_group(free_standing_group);
+            g.write_int_attribute("threads", sim.threads());
+            write_free_standing_result(g, r.value());
+        });
+    } catch (const std::exception& e) {
+        return "cannot write " + dir.free_standing().string() + ": " + e.what();
+    }
+    return std::nullopt;
+}
+
 namespace {
 
 /// One envelope's figures: φ [deg], c [Pa] and R² (null when the fit leaves no degree of freedom).
@@ -469,7 +508,7 @@ void write_units(io::Dataset d, std::string_view units) { d.write_string_attribu
 
 /// result.h5's contents, into its root group.
 void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& specimen,
-    const std::vector<eng::TriaxialResult>& tests)
+    const std::vector<eng::TriaxialResult>& tests, const std::optional<eng::FreeStandingResult>& free_standing)
 {
     root.write_string_attribute("format", "wiredem-result-1");
     root.write_string_dataset("job_spec", json::serialize(api::to_json(spec)));
@@ -494,6 +533,74 @@ void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& spe
         t.write_double_attribute("confining_pressure_pa", pressures[i]);
         write_triaxial_result(t, tests[i]);
     }
+    if (free_standing) {
+        io::Group f = root.create_group(free_standing_group);
+        write_free_standing_result(f, *free_standing);
+    }
+}
+
+/// The free-standing test as the summary reports it, with the unconfined
+/// strength the envelope `fit` predicts beside the measured one.
+json::object free_standing_json(const eng::FreeStandingResult& r,
+    const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::int64_t threads)
+{
+    const eng::SettlingReading& s = r.settling;
+    json::object settling;
+    settling["stands"] = s.stands;
+    settling["at_rest"] = s.at_rest;
+    settling["time_to_rest_s"] = finite_or_null(s.time_to_rest_s);
+    settling["height_before_m"] = finite_or_null(s.height_before_m);
+    settling["height_m"] = finite_or_null(s.height_m);
+    settling["height_loss"] = finite_or_null(s.height_loss);
+    settling["radius_before_m"] = finite_or_null(s.radius_before_m);
+    settling["radius_m"] = finite_or_null(s.radius_m);
+    settling["escaped_grains"] = s.escaped_grains;
+    settling["weight_n"] = finite_or_null(s.weight_n);
+    settling["base_force_n"] = finite_or_null(s.base_force_n);
+    settling["base_force_tolerance_n"] = finite_or_null(s.base_force_tolerance_n);
+    settling["max_removal_kinetic_energy_j"] = finite_or_null(s.max_removal_kinetic_energy_j);
+    json::object o;
+    o["settling"] = std::move(settling);
+    if (r.dead_load) {
+        json::object d;
+        d["force_n"] = r.dead_load->force_n;
+        d["stress_pa"] = finite_or_null(r.dead_load->stress_pa);
+        d["holds"] = r.dead_load->holds;
+        d["strain_at_load"] = finite_or_null(r.dead_load->strain_at_load);
+        d["creep_strain"] = finite_or_null(r.dead_load->creep_strain);
+        o["dead_load"] = std::move(d);
+    } else {
+        o["dead_load"] = nullptr;
+    }
+    json::object c;
+    if (r.compression) {
+        const eng::CompressionReading& k = *r.compression;
+        c["unconfined_strength_pa"] = finite_or_null(k.strength.value);
+        c["shape"] = eng::analysis::to_string(k.strength.shape);
+        c["strain_at_failure"] = finite_or_null(k.strength_axial_strain);
+        c["max_sigma1_pa"] = finite_or_null(k.max_sigma1_pa);
+        c["failed"] = k.failed;
+    } else {
+        c["unconfined_strength_pa"] = nullptr;
+        c["shape"] = nullptr;
+        c["strain_at_failure"] = nullptr;
+        c["max_sigma1_pa"] = nullptr;
+        c["failed"] = nullptr;
+    }
+    c["predicted_unconfined_strength_pa"] = fit.ok() ? finite_or_null(eng::analysis::unconfined_strength_pa(
+                                                           fit.value().friction_angle_rad, fit.value().cohesion_pa))
+                                                     : json::value(nullptr);
+    c["definition"] = "unconfined_strength_pa: the maximum of sigma1 = F_top / (pi r0^2) (r0 the settled column's "
+                      "equivalent radius) smoothed over definitions.smoothing_strain, its shape read as the yield's; "
+                      "predicted_unconfined_strength_pa: 2 c cos(phi) / (1 - sin(phi)) of mohr_coulomb";
+    c["quasi_static"] = r.verdict.quasi_static;
+    c["max_inertial_number"] = finite_or_null(r.verdict.max_inertial_number);
+    c["mean_kinetic_to_elastic"] = finite_or_null(r.verdict.mean_kinetic_to_elastic);
+    o["compression"] = std::move(c);
+    o["steps"] = r.steps;
+    o["wall_time_s"] = r.wall_time_s;
+    o["threads"] = threads;
+    return o;
 }
 
 } // namespace
@@ -532,6 +639,22 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         }
     }
 
+    std::optional<eng::FreeStandingResult> free_standing;
+    std::int64_t free_standing_threads = 0;
+    if (spec.free_standing.enabled) {
+        std::error_code ec;
+        if (!std::filesystem::exists(dir.free_standing(), ec))
+            return "the free-standing test has not run: `wiredem run` the job again";
+        try {
+            const io::File f = io::File::open_read_only(dir.free_standing());
+            const io::Group g = f.root().open_group(free_standing_group);
+            free_standing = read_free_standing_result(g);
+            free_standing_threads = g.read_int_attribute("threads");
+        } catch (const std::exception& e) {
+            return "cannot read " + dir.free_standing().string() + ": " + e.what();
+        }
+    }
+
     std::vector<std::string> warnings;
     if (!prep.settled)
         warnings.push_back("the specimen did not settle within max_preparation_time_s; it was tested as it was");
@@ -543,6 +666,8 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     for (std::size_t k = 0; k < tests.size(); ++k)
         for (const std::string& w : tests[k].warnings)
             warnings.push_back(test_label(k, pressures.size(), pressures[k]) + ": " + w);
+    if (free_standing)
+        for (const std::string& w : free_standing->warnings) warnings.push_back("free-standing test: " + w);
 
     // Two envelopes: through the yield states (the maximum of the stress
     // ratio; docs/model.md, "How yield is read") and, beside it, through the
@@ -588,7 +713,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     // Writing: result.h5, then summary.json (its presence marks success).
     report(control, "writing", 0.6, "writing result.h5 and summary.json");
     try {
-        io::write_file_atomically(dir.result_h5(), [&](io::Group& root) { write_result(root, spec, specimen, tests); });
+        io::write_file_atomically(dir.result_h5(), [&](io::Group& root) { write_result(root, spec, specimen, tests, free_standing); });
         eng::io::write_xdmf(dir.result_h5(), dir.result_xdmf()); // ParaView's view of result.h5
 
         json::object summary;
@@ -665,6 +790,12 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             "yield states: (sigma1, sigma3_effective) at the maximum of the smoothed stress ratio (tests[].yield)");
         summary["mohr_coulomb_max_q"]
             = mohr_coulomb_json(fit_max_q, "(sigma1, sigma3_effective) at the maximum of q (tests[].peak_*)");
+        if (free_standing) {
+            summary["free_standing"] = free_standing_json(*free_standing, fit, free_standing_threads);
+            steps += free_standing->steps;
+            body_steps += static_cast<double>(free_standing->steps) * static_cast<double>(bodies);
+            stepping_wall_s += free_standing->wall_time_s;
+        }
         summary["definitions"] = definitions_json();
 
         json::object sp;
@@ -857,6 +988,16 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     for (const StageError& e : errors)
         if (e) return e;
     if (control.cancel && control.cancel->load()) return std::string("cancelled");
+    // The free-standing test, after the triaxial tests, on every thread (its
+    // progress stays at the tests' end: ProgressShares has no share for it yet).
+    {
+        StageControl fc = control;
+        fc.progress = [&](const char* stage, double, const std::string& m) {
+            std::lock_guard lock(report_mutex);
+            report(control, stage, shares.overall(1.0, done, 0.0), m);
+        };
+        if (auto e = run_free_standing_test(dir, fc)) return e;
+    }
 
     StageControl analysis_control = control;
     analysis_control.progress = [&](const char* stage, double f, const std::string& m) {

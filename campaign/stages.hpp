@@ -65,7 +65,7 @@ using StageError = std::optional<std::string>;
 
 /// Why two jobs would not prepare the same specimen: the first field (a
 /// JSON path) in which their job.json differ, leaving out what only the
-/// tests, the name or the thread count read (`triaxial`, `name`,
+/// tests, the name or the thread count read (`triaxial`, `free_standing`, `name`,
 /// `comment`, `engine.threads`); nothing when they would. Conservative: any
 /// other difference counts, whether or not the preparation reads it.
 [[nodiscard]] std::optional<std::string> specimen_difference(const api::JobSpec& a, const api::JobSpec& b);
@@ -82,6 +82,12 @@ using StageError = std::optional<std::string>;
 /// directory, from its checkpoint if there is one. A test already done is not
 /// run again.
 [[nodiscard]] StageError run_test(const JobDir& dir, std::size_t index, const StageControl& control);
+
+/// Runs the free-standing test of a prepared directory (job's
+/// free_standing.enabled) into tests/free_standing.h5; nothing when the job
+/// has none or it has run. No checkpoints yet: a test killed midway runs
+/// again from its start.
+[[nodiscard]] StageError run_free_standing_test(const JobDir& dir, const StageControl& control);
 
 /// Reads the specimen and every test, fits the envelopes and writes
 /// result.h5, result.xdmf and summary.json (summary.json last: its presence

@@ -180,11 +180,16 @@ double column_weight_n(const World& w)
     return down_n;
 }
 
-std::uint64_t expected_free_standing_steps(const FreeStandingSettings& s, double height_m, double dt_s)
+double longest_free_standing_time_s(const FreeStandingSettings& s, double height_m)
 {
     double t = s.removal_time_s + s.max_settling_time_s + loading_time_s(s.target_axial_strain, height_m, s.plate_speed_m_per_s);
     if (s.dead_load) t += s.dead_load->ramp_time_s + s.dead_load->hold_time_s;
-    return static_cast<std::uint64_t>(std::ceil(t / dt_s));
+    return t;
+}
+
+std::uint64_t expected_free_standing_steps(const FreeStandingSettings& s, double height_m, double dt_s)
+{
+    return static_cast<std::uint64_t>(std::ceil(longest_free_standing_time_s(s, height_m) / dt_s));
 }
 
 Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::size_t top_plate_wall,

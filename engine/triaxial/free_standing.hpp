@@ -244,8 +244,12 @@ struct FreeStandingContinuation {
     std::optional<FreeStandingDriverState> from;
 };
 
-/// Steps a test is expected to take (the removal, the longest settling, the
-/// dead load and the compression to the target) on a column of height `height_m`.
+/// The longest simulated time of a test (the removal, the longest settling,
+/// the dead load and the compression to the target) on a column of height
+/// `height_m` [s].
+[[nodiscard]] double longest_free_standing_time_s(const FreeStandingSettings& s, double height_m);
+
+/// Steps a test is expected to take: longest_free_standing_time_s at δt.
 [[nodiscard]] std::uint64_t expected_free_standing_steps(const FreeStandingSettings& s, double height_m, double dt_s);
 
 /// Runs one free-standing test on `sim.world` (grains, optional wire, the

@@ -84,6 +84,20 @@ JobSpec everything_changed()
     s.engine.threads = 2;
     s.engine.density_scale = 4.0;
     s.engine.max_bodies = 50000;
+    s.free_standing.enabled = true;
+    s.free_standing.removal_time_s = 0.03;
+    s.free_standing.removal_distance_m = 4e-3;
+    s.free_standing.escape_distance_m = 0.05;
+    s.free_standing.settle_kinetic_energy_per_grain_j = 2e-9;
+    s.free_standing.max_settling_time_s = 0.4;
+    s.free_standing.max_height_loss = 0.2;
+    s.free_standing.dead_load_n = 70.0;
+    s.free_standing.dead_load_ramp_time_s = 0.02;
+    s.free_standing.dead_load_hold_time_s = 0.1;
+    s.free_standing.plate_speed_m_per_s = 2e-3;
+    s.free_standing.target_axial_strain = 0.2;
+    s.free_standing.failure_drop = 0.4;
+    s.free_standing.sample_interval_s = 2e-3;
     return s;
 }
 
@@ -180,6 +194,34 @@ TEST(JobSpec, EveryFieldRoundTripsThroughTextBitForBit)
     const auto back = parse_job_spec(text);
     ASSERT_TRUE(back.ok()) << describe(back.error());
     EXPECT_EQ(back.value(), s) << text;
+}
+
+// The free-standing test's fields are checked at the door, each naming its
+// field, value and range; the escape distance against the membrane.
+TEST(JobSpec, FreeStandingFieldsAreCheckedAtTheDoor)
+{
+    auto r = parse_job_spec(R"({"free_standing": {"enabled": "yes"}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().front().path, "free_standing.enabled");
+    r = parse_job_spec(R"({"free_standing": {"removal_time_s": 0}})");
+    ASSERT_FALSE(r.ok());
+    ASSERT_NE(error_at(r.error(), "free_standing.removal_time_s"), nullptr);
+    EXPECT_NE(error_at(r.error(), "free_standing.removal_time_s")->message.find("0 is out of range (0, 1000]"), std::string::npos)
+        << error_at(r.error(), "free_standing.removal_time_s")->message;
+    r = parse_job_spec(R"({"free_standing": {"max_height_loss": 1}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "free_standing.max_height_loss"), nullptr);
+    r = parse_job_spec(R"({"free_standing": {"escape_distance_m": 0.01}})"); // the membrane's radius is 0.02
+    ASSERT_FALSE(r.ok());
+    ASSERT_NE(error_at(r.error(), "free_standing.escape_distance_m"), nullptr);
+    EXPECT_NE(error_at(r.error(), "free_standing.escape_distance_m")->message.find("membrane_radius_m"), std::string::npos);
+    r = parse_job_spec(R"({"free_standing": {"bogus": 1}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().front().path, "free_standing.bogus");
+    const auto ok = parse_job_spec(R"({"free_standing": {"enabled": true, "dead_load_n": 7000}})");
+    ASSERT_TRUE(ok.ok()) << describe(ok.error());
+    EXPECT_TRUE(ok.value().free_standing.enabled);
+    EXPECT_EQ(ok.value().free_standing.dead_load_n, 7000.0);
 }
 
 TEST(JobSpec, RestitutionFormRoundTrips)
