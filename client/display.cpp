@@ -274,6 +274,35 @@ std::string format_summary(const json::value& summary)
     envelope("Mohr-Coulomb envelope through the yield states", "mohr_coulomb");
     if (at(summary, {"mohr_coulomb_max_q"})) envelope("Mohr-Coulomb envelope through the maxima of q", "mohr_coulomb_max_q");
 
+    // The free-standing test (summary.free_standing), when the job ran one.
+    if (const auto* f = at(summary, {"free_standing"}); f && f->is_object()) {
+        const auto yes_no = [](const json::value* v) { return v && v->is_bool() ? (v->get_bool() ? "yes" : "no") : "-"; };
+        out << "\nFree-standing test (formwork removed, settled, compressed unconfined)\n"
+            << "  stands                 " << yes_no(at(*f, {"settling", "stands"})) << " (at rest: "
+            << yes_no(at(*f, {"settling", "at_rest"})) << " after "
+            << fmt("%.3g s", number(at(*f, {"settling", "time_to_rest_s"}))) << ")\n"
+            << "  height                 " << fmt("%.4g m", number(at(*f, {"settling", "height_before_m"}))) << " -> "
+            << fmt("%.4g m", number(at(*f, {"settling", "height_m"}))) << " (loss "
+            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "height_loss"})), 100.0)) << ")\n"
+            << "  radius                 " << fmt("%.4g m", number(at(*f, {"settling", "radius_before_m"}))) << " -> "
+            << fmt("%.4g m", number(at(*f, {"settling", "radius_m"}))) << '\n'
+            << "  grains that left it    " << fmt("%.0f", number(at(*f, {"settling", "escaped_grains"}))) << '\n'
+            << "  base force / weight    " << fmt("%.4g N", number(at(*f, {"settling", "base_force_n"}))) << " / "
+            << fmt("%.4g N", number(at(*f, {"settling", "weight_n"}))) << " (within "
+            << fmt("%.3g N", number(at(*f, {"settling", "base_force_tolerance_n"}))) << " at rest)\n";
+        if (at(*f, {"dead_load", "force_n"}))
+            out << "  dead load              " << fmt("%.4g N", number(at(*f, {"dead_load", "force_n"}))) << ": holds "
+                << yes_no(at(*f, {"dead_load", "holds"})) << ", creep "
+                << fmt("%.3f %%", scaled(number(at(*f, {"dead_load", "creep_strain"})), 100.0)) << '\n';
+        out << "  unconfined strength    " << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "unconfined_strength_pa"}))))
+            << " (" << text(at(*f, {"compression", "shape"})) << ", at "
+            << fmt("%.2f %%", scaled(number(at(*f, {"compression", "strain_at_failure"})), 100.0)) << " strain)\n"
+            << "  predicted by envelope  "
+            << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
+            << " (2c cos phi / (1 - sin phi))\n"
+            << "  quasi-static           " << yes_no(at(*f, {"compression", "quasi_static"})) << '\n';
+    }
+
     out << "\nSpecimen\n"
         << "  grain volume fraction  "
         << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'

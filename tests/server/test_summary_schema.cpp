@@ -153,7 +153,12 @@ TEST(SummarySchemaRealRunner, ARealCampaignsSummaryIsWhatTheOpenApiDocumentSays)
     TempDir tmp;
     ServerProcess server(tmp.path() / "data",
         {"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "2", "--max-steps-per-job", "1e8"});
-    const auto r = http(server.port(), "POST", "/v1/jobs", read_file(fs::path(WIREDEM_SOURCE_DIR) / "tests/web/job.json"));
+    // With a short free-standing test, so that its part of the summary is checked too.
+    json::object spec = json::parse(read_file(fs::path(WIREDEM_SOURCE_DIR) / "tests/web/job.json")).as_object();
+    spec["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"dead_load_n", 0.05}, {"dead_load_hold_time_s", 0.01},
+        {"plate_speed_m_per_s", 0.02}, {"target_axial_strain", 0.03}, {"sample_interval_s", 0.0005}};
+    const auto r = http(server.port(), "POST", "/v1/jobs", json::serialize(spec));
     ASSERT_EQ(r.status, 201) << r.body;
     const std::string id(r.json().at("id").as_string());
     const auto job = poll_job(server.port(), id, [](const json::value& j) {
@@ -173,6 +178,7 @@ TEST(SummarySchemaRealRunner, ARealCampaignsSummaryIsWhatTheOpenApiDocumentSays)
     // The run went through the branches that give numbers, not nulls.
     EXPECT_TRUE(summary.at_pointer("/tests/0/yield").is_object());
     EXPECT_TRUE(summary.at_pointer("/wire/autocorrelation_lag_m").is_number()) << reply.body;
+    EXPECT_TRUE(summary.at_pointer("/free_standing/dead_load").is_object()) << reply.body;
 
     // A drift of the writer, one key more and one type changed: exactly those two.
     json::value drifted = summary;

@@ -228,6 +228,59 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
     fs::remove_all(dir);
 }
 
+// A job with a free-standing test (examples/tiny.json with the test asked
+// for): summary.json's free_standing and result.h5's /free_standing say the
+// same, the weight the column settles with is its real weight under the
+// mass scaling (150 grains of r_p = 1.23 mm, 7800 kg/m³: Σ m g, not s Σ m g),
+// and the predicted unconfined strength is the envelope's 2c cos φ/(1 − sin φ).
+TEST(Campaign, AFreeStandingTestIsInTheSummaryAndTheResultFile)
+{
+    const fs::path dir = fresh_dir("free_standing"), out = dir / "out";
+    json::object job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json")).as_object();
+    job["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    job["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.1}, {"dead_load_n", 0.05}, {"dead_load_hold_time_s", 0.01},
+        {"plate_speed_m_per_s", 0.02}, {"target_axial_strain", 0.05}, {"sample_interval_s", 0.0005}};
+    {
+        std::ofstream o(dir / "job.json");
+        o << json::serialize(job);
+    }
+    const int status = run_binary(dir / "job.json", out, dir / "log");
+    const std::string err = read_text(dir / "log.stderr");
+    ASSERT_TRUE(WIFEXITED(status)) << err;
+    ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+    EXPECT_TRUE(fs::exists(out / "tests/free_standing.h5"));
+
+    const json::value s = json::parse(read_text(out / "summary.json"));
+    const json::value& fsj = at(s, {"free_standing"});
+    const double r = 1.23e-3, weight_n = 150 * 7800.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r * 10.0;
+    EXPECT_NEAR(at(fsj, {"settling", "weight_n"}).to_number<double>(), weight_n, 1e-9 * weight_n);
+    EXPECT_GT(at(fsj, {"settling", "height_before_m"}).to_number<double>(), 0.0);
+    EXPECT_TRUE(at(fsj, {"settling", "stands"}).is_bool());
+    EXPECT_EQ(at(fsj, {"dead_load", "force_n"}).to_number<double>(), 0.05);
+    const json::value& mc = at(s, {"mohr_coulomb"});
+    const json::value& predicted = at(fsj, {"compression", "predicted_unconfined_strength_pa"});
+    if (mc.at("friction_angle_deg").is_number()) {
+        const double phi = mc.at("friction_angle_deg").to_number<double>() * std::numbers::pi / 180.0;
+        const double c = mc.at("cohesion_pa").to_number<double>();
+        EXPECT_NEAR(predicted.to_number<double>(), 2 * c * std::cos(phi) / (1 - std::sin(phi)), 1e-9 * (std::abs(c) + 1));
+    }
+
+    const File f = File::open_read_only(out / "result.h5");
+    ASSERT_TRUE(f.root().exists("free_standing"));
+    const auto g = f.root().open_group("free_standing");
+    EXPECT_DOUBLE_EQ(g.read_double_attribute("weight_n"), at(fsj, {"settling", "weight_n"}).to_number<double>());
+    EXPECT_DOUBLE_EQ(g.read_double_attribute("height_loss"), at(fsj, {"settling", "height_loss"}).to_number<double>());
+    if (g.has_attribute("strength_smoothed_maximum"))
+        EXPECT_DOUBLE_EQ(g.read_double_attribute("strength_smoothed_maximum"),
+            at(fsj, {"compression", "unconfined_strength_pa"}).to_number<double>());
+    const std::size_t rows = g.open_dataset("sigma1_pa").shape().at(0);
+    EXPECT_GT(rows, 10u);
+    EXPECT_EQ(g.open_dataset("phase").shape().at(0), rows);
+    EXPECT_EQ(g.open_group("profile_settled").open_dataset("radius_m").read_string_attribute("units"), "m");
+    fs::remove_all(dir);
+}
+
 TEST(Campaign, SigtermStopsTheRunWithinASecondWithExitCode143)
 {
     const fs::path dir = fresh_dir("sigterm");
