@@ -4,6 +4,8 @@
 
 #include <boost/json.hpp>
 
+#include <limits>
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -402,6 +404,11 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots
     if (snapshots == Snapshots::skip) return r;
     r.snapshots = read_snapshots(g);
     return r;
+}
+
+double wire_length_per_volume_m_per_m3(const eng::PreparationReport& r)
+{
+    return r.sample_volume_m3 > 0.0 ? r.wire_length_m / r.sample_volume_m3 : std::numeric_limits<double>::quiet_NaN();
 }
 
 void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)

@@ -112,6 +112,10 @@ struct TestSoFar {
 [[nodiscard]] TestSoFar read_test_so_far(const JobDir& dir, std::size_t k, Snapshots snapshots);
 [[nodiscard]] std::string_view to_string(TestSoFar::State s);
 
+/// String length per volume: metres of wire per m³ of column (the sample
+/// volume π R² h), as printed columns are designed [m/m³]; NaN without a volume.
+[[nodiscard]] double wire_length_per_volume_m_per_m3(const engine::PreparationReport& r);
+
 /// The preparation report, as attributes (the specimen group of result.h5).
 void write_preparation_report(engine::io::Group& g, const engine::PreparationReport& r);
 [[nodiscard]] engine::PreparationReport read_preparation_report(const engine::io::Group& g);

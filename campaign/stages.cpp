@@ -801,6 +801,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         json::object sp;
         sp["grain_volume_fraction"] = prep.grain_volume_fraction;
         sp["wire_volume_fraction"] = prep.wire_volume_fraction;
+        sp["wire_length_per_volume_m_per_m3"] = finite_or_null(wire_length_per_volume_m_per_m3(prep));
         sp["core_grain_volume_fraction"] = prep.core_grain_volume_fraction;
         sp["core_wire_volume_fraction"] = prep.core_wire_volume_fraction;
         sp["sample_volume_m3"] = prep.sample_volume_m3;

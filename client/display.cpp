@@ -307,6 +307,8 @@ std::string format_summary(const json::value& summary)
         << "  grain volume fraction  "
         << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
         << "  wire volume fraction   " << fmt("%.5f", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'
+        << "  wire per volume        "
+        << fmt("%.4g m/m^3", number(at(summary, {"specimen", "wire_length_per_volume_m_per_m3"}))) << '\n'
         << "  sample volume          " << fmt("%.4g m^3", number(at(summary, {"specimen", "sample_volume_m3"}))) << '\n'
         << "  grains                 " << fmt("%.0f", number(at(summary, {"specimen", "grains"}))) << '\n'
         << "  wire nodes             " << fmt("%.0f", number(at(summary, {"specimen", "wire_nodes"}))) << '\n'
