@@ -271,9 +271,10 @@ TEST(Campaign, AFreeStandingTestIsInTheSummaryAndTheResultFile)
     const auto g = f.root().open_group("free_standing");
     EXPECT_DOUBLE_EQ(g.read_double_attribute("weight_n"), at(fsj, {"settling", "weight_n"}).to_number<double>());
     EXPECT_DOUBLE_EQ(g.read_double_attribute("height_loss"), at(fsj, {"settling", "height_loss"}).to_number<double>());
-    if (g.has_attribute("strength_smoothed_maximum"))
+    if (g.has_attribute("strength_smoothed_maximum")) {
         EXPECT_DOUBLE_EQ(g.read_double_attribute("strength_smoothed_maximum"),
             at(fsj, {"compression", "unconfined_strength_pa"}).to_number<double>());
+    }
     const std::size_t rows = g.open_dataset("sigma1_pa").shape().at(0);
     EXPECT_GT(rows, 10u);
     EXPECT_EQ(g.open_dataset("phase").shape().at(0), rows);
