@@ -9,6 +9,7 @@
 #include "integrate/gear5.hpp"
 #include "integrate/verlet.hpp"
 #include "laws/hertz.hpp"
+#include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 
 #include <algorithm>
@@ -387,6 +388,29 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     const Vec3 no_spin = Vec3::Zero();
     auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? in.spin_dt[b.index()] : no_spin; };
 
+    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
+    // only (wire and membrane nodes do not turn): the list keeps its springs
+    // while the law is on. With it on, every contact takes the scalar kernel
+    // (the SIMD kernels have no rolling law; docs/model.md, "Rolling
+    // resistance", measures the cost).
+    const RollingParams& rolling = w.contact.rolling;
+    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
+    const TranslationalState& grains = w.of(BodyKind::grain);
+    const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
+    // 1/(I + m r²): a grain's inverse inertia about a point of its surface
+    // (0 for a grain that must not turn).
+    auto inverse_inertia_about_contact = [&](std::uint32_t i) {
+        return inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+    };
+    auto roll = [&](std::size_t p, const ContactGeometry& g, const Vec3& relative_spin_dt, double eff_radius_m,
+                    double inverse_inertia) {
+        if (!(inverse_inertia > 0.0)) return; // neither side turns
+        const RollingResult r = rolling_torque(c.rolling_rad[p], g.normal, relative_spin_dt * in.inv_dt,
+            c.output[p].normal_force_n, eff_radius_m, in.tangential.stiffness_per_m, 1.0 / inverse_inertia, rolling, in.dt);
+        if (memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
+        c.rolling_torque_n_m[p] = r.torque_n_m;
+    };
+
     // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
     const std::size_t pairs = c.pair_count();
     auto pair = [&](std::size_t p) {
@@ -397,6 +421,9 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
+        if (rolling.on() && overlaps && a.kind() == BodyKind::grain && b.kind() == BodyKind::grain)
+            roll(p, g, in.spin_dt[ia] - in.spin_dt[ib], effective_radius_m(in.radius[ka][ia], in.radius[kb][ib]),
+                inverse_inertia_about_contact(ia) + inverse_inertia_about_contact(ib));
     };
     // The near pairs only (NearPairs: the others are apart); four or eight
     // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
@@ -405,7 +432,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         w.near.for_build == w.neighbour_builds && (w.near.all || w.near.position_m.size() == w.body_count()),
         "compute_contact_forces: the near pairs are not those of the contact list (update_neighbours first)");
     const std::vector<std::uint32_t>& near = w.near.pairs;
-    const SimdContactKernels simd = simd_contact_kernels();
+    const SimdContactKernels simd = rolling.on() ? SimdContactKernels{} : simd_contact_kernels();
     const std::size_t lanes = simd.lanes;
     constexpr std::size_t pair_block = 256;
     parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
@@ -429,6 +456,8 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         const bool overlaps = sphere_wall_geometry(
             w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
+        if (rolling.on() && overlaps && a.kind() == BodyKind::grain) // R* = r; the wall does not turn
+            roll(p, g, in.spin_dt[ia], in.radius[ka][ia], inverse_inertia_about_contact(ia));
     };
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = pairs + begin; p < pairs + end;) {
@@ -541,6 +570,22 @@ void gather_forces(World& w, ThreadPool& pool)
         in.force_n = w.body_force_n[k].data();
         if (kind == BodyKind::grain) in.torque_n_m = w.grain_torque_n_m.data();
         parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
+    }
+    // Rolling torques (with the rolling law on): each grain adds its
+    // contacts' in the order of its incidences, after the rest of its
+    // torque. Only grains turn; a contact that does not roll holds zero.
+    const ContactList& c = w.contacts;
+    if (!c.rolling_torque_n_m.empty()) {
+        const std::uint32_t* start = w.near.incidence_start_of(c).data() + w.flat_offset(BodyKind::grain);
+        const Incidence* incidence = w.near.incidence_of(c).data();
+        parallel_for_blocks(pool, w.of(BodyKind::grain).size(), 256, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                Vec3 tau = w.grain_torque_n_m[i];
+                for (std::uint32_t e = start[i]; e < start[i + 1]; ++e)
+                    tau += incidence[e].sign() * c.rolling_torque_n_m[incidence[e].contact()];
+                w.grain_torque_n_m[i] = tau;
+            }
+        });
     }
     for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }

@@ -204,6 +204,10 @@ std::string mismatched_sizes(const World& w)
     check(error, m.node_fixed.size(), membrane_nodes, "membrane/node_fixed");
     check(error, m.node_mass_kg.size(), membrane_nodes, "membrane/node_mass_kg");
     check(error, w.membrane_forces.node_force_n.size(), membrane_nodes, "membrane/node_force_n");
+    if (w.contact.rolling.on()) {
+        check(error, w.contacts.rolling_rad.size(), w.contacts.size(), "contacts/rolling_rad");
+        check(error, w.contacts.rolling_torque_n_m.size(), w.contacts.size(), "contacts/rolling_torque_n_m");
+    }
     for (const auto& [body, f] : w.point_loads)
         if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
             error = "field point_loads names a body that does not exist";
@@ -291,6 +295,8 @@ Result<World, std::string> restore_snapshot(
         const bool bending_in_records = version <= 5;
         // Versions 2 to 5 work the skin out every step: the list's is today's.
         const bool skin_not_kept = version <= 5;
+        // Versions 2 to 6 have no rolling resistance: the law is off.
+        const bool rolling_not_kept = version <= 6;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
@@ -302,6 +308,7 @@ Result<World, std::string> restore_snapshot(
             if (outputs_in_four_arrays && name == "contacts/output") return;  // below
             if (bending_in_records && name.starts_with("wire/bending_force_on_")) return; // below
             if (skin_not_kept && name == "skin_at_build_m") return;                       // below
+            if (rolling_not_kept && name.starts_with("contact/rolling_")) return;         // off
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;
