@@ -620,6 +620,7 @@ void read_pouring(ObjectReader& r, PouringSpec& p)
 /// The diameters of a grain-size curve: the radii grain_radius_m allows, doubled.
 constexpr Range grain_diameter_range = closed(2e-5, 0.2);
 constexpr std::size_t max_grain_size_points = 64;
+constexpr double min_grain_size_ratio = 1.001;
 
 /// specimen.grain_sizes: null (or absent), or a curve. Its fields are
 /// described inside the one schema entry (a curve is all or nothing).
@@ -661,6 +662,15 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
         v.fail(c.path_of("diameters_m"), "is missing: a curve needs its diameters");
         ok = false;
     }
+    // Sizes that cannot be told apart make an interval whose grains have no
+    // width to be drawn in (its number integral can round to zero).
+    for (std::size_t k = 1; ok && k < g.diameters_m.size(); ++k)
+        if (g.diameters_m[k] < min_grain_size_ratio * g.diameters_m[k - 1]) {
+            v.fail(index_path(c.path_of("diameters_m"), k),
+                exact_text(g.diameters_m[k]) + " is within 0.1 % of the previous size " + exact_text(g.diameters_m[k - 1])
+                    + "; sizes of a curve must differ by more than that");
+            ok = false;
+        }
     // The fractions: numbers in [0, 1], nondecreasing, one per diameter,
     // from 0 (nothing passes the smallest size: it bounds the grains) to 1.
     const std::string fpath = c.path_of("fraction_passing");
@@ -975,7 +985,7 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 // ------------------------------------------------------- cross-field checks
 
 /// The fields that set the grains' sizes (a curve, or a radius and spread).
-constexpr std::initializer_list<std::string_view> grain_size_fields{
+const std::initializer_list<std::string_view> grain_size_fields{
     "specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.grain_sizes"};
 
 void check_grain_size(Validator& v, const JobSpec& spec)

@@ -29,7 +29,7 @@ GrainSizeDistribution::GrainSizeDistribution(const SieveCurve& curve)
     : d_(curve.diameters_m), p_(curve.basis == SieveCurve::Basis::mass ? -4 : -1)
 {
     const std::size_t n = d_.size();
-    WIREDEM_ASSERT(n >= 2 && curve.fraction_passing.size() == n);
+    WIREDEM_ASSERT(n >= 2 && curve.fraction_passing.size() == n, "a curve has two sizes or more, a fraction for each");
     number_cum_.assign(n, 0.0);
     mass_cum_.assign(n, 0.0);
     // Interval k: the given basis has density w/D, w = ΔP / ln(b/a); by
@@ -41,7 +41,7 @@ GrainSizeDistribution::GrainSizeDistribution(const SieveCurve& curve)
         mass_cum_[k + 1] = mass_cum_[k] + w * power_integral(p_ + 3, a, b);
     }
     const double number = number_cum_.back(), mass = mass_cum_.back();
-    WIREDEM_ASSERT(number > 0.0 && mass > 0.0);
+    WIREDEM_ASSERT(number > 0.0 && mass > 0.0, "the curve's fractions rise somewhere");
     mean_cubed_m3_ = mass / number;
     for (std::size_t k = 0; k < n; ++k) {
         number_cum_[k] /= number;
@@ -80,7 +80,7 @@ GradingFigures grading_figures(const GrainSizeDistribution& requested)
 
 GradingFigures grading_figures(std::span<const double> diameters_m)
 {
-    WIREDEM_ASSERT(!diameters_m.empty());
+    WIREDEM_ASSERT(!diameters_m.empty(), "grading figures of no grains");
     std::vector<double> d(diameters_m.begin(), diameters_m.end());
     std::sort(d.begin(), d.end());
     std::vector<double> cum(d.size());
@@ -100,7 +100,7 @@ GradingFigures grading_figures(std::span<const double> diameters_m)
 
 double kolmogorov_smirnov_distance(std::span<const double> diameters_m, const GrainSizeDistribution& requested)
 {
-    WIREDEM_ASSERT(!diameters_m.empty());
+    WIREDEM_ASSERT(!diameters_m.empty(), "a distance of no grains");
     std::vector<double> d(diameters_m.begin(), diameters_m.end());
     std::sort(d.begin(), d.end());
     const double n = static_cast<double>(d.size());

@@ -383,10 +383,11 @@ void for_each_field(W& w, Visit&& field)
     auto& c = w.contacts;
     field("contacts/tangential", c.tangential, R::state);
     field("contacts/touching", c.touching, R::state);
-    // The rolling springs exist only with the rolling law on (read above,
-    // before this point, when a snapshot is restored): without it, neither
-    // the hash nor a snapshot changes.
-    if (w.contact.rolling.on()) {
+    // The rolling springs exist only while the rolling law is on and the
+    // list has contacts (ContactList::keep_rolling): listed only then, so
+    // that without them neither the hash nor a snapshot changes (a restore
+    // marks them present first when the file has them: io/snapshot.cpp).
+    if (!c.rolling_rad.empty()) {
         field("contacts/rolling_rad", c.rolling_rad, R::state);
         field("contacts/rolling_torque_n_m", c.rolling_torque_n_m, R::output);
     }

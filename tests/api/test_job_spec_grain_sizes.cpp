@@ -82,6 +82,8 @@ TEST(JobSpecGrainSizes, RefusesACurveThatCannotBeDrawnFrom)
 {
     expect_refused(job_with(R"({"diameters_m": [2e-3, 1e-3], "fraction_passing": [0, 1]})"),
         "specimen.grain_sizes.diameters_m[1]", "is not greater than the previous entry");
+    expect_refused(job_with(R"({"diameters_m": [1e-3, 1.0005e-3], "fraction_passing": [0, 1]})"),
+        "specimen.grain_sizes.diameters_m[1]", "is within 0.1 % of the previous size");
     expect_refused(job_with(R"({"diameters_m": [1e-5, 1e-3], "fraction_passing": [0, 1]})"),
         "specimen.grain_sizes.diameters_m[0]", "1e-05 is out of range [2e-05, 0.2]");
     expect_refused(job_with(R"({"diameters_m": [1e-3, 0.3], "fraction_passing": [0, 1]})"),

@@ -8,6 +8,7 @@
 // and continue bit-identically from a snapshot.
 #include "energy.hpp"
 #include "helpers.hpp"
+#include "io/hdf5.hpp"
 #include "io/snapshot.hpp"
 #include "laws/rolling.hpp"
 #include "state/state_hash.hpp"
@@ -148,43 +149,46 @@ TEST(RollingBall, OnAFlatPlateStopsWhereTheLawSays)
 TEST(RollingBall, OnAnInclineHoldsBelowTanBetaEqualsMuRAndRollsAbove)
 {
     // Gravity's torque about the contact point, m g r sin β, against the
-    // limit μ_r r m g cos β: the ball holds while tan β ≤ μ_r; above, it
-    // rolls with a = (5/7) g (sin β − μ_r cos β).
-    const double mu_r = 0.1;
-    // Held at tan β = 0.6 μ_r: the step load of gravity winds the spring
-    // past its equilibrium by the damped overshoot e^{−πη/√(1−η²)} = 0.37,
-    // to 0.82 θ_lim, still below the limit.
+    // limit μ_r r m g cos β: the ball holds while tan β ≤ μ_r, its spring at
+    // the angle of the statics, θ = m g r sin β / k_r = tan β/(k_t r) =
+    // (tan β/μ_r) θ_lim; above, it rolls with a = (5/7) g (sin β − μ_r cos β).
+    // The plane tilts from level to β over the first 0.02 s (gravity turns),
+    // so that no dynamic overshoot winds the spring past its statics.
+    const double mu_r = 0.1, ramp_s = 0.02;
     for (const double ratio : {0.6, 1.25}) {
         const double beta = std::atan(ratio * mu_r);
-        const Vec3 down(std::sin(beta), 0.0, -std::cos(beta));
+        auto down_at = [&](double tilt) { return Vec3(std::sin(tilt), 0.0, -std::cos(tilt)); };
         Simulation sim(1);
         World& w = sim.world;
-        ball_on_floor(w, mu_r, 0.3, down);
-        // Positions at 0.02, 0.06 and 0.1 s (the tangential spring rings
-        // at ~1 mm/s, so no speeds), and the largest angle turned.
-        const auto block = static_cast<std::uint64_t>(0.02 / w.dt_s);
-        std::vector<double> x;
-        double turned = 0.0;
-        for (int b = 1; b <= 5; ++b) {
-            for (std::uint64_t s = 0; s < block; s += 100) {
-                ASSERT_EQ(sim.run(100).end, RunEnd::completed);
-                turned = std::max(turned, Eigen::AngleAxisd(w.grain_rotation.orientation[0]).angle());
-            }
-            if (b % 2 == 1) x.push_back(w.bodies[0].x[0][0].x());
+        ball_on_floor(w, mu_r, 0.3, down_at(0.0));
+        const std::uint64_t block = 100;
+        const auto blocks = static_cast<int>(0.1 / (static_cast<double>(block) * w.dt_s));
+        const int ramp_blocks = static_cast<int>(ramp_s / (static_cast<double>(block) * w.dt_s));
+        // Positions at three equally spaced times from twice the ramp on.
+        const int b1 = 2 * ramp_blocks, half = (blocks - b1) / 2, b2 = b1 + half, b3 = b1 + 2 * half;
+        std::vector<std::pair<double, double>> samples; // (t, x)
+        double turned = 0.0;                            // the largest angle the ball turned [rad]
+        for (int b = 1; b <= blocks; ++b) {
+            w.gravity_m_per_s2 = g_m_per_s2 * down_at(beta * std::min(1.0, static_cast<double>(b) / ramp_blocks));
+            ASSERT_EQ(sim.run(block).end, RunEnd::completed);
+            turned = std::max(turned, Eigen::AngleAxisd(w.grain_rotation.orientation[0]).angle());
+            if (b == b1 || b == b2 || b == b3) samples.push_back({w.time_s, w.bodies[0].x[0][0].x()});
         }
-        const double interval = 2.0 * static_cast<double>(((block + 99) / 100) * 100) * w.dt_s;
         if (ratio < 1.0) {
-            // Held by the spring: turned by less than θ_lim.
-            EXPECT_LT(turned, limit_angle_rad(w)) << "tan β = " << ratio << " μ_r";
-            EXPECT_GT(turned, 0.3 * limit_angle_rad(w)) << "the spring holds it, at tan β/μ_r of θ_lim";
+            // Held: turned by less than θ_lim, its spring at the statics' angle.
+            EXPECT_LT(turned, limit_angle_rad(w));
+            const std::size_t p = w.contacts.find(BodyRef(BodyKind::grain, 0), wall_ref(0)).value();
+            EXPECT_NEAR(w.contacts.rolling_rad[p].norm(), ratio * limit_angle_rad(w), 2e-2 * ratio * limit_angle_rad(w));
         } else {
-            // The acceleration from the second difference of the positions,
-            // which the spring's wind-up in the first 2 ms (it leaves the
-            // ball ~1 mm/s faster than a constant a would) does not enter.
-            // Its error: 0.1 µm of ringing in each position, 2e-3 of a.
+            // The acceleration from the second difference of three positions
+            // equally spaced in time (speeds ring with the tangential
+            // spring, ~1 mm/s; positions by ~0.1 µm: 1e-3 of a here).
+            ASSERT_EQ(samples.size(), 3u);
+            const double h = samples[1].first - samples[0].first;
+            ASSERT_NEAR(samples[2].first - samples[1].first, h, 1e-9 * h);
             const double a = 5.0 / 7.0 * g_m_per_s2 * (std::sin(beta) - mu_r * std::cos(beta));
-            const double measured = (x[2] - 2.0 * x[1] + x[0]) / (interval * interval);
-            EXPECT_NEAR(measured, a, 1e-2 * a) << "tan β = " << ratio << " μ_r";
+            const double measured = (samples[2].second - 2.0 * samples[1].second + samples[0].second) / (h * h);
+            EXPECT_NEAR(measured, a, 1e-2 * a);
         }
     }
 }
@@ -193,8 +197,8 @@ TEST(RollingBall, DissipatesEnergyAndNeverCreatesIt)
 {
     // The rolling ball of the flat-plate test, its mechanical energy sampled
     // every 100 steps: it never rises by more than the springs can hold
-    // (½ M_max θ_lim for the rolling one, ½ μ F_t-spring's for the
-    // tangential one, both below 1e-3 of the kinetic energy), and ends at
+    // (½ M_max θ_lim for the rolling one, ½ μ F_n · μ/k_t for the
+    // tangential one: together 3e-3 of the kinetic energy), and ends at
     // the energy of the ball at rest.
     const double mu_r = 0.1, v0 = 0.05;
     Simulation sim(1);
@@ -207,7 +211,7 @@ TEST(RollingBall, DissipatesEnergyAndNeverCreatesIt)
     const double springs = 0.5 * mu_r * radius_m * m * g_m_per_s2 * limit_angle_rad(w)
                          + 0.5 * w.contact.tangential.friction_coeff * m * g_m_per_s2
                                * (w.contact.tangential.friction_coeff / w.contact.tangential.stiffness_per_m);
-    ASSERT_LT(springs, 1e-3 * kinetic);
+    ASSERT_LT(springs, 1e-2 * kinetic);
     double previous = mechanical_energy_j(sim);
     const double start = previous;
     const auto blocks = static_cast<int>(1.5 * v0 / (5.0 / 7.0 * mu_r * g_m_per_s2) / w.dt_s / 100);
@@ -273,7 +277,7 @@ std::vector<std::uint64_t> run_rolling_column(unsigned threads)
     }
     std::size_t rolling = 0;
     for (const Vec3& m : sim.world.contacts.rolling_torque_n_m) rolling += m.norm() > 0.0;
-    EXPECT_GT(rolling, 50u) << "contacts roll";
+    EXPECT_GT(rolling, 20u) << "contacts roll";
     return hashes;
 }
 
@@ -302,7 +306,7 @@ TEST(RollingGrains, ASnapshotContinuesBitIdentically)
     ASSERT_EQ(original.run(600).end, RunEnd::completed);
     std::size_t springs = 0;
     for (const Vec3& t : original.world.contacts.rolling_rad) springs += t.norm() > 0.0;
-    ASSERT_GT(springs, 50u);
+    ASSERT_GT(springs, 20u);
     const std::filesystem::path path
         = std::filesystem::temp_directory_path() / ("wiredem_test_rolling_" + std::to_string(::getpid()) + ".h5");
     const auto saved = save_snapshot(original.world, path);
@@ -319,4 +323,24 @@ TEST(RollingGrains, ASnapshotContinuesBitIdentically)
         ASSERT_EQ(resumed.run(100).end, RunEnd::completed);
         ASSERT_EQ(state_hash(resumed.world), state_hash(original.world)) << "after " << (block + 1) * 100 << " steps";
     }
+}
+
+TEST(RollingGrains, AVersionSixSnapshotHasNoRollingLaw)
+{
+    // Snapshots before version 7 have no rolling parameters: the law is off
+    // in what they restore, whatever the file holds under those names.
+    Simulation sim(1);
+    build_kicked_column(sim.world, 7, 3, 1.0);
+    ASSERT_EQ(sim.run(100).end, RunEnd::completed);
+    World w = sim.world;
+    w.contact.rolling = RollingParams{0.2, 1.0, 0.1};
+    const std::filesystem::path path
+        = std::filesystem::temp_directory_path() / ("wiredem_test_rolling_v6_" + std::to_string(::getpid()) + ".h5");
+    ASSERT_TRUE(save_snapshot(w, path).ok());
+    io::File::open_read_write(path).root().write_int_attribute("version", 6);
+    auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(r.ok()) << r.error();
+    EXPECT_FALSE(r.value().contact.rolling.on());
+    EXPECT_EQ(state_hash(r.value()), state_hash(sim.world));
 }
