@@ -638,12 +638,14 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
             {"maxItems", max_grain_size_points},
             {"description", "P_k, the fraction passing D_k: one per diameter, nondecreasing, the first 0 and the last 1"},
             {"x-unit", "1"}};
-        json::object curve{{"type", "object"},
+        // One schema entry, an object or null (as the optional numbers are
+        // a number or null); its own fields are described inside it.
+        json::object curve{{"type", json::array{"object", "null"}}, {"default", nullptr},
             {"properties", json::object{{"basis", json::object{{"type", "string"}, {"enum", std::move(bases)}, {"default", "mass"},
                                                      {"description", "what the fractions count: mass (a sieve analysis) or number"}}},
                                {"diameters_m", std::move(diameters)}, {"fraction_passing", std::move(fractions)}}},
             {"required", json::array{"diameters_m", "fraction_passing"}}, {"additionalProperties", false}};
-        r.describe(key, json::object{{"oneOf", json::array{json::object{{"type", "null"}}, std::move(curve)}}, {"default", nullptr}},
+        r.describe(key, std::move(curve),
             {nullptr, "a grain-size curve to draw the grains from instead of grain_radius_m and grain_radius_spread (leave those out): {\"basis\": \"mass\" or \"number\", \"diameters_m\": [D_k], \"fraction_passing\": [P_k]}, linear in log D between sizes (docs/model.md, \"Size distribution\"); null: the spread"});
     }
     const json::value* j = r.take(key);

@@ -791,10 +791,10 @@ double estimated_fill_height_m(const PreparationSpec& spec)
 {
     // Radii uniform in r (1 ± s): E[r³] = r³ (1 + s²); from a curve,
     // E[r³] = E[D³]/8. (Two products: the spread's keeps its operations.)
-    const double grains_m = static_cast<double>(spec.grain_count) * 4.0 / 3.0 * std::numbers::pi;
+    const double grains_4pi_3 = static_cast<double>(spec.grain_count) * 4.0 / 3.0 * std::numbers::pi; // N · 4π/3
     const double grain_volume_m3 = spec.grain_sizes
-        ? grains_m * (GrainSizeDistribution(*spec.grain_sizes).mean_cubed_diameter_m3() / 8.0)
-        : grains_m * std::pow(spec.grain_radius_m, 3) * (1.0 + spec.grain_radius_spread * spec.grain_radius_spread);
+        ? grains_4pi_3 * (GrainSizeDistribution(*spec.grain_sizes).mean_cubed_diameter_m3() / 8.0)
+        : grains_4pi_3 * std::pow(spec.grain_radius_m, 3) * (1.0 + spec.grain_radius_spread * spec.grain_radius_spread);
     return grain_volume_m3 / (assumed_packing_fraction * std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m);
 }
 
