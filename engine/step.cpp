@@ -388,29 +388,6 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     const Vec3 no_spin = Vec3::Zero();
     auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? in.spin_dt[b.index()] : no_spin; };
 
-    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
-    // only (wire and membrane nodes do not turn): the list keeps its springs
-    // while the law is on. With it on, every contact takes the scalar kernel
-    // (the SIMD kernels have no rolling law; docs/model.md, "Rolling
-    // resistance", measures the cost).
-    const RollingParams& rolling = w.contact.rolling;
-    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
-    const TranslationalState& grains = w.of(BodyKind::grain);
-    const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
-    // 1/(I + m r²): a grain's inverse inertia about a point of its surface
-    // (0 for a grain that must not turn).
-    auto inverse_inertia_about_contact = [&](std::uint32_t i) {
-        return inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
-    };
-    auto roll = [&](std::size_t p, const ContactGeometry& g, const Vec3& relative_spin_dt, double eff_radius_m,
-                    double inverse_inertia) {
-        if (!(inverse_inertia > 0.0)) return; // neither side turns
-        const RollingResult r = rolling_torque(c.rolling_rad[p], g.normal, relative_spin_dt * in.inv_dt,
-            c.output[p].normal_force_n, eff_radius_m, in.tangential.stiffness_per_m, 1.0 / inverse_inertia, rolling, in.dt);
-        if (memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
-        c.rolling_torque_n_m[p] = r.torque_n_m;
-    };
-
     // Body pairs, then body–wall contacts: two geometry adapters, one kernel.
     const std::size_t pairs = c.pair_count();
     auto pair = [&](std::size_t p) {
@@ -421,9 +398,6 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
-        if (rolling.on() && overlaps && a.kind() == BodyKind::grain && b.kind() == BodyKind::grain)
-            roll(p, g, in.spin_dt[ia] - in.spin_dt[ib], effective_radius_m(in.radius[ka][ia], in.radius[kb][ib]),
-                inverse_inertia_about_contact(ia) + inverse_inertia_about_contact(ib));
     };
     // The near pairs only (NearPairs: the others are apart); four or eight
     // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
@@ -432,7 +406,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         w.near.for_build == w.neighbour_builds && (w.near.all || w.near.position_m.size() == w.body_count()),
         "compute_contact_forces: the near pairs are not those of the contact list (update_neighbours first)");
     const std::vector<std::uint32_t>& near = w.near.pairs;
-    const SimdContactKernels simd = rolling.on() ? SimdContactKernels{} : simd_contact_kernels();
+    const SimdContactKernels simd = simd_contact_kernels();
     const std::size_t lanes = simd.lanes;
     constexpr std::size_t pair_block = 256;
     parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
@@ -456,8 +430,6 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         const bool overlaps = sphere_wall_geometry(
             w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
         evaluate_contact(c, p, overlaps, g, in);
-        if (rolling.on() && overlaps && a.kind() == BodyKind::grain) // R* = r; the wall does not turn
-            roll(p, g, in.spin_dt[ia], in.radius[ka][ia], inverse_inertia_about_contact(ia));
     };
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = pairs + begin; p < pairs + end;) {
@@ -473,6 +445,54 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             }
         }
     });
+
+    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
+    // only (wire and membrane nodes do not turn), after the force kernels,
+    // from what they wrote (touching, |F_n|): one scalar pass for every SIMD
+    // choice, so the bits do not depend on it. The list keeps its springs
+    // while the law is on.
+    const RollingParams& rolling = w.contact.rolling;
+    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
+    if (rolling.on()) {
+        const TranslationalState& grains = w.of(BodyKind::grain);
+        const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
+        // 1/(I + m r²): a grain's inverse inertia about a point of its
+        // surface (0 for a grain that must not turn).
+        auto inverse_inertia_about_contact = [&](std::uint32_t i) {
+            return inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+        };
+        auto roll = [&](std::size_t p, const Vec3& normal, const Vec3& relative_spin_dt, double eff_radius_m,
+                        double inverse_inertia) {
+            if (!(inverse_inertia > 0.0)) return; // neither side turns
+            const RollingResult r = rolling_torque(c.rolling_rad[p], normal, relative_spin_dt * in.inv_dt,
+                c.output[p].normal_force_n, eff_radius_m, in.tangential.stiffness_per_m, 1.0 / inverse_inertia, rolling,
+                in.dt);
+            if (memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
+            c.rolling_torque_n_m[p] = r.torque_n_m;
+        };
+        const std::vector<BodyRef>& firsts = w.near.first_of(c);
+        const std::vector<BodyRef>& seconds = w.near.second_of(c);
+        const auto grain = static_cast<std::size_t>(BodyKind::grain);
+        parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::uint32_t p = near[k];
+                if (!c.touching[p] || firsts[k].kind() != BodyKind::grain || seconds[k].kind() != BodyKind::grain) continue;
+                const std::uint32_t ia = firsts[k].index(), ib = seconds[k].index();
+                const Vec3 d = in.x[grain][ib] - in.x[grain][ia]; // touching: not zero
+                roll(p, d * (1.0 / d.norm()), in.spin_dt[ia] - in.spin_dt[ib],
+                    effective_radius_m(in.radius[grain][ia], in.radius[grain][ib]),
+                    inverse_inertia_about_contact(ia) + inverse_inertia_about_contact(ib));
+            }
+        });
+        parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t p = pairs + begin; p < pairs + end; ++p) {
+                if (!c.touching[p] || c.first[p].kind() != BodyKind::grain) continue;
+                const std::uint32_t ia = c.first[p].index(); // R* = r; the wall does not turn
+                roll(p, wall_gap(w.walls[c.second[p].index()], in.x[grain][ia]).towards, in.spin_dt[ia],
+                    in.radius[grain][ia], inverse_inertia_about_contact(ia));
+            }
+        });
+    }
 
     // What the bodies exert on each wall, summed in contact order, one
     // reduction per body kind (a wall's contacts are sorted by kind): the

@@ -64,15 +64,16 @@ struct RollingResult {
     const double k_r = p.stiffness_factor * tangential_stiffness_per_m * normal_force_n * eff_radius_m * eff_radius_m;
     const double m_max = p.friction_coeff * eff_radius_m * normal_force_n;
     const double limit_rad = p.friction_coeff / (p.stiffness_factor * tangential_stiffness_per_m * eff_radius_m);
-    const double angle = theta.norm();
-    if (angle > limit_rad) {
+    const double angle2 = theta.squaredNorm(); // squares compared: a square root only where the limit binds
+    if (angle2 > limit_rad * limit_rad) {
         // Full mobilisation: the spring slips to the limit angle; no damping.
-        theta *= limit_rad / angle;
+        theta *= limit_rad / std::sqrt(angle2);
         return {-k_r * theta, theta};
     }
-    Vec3 torque = -k_r * theta - 2.0 * p.damping_ratio * std::sqrt(rolling_inertia_kg_m2 * k_r) * rolling;
-    const double m = torque.norm();
-    if (m > m_max) torque *= m_max / m;
+    Vec3 torque = -k_r * theta;
+    if (p.damping_ratio > 0.0) torque -= 2.0 * p.damping_ratio * std::sqrt(rolling_inertia_kg_m2 * k_r) * rolling;
+    const double m2 = torque.squaredNorm();
+    if (m2 > m_max * m_max) torque *= m_max / std::sqrt(m2);
     return {torque, theta};
 }
 
