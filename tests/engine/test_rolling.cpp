@@ -287,7 +287,8 @@ TEST(RollingGrains, SameBitsOnOneAndSeveralThreadsAndWithOrWithoutTheSimdPaths)
 {
     const std::vector<std::uint64_t> reference = run_rolling_column(1);
     EXPECT_EQ(run_rolling_column(3), reference);
-    // With rolling on, every contact takes the scalar kernel: the SIMD choice changes nothing.
+    // The force kernels run as every SIMD choice has them (the same bits);
+    // the rolling pass after them is scalar for all: the same bits again.
     const RestoreSimdKernels restore;
     set_simd_kernels(SimdKernels::scalar);
     EXPECT_EQ(run_rolling_column(2), reference);
