@@ -456,11 +456,14 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     if (rolling.on()) {
         const TranslationalState& grains = w.of(BodyKind::grain);
         const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
-        // 1/(I + m r²): a grain's inverse inertia about a point of its
-        // surface (0 for a grain that must not turn).
-        auto inverse_inertia_about_contact = [&](std::uint32_t i) {
-            return inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
-        };
+        // 1/(I + m r²): each grain's inverse inertia about a point of its
+        // surface (0 for a grain that must not turn), once per step.
+        std::vector<double> inverse_inertia_about_contact(grains.size());
+        parallel_for_blocks(pool, grains.size(), 1024, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+                inverse_inertia_about_contact[i]
+                    = inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+        });
         auto roll = [&](std::size_t p, const Vec3& normal, const Vec3& relative_spin_dt, double eff_radius_m,
                         double inverse_inertia) {
             if (!(inverse_inertia > 0.0)) return; // neither side turns
@@ -481,7 +484,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
                 const Vec3 d = in.x[grain][ib] - in.x[grain][ia]; // touching: not zero
                 roll(p, d * (1.0 / d.norm()), in.spin_dt[ia] - in.spin_dt[ib],
                     effective_radius_m(in.radius[grain][ia], in.radius[grain][ib]),
-                    inverse_inertia_about_contact(ia) + inverse_inertia_about_contact(ib));
+                    inverse_inertia_about_contact[ia] + inverse_inertia_about_contact[ib]);
             }
         });
         parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
@@ -489,7 +492,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
                 if (!c.touching[p] || c.first[p].kind() != BodyKind::grain) continue;
                 const std::uint32_t ia = c.first[p].index(); // R* = r; the wall does not turn
                 roll(p, wall_gap(w.walls[c.second[p].index()], in.x[grain][ia]).towards, in.spin_dt[ia],
-                    in.radius[grain][ia], inverse_inertia_about_contact(ia));
+                    in.radius[grain][ia], inverse_inertia_about_contact[ia]);
             }
         });
     }
