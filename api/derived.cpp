@@ -47,7 +47,7 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
     };
     engine::StabilityInputs in;
     // Density scaling multiplies every mass; the wire's once more.
-    const double smallest_grain_m = s.grain_radius_m * (1.0 - s.grain_radius_spread);
+    const double smallest_grain_m = engine::smallest_grain_radius_m(preparation_geometry(spec));
     in.kinds[0].include(engine::sphere_mass_kg(s.grain.density_kg_per_m3 * scale, smallest_grain_m), false,
         smallest_grain_m, plane_modulus_pa(s.grain));
     if (s.wire.pattern != WirePattern::none) {
@@ -164,7 +164,7 @@ double resolved_normal_damping_s(const JobSpec& spec)
         return given->normal_damping_s;
     const auto& e = std::get<NormalRestitution>(spec.contact.normal_damping);
     const SpecimenSpec& s = spec.specimen;
-    const double r = s.grain_radius_m;
+    const double r = reference_grain_radius_m(s);
     const double mass_kg = s.grain.density_kg_per_m3 * spec.engine.density_scale * 4.0 / 3.0 * std::numbers::pi * r * r * r;
     const double e_star = engine::effective_modulus_pa(
         s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.youngs_modulus_pa, s.grain.poisson_ratio);

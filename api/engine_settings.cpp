@@ -18,6 +18,21 @@ engine::PatternKind pattern_kind(WirePattern p)
     return engine::PatternKind::none;
 }
 
+engine::SieveCurve sieve_curve(const GrainSizesSpec& g)
+{
+    engine::SieveCurve c;
+    c.basis = g.basis == GrainSizeBasis::number ? engine::SieveCurve::Basis::number : engine::SieveCurve::Basis::mass;
+    c.diameters_m = g.diameters_m;
+    c.fraction_passing = g.fraction_passing;
+    return c;
+}
+
+double reference_grain_radius_m(const SpecimenSpec& s)
+{
+    if (!s.grain_sizes) return s.grain_radius_m;
+    return 0.5 * engine::GrainSizeDistribution(sieve_curve(*s.grain_sizes)).diameter_at_mass_fraction(0.5);
+}
+
 namespace {
 
 /// The preparation of a job; the normal damping resolved only when asked.
@@ -30,6 +45,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.grain_count = static_cast<std::size_t>(s.grain_count);
     p.grain_radius_m = s.grain_radius_m;
     p.grain_radius_spread = s.grain_radius_spread;
+    if (s.grain_sizes) p.grain_sizes = sieve_curve(*s.grain_sizes);
     p.grain = engine::Material{s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3};
     p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
     p.plate.poisson_ratio = s.plate.poisson_ratio;
@@ -65,6 +81,9 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.contact.tangential.friction_coeff = spec.contact.friction_coeff;
     p.contact.tangential.critical_slip_m = spec.contact.critical_slip_m;
     p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
+    p.contact.rolling.friction_coeff = spec.contact.rolling_friction_coeff;
+    p.contact.rolling.stiffness_factor = spec.contact.rolling_stiffness_factor;
+    p.contact.rolling.damping_ratio = spec.contact.rolling_damping_ratio;
 
     p.density_scale = spec.engine.density_scale;
     p.wire_mass_scale = spec.engine.wire_mass_scale;

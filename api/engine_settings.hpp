@@ -35,6 +35,12 @@ namespace wiredem::api {
 /// The settings of the job's free-standing test (free_standing; whether it
 /// runs is free_standing.enabled).
 [[nodiscard]] engine::FreeStandingSettings free_standing_settings(const JobSpec& spec);
+/// The engine's sieve curve for a job's grain sizes.
+[[nodiscard]] engine::SieveCurve sieve_curve(const GrainSizesSpec& g);
+
+/// The grain that stands for all where one size is needed (the restitution
+/// fit's head-on pair): r_p, or half the curve's D50 (by mass) [m].
+[[nodiscard]] double reference_grain_radius_m(const SpecimenSpec& s);
 
 /// The engine's pattern kind for a job's pattern.
 [[nodiscard]] engine::PatternKind pattern_kind(WirePattern p);

@@ -483,6 +483,11 @@ constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edg
     {"linear", MembraneEdges::linear},
 }};
 
+constexpr std::array<std::pair<std::string_view, GrainSizeBasis>, 2> grain_size_bases{{
+    {"mass", GrainSizeBasis::mass},
+    {"number", GrainSizeBasis::number},
+}};
+
 constexpr std::array<std::pair<std::string_view, Consolidation>, 2> consolidations{{
     {"cell_pressure", Consolidation::cell_pressure},
     {"effective", Consolidation::effective},
@@ -604,6 +609,112 @@ void read_pouring(ObjectReader& r, PouringSpec& p)
         {"s", "simulated time after which an unsettled preparation fails"});
 }
 
+/// The diameters of a grain-size curve: the radii grain_radius_m allows, doubled.
+constexpr Range grain_diameter_range = closed(2e-5, 0.2);
+constexpr std::size_t max_grain_size_points = 64;
+constexpr double min_grain_size_ratio = 1.001;
+
+/// specimen.grain_sizes: null (or absent), or a curve. Its fields are
+/// described inside the one schema entry (a curve is all or nothing).
+void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
+{
+    Validator& v = r.validator();
+    const std::string_view key = "grain_sizes";
+    if (v.recording()) {
+        json::array bases;
+        for (const auto& [name, value] : grain_size_bases) bases.push_back(json::string(name));
+        json::object diameters{{"type", "array"}, {"items", number_schema(grain_diameter_range)}, {"minItems", 2},
+            {"maxItems", max_grain_size_points}, {"description", "D_k, grain diameters (sieve apertures), strictly increasing"},
+            {"x-unit", "m"}};
+        json::object fractions{{"type", "array"}, {"items", number_schema(closed(0.0, 1.0))}, {"minItems", 2},
+            {"maxItems", max_grain_size_points},
+            {"description", "P_k, the fraction passing D_k: one per diameter, nondecreasing, the first 0 and the last 1"},
+            {"x-unit", "1"}};
+        // One schema entry, an object or null (as the optional numbers are
+        // a number or null); its own fields are described inside it.
+        json::object curve{{"type", json::array{"object", "null"}}, {"default", nullptr},
+            {"properties", json::object{{"basis", json::object{{"type", "string"}, {"enum", std::move(bases)}, {"default", "mass"},
+                                                     {"description", "what the fractions count: mass (a sieve analysis) or number"}}},
+                               {"diameters_m", std::move(diameters)}, {"fraction_passing", std::move(fractions)}}},
+            {"required", json::array{"diameters_m", "fraction_passing"}}, {"additionalProperties", false}};
+        r.describe(key, std::move(curve),
+            {nullptr, "a grain-size curve to draw the grains from instead of grain_radius_m and grain_radius_spread (leave those out): {\"basis\": \"mass\" or \"number\", \"diameters_m\": [D_k], \"fraction_passing\": [P_k]}, linear in log D between sizes (docs/model.md, \"Size distribution\"); null: the spread"});
+    }
+    const json::value* j = r.take(key);
+    if (j == nullptr || j->is_null()) return;
+    const std::string path = r.path_of(key);
+    if (!j->is_object()) {
+        v.fail(path, "expected an object or null, got " + std::string(kind_text(*j)));
+        return;
+    }
+    ObjectReader c(v, j, path);
+    GrainSizesSpec g;
+    c.choice("basis", grain_size_bases, g.basis, {nullptr, ""});
+    bool ok = read_increasing_numbers(c, "diameters_m", grain_diameter_range, 2, max_grain_size_points,
+        "grain-size diameters", g.diameters_m, {"m", ""});
+    if (!c.take("diameters_m")) {
+        v.fail(c.path_of("diameters_m"), "is missing: a curve needs its diameters");
+        ok = false;
+    }
+    // Sizes that cannot be told apart make an interval whose grains have no
+    // width to be drawn in (its number integral can round to zero).
+    for (std::size_t k = 1; ok && k < g.diameters_m.size(); ++k)
+        if (g.diameters_m[k] < min_grain_size_ratio * g.diameters_m[k - 1]) {
+            v.fail(index_path(c.path_of("diameters_m"), k),
+                exact_text(g.diameters_m[k]) + " is within 0.1 % of the previous size " + exact_text(g.diameters_m[k - 1])
+                    + "; sizes of a curve must differ by more than that");
+            ok = false;
+        }
+    // The fractions: numbers in [0, 1], nondecreasing, one per diameter,
+    // from 0 (nothing passes the smallest size: it bounds the grains) to 1.
+    const std::string fpath = c.path_of("fraction_passing");
+    const json::value* f = c.take("fraction_passing");
+    if (f == nullptr) {
+        v.fail(fpath, "is missing: a curve needs the fraction passing each diameter");
+        ok = false;
+    } else if (!f->is_array()) {
+        v.fail(fpath, "expected an array, got " + std::string(kind_text(*f)));
+        ok = false;
+    } else {
+        const json::array& a = f->get_array();
+        const Range unit = closed(0.0, 1.0);
+        bool values_ok = true;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            double x = 0.0;
+            if (!read_number(v, a[i], index_path(fpath, i), unit, x)) {
+                values_ok = false;
+                continue;
+            }
+            if (values_ok && i > 0 && x < g.fraction_passing.back()) {
+                v.fail(index_path(fpath, i), exact_text(x) + " is less than the previous entry "
+                                                 + exact_text(g.fraction_passing.back())
+                                                 + "; the fraction passing must not decrease with size");
+                values_ok = false;
+            }
+            g.fraction_passing.push_back(x);
+        }
+        if (values_ok && !a.empty() && g.fraction_passing.front() != 0.0) {
+            v.fail(index_path(fpath, 0), exact_text(g.fraction_passing.front())
+                                             + " is not 0: the smallest diameter bounds the grains, so nothing passes it "
+                                               "(add the size below which there are no grains, with 0)");
+            values_ok = false;
+        }
+        if (values_ok && !a.empty() && g.fraction_passing.back() != 1.0) {
+            v.fail(index_path(fpath, a.size() - 1), exact_text(g.fraction_passing.back())
+                                                        + " is not 1: every grain passes the largest diameter");
+            values_ok = false;
+        }
+        if (ok && a.size() != g.diameters_m.size()) {
+            v.fail(fpath, "has " + std::to_string(a.size()) + " entries for " + std::to_string(g.diameters_m.size())
+                              + " diameters; give one fraction per diameter");
+            values_ok = false;
+        }
+        ok = ok && values_ok;
+    }
+    c.finish();
+    if (ok) out = std::move(g);
+}
+
 void read_specimen(ObjectReader& r, SpecimenSpec& s)
 {
     r.number("membrane_radius_m", open_closed(0.0, 1.0), s.membrane_radius_m,
@@ -620,6 +731,13 @@ void read_specimen(ObjectReader& r, SpecimenSpec& s)
         {"m", "r_p, mean grain radius; not below 10 µm, where adhesion (not modelled) matters"});
     r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread,
         {"1", "s: radii uniform in r_p·(1 ± s); 0 = monodisperse"});
+    read_grain_sizes(r, s.grain_sizes);
+    // A curve gives every size: a radius or spread beside it would be ignored.
+    if (s.grain_sizes)
+        for (const std::string_view key : {"grain_radius_m", "grain_radius_spread"})
+            if (r.take(key) != nullptr)
+                r.validator().fail(r.path_of(key), "is given with " + r.path_of("grain_sizes")
+                                                       + ", which sets every grain's size; leave one of the two out");
     {
         ObjectReader g(r.validator(), r.take("grain"), r.path_of("grain"));
         read_grain(g, s.grain);
@@ -695,6 +813,16 @@ void read_contact(ObjectReader& r, ContactSpec& c)
         {"m", "d_cr, the spring breaks beyond this slip"});
     r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential_damping_s_per_m,
         {"s/m", "γ_t: sliding force F_n·min(μ, γ_t·|v_t|) (engine/laws/tangential.hpp)"});
+    // Rolling resistance, type C of Ai et al. (2011): engine/laws/rolling.hpp.
+    // f_r ≤ 1 keeps the rolling spring's frequency below the tangential
+    // spring's, and η_r ≤ 0.3 the damping within what Gear-5 was measured to
+    // follow at the auto step (docs/model.md, "Rolling resistance").
+    r.number("rolling_friction_coeff", closed(0.0, 1.0), c.rolling_friction_coeff,
+        {"1", "μ_r: the rolling torque is at most μ_r R* F_n (a ball holds on an incline up to tan β = μ_r); 0 = no rolling resistance"});
+    r.number("rolling_stiffness_factor", open_closed(0.0, 1.0), c.rolling_stiffness_factor,
+        {"1", "f_r: rolling stiffness k_r = f_r k_t F_n R*² (Ai et al.'s k_r = k_t R*² at 1)"});
+    r.number("rolling_damping_ratio", closed(0.0, 0.3), c.rolling_damping_ratio,
+        {"1", "η_r: viscous rolling torque 2 η_r √(I_r k_r) ω_r below the limit torque"});
 }
 
 /// triaxial.plate_speed_m_per_s: a number (every test), or an array with
@@ -891,12 +1019,24 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 
 // ------------------------------------------------------- cross-field checks
 
-void check_grain_size(Validator& v, const SpecimenSpec& s)
+/// The fields that set the grains' sizes (a curve, or a radius and spread).
+const std::initializer_list<std::string_view> grain_size_fields{
+    "specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.grain_sizes"};
+
+void check_grain_size(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.membrane_radius_m"})) return;
-    const double largest_m = s.grain_radius_m * (1.0 + s.grain_radius_spread);
+    if (!v.clean(grain_size_fields) || !v.clean("specimen.membrane_radius_m")) return;
+    const SpecimenSpec& s = spec.specimen;
+    const double largest_m = engine::largest_grain_radius_m(preparation_geometry(spec));
     const double limit_m = s.membrane_radius_m / min_column_grain_diameters;
-    if (largest_m > limit_m)
+    if (largest_m <= limit_m) return;
+    if (s.grain_sizes)
+        v.note("specimen.grain_sizes.diameters_m",
+            "the largest diameter " + exact_text(s.grain_sizes->diameters_m.back())
+                + " is too big for the membrane: the column must be at least " + exact_text(min_column_grain_diameters)
+                + " grain diameters wide, so it must not exceed 2 membrane_radius_m / "
+                + exact_text(min_column_grain_diameters) + " = " + approx_text(2.0 * limit_m));
+    else
         v.note("specimen.grain_radius_m",
             exact_text(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
                 + exact_text(min_column_grain_diameters)
@@ -907,7 +1047,7 @@ void check_grain_size(Validator& v, const SpecimenSpec& s)
 
 void check_grain_volume(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
+    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.grain_sizes",
             "specimen.membrane_radius_m", "specimen.membrane_height_m"}))
         return;
     // The preparation's own requirement: the fill at the packing it paces
@@ -955,7 +1095,7 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
 {
     const SpecimenSpec& s = spec.specimen;
     if (!v.clean({"specimen.pouring", "specimen.wire", "specimen.grain_count", "specimen.grain_radius_m",
-            "specimen.grain_radius_spread", "specimen.membrane_radius_m"}))
+            "specimen.grain_radius_spread", "specimen.grain_sizes", "specimen.membrane_radius_m"}))
         return;
     const bool with_wire = s.wire.pattern != WirePattern::none;
     if (with_wire && s.wire.length_m && s.pouring.fill_rate_m_per_s) {
@@ -996,12 +1136,13 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
                 + " takes " + approx_text(pour_s) + " s; max_preparation_time_s must exceed that, with time to settle");
 }
 
-void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
+void check_membrane_mesh(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.membrane"})) return;
+    if (!v.clean(grain_size_fields) || !v.clean("specimen.membrane")) return;
+    const SpecimenSpec& s = spec.specimen;
     // A sphere passes through a mesh triangle of edge l_m whose corners carry
     // spheres of radius r_m unless r_p + r_m > l_m/√3 (centroid to corner).
-    const double smallest_m = s.grain_radius_m * (1.0 - s.grain_radius_spread);
+    const double smallest_m = engine::smallest_grain_radius_m(preparation_geometry(spec));
     const double contact_m = membrane_contact_radius_m(s.membrane);
     const double limit_m = std::numbers::sqrt3 * (smallest_m + contact_m);
     if (s.membrane.mesh_size_m >= limit_m)
@@ -1014,7 +1155,7 @@ void check_membrane_mesh(Validator& v, const SpecimenSpec& s)
 
 void check_body_count(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread",
+    if (!v.clean({"specimen.grain_count", "specimen.grain_radius_m", "specimen.grain_radius_spread", "specimen.grain_sizes",
             "specimen.membrane_radius_m", "specimen.membrane_height_m", "specimen.membrane.mesh_size_m",
             "specimen.wire", "specimen.pouring", "engine.max_bodies"}))
         return;
@@ -1048,7 +1189,7 @@ void check_time_step(Validator& v, const JobSpec& spec)
 {
     if (!spec.engine.time_step_s) return;
     if (!v.clean({"engine.time_step_s", "engine.density_scale", "engine.wire_mass_scale", "specimen.grain_radius_m",
-            "specimen.grain_radius_spread", "specimen.grain", "specimen.plate", "specimen.wire", "specimen.membrane"}))
+            "specimen.grain_radius_spread", "specimen.grain_sizes", "specimen.grain", "specimen.plate", "specimen.wire", "specimen.membrane"}))
         return;
     const StableStep stable = stable_time_step(spec);
     const double dt = *spec.engine.time_step_s;
@@ -1094,11 +1235,11 @@ void check_escape_distance(Validator& v, const JobSpec& spec)
 void cross_check(Validator& v, const JobSpec& spec)
 {
     check_escape_distance(v, spec);
-    check_grain_size(v, spec.specimen);
+    check_grain_size(v, spec);
     check_grain_volume(v, spec);
     check_wire_fits(v, spec.specimen);
     check_fill_rate(v, spec);
-    check_membrane_mesh(v, spec.specimen);
+    check_membrane_mesh(v, spec);
     check_body_count(v, spec);
     check_hold(v, spec.triaxial);
     check_snapshots(v, spec.triaxial);
@@ -1133,12 +1274,21 @@ json::object specimen_json(const SpecimenSpec& s)
         {"edges", to_string(m.edges)},
     };
     membrane["contact_radius_m"] = optional_json(m.contact_radius_m);
-    return {
+    json::value grain_sizes = nullptr;
+    if (s.grain_sizes) {
+        json::array d, f;
+        for (double x : s.grain_sizes->diameters_m) d.push_back(x);
+        for (double x : s.grain_sizes->fraction_passing) f.push_back(x);
+        grain_sizes = json::object{{"basis", to_string(s.grain_sizes->basis)}, {"diameters_m", std::move(d)},
+            {"fraction_passing", std::move(f)}};
+    }
+    json::object o{
         {"membrane_radius_m", s.membrane_radius_m},
         {"membrane_height_m", s.membrane_height_m},
         {"grain_count", s.grain_count},
         {"grain_radius_m", s.grain_radius_m},
         {"grain_radius_spread", s.grain_radius_spread},
+        {"grain_sizes", std::move(grain_sizes)},
         {"grain",
             {
                 {"youngs_modulus_pa", s.grain.youngs_modulus_pa},
@@ -1176,6 +1326,12 @@ json::object specimen_json(const SpecimenSpec& s)
                 {"max_preparation_time_s", s.pouring.max_preparation_time_s},
             }},
     };
+    // A curve sets every size: the reader refuses a radius or spread beside it.
+    if (s.grain_sizes) {
+        o.erase("grain_radius_m");
+        o.erase("grain_radius_spread");
+    }
+    return o;
 }
 
 json::object contact_json(const ContactSpec& c)
@@ -1192,6 +1348,9 @@ json::object contact_json(const ContactSpec& c)
     o["friction_coeff"] = c.friction_coeff;
     o["critical_slip_m"] = c.critical_slip_m;
     o["tangential_damping_s_per_m"] = c.tangential_damping_s_per_m;
+    o["rolling_friction_coeff"] = c.rolling_friction_coeff;
+    o["rolling_stiffness_factor"] = c.rolling_stiffness_factor;
+    o["rolling_damping_ratio"] = c.rolling_damping_ratio;
     return o;
 }
 
@@ -1266,6 +1425,13 @@ std::string_view to_string(MembraneEdges e)
 {
     for (const auto& [name, value] : membrane_edges)
         if (value == e) return name;
+    return "?";
+}
+
+std::string_view to_string(GrainSizeBasis b)
+{
+    for (const auto& [name, value] : grain_size_bases)
+        if (value == b) return name;
     return "?";
 }
 

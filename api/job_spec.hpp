@@ -54,6 +54,25 @@ enum class Consolidation : std::uint8_t {
     effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels (default)
 };
 
+/// What the fractions of a grain-size curve count. JSON: "mass", "number".
+enum class GrainSizeBasis : std::uint8_t {
+    mass,    ///< fraction passing by mass, as a sieve analysis reports it
+    number,  ///< fraction of the grains by number
+};
+
+/// A grain-size distribution (docs/model.md, "Size distribution"): the
+/// fraction passing each size, linear in log D between sizes.
+struct GrainSizesSpec {
+    GrainSizeBasis basis = GrainSizeBasis::mass;
+    /// D_k, grain diameters (sieve apertures) [m]: 2–64 entries, each in
+    /// [2e-5, 0.2] (radii in grain_radius_m's range), strictly increasing.
+    std::vector<double> diameters_m;
+    /// P_k, the fraction passing D_k: one per diameter, each in [0, 1],
+    /// nondecreasing, the first 0 and the last 1.
+    std::vector<double> fraction_passing;
+    friend bool operator==(const GrainSizesSpec&, const GrainSizesSpec&) = default;
+};
+
 /// Elastic properties of the grains (the model spec §2).
 struct GrainMaterialSpec {
     double youngs_modulus_pa = 10e9;     ///< E_p [Pa], (0, 1e13]
@@ -146,6 +165,9 @@ struct SpecimenSpec {
     double grain_radius_m = 1.23e-3;           ///< r_p, mean radius [m], [1e-5, 0.1]
     /// s: radii uniform in r_p (1 ± s); 0 = monodisperse. [0, 0.5).
     double grain_radius_spread = 0.0;
+    /// Grain sizes from a curve instead of r_p and s (which must then be
+    /// left out of the JSON; reference_grain_radius_m stands for r_p).
+    std::optional<GrainSizesSpec> grain_sizes;
     GrainMaterialSpec grain;                   ///< grain material
     PlateMaterialSpec plate;                   ///< plate material
     WireSpec wire;                             ///< the wire and its deployment
@@ -178,6 +200,11 @@ struct ContactSpec {
     double friction_coeff = 0.3;               ///< μ, [0, 10]
     double critical_slip_m = 1e-4;             ///< d_cr [m], (0, 1]
     double tangential_damping_s_per_m = 1e3;   ///< γ_t [s/m] (engine/laws/tangential.hpp), [0, 1e9]
+    /// Rolling resistance (engine/laws/rolling.hpp; docs/model.md, "Rolling
+    /// resistance"): μ_r, the limit torque μ_r R* F_n, [0, 1]; 0 = off.
+    double rolling_friction_coeff = 0.0;
+    double rolling_stiffness_factor = 1.0;     ///< f_r in k_r = f_r k_t F_n R*², (0, 1]
+    double rolling_damping_ratio = 0.0;        ///< η_r, viscous rolling damping below the limit, [0, 0.3]
     friend bool operator==(const ContactSpec&, const ContactSpec&) = default;
 };
 
@@ -330,5 +357,6 @@ struct FieldError {
 [[nodiscard]] std::string_view to_string(Integrator i);
 [[nodiscard]] std::string_view to_string(MembraneEdges e);
 [[nodiscard]] std::string_view to_string(Consolidation c);
+[[nodiscard]] std::string_view to_string(GrainSizeBasis b);
 
 } // namespace wiredem::api

@@ -646,6 +646,20 @@ void write_preparation_report(io::Group& g, const eng::PreparationReport& r)
     g.write_double_attribute("time_step_s", r.time_step_s);
     g.write_int_attribute("settled", r.settled ? 1 : 0);
     g.write_int_attribute("top_plate_wall", static_cast<std::int64_t>(r.top_plate_wall));
+    if (r.grain_sizes) {
+        // The drawn grains against the requested curve (engine/specimen/grain_sizes.hpp).
+        const eng::GrainSizeReport& z = *r.grain_sizes;
+        io::Group s = g.create_group("grain_sizes");
+        for (const auto& [prefix, f] : {std::pair{"requested_", &z.requested}, std::pair{"drawn_", &z.drawn}}) {
+            s.write_double_attribute(std::string(prefix) + "d10_m", f->d10_m);
+            s.write_double_attribute(std::string(prefix) + "d50_m", f->d50_m);
+            s.write_double_attribute(std::string(prefix) + "d60_m", f->d60_m);
+            s.write_double_attribute(std::string(prefix) + "uniformity_coefficient", f->uniformity_coefficient);
+        }
+        s.write_double_attribute("ks_distance", z.ks_distance);
+        s.write_double_attribute("ks_critical_1pct", z.ks_critical_1pct);
+        s.write_int_attribute("grains", static_cast<std::int64_t>(z.grains));
+    }
 }
 
 eng::PreparationReport read_preparation_report(const io::Group& g)
@@ -667,6 +681,20 @@ eng::PreparationReport read_preparation_report(const io::Group& g)
     r.time_step_s = g.read_double_attribute("time_step_s");
     r.settled = g.read_int_attribute("settled") != 0;
     r.top_plate_wall = read_index(g, "top_plate_wall");
+    if (g.exists("grain_sizes")) {
+        const io::Group s = g.open_group("grain_sizes");
+        eng::GrainSizeReport z;
+        for (const auto& [prefix, f] : {std::pair{"requested_", &z.requested}, std::pair{"drawn_", &z.drawn}}) {
+            f->d10_m = s.read_double_attribute(std::string(prefix) + "d10_m");
+            f->d50_m = s.read_double_attribute(std::string(prefix) + "d50_m");
+            f->d60_m = s.read_double_attribute(std::string(prefix) + "d60_m");
+            f->uniformity_coefficient = s.read_double_attribute(std::string(prefix) + "uniformity_coefficient");
+        }
+        z.ks_distance = s.read_double_attribute("ks_distance");
+        z.ks_critical_1pct = s.read_double_attribute("ks_critical_1pct");
+        z.grains = read_index(s, "grains");
+        r.grain_sizes = z;
+    }
     return r;
 }
 

@@ -430,6 +430,17 @@ json::object envelope_json(const eng::analysis::MohrEnvelope& e)
 }
 
 /// A Mohr–Coulomb fit as the summary reports it, with the states it went through.
+/// summary.json's specimen.grain_sizes: the drawn grains against the curve.
+json::object grain_sizes_json(const eng::GrainSizeReport& z)
+{
+    auto figures = [](const eng::GradingFigures& f) {
+        return json::object{{"d10_m", f.d10_m}, {"d50_m", f.d50_m}, {"d60_m", f.d60_m},
+            {"uniformity_coefficient", f.uniformity_coefficient}};
+    };
+    return json::object{{"requested", figures(z.requested)}, {"drawn", figures(z.drawn)}, {"ks_distance", z.ks_distance},
+        {"ks_critical_1pct", z.ks_critical_1pct}, {"grains", z.grains}};
+}
+
 json::object mohr_coulomb_json(const eng::Result<eng::analysis::MohrCoulombFit, std::string>& fit, std::string_view states)
 {
     // The same keys either way (the OpenAPI schema requires them): every
@@ -814,6 +825,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         sp["preparation_time_step_s"] = prep.time_step_s;
         sp["preparation_steps"] = prep.steps;
         sp["preparation_wall_time_s"] = prep.wall_time_s;
+        if (prep.grain_sizes) sp["grain_sizes"] = grain_sizes_json(*prep.grain_sizes);
         summary["specimen"] = std::move(sp);
 
         json::object wire;

@@ -9,6 +9,7 @@
 #include "integrate/gear5.hpp"
 #include "integrate/verlet.hpp"
 #include "laws/hertz.hpp"
+#include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 
 #include <algorithm>
@@ -445,6 +446,57 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         }
     });
 
+    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
+    // only (wire and membrane nodes do not turn), after the force kernels,
+    // from what they wrote (touching, |F_n|): one scalar pass for every SIMD
+    // choice, so the bits do not depend on it. The list keeps its springs
+    // while the law is on.
+    const RollingParams& rolling = w.contact.rolling;
+    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
+    if (rolling.on()) {
+        const TranslationalState& grains = w.of(BodyKind::grain);
+        const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
+        // 1/(I + m r²): each grain's inverse inertia about a point of its
+        // surface (0 for a grain that must not turn), once per step.
+        std::vector<double> inverse_inertia_about_contact(grains.size());
+        parallel_for_blocks(pool, grains.size(), 1024, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+                inverse_inertia_about_contact[i]
+                    = inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+        });
+        auto roll = [&](std::size_t p, const Vec3& normal, const Vec3& relative_spin_dt, double eff_radius_m,
+                        double inverse_inertia) {
+            if (!(inverse_inertia > 0.0)) return; // neither side turns
+            const RollingResult r = rolling_torque(c.rolling_rad[p], normal, relative_spin_dt * in.inv_dt,
+                c.output[p].normal_force_n, eff_radius_m, in.tangential.stiffness_per_m, 1.0 / inverse_inertia, rolling,
+                in.dt);
+            if (memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
+            c.rolling_torque_n_m[p] = r.torque_n_m;
+        };
+        const std::vector<BodyRef>& firsts = w.near.first_of(c);
+        const std::vector<BodyRef>& seconds = w.near.second_of(c);
+        const auto grain = static_cast<std::size_t>(BodyKind::grain);
+        parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::uint32_t p = near[k];
+                if (!c.touching[p] || firsts[k].kind() != BodyKind::grain || seconds[k].kind() != BodyKind::grain) continue;
+                const std::uint32_t ia = firsts[k].index(), ib = seconds[k].index();
+                const Vec3 d = in.x[grain][ib] - in.x[grain][ia]; // touching: not zero
+                roll(p, d * (1.0 / d.norm()), in.spin_dt[ia] - in.spin_dt[ib],
+                    effective_radius_m(in.radius[grain][ia], in.radius[grain][ib]),
+                    inverse_inertia_about_contact[ia] + inverse_inertia_about_contact[ib]);
+            }
+        });
+        parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t p = pairs + begin; p < pairs + end; ++p) {
+                if (!c.touching[p] || c.first[p].kind() != BodyKind::grain) continue;
+                const std::uint32_t ia = c.first[p].index(); // R* = r; the wall does not turn
+                roll(p, wall_gap(w.walls[c.second[p].index()], in.x[grain][ia]).towards, in.spin_dt[ia],
+                    in.radius[grain][ia], inverse_inertia_about_contact[ia]);
+            }
+        });
+    }
+
     // What the bodies exert on each wall, summed in contact order, one
     // reduction per body kind (a wall's contacts are sorted by kind): the
     // plate forces of the force-controlled triaxial test feed back into the
@@ -541,6 +593,22 @@ void gather_forces(World& w, ThreadPool& pool)
         in.force_n = w.body_force_n[k].data();
         if (kind == BodyKind::grain) in.torque_n_m = w.grain_torque_n_m.data();
         parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
+    }
+    // Rolling torques (with the rolling law on): each grain adds its
+    // contacts' in the order of its incidences, after the rest of its
+    // torque. Only grains turn; a contact that does not roll holds zero.
+    const ContactList& c = w.contacts;
+    if (!c.rolling_torque_n_m.empty()) {
+        const std::uint32_t* start = w.near.incidence_start_of(c).data() + w.flat_offset(BodyKind::grain);
+        const Incidence* incidence = w.near.incidence_of(c).data();
+        parallel_for_blocks(pool, w.of(BodyKind::grain).size(), 256, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                Vec3 tau = w.grain_torque_n_m[i];
+                for (std::uint32_t e = start[i]; e < start[i + 1]; ++e)
+                    tau += incidence[e].sign() * c.rolling_torque_n_m[incidence[e].contact()];
+                w.grain_torque_n_m[i] = tau;
+            }
+        });
     }
     for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }

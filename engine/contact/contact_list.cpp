@@ -34,6 +34,8 @@ void ContactList::rebuild(
     const std::size_t n = new_first.size();
     std::vector<TangentialState> carried(n);
     std::vector<std::uint8_t> was_touching(n, 0);
+    const bool rolling = rolls();
+    std::vector<Vec3> carried_rolling(rolling ? n : 0, Vec3::Zero());
     // Merge of two sorted key lists: springs follow their contact.
     for (std::size_t i = 0, j = 0; i < n && j < size();) {
         const std::uint64_t new_key = contact_key(new_first[i], new_second[i]);
@@ -45,6 +47,7 @@ void ContactList::rebuild(
         } else {
             carried[i] = tangential[j];
             was_touching[i] = touching[j];
+            if (rolling) carried_rolling[i] = rolling_rad[j];
             ++i;
             ++j;
         }
@@ -54,6 +57,10 @@ void ContactList::rebuild(
     tangential = std::move(carried);
     touching = std::move(was_touching);
     output.assign(n, ContactOutput{});
+    if (rolling) {
+        rolling_rad = std::move(carried_rolling);
+        rolling_torque_n_m.assign(n, Vec3::Zero());
+    }
     index(walls, flat);
 }
 
@@ -76,6 +83,8 @@ void ContactList::sort(std::size_t walls, const FlatOffsets& flat)
     permute(tangential);
     permute(output);
     permute(touching);
+    permute(rolling_rad);
+    permute(rolling_torque_n_m);
     index(walls, flat);
 }
 
@@ -88,13 +97,17 @@ void ContactList::remove_wall(std::size_t wall, const FlatOffsets& flat)
 {
     if (wall + 1 >= wall_start.size()) return; // not listed yet
     const auto begin = static_cast<std::ptrdiff_t>(wall_start[wall]), end = static_cast<std::ptrdiff_t>(wall_start[wall + 1]);
-    auto cut = [&](auto& v) { v.erase(v.begin() + begin, v.begin() + end); };
+    auto cut = [&](auto& v) {
+        if (!v.empty()) v.erase(v.begin() + begin, v.begin() + end); // the rolling springs only while kept
+    };
     cut(first);
     cut(second);
     cut(hertz_coefficient);
     cut(tangential);
     cut(output);
     cut(touching);
+    cut(rolling_rad);
+    cut(rolling_torque_n_m);
     for (std::size_t p = static_cast<std::size_t>(begin); p < size(); ++p) second[p] = wall_ref(second[p].index() - 1);
     index(wall_start.size() - 2, flat);
 }

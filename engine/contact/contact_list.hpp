@@ -82,6 +82,14 @@ struct ContactList {
     /// are fixed; R* = r against a wall) [N/m^{3/2}]
     std::vector<double> hertz_coefficient;
     std::vector<TangentialState> tangential;  ///< spring memory; reset when the contact opens
+    /// Rolling springs θ_r [rad] (laws/rolling.hpp): memory like the
+    /// tangential springs', kept only while the rolling law is on (sized
+    /// with the list then, empty otherwise); reset when the contact opens.
+    std::vector<Vec3> rolling_rad;
+    /// This step's rolling torque on `first` (−it on a body `second`) [N·m];
+    /// sized as rolling_rad. Zero for a contact that does not roll (apart,
+    /// or not grain–grain or grain–wall).
+    std::vector<Vec3> rolling_torque_n_m;
     std::vector<ContactOutput> output;        ///< this step's force, n × F_t, overlap and |F_n|
     std::vector<std::uint8_t> touching;       ///< 1 when overlapping this step
     /// Contacts [0, pair_count) are body pairs; wall i's contacts are
@@ -106,6 +114,18 @@ struct ContactList {
         tangential[p] = TangentialState{};
         output[p] = ContactOutput{};
         touching[p] = 0;
+        if (!rolling_rad.empty()) rolling_rad[p] = rolling_torque_n_m[p] = Vec3::Zero();
+    }
+
+    /// Whether the list keeps rolling springs (rolling_rad).
+    [[nodiscard]] bool rolls() const { return rolling_on_ || !rolling_rad.empty(); }
+    /// Keeps rolling springs from now on (zero for every listed contact) or
+    /// drops them: with the rolling law on or off (compute_contact_forces).
+    void keep_rolling(bool on)
+    {
+        rolling_on_ = on;
+        rolling_rad.assign(on ? size() : 0, Vec3::Zero());
+        rolling_torque_n_m.assign(on ? size() : 0, Vec3::Zero());
     }
 
     /// Whether a body of `kind` touches wall `wall` this step (false for a
@@ -113,8 +133,9 @@ struct ContactList {
     [[nodiscard]] bool wall_touches(std::size_t wall, BodyKind kind) const;
 
     /// Replaces the contacts with new ones (sorted by contact_key, pairs then
-    /// walls, `walls` walls), keeping the tangential state of contacts present
-    /// in both, and rebuilds the incidence list.
+    /// walls, `walls` walls), keeping the tangential state (and the rolling
+    /// springs, where kept) of contacts present in both, and rebuilds the
+    /// incidence list.
     void rebuild(std::vector<BodyRef> new_first, std::vector<BodyRef> new_second, std::size_t walls,
         const FlatOffsets& flat);
 
@@ -133,6 +154,7 @@ struct ContactList {
 private:
     /// wall_start and the incidence list, from first and second.
     void index(std::size_t walls, const FlatOffsets& flat);
+    bool rolling_on_ = false; ///< keep_rolling's choice (what rolls() says of an empty list)
 };
 
 /// The listed body pairs that may touch before any body has moved a part of

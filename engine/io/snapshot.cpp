@@ -45,13 +45,14 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2648, "World changed: update for_each_field and this size");
-static_assert(sizeof(Model) == 432, "Model changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2728, "World changed: update for_each_field and this size");
+static_assert(sizeof(Model) == 456, "Model changed: update for_each_field and this size");
 static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
 // Caches::next_prediction and Caches::near are the members not listed: a
 // restored run predicts afresh from the saved derivatives, and selects its
-// near pairs afresh, with the same bits.
-static_assert(sizeof(Caches) == 1160, "Caches changed: update for_each_field and this size");
+// near pairs afresh, with the same bits. ContactList::rolling_on_ is not
+// listed either: it follows from Model::contact.rolling at the next step.
+static_assert(sizeof(Caches) == 1216, "Caches changed: update for_each_field and this size");
 static_assert(sizeof(GearPrediction) == 200, "GearPrediction changed: update this size");
 static_assert(sizeof(NearPairs) == 192, "NearPairs changed: update this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
@@ -62,8 +63,8 @@ static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field
 static_assert(sizeof(WireForces) == 144, "WireForces changed: update for_each_field and this size");
 static_assert(sizeof(MembraneMesh) == 200, "MembraneMesh changed: update for_each_field and this size");
 static_assert(sizeof(MembraneForces) == 24, "MembraneForces changed: update for_each_field and this size");
-static_assert(sizeof(ContactList) == 216, "ContactList changed: update for_each_field and this size");
-static_assert(sizeof(ContactSettings) == 40, "ContactSettings changed: update for_each_field and this size");
+static_assert(sizeof(ContactList) == 272, "ContactList changed: update for_each_field and this size");
+static_assert(sizeof(ContactSettings) == 64, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");
 static_assert(sizeof(ContactOutput) == 64, "ContactOutput changed: update its FieldCodec and this size");
 
@@ -205,6 +206,10 @@ std::string mismatched_sizes(const World& w)
     check(error, m.node_fixed.size(), membrane_nodes, "membrane/node_fixed");
     check(error, m.node_mass_kg.size(), membrane_nodes, "membrane/node_mass_kg");
     check(error, w.membrane_forces.node_force_n.size(), membrane_nodes, "membrane/node_force_n");
+    if (!w.contacts.rolling_rad.empty()) {
+        check(error, w.contacts.rolling_rad.size(), w.contacts.size(), "contacts/rolling_rad");
+        check(error, w.contacts.rolling_torque_n_m.size(), w.contacts.size(), "contacts/rolling_torque_n_m");
+    }
     for (const auto& [body, f] : w.point_loads)
         if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
             error = "field point_loads names a body that does not exist";
@@ -292,10 +297,15 @@ Result<World, std::string> restore_snapshot(
         const bool bending_in_records = version <= 5;
         // Versions 2 to 5 work the skin out every step: the list's is today's.
         const bool skin_not_kept = version <= 5;
+        // Versions 2 to 6 have no rolling resistance: the law is off.
+        const bool rolling_not_kept = version <= 6;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
         w.wall_loads.resize(walls);
+        // Rolling springs saved: make them present, so that for_each_field
+        // lists them (it lists them only when there are any) and they are read.
+        if (root.exists("contacts/rolling_rad")) w.contacts.rolling_rad.resize(1);
         std::string error;
         for_each_field(w, [&](const std::string& name, auto& value, FieldRole) {
             if (!error.empty()) return;
@@ -303,6 +313,7 @@ Result<World, std::string> restore_snapshot(
             if (outputs_in_four_arrays && name == "contacts/output") return;  // below
             if (bending_in_records && name.starts_with("wire/bending_force_on_")) return; // below
             if (skin_not_kept && name == "skin_at_build_m") return;                       // below
+            if (rolling_not_kept && name.starts_with("contact/rolling_")) return;         // off
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;

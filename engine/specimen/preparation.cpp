@@ -430,7 +430,7 @@ struct Column {
 Column empty_column(const PreparationSpec& spec)
 {
     const double R = spec.membrane_radius_m;
-    const double r_max = spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    const double r_max = largest_grain_radius_m(spec);
     const double r_m = spec.membrane.contact_radius_m;
     const bool with_wire = spec.pattern.kind != PatternKind::none;
     Column c;
@@ -469,7 +469,7 @@ Column empty_column(const PreparationSpec& spec)
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
     World probe = w;
-    add_grain(probe, Vec3(0, 0, 1), spec.grain_radius_m * (1.0 - spec.grain_radius_spread), c.grain_mat);
+    add_grain(probe, Vec3(0, 0, 1), smallest_grain_radius_m(spec), c.grain_mat);
     if (with_wire) {
         append_wire_node(probe, Vec3(0, 0, 2));
         append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
@@ -494,7 +494,7 @@ Result<PreparationReport, std::string> prepare_specimen(
 {
     const auto wall_start = std::chrono::steady_clock::now();
     const double R = spec.membrane_radius_m;
-    const double r_max = spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    const double r_max = largest_grain_radius_m(spec);
     const double r_m = spec.membrane.contact_radius_m;
     const bool with_wire = spec.pattern.kind != PatternKind::none;
     if (with_wire && pattern_reach_m(spec.pattern) + spec.wire.radius_m + spec.clearance_m >= R - r_m)
@@ -539,6 +539,8 @@ Result<PreparationReport, std::string> prepare_specimen(
     // Wire nodes within the nozzle's reach (2 r_w) along the chain behind it, + 1.
     const auto own_nodes = static_cast<std::size_t>(std::ceil(3.0 * spec.wire.radius_m / spec.wire.segment_length_m)) + 1;
     const auto expected_steps = static_cast<std::uint64_t>((pour_time + 0.1) / dt);
+    const std::optional<GrainSizeDistribution> sizes = spec.grain_sizes
+        ? std::optional<GrainSizeDistribution>(std::in_place, *spec.grain_sizes) : std::nullopt;
     auto fill_now = [&] { return st.poured_volume_m3 / (assumed_packing_fraction * std::numbers::pi * R * R); };
 
     // One step, the nozzle paying out first. A checkpoint may be taken before
@@ -580,8 +582,16 @@ Result<PreparationReport, std::string> prepare_specimen(
             const double zone_low = std::max({fill_now(), st.pile_top_m, nozzle.z_m()}) + 3.0 * r_max;
             const int attempts = static_cast<int>(std::ceil(st.owed_grains)) * 20;
             SplitMix64 rng(st.rng_state);
+            // From a curve, a grain keeps its size until it is placed: a
+            // size drawn afresh at every attempt would favour the small
+            // grains, which find a free spot more often. (The spread draws
+            // afresh, as it always has.) A size still unplaced when the
+            // batch's attempts run out is dropped.
+            double curve_radius = 0.0;
             for (int a = 0; a < attempts && st.owed_grains >= 1.0 && w.of(BodyKind::grain).size() < spec.grain_count; ++a) {
-                const double radius = spec.grain_radius_m * (1.0 + spec.grain_radius_spread * (2.0 * rng.uniform() - 1.0));
+                if (sizes && curve_radius == 0.0) curve_radius = 0.5 * sizes->diameter_at_number_fraction(rng.uniform());
+                const double radius = sizes ? curve_radius
+                    : spec.grain_radius_m * (1.0 + spec.grain_radius_spread * (2.0 * rng.uniform() - 1.0));
                 const double rho = pour_radius * std::sqrt(rng.uniform()), phi = 2.0 * std::numbers::pi * rng.uniform();
                 const Vec3 x(rho * std::cos(phi), rho * std::sin(phi), zone_low + zone_height * rng.uniform());
                 bool free = true;
@@ -592,6 +602,7 @@ Result<PreparationReport, std::string> prepare_specimen(
                 }
                 if (!free) continue;
                 add_grain(w, x, radius, column.grain_mat, Vec3(0, 0, -entry_speed));
+                curve_radius = 0.0;
                 st.poured_volume_m3 += 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
                 st.owed_grains -= 1.0;
             }
@@ -738,10 +749,12 @@ Result<PreparationReport, std::string> prepare_specimen(
     report.wire_volume_fraction = std::numbers::pi * spec.wire.radius_m * spec.wire.radius_m
                                 * report.wire_length_m / report.sample_volume_m3;
     // The core: a grain diameter inside the membrane's inner surface and the
-    // plates, sampled every 0.1 r_p.
-    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, 0.1 * spec.grain_radius_m);
+    // plates, sampled every 0.1 r_p (from a curve, 0.05 D50).
+    const double sample_m = spec.grain_sizes ? 0.05 * sizes->diameter_at_mass_fraction(0.5) : 0.1 * spec.grain_radius_m;
+    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, sample_m);
     report.core_grain_volume_fraction = core.grain;
     report.core_wire_volume_fraction = core.wire;
+    if (spec.grain_sizes && g.size() > 0) report.grain_sizes = grain_size_report(g.radius_m, *spec.grain_sizes);
     report.simulated_time_s = w.time_s;
     report.steps = st.steps;
     report.time_step_s = dt;
@@ -749,23 +762,37 @@ Result<PreparationReport, std::string> prepare_specimen(
     return report;
 }
 
+double smallest_grain_radius_m(const PreparationSpec& spec)
+{
+    if (spec.grain_sizes) return 0.5 * spec.grain_sizes->diameters_m.front();
+    return spec.grain_radius_m * (1.0 - spec.grain_radius_spread);
+}
+
+double largest_grain_radius_m(const PreparationSpec& spec)
+{
+    if (spec.grain_sizes) return 0.5 * spec.grain_sizes->diameters_m.back();
+    return spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+}
+
 double required_membrane_height_m(const PreparationSpec& spec)
 {
-    const double r_max = spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    const double r_max = largest_grain_radius_m(spec);
     return estimated_fill_height_m(spec) + 8.0 * r_max;
 }
 
 double wire_cover_height_m(const PreparationSpec& spec)
 {
-    return spec.wire_cover_m.value_or(2.0 * spec.grain_radius_m * (1.0 + spec.grain_radius_spread));
+    return spec.wire_cover_m.value_or(2.0 * largest_grain_radius_m(spec));
 }
 
 double estimated_fill_height_m(const PreparationSpec& spec)
 {
-    // Radii uniform in r (1 ± s): E[r³] = r³ (1 + s²).
-    const double grain_volume_m3 = static_cast<double>(spec.grain_count) * 4.0 / 3.0 * std::numbers::pi
-                                 * std::pow(spec.grain_radius_m, 3)
-                                 * (1.0 + spec.grain_radius_spread * spec.grain_radius_spread);
+    // Radii uniform in r (1 ± s): E[r³] = r³ (1 + s²); from a curve,
+    // E[r³] = E[D³]/8. (Two products: the spread's keeps its operations.)
+    const double grains_4pi_3 = static_cast<double>(spec.grain_count) * 4.0 / 3.0 * std::numbers::pi; // N · 4π/3
+    const double grain_volume_m3 = spec.grain_sizes
+        ? grains_4pi_3 * (GrainSizeDistribution(*spec.grain_sizes).mean_cubed_diameter_m3() / 8.0)
+        : grains_4pi_3 * std::pow(spec.grain_radius_m, 3) * (1.0 + spec.grain_radius_spread * spec.grain_radius_spread);
     return grain_volume_m3 / (assumed_packing_fraction * std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m);
 }
 

@@ -11,6 +11,7 @@
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
 #include "simulation.hpp"
+#include "specimen/grain_sizes.hpp"
 #include "specimen/pattern.hpp"
 
 #include <cstdint>
@@ -26,6 +27,10 @@ struct PreparationSpec {
     std::size_t grain_count = 8000;
     double grain_radius_m = 1.23e-3;
     double grain_radius_spread = 0.0;      ///< radii uniform in r (1 ± spread)
+    /// When set, the grains' diameters are drawn from this curve instead
+    /// (grain_radius_m and grain_radius_spread are then not used for sizes;
+    /// smallest_grain_radius_m and the functions after it read either).
+    std::optional<SieveCurve> grain_sizes;
     Material grain{};
     Material plate{1e9, 0.3, 7800.0};      ///< E_b
     WireSpec wire{};
@@ -85,7 +90,17 @@ struct PreparationReport {
     double time_step_s = 0.0;
     bool settled = false;                  ///< kinetic energy fell below the threshold in time
     std::size_t top_plate_wall = 0;        ///< index of the top plate in State::walls
+    /// The drawn grains against the requested curve (only with one).
+    std::optional<GrainSizeReport> grain_sizes;
 };
+
+/// The radius of the smallest grain the preparation can draw [m]: r (1 − s),
+/// or half the curve's smallest diameter. The stable time step takes it.
+[[nodiscard]] double smallest_grain_radius_m(const PreparationSpec& spec);
+/// The radius of the largest grain the preparation can draw [m]: r (1 + s),
+/// or half the curve's largest diameter. The pouring zone, the column's
+/// width, the wire's cover and the cell grid take it.
+[[nodiscard]] double largest_grain_radius_m(const PreparationSpec& spec);
 
 /// Gravity on the scaled bodies: every body weighs `weight_factor` times its
 /// real (unscaled) weight. Grains: Model::gravity_m_per_s2 = g · f / s; wire
@@ -199,7 +214,8 @@ struct PreparationContinuation {
     const RunControl& control, PreparationContinuation continuation);
 
 /// Height the grains fill, estimated before pouring at a packing fraction of
-/// 0.58 (prepare_specimen paces the pouring by it) [m].
+/// 0.58 (prepare_specimen paces the pouring by it) from the mean grain volume
+/// of the spread or of the curve [m].
 [[nodiscard]] double estimated_fill_height_m(const PreparationSpec& spec);
 
 /// Membrane height the preparation needs [m]: the estimated fill height and

@@ -25,6 +25,7 @@
 #include "broadphase/cell_grid.hpp"
 #include "contact/contact_list.hpp"
 #include "core/types.hpp"
+#include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 #include "state/body_state.hpp"
 #include "state/materials.hpp"
@@ -43,6 +44,9 @@ namespace wiredem::engine {
 struct ContactSettings {
     double normal_damping_s = 0.0;        ///< γ_n [s]
     TangentialParams tangential{};
+    /// Rolling resistance between grains and of grains on walls (off by
+    /// default: the model spec has none). laws/rolling.hpp.
+    RollingParams rolling{};
 };
 
 /// A rigid, infinitely large wall: a plane (plate) or the inside of a

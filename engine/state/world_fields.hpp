@@ -268,8 +268,9 @@ inline constexpr std::array<const char*, body_kind_count> field_kind_names{"grai
 /// w.wall_point_at_build_m and w.wall_loads first (resize_walls). The role
 /// follows the part of the World a member is in (Model: model; State: state;
 /// Caches: cache, or output for what a step writes before it reads it), with
-/// one exception: the contacts' memory (tangential springs, touching flags)
-/// is state kept in the neighbour list, which carries it across rebuilds.
+/// one exception: the contacts' memory (tangential springs, touching flags,
+/// rolling springs while the rolling law is on) is state kept in the
+/// neighbour list, which carries it across rebuilds.
 ///
 /// Not listed: Caches::grid, whose arrays are scratch that find_pairs rebuilds
 /// from the positions before it reads them.
@@ -290,6 +291,9 @@ void for_each_field(W& w, Visit&& field)
     field("contact/friction_coeff", w.contact.tangential.friction_coeff, R::model);
     field("contact/critical_slip_m", w.contact.tangential.critical_slip_m, R::model);
     field("contact/tangential_damping_s_per_m", w.contact.tangential.damping_s_per_m, R::model);
+    field("contact/rolling_friction_coeff", w.contact.rolling.friction_coeff, R::model);
+    field("contact/rolling_stiffness_factor", w.contact.rolling.stiffness_factor, R::model);
+    field("contact/rolling_damping_ratio", w.contact.rolling.damping_ratio, R::model);
     field("wire_contact_skip", w.wire_contact_skip, R::model);
     field("gravity_m_per_s2", w.gravity_m_per_s2, R::model);
     field("gravity_acts", w.gravity_acts, R::model);
@@ -379,6 +383,14 @@ void for_each_field(W& w, Visit&& field)
     auto& c = w.contacts;
     field("contacts/tangential", c.tangential, R::state);
     field("contacts/touching", c.touching, R::state);
+    // The rolling springs exist only while the rolling law is on and the
+    // list has contacts (ContactList::keep_rolling): listed only then, so
+    // that without them neither the hash nor a snapshot changes (a restore
+    // marks them present first when the file has them: io/snapshot.cpp).
+    if (!c.rolling_rad.empty()) {
+        field("contacts/rolling_rad", c.rolling_rad, R::state);
+        field("contacts/rolling_torque_n_m", c.rolling_torque_n_m, R::output);
+    }
     field("contacts/first", c.first, R::cache);
     field("contacts/second", c.second, R::cache);
     field("contacts/wall_start", c.wall_start, R::cache);

@@ -343,6 +343,33 @@ TEST(CampaignFiles, APreparationReportReadsBackExactly)
     EXPECT_EQ(r.time_step_s, p.time_step_s);
     EXPECT_EQ(r.settled, p.settled);
     EXPECT_EQ(r.top_plate_wall, p.top_plate_wall);
+    EXPECT_FALSE(r.grain_sizes.has_value()) << "written only with a grain-size curve";
+    fs::remove(path);
+
+    // With a curve: the drawn grains against it.
+    eng::GrainSizeReport z;
+    for (eng::GradingFigures* f : {&z.requested, &z.drawn}) {
+        f->d10_m = next_value();
+        f->d50_m = next_value();
+        f->d60_m = next_value();
+        f->uniformity_coefficient = next_value();
+    }
+    z.ks_distance = next_value();
+    z.ks_critical_1pct = next_value();
+    z.grains = 7999;
+    p.grain_sizes = z;
+    io::write_file_atomically(path, [&](io::Group& g) { write_preparation_report(g, p); });
+    const eng::PreparationReport with = read_preparation_report(io::File::open_read_only(path).root());
+    ASSERT_TRUE(with.grain_sizes.has_value());
+    for (const auto& [a, b] : {std::pair{&with.grain_sizes->requested, &z.requested}, std::pair{&with.grain_sizes->drawn, &z.drawn}}) {
+        EXPECT_EQ(a->d10_m, b->d10_m);
+        EXPECT_EQ(a->d50_m, b->d50_m);
+        EXPECT_EQ(a->d60_m, b->d60_m);
+        EXPECT_EQ(a->uniformity_coefficient, b->uniformity_coefficient);
+    }
+    EXPECT_EQ(with.grain_sizes->ks_distance, z.ks_distance);
+    EXPECT_EQ(with.grain_sizes->ks_critical_1pct, z.ks_critical_1pct);
+    EXPECT_EQ(with.grain_sizes->grains, z.grains);
     fs::remove(path);
 }
 

@@ -107,6 +107,32 @@ TEST(Preparation, PoursASoundColumnWithoutWire)
     EXPECT_EQ(r.value().wire_nodes, 0u);
 }
 
+// A column poured from a sieve curve (engine/specimen/grain_sizes.hpp): the
+// grains in it reproduce the curve (the report's Kolmogorov–Smirnov distance
+// below its 1 % critical value), every one inside the curve's sizes, and the
+// column is as sound as one of equal grains.
+TEST(PreparationGrainSizes, PoursGrainsThatReproduceTheCurve)
+{
+    PreparationSpec spec = small_column(PatternKind::none, 200);
+    spec.grain_sizes = SieveCurve{SieveCurve::Basis::mass, {1.6e-3, 2.4e-3, 3.2e-3}, {0.0, 0.4, 1.0}};
+    Simulation sim(1);
+    const auto r = prepare_specimen(sim, spec);
+    ASSERT_TRUE(r.ok()) << r.error();
+    expect_sound_specimen(sim.world, spec, r.value());
+    ASSERT_TRUE(r.value().grain_sizes.has_value());
+    const GrainSizeReport& z = *r.value().grain_sizes;
+    EXPECT_EQ(z.grains, spec.grain_count);
+    EXPECT_LT(z.ks_distance, z.ks_critical_1pct);
+    EXPECT_NEAR(z.ks_critical_1pct, 1.628 / std::sqrt(200.0), 1e-3);
+    for (double radius : sim.world.of(BodyKind::grain).radius_m) {
+        EXPECT_GE(radius, 0.8e-3);
+        EXPECT_LE(radius, 1.6e-3);
+    }
+    // The curve's D10 is its second sieve's log step: P = 0.1 at a quarter
+    // of the way from 1.6 to 2.4 mm.
+    EXPECT_NEAR(z.requested.d10_m, 1.6e-3 * std::pow(1.5, 0.25), 1e-12);
+}
+
 TEST(Preparation, RefusesADampingNoExplicitStepCanFollow)
 {
     // γ_n = 0.1 s: the contacts' damping ratio at the reference overlap is in

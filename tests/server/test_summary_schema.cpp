@@ -195,5 +195,35 @@ TEST(SummarySchemaRealRunner, ARealCampaignsSummaryIsWhatTheOpenApiDocumentSays)
     EXPECT_EQ(failures.size(), 2u) << listed(failures);
 }
 
+// A job with a grain-size curve (examples/tiny-graded.json): its summary's
+// specimen.grain_sizes too is what the document says.
+TEST(SummarySchemaRealRunner, AGradedCampaignsGrainSizesAreWhatTheOpenApiDocumentSays)
+{
+    namespace fs = std::filesystem;
+    TempDir tmp;
+    ServerProcess server(tmp.path() / "data",
+        {"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "2", "--max-steps-per-job", "1e8"});
+    const auto r = http(server.port(), "POST", "/v1/jobs", read_file(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-graded.json"));
+    ASSERT_EQ(r.status, 201) << r.body;
+    const std::string id(r.json().at("id").as_string());
+    const auto job = poll_job(server.port(), id, [](const json::value& j) {
+        const std::string s = state_of(j);
+        return s == "succeeded" || s == "failed" || s == "cancelled";
+    }, std::chrono::seconds(240));
+    ASSERT_EQ(state_of(job), "succeeded") << json::serialize(job) << server.log();
+    const json::value doc = http(server.port(), "GET", "/v1/openapi.json").json();
+    const json::value& schema = doc.at_pointer(
+        "/paths/~1v1~1jobs~1{id}~1summary/get/responses/200/content/application~1json/schema");
+    const auto reply = http(server.port(), "GET", "/v1/jobs/" + id + "/summary");
+    ASSERT_EQ(reply.status, 200) << reply.body;
+    const json::value summary = reply.json();
+    SchemaCheck check(doc);
+    EXPECT_EQ(listed(check(summary, schema)), "") << reply.body;
+    ASSERT_TRUE(summary.at_pointer("/specimen/grain_sizes/drawn/d50_m").is_number()) << reply.body;
+    // The 150 grains drawn pass the Kolmogorov–Smirnov test at 1 %.
+    EXPECT_LT(summary.at_pointer("/specimen/grain_sizes/ks_distance").to_number<double>(),
+        summary.at_pointer("/specimen/grain_sizes/ks_critical_1pct").to_number<double>());
+}
+
 } // namespace
 } // namespace wiredem::test
