@@ -320,6 +320,8 @@ TEST(MohrCoulombFit, OnePressureSaysThatCWasImposed)
     EXPECT_EQ(fit.value().nonnegative.slope, fit.value().slope);
     EXPECT_FALSE(fit.value().cohesionless.r_squared.has_value());
     EXPECT_STREQ(to_string(FitCaveat::single_pressure), "single_pressure");
+}
+
 // The unconfined strength is the circle through σ₃ = 0 that touches the
 // envelope: its centre q/2 lies q/2 from the line τ = c + σ tan φ, whose
 // distance from (σ, 0) is (c + σ tan φ) cos φ. And the envelope fitted to
