@@ -202,6 +202,14 @@ def test_a_study_is_one_tidy_frame_from_the_server_and_from_its_fetched_folder(s
     point = fetched.result(1)
     assert point.job_spec["seed"] == 2 and point.mohr_coulomb.friction_angle_deg == \
         fetched.point_summaries[1]["mohr_coulomb"]["friction_angle_deg"]
+    # An ended study is removed with its jobs; then it is gone.
+    job_ids = [p["job_id"] for p in client.study_summary(study["id"])["points"]]
+    assert len(job_ids) == 2
+    client.remove_study(study["id"])
+    for gone in [lambda: client.study(study["id"])] + [lambda j=j: client.job(j) for j in job_ids]:
+        with pytest.raises(wiredem.ApiError) as e:
+            gone()
+        assert (e.value.status, e.value.code) == (404, "not_found")
 
 
 def test_a_server_with_a_token_answers_the_client_that_sends_it(runner_bin: Path, tmp_path: Path) -> None:

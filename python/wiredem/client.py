@@ -75,7 +75,7 @@ ROUTES: Dict[str, Route] = dict([
     _r("submitStudy", "POST", "/v1/studies"),
     _r("listStudies", "GET", "/v1/studies", query=("limit", "cursor")),
     _r("getStudy", "GET", "/v1/studies/{id}"),
-    _r("cancelStudy", "DELETE", "/v1/studies/{id}"),
+    _r("deleteStudy", "DELETE", "/v1/studies/{id}", query=("remove",)),
     _r("getStudySummary", "GET", "/v1/studies/{id}/summary"),
 ])
 
@@ -513,7 +513,11 @@ class Client:
 
     def cancel_study(self, study_id: str) -> JSON:
         """Cancels every job of the study that has not ended."""
-        return self._json("cancelStudy", path_params={"id": study_id}, what=f"cancel study {study_id}")
+        return self._json("deleteStudy", path_params={"id": study_id}, what=f"cancel study {study_id}")
+
+    def remove_study(self, study_id: str) -> None:
+        """Deletes a study whose jobs have all ended, with its jobs and their files (``DELETE …?remove=true``)."""
+        self._send("deleteStudy", path_params={"id": study_id}, query={"remove": "true"}, what=f"remove study {study_id}")
 
     def study_summary(self, study_id: str) -> JSON:
         """The study's summary (``points``, ``groups`` with φ and c over the seeds), as the server computed it."""
