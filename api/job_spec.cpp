@@ -12,7 +12,9 @@
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
 #include "api/utf8.hpp"
+#include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
 
@@ -1063,32 +1065,33 @@ void check_grain_volume(Validator& v, const JobSpec& spec)
                 + exact_text(s.membrane_height_m));
 }
 
-void check_wire_fits(Validator& v, const SpecimenSpec& s)
+void check_wire_fits(Validator& v, const JobSpec& spec)
 {
+    const SpecimenSpec& s = spec.specimen;
     const WireSpec& w = s.wire;
-    if (w.pattern == WirePattern::none || !v.clean({"specimen.membrane_radius_m", "specimen.wire"})) return;
+    if (w.pattern == WirePattern::none
+        || !v.clean({"specimen.membrane_radius_m", "specimen.membrane", "specimen.wire"}))
+        return;
     const std::string pattern(to_string(w.pattern));
-    // Clipped to stay r_w + clearance inside the membrane (the model spec §5).
-    const double room_m = s.membrane_radius_m - w.radius_m - w.clearance_m;
-    if (w.pattern == WirePattern::spiral_helix) {
-        if (w.inner_radius_m >= w.helix_radius_m)
-            v.note("specimen.wire.inner_radius_m",
-                exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
-                    + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
-        if (w.helix_radius_m + w.inner_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
-            v.note("specimen.wire.helix_radius_m",
-                exact_text(w.helix_radius_m) + " is too large for the membrane: a spiral_helix needs helix_radius_m "
-                    + "+ inner_radius_m + radius_m + clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m)
-                    + ", so helix_radius_m < " + approx_text(room_m - w.inner_radius_m) + " with inner_radius_m "
-                    + exact_text(w.inner_radius_m));
+    if (w.pattern == WirePattern::spiral_helix && w.inner_radius_m >= w.helix_radius_m) {
+        v.note("specimen.wire.inner_radius_m",
+            exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
+                + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
         return;
     }
-    // helix and radial_helix: the outer circle has radius R_a.
-    if (w.helix_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
-        v.note("specimen.wire.helix_radius_m",
-            exact_text(w.helix_radius_m) + " is too large for the membrane: a " + pattern
-                + " needs helix_radius_m + radius_m + clearance_m < membrane_radius_m "
-                + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
+    // The preparation's own rule (engine::wire_reach_limit_m): the pattern's
+    // reach stays below R − r_m − r_w − clearance.
+    const engine::PreparationSpec p = preparation_geometry(spec);
+    const double limit_m = engine::wire_reach_limit_m(p);
+    if (engine::pattern_reach_m(p.pattern) < limit_m) return;
+    const bool spiral = w.pattern == WirePattern::spiral_helix;
+    v.note("specimen.wire.helix_radius_m",
+        exact_text(w.helix_radius_m) + " is too large for the membrane: a " + pattern + " needs helix_radius_m"
+            + (spiral ? " + inner_radius_m" : "") + " < membrane_radius_m " + exact_text(s.membrane_radius_m)
+            + " − the membrane nodes' contact radius " + approx_text(p.membrane.contact_radius_m) + " − wire.radius_m "
+            + exact_text(w.radius_m) + " − wire.clearance_m " + exact_text(w.clearance_m) + " = " + approx_text(limit_m)
+            + ", so helix_radius_m < " + approx_text(spiral ? limit_m - w.inner_radius_m : limit_m)
+            + (spiral ? " with inner_radius_m " + exact_text(w.inner_radius_m) : std::string()));
 }
 
 void check_fill_rate(Validator& v, const JobSpec& spec)
@@ -1167,12 +1170,40 @@ void check_body_count(Validator& v, const JobSpec& spec)
                 + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
 }
 
-void check_hold(Validator& v, const TriaxialSpec& t)
+/// The engine's own rules for each test's settings (engine::settings_error),
+/// asked at the door so that an accepted job's tests start.
+void check_test_settings(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"triaxial.hold_time_s", "triaxial.max_hold_time_s"}) || !t.max_hold_time_s) return;
-    if (*t.max_hold_time_s < t.hold_time_s)
-        v.note("triaxial.max_hold_time_s", exact_text(*t.max_hold_time_s) + " is shorter than triaxial.hold_time_s "
-                                              + exact_text(t.hold_time_s) + ": it must be at least that");
+    if (!v.clean("triaxial")) return;
+    for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k) {
+        const auto e = engine::settings_error(triaxial_settings(spec, k));
+        if (!e) continue;
+        const std::string field = e->field == "confining_pressure_pa"
+            ? index_path("triaxial.confining_pressures_pa", k)
+            : "triaxial." + e->field;
+        v.note(field, e->message);
+        return;
+    }
+}
+
+/// A record has at most a row a step: a sample interval shorter than the
+/// step the job will run at would silently become "every step" (the run's
+/// own step can still differ from this estimate; the test then says so in
+/// a warning, engine::sample_interval_warning).
+void check_sample_intervals(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen", "contact", "engine", "triaxial.sample_interval_s", "free_standing.sample_interval_s"}))
+        return;
+    const double dt = estimated_work(spec).time_step_s;
+    const auto check = [&](const char* field, double interval_s) {
+        if (interval_s >= dt) return;
+        v.note(field, exact_text(interval_s) + " is shorter than the time step " + approx_text(dt) + " s"
+                          + (spec.engine.time_step_s ? " (engine.time_step_s)"
+                                                     : " (the auto step, set by the " + stable_time_step(spec).limited_by + ")")
+                          + ": a record has at most one row a step, so it must be at least that");
+    };
+    check("triaxial.sample_interval_s", spec.triaxial.sample_interval_s);
+    if (spec.free_standing.enabled) check("free_standing.sample_interval_s", spec.free_standing.sample_interval_s);
 }
 
 void check_snapshots(Validator& v, const TriaxialSpec& t)
@@ -1237,11 +1268,12 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_escape_distance(v, spec);
     check_grain_size(v, spec);
     check_grain_volume(v, spec);
-    check_wire_fits(v, spec.specimen);
+    check_wire_fits(v, spec);
     check_fill_rate(v, spec);
     check_membrane_mesh(v, spec);
     check_body_count(v, spec);
-    check_hold(v, spec.triaxial);
+    check_test_settings(v, spec);
+    check_sample_intervals(v, spec);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
     check_damping(v, spec);

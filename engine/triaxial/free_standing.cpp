@@ -224,6 +224,8 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         open_formwork(w, removal_speed);
         w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, removal_speed);
         result.time_step_s = dt;
+        if (auto warning = sample_interval_warning(settings.sample_interval_s, dt))
+            result.warnings.push_back("free-standing test: " + *warning);
     } else if (st.steps > std::numeric_limits<std::uint64_t>::max() / 2 || !(st.reference_height_m > 0.0)
                || !(st.reference_radius_m > 0.0)) {
         return Err(std::string("the test's saved state is inconsistent (steps or heights)"));
@@ -242,7 +244,7 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
     const double density_scale = settings.real_weights ? settings.real_weights->density_scale : 1.0;
     const auto steps_of = [&](double t_s) { return static_cast<std::uint64_t>(std::ceil(t_s / dt)); };
-    const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
+    const std::uint64_t sample_every = steps_per_sample(settings.sample_interval_s, dt);
     const auto check_every = static_cast<std::uint64_t>(std::max(1.0, std::round(1e-3 / dt)));
     const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
     if (continued && st.next_snapshot > plan.size())
