@@ -1263,6 +1263,16 @@ void check_escape_distance(Validator& v, const JobSpec& spec)
                 + ": grains at the column's edge would count as having left it");
 }
 
+/// The preparation's own refusal (engine::preparation_error), asked last:
+/// the checks above say the same in the job's terms, so this speaks only
+/// when one of them was missed, and an accepted job still starts.
+void check_preparation(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen", "engine", "contact", "seed"}) || !v.errors().empty()) return;
+    if (auto e = engine::preparation_error(preparation_geometry(spec)))
+        v.note("specimen", "the preparation would refuse it: " + *e);
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
     check_escape_distance(v, spec);
@@ -1278,6 +1288,7 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_time_step(v, spec);
     check_damping(v, spec);
     check_work(v, spec);
+    check_preparation(v, spec);
 }
 
 // ------------------------------------------------------------------- writing
