@@ -14,6 +14,7 @@
 #include "api/utf8.hpp"
 #include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
@@ -1170,8 +1171,9 @@ void check_body_count(Validator& v, const JobSpec& spec)
                 + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
 }
 
-/// The engine's own rules for each test's settings (engine::settings_error),
-/// asked at the door so that an accepted job's tests start.
+/// The engine's own rules for each test's settings (engine::settings_error,
+/// engine::free_standing_settings_error), asked at the door so that an
+/// accepted job's tests start.
 void check_test_settings(Validator& v, const JobSpec& spec)
 {
     if (!v.clean("triaxial")) return;
@@ -1183,6 +1185,13 @@ void check_test_settings(Validator& v, const JobSpec& spec)
             : "triaxial." + e->field;
         v.note(field, e->message);
         return;
+    }
+    if (!spec.free_standing.enabled || !v.clean({"free_standing", "specimen.membrane_radius_m"})) return;
+    if (const auto e = engine::free_standing_settings_error(free_standing_settings(spec))) {
+        // The engine's dead_load.* are the job's dead_load_*.
+        std::string field = e->field;
+        if (field.starts_with("dead_load.")) field = field == "dead_load.force_n" ? "dead_load_n" : "dead_load_" + field.substr(10);
+        v.note(field == "snapshot_strains" ? "free_standing" : "free_standing." + field, e->message);
     }
 }
 

@@ -9,6 +9,7 @@
 #include "api/engine_settings.hpp"
 #include "api/job_spec.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
@@ -67,6 +68,11 @@ inline void check_parsed_spec(const api::JobSpec& spec)
     for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k) {
         const auto test = engine::settings_error(api::triaxial_settings(spec, k));
         FUZZ_CHECK(!test, "accepted, but test " + std::to_string(k) + " refuses its settings ("
+                              + (test ? test->field + ": " + test->message : "") + "): " + text);
+    }
+    if (spec.free_standing.enabled) {
+        const auto test = engine::free_standing_settings_error(api::free_standing_settings(spec));
+        FUZZ_CHECK(!test, "accepted, but the free-standing test refuses its settings ("
                               + (test ? test->field + ": " + test->message : "") + "): " + text);
     }
 }
