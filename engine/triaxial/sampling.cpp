@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace wiredem::engine {
@@ -30,13 +29,6 @@ std::optional<std::string> sample_interval_warning(double sample_interval_s, dou
     if (std::round(sample_interval_s / dt_s) >= 1.0) return std::nullopt;
     return "sample_interval_s " + format_number(sample_interval_s) + " s is shorter than half the time step "
          + format_number(dt_s) + " s: the record has a row every step";
-}
-
-std::string format_number(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
 }
 
 std::vector<double> snapshot_plan(double target_axial_strain, const std::vector<double>& requested)

@@ -13,6 +13,7 @@
 // serial loop in id order, so results are bit-identical for any thread count.
 #pragma once
 
+#include "core/format.hpp"
 #include "simulation.hpp"
 
 #include <array>
@@ -185,7 +186,5 @@ void take_due_snapshots(const World& w, const std::vector<double>& plan, std::si
 /// differ from that estimate); empty otherwise.
 [[nodiscard]] std::optional<std::string> sample_interval_warning(double sample_interval_s, double dt_s);
 
-/// `v` with three significant digits, for messages.
-[[nodiscard]] std::string format_number(double v);
 
 } // namespace wiredem::engine
