@@ -9,6 +9,7 @@
 #include "laws/wire_bond.hpp"
 #include "state/world.hpp"
 #include "timestep.hpp"
+#include "triaxial/sampling.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <algorithm>
@@ -146,8 +147,8 @@ WorkEstimate estimated_work(const JobSpec& spec)
     }
     if (spec.free_standing.enabled)
         w.free_standing_steps = engine::longest_free_standing_time_s(free_standing_settings(spec), height_m) / w.time_step_s;
-    // A row every max(1, round(interval / δt)) steps, and the last one.
-    w.samples_per_test = longest / std::max(1.0, std::round(t.sample_interval_s / w.time_step_s)) + 1.0;
+    // A row every engine::steps_per_sample steps, and the last one.
+    w.samples_per_test = longest / static_cast<double>(engine::steps_per_sample(t.sample_interval_s, w.time_step_s)) + 1.0;
     return w;
 }
 

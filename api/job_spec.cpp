@@ -12,14 +12,16 @@
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
 #include "api/utf8.hpp"
+#include "core/format.hpp"
+#include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
+#include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
 
 #include <array>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <initializer_list>
 #include <numbers>
 #include <span>
@@ -33,22 +35,8 @@ namespace {
 
 // ---------------------------------------------------------------- formatting
 
-/// Shortest text that reads back as the same double: shows users exactly
-/// the value they gave ("1e-05", "0.1", "20000").
-std::string exact_text(double x)
-{
-    std::array<char, 64> buf{};
-    const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), x);
-    return std::string(buf.data(), res.ptr);
-}
-
-/// Three significant digits, for derived quantities ("1.88e-07").
-std::string approx_text(double x)
-{
-    std::array<char, 32> buf{};
-    const int n = std::snprintf(buf.data(), buf.size(), "%.3g", x);
-    return std::string(buf.data(), static_cast<std::size_t>(n));
-}
+using engine::exact_number;
+using engine::format_number;
 
 /// What a JSON value is, for "expected a number, got a string".
 std::string_view kind_text(const json::value& v)
@@ -81,7 +69,7 @@ struct Range {
     }
     [[nodiscard]] std::string text() const
     {
-        return std::string(lo_open ? "(" : "[") + exact_text(lo) + ", " + exact_text(hi) + (hi_open ? ")" : "]");
+        return std::string(lo_open ? "(" : "[") + exact_number(lo) + ", " + exact_number(hi) + (hi_open ? ")" : "]");
     }
 };
 
@@ -258,7 +246,7 @@ bool read_number(Validator& v, const json::value& j, const std::string& path, Ra
         return false;
     }
     if (!range.contains(*x)) {
-        v.fail(path, exact_text(*x) + " is out of range " + range.text());
+        v.fail(path, exact_number(*x) + " is out of range " + range.text());
         return false;
     }
     out = *x;
@@ -281,11 +269,11 @@ bool read_integer(Validator& v, const json::value& j, const std::string& path, I
     } else if (j.is_double()) {
         const double d = j.get_double();
         if (!std::isfinite(d) || std::trunc(d) != d) {
-            v.fail(path, "expected an integer, got " + exact_text(d));
+            v.fail(path, "expected an integer, got " + exact_number(d));
             return false;
         }
         if (d < 0.0 || d >= 0x1p64) {
-            v.fail(path, exact_text(d) + " is out of range " + range.text());
+            v.fail(path, exact_number(d) + " is out of range " + range.text());
             return false;
         }
         n = static_cast<std::uint64_t>(d);
@@ -454,8 +442,8 @@ bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range,
         valid[i] = read_number(v, a[i], index_path(path, i), range, values[i]);
         ok = ok && valid[i];
         if (i > 0 && valid[i] && valid[i - 1] && !(values[i] > values[i - 1])) {
-            v.fail(index_path(path, i), exact_text(values[i]) + " is not greater than the previous entry "
-                                            + exact_text(values[i - 1]) + "; " + std::string(what)
+            v.fail(index_path(path, i), exact_number(values[i]) + " is not greater than the previous entry "
+                                            + exact_number(values[i - 1]) + "; " + std::string(what)
                                             + " must be strictly increasing");
             ok = false;
         }
@@ -661,7 +649,7 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
     for (std::size_t k = 1; ok && k < g.diameters_m.size(); ++k)
         if (g.diameters_m[k] < min_grain_size_ratio * g.diameters_m[k - 1]) {
             v.fail(index_path(c.path_of("diameters_m"), k),
-                exact_text(g.diameters_m[k]) + " is within 0.1 % of the previous size " + exact_text(g.diameters_m[k - 1])
+                exact_number(g.diameters_m[k]) + " is within 0.1 % of the previous size " + exact_number(g.diameters_m[k - 1])
                     + "; sizes of a curve must differ by more than that");
             ok = false;
         }
@@ -686,21 +674,21 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
                 continue;
             }
             if (values_ok && i > 0 && x < g.fraction_passing.back()) {
-                v.fail(index_path(fpath, i), exact_text(x) + " is less than the previous entry "
-                                                 + exact_text(g.fraction_passing.back())
+                v.fail(index_path(fpath, i), exact_number(x) + " is less than the previous entry "
+                                                 + exact_number(g.fraction_passing.back())
                                                  + "; the fraction passing must not decrease with size");
                 values_ok = false;
             }
             g.fraction_passing.push_back(x);
         }
         if (values_ok && !a.empty() && g.fraction_passing.front() != 0.0) {
-            v.fail(index_path(fpath, 0), exact_text(g.fraction_passing.front())
+            v.fail(index_path(fpath, 0), exact_number(g.fraction_passing.front())
                                              + " is not 0: the smallest diameter bounds the grains, so nothing passes it "
                                                "(add the size below which there are no grains, with 0)");
             values_ok = false;
         }
         if (values_ok && !a.empty() && g.fraction_passing.back() != 1.0) {
-            v.fail(index_path(fpath, a.size() - 1), exact_text(g.fraction_passing.back())
+            v.fail(index_path(fpath, a.size() - 1), exact_number(g.fraction_passing.back())
                                                         + " is not 1: every grain passes the largest diameter");
             values_ok = false;
         }
@@ -1032,17 +1020,17 @@ void check_grain_size(Validator& v, const JobSpec& spec)
     if (largest_m <= limit_m) return;
     if (s.grain_sizes)
         v.note("specimen.grain_sizes.diameters_m",
-            "the largest diameter " + exact_text(s.grain_sizes->diameters_m.back())
-                + " is too big for the membrane: the column must be at least " + exact_text(min_column_grain_diameters)
+            "the largest diameter " + exact_number(s.grain_sizes->diameters_m.back())
+                + " is too big for the membrane: the column must be at least " + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so it must not exceed 2 membrane_radius_m / "
-                + exact_text(min_column_grain_diameters) + " = " + approx_text(2.0 * limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m));
     else
         v.note("specimen.grain_radius_m",
-            exact_text(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
-                + exact_text(min_column_grain_diameters)
+            exact_number(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
+                + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so grain_radius_m × (1 + grain_radius_spread) must not exceed "
                   "membrane_radius_m / "
-                + exact_text(min_column_grain_diameters) + " = " + approx_text(limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(limit_m));
 }
 
 void check_grain_volume(Validator& v, const JobSpec& spec)
@@ -1058,37 +1046,38 @@ void check_grain_volume(Validator& v, const JobSpec& spec)
     if (needed_m > s.membrane_height_m)
         v.note("specimen.grain_count",
             std::to_string(s.grain_count) + " grains do not fit in the membrane: they fill about "
-                + approx_text(engine::estimated_fill_height_m(p)) + " m, and pouring needs 8 largest grain radii above "
-                + "that: membrane_height_m must be at least " + approx_text(needed_m) + ", not "
-                + exact_text(s.membrane_height_m));
+                + format_number(engine::estimated_fill_height_m(p)) + " m, and pouring needs 8 largest grain radii above "
+                + "that: membrane_height_m must be at least " + format_number(needed_m) + ", not "
+                + exact_number(s.membrane_height_m));
 }
 
-void check_wire_fits(Validator& v, const SpecimenSpec& s)
+void check_wire_fits(Validator& v, const JobSpec& spec)
 {
+    const SpecimenSpec& s = spec.specimen;
     const WireSpec& w = s.wire;
-    if (w.pattern == WirePattern::none || !v.clean({"specimen.membrane_radius_m", "specimen.wire"})) return;
+    if (w.pattern == WirePattern::none
+        || !v.clean({"specimen.membrane_radius_m", "specimen.membrane", "specimen.wire"}))
+        return;
     const std::string pattern(to_string(w.pattern));
-    // Clipped to stay r_w + clearance inside the membrane (the model spec §5).
-    const double room_m = s.membrane_radius_m - w.radius_m - w.clearance_m;
-    if (w.pattern == WirePattern::spiral_helix) {
-        if (w.inner_radius_m >= w.helix_radius_m)
-            v.note("specimen.wire.inner_radius_m",
-                exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
-                    + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
-        if (w.helix_radius_m + w.inner_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
-            v.note("specimen.wire.helix_radius_m",
-                exact_text(w.helix_radius_m) + " is too large for the membrane: a spiral_helix needs helix_radius_m "
-                    + "+ inner_radius_m + radius_m + clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m)
-                    + ", so helix_radius_m < " + approx_text(room_m - w.inner_radius_m) + " with inner_radius_m "
-                    + exact_text(w.inner_radius_m));
+    if (w.pattern == WirePattern::spiral_helix && w.inner_radius_m >= w.helix_radius_m) {
+        v.note("specimen.wire.inner_radius_m",
+            exact_number(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_number(w.helix_radius_m)
+                + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
         return;
     }
-    // helix and radial_helix: the outer circle has radius R_a.
-    if (w.helix_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
-        v.note("specimen.wire.helix_radius_m",
-            exact_text(w.helix_radius_m) + " is too large for the membrane: a " + pattern
-                + " needs helix_radius_m + radius_m + clearance_m < membrane_radius_m "
-                + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
+    // The preparation's own rule (engine::wire_reach_limit_m): the pattern's
+    // reach stays below R − r_m − r_w − clearance.
+    const engine::PreparationSpec p = preparation_geometry(spec);
+    const double limit_m = engine::wire_reach_limit_m(p);
+    if (engine::pattern_reach_m(p.pattern) < limit_m) return;
+    const bool spiral = w.pattern == WirePattern::spiral_helix;
+    v.note("specimen.wire.helix_radius_m",
+        exact_number(w.helix_radius_m) + " is too large for the membrane: a " + pattern + " needs helix_radius_m"
+            + (spiral ? " + inner_radius_m" : "") + " < membrane_radius_m " + exact_number(s.membrane_radius_m)
+            + " − the membrane nodes' contact radius " + format_number(p.membrane.contact_radius_m) + " − wire.radius_m "
+            + exact_number(w.radius_m) + " − wire.clearance_m " + exact_number(w.clearance_m) + " = " + format_number(limit_m)
+            + ", so helix_radius_m < " + format_number(spiral ? limit_m - w.inner_radius_m : limit_m)
+            + (spiral ? " with inner_radius_m " + exact_number(w.inner_radius_m) : std::string()));
 }
 
 void check_fill_rate(Validator& v, const JobSpec& spec)
@@ -1112,16 +1101,16 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
             // L = ω R_a t_lay: the shortest wire is laid at the fastest fill.
             const double shortest_m = *s.wire.length_m * fill_rate / limit;
             v.note("specimen.wire.length_m",
-                exact_text(*s.wire.length_m) + " needs a fill rate of " + approx_text(fill_rate)
-                    + " m/s, faster than the nozzle can follow (at most " + exact_text(engine::max_fill_rate_per_rise_speed)
-                    + " × specimen.wire.nozzle_rise_speed_m_per_s = " + approx_text(limit)
-                    + "): length_m must be at least " + approx_text(shortest_m));
+                exact_number(*s.wire.length_m) + " needs a fill rate of " + format_number(fill_rate)
+                    + " m/s, faster than the nozzle can follow (at most " + exact_number(engine::max_fill_rate_per_rise_speed)
+                    + " × specimen.wire.nozzle_rise_speed_m_per_s = " + format_number(limit)
+                    + "): length_m must be at least " + format_number(shortest_m));
         } else {
             v.note("specimen.pouring.fill_rate_m_per_s",
-                exact_text(fill_rate) + " is too fast for the nozzle, which rises at most "
-                    + "specimen.wire.nozzle_rise_speed_m_per_s " + exact_text(s.wire.nozzle_rise_speed_m_per_s)
+                exact_number(fill_rate) + " is too fast for the nozzle, which rises at most "
+                    + "specimen.wire.nozzle_rise_speed_m_per_s " + exact_number(s.wire.nozzle_rise_speed_m_per_s)
                     + " and must follow the pile's uneven top: fill_rate_m_per_s must not exceed "
-                    + exact_text(engine::max_fill_rate_per_rise_speed) + " × that = " + approx_text(limit));
+                    + exact_number(engine::max_fill_rate_per_rise_speed) + " × that = " + format_number(limit));
         }
         return;
     }
@@ -1130,10 +1119,10 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
     const double pour_s = engine::estimated_fill_height_m(p) / fill_rate;
     if (!(pour_s < s.pouring.max_preparation_time_s))
         v.note("specimen.pouring.max_preparation_time_s",
-            exact_text(s.pouring.max_preparation_time_s) + " is too short: pouring "
-                + approx_text(engine::estimated_fill_height_m(p)) + " m of fill at " + approx_text(fill_rate)
+            exact_number(s.pouring.max_preparation_time_s) + " is too short: pouring "
+                + format_number(engine::estimated_fill_height_m(p)) + " m of fill at " + format_number(fill_rate)
                 + " m/s" + (with_wire && s.wire.length_m ? " (the rate that lays specimen.wire.length_m)" : "")
-                + " takes " + approx_text(pour_s) + " s; max_preparation_time_s must exceed that, with time to settle");
+                + " takes " + format_number(pour_s) + " s; max_preparation_time_s must exceed that, with time to settle");
 }
 
 void check_membrane_mesh(Validator& v, const JobSpec& spec)
@@ -1147,10 +1136,10 @@ void check_membrane_mesh(Validator& v, const JobSpec& spec)
     const double limit_m = std::numbers::sqrt3 * (smallest_m + contact_m);
     if (s.membrane.mesh_size_m >= limit_m)
         v.note("specimen.membrane.mesh_size_m",
-            exact_text(s.membrane.mesh_size_m) + " is too coarse: the smallest grain (radius " + approx_text(smallest_m)
-                + ") would slip between membrane nodes of contact radius " + approx_text(contact_m)
+            exact_number(s.membrane.mesh_size_m) + " is too coarse: the smallest grain (radius " + format_number(smallest_m)
+                + ") would slip between membrane nodes of contact radius " + format_number(contact_m)
                 + "; mesh_size_m must be below √3 (smallest grain radius + membrane contact radius) = "
-                + approx_text(limit_m));
+                + format_number(limit_m));
 }
 
 void check_body_count(Validator& v, const JobSpec& spec)
@@ -1167,12 +1156,48 @@ void check_body_count(Validator& v, const JobSpec& spec)
                 + " membrane nodes), more than max_bodies " + std::to_string(spec.engine.max_bodies));
 }
 
-void check_hold(Validator& v, const TriaxialSpec& t)
+/// The engine's own rules for each test's settings (engine::settings_error,
+/// engine::free_standing_settings_error), asked at the door so that an
+/// accepted job's tests start.
+void check_test_settings(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"triaxial.hold_time_s", "triaxial.max_hold_time_s"}) || !t.max_hold_time_s) return;
-    if (*t.max_hold_time_s < t.hold_time_s)
-        v.note("triaxial.max_hold_time_s", exact_text(*t.max_hold_time_s) + " is shorter than triaxial.hold_time_s "
-                                              + exact_text(t.hold_time_s) + ": it must be at least that");
+    if (!v.clean("triaxial")) return;
+    for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k) {
+        const auto e = engine::settings_error(triaxial_settings(spec, k));
+        if (!e) continue;
+        const std::string field = e->field == "confining_pressure_pa"
+            ? index_path("triaxial.confining_pressures_pa", k)
+            : "triaxial." + e->field;
+        v.note(field, e->message);
+        return;
+    }
+    if (!spec.free_standing.enabled || !v.clean({"free_standing", "specimen.membrane_radius_m"})) return;
+    if (const auto e = engine::free_standing_settings_error(free_standing_settings(spec))) {
+        // The engine's dead_load.* are the job's dead_load_*.
+        std::string field = e->field;
+        if (field.starts_with("dead_load.")) field = field == "dead_load.force_n" ? "dead_load_n" : "dead_load_" + field.substr(10);
+        v.note(field == "snapshot_strains" ? "free_standing" : "free_standing." + field, e->message);
+    }
+}
+
+/// A record has at most a row a step: a sample interval shorter than the
+/// step the job will run at would silently become "every step" (the run's
+/// own step can still differ from this estimate; the test then says so in
+/// a warning, engine::sample_interval_warning).
+void check_sample_intervals(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen", "contact", "engine", "triaxial.sample_interval_s", "free_standing.sample_interval_s"}))
+        return;
+    const double dt = estimated_work(spec).time_step_s;
+    const auto check = [&](const char* field, double interval_s) {
+        if (interval_s >= dt) return;
+        v.note(field, exact_number(interval_s) + " is shorter than the time step " + format_number(dt) + " s"
+                          + (spec.engine.time_step_s ? " (engine.time_step_s)"
+                                                     : " (the auto step, set by the " + stable_time_step(spec).limited_by + ")")
+                          + ": a record has at most one row a step, so it must be at least that");
+    };
+    check("triaxial.sample_interval_s", spec.triaxial.sample_interval_s);
+    if (spec.free_standing.enabled) check("free_standing.sample_interval_s", spec.free_standing.sample_interval_s);
 }
 
 void check_snapshots(Validator& v, const TriaxialSpec& t)
@@ -1181,8 +1206,8 @@ void check_snapshots(Validator& v, const TriaxialSpec& t)
     for (std::size_t i = 0; i < t.snapshot_strains.size(); ++i)
         if (t.snapshot_strains[i] > t.target_axial_strain)
             v.note(index_path("triaxial.snapshot_strains", i),
-                exact_text(t.snapshot_strains[i]) + " is beyond triaxial.target_axial_strain "
-                    + exact_text(t.target_axial_strain));
+                exact_number(t.snapshot_strains[i]) + " is beyond triaxial.target_axial_strain "
+                    + exact_number(t.target_axial_strain));
 }
 
 void check_time_step(Validator& v, const JobSpec& spec)
@@ -1194,9 +1219,9 @@ void check_time_step(Validator& v, const JobSpec& spec)
     const StableStep stable = stable_time_step(spec);
     const double dt = *spec.engine.time_step_s;
     if (dt > stable.critical_s)
-        v.note("engine.time_step_s", exact_text(dt) + " exceeds the stable limit " + approx_text(stable.critical_s)
+        v.note("engine.time_step_s", exact_number(dt) + " exceeds the stable limit " + format_number(stable.critical_s)
                                          + " set by the " + stable.limited_by + " (\"auto\" would use "
-                                         + approx_text(stable.auto_s) + ")");
+                                         + format_number(stable.auto_s) + ")");
 }
 
 /// A damping given as γ_n that no explicit step can follow (engine::
@@ -1216,9 +1241,9 @@ void check_work(Validator& v, const JobSpec& spec)
     const WorkEstimate work = estimated_work(spec);
     if (work.total_steps() <= max_steps_of_any_job) return;
     v.note(work_field(spec, work),
-        "the job needs about " + approx_text(work.total_steps()) + " time steps of " + approx_text(work.time_step_s)
+        "the job needs about " + format_number(work.total_steps()) + " time steps of " + format_number(work.time_step_s)
             + " s" + (spec.engine.time_step_s ? "" : " (the auto step, set by the " + stable_time_step(spec).limited_by + ")")
-            + "; no job may take more than " + approx_text(max_steps_of_any_job));
+            + "; no job may take more than " + format_number(max_steps_of_any_job));
 }
 
 /// The escape distance must lie beyond the column's own radius.
@@ -1228,8 +1253,18 @@ void check_escape_distance(Validator& v, const JobSpec& spec)
     if (!given || !v.clean({"free_standing.escape_distance_m", "specimen.membrane_radius_m"})) return;
     if (*given <= spec.specimen.membrane_radius_m)
         v.note("free_standing.escape_distance_m",
-            exact_text(*given) + " is not beyond specimen.membrane_radius_m " + exact_text(spec.specimen.membrane_radius_m)
+            exact_number(*given) + " is not beyond specimen.membrane_radius_m " + exact_number(spec.specimen.membrane_radius_m)
                 + ": grains at the column's edge would count as having left it");
+}
+
+/// The preparation's own refusal (engine::preparation_error), asked last:
+/// the checks above say the same in the job's terms, so this speaks only
+/// when one of them was missed, and an accepted job still starts.
+void check_preparation(Validator& v, const JobSpec& spec)
+{
+    if (!v.clean({"specimen", "engine", "contact", "seed"}) || !v.errors().empty()) return;
+    if (auto e = engine::preparation_error(preparation_geometry(spec)))
+        v.note("specimen", "the preparation would refuse it: " + *e);
 }
 
 void cross_check(Validator& v, const JobSpec& spec)
@@ -1237,15 +1272,17 @@ void cross_check(Validator& v, const JobSpec& spec)
     check_escape_distance(v, spec);
     check_grain_size(v, spec);
     check_grain_volume(v, spec);
-    check_wire_fits(v, spec.specimen);
+    check_wire_fits(v, spec);
     check_fill_rate(v, spec);
     check_membrane_mesh(v, spec);
     check_body_count(v, spec);
-    check_hold(v, spec.triaxial);
+    check_test_settings(v, spec);
+    check_sample_intervals(v, spec);
     check_snapshots(v, spec.triaxial);
     check_time_step(v, spec);
     check_damping(v, spec);
     check_work(v, spec);
+    check_preparation(v, spec);
 }
 
 // ------------------------------------------------------------------- writing

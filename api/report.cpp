@@ -107,7 +107,7 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
         const io::Group last = root.open_group("tests/" + names.back());
         const auto ks = snapshot_indices(last);
         if (!ks.empty()) {
-            const io::Group snap = last.open_group("snapshots/" + std::string(snapshot_prefix) + std::to_string(ks.back()));
+            const io::Group snap = last.open_group(snapshot_path(ks.back()));
             if (snap.exists("wire_segment_strain") && snap.exists("wire_node_position_m")) {
                 const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
                 const std::vector<double> nodes = snap.open_dataset("wire_node_position_m").read_doubles();

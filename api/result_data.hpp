@@ -26,6 +26,9 @@ inline constexpr std::size_t max_series_points = 1'000'000;
 /// Name prefix of a test's snapshot groups (snapshot_0, snapshot_1, …).
 inline constexpr std::string_view snapshot_prefix = "snapshot_";
 
+/// Path of snapshot `k` within its test's group: "snapshots/snapshot_<k>".
+[[nodiscard]] std::string snapshot_path(std::size_t k);
+
 /// The tests of a result file by ascending confining pressure (their group
 /// names sort as text: sigma3_100000 before sigma3_20000).
 [[nodiscard]] std::vector<std::string> test_names(const engine::io::Group& root);

@@ -8,6 +8,7 @@
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
+#include "core/format.hpp"
 #include "io/atomic_file.hpp"
 #include "io/snapshot.hpp"
 #include "io/xdmf.hpp"
@@ -45,13 +46,6 @@ using api::finite_or_null;
 /// Below this fraction of its path laid as wire, the nozzle is reported as
 /// blocked (it feeds no wire where a grain or earlier wire is in the way).
 constexpr double min_laid_fraction = 0.8;
-
-std::string format_metres(double m)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g m", m);
-    return buf;
-}
 
 /// The summary's warning when the first local maximum of the wire's
 /// autocorrelation is not its first prominent one (engine/analysis/autocorrelation.hpp).
@@ -670,9 +664,9 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     if (!prep.settled)
         warnings.push_back("the specimen did not settle within max_preparation_time_s; it was tested as it was");
     if (prep.wire_length_m < min_laid_fraction * prep.nozzle_path_m)
-        warnings.push_back("the nozzle laid " + format_metres(prep.wire_length_m) + " of wire along "
-                           + format_metres(prep.nozzle_path_m)
-                           + " of its path: it fell behind the pile and was blocked; lower "
+        warnings.push_back("the nozzle laid " + engine::format_number(prep.wire_length_m) + " m of wire along "
+                           + engine::format_number(prep.nozzle_path_m)
+                           + " m of its path: it fell behind the pile and was blocked; lower "
                              "specimen.pouring.fill_rate_m_per_s");
     for (std::size_t k = 0; k < tests.size(); ++k)
         for (const std::string& w : tests[k].warnings)

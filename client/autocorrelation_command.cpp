@@ -42,7 +42,7 @@ int cmd_autocorrelation(const std::filesystem::path& result_h5, const std::strin
         const std::size_t k = snapshot ? static_cast<std::size_t>(*snapshot) : ks.back();
         if (std::find(ks.begin(), ks.end(), k) == ks.end())
             throw CommandError(exit_code::local_io, test + " of " + file_name + " has no snapshot " + std::to_string(k));
-        const io::Group snap = group.open_group("snapshots/" + std::string(api::snapshot_prefix) + std::to_string(k));
+        const io::Group snap = group.open_group(api::snapshot_path(k));
         if (!snap.exists("wire_segment_strain"))
             throw CommandError(exit_code::local_io, test + " snapshot " + std::to_string(k) + " of " + file_name + " has no wire");
         const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Configures and builds one variant into build/<variant>.
 #   scripts/build.sh release|asan|tsan|clang [target ...]
-# release: GCC, the programs, tests, benchmarks and web page.
+# release: GCC with -Werror, the programs, tests, benchmarks and web page.
 # asan: Debian's clang (14) with AddressSanitizer + UndefinedBehaviorSanitizer
 #   and libFuzzer's coverage: the tests and the fuzz targets (tests/fuzz,
 #   scripts/fuzz.sh) in one tree, and with -Werror and without precompiled
@@ -27,11 +27,14 @@ for t in "$@"; do targets+=(--target "$t"); done
 # wiredem_compile_fast_under_sanitizers): they wait on sockets. Neither
 # builds the web page (its browser test runs against the Release server);
 # the TSan build neither the benchmarks nor the demo, which no test runs.
-sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+# -DNDEBUG keeps the standard library's and Eigen's own checks out, but
+# WIREDEM_ASSERTIONS keeps the engine's WIREDEM_ASSERT in (engine/core/
+# assert.hpp): the tests run with the engine's contracts checked.
+sanitizer_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG -DWIREDEM_ASSERTIONS"
   -DWIREDEM_BUILD_BENCH=OFF -DWIREDEM_BUILD_APPS=OFF -DWIREDEM_BUILD_WEB=OFF)
 case "$variant" in
-  release) args=(-DCMAKE_BUILD_TYPE=Release) ;;
-  asan)    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG"
+  release) args=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS=-Werror) ;;
+  asan)    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG -DWIREDEM_ASSERTIONS"
                  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS=-Werror -DWIREDEM_PCH=OFF
                  -DWIREDEM_SANITIZE=address,undefined -DWIREDEM_FUZZ=ON -DWIREDEM_BUILD_WEB=OFF) ;;
   tsan)    args=("${sanitizer_flags[@]}" -DWIREDEM_SANITIZE=thread) ;;

@@ -12,7 +12,8 @@
 # the long physical runs (label physics_long: whole column preparations and
 # the end-to-end triaxial runs, a minute or two each under ASan, whose code
 # the sanitizer run still goes through in the determinism and campaign
-# tests); then under ThreadSanitizer the threaded engine tests and the server;
+# tests); then under ThreadSanitizer the threaded engine tests, the server and
+# the campaign's scheduler (a `wiredem run` of three tests on two threads);
 # then the fuzz targets of the same ASan build, each for 30 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,7 +42,18 @@ fi
 # ThreadSanitizer only for the threaded code: the engine's thread pool and
 # determinism tests, and the server with the client it is driven through.
 phase "tsan"
-bash scripts/build.sh tsan wiredem_threaded_tests wiredem_server_tests wiredem_client_display_tests wiredem-server wiredem
+bash scripts/build.sh tsan wiredem_threaded_tests wiredem_server_tests wiredem_client_display_tests wiredem-server wiredem \
+  wiredem_stages_tests
+
+# The SIMD paths this CPU has, read here from /proc/cpuinfo rather than by
+# the engine: a path the CPU has that the engine does not take fails the
+# determinism tests (Simd.EveryPathTheCpuHasIsTested) instead of skipping.
+required_simd=""
+if grep -qw avx2 /proc/cpuinfo; then required_simd=avx2; fi
+if grep -qw avx512f /proc/cpuinfo && grep -qw avx512vl /proc/cpuinfo && grep -qw avx512bw /proc/cpuinfo; then
+  required_simd="$required_simd,avx512"
+fi
+export WIREDEM_REQUIRE_SIMD=${required_simd#,}
 
 phase "tests (release)"
 ctest --test-dir build/release --output-on-failure -j "$jobs" -LE study_scale
@@ -50,6 +62,12 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|study_scale|scripts|slurm"
 phase "tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
+# The campaign's own scheduler (campaign/stages.cpp: tests at once, threads
+# handed over as tests end, a test continued on more threads): the TSan
+# `wiredem run` of three tests on two threads, which fails on any report.
+phase "tests (thread sanitizer: the campaign's scheduler)"
+TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/campaign/wiredem_stages_tests \
+  --gtest_filter=Stages.ATestTakesTheThreadsOfTheTestsThatEnded
 phase "fuzzing (libFuzzer, ASan + UBSan: each target 30 s, docs/fuzzing.md)"
 bash scripts/fuzz.sh
 echo "== done in $SECONDS s"

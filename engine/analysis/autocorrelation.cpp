@@ -1,9 +1,10 @@
 // Autocorrelation by direct sums, and its maxima; see autocorrelation.hpp.
 #include "analysis/autocorrelation.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 namespace wiredem::engine::analysis {
 
@@ -54,11 +55,8 @@ Result<Autocorrelation, std::string> autocorrelation(
 {
     const std::size_t n = signal.size();
     if (n < 2) return Err{"autocorrelation: signal has " + std::to_string(n) + " samples; need at least 2"};
-    if (!std::isfinite(segment_length_m) || !(segment_length_m > 0.0)) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "%.6g", segment_length_m);
-        return Err{std::string("autocorrelation: segment_length_m = ") + buf + " must be finite and > 0"};
-    }
+    if (!std::isfinite(segment_length_m) || !(segment_length_m > 0.0))
+        return Err{"autocorrelation: segment_length_m = " + format_number(segment_length_m, 6) + " must be finite and > 0"};
     double largest_abs = 0.0;
     for (std::size_t t = 0; t < n; ++t) {
         if (!std::isfinite(signal[t])) return Err{"autocorrelation: sample " + std::to_string(t) + " is not finite"};

@@ -1,9 +1,10 @@
 // Least-squares Mohr–Coulomb envelope; see mohr_coulomb.hpp.
 #include "analysis/mohr_coulomb.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -12,13 +13,6 @@
 namespace wiredem::engine::analysis {
 
 namespace {
-
-std::string format_pa(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
 
 std::string test_label(std::size_t i) { return "test " + std::to_string(i); }
 
@@ -40,7 +34,7 @@ Result<MohrEnvelope, std::string> envelope_of(const std::vector<MohrCircle>& cir
 {
     if (!(std::abs(b) < 1.0))
         return Err{std::string("mohr_coulomb: slope of the line through the circle tops") + which + " tan(alpha) = "
-            + format_pa(b) + " has magnitude >= 1; no real friction angle (sin(phi) = tan(alpha))"};
+            + format_number(b, 6) + " has magnitude >= 1; no real friction angle (sin(phi) = tan(alpha))"};
     MohrEnvelope e;
     e.intercept_pa = a_pa;
     e.slope = b;
@@ -144,10 +138,10 @@ Result<MohrCoulombFit, std::string> fit_mohr_coulomb(std::span<const PeakState> 
         const PeakState& s = peaks[i];
         if (!std::isfinite(s.sigma1_pa) || !std::isfinite(s.sigma3_pa))
             return Err{"mohr_coulomb: " + test_label(i) + " has a non-finite stress (sigma1_pa = "
-                + format_pa(s.sigma1_pa) + ", sigma3_pa = " + format_pa(s.sigma3_pa) + ")"};
+                + format_number(s.sigma1_pa, 6) + ", sigma3_pa = " + format_number(s.sigma3_pa, 6) + ")"};
         if (s.sigma1_pa < s.sigma3_pa)
-            return Err{"mohr_coulomb: " + test_label(i) + " has sigma1_pa = " + format_pa(s.sigma1_pa)
-                + " below sigma3_pa = " + format_pa(s.sigma3_pa) + " (not a compression peak)"};
+            return Err{"mohr_coulomb: " + test_label(i) + " has sigma1_pa = " + format_number(s.sigma1_pa, 6)
+                + " below sigma3_pa = " + format_number(s.sigma3_pa, 6) + " (not a compression peak)"};
         fit.circles.push_back(mohr_circle(s));
     }
 
@@ -157,7 +151,7 @@ Result<MohrCoulombFit, std::string> fit_mohr_coulomb(std::span<const PeakState> 
         // One circle: the envelope through the origin tangent to it, sin φ = t/p, c = 0.
         const MohrCircle& m = circles.front();
         if (!(m.centre_pa > 0.0))
-            return Err{"mohr_coulomb: single test with circle centre p = " + format_pa(m.centre_pa)
+            return Err{"mohr_coulomb: single test with circle centre p = " + format_number(m.centre_pa, 6)
                 + " Pa; need p > 0 to fit phi with c = 0"};
         auto e = envelope_of(circles, 0.0, m.radius_pa / m.centre_pa, 1, 0.0, "");
         if (!e.ok()) return Err{e.error()};
@@ -176,7 +170,7 @@ Result<MohrCoulombFit, std::string> fit_mohr_coulomb(std::span<const PeakState> 
     for (const MohrCircle& m : circles) all_same_centre = all_same_centre && m.centre_pa == circles.front().centre_pa;
     if (all_same_centre)
         return Err{"mohr_coulomb: all " + std::to_string(n) + " tests have the same circle centre p = "
-            + format_pa(circles.front().centre_pa) + " Pa; the slope is undefined"};
+            + format_number(circles.front().centre_pa, 6) + " Pa; the slope is undefined"};
 
     // Centred sums (numerically stable): slope = S_pt / S_pp, a = t̄ − slope·p̄.
     double p_mean = 0.0, t_mean = 0.0;

@@ -1,12 +1,13 @@
-// Debug-build precondition checks. In release builds WIREDEM_ASSERT compiles to
-// nothing; use it for programming errors only, never for user input (that is
-// validated once, in api/).
+// Precondition checks, on in debug builds and wherever WIREDEM_ASSERTIONS is
+// defined (the sanitizer builds of scripts/build.sh); in release builds
+// WIREDEM_ASSERT compiles to nothing. Use it for programming errors only,
+// never for user input (that is validated once, in api/).
 #pragma once
 
 #include <cstdio>
 #include <cstdlib>
 
-#ifndef NDEBUG
+#if !defined(NDEBUG) || defined(WIREDEM_ASSERTIONS)
 #define WIREDEM_ASSERT(cond, msg)                                                          \
     do {                                                                                   \
         if (!(cond)) {                                                                     \

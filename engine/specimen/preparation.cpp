@@ -484,6 +484,29 @@ Column empty_column(const PreparationSpec& spec)
 
 } // namespace
 
+std::optional<std::string> preparation_error(const PreparationSpec& spec)
+{
+    const double R = spec.membrane_radius_m;
+    const double r_m = spec.membrane.contact_radius_m;
+    const bool with_wire = spec.pattern.kind != PatternKind::none;
+    if (with_wire && !(pattern_reach_m(spec.pattern) < wire_reach_limit_m(spec)))
+        return "the wire pattern reaches " + std::to_string(pattern_reach_m(spec.pattern) * 1e3)
+             + " mm from the axis; it must stay below the membrane radius less the membrane nodes' contact radius, "
+             + "the wire's radius and the clearance: " + std::to_string(R * 1e3) + " - " + std::to_string(r_m * 1e3)
+             + " - " + std::to_string(spec.wire.radius_m * 1e3) + " - " + std::to_string(spec.clearance_m * 1e3)
+             + " = " + std::to_string(wire_reach_limit_m(spec) * 1e3) + " mm";
+    if (!(spec.fill_rate_m_per_s > 0.0)) return std::string("the fill rate must be positive");
+    if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.rise_speed_m_per_s)
+        return "the fill rate " + std::to_string(spec.fill_rate_m_per_s) + " m/s is too fast for the nozzle, which "
+             + "rises at most " + std::to_string(spec.pattern.rise_speed_m_per_s)
+             + " m/s and must follow the pile's uneven top: at most 0.6 times that";
+    if (required_membrane_height_m(spec) > spec.membrane_height_m)
+        return "the grains fill about " + std::to_string(estimated_fill_height_m(spec) * 1e3)
+             + " mm; the membrane must be taller than that plus room for pouring ("
+             + std::to_string(required_membrane_height_m(spec) * 1e3) + " mm)";
+    return std::nullopt;
+}
+
 Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const PreparationSpec& spec, const RunControl& control)
 {
     return prepare_specimen(sim, spec, control, {});
@@ -497,24 +520,10 @@ Result<PreparationReport, std::string> prepare_specimen(
     const double r_max = largest_grain_radius_m(spec);
     const double r_m = spec.membrane.contact_radius_m;
     const bool with_wire = spec.pattern.kind != PatternKind::none;
-    if (with_wire && pattern_reach_m(spec.pattern) + spec.wire.radius_m + spec.clearance_m >= R - r_m)
-        return Err(std::string("wire pattern reaches ") + std::to_string(pattern_reach_m(spec.pattern) * 1e3)
-                   + " mm from the axis; with r_w and the clearance it must stay inside the membrane radius "
-                   + std::to_string(R * 1e3) + " mm");
-    if (!(spec.fill_rate_m_per_s > 0.0))
-        return Err(std::string("the fill rate must be positive"));
-    if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.rise_speed_m_per_s)
-        return Err("the fill rate " + std::to_string(spec.fill_rate_m_per_s) + " m/s is too fast for the nozzle, which "
-                   + "rises at most " + std::to_string(spec.pattern.rise_speed_m_per_s)
-                   + " m/s and must follow the pile's uneven top: at most 0.6 times that");
+    if (auto e = preparation_error(spec)) return Err(*e);
     const double fill_height = estimated_fill_height_m(spec);
     const double wire_cover_m = wire_cover_height_m(spec);
     const double entry_speed = pour_entry_speed_m_per_s(spec);
-    if (required_membrane_height_m(spec) > spec.membrane_height_m)
-        return Err(std::string("the grains fill about ") + std::to_string(fill_height * 1e3)
-                   + " mm; the membrane must be taller than that plus room for pouring ("
-                   + std::to_string(required_membrane_height_m(spec) * 1e3) + " mm)");
-
     Column column = empty_column(spec);
     if (column.step.overdamped()) return Err(overdamped_error(column.step, column.world.contact.normal_damping_s));
     World& w = sim.world;
@@ -778,6 +787,11 @@ double required_membrane_height_m(const PreparationSpec& spec)
 {
     const double r_max = largest_grain_radius_m(spec);
     return estimated_fill_height_m(spec) + 8.0 * r_max;
+}
+
+double wire_reach_limit_m(const PreparationSpec& spec)
+{
+    return spec.membrane_radius_m - spec.membrane.contact_radius_m - spec.wire.radius_m - spec.clearance_m;
 }
 
 double wire_cover_height_m(const PreparationSpec& spec)

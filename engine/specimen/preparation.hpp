@@ -213,6 +213,20 @@ struct PreparationContinuation {
 [[nodiscard]] Result<PreparationReport, std::string> prepare_specimen(Simulation& sim, const PreparationSpec& spec,
     const RunControl& control, PreparationContinuation continuation);
 
+/// What prepare_specimen refuses before it starts, from the spec alone: a
+/// pattern beyond wire_reach_limit_m, a fill rate that is not positive or
+/// faster than the nozzle can follow, a membrane too short for the fill and
+/// the pour. Job validation asks it of every accepted spec (its fuzz target
+/// too), so that the answer at the door is the preparation's.
+[[nodiscard]] std::optional<std::string> preparation_error(const PreparationSpec& spec);
+
+/// How far from the axis the wire's pattern may reach, exclusive [m]: the
+/// membrane's radius less its nodes' contact radius, the wire's radius and
+/// the clearance, R − r_m − r_w − c (the model spec §5). prepare_specimen
+/// refuses a pattern that reaches it; job validation says so before a job
+/// is accepted, from this one rule.
+[[nodiscard]] double wire_reach_limit_m(const PreparationSpec& spec);
+
 /// Height the grains fill, estimated before pouring at a packing fraction of
 /// 0.58 (prepare_specimen paces the pouring by it) from the mean grain volume
 /// of the spread or of the curve [m].

@@ -26,37 +26,7 @@ bool is_plate(const World& w, std::size_t wall, double normal_z)
 
 std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const FreeStandingSettings& s)
 {
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    auto fraction = [](double v) { return v > 0.0 && v < 1.0; };
-    if (!positive(s.removal_time_s)) return "removal_time_s: " + format_number(s.removal_time_s) + " must be > 0";
-    if (!positive(s.removal_distance_m))
-        return "removal_distance_m: " + format_number(s.removal_distance_m) + " must be > 0";
-    if (!positive(s.escape_distance_m))
-        return "escape_distance_m: " + format_number(s.escape_distance_m) + " must be > 0";
-    if (!positive(s.settle_kinetic_energy_per_grain_j))
-        return "settle_kinetic_energy_per_grain_j: " + format_number(s.settle_kinetic_energy_per_grain_j) + " must be > 0";
-    if (!positive(s.max_settling_time_s))
-        return "max_settling_time_s: " + format_number(s.max_settling_time_s) + " must be > 0";
-    if (!fraction(s.max_height_loss))
-        return "max_height_loss: " + format_number(s.max_height_loss) + " must lie in (0, 1)";
-    if (s.dead_load) {
-        if (!positive(s.dead_load->force_n))
-            return "dead_load.force_n: " + format_number(s.dead_load->force_n) + " must be > 0";
-        if (!(std::isfinite(s.dead_load->ramp_time_s) && s.dead_load->ramp_time_s >= 0.0))
-            return "dead_load.ramp_time_s: " + format_number(s.dead_load->ramp_time_s) + " must be ≥ 0";
-        if (!positive(s.dead_load->hold_time_s))
-            return "dead_load.hold_time_s: " + format_number(s.dead_load->hold_time_s) + " must be > 0";
-    }
-    if (!positive(s.plate_speed_m_per_s))
-        return "plate_speed_m_per_s: " + format_number(s.plate_speed_m_per_s) + " must be > 0";
-    if (!fraction(s.target_axial_strain))
-        return "target_axial_strain: " + format_number(s.target_axial_strain) + " must lie in (0, 1)";
-    if (!(s.failure_drop > 0.0 && s.failure_drop <= 1.0))
-        return "failure_drop: " + format_number(s.failure_drop) + " must lie in (0, 1]";
-    if (!positive(s.sample_interval_s))
-        return "sample_interval_s: " + format_number(s.sample_interval_s) + " must be > 0";
-    for (double e : s.snapshot_strains)
-        if (!std::isfinite(e)) return "snapshot_strains: every strain must be finite";
+    if (auto e = free_standing_settings_error(s)) return e->field + ": " + e->message;
     if (!is_plate(w, 0, 1.0)) return "wall 0 must be the bottom plate (a plane with its normal pointing up)";
     if (!is_plate(w, top_plate_wall, -1.0))
         return "wall " + std::to_string(top_plate_wall) + " must be the top plate (a plane with its normal pointing down)";
@@ -86,6 +56,45 @@ double equivalent_radius_m(const std::vector<Vec3>& x, const std::vector<double>
 bool standing(const Vec3& x, double escape_distance_m) { return std::hypot(x.x(), x.y()) <= escape_distance_m; }
 
 } // namespace
+
+std::optional<SettingsError> free_standing_settings_error(const FreeStandingSettings& s)
+{
+    const auto error = [](const char* field, std::string message) {
+        return std::optional<SettingsError>(SettingsError{field, std::move(message)});
+    };
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    auto fraction = [](double v) { return v > 0.0 && v < 1.0; };
+    if (!positive(s.removal_time_s)) return error("removal_time_s", format_number(s.removal_time_s) + " must be > 0");
+    if (!positive(s.removal_distance_m))
+        return error("removal_distance_m", format_number(s.removal_distance_m) + " must be > 0");
+    if (!positive(s.escape_distance_m))
+        return error("escape_distance_m", format_number(s.escape_distance_m) + " must be > 0");
+    if (!positive(s.settle_kinetic_energy_per_grain_j))
+        return error("settle_kinetic_energy_per_grain_j", format_number(s.settle_kinetic_energy_per_grain_j) + " must be > 0");
+    if (!positive(s.max_settling_time_s))
+        return error("max_settling_time_s", format_number(s.max_settling_time_s) + " must be > 0");
+    if (!fraction(s.max_height_loss))
+        return error("max_height_loss", format_number(s.max_height_loss) + " must lie in (0, 1)");
+    if (s.dead_load) {
+        if (!positive(s.dead_load->force_n))
+            return error("dead_load.force_n", format_number(s.dead_load->force_n) + " must be > 0");
+        if (!(std::isfinite(s.dead_load->ramp_time_s) && s.dead_load->ramp_time_s >= 0.0))
+            return error("dead_load.ramp_time_s", format_number(s.dead_load->ramp_time_s) + " must be ≥ 0");
+        if (!positive(s.dead_load->hold_time_s))
+            return error("dead_load.hold_time_s", format_number(s.dead_load->hold_time_s) + " must be > 0");
+    }
+    if (!positive(s.plate_speed_m_per_s))
+        return error("plate_speed_m_per_s", format_number(s.plate_speed_m_per_s) + " must be > 0");
+    if (!fraction(s.target_axial_strain))
+        return error("target_axial_strain", format_number(s.target_axial_strain) + " must lie in (0, 1)");
+    if (!(s.failure_drop > 0.0 && s.failure_drop <= 1.0))
+        return error("failure_drop", format_number(s.failure_drop) + " must lie in (0, 1]");
+    if (!positive(s.sample_interval_s))
+        return error("sample_interval_s", format_number(s.sample_interval_s) + " must be > 0");
+    for (double e : s.snapshot_strains)
+        if (!std::isfinite(e)) return error("snapshot_strains", "every strain must be finite");
+    return std::nullopt;
+}
 
 const char* to_string(FreeStandingPhase p) noexcept
 {
@@ -224,6 +233,8 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         open_formwork(w, removal_speed);
         w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, removal_speed);
         result.time_step_s = dt;
+        if (auto warning = sample_interval_warning(settings.sample_interval_s, dt))
+            result.warnings.push_back("free-standing test: " + *warning);
     } else if (st.steps > std::numeric_limits<std::uint64_t>::max() / 2 || !(st.reference_height_m > 0.0)
                || !(st.reference_radius_m > 0.0)) {
         return Err(std::string("the test's saved state is inconsistent (steps or heights)"));
@@ -242,7 +253,7 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
     const double density_scale = settings.real_weights ? settings.real_weights->density_scale : 1.0;
     const auto steps_of = [&](double t_s) { return static_cast<std::uint64_t>(std::ceil(t_s / dt)); };
-    const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
+    const std::uint64_t sample_every = steps_per_sample(settings.sample_interval_s, dt);
     const auto check_every = static_cast<std::uint64_t>(std::max(1.0, std::round(1e-3 / dt)));
     const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
     if (continued && st.next_snapshot > plan.size())

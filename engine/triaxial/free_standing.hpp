@@ -106,6 +106,11 @@ struct FreeStandingSettings {
     std::optional<TriaxialSettings::MassScaling> real_weights;
 };
 
+/// The rules the settings obey on their own, before any World is looked at
+/// (SettingsError as for the triaxial test): run_free_standing checks them
+/// first, and job validation asks the same function at the door.
+[[nodiscard]] std::optional<SettingsError> free_standing_settings_error(const FreeStandingSettings& s);
+
 /// The standing part of a column: the grains (and wire nodes) within the
 /// escape distance of the axis.
 struct StandingColumn {

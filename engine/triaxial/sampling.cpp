@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace wiredem::engine {
@@ -17,11 +16,19 @@ double plate_compression_n(const World& w, std::size_t wall)
     return -w.wall_loads[wall].total_force_n.dot(w.walls[wall].normal);
 }
 
-std::string format_number(double v)
+std::uint64_t steps_per_sample(double sample_interval_s, double dt_s)
 {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
+    // Saturating: a hostile estimate's ratio can exceed what the cast holds.
+    const double steps = std::max(1.0, std::round(sample_interval_s / dt_s));
+    constexpr double largest = 18446744073709549568.0; // the largest double below 2⁶⁴
+    return steps < largest ? static_cast<std::uint64_t>(steps) : std::numeric_limits<std::uint64_t>::max();
+}
+
+std::optional<std::string> sample_interval_warning(double sample_interval_s, double dt_s)
+{
+    if (std::round(sample_interval_s / dt_s) >= 1.0) return std::nullopt;
+    return "sample_interval_s " + format_number(sample_interval_s) + " s is shorter than half the time step "
+         + format_number(dt_s) + " s: the record has a row every step";
 }
 
 std::vector<double> snapshot_plan(double target_axial_strain, const std::vector<double>& requested)

@@ -13,11 +13,13 @@
 // serial loop in id order, so results are bit-identical for any thread count.
 #pragma once
 
+#include "core/format.hpp"
 #include "simulation.hpp"
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -174,7 +176,15 @@ struct QuasiStaticVerdict {
 void take_due_snapshots(const World& w, const std::vector<double>& plan, std::size_t& next, double axial_strain,
     double time_s, std::vector<TriaxialSnapshot>& out);
 
-/// `v` with three significant digits, for messages.
-[[nodiscard]] std::string format_number(double v);
+/// Steps between two rows of a record sampled every `sample_interval_s` at
+/// the time step `dt_s`: the interval rounded to whole steps, at least one.
+[[nodiscard]] std::uint64_t steps_per_sample(double sample_interval_s, double dt_s);
+
+/// The warning a record carries when its sample interval is shorter than
+/// half a step, so that it samples every step instead (job validation
+/// refuses an interval below the step it estimates; the run's own step can
+/// differ from that estimate); empty otherwise.
+[[nodiscard]] std::optional<std::string> sample_interval_warning(double sample_interval_s, double dt_s);
+
 
 } // namespace wiredem::engine

@@ -28,26 +28,7 @@ bool is_plate(const World& w, std::size_t wall, double normal_z)
 
 std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const TriaxialSettings& s)
 {
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
-    if (!positive(s.confining_pressure_pa))
-        return "confining_pressure_pa: " + format_number(s.confining_pressure_pa) + " must be > 0";
-    if (!(s.target_axial_strain > 0.0 && s.target_axial_strain < 1.0))
-        return "target_axial_strain: " + format_number(s.target_axial_strain) + " must lie in (0, 1)";
-    if (!positive(s.plate_speed_m_per_s))
-        return "plate_speed_m_per_s: " + format_number(s.plate_speed_m_per_s) + " must be > 0";
-    if (!non_negative(s.pressure_ramp_time_s))
-        return "pressure_ramp_time_s: " + format_number(s.pressure_ramp_time_s) + " must be ≥ 0";
-    if (!non_negative(s.hold_time_s)) return "hold_time_s: " + format_number(s.hold_time_s) + " must be ≥ 0";
-    if (s.max_hold_time_s && !(std::isfinite(*s.max_hold_time_s) && *s.max_hold_time_s >= s.hold_time_s))
-        return "max_hold_time_s: " + format_number(*s.max_hold_time_s) + " must be ≥ hold_time_s "
-             + format_number(s.hold_time_s);
-    if (s.pressure_ramp_time_s + s.hold_time_s <= 0.0)
-        return "pressure_ramp_time_s + hold_time_s must be > 0: the column needs time under σ₃ before loading";
-    if (!positive(s.sample_interval_s))
-        return "sample_interval_s: " + format_number(s.sample_interval_s) + " must be > 0";
-    for (double e : s.snapshot_strains)
-        if (!std::isfinite(e)) return "snapshot_strains: every strain must be finite";
+    if (auto e = settings_error(s)) return e->field + ": " + e->message;
     if (!is_plate(w, 0, 1.0)) return "wall 0 must be the bottom plate (a plane with its normal pointing up)";
     if (!is_plate(w, top_plate_wall, -1.0))
         return "wall " + std::to_string(top_plate_wall) + " must be the top plate (a plane with its normal pointing down)";
@@ -61,6 +42,36 @@ std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, 
 }
 
 } // namespace
+
+std::optional<SettingsError> settings_error(const TriaxialSettings& s)
+{
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+    const auto error = [](const char* field, std::string message) {
+        return std::optional<SettingsError>(SettingsError{field, std::move(message)});
+    };
+    if (!positive(s.confining_pressure_pa))
+        return error("confining_pressure_pa", format_number(s.confining_pressure_pa) + " must be > 0");
+    if (!(s.target_axial_strain > 0.0 && s.target_axial_strain < 1.0))
+        return error("target_axial_strain", format_number(s.target_axial_strain) + " must lie in (0, 1)");
+    if (!positive(s.plate_speed_m_per_s))
+        return error("plate_speed_m_per_s", format_number(s.plate_speed_m_per_s) + " must be > 0");
+    if (!non_negative(s.pressure_ramp_time_s))
+        return error("pressure_ramp_time_s", format_number(s.pressure_ramp_time_s) + " must be ≥ 0");
+    if (!non_negative(s.hold_time_s)) return error("hold_time_s", format_number(s.hold_time_s) + " must be ≥ 0");
+    if (s.max_hold_time_s && !(std::isfinite(*s.max_hold_time_s) && *s.max_hold_time_s >= s.hold_time_s))
+        return error("max_hold_time_s", format_number(*s.max_hold_time_s) + " is shorter than hold_time_s "
+                                            + format_number(s.hold_time_s) + ": it must be at least that");
+    if (!(s.pressure_ramp_time_s + s.hold_time_s > 0.0))
+        return error("hold_time_s", format_number(s.hold_time_s) + " with pressure_ramp_time_s "
+                                        + format_number(s.pressure_ramp_time_s)
+                                        + ": their sum must be > 0, the column needs time under σ₃ before loading");
+    if (!positive(s.sample_interval_s))
+        return error("sample_interval_s", format_number(s.sample_interval_s) + " must be > 0");
+    for (double e : s.snapshot_strains)
+        if (!std::isfinite(e)) return error("snapshot_strains", "every strain must be finite");
+    return std::nullopt;
+}
 
 std::pair<std::uint64_t, std::uint64_t> triaxial_progress(const TriaxialDriverState& st) noexcept
 {
@@ -121,6 +132,8 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
             set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
         w.membrane.pressure_pa = 0.0;
         w.walls[top_plate_wall].velocity_m_per_s.setZero();
+        if (auto warning = sample_interval_warning(settings.sample_interval_s, w.dt_s))
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa) + " Pa: " + *warning);
     } else if (std::any_of(st.cap_nodes.begin(), st.cap_nodes.end(), [&](std::uint32_t i) { return i >= nodes.size(); })
                || st.steps > std::numeric_limits<std::uint64_t>::max() / 2) {
         return Err(std::string("the test's saved state does not belong to this World (a cap node is not a membrane node)"));
@@ -145,7 +158,7 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
 
     const double pre_load_s = settings.pressure_ramp_time_s + settings.hold_time_s;
     const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil(pre_load_s / dt));
-    const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
+    const std::uint64_t sample_every = steps_per_sample(settings.sample_interval_s, dt);
     const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
     if (continued
         && (st.next_snapshot > plan.size() || (st.loading && st.loading_start_sample >= result.series.size())

@@ -63,7 +63,17 @@ struct TriaxialSettings {
     std::optional<MassScaling> real_weights;
 };
 
+/// A setting that run_triaxial refuses: the field (TriaxialSettings's name)
+/// and why, beginning with its value ("0 must be > 0").
+struct SettingsError {
+    std::string field;
+    std::string message;
+};
 
+/// The rules the settings obey on their own, before any World is looked at:
+/// run_triaxial checks them first, and job validation asks the same
+/// function at the door, so that an accepted job's tests start.
+[[nodiscard]] std::optional<SettingsError> settings_error(const TriaxialSettings& s);
 
 /// The longest σ₃ is held before loading [s]: max_hold_time_s, or
 /// default_max_hold_factor × hold_time_s.

@@ -6,6 +6,7 @@
 #include "api/derived.hpp"
 #include "api/job_spec.hpp"
 #include "api/json_text.hpp"
+#include "core/format.hpp"
 #include "../job_files.hpp"
 
 #include <boost/json.hpp>
@@ -20,6 +21,7 @@
 
 namespace wiredem::server {
 namespace json = boost::json;
+using engine::format_number;
 
 namespace {
 
@@ -104,14 +106,6 @@ std::string_view header_value(const Request& req, std::string_view name)
     return it == req.end() ? std::string_view() : std::string_view(it->value().data(), it->value().size());
 }
 
-/// A count or time for a message, e.g. "3.2e+07" or "7.7e-06".
-std::string approx(double x)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", x);
-    return buf;
-}
-
 bool is_json_media_type(std::string_view ct)
 {
     const auto semi = ct.find(';');
@@ -160,15 +154,15 @@ std::optional<FieldProblem> job_limit_problem(const api::JobSpec& spec, const Se
     if (!(work.total_steps() <= config.max_steps_per_job)) {
         const double prep = work.preparation_steps;
         return FieldProblem{api::work_field(spec, work),
-            "the job needs about " + approx(work.total_steps()) + " time steps of " + approx(work.time_step_s)
-                + " s (preparation up to " + approx(prep) + ", " + std::to_string(work.test_steps.size())
-                + " tests " + approx(work.tests_total_steps()) + "); this server runs at most " + approx(config.max_steps_per_job)
-                + " (--max-steps-per-job)"};
+            "the job needs about " + format_number(work.total_steps()) + " time steps of "
+                + format_number(work.time_step_s) + " s (preparation up to " + format_number(prep) + ", "
+                + std::to_string(work.test_steps.size()) + " tests " + format_number(work.tests_total_steps())
+                + "); this server runs at most " + format_number(config.max_steps_per_job) + " (--max-steps-per-job)"};
     }
     if (!(work.samples_per_test <= config.max_samples_per_test))
         return FieldProblem{"triaxial.sample_interval_s",
-            "a test would record about " + approx(work.samples_per_test)
-                + " rows; this server keeps at most " + approx(config.max_samples_per_test) + " per test (--max-samples-per-test)"};
+            "a test would record about " + format_number(work.samples_per_test) + " rows; this server keeps at most "
+                + format_number(config.max_samples_per_test) + " per test (--max-samples-per-test)"};
     return std::nullopt;
 }
 

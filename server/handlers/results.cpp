@@ -323,7 +323,7 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     auto [p, ec] = std::from_chars(seg[6].data(), seg[6].data() + seg[6].size(), k);
     if (seg[6].empty() || ec != std::errc() || p != seg[6].data() + seg[6].size() || std::find(ks.begin(), ks.end(), k) == ks.end())
         return not_found(req, "test " + test + " has no snapshot '" + seg[6] + "'");
-    const io::Group snap = t.open_group("snapshots/" + std::string(api::snapshot_prefix) + std::to_string(k));
+    const io::Group snap = t.open_group(api::snapshot_path(k));
     const std::string where = "snapshot " + std::to_string(k) + " of " + test;
     const std::string url = base + "/tests/" + test + "/snapshots/" + std::to_string(k);
     if (seg.size() == 7)

@@ -268,6 +268,34 @@ TEST(JobSpec, EveryShippedJobFileIsValid)
     EXPECT_GE(files, 8u);
 }
 
+// Accepted means it runs: the review's cases, refused at the door with the
+// numbers that fail (issue 42). tiny.json's 8 mm membrane with a 6.4 mm
+// helix passed the door and failed in the preparation.
+TEST(JobSpec, TinyWithAHelixTheMembraneCannotHoldIsRefusedAtTheDoor)
+{
+    std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/examples/tiny.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    json::value doc = json::parse(text.str());
+    doc.as_object()["specimen"].as_object()["wire"] = json::object{{"pattern", "helix"}, {"helix_radius_m", 6.4e-3}};
+    const auto parsed = parse_job_spec(doc);
+    ASSERT_FALSE(parsed.ok());
+    ASSERT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
+    EXPECT_EQ(parsed.error()[0].path, "specimen.wire.helix_radius_m");
+    // The preparation's own limit R − r_m − r_w − c, in numbers.
+    const auto accepted = parse_job_spec(text.str());
+    ASSERT_TRUE(accepted.ok());
+    const auto p = preparation_spec(accepted.value());
+    const double limit_m = wiredem::engine::wire_reach_limit_m(p);
+    EXPECT_LT(limit_m, 6.4e-3);
+    const std::string& message = parsed.error()[0].message;
+    const std::string said = "so helix_radius_m < ";
+    const std::size_t at = message.find(said);
+    ASSERT_NE(at, std::string::npos) << message;
+    EXPECT_NEAR(std::stod(message.substr(at + said.size())), limit_m, 5e-3 * limit_m) << message; // three digits
+    EXPECT_EQ(limit_m, p.membrane_radius_m - p.membrane.contact_radius_m - p.wire.radius_m - p.clearance_m);
+}
+
 TEST(JobSpec, AWireLengthSetsTheFillRateThatLaysIt)
 {
     const auto parsed = parse_job_spec(
@@ -589,15 +617,37 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         // cross-field checks
         InvalidCase{"HelixTooLarge", R"({"specimen": {"wire": {"pattern": "helix", "helix_radius_m": 0.019}}})",
             "specimen.wire.helix_radius_m",
-            "0.019 is too large for the membrane: a helix needs helix_radius_m + radius_m + clearance_m < "
-            "membrane_radius_m 0.02, so helix_radius_m < 0.0185"},
+            "0.019 is too large for the membrane: a helix needs helix_radius_m < membrane_radius_m 0.02 − the "
+            "membrane nodes' contact radius 0.0005 − wire.radius_m 5e-04 − wire.clearance_m 0.001 = 0.018, so "
+            "helix_radius_m < 0.018"},
+        // The preparation's rule, not a second one: 0.0182 passed a door that
+        // forgot the membrane nodes' contact radius, then failed to prepare.
+        InvalidCase{"HelixInTheMembranesContactRadius",
+            R"({"specimen": {"wire": {"pattern": "helix", "helix_radius_m": 0.0182}}})", "specimen.wire.helix_radius_m",
+            "0.0182 is too large for the membrane"},
         InvalidCase{"SpiralTooLarge",
             R"({"specimen": {"wire": {"pattern": "spiral_helix", "helix_radius_m": 0.015, "inner_radius_m": 0.004}}})",
             "specimen.wire.helix_radius_m",
-            "a spiral_helix needs helix_radius_m + inner_radius_m + radius_m + clearance_m < membrane_radius_m 0.02, "
-            "so helix_radius_m < 0.0145"},
+            "a spiral_helix needs helix_radius_m + inner_radius_m < membrane_radius_m 0.02 − the membrane nodes' "
+            "contact radius 0.0005 − wire.radius_m 5e-04 − wire.clearance_m 0.001 = 0.018, so helix_radius_m < 0.014 "
+            "with inner_radius_m 0.004"},
         InvalidCase{"RadialTooLarge", R"({"specimen": {"wire": {"pattern": "radial_helix", "helix_radius_m": 0.0186}}})",
-            "specimen.wire.helix_radius_m", "a radial_helix needs helix_radius_m + radius_m + clearance_m"},
+            "specimen.wire.helix_radius_m", "a radial_helix needs helix_radius_m < membrane_radius_m 0.02"},
+        // The engine's rules for the tests' settings, asked at the door.
+        InvalidCase{"MaxHoldShorterThanHold", R"({"triaxial": {"hold_time_s": 0.2, "max_hold_time_s": 0.1}})",
+            "triaxial.max_hold_time_s", "0.1 is shorter than hold_time_s 0.2: it must be at least that"},
+        InvalidCase{"NoTimeUnderPressure", R"({"triaxial": {"pressure_ramp_time_s": 0, "hold_time_s": 0}})",
+            "triaxial.hold_time_s",
+            "0 with pressure_ramp_time_s 0: their sum must be > 0, the column needs time under σ₃ before loading"},
+        // A row at most every step: far below the step is refused, not
+        // turned into "every step" in silence.
+        InvalidCase{"SampleIntervalBelowTheStep",
+            R"({"engine": {"time_step_s": 1e-6}, "triaxial": {"sample_interval_s": 1e-8}})",
+            "triaxial.sample_interval_s",
+            "1e-08 is shorter than the time step 1e-06 s (engine.time_step_s): a record has at most one row a step"},
+        InvalidCase{"FreeStandingSampleIntervalBelowTheStep",
+            R"({"free_standing": {"enabled": true, "sample_interval_s": 1e-12}})", "free_standing.sample_interval_s",
+            "1e-12 is shorter than the time step"},
         InvalidCase{"HelixTooLargeForNarrowerMembrane", R"({"specimen": {"membrane_radius_m": 0.012}})",
             "specimen.wire.helix_radius_m", "0.012 is too large for the membrane"},
         InvalidCase{"SpiralInnerNotSmaller",

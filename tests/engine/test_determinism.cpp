@@ -10,8 +10,12 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdlib>
+#include <iomanip>
 #include <map>
 #include <numeric>
+#include <sstream>
+#include <string>
 
 using namespace wiredem::engine;
 
@@ -283,5 +287,55 @@ TEST(Determinism, SimdKernelsGiveTheScalarBitsWhereContactsStickAndWhereTheySlid
             EXPECT_EQ(run_lattice(1, integrator), scalar);
             EXPECT_EQ(run_lattice(3, integrator), scalar);
         }
+    }
+}
+
+// The engine's reference states, as golden values: the kicked column
+// (8 × 250 steps, both integrators) and the wired column (wire, membrane,
+// moving plate; 300 Gear-5 steps and 300 Verlet steps). A change to the
+// engine that changes a bit of any of them fails here. When the change is
+// meant (a new summation order, a law corrected), update the values below
+// in the same commit and say in its message why the bits changed, as
+// bench/README.md's history does ("The one hash change"); a change that
+// was not meant is a bug to find, not a value to update.
+TEST(Determinism, ReferenceCasesKeepTheirGoldenHashes)
+{
+    const auto hex = [](std::uint64_t h) {
+        std::ostringstream s;
+        s << std::hex << std::setw(16) << std::setfill('0') << h;
+        return s.str();
+    };
+    const auto wired = [](Integrator integrator) {
+        Simulation sim(2);
+        test::build_wired_column(sim.world, integrator);
+        EXPECT_EQ(sim.run(300).end, RunEnd::completed);
+        return state_hash(sim.world);
+    };
+    EXPECT_EQ(hex(run_column(2, Integrator::gear5).back()), "24f452c5075b2bee");
+    EXPECT_EQ(hex(run_column(2, Integrator::verlet).back()), "e994eaff8f5afe85");
+    EXPECT_EQ(hex(wired(Integrator::gear5)), "c0699b3e643a2019");
+    EXPECT_EQ(hex(wired(Integrator::verlet)), "f1f4ca8d0c8748ed");
+}
+
+// The SIMD paths a run must test, named by WIREDEM_REQUIRE_SIMD ("avx2",
+// "avx2,avx512"; scripts/test.sh reads them from /proc/cpuinfo): each must be
+// among the paths the SIMD tests compare with the scalar one, so that a CPU
+// the engine fails to recognise fails here instead of skipping those tests.
+TEST(Simd, EveryPathTheCpuHasIsTested)
+{
+    const char* required = std::getenv("WIREDEM_REQUIRE_SIMD");
+    if (required == nullptr) GTEST_SKIP() << "WIREDEM_REQUIRE_SIMD is not set (scripts/test.sh sets it)";
+    std::vector<std::string> tested;
+    const test::RestoreSimdKernels restore;
+    for (SimdKernels k : test::simd_choices()) {
+        set_simd_kernels(k);
+        tested.push_back(simd_isa() == SimdIsa::avx512 ? "avx512" : "avx2");
+    }
+    std::istringstream names(required);
+    for (std::string name; std::getline(names, name, ',');) {
+        if (name.empty()) continue;
+        ASSERT_TRUE(name == "avx2" || name == "avx512") << "WIREDEM_REQUIRE_SIMD names " << name;
+        EXPECT_NE(std::find(tested.begin(), tested.end(), name), tested.end())
+            << name << " is required but the SIMD tests would not run it";
     }
 }

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -168,4 +169,17 @@ TEST(GrainSizes, AFlatStepOfTheCurveHoldsNoGrains)
     SieveCurve c{SieveCurve::Basis::mass, {2e-3, 4e-3, 8e-3, 16e-3}, {0.0, 0.3, 0.3, 1.0}};
     for (double x : draw(c, 5000, 9)) EXPECT_TRUE(x <= 4e-3 || x >= 8e-3) << x;
     EXPECT_EQ(GrainSizeDistribution(c).mass_fraction_below(6e-3), 0.3);
+}
+
+// WIREDEM_ASSERT is on in the sanitizer builds (scripts/build.sh defines
+// WIREDEM_ASSERTIONS beside -DNDEBUG): a broken contract aborts there with
+// its message, here grading figures asked of no grains.
+TEST(GrainSizesDeathTest, FiguresOfNoGrainsAreAProgrammingErrorTheCheckedBuildsStop)
+{
+#if !defined(NDEBUG) || defined(WIREDEM_ASSERTIONS)
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_DEATH((void)grading_figures(std::span<const double>()), "assertion failed.*grading figures of no grains");
+#else
+    GTEST_SKIP() << "WIREDEM_ASSERT is compiled out in this build (NDEBUG without WIREDEM_ASSERTIONS)";
+#endif
 }

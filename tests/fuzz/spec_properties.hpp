@@ -9,6 +9,7 @@
 #include "api/engine_settings.hpp"
 #include "api/job_spec.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
@@ -28,7 +29,8 @@ inline constexpr double max_validation_cpu_s = 1.0;
 /// (given or auto) and stable limit are finite and positive; its work and
 /// body estimates are numbers (not NaN); and what the runner computes from it
 /// before running (client/run_command.cpp: the steps each test expects,
-/// engine::expected_triaxial_steps) has no undefined behaviour (UBSan).
+/// engine::expected_triaxial_steps) has no undefined behaviour (UBSan); and
+/// the engine's own set-up rules, the preparation's and each test's, pass.
 inline void check_parsed_spec(const api::JobSpec& spec)
 {
     const boost::json::value doc = api::to_json(spec);
@@ -57,6 +59,22 @@ inline void check_parsed_spec(const api::JobSpec& spec)
     FUZZ_CHECK(std::isfinite(height_m) && height_m > 0.0, text);
     for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k)
         (void)engine::expected_triaxial_steps(api::triaxial_settings(spec, k), height_m, work.time_step_s);
+
+    // Accepted means it runs: the engine's own set-up rules pass, the
+    // preparation's (engine::preparation_error) and each test's
+    // (engine::settings_error), asked of the spec the runner would build.
+    const auto preparation = engine::preparation_error(api::preparation_geometry(spec));
+    FUZZ_CHECK(!preparation, "accepted, but the preparation refuses it (" + preparation.value_or("") + "): " + text);
+    for (std::size_t k = 0; k < spec.triaxial.confining_pressures_pa.size(); ++k) {
+        const auto test = engine::settings_error(api::triaxial_settings(spec, k));
+        FUZZ_CHECK(!test, "accepted, but test " + std::to_string(k) + " refuses its settings ("
+                              + (test ? test->field + ": " + test->message : "") + "): " + text);
+    }
+    if (spec.free_standing.enabled) {
+        const auto test = engine::free_standing_settings_error(api::free_standing_settings(spec));
+        FUZZ_CHECK(!test, "accepted, but the free-standing test refuses its settings ("
+                              + (test ? test->field + ": " + test->message : "") + "): " + text);
+    }
 }
 
 /// Limits a server enforces at submit (ServerConfig's defaults unless given).

@@ -9,6 +9,7 @@
 #include "step.hpp"
 #include "timestep.hpp"
 #include "state/state_hash.hpp"
+#include "triaxial/sampling.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include "column_specimens.hpp"
@@ -584,6 +585,42 @@ TEST(TriaxialControl, RejectsSettingsOutOfRangeNamingTheField)
     EXPECT_NE(wrong_wall.error().find("top plate"), std::string::npos);
 }
 
+// A record has a row every round(interval / δt) steps and at least every
+// step: an interval below half a step cannot be honoured, and the test says
+// so rather than sampling every step in silence (job validation refuses an
+// interval below its estimate of the step; the run's step may differ).
+TEST(SampleInterval, RoundsToWholeStepsAndSaysWhenItIsBelowHalfAStep)
+{
+    EXPECT_EQ(steps_per_sample(1e-3, 1e-4), 10u);
+    EXPECT_EQ(steps_per_sample(1.4e-4, 1e-4), 1u);
+    EXPECT_EQ(steps_per_sample(1.6e-4, 1e-4), 2u);
+    EXPECT_EQ(steps_per_sample(0.4e-4, 1e-4), 1u);
+    EXPECT_EQ(steps_per_sample(1e3, 1e-300), std::numeric_limits<std::uint64_t>::max()); // saturates, no UB
+    EXPECT_FALSE(sample_interval_warning(1e-4, 1e-4).has_value());
+    EXPECT_FALSE(sample_interval_warning(0.5e-4, 1e-4).has_value()); // rounds to one step
+    const auto below = sample_interval_warning(0.4e-4, 1e-4);
+    ASSERT_TRUE(below.has_value());
+    EXPECT_EQ(*below, "sample_interval_s 4e-05 s is shorter than half the time step 0.0001 s: the record has a row every step");
+
+    Simulation sim(1);
+    const std::size_t lid = build_lattice_specimen(sim, 2);
+    TriaxialSettings s = fast_settings(10e3);
+    s.target_axial_strain = 0.002;
+    s.pressure_ramp_time_s = 1e-4;
+    s.hold_time_s = 1e-4;
+    s.max_hold_time_s = 1e-4;
+    s.snapshot_strains = {};
+    s.sample_interval_s = 0.1 * sim.world.dt_s;
+    const auto r = run_triaxial(sim, lid, s);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const auto& warnings = r.value().warnings;
+    EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+        return w.find("shorter than half the time step") != std::string::npos;
+    }));
+    const auto& t = r.value().series.time_s;
+    ASSERT_GE(t.size(), 3u);
+    EXPECT_NEAR(t[2] - t[1], sim.world.dt_s, 1e-9 * sim.world.dt_s); // a row every step
+}
 
 namespace {
 
