@@ -65,3 +65,27 @@ def test_a_column_without_wire_has_no_wire_strain_to_draw(tiny_dir: Path) -> Non
     with pytest.raises(ValueError, match="without wire"):
         plots.plot_wire_strain(wiredem.open(tiny_dir))
     plt.close("all")
+
+
+def test_the_drawn_grading_passes_by_mass_and_by_number() -> None:
+    d = np.array([3e-3, 1e-3, 2e-3])
+    sizes, by_mass = plots.passing_fraction(d, "mass")
+    np.testing.assert_array_equal(sizes, [1e-3, 2e-3, 3e-3])
+    np.testing.assert_allclose(by_mass, [1 / 36, 9 / 36, 1.0], rtol=1e-15)  # D³: 1, 8, 27
+    np.testing.assert_allclose(plots.passing_fraction(d, "number")[1], [1 / 3, 2 / 3, 1.0], rtol=1e-15)
+    with pytest.raises(ValueError):
+        plots.passing_fraction(d, "volume")
+
+
+def test_the_grain_sizes_plot_draws_the_requested_curve_and_marks_the_engines_figures(tmp_path: Path) -> None:
+    fig, ax = plt.subplots()
+    requested = {"basis": "number", "diameters_m": [1e-3, 4e-3], "fraction_passing": [0.0, 1.0]}
+    plots.draw_grain_sizes(ax, [1e-3, 2e-3, 3e-3, 4e-3], requested,
+                           {"d10_m": 1.2e-3, "d50_m": 2.5e-3, "d60_m": 2.8e-3})
+    drawn, curve = ax.get_lines()[0], ax.get_lines()[1]
+    np.testing.assert_allclose(drawn.get_ydata(), [25, 50, 75, 100])  # by the requested curve's basis
+    np.testing.assert_allclose(curve.get_xdata(), [1.0, 4.0])
+    marks = _markers(ax, "x")
+    assert [(m.get_xdata()[0], m.get_ydata()[0]) for m in marks] == [(1.2, 10), (2.5, 50), (2.8, 60)]
+    fig.savefig(tmp_path / "grain_sizes.png")
+    plt.close(fig)

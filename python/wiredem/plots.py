@@ -1,6 +1,7 @@
 """matplotlib helpers that draw what docs/study.md draws: the curves of a test
 against axial strain with its yield and max-q states, Mohr circles with an
-envelope, and the wire's segment strain along its length.
+envelope, the wire's segment strain along its length, and the grains' sizes
+against the job's sieve curve.
 
 Stresses are drawn in kPa and strains in %, as on the study's figures; every
 marked state is the engine's (summary.json, or the test's attributes), not
@@ -183,6 +184,59 @@ def plot_wire_strain(result: Result, snapshot: Optional[Snapshot] = None, ax: Op
     seg = float(result.job_spec["specimen"]["wire"]["segment_length_m"])
     draw_wire_strain(ax, snapshot.wire_segment_strain, seg)
     ax.set_title(f"{result.name}: wire segment strain at ε_a = {snapshot.axial_strain * 100:.2f} %")
+    return ax.figure
+
+
+def passing_fraction(diameters_m: Any, basis: str = "mass") -> Tuple[np.ndarray, np.ndarray]:
+    """The grading of drawn grains: their diameters ascending and the fraction of the sample
+    (by ``mass``, ∝ D³ for grains of one density, or by ``number``) at or below each."""
+    d = np.sort(np.asarray(diameters_m, dtype=float))
+    if d.size == 0:
+        raise ValueError("no grains")
+    if basis not in ("mass", "number"):
+        raise ValueError(f"basis {basis!r}: 'mass' or 'number'")
+    weight = d ** 3 if basis == "mass" else np.ones_like(d)
+    return d, np.cumsum(weight) / np.sum(weight)
+
+
+def draw_grain_sizes(ax: "Axes", diameters_m: Any, requested: Optional[Dict[str, Any]] = None,
+                     drawn_figures: Optional[Dict[str, Any]] = None) -> None:
+    """The grading curve of the drawn grains (percent passing against D [mm], log scale) on the
+    requested curve's basis (by mass without one), the requested sieve curve (the job's
+    ``specimen.grain_sizes``) as given, and the engine's D10, D50, D60 of the drawn grains
+    (summary ``specimen.grain_sizes.drawn``) marked ×."""
+    basis = str(requested.get("basis", "mass")) if requested else "mass"
+    d, passing = passing_fraction(diameters_m, basis)
+    ax.step(d * 1e3, passing * 100.0, where="post", color="C0", lw=1.5, label=f"drawn ({d.size} grains, by {basis})")
+    if requested:
+        ax.plot(np.asarray(requested["diameters_m"], dtype=float) * 1e3,
+                np.asarray(requested["fraction_passing"], dtype=float) * 100.0,
+                "o-", color="k", lw=1, ms=4, label=f"requested (by {basis})")
+    if drawn_figures:
+        for key, percent in (("d10_m", 10), ("d50_m", 50), ("d60_m", 60)):
+            if drawn_figures.get(key) is not None:
+                ax.plot(drawn_figures[key] * 1e3, percent, "x", color="C3", ms=9, mew=2)
+    ax.set_xscale("log")
+    ax.set_ylim(0, 100)
+    ax.set_xlabel("grain diameter D [mm]")
+    ax.set_ylabel("passing [%]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+
+
+def plot_grain_sizes(result: Result, ax: Optional["Axes"] = None) -> "Figure":
+    """The prepared specimen's grading against the job's sieve curve, with the engine's drawn
+    D10/D50/D60 (×) and the Kolmogorov–Smirnov distance in the title when the job has a curve."""
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4.5))
+    requested = result.job_spec.get("specimen", {}).get("grain_sizes")
+    figures = ((result.summary or {}).get("specimen") or {}).get("grain_sizes") or {}
+    draw_grain_sizes(ax, 2.0 * result.specimen.grain_radius_m, requested, figures.get("drawn"))
+    title = f"{result.name}: grain sizes"
+    if figures.get("ks_distance") is not None:
+        title += f" (KS distance {figures['ks_distance']:.3f}, 1 % critical {figures['ks_critical_1pct']:.3f})"
+    ax.set_title(title)
     return ax.figure
 
 
