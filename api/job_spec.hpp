@@ -336,6 +336,11 @@ struct FieldError {
 /// was written before the field existed, and is read as wiredem ran then:
 /// triaxial.consolidation as cell_pressure (the default until 2026-12-03,
 /// effective since). A job from a user keeps parse_job_spec's defaults.
+/// It is read as trusted data: judged when it was accepted, it is not judged
+/// again against today's rules (no range or cross-field check; a wrong type,
+/// an unknown key or malformed JSON is still an error), so that tightening a
+/// rule leaves every stored job readable. What the engine cannot run, it
+/// refuses when the job runs (engine::preparation_error, settings_error).
 [[nodiscard]] engine::Result<JobSpec, std::vector<FieldError>> parse_written_job_spec(std::string_view text);
 
 /// Overload for string literals (a `const char*` converts to both

@@ -4,6 +4,9 @@
 // cylinder, then times steps on the static packing for each thread count.
 // Every case starts from the same settled state, and the final states are
 // hashed: equal hashes across thread counts show the run is deterministic.
+#include "api/engine_settings.hpp"
+#include "api/job_spec.hpp"
+#include "stages.hpp"
 #include "contact/pair_kernel_simd.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
@@ -13,22 +16,28 @@
 #include "simulation.hpp"
 #include "state/state_hash.hpp"
 #include "timestep.hpp"
+#include "triaxial/triaxial.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
 
 using namespace wiredem::engine;
+namespace api = wiredem::api;
+namespace campaign = wiredem::campaign;
 
 namespace {
 
@@ -347,6 +356,99 @@ int time_specimen(const std::string& path, std::uint64_t steps, const std::vecto
     return 0;
 }
 
+/// Where a column test's timing starts: at its first step (the σ₃ ramp, the
+/// piston consolidating the column) or when its loading starts (the plate
+/// at constant speed).
+enum class ColumnPhase { start, loading };
+
+/// Times the column test users run: test `index` of the prepared job
+/// directory `dir` (`wiredem prepare JOB -o DIR`), driven by run_triaxial as
+/// `wiredem test` drives it (the membrane under σ₃, the plate, the wire, the
+/// rows sampled), for `steps` steps from `phase` on, for each thread count,
+/// each from the same specimen; the state hash where the timing ends shows
+/// that the thread counts give the same bits.
+int time_column_test(const std::filesystem::path& dir, std::size_t index, ColumnPhase phase, std::uint64_t steps,
+    const std::vector<unsigned>& thread_counts, bool json)
+{
+    const campaign::JobDir job_dir{dir};
+    const auto spec = campaign::read_job(job_dir);
+    if (!spec.ok()) {
+        std::fprintf(stderr, "wiredem-bench: %s\n", spec.error().c_str());
+        return 1;
+    }
+    if (index >= spec.value().triaxial.confining_pressures_pa.size()) {
+        std::fprintf(stderr, "wiredem-bench: --test-index %zu: the job has %zu tests\n", index,
+            spec.value().triaxial.confining_pressures_pa.size());
+        return 1;
+    }
+    const auto specimen = campaign::read_specimen(job_dir);
+    if (!specimen.ok()) {
+        std::fprintf(stderr, "wiredem-bench: %s\n", specimen.error().c_str());
+        return 1;
+    }
+    const World& start = specimen.value().world;
+    const TriaxialSettings settings = api::triaxial_settings(spec.value(), index);
+    std::vector<Case> cases;
+    for (unsigned threads : thread_counts) {
+        Simulation sim(threads);
+        sim.world = start;
+        Case c;
+        c.name = phase == ColumnPhase::start ? "column_test" : "column_loading";
+        c.integrator = sim.world.integrator;
+        c.threads = threads;
+        c.bodies = sim.world.body_count();
+        c.steps = steps;
+        std::atomic<bool> stop{false};
+        RunControl control;
+        control.cancel = &stop;
+        std::optional<std::chrono::steady_clock::time_point> t0;
+        double cpu0 = 0.0;
+        std::uint64_t first = 0, builds0 = 0, selections0 = 0;
+        TriaxialContinuation continuation;
+        continuation.between_steps = [&](const World& w, const TriaxialDriverState& st) {
+            if (stop || (phase == ColumnPhase::loading && !st.loading)) return;
+            if (!t0) {
+                sim.profile = &c.profile;
+                first = st.steps;
+                builds0 = w.neighbour_builds;
+                selections0 = w.near.selections;
+                cpu0 = process_cpu_s();
+                t0 = std::chrono::steady_clock::now();
+                return;
+            }
+            if (st.steps - first < steps) return;
+            c.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - *t0).count();
+            c.cpu_s = process_cpu_s() - cpu0;
+            sim.profile = nullptr;
+            c.contacts = touching(w);
+            c.list_pairs = w.contacts.size();
+            c.near_pairs = w.near.pairs.size();
+            c.near_selections = w.near.selections - selections0;
+            c.rebuilds = w.neighbour_builds - builds0;
+            c.hash = state_hash(w);
+            stop = true;
+        };
+        const auto r = run_triaxial(sim, specimen.value().report.top_plate_wall, settings, control, std::move(continuation));
+        if (!stop) {
+            std::fprintf(stderr, "wiredem-bench: the test %s before %llu timed steps%s\n",
+                r.ok() ? "ended" : ("stopped (" + r.error() + ")").c_str(), static_cast<unsigned long long>(steps),
+                phase == ColumnPhase::loading ? " of loading" : "");
+            return 1;
+        }
+        cases.push_back(std::move(c));
+    }
+    if (json) {
+        for (const Case& c : cases) print_case_json(c, start.dt_s);
+        return 0;
+    }
+    std::printf("column test %zu of %s (σ₃ = %g Pa): %zu grains, %zu wire nodes, %zu membrane nodes, δt = %.3g s, "
+                "timed from the %s\n",
+        index, dir.c_str(), settings.confining_pressure_pa, start.bodies[0].size(), start.bodies[1].size(),
+        start.bodies[2].size(), start.dt_s, phase == ColumnPhase::start ? "test's first step" : "loading's start");
+    print_table(cases);
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -393,9 +495,24 @@ int main(int argc, char** argv)
     app.add_option("--rolling-friction", rolling_friction,
            "time the settled packing with rolling resistance μ_r (engine/laws/rolling.hpp; f_r = 1, η_r = 0.3); 0: off")
         ->check(CLI::Range(0.0, 1.0));
+    std::string column_test;
+    app.add_option("--column-test", column_test,
+           "time the column test users run: a test of the prepared job directory DIR (`wiredem prepare JOB -o DIR`) "
+           "driven as `wiredem test` drives it (membrane under the cell pressure, the plate, the wire, the rows), "
+           "instead of the built-in cases")
+        ->check(CLI::ExistingDirectory);
+    std::size_t test_index = 0;
+    app.add_option("--test-index", test_index, "--column-test: which test (an index into confining_pressures_pa)");
+    ColumnPhase column_phase = ColumnPhase::start;
+    app.add_option("--column-phase", column_phase,
+           "--column-test: time from the test's first step (start: σ₃ ramp and consolidation) or from its loading")
+        ->transform(CLI::CheckedTransformer(
+            std::map<std::string, ColumnPhase>{{"start", ColumnPhase::start}, {"loading", ColumnPhase::loading}}));
     CLI11_PARSE(app, argc, argv);
     set_simd_kernels(kernels);
 
+    if (!column_test.empty())
+        return time_column_test(column_test, test_index, column_phase, steps, thread_counts, json);
     if (!specimen.empty()) return time_specimen(specimen, steps, thread_counts, integrators, json);
 
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.

@@ -96,26 +96,6 @@ std::string test_label(std::size_t k, std::size_t n, double pa)
     return label;
 }
 
-/// The specimen of a prepared directory: the World ready to test and its report.
-struct Specimen {
-    eng::World world;
-    eng::PreparationReport report;
-    std::int64_t threads = 0;   ///< the preparation's engine threads
-};
-
-eng::Result<Specimen, std::string> read_specimen(const JobDir& dir)
-{
-    Specimen s;
-    auto w = eng::restore_snapshot(dir.specimen(), [&](const io::Group& host) {
-        s.report = read_preparation_report(host);
-        s.threads = host.read_int_attribute("threads");
-    });
-    if (!w.ok()) return eng::Err(w.error() + " (is the directory prepared? `wiredem prepare JOB.json -o DIR`)");
-    s.world = std::move(w.value());
-    if (s.report.top_plate_wall >= s.world.walls.size())
-        return eng::Err(dir.specimen().string() + ": the top plate's wall index is past the walls");
-    return s;
-}
 
 /// What a running stage hands its driver between two steps: saves the World
 /// and the driver's state `State` (written by `write_state` into /host) to
@@ -145,6 +125,20 @@ std::function<void(const eng::World&, const State&)> checkpointer(const StageCon
 std::string job_text(const api::JobSpec& spec) { return json::serialize(api::to_json(spec)) + "\n"; }
 
 } // namespace
+
+eng::Result<Specimen, std::string> read_specimen(const JobDir& dir)
+{
+    Specimen s;
+    auto w = eng::restore_snapshot(dir.specimen(), [&](const io::Group& host) {
+        s.report = read_preparation_report(host);
+        s.threads = host.read_int_attribute("threads");
+    });
+    if (!w.ok()) return eng::Err(w.error() + " (is the directory prepared? `wiredem prepare JOB.json -o DIR`)");
+    s.world = std::move(w.value());
+    if (s.report.top_plate_wall >= s.world.walls.size())
+        return eng::Err(dir.specimen().string() + ": the top plate's wall index is past the walls");
+    return s;
+}
 
 eng::Result<api::JobSpec, std::string> read_job(const JobDir& dir)
 {

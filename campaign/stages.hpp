@@ -17,14 +17,28 @@
 #include "core/result.hpp"
 #include "eta.hpp"
 #include "files.hpp"
+#include "specimen/preparation.hpp"
+#include "state/world.hpp"
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 
 namespace wiredem::campaign {
+
+/// The specimen of a prepared directory: the World ready to test and its report.
+struct Specimen {
+    engine::World world;
+    engine::PreparationReport report;
+    std::int64_t threads = 0;   ///< the preparation's engine threads
+};
+
+/// Reads `dir`'s specimen.h5 (`wiredem prepare`): the World and its
+/// preparation report; an error names what is wrong.
+[[nodiscard]] engine::Result<Specimen, std::string> read_specimen(const JobDir& dir);
 
 /// Checkpoints of a running preparation or test, by default every few
 /// minutes of wall time: a killed stage loses at most that much; a save of

@@ -7,7 +7,8 @@
 # and without precompiled headers (scripts/build.sh asan: that build is also
 # the check that every file compiles clang-clean and includes what it uses),
 # every test but the Python ones (label scripts: the report script's, and the
-# package's, python/, which also has the label python), the Slurm
+# package's, python/, which also has the label python), the benchmark's
+# smoke run (label bench: a timing case, run in Release), the Slurm
 # cluster's (label slurm: its pieces run there in the server's unit tests) and
 # the long physical runs (label physics_long: whole column preparations and
 # the end-to-end triaxial runs, a minute or two each under ASan, whose code
@@ -59,7 +60,7 @@ phase "tests (release)"
 ctest --test-dir build/release --output-on-failure -j "$jobs" -LE study_scale
 phase "tests (address + undefined behaviour sanitizers)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|study_scale|scripts|slurm"
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -LE "physics_long|study_scale|scripts|slurm|bench"
 phase "tests (thread sanitizer: the threaded engine code and the server)"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L "threaded|server"
 # The campaign's own scheduler (campaign/stages.cpp: tests at once, threads

@@ -179,6 +179,29 @@ TEST(JobSpec, AWrittenJobWithoutConsolidationIsReadAsItRanThen)
     EXPECT_FALSE(parse_written_job_spec("[]").ok());
 }
 
+// A stored job is judged when it is accepted, not again: a rule tightened
+// since (the wire's reach now counts the membrane nodes' contact radius, a
+// range narrowed) leaves it readable, as written; a wrong type is still an
+// error, the document being wiredem's own.
+TEST(JobSpec, AWrittenJobIsNotJudgedAgainstTodaysRules)
+{
+    json::value old = to_json(JobSpec{});
+    auto& wire = old.as_object()["specimen"].as_object()["wire"].as_object();
+    wire["pattern"] = "helix";
+    wire["helix_radius_m"] = 0.0182; // accepted before 2026-12-06, refused since
+    old.as_object()["triaxial"].as_object()["target_axial_strain"] = 0.6; // beyond today's (0, 0.5]
+    const std::string text = json::serialize(old);
+    ASSERT_FALSE(parse_job_spec(std::string_view(text)).ok()); // a user's job: refused
+    const auto written = parse_written_job_spec(text);
+    ASSERT_TRUE(written.ok()) << describe(written.error());
+    EXPECT_EQ(written.value().specimen.wire.helix_radius_m, 0.0182);
+    EXPECT_EQ(written.value().triaxial.target_axial_strain, 0.6);
+    old.as_object()["triaxial"].as_object()["target_axial_strain"] = "0.6";
+    const auto wrong_type = parse_written_job_spec(json::serialize(old));
+    ASSERT_FALSE(wrong_type.ok());
+    EXPECT_EQ(wrong_type.error().front().path, "triaxial.target_axial_strain");
+}
+
 TEST(JobSpec, EveryFieldRoundTripsThroughJsonValue)
 {
     const JobSpec s = everything_changed();
