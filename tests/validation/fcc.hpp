@@ -33,6 +33,8 @@ struct FccOptions {
     /// sphere); free spheres find rolling modes and fail lower (measured
     /// 3.0 instead of 3.7 at μ = 0.3). Held: 1/I = 0.
     bool spins_held = true;
+    /// k_t of the tangential law [1/m]; 0: the contact law's default.
+    double tangential_stiffness_per_m = 0.0;
 };
 
 /// The FCC array with friction μ between the spheres, frictionless walls.
@@ -42,6 +44,7 @@ inline CuboidWalls fcc_world(Simulation& sim, double mu, const FccOptions& o = {
     w = World{};
     w.gravity_m_per_s2 = Vec3::Zero(); // Thornton's array is weightless
     w.contact.tangential.friction_coeff = mu;
+    if (o.tangential_stiffness_per_m > 0.0) w.contact.tangential.stiffness_per_m = o.tangential_stiffness_per_m;
     FccArraySpec spec;
     spec.grain = fcc_grain;
     spec.cells = {o.cells, o.cells, o.cells};
@@ -80,11 +83,11 @@ struct FccRun {
     std::string error;         ///< the run's error, if it failed
 };
 
-inline FccRun run_fcc(double mu, unsigned threads = 1, const FccOptions& o = {})
+inline FccRun run_fcc(double mu, unsigned threads = 1, const FccOptions& o = {}, const CuboidSettings& settings = fcc_settings())
 {
     Simulation sim(threads);
     const CuboidWalls walls = fcc_world(sim, mu, o);
-    auto r = run_cuboid_triaxial(sim, walls, fcc_settings());
+    auto r = run_cuboid_triaxial(sim, walls, settings);
     FccRun run;
     if (!r.ok()) {
         run.error = r.error();
