@@ -41,4 +41,19 @@ double build_container(World& w, const ContainerSpec& spec)
     return top;
 }
 
+CuboidWalls build_fcc_array(World& w, const FccArraySpec& spec)
+{
+    const std::uint8_t grain_mat = add_material(w, spec.grain);
+    const std::uint8_t wall_mat = add_material(w, spec.wall);
+    const double r = spec.grain_radius_m;
+    const double half_a = std::sqrt(2.0) * r; // a/2: (1, 1, 0) a/2 is 2r long
+    for (int k = 0; k <= 2 * spec.cells[2]; ++k)
+        for (int j = 0; j <= 2 * spec.cells[1]; ++j)
+            for (int i = 0; i <= 2 * spec.cells[0]; ++i)
+                if ((i + j + k) % 2 == 0) add_grain(w, Vec3(i, j, k) * half_a, r, grain_mat);
+    const Vec3 hi(2 * spec.cells[0] * half_a + r, 2 * spec.cells[1] * half_a + r, 2 * spec.cells[2] * half_a + r);
+    return add_cuboid_walls(w, Vec3::Constant(-r), hi, wall_mat, spec.wall_friction_coeff);
+}
+
 } // namespace wiredem::engine
+

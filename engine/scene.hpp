@@ -4,8 +4,11 @@
 #pragma once
 
 #include "state/world.hpp"
+#include "triaxial/cuboid.hpp"
 
+#include <array>
 #include <cstdint>
+#include <optional>
 
 namespace wiredem::engine {
 
@@ -46,5 +49,23 @@ struct ContainerSpec {
 /// simple cubic lattice (with jitter) inside it, at rest. Returns the height
 /// of the top layer's centres [m].
 double build_container(World& w, const ContainerSpec& spec);
+
+/// A face-centred cubic array of equal spheres in a cuboid cell (Thornton,
+/// Géotechnique 29, 1979): the cube axes along x, y, z, lattice constant
+/// a = 2√2 r (nearest neighbours 2r apart, along the ⟨110⟩ directions).
+struct FccArraySpec {
+    std::array<int, 3> cells{2, 2, 2};  ///< unit cells along x, y, z, ≥ 1
+    double grain_radius_m = 1.23e-3;
+    Material grain{};
+    Material wall{1e9, 0.3, 7800.0};
+    /// The walls' friction coefficient (0: frictionless; nullopt: the contact law's).
+    std::optional<double> wall_friction_coeff = 0.0;
+};
+
+/// Adds the spheres at (i, j, k) a/2 for 0 ≤ i ≤ 2 n_x, … with i + j + k
+/// even, at rest, and the six walls of the cuboid cell touching the outer
+/// spheres (add_cuboid_walls: the box [−r, n a + r] along each axis).
+/// Returns the walls.
+CuboidWalls build_fcc_array(World& w, const FccArraySpec& spec);
 
 } // namespace wiredem::engine

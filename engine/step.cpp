@@ -356,7 +356,7 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
 /// The contact kernel: from a contact's geometry (or its absence) to its
 /// force, spring and slots, with the laws of laws/. One writer per slot.
 [[gnu::always_inline]] inline void evaluate_contact(ContactList& c, std::size_t p, bool overlaps,
-    const ContactGeometry& g, const ContactInputs& in)
+    const ContactGeometry& g, const ContactInputs& in, const TangentialParams& tangential)
 {
     if (!overlaps) {
         // Apart: the contact (and its spring) is gone. Slots of a contact
@@ -367,7 +367,7 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
     const double rate = g.velocity_m_per_s.dot(g.normal); // dξ/dt, > 0 while approaching
     const Vec3 vt = g.velocity_m_per_s - rate * g.normal;
     const double fn = damped_hertz_force_n(c.hertz_coefficient[p], g.overlap_m, rate, in.damping_s);
-    const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, in.tangential, in.dt);
+    const TangentialResult t = tangential_force(c.tangential[p], g.normal, vt, fn, tangential, in.dt);
     if (in.memory == MemoryUpdate::commit) c.tangential[p] = t.next;
     ContactOutput& out = c.output[p];
     out.force_n = -fn * g.normal + t.force_n;
@@ -397,7 +397,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         ContactGeometry g;
         const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in);
+        evaluate_contact(c, p, overlaps, g, in, in.tangential);
     };
     // The near pairs only (NearPairs: the others are apart); four or eight
     // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
@@ -422,20 +422,28 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         }
         for (; q < count; ++q) pair(ids[q]);
     });
+    // A wall with a friction coefficient of its own (Wall::friction_coeff)
+    // puts it into the tangential law of its contacts; the SIMD wall kernel
+    // has the contact law's, so such a wall's contacts go one by one.
+    std::vector<TangentialParams> wall_tangential(w.walls.size(), in.tangential);
+    for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
+        if (w.walls[wi].friction_coeff) wall_tangential[wi].friction_coeff = *w.walls[wi].friction_coeff;
     auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
         const auto ka = static_cast<std::size_t>(a.kind());
         const std::uint32_t ia = a.index();
+        const std::uint32_t wall = c.second[p].index();
         ContactGeometry g;
         const bool overlaps = sphere_wall_geometry(
-            w.walls[c.second[p].index()], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in);
+            w.walls[wall], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
+        evaluate_contact(c, p, overlaps, g, in, wall_tangential[wall]);
     };
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = pairs + begin; p < pairs + end;) {
             // A block of one wall's contacts at a time, where the CPU can.
             const std::uint32_t wall = c.second[p].index();
-            if (simd.wall && p + lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
+            if (simd.wall && !w.walls[wall].friction_coeff
+                && p + lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
                 const std::uint32_t done = simd.wall(c, p, w.walls[wall], in);
                 for (std::size_t l = 0; l < lanes; ++l)
                     if (!(done >> l & 1u)) wall_contact(p + l);

@@ -6,8 +6,14 @@ oblique-impact benchmarks through the engine, with the rigid-body lines beside
 them), plots docs/validation/chung_ooi_*.png and prints, per benchmark, the
 largest deviation from the rigid-body answer where the contact slides
 throughout (the regime where that answer is exact for any tangential law).
+Then runs wiredem-thornton-fcc (tests/validation/thornton_fcc_sweep.cpp:
+Thornton's face-centred cubic array in the rigid-wall cuboid cell at
+mu = 0 ... 0.5), plots docs/validation/thornton_fcc.png (sigma1/sigma3
+against the axial strain, and the peaks against 2(1 + mu)/(1 - mu)) and
+prints the peaks.
 
-    python3 scripts/validation_figures.py [--bin build/release/tests/validation/wiredem-chung-ooi] [--out docs/validation]
+    python3 scripts/validation_figures.py [--bin build/release/tests/validation/wiredem-chung-ooi]
+        [--fcc-bin build/release/tests/validation/wiredem-thornton-fcc] [--out docs/validation]
 """
 from __future__ import annotations
 
@@ -108,9 +114,57 @@ def tests_6_7_node(rows, out: Path) -> None:
     plt.close(fig)
 
 
+def load_fcc(binary: Path) -> list[dict[str, float]]:
+    text = subprocess.run([str(binary)], check=True, capture_output=True, text=True).stdout
+    return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(io.StringIO(text))]
+
+
+WINDOW_ROWS = 11  # the bound test's window (tests/validation/test_thornton_fcc.cpp)
+
+
+def fcc_curves(rows):
+    """Per mu: loading strains, sigma1/sigma3 of each row, and the raw and windowed peaks."""
+    curves = {}
+    for mu in sorted({r["mu"] for r in rows}):
+        rs = [r for r in rows if r["mu"] == mu and r["phase"] == 2.0]
+        s1 = [r["sigma1_pa"] for r in rs]
+        s3 = [0.5 * (r["sigma_x_pa"] + r["sigma_y_pa"]) for r in rs]
+        windowed = max(sum(s1[i:i + WINDOW_ROWS]) / sum(s3[i:i + WINDOW_ROWS])
+                       for i in range(len(rs) - WINDOW_ROWS + 1))
+        curves[mu] = ([100 * r["axial_strain"] for r in rs], [a / b for a, b in zip(s1, s3)],
+                      max(a / b for a, b in zip(s1, s3)), windowed)
+    return curves
+
+
+def thornton_fcc(rows, out: Path) -> dict:
+    curves = fcc_curves(rows)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for k, (mu, (strain, ratio, _, _)) in enumerate(curves.items()):
+        colour = f"C{k}"
+        axes[0].plot(strain, ratio, color=colour, lw=0.8, label=f"μ = {mu:g}")
+        axes[0].axhline(2 * (1 + mu) / (1 - mu), color=colour, ls="--", lw=0.8)
+    axes[0].set_xlabel("axial strain ε_a [%]")
+    axes[0].set_ylabel("σ₁/σ₃ (walls)")
+    axes[0].set_title("Thornton's FCC array, cuboid cell (dashed: 2(1+μ)/(1−μ))", fontsize=9)
+    axes[0].legend(fontsize=7)
+    mus = list(curves)
+    line = [m / 100 for m in range(0, 51)]
+    axes[1].plot(line, [2 * (1 + m) / (1 - m) for m in line], "k-", lw=1, label="2(1+μ)/(1−μ) (Thornton 1979)")
+    axes[1].plot(mus, [curves[m][3] for m in mus], "o", color="C0", label="wiredem, windowed peak")
+    axes[1].plot(mus, [curves[m][2] for m in mus], "x", color="C3", label="wiredem, largest row")
+    axes[1].set_xlabel("inter-particle friction μ")
+    axes[1].set_ylabel("peak σ₁/σ₃")
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "thornton_fcc.png", dpi=110)
+    plt.close(fig)
+    return curves
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", type=Path, default=ROOT / "build/release/tests/validation/wiredem-chung-ooi")
+    ap.add_argument("--fcc-bin", type=Path, default=ROOT / "build/release/tests/validation/wiredem-thornton-fcc")
     ap.add_argument("--out", type=Path, default=ROOT / "docs/validation")
     args = ap.parse_args()
     rows = load(args.bin)
@@ -123,6 +177,13 @@ def main() -> None:
         rs = [r for r in rows if r["test"] == test]
         n = sum(1 for r in rs if r["rigid_slides"] == 1.0)
         print(f"  test {test}: {sliding_deviation(rs):.2e} over {n} sliding cases of {len(rs)}")
+    curves = thornton_fcc(load_fcc(args.fcc_bin), args.out)
+    print("Thornton's FCC array: peak sigma1/sigma3 (largest row, window of "
+          f"{WINDOW_ROWS} rows) against 2(1 + mu)/(1 - mu):")
+    for mu, (_, _, raw, windowed) in curves.items():
+        closed = 2 * (1 + mu) / (1 - mu)
+        print(f"  mu = {mu:g}: {raw:.4f}, {windowed:.4f} against {closed:.4f} "
+              f"({100 * (windowed / closed - 1):+.1f} %)")
 
 
 if __name__ == "__main__":

@@ -57,7 +57,7 @@ static_assert(sizeof(GearPrediction) == 200, "GearPrediction changed: update thi
 static_assert(sizeof(NearPairs) == 192, "NearPairs changed: update this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
-static_assert(sizeof(Wall) == 96, "Wall changed: update for_each_field and this size");
+static_assert(sizeof(Wall) == 112, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
 static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field and this size");
 static_assert(sizeof(WireForces) == 144, "WireForces changed: update for_each_field and this size");
@@ -299,6 +299,8 @@ Result<World, std::string> restore_snapshot(
         const bool skin_not_kept = version <= 5;
         // Versions 2 to 6 have no rolling resistance: the law is off.
         const bool rolling_not_kept = version <= 6;
+        // Versions 2 to 7 have no wall friction of their own: the contact law's.
+        const bool wall_friction_not_kept = version <= 7;
         const auto walls = static_cast<std::size_t>(root.read_int_attribute("wall_count"));
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
@@ -314,6 +316,7 @@ Result<World, std::string> restore_snapshot(
             if (bending_in_records && name.starts_with("wire/bending_force_on_")) return; // below
             if (skin_not_kept && name == "skin_at_build_m") return;                       // below
             if (rolling_not_kept && name.starts_with("contact/rolling_")) return;         // off
+            if (wall_friction_not_kept && name.starts_with("walls/") && name.ends_with("/friction_coeff")) return;
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;

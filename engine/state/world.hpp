@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace wiredem::engine {
@@ -61,6 +62,13 @@ struct Wall {
     double radius_m = 0.0;                ///< cylinder radius (axis ∥ z) [m]
     Vec3 velocity_m_per_s = Vec3::Zero(); ///< prescribed velocity; point_m moves with it
     std::uint8_t material = 0;
+    /// The wall's own friction coefficient μ_w ≥ 0 in the tangential law of
+    /// its contacts (0: frictionless, the tangential force is exactly zero);
+    /// nullopt: the contact law's μ (ContactSettings::tangential), as every
+    /// wall had before the rigid-wall cell (engine/triaxial/cuboid.hpp).
+    /// The other tangential parameters and rolling resistance are the
+    /// contact law's.
+    std::optional<double> friction_coeff;
 };
 
 /// What the bodies exert on a wall in a step.

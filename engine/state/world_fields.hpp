@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -88,6 +89,22 @@ struct FieldCodec<TangentialState> {
     {
         FieldCodec<Vec3>::get(in, s.spring_m);
         s.sticking = in[3] != 0.0;
+    }
+};
+
+/// An optional real: present (1/0), value (0 when absent).
+template <>
+struct FieldCodec<std::optional<double>> {
+    using Number = double;
+    static constexpr std::size_t columns = 2;
+    static void put(const std::optional<double>& v, Number* out)
+    {
+        out[0] = v ? 1.0 : 0.0;
+        out[1] = v.value_or(0.0);
+    }
+    static void get(const Number* in, std::optional<double>& v)
+    {
+        v = in[0] != 0.0 ? std::optional<double>(in[1]) : std::nullopt;
     }
 };
 
@@ -332,6 +349,7 @@ void for_each_field(W& w, Visit&& field)
         field(at + "normal", wall.normal, R::model);
         field(at + "radius_m", wall.radius_m, R::model);
         field(at + "material", wall.material, R::model);
+        field(at + "friction_coeff", wall.friction_coeff, R::model);
         field(at + "point_m", wall.point_m, R::state);
         field(at + "velocity_m_per_s", wall.velocity_m_per_s, R::state);
         field(at + "point_at_build_m", w.wall_point_at_build_m[i], R::cache);

@@ -110,6 +110,46 @@ std::vector<double> volumetric_strains(const TriaxialSeries& s, double initial_v
     return e;
 }
 
+void measure_energies_and_contacts(const World& w, ThreadPool& pool, TriaxialSample& s)
+{
+    const ContactList& c = w.contacts;
+    s.kinetic_energy_j = kinetic_energy_j(w, pool);
+    s.elastic_energy_j = elastic_energy(w, pool).total_j(); // held bodies carry none
+
+    struct Count {
+        std::uint64_t touching = 0, sliding = 0;
+    };
+    const Count pairs = reduce_blocks(
+        pool, c.size(), Count{},
+        [&](std::size_t b, std::size_t e) {
+            Count n;
+            for (std::size_t p = b; p < e; ++p)
+                if (c.touching[p]) {
+                    ++n.touching;
+                    if (!c.tangential[p].sticking) ++n.sliding;
+                }
+            return n;
+        },
+        [](Count a, const Count& b) {
+            a.touching += b.touching;
+            a.sliding += b.sliding;
+            return a;
+        });
+    s.contacts = pairs.touching; // body pairs and body–wall contacts
+    s.sliding_contacts = pairs.sliding;
+
+    const std::vector<double>& strain = w.wire_forces.segment_strain;
+    if (!strain.empty()) {
+        double sum = 0.0, max = strain.front();
+        for (double e : strain) {
+            sum += e;
+            max = std::max(max, e);
+        }
+        s.wire_strain_mean = sum / static_cast<double>(strain.size());
+        s.wire_strain_max = max;
+    }
+}
+
 TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
     std::size_t bottom_plate_wall, double initial_height_m)
 {
@@ -152,41 +192,7 @@ TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::si
     s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
     s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
     s.volume_m3 = analysis::cylinder_volume_m3(s.column_radius_m, s.height_m);
-    s.kinetic_energy_j = kinetic_energy_j(w, pool);
-    s.elastic_energy_j = elastic_energy(w, pool).total_j(); // held bodies carry none
-
-    struct Count {
-        std::uint64_t touching = 0, sliding = 0;
-    };
-    const Count pairs = reduce_blocks(
-        pool, c.size(), Count{},
-        [&](std::size_t b, std::size_t e) {
-            Count n;
-            for (std::size_t p = b; p < e; ++p)
-                if (c.touching[p]) {
-                    ++n.touching;
-                    if (!c.tangential[p].sticking) ++n.sliding;
-                }
-            return n;
-        },
-        [](Count a, const Count& b) {
-            a.touching += b.touching;
-            a.sliding += b.sliding;
-            return a;
-        });
-    s.contacts = pairs.touching; // body pairs and body–wall contacts
-    s.sliding_contacts = pairs.sliding;
-
-    const std::vector<double>& strain = w.wire_forces.segment_strain;
-    if (!strain.empty()) {
-        double sum = 0.0, max = strain.front();
-        for (double e : strain) {
-            sum += e;
-            max = std::max(max, e);
-        }
-        s.wire_strain_mean = sum / static_cast<double>(strain.size());
-        s.wire_strain_max = max;
-    }
+    measure_energies_and_contacts(w, pool, s);
     return s;
 }
 

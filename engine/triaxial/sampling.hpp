@@ -159,6 +159,11 @@ struct QuasiStaticVerdict {
 [[nodiscard]] TriaxialSample measure_triaxial_sample(const World& w, ThreadPool& pool, std::size_t top_plate_wall,
     std::size_t bottom_plate_wall, double initial_height_m);
 
+/// The part of a row every cell measures the same way: kinetic and elastic
+/// energy, touching and sliding contacts, the wire's segment strain. Reads
+/// only; deterministic.
+void measure_energies_and_contacts(const World& w, ThreadPool& pool, TriaxialSample& s);
+
 /// Copies the system into a snapshot (forces of the last step).
 [[nodiscard]] TriaxialSnapshot take_triaxial_snapshot(const World& w);
 

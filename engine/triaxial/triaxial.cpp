@@ -26,9 +26,19 @@ bool is_plate(const World& w, std::size_t wall, double normal_z)
         && w.walls[wall].normal.isApprox(Vec3(0.0, 0.0, normal_z));
 }
 
-std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const TriaxialSettings& s)
+} // namespace
+
+std::optional<std::string> validate_triaxial_settings(const TriaxialSettings& s)
 {
     if (auto e = settings_error(s)) return e->field + ": " + e->message;
+    return std::nullopt;
+}
+
+namespace {
+
+std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, const TriaxialSettings& s)
+{
+    if (auto e = validate_triaxial_settings(s)) return e;
     if (!is_plate(w, 0, 1.0)) return "wall 0 must be the bottom plate (a plane with its normal pointing up)";
     if (!is_plate(w, top_plate_wall, -1.0))
         return "wall " + std::to_string(top_plate_wall) + " must be the top plate (a plane with its normal pointing down)";
@@ -105,6 +115,55 @@ Result<TriaxialResult, std::string> run_triaxial(
     Simulation& sim, std::size_t top_plate_wall, const TriaxialSettings& settings, const RunControl& control)
 {
     return run_triaxial(sim, top_plate_wall, settings, control, {});
+}
+
+void read_loading(TriaxialResult& result, double confining_pressure_pa, std::size_t loading_start_sample, double h0)
+{
+    // Volumetric strain of every row against V₀ at loading start.
+    TriaxialSeries& ts = result.series;
+    const double v0 = analysis::cylinder_volume_m3(ts.column_radius_m[loading_start_sample], h0);
+    result.initial_volume_m3 = v0;
+    ts.volumetric_strain = volumetric_strains(ts, v0);
+
+    // Peak of q over the loading samples.
+    const std::span<const double> q_loading(ts.deviatoric_stress_pa.data() + loading_start_sample, ts.size() - loading_start_sample);
+    if (const auto peak = analysis::peak_deviatoric_stress(q_loading)) {
+        const std::size_t i = loading_start_sample + peak->index;
+        result.peak_sample = i;
+        result.peak_deviatoric_stress_pa = peak->value_pa;
+        result.peak_axial_strain = ts.axial_strain[i];
+        result.peak_sigma1_pa = ts.sigma1_pa[i];
+        result.peak_sigma3_effective_pa = ts.sigma3_effective_pa[i];
+    } else {
+        // (A named string: GCC 12 warns -Warray-bounds, wrongly, on the literal
+        // pushed here once inlined.)
+        static const std::string no_peak = "no valid deviatoric stress sample during loading: no peak";
+        result.warnings.push_back(no_peak);
+    }
+
+    // The yield state and the shapes of the curves (analysis/strength.hpp).
+    {
+        const auto from = static_cast<std::ptrdiff_t>(loading_start_sample);
+        const std::span<const double> strain(ts.axial_strain.begin() + from, ts.axial_strain.end());
+        const std::span<const double> s1(ts.sigma1_pa.begin() + from, ts.sigma1_pa.end());
+        const std::span<const double> s3(ts.sigma3_effective_pa.begin() + from, ts.sigma3_effective_pa.end());
+        if (auto reading = analysis::read_strength(strain, s1, s3)) {
+            result.strength = reading.value();
+            result.strength->stress_ratio.index += loading_start_sample;
+            result.strength->deviatoric.index += loading_start_sample;
+        } else {
+            result.warnings.push_back("test at σ₃ = " + format_number(confining_pressure_pa)
+                                      + " Pa: no yield state: " + reading.error());
+        }
+    }
+
+    QuasiStaticVerdict& v = result.verdict;
+    v = quasi_static_verdict(ts, loading_start_sample);
+    if (!v.quasi_static) {
+        v.warning = "test at σ₃ = " + format_number(confining_pressure_pa) + " Pa was not quasi-static: " + v.warning
+                  + "; lower the plate speed or the density scaling";
+        result.warnings.push_back(v.warning);
+    }
 }
 
 Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
@@ -332,48 +391,8 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     w.walls[top_plate_wall].velocity_m_per_s.setZero();
     if (st.last_sample_step != st.steps) sample(); // the end of the test is always a row
 
-    // Volumetric strain of every row against V₀ at loading start.
-    TriaxialSeries& ts = result.series;
-    const double v0 = analysis::cylinder_volume_m3(ts.column_radius_m[loading_start_sample], h0);
-    result.initial_volume_m3 = v0;
-    ts.volumetric_strain = volumetric_strains(ts, v0);
-
-    // Peak of q over the loading samples.
-    const std::span<const double> q_loading(ts.deviatoric_stress_pa.data() + loading_start_sample, ts.size() - loading_start_sample);
-    if (const auto peak = analysis::peak_deviatoric_stress(q_loading)) {
-        const std::size_t i = loading_start_sample + peak->index;
-        result.peak_sample = i;
-        result.peak_deviatoric_stress_pa = peak->value_pa;
-        result.peak_axial_strain = ts.axial_strain[i];
-        result.peak_sigma1_pa = ts.sigma1_pa[i];
-        result.peak_sigma3_effective_pa = ts.sigma3_effective_pa[i];
-    } else {
-        result.warnings.push_back("no valid deviatoric stress sample during loading: no peak");
-    }
-
-    // The yield state and the shapes of the curves (analysis/strength.hpp).
-    {
-        const auto from = static_cast<std::ptrdiff_t>(loading_start_sample);
-        const std::span<const double> strain(ts.axial_strain.begin() + from, ts.axial_strain.end());
-        const std::span<const double> s1(ts.sigma1_pa.begin() + from, ts.sigma1_pa.end());
-        const std::span<const double> s3(ts.sigma3_effective_pa.begin() + from, ts.sigma3_effective_pa.end());
-        if (auto reading = analysis::read_strength(strain, s1, s3)) {
-            result.strength = reading.value();
-            result.strength->stress_ratio.index += loading_start_sample;
-            result.strength->deviatoric.index += loading_start_sample;
-        } else {
-            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
-                                      + " Pa: no yield state: " + reading.error());
-        }
-    }
-
-    QuasiStaticVerdict& v = result.verdict;
-    v = quasi_static_verdict(ts, loading_start_sample);
-    if (!v.quasi_static) {
-        v.warning = "test at σ₃ = " + format_number(settings.confining_pressure_pa) + " Pa was not quasi-static: " + v.warning
-                  + "; lower the plate speed or the density scaling";
-        result.warnings.push_back(v.warning);
-    }
+    read_loading(result, settings.confining_pressure_pa, loading_start_sample, h0);
+    const TriaxialSeries& ts = result.series;
     if (stopped_early)
         result.warnings.push_back("stopped by the host at axial strain " + format_number(ts.axial_strain.back())
                                   + " before the target " + format_number(settings.target_axial_strain));

@@ -75,6 +75,10 @@ struct SettingsError {
 /// function at the door, so that an accepted job's tests start.
 [[nodiscard]] std::optional<SettingsError> settings_error(const TriaxialSettings& s);
 
+/// settings_error as one message, "field: why" (every cell's drivers check
+/// it first), or nothing.
+[[nodiscard]] std::optional<std::string> validate_triaxial_settings(const TriaxialSettings& s);
+
 /// The longest σ₃ is held before loading [s]: max_hold_time_s, or
 /// default_max_hold_factor × hold_time_s.
 [[nodiscard]] double longest_hold_s(const TriaxialSettings& s);
@@ -177,6 +181,14 @@ struct TriaxialDriverState {
 ///         deformable system, cancelled, blew up.
 [[nodiscard]] Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t top_plate_wall,
     const TriaxialSettings& settings, const RunControl& control = {});
+
+/// The readings every cell takes once its loading has ended, from the rows
+/// of result.series (loading from row `loading_start_sample` on, at height
+/// h₀ = `h0_m` then): ε_v of every row against V₀ = π r₀² h₀, the raw peak
+/// of q, the yield state (analysis::read_strength) and the quasi-static
+/// verdict; what cannot be read, and a test that was not quasi-static, are
+/// warnings naming the test by its σ₃ [Pa].
+void read_loading(TriaxialResult& result, double confining_pressure_pa, std::size_t loading_start_sample, double h0_m);
 
 /// How a host checkpoints a test and continues one.
 struct TriaxialContinuation {

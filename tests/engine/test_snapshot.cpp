@@ -4,15 +4,19 @@
 #include "io/snapshot.hpp"
 #include "simulation.hpp"
 #include "state/state_hash.hpp"
+#include "timestep.hpp"
+#include "triaxial/cuboid.hpp"
 #include "wired_column.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <string>
 #include <unistd.h>
@@ -161,6 +165,54 @@ TEST(Snapshot, AnotherVersionIsAnError)
     std::filesystem::remove(path);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("version " + std::to_string(snapshot_version + 1)), std::string::npos) << r.error();
+}
+
+TEST(Snapshot, AWallsOwnFrictionRestoresAndItsRunContinuesBitIdentically)
+{
+    // Grains sliding in a cuboid of frictionless and frictional walls
+    // (Wall::friction_coeff): the snapshot keeps each wall's μ_w (or its
+    // absence), and the restored run goes on with the same bits.
+    Simulation original(1);
+    World& w = original.world;
+    const std::uint8_t grain = add_material(w, Material{1e9, 0.3, 7800.0});
+    const std::uint8_t plate = add_material(w, Material{1e9, 0.3, 7800.0});
+    const CuboidWalls walls = add_cuboid_walls(w, Vec3(-4e-3, -4e-3, 0.0), Vec3(4e-3, 4e-3, 8e-3), plate, 0.0);
+    w.walls[walls.lateral[1]].friction_coeff = 0.2;
+    w.walls[walls.lateral[3]].friction_coeff = std::nullopt;
+    w.contact.normal_damping_s = 1e-5;
+    // A 2 × 2 × 2 block in the corners, 10 µm off the lateral walls, thrown at them.
+    for (int i = 0; i < 8; ++i) {
+        const double x = i % 2 ? 2.79e-3 : -2.79e-3, y = i / 2 % 2 ? 2.79e-3 : -2.79e-3;
+        add_grain(w, Vec3(x, y, i / 4 ? 4.3e-3 : 1.19e-3), 1.2e-3, grain, Vec3(100 * x, 50 * y, -0.1));
+    }
+    set_time_step(w, stable_time_step(w).auto_s);
+    std::array<std::size_t, 6> touched{};
+    for (int n = 0; n < 300; ++n) {
+        ASSERT_FALSE(original.step().blew_up);
+        for (std::size_t i = 0; i < 6; ++i) touched[i] += w.wall_loads[i].contacts;
+    }
+    for (const std::size_t i : {walls.bottom, walls.lateral[0], walls.lateral[1], walls.lateral[2], walls.lateral[3]})
+        EXPECT_GT(touched[i], 0u) << "wall " << i; // the top one is far
+
+    const std::filesystem::path path = temp_path("wall_friction.h5");
+    ASSERT_TRUE(save_snapshot(w, path).ok());
+    auto restored = restore_snapshot(path);
+    ASSERT_TRUE(restored.ok()) << restored.error();
+    Simulation resumed(2);
+    resumed.world = std::move(restored).value();
+    for (std::size_t i = 0; i < w.walls.size(); ++i)
+        EXPECT_EQ(resumed.world.walls[i].friction_coeff, w.walls[i].friction_coeff) << "wall " << i;
+    ASSERT_EQ(original.run(300).end, RunEnd::completed);
+    ASSERT_EQ(resumed.run(300).end, RunEnd::completed);
+    EXPECT_EQ(state_hash(resumed.world), state_hash(original.world));
+
+    // A version 7 file has no wall friction: every wall has the contact
+    // law's (the reader leaves the datasets of this one alone).
+    io::File::open_read_write(path).root().write_int_attribute("version", 7);
+    auto old = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(old.ok()) << old.error();
+    for (const Wall& wall : old.value().walls) EXPECT_FALSE(wall.friction_coeff.has_value());
 }
 
 TEST(Snapshot, AVersionThreeFileKeepsTheContactOutputsInFourArrays)
