@@ -56,6 +56,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.wire.poisson_ratio = s.wire.poisson_ratio;
     p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
     p.wire.bending_yield_strain = s.wire.bending_yield_strain.value_or(std::numeric_limits<double>::infinity());
+    p.wire.breaking_strain = s.wire.breaking_strain.value_or(std::numeric_limits<double>::infinity());
     p.wire.density_scale = spec.engine.density_scale * spec.engine.wire_mass_scale;
 
     p.pattern.kind = pattern_kind(s.wire.pattern);
@@ -149,6 +150,11 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
     s.snapshot_strains = {0.5 * f.target_axial_strain};
     s.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};
     return s;
+}
+
+engine::WireCuts wire_cuts(const JobSpec& spec)
+{
+    return {.at_m = spec.specimen.wire.cuts_at_m, .every_loops = spec.specimen.wire.cut_every_loops};
 }
 
 } // namespace wiredem::api

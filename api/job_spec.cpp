@@ -525,6 +525,45 @@ void read_plate(ObjectReader& r, PlateMaterialSpec& p)
         {"1", "ν_b, Poisson's ratio of the plates"});
 }
 
+/// specimen.wire.breaking_strain: a number (ε_b) or "unbreakable".
+void read_breaking_strain(ObjectReader& r, std::optional<double>& out)
+{
+    const Range range = open_closed(0.0, 10.0);
+    if (r.validator().recording())
+        r.describe("breaking_strain",
+            json::object{{"oneOf", json::array{number_schema(range), json::object{{"const", "unbreakable"}}}},
+                {"default", out ? json::value(*out) : json::value("unbreakable")}},
+            {"1", "ε_b, the wire's breaking strain: a segment stretched beyond it breaks, the chain has two free ends there, and the event (time, the test's axial strain, position along the wire) is recorded; its tensile strength is E_w ε_b, its breaking force E_w π r_w² ε_b. \"unbreakable\": the model spec's wire (docs/model.md, \"A wire that breaks\")"});
+    const json::value* j = r.take("breaking_strain");
+    if (j == nullptr) return;
+    const std::string path = r.path_of("breaking_strain");
+    if (j->is_string()) {
+        const json::string& s = j->get_string();
+        if (s == "unbreakable")
+            out.reset();
+        else
+            r.validator().fail(path, "\"" + std::string(s.data(), s.size()) + "\" is neither \"unbreakable\" nor a number in "
+                                         + range.text());
+    } else if (number_of(*j)) {
+        double strain = 0.0;
+        if (read_number(r.validator(), *j, path, range, strain)) out = strain;
+    } else {
+        r.validator().fail(path, "expected a breaking strain in " + range.text() + " or \"unbreakable\", got "
+                                     + std::string(kind_text(*j)));
+    }
+}
+
+/// The most cut positions a job may give.
+constexpr std::size_t max_wire_cuts = 10'000;
+
+void read_wire_cuts(ObjectReader& r, WireSpec& w)
+{
+    read_increasing_numbers(r, "cuts_at_m", open_closed(0.0, 1e4), 0, max_wire_cuts, "the cut positions", w.cuts_at_m,
+        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces)"});
+    r.integer("cut_every_loops", IntRange{0, 1'000'000}, w.cut_every_loops,
+        {"1", "cut the prepared wire after every this many loops around the column's axis (the winding angle of its nodes about the axis, unwrapped along the wire): the segment where the angle passes each multiple of 2π k is removed; 0: no such cuts"});
+}
+
 void read_wire(ObjectReader& r, WireSpec& w)
 {
     r.choice("pattern", wire_patterns, w.pattern,
@@ -578,6 +617,8 @@ void read_wire(ObjectReader& r, WireSpec& w)
                                          + std::string(kind_text(*j)));
         }
     }
+    read_breaking_strain(r, w.breaking_strain);
+    read_wire_cuts(r, w);
 }
 
 void read_membrane(ObjectReader& r, MembraneSpec& m)
@@ -1232,8 +1273,30 @@ void check_escape_distance(Validator& v, const JobSpec& spec)
                 + ": grains at the column's edge would count as having left it");
 }
 
+/// Cuts and a breaking strain need a wire; a cut must lie on the wire to be laid.
+void check_wire_cuts(Validator& v, const WireSpec& w)
+{
+    if (!v.clean({"specimen.wire.pattern", "specimen.wire.breaking_strain", "specimen.wire.cuts_at_m",
+            "specimen.wire.cut_every_loops", "specimen.wire.length_m"}))
+        return;
+    if (w.pattern == WirePattern::none) {
+        for (const char* field : {"breaking_strain", "cuts_at_m", "cut_every_loops"}) {
+            const bool given = std::string_view(field) == "breaking_strain" ? w.breaking_strain.has_value()
+                             : std::string_view(field) == "cuts_at_m"       ? !w.cuts_at_m.empty()
+                                                                            : w.cut_every_loops != 0;
+            if (given)
+                v.note(std::string("specimen.wire.") + field, "the pattern \"none\" lays no wire to break or cut");
+        }
+        return;
+    }
+    if (w.length_m && !w.cuts_at_m.empty() && w.cuts_at_m.back() >= *w.length_m)
+        v.note(index_path("specimen.wire.cuts_at_m", w.cuts_at_m.size() - 1),
+            exact_text(w.cuts_at_m.back()) + " is not within the wire: specimen.wire.length_m is " + exact_text(*w.length_m));
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
+    check_wire_cuts(v, spec.specimen.wire);
     check_escape_distance(v, spec);
     check_grain_size(v, spec);
     check_grain_volume(v, spec);
@@ -1326,6 +1389,15 @@ json::object specimen_json(const SpecimenSpec& s)
                 {"max_preparation_time_s", s.pouring.max_preparation_time_s},
             }},
     };
+    // A breakable or cut wire only (job_spec.hpp): other jobs' files stay as they were.
+    json::object& wire = o["wire"].as_object();
+    if (w.breaking_strain) wire["breaking_strain"] = *w.breaking_strain;
+    if (!w.cuts_at_m.empty()) {
+        json::array cuts;
+        for (double x : w.cuts_at_m) cuts.push_back(x);
+        wire["cuts_at_m"] = std::move(cuts);
+    }
+    if (w.cut_every_loops != 0) wire["cut_every_loops"] = w.cut_every_loops;
     // A curve sets every size: the reader refuses a radius or spread beside it.
     if (s.grain_sizes) {
         o.erase("grain_radius_m");

@@ -114,6 +114,20 @@ struct WireSpec {
     /// fill_rate_m_per_s below). nullopt: the fill rate sets the length. The
     /// paper's column has about 10 m (the model spec §9).
     std::optional<double> length_m;
+    /// ε_b, the strain past which a segment breaks (the chain then has two
+    /// free ends there), (0, 10]; nullopt ("unbreakable" in JSON, the
+    /// default): the model spec's wire (docs/model.md, "A wire that breaks").
+    /// Written to job.json only when set, so other jobs' files stay as they were.
+    std::optional<double> breaking_strain;
+    /// Where the laid wire is cut once the specimen is prepared, before any
+    /// test: positions along the wire (rest length from its first node) [m],
+    /// strictly increasing, each in (0, 1e4]; the segment that holds a
+    /// position is removed. Written only when not empty.
+    std::vector<double> cuts_at_m;
+    /// Cut the prepared wire after every this many loops around the column's
+    /// axis (the winding angle of its nodes), [0, 1e6]; 0: no such cuts.
+    /// Written only when not 0.
+    std::uint64_t cut_every_loops = 0;
     friend bool operator==(const WireSpec&, const WireSpec&) = default;
 };
 

@@ -134,12 +134,18 @@ TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
     // (job_spec.hpp): with the test asked for, every field but `enabled`
     // keeps its default.
     EXPECT_FALSE(to_json(JobSpec{}).as_object().contains("free_standing"));
+    // So are a breaking strain and cuts (specimen.wire): set, they differ from their defaults.
     JobSpec with_test;
     with_test.free_standing.enabled = true;
+    with_test.specimen.wire.breaking_strain = 0.1;
+    with_test.specimen.wire.cuts_at_m = {0.5};
+    with_test.specimen.wire.cut_every_loops = 2;
     walk(to_json(with_test).as_object(), "");
     for (const auto& [path, value] : written) {
         ASSERT_TRUE(fields.count(path)) << path << " is written but not in the schema";
-        if (path == "free_standing.enabled") continue;
+        if (path == "free_standing.enabled" || path == "specimen.wire.breaking_strain"
+            || path == "specimen.wire.cuts_at_m" || path == "specimen.wire.cut_every_loops")
+            continue;
         const json::value& d = fields.at(path).at("default");
         if (value.is_number() && d.is_number())
             EXPECT_EQ(value.to_number<double>(), d.to_number<double>()) << path;
