@@ -29,6 +29,10 @@ namespace wiredem::api {
 /// restitution costs (tens to hundreds of ms: resolved_normal_damping_s).
 [[nodiscard]] engine::PreparationSpec preparation_geometry(const JobSpec& spec);
 
+/// The nozzle's pattern of a job's wire: kind, the built-in patterns'
+/// parameters, the toolpath's points.
+[[nodiscard]] engine::PatternSpec pattern_spec(const WireSpec& w);
+
 /// Where the job cuts the prepared wire (specimen.wire.cuts_at_m, cut_every_loops).
 [[nodiscard]] engine::WireCuts wire_cuts(const JobSpec& spec);
 

@@ -466,11 +466,12 @@ bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range,
 
 // ----------------------------------------------------------- schema readers
 
-constexpr std::array<std::pair<std::string_view, WirePattern>, 4> wire_patterns{{
+constexpr std::array<std::pair<std::string_view, WirePattern>, 5> wire_patterns{{
     {"none", WirePattern::none},
     {"helix", WirePattern::helix},
     {"spiral_helix", WirePattern::spiral_helix},
     {"radial_helix", WirePattern::radial_helix},
+    {"toolpath", WirePattern::toolpath},
 }};
 
 constexpr std::array<std::pair<std::string_view, Integrator>, 2> integrators{{
@@ -525,6 +526,51 @@ void read_plate(ObjectReader& r, PlateMaterialSpec& p)
         {"1", "ν_b, Poisson's ratio of the plates"});
 }
 
+/// The most points a toolpath's layer may have.
+constexpr std::size_t max_toolpath_points = 10'000;
+
+/// An array of numbers, each in `range`, with `min_n`–`max_n` entries (no
+/// order asked for). Returns false (leaving `out`) on any problem.
+bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n, std::size_t max_n,
+    std::vector<double>& out, const Meaning& m)
+{
+    if (r.validator().recording()) {
+        json::array d;
+        for (double x : out) d.push_back(x);
+        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
+                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
+    }
+    const json::value* j = r.take(key);
+    if (j == nullptr) return false;
+    Validator& v = r.validator();
+    const std::string path = r.path_of(key);
+    if (!j->is_array()) {
+        v.fail(path, "expected an array, got " + std::string(kind_text(*j)));
+        return false;
+    }
+    const json::array& a = j->get_array();
+    bool ok = true;
+    if (a.size() < min_n || a.size() > max_n) {
+        v.fail(path, "has " + std::to_string(a.size()) + " entries; allowed " + std::to_string(min_n) + " to "
+                         + std::to_string(max_n));
+        ok = false;
+    }
+    std::vector<double> values(a.size(), 0.0);
+    for (std::size_t i = 0; i < a.size(); ++i) ok = read_number(v, a[i], index_path(path, i), range, values[i]) && ok;
+    if (ok) out = std::move(values);
+    return ok;
+}
+
+void read_toolpath(ObjectReader& r, WireSpec& w)
+{
+    read_numbers(r, "toolpath_x_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_x_m,
+        {"m", "the pattern \"toolpath\": x of the points of one layer of the nozzle's path, in the column's frame (the axis at x = y = 0); with toolpath_y_m, 2 or more points. The nozzle walks the polyline at the path speed ω R_a, then straight on to the next layer's first point, and lays the next layer on the fill as it rises, the polyline turned by toolpath_rotation_per_layer_rad; the farthest point must stay radius_m + clearance_m inside the membrane, as the built-in patterns' reach must (docs/model.md, \"The robot's own toolpath\"). Only with the pattern \"toolpath\""});
+    read_numbers(r, "toolpath_y_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_y_m,
+        {"m", "the pattern \"toolpath\": y of the points, as many as toolpath_x_m"});
+    r.number("toolpath_rotation_per_layer_rad", closed(-two_pi, two_pi), w.toolpath_rotation_per_layer_rad,
+        {"rad", "the pattern \"toolpath\": the turn of the polyline about the axis from one layer to the next (layer k is turned by k times it)"});
+}
+
 /// specimen.wire.breaking_strain: a number (ε_b) or "unbreakable".
 void read_breaking_strain(ObjectReader& r, std::optional<double>& out)
 {
@@ -567,7 +613,7 @@ void read_wire_cuts(ObjectReader& r, WireSpec& w)
 void read_wire(ObjectReader& r, WireSpec& w)
 {
     r.choice("pattern", wire_patterns, w.pattern,
-        {nullptr, "deployment pattern (model spec §5)"});
+        {nullptr, "deployment pattern (model spec §5); toolpath: the robot's own path, given by toolpath_x_m and toolpath_y_m"});
     r.number("radius_m", open_closed(0.0, 0.01), w.radius_m,
         {"m", "r_w, contact radius of a wire node"});
     r.number("segment_length_m", open_closed(0.0, 0.1), w.segment_length_m,
@@ -619,6 +665,7 @@ void read_wire(ObjectReader& r, WireSpec& w)
     }
     read_breaking_strain(r, w.breaking_strain);
     read_wire_cuts(r, w);
+    read_toolpath(r, w);
 }
 
 void read_membrane(ObjectReader& r, MembraneSpec& m)
@@ -1109,27 +1156,50 @@ void check_wire_fits(Validator& v, const SpecimenSpec& s)
     const WireSpec& w = s.wire;
     if (w.pattern == WirePattern::none || !v.clean({"specimen.membrane_radius_m", "specimen.wire"})) return;
     const std::string pattern(to_string(w.pattern));
-    // Clipped to stay r_w + clearance inside the membrane (the model spec §5).
-    const double room_m = s.membrane_radius_m - w.radius_m - w.clearance_m;
-    if (w.pattern == WirePattern::spiral_helix) {
-        if (w.inner_radius_m >= w.helix_radius_m)
-            v.note("specimen.wire.inner_radius_m",
-                exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
-                    + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
-        if (w.helix_radius_m + w.inner_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
-            v.note("specimen.wire.helix_radius_m",
-                exact_text(w.helix_radius_m) + " is too large for the membrane: a spiral_helix needs helix_radius_m "
-                    + "+ inner_radius_m + radius_m + clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m)
-                    + ", so helix_radius_m < " + approx_text(room_m - w.inner_radius_m) + " with inner_radius_m "
-                    + exact_text(w.inner_radius_m));
-        return;
+    if (w.pattern != WirePattern::toolpath && (!w.toolpath_x_m.empty() || !w.toolpath_y_m.empty()))
+        v.note("specimen.wire.toolpath_x_m", "toolpath points are for the pattern \"toolpath\", not \"" + pattern + "\"");
+    if (w.pattern == WirePattern::toolpath) {
+        if (w.toolpath_x_m.size() != w.toolpath_y_m.size() || w.toolpath_x_m.size() < 2) {
+            v.note("specimen.wire.toolpath_x_m",
+                "the pattern \"toolpath\" needs at least 2 points, as many x (toolpath_x_m: "
+                    + std::to_string(w.toolpath_x_m.size()) + ") as y (toolpath_y_m: " + std::to_string(w.toolpath_y_m.size()) + ")");
+            return;
+        }
+        if (!(engine::NozzlePath(pattern_spec(w), 0.0).layer_length_m() > 0.0)) {
+            v.note("specimen.wire.toolpath_x_m", "the toolpath's points are all in one place: a layer must have a length");
+            return;
+        }
     }
-    // helix and radial_helix: the outer circle has radius R_a.
-    if (w.helix_radius_m + w.radius_m + w.clearance_m >= s.membrane_radius_m)
+    if (w.pattern == WirePattern::spiral_helix && w.inner_radius_m >= w.helix_radius_m)
+        v.note("specimen.wire.inner_radius_m",
+            exact_text(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_text(w.helix_radius_m)
+                + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
+    // One rule for every pattern, on its reach (engine::pattern_reach_m: R_a,
+    // R_a + R_i, a toolpath's farthest point): clipped to stay r_w + clearance
+    // inside the membrane (the model spec §5).
+    const double reach_m = engine::pattern_reach_m(pattern_spec(w));
+    if (reach_m + w.radius_m + w.clearance_m < s.membrane_radius_m) return;
+    const double room_m = s.membrane_radius_m - w.radius_m - w.clearance_m;
+    switch (w.pattern) {
+    case WirePattern::spiral_helix:
+        v.note("specimen.wire.helix_radius_m",
+            exact_text(w.helix_radius_m) + " is too large for the membrane: a spiral_helix needs helix_radius_m "
+                + "+ inner_radius_m + radius_m + clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m)
+                + ", so helix_radius_m < " + approx_text(room_m - w.inner_radius_m) + " with inner_radius_m "
+                + exact_text(w.inner_radius_m));
+        return;
+    case WirePattern::toolpath:
+        v.note("specimen.wire.toolpath_x_m",
+            "the toolpath reaches " + approx_text(reach_m) + " m from the axis: it needs its farthest point + radius_m "
+                + "+ clearance_m < membrane_radius_m " + exact_text(s.membrane_radius_m) + ", so every point within "
+                + approx_text(room_m) + " m of the axis");
+        return;
+    default: // helix and radial_helix: the outer circle has radius R_a
         v.note("specimen.wire.helix_radius_m",
             exact_text(w.helix_radius_m) + " is too large for the membrane: a " + pattern
                 + " needs helix_radius_m + radius_m + clearance_m < membrane_radius_m "
                 + exact_text(s.membrane_radius_m) + ", so helix_radius_m < " + approx_text(room_m));
+    }
 }
 
 void check_fill_rate(Validator& v, const JobSpec& spec)
@@ -1398,6 +1468,14 @@ json::object specimen_json(const SpecimenSpec& s)
         wire["cuts_at_m"] = std::move(cuts);
     }
     if (w.cut_every_loops != 0) wire["cut_every_loops"] = w.cut_every_loops;
+    if (w.pattern == WirePattern::toolpath) {
+        json::array x, y;
+        for (double v : w.toolpath_x_m) x.push_back(v);
+        for (double v : w.toolpath_y_m) y.push_back(v);
+        wire["toolpath_x_m"] = std::move(x);
+        wire["toolpath_y_m"] = std::move(y);
+        wire["toolpath_rotation_per_layer_rad"] = w.toolpath_rotation_per_layer_rad;
+    }
     // A curve sets every size: the reader refuses a radius or spread beside it.
     if (s.grain_sizes) {
         o.erase("grain_radius_m");

@@ -273,6 +273,43 @@ TEST(JobSpec, WireBreakingAndCutsAreCheckedAtTheDoor)
     for (const char* key : {"breaking_strain", "cuts_at_m", "cut_every_loops"}) EXPECT_FALSE(wire.contains(key)) << key;
 }
 
+TEST(JobSpec, AToolpathIsCheckedAtTheDoorWithTheBuiltInPatternsFitRule)
+{
+    const auto message = [](const std::vector<FieldError>& e, const std::string& path) {
+        const FieldError* f = error_at(e, path);
+        return f ? f->message : std::string("(no error at ") + path + ")";
+    };
+    // R = 20 mm, r_w = 0.5 mm, clearance 1 mm: points within 18.5 mm of the axis.
+    auto r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0185, 0], "toolpath_y_m": [0, 0.01]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("reaches 0.0185"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01], "toolpath_y_m": [0]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("at least 2 points"), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01, 0.01], "toolpath_y_m": [0, 0]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("one place"), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 2]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_y_m[1]").find("[-1, 1]"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 0.01]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("not \"helix\""), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_rotation_per_layer_rad": 7}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "specimen.wire.toolpath_rotation_per_layer_rad"), nullptr);
+
+    const auto ok = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0184, 0, -0.01], "toolpath_y_m": [0, 0.01, 0], "toolpath_rotation_per_layer_rad": 0.5}}})");
+    ASSERT_TRUE(ok.ok()) << describe(ok.error());
+    EXPECT_EQ(ok.value().specimen.wire.pattern, WirePattern::toolpath);
+    const auto back = parse_job_spec(json::serialize(to_json(ok.value())));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), ok.value());
+    const json::value written = to_json(JobSpec{});
+    const json::object& wire = written.at("specimen").at("wire").as_object();
+    for (const char* key : {"toolpath_x_m", "toolpath_y_m", "toolpath_rotation_per_layer_rad"}) EXPECT_FALSE(wire.contains(key)) << key;
+}
+
 TEST(JobSpec, RestitutionFormRoundTrips)
 {
     JobSpec s;
