@@ -14,6 +14,7 @@ engine::PatternKind pattern_kind(WirePattern p)
     case WirePattern::helix: return engine::PatternKind::helix;
     case WirePattern::spiral_helix: return engine::PatternKind::spiral_helix;
     case WirePattern::radial_helix: return engine::PatternKind::radial_helix;
+    case WirePattern::toolpath: return engine::PatternKind::toolpath;
     }
     return engine::PatternKind::none;
 }
@@ -56,14 +57,10 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.wire.poisson_ratio = s.wire.poisson_ratio;
     p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
     p.wire.bending_yield_strain = s.wire.bending_yield_strain.value_or(std::numeric_limits<double>::infinity());
+    p.wire.breaking_strain = s.wire.breaking_strain.value_or(std::numeric_limits<double>::infinity());
     p.wire.density_scale = spec.engine.density_scale * spec.engine.wire_mass_scale;
 
-    p.pattern.kind = pattern_kind(s.wire.pattern);
-    p.pattern.helix_radius_m = s.wire.helix_radius_m;
-    p.pattern.inner_radius_m = s.wire.inner_radius_m;
-    p.pattern.period_angle_rad = s.wire.period_angle_rad;
-    p.pattern.angular_speed_rad_per_s = s.wire.angular_speed_rad_per_s;
-    p.pattern.rise_speed_m_per_s = s.wire.nozzle_rise_speed_m_per_s;
+    p.pattern = pattern_spec(s.wire);
     p.clearance_m = s.wire.clearance_m;
 
     p.membrane.mesh_size_m = s.membrane.mesh_size_m;
@@ -149,6 +146,28 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
     s.snapshot_strains = {0.5 * f.target_axial_strain};
     s.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};
     return s;
+}
+
+engine::WireCuts wire_cuts(const JobSpec& spec)
+{
+    return {.at_m = spec.specimen.wire.cuts_at_m, .every_loops = spec.specimen.wire.cut_every_loops};
+}
+
+engine::PatternSpec pattern_spec(const WireSpec& w)
+{
+    engine::PatternSpec p;
+    p.kind = pattern_kind(w.pattern);
+    p.helix_radius_m = w.helix_radius_m;
+    p.inner_radius_m = w.inner_radius_m;
+    p.period_angle_rad = w.period_angle_rad;
+    p.angular_speed_rad_per_s = w.angular_speed_rad_per_s;
+    p.rise_speed_m_per_s = w.nozzle_rise_speed_m_per_s;
+    if (w.pattern == WirePattern::toolpath) {
+        for (std::size_t i = 0; i < std::min(w.toolpath_x_m.size(), w.toolpath_y_m.size()); ++i)
+            p.toolpath_m.emplace_back(w.toolpath_x_m[i], w.toolpath_y_m[i], 0.0);
+        p.toolpath_rotation_per_layer_rad = w.toolpath_rotation_per_layer_rad;
+    }
+    return p;
 }
 
 } // namespace wiredem::api

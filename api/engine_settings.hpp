@@ -8,6 +8,7 @@
 
 #include "api/job_spec.hpp"
 #include "specimen/preparation.hpp"
+#include "specimen/wire_cuts.hpp"
 #include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
@@ -27,6 +28,13 @@ namespace wiredem::api {
 /// validation computes several times per spec, without the collision fit a
 /// restitution costs (tens to hundreds of ms: resolved_normal_damping_s).
 [[nodiscard]] engine::PreparationSpec preparation_geometry(const JobSpec& spec);
+
+/// The nozzle's pattern of a job's wire: kind, the built-in patterns'
+/// parameters, the toolpath's points.
+[[nodiscard]] engine::PatternSpec pattern_spec(const WireSpec& w);
+
+/// Where the job cuts the prepared wire (specimen.wire.cuts_at_m, cut_every_loops).
+[[nodiscard]] engine::WireCuts wire_cuts(const JobSpec& spec);
 
 /// The settings of the job's test `test` (an index into
 /// triaxial.confining_pressures_pa) (the model spec §6).

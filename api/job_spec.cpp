@@ -461,11 +461,12 @@ bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range,
 
 // ----------------------------------------------------------- schema readers
 
-constexpr std::array<std::pair<std::string_view, WirePattern>, 4> wire_patterns{{
+constexpr std::array<std::pair<std::string_view, WirePattern>, 5> wire_patterns{{
     {"none", WirePattern::none},
     {"helix", WirePattern::helix},
     {"spiral_helix", WirePattern::spiral_helix},
     {"radial_helix", WirePattern::radial_helix},
+    {"toolpath", WirePattern::toolpath},
 }};
 
 constexpr std::array<std::pair<std::string_view, Integrator>, 2> integrators{{
@@ -520,10 +521,94 @@ void read_plate(ObjectReader& r, PlateMaterialSpec& p)
         {"1", "ν_b, Poisson's ratio of the plates"});
 }
 
+/// The most points a toolpath's layer may have.
+constexpr std::size_t max_toolpath_points = 10'000;
+
+/// An array of numbers, each in `range`, with `min_n`–`max_n` entries (no
+/// order asked for). Returns false (leaving `out`) on any problem.
+bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n, std::size_t max_n,
+    std::vector<double>& out, const Meaning& m)
+{
+    if (r.validator().recording()) {
+        json::array d;
+        for (double x : out) d.push_back(x);
+        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
+                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
+    }
+    const json::value* j = r.take(key);
+    if (j == nullptr) return false;
+    Validator& v = r.validator();
+    const std::string path = r.path_of(key);
+    if (!j->is_array()) {
+        v.fail(path, "expected an array, got " + std::string(kind_text(*j)));
+        return false;
+    }
+    const json::array& a = j->get_array();
+    bool ok = true;
+    if (a.size() < min_n || a.size() > max_n) {
+        v.fail(path, "has " + std::to_string(a.size()) + " entries; allowed " + std::to_string(min_n) + " to "
+                         + std::to_string(max_n));
+        ok = false;
+    }
+    std::vector<double> values(a.size(), 0.0);
+    for (std::size_t i = 0; i < a.size(); ++i) ok = read_number(v, a[i], index_path(path, i), range, values[i]) && ok;
+    if (ok) out = std::move(values);
+    return ok;
+}
+
+void read_toolpath(ObjectReader& r, WireSpec& w)
+{
+    read_numbers(r, "toolpath_x_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_x_m,
+        {"m", "the pattern \"toolpath\": x of the points of one layer of the nozzle's path, in the column's frame (the axis at x = y = 0); with toolpath_y_m, 2 or more points. The nozzle walks the polyline at the path speed ω R_a, then straight on to the next layer's first point, and lays the next layer on the fill as it rises, the polyline turned by toolpath_rotation_per_layer_rad; the farthest point must stay radius_m + clearance_m inside the membrane, as the built-in patterns' reach must (docs/model.md, \"The robot's own toolpath\"). Only with the pattern \"toolpath\""});
+    read_numbers(r, "toolpath_y_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_y_m,
+        {"m", "the pattern \"toolpath\": y of the points, as many as toolpath_x_m"});
+    r.number("toolpath_rotation_per_layer_rad", closed(-two_pi, two_pi), w.toolpath_rotation_per_layer_rad,
+        {"rad", "the pattern \"toolpath\": the turn of the polyline about the axis from one layer to the next (layer k is turned by k times it)"});
+}
+
+/// specimen.wire.breaking_strain: a number (ε_b) or "unbreakable".
+void read_breaking_strain(ObjectReader& r, std::optional<double>& out)
+{
+    const Range range = open_closed(0.0, 10.0);
+    if (r.validator().recording())
+        r.describe("breaking_strain",
+            json::object{{"oneOf", json::array{number_schema(range), json::object{{"const", "unbreakable"}}}},
+                {"default", out ? json::value(*out) : json::value("unbreakable")}},
+            {"1", "ε_b, the wire's breaking strain: a segment stretched beyond it breaks, the chain has two free ends there, and the event (time, the test's axial strain, position along the wire) is recorded; its tensile strength is E_w ε_b, its breaking force E_w π r_w² ε_b. \"unbreakable\": the model spec's wire (docs/model.md, \"A wire that breaks\")"});
+    const json::value* j = r.take("breaking_strain");
+    if (j == nullptr) return;
+    const std::string path = r.path_of("breaking_strain");
+    if (j->is_string()) {
+        const json::string& s = j->get_string();
+        if (s == "unbreakable")
+            out.reset();
+        else
+            r.validator().fail(path, "\"" + std::string(s.data(), s.size()) + "\" is neither \"unbreakable\" nor a number in "
+                                         + range.text());
+    } else if (number_of(*j)) {
+        double strain = 0.0;
+        if (read_number(r.validator(), *j, path, range, strain)) out = strain;
+    } else {
+        r.validator().fail(path, "expected a breaking strain in " + range.text() + " or \"unbreakable\", got "
+                                     + std::string(kind_text(*j)));
+    }
+}
+
+/// The most cut positions a job may give.
+constexpr std::size_t max_wire_cuts = 10'000;
+
+void read_wire_cuts(ObjectReader& r, WireSpec& w)
+{
+    read_increasing_numbers(r, "cuts_at_m", open_closed(0.0, 1e4), 0, max_wire_cuts, "the cut positions", w.cuts_at_m,
+        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces)"});
+    r.integer("cut_every_loops", IntRange{0, 1'000'000}, w.cut_every_loops,
+        {"1", "cut the prepared wire after every this many loops around the column's axis (the winding angle of its nodes about the axis, unwrapped along the wire): the segment where the angle passes each multiple of 2π k is removed; 0: no such cuts"});
+}
+
 void read_wire(ObjectReader& r, WireSpec& w)
 {
     r.choice("pattern", wire_patterns, w.pattern,
-        {nullptr, "deployment pattern (model spec §5)"});
+        {nullptr, "deployment pattern (model spec §5); toolpath: the robot's own path, given by toolpath_x_m and toolpath_y_m"});
     r.number("radius_m", open_closed(0.0, 0.01), w.radius_m,
         {"m", "r_w, contact radius of a wire node"});
     r.number("segment_length_m", open_closed(0.0, 0.1), w.segment_length_m,
@@ -573,6 +658,9 @@ void read_wire(ObjectReader& r, WireSpec& w)
                                          + std::string(kind_text(*j)));
         }
     }
+    read_breaking_strain(r, w.breaking_strain);
+    read_wire_cuts(r, w);
+    read_toolpath(r, w);
 }
 
 void read_membrane(ObjectReader& r, MembraneSpec& m)
@@ -1066,24 +1154,47 @@ void check_wire_fits(Validator& v, const JobSpec& spec)
         || !v.clean({"specimen.membrane_radius_m", "specimen.membrane", "specimen.wire"}))
         return;
     const std::string pattern(to_string(w.pattern));
+    if (w.pattern != WirePattern::toolpath && (!w.toolpath_x_m.empty() || !w.toolpath_y_m.empty()))
+        v.note("specimen.wire.toolpath_x_m", "toolpath points are for the pattern \"toolpath\", not \"" + pattern + "\"");
+    if (w.pattern == WirePattern::toolpath) {
+        if (w.toolpath_x_m.size() != w.toolpath_y_m.size() || w.toolpath_x_m.size() < 2) {
+            v.note("specimen.wire.toolpath_x_m",
+                "the pattern \"toolpath\" needs at least 2 points, as many x (toolpath_x_m: "
+                    + std::to_string(w.toolpath_x_m.size()) + ") as y (toolpath_y_m: " + std::to_string(w.toolpath_y_m.size()) + ")");
+            return;
+        }
+        if (!(engine::NozzlePath(pattern_spec(w), 0.0).layer_length_m() > 0.0)) {
+            v.note("specimen.wire.toolpath_x_m", "the toolpath's points are all in one place: a layer must have a length");
+            return;
+        }
+    }
     if (w.pattern == WirePattern::spiral_helix && w.inner_radius_m >= w.helix_radius_m) {
         v.note("specimen.wire.inner_radius_m",
             exact_number(w.inner_radius_m) + " is not smaller than helix_radius_m " + exact_number(w.helix_radius_m)
                 + ": the small circle of a spiral_helix must be smaller than the circle its centre travels on");
         return;
     }
-    // The preparation's own rule (engine::wire_reach_limit_m): the pattern's
-    // reach stays below R − r_m − r_w − clearance.
+    // The preparation's own rule for every pattern (engine::wire_reach_limit_m):
+    // the pattern's reach (engine::pattern_reach_m: R_a, R_a + R_i, a
+    // toolpath's farthest point) stays below R − r_m − r_w − clearance.
     const engine::PreparationSpec p = preparation_geometry(spec);
     const double limit_m = engine::wire_reach_limit_m(p);
-    if (engine::pattern_reach_m(p.pattern) < limit_m) return;
+    const double reach_m = engine::pattern_reach_m(p.pattern);
+    if (reach_m < limit_m) return;
+    const std::string limit_text = "membrane_radius_m " + exact_number(s.membrane_radius_m)
+        + " − the membrane nodes' contact radius " + format_number(p.membrane.contact_radius_m) + " − wire.radius_m "
+        + exact_number(w.radius_m) + " − wire.clearance_m " + exact_number(w.clearance_m) + " = " + format_number(limit_m);
+    if (w.pattern == WirePattern::toolpath) {
+        v.note("specimen.wire.toolpath_x_m", "the toolpath reaches " + format_number(reach_m)
+                                                 + " m from the axis: its farthest point must stay below " + limit_text
+                                                 + ", so every point within " + format_number(limit_m) + " m of the axis");
+        return;
+    }
     const bool spiral = w.pattern == WirePattern::spiral_helix;
     v.note("specimen.wire.helix_radius_m",
         exact_number(w.helix_radius_m) + " is too large for the membrane: a " + pattern + " needs helix_radius_m"
-            + (spiral ? " + inner_radius_m" : "") + " < membrane_radius_m " + exact_number(s.membrane_radius_m)
-            + " − the membrane nodes' contact radius " + format_number(p.membrane.contact_radius_m) + " − wire.radius_m "
-            + exact_number(w.radius_m) + " − wire.clearance_m " + exact_number(w.clearance_m) + " = " + format_number(limit_m)
-            + ", so helix_radius_m < " + format_number(spiral ? limit_m - w.inner_radius_m : limit_m)
+            + (spiral ? " + inner_radius_m" : "") + " < " + limit_text + ", so helix_radius_m < "
+            + format_number(spiral ? limit_m - w.inner_radius_m : limit_m)
             + (spiral ? " with inner_radius_m " + exact_number(w.inner_radius_m) : std::string()));
 }
 
@@ -1274,8 +1385,30 @@ void check_preparation(Validator& v, const JobSpec& spec)
         v.note("specimen", "the preparation would refuse it: " + *e);
 }
 
+/// Cuts and a breaking strain need a wire; a cut must lie on the wire to be laid.
+void check_wire_cuts(Validator& v, const WireSpec& w)
+{
+    if (!v.clean({"specimen.wire.pattern", "specimen.wire.breaking_strain", "specimen.wire.cuts_at_m",
+            "specimen.wire.cut_every_loops", "specimen.wire.length_m"}))
+        return;
+    if (w.pattern == WirePattern::none) {
+        for (const char* field : {"breaking_strain", "cuts_at_m", "cut_every_loops"}) {
+            const bool given = std::string_view(field) == "breaking_strain" ? w.breaking_strain.has_value()
+                             : std::string_view(field) == "cuts_at_m"       ? !w.cuts_at_m.empty()
+                                                                            : w.cut_every_loops != 0;
+            if (given)
+                v.note(std::string("specimen.wire.") + field, "the pattern \"none\" lays no wire to break or cut");
+        }
+        return;
+    }
+    if (w.length_m && !w.cuts_at_m.empty() && w.cuts_at_m.back() >= *w.length_m)
+        v.note(index_path("specimen.wire.cuts_at_m", w.cuts_at_m.size() - 1),
+            exact_number(w.cuts_at_m.back()) + " is not within the wire: specimen.wire.length_m is " + exact_number(*w.length_m));
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
+    check_wire_cuts(v, spec.specimen.wire);
     check_escape_distance(v, spec);
     check_grain_size(v, spec);
     check_grain_volume(v, spec);
@@ -1370,6 +1503,23 @@ json::object specimen_json(const SpecimenSpec& s)
                 {"max_preparation_time_s", s.pouring.max_preparation_time_s},
             }},
     };
+    // A breakable or cut wire only (job_spec.hpp): other jobs' files stay as they were.
+    json::object& wire = o["wire"].as_object();
+    if (w.breaking_strain) wire["breaking_strain"] = *w.breaking_strain;
+    if (!w.cuts_at_m.empty()) {
+        json::array cuts;
+        for (double x : w.cuts_at_m) cuts.push_back(x);
+        wire["cuts_at_m"] = std::move(cuts);
+    }
+    if (w.cut_every_loops != 0) wire["cut_every_loops"] = w.cut_every_loops;
+    if (w.pattern == WirePattern::toolpath) {
+        json::array x, y;
+        for (double v : w.toolpath_x_m) x.push_back(v);
+        for (double v : w.toolpath_y_m) y.push_back(v);
+        wire["toolpath_x_m"] = std::move(x);
+        wire["toolpath_y_m"] = std::move(y);
+        wire["toolpath_rotation_per_layer_rad"] = w.toolpath_rotation_per_layer_rad;
+    }
     // A curve sets every size: the reader refuses a radius or spread beside it.
     if (s.grain_sizes) {
         o.erase("grain_radius_m");

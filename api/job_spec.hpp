@@ -26,12 +26,13 @@
 namespace wiredem::api {
 
 /// How the nozzle lays the wire (the model spec §5). JSON: "none", "helix",
-/// "spiral_helix", "radial_helix".
+/// "spiral_helix", "radial_helix", "toolpath".
 enum class WirePattern : std::uint8_t {
     none,          ///< no wire
     helix,         ///< circle of radius R_a rising at v_z
     spiral_helix,  ///< circle of radius R_i whose centre travels on the circle R_a
     radial_helix,  ///< circle R_a with a radial excursion to the axis every φ_rs
+    toolpath,      ///< the robot's own path: a polyline per layer (WireSpec::toolpath_x_m)
 };
 
 /// Time integrator (the model spec §4). JSON: "gear5", "verlet".
@@ -114,6 +115,29 @@ struct WireSpec {
     /// fill_rate_m_per_s below). nullopt: the fill rate sets the length. The
     /// paper's column has about 10 m (the model spec §9).
     std::optional<double> length_m;
+    /// ε_b, the strain past which a segment breaks (the chain then has two
+    /// free ends there), (0, 10]; nullopt ("unbreakable" in JSON, the
+    /// default): the model spec's wire (docs/model.md, "A wire that breaks").
+    /// Written to job.json only when set, so other jobs' files stay as they were.
+    std::optional<double> breaking_strain;
+    /// Where the laid wire is cut once the specimen is prepared, before any
+    /// test: positions along the wire (rest length from its first node) [m],
+    /// strictly increasing, each in (0, 1e4]; the segment that holds a
+    /// position is removed. Written only when not empty.
+    std::vector<double> cuts_at_m;
+    /// Cut the prepared wire after every this many loops around the column's
+    /// axis (the winding angle of its nodes), [0, 1e6]; 0: no such cuts.
+    /// Written only when not 0.
+    std::uint64_t cut_every_loops = 0;
+    /// The toolpath pattern's polyline of one layer: the points' x and y in
+    /// the column's frame [m], as many of each, 2 to 10 000, each in [−1, 1];
+    /// the nozzle walks it at the path speed ω R_a, then on to the next
+    /// layer's first point (engine/specimen/pattern.hpp). Only with the
+    /// pattern "toolpath" (and written only then).
+    std::vector<double> toolpath_x_m, toolpath_y_m;
+    /// The turn of the toolpath about the axis from one layer to the next
+    /// [rad], [−2π, 2π]. Written only with the pattern "toolpath".
+    double toolpath_rotation_per_layer_rad = 0.0;
     friend bool operator==(const WireSpec&, const WireSpec&) = default;
 };
 

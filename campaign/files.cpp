@@ -313,6 +313,60 @@ eng::RadiusProfile read_profile(const io::Group& g)
 
 } // namespace
 
+void write_wire_breaks(io::Group& g, const std::vector<eng::TestWireBreak>& breaks)
+{
+    if (breaks.empty()) return; // a whole wire: the files stay as they were
+    io::Group b = g.create_group("wire_breaks");
+    std::vector<std::int64_t> segment, cause;
+    std::vector<double> time, test_time, strain, position, segment_strain, energy;
+    for (const eng::TestWireBreak& e : breaks) {
+        segment.push_back(e.event.segment);
+        cause.push_back(static_cast<std::int64_t>(e.event.cause));
+        time.push_back(e.event.time_s);
+        test_time.push_back(e.test_time_s);
+        strain.push_back(e.axial_strain);
+        position.push_back(e.position_m);
+        segment_strain.push_back(e.event.strain);
+        energy.push_back(e.event.released_energy_j);
+    }
+    units(b.write_dataset("segment", std::span<const std::int64_t>(segment)), "1");
+    units(b.write_dataset("cause", std::span<const std::int64_t>(cause)), "0 broke (strain past the breaking strain), 1 cut");
+    units(b.write_dataset("time_s", std::span<const double>(test_time)), "s");
+    units(b.write_dataset("world_time_s", std::span<const double>(time)), "s");
+    units(b.write_dataset("axial_strain", std::span<const double>(strain)), "1");
+    units(b.write_dataset("position_m", std::span<const double>(position)), "m");
+    units(b.write_dataset("segment_strain", std::span<const double>(segment_strain)), "1");
+    units(b.write_dataset("released_energy_j", std::span<const double>(energy)), "J");
+}
+
+std::vector<eng::TestWireBreak> read_wire_breaks(const io::Group& g)
+{
+    std::vector<eng::TestWireBreak> out;
+    if (!g.exists("wire_breaks")) return out;
+    const io::Group b = g.open_group("wire_breaks");
+    const std::vector<std::int64_t> segment = b.open_dataset("segment").read_int64s();
+    const std::vector<std::int64_t> cause = b.open_dataset("cause").read_int64s();
+    const std::vector<double> test_time = read_doubles(b, "time_s"), time = read_doubles(b, "world_time_s"),
+                              strain = read_doubles(b, "axial_strain"), position = read_doubles(b, "position_m"),
+                              segment_strain = read_doubles(b, "segment_strain"), energy = read_doubles(b, "released_energy_j");
+    const std::size_t n = segment.size();
+    if (cause.size() != n || test_time.size() != n || time.size() != n || strain.size() != n || position.size() != n
+        || segment_strain.size() != n || energy.size() != n)
+        throw std::runtime_error(b.path() + ": the columns differ in length");
+    for (std::size_t i = 0; i < n; ++i) {
+        if (segment[i] < 0 || segment[i] > static_cast<std::int64_t>(UINT32_MAX) || cause[i] < 0 || cause[i] > 1)
+            throw std::runtime_error(b.path() + ": a segment or cause is out of range");
+        eng::TestWireBreak e;
+        e.event = {.segment = static_cast<std::uint32_t>(segment[i]), .cause = static_cast<eng::WireBreakCause>(cause[i]),
+            .time_s = time[i], .strain = segment_strain[i], .released_energy_j = energy[i]};
+        e.test_time_s = test_time[i];
+        e.axial_strain = strain[i];
+        e.position_m = position[i];
+        out.push_back(e);
+    }
+    return out;
+}
+
 void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
 {
     g.write_double_attribute("peak_deviatoric_stress_pa", r.peak_deviatoric_stress_pa);
@@ -353,6 +407,7 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
 
     write_series(g, r.series, phase_units);
     write_snapshots(g, r.snapshots);
+    write_wire_breaks(g, r.wire_breaks);
 }
 
 eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots)
@@ -400,6 +455,7 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots
     r.series = read_series(g, static_cast<std::int64_t>(eng::TriaxialPhase::loading));
     const std::size_t rows = r.series.size();
     if (rows > 0 && r.peak_sample >= rows) throw std::runtime_error(g.path() + ": peak_sample is past the series");
+    r.wire_breaks = read_wire_breaks(g);
 
     if (snapshots == Snapshots::skip) return r;
     r.snapshots = read_snapshots(g);
@@ -465,6 +521,7 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     g.write_string_attribute("warnings", json::serialize(warnings));
     write_series(g, r.series, free_standing_phase_units);
     write_snapshots(g, r.snapshots);
+    write_wire_breaks(g, r.wire_breaks);
     if (r.peak_snapshot) write_snapshot(g.create_group("peak_snapshot"), *r.peak_snapshot);
 }
 
@@ -523,6 +580,7 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     const json::value warnings = json::parse(g.read_string_attribute("warnings"));
     for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
     r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::loading));
+    r.wire_breaks = read_wire_breaks(g);
     const std::size_t rows = r.series.size();
     if (r.loading_start_sample >= rows || (r.compression && r.compression->strength.index >= rows))
         throw std::runtime_error(g.path() + ": a row index is past the series");

@@ -74,6 +74,14 @@ enum class Snapshots { read, skip };
 /// time series and the snapshots, as result.h5 holds each test
 /// (docs/results.md). Also a partial record (a checkpoint's: no
 /// volumetric strain, no peak yet).
+/// The wire's breaks of a test, into the group "wire_breaks" of `g` (one
+/// dataset per column: segment, cause, time_s of the test, world_time_s,
+/// axial_strain, position_m, segment_strain, released_energy_j); nothing when
+/// there are none, so a whole wire's files stay as they were.
+void write_wire_breaks(engine::io::Group& g, const std::vector<engine::TestWireBreak>& breaks);
+/// What write_wire_breaks wrote (none when `g` has no such group). Throws on a malformed group.
+[[nodiscard]] std::vector<engine::TestWireBreak> read_wire_breaks(const engine::io::Group& g);
+
 void write_triaxial_result(engine::io::Group& g, const engine::TriaxialResult& r);
 /// Reads what write_triaxial_result wrote. Throws (engine::io::Hdf5Error,
 /// std::runtime_error) on a missing or misshapen member.

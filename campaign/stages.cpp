@@ -9,10 +9,12 @@
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
 #include "core/format.hpp"
+#include "forces/wire_forces.hpp"
 #include "io/atomic_file.hpp"
 #include "io/snapshot.hpp"
 #include "io/xdmf.hpp"
 #include "simulation.hpp"
+#include "specimen/wire_cuts.hpp"
 #include "timestep.hpp"
 
 #include <boost/json.hpp>
@@ -293,6 +295,9 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
     const eng::PreparationReport prep = prepared.value();
     report(control, "preparing", 1.0, "specimen prepared in " + std::to_string(prep.steps) + " steps");
+    // Cuts the job asks for, before any test (specimen.wire.cuts_at_m, cut_every_loops).
+    if (const eng::WireCuts cuts = api::wire_cuts(spec); !cuts.at_m.empty() || cuts.every_loops > 0)
+        if (auto cut = eng::cut_wire(sim.world, cuts); !cut.ok()) return "specimen.wire.cuts_at_m: " + cut.error();
 
     // Time step of the tests: the given one, or the auto fraction of the
     // deformable system's critical step (the pouring's is set by impacts).
@@ -505,6 +510,57 @@ json::object definitions_json()
 
 void write_units(io::Dataset d, std::string_view units) { d.write_string_attribute("units", units); }
 
+/// Whether the job's wire can fall into pieces (breakable or cut): only then
+/// do result.h5 and the summary report pieces and breaks, so that other jobs'
+/// files stay as they were.
+bool wire_can_part(const api::JobSpec& spec)
+{
+    const api::WireSpec& w = spec.specimen.wire;
+    return w.pattern != api::WirePattern::none && (w.breaking_strain || !w.cuts_at_m.empty() || w.cut_every_loops > 0);
+}
+
+/// The prepared wire's pieces and the segments removed from it (cuts, and
+/// breaks during the preparation), into the specimen group.
+void write_wire_pieces(io::Group& sp, const eng::World& w)
+{
+    io::Group g = sp.create_group("wire_pieces");
+    std::vector<std::int64_t> first, nodes;
+    std::vector<double> rest, length;
+    for (const eng::WirePiece& p : eng::wire_pieces(w)) {
+        first.push_back(p.first_node);
+        nodes.push_back(p.nodes);
+        rest.push_back(p.rest_length_m);
+        length.push_back(p.length_m);
+    }
+    write_units(g.write_dataset("first_node", std::span<const std::int64_t>(first)), "1");
+    write_units(g.write_dataset("nodes", std::span<const std::int64_t>(nodes)), "1");
+    write_units(g.write_dataset("rest_length_m", std::span<const double>(rest)), "m");
+    write_units(g.write_dataset("length_m", std::span<const double>(length)), "m");
+    std::vector<eng::TestWireBreak> removed;
+    for (const eng::WireBreak& b : w.wire_breaks)
+        removed.push_back({.event = b, .test_time_s = b.time_s, .axial_strain = 0.0,
+            .position_m = eng::wire_segment_position_m(w.wire, b.segment)});
+    write_wire_breaks(sp, removed);
+}
+
+/// The breaks of a test for the summary.
+json::array wire_breaks_json(const std::vector<eng::TestWireBreak>& breaks)
+{
+    json::array a;
+    for (const eng::TestWireBreak& b : breaks) {
+        json::object o;
+        o["time_s"] = b.test_time_s;
+        o["axial_strain"] = finite_or_null(b.axial_strain);
+        o["position_m"] = b.position_m;
+        o["segment"] = b.event.segment;
+        o["cause"] = b.event.cause == eng::WireBreakCause::cut ? "cut" : "broke";
+        o["segment_strain"] = finite_or_null(b.event.strain);
+        o["released_energy_j"] = finite_or_null(b.event.released_energy_j);
+        a.push_back(std::move(o));
+    }
+    return a;
+}
+
 /// result.h5's contents, into its root group.
 void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& specimen,
     const std::vector<eng::TriaxialResult>& tests, const std::optional<eng::FreeStandingResult>& free_standing)
@@ -524,6 +580,7 @@ void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& spe
     write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(w.wire_rest_angle_rad)), "rad");
     const eng::TranslationalState& mn = w.of(eng::BodyKind::membrane);
     write_units(sp.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(mn.x[0])), "m");
+    if (wire_can_part(spec)) write_wire_pieces(sp, w);
 
     io::Group all = root.create_group("tests");
     const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
@@ -531,10 +588,15 @@ void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& spe
         io::Group t = all.create_group(test_group_name(pressures[i]));
         t.write_double_attribute("confining_pressure_pa", pressures[i]);
         write_triaxial_result(t, tests[i]);
+        if (spec.specimen.wire.breaking_strain)
+            t.write_string_attribute("peak_failure", eng::to_string(eng::peak_failure(tests[i].series, tests[i].peak_sample, tests[i].wire_breaks)));
     }
     if (free_standing) {
         io::Group f = root.create_group(free_standing_group);
         write_free_standing_result(f, *free_standing);
+        if (spec.specimen.wire.breaking_strain && free_standing->compression)
+            f.write_string_attribute("peak_failure", eng::to_string(eng::peak_failure(free_standing->series,
+                free_standing->compression->max_sigma1_sample, free_standing->wire_breaks)));
     }
 }
 
@@ -777,6 +839,10 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             o["max_inertial_number"] = finite_or_null(t.verdict.max_inertial_number);
             o["mean_kinetic_to_elastic"] = finite_or_null(t.verdict.mean_kinetic_to_elastic);
             o["max_kinetic_to_elastic"] = finite_or_null(t.verdict.max_kinetic_to_elastic);
+            if (spec.specimen.wire.breaking_strain) { // a breakable wire only: other summaries stay as they were
+                o["wire_breaks"] = wire_breaks_json(t.wire_breaks);
+                o["peak_failure"] = eng::to_string(eng::peak_failure(t.series, t.peak_sample, t.wire_breaks));
+            }
             o["steps"] = t.steps;
             o["wall_time_s"] = t.wall_time_s;
             o["threads"] = test_threads[i];
@@ -791,6 +857,14 @@ StageError analyse(const JobDir& dir, const StageControl& control)
             = mohr_coulomb_json(fit_max_q, "(sigma1, sigma3_effective) at the maximum of q (tests[].peak_*)");
         if (free_standing) {
             summary["free_standing"] = free_standing_json(*free_standing, fit, free_standing_threads);
+            if (spec.specimen.wire.breaking_strain) {
+                json::object& c = summary["free_standing"].as_object()["compression"].as_object();
+                c["wire_breaks"] = wire_breaks_json(free_standing->wire_breaks);
+                c["peak_failure"] = free_standing->compression
+                                      ? json::value(eng::to_string(eng::peak_failure(free_standing->series,
+                                            free_standing->compression->max_sigma1_sample, free_standing->wire_breaks)))
+                                      : json::value(nullptr);
+            }
             steps += free_standing->steps;
             body_steps += static_cast<double>(free_standing->steps) * static_cast<double>(bodies);
             stepping_wall_s += free_standing->wall_time_s;
@@ -814,6 +888,17 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         sp["preparation_steps"] = prep.steps;
         sp["preparation_wall_time_s"] = prep.wall_time_s;
         if (prep.grain_sizes) sp["grain_sizes"] = grain_sizes_json(*prep.grain_sizes);
+        if (wire_can_part(spec)) {
+            json::array pieces;
+            for (const eng::WirePiece& p : eng::wire_pieces(specimen.world))
+                pieces.push_back(json::object{{"first_node", p.first_node}, {"nodes", p.nodes},
+                    {"rest_length_m", p.rest_length_m}, {"length_m", p.length_m}});
+            sp["wire_pieces"] = std::move(pieces);
+            std::size_t cuts = 0;
+            for (const eng::WireBreak& b : specimen.world.wire_breaks) cuts += b.cause == eng::WireBreakCause::cut;
+            sp["wire_cuts"] = cuts;
+            sp["wire_breaks_in_preparation"] = specimen.world.wire_breaks.size() - cuts;
+        }
         summary["specimen"] = std::move(sp);
 
         json::object wire;

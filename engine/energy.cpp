@@ -1,6 +1,7 @@
 #include "energy.hpp"
 
 #include "contact/geometry.hpp"
+#include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
 #include "laws/membrane_edge.hpp"
 #include "laws/wire_bond.hpp"
@@ -52,13 +53,17 @@ ElasticEnergy elastic_energy(const World& w, ThreadPool& pool)
     const auto& xw = w.of(BodyKind::wire).x[0];
     const WireChain& wire = w.wire;
     if (xw.size() >= 2) {
+        // A removed segment holds no energy, nor do the joints at its ends
+        // (forces/wire_forces.hpp); a whole wire has none removed.
+        const std::vector<std::uint8_t> removed = w.wire_breaks.empty() ? std::vector<std::uint8_t>{} : removed_wire_segments(w);
+        const auto whole = [&](std::size_t s) { return w.wire_breaks.empty() || removed[s] == 0; };
         e.wire_j = sum(pool, xw.size(), [&](std::size_t i) {
             double energy = 0.0;
-            if (i + 1 < xw.size()) {
+            if (i + 1 < xw.size() && whole(i)) {
                 const double dl = (xw[i + 1] - xw[i]).norm() - wire.segment_length_m;
                 energy += 0.5 * wire.axial_stiffness_n_per_m * dl * dl;
             }
-            if (i >= 1 && i + 1 < xw.size()) {
+            if (i >= 1 && i + 1 < xw.size() && whole(i - 1) && whole(i)) {
                 const Vec3 a = xw[i] - xw[i - 1], b = xw[i + 1] - xw[i];
                 const double zeta = bend_angle_rad(a.cross(b).norm(), a.dot(b)); // the law's ζ (any scale of a, b)
                 const double bend = zeta - w.wire_rest_angle_rad[i]; // plastic joints: ζ − ζ₀

@@ -12,6 +12,7 @@ namespace wiredem::engine {
 struct ElasticEnergy {
     double contacts_j = 0.0;   ///< Hertz: (8/15) E* √R* ξ^{5/2} per touching pair and wall contact
     double wire_j = 0.0;       ///< ½ k_elo Δl² per segment + ½ k_rot (ζ − ζ₀)² per interior node
+                               ///< (removed segments and the joints at their ends hold none)
                                ///< (ζ₀ the joint's plastic rest angle; the work of yielding is gone)
     double membrane_j = 0.0;   ///< ½ k_m Δl² per edge
     [[nodiscard]] double total_j() const { return contacts_j + wire_j + membrane_j; }

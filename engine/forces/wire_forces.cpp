@@ -15,6 +15,27 @@ namespace {
 /// Nodes per block of compute_wire_forces (its segments sit on the stack).
 constexpr std::size_t wire_block = 256;
 
+/// Takes a removed segment out of the step's slots: no spring force, strain
+/// 0, and no joint at either of its ends (those nodes are free ends now,
+/// with the rest angle 0 of an end).
+void clear_removed_segment(WireForces& slots, std::vector<double>& rest_angle, std::size_t segment, std::size_t nodes)
+{
+    slots.segment_force_n[segment].setZero();
+    slots.segment_strain[segment] = 0.0;
+    for (std::size_t joint : {segment, segment + 1}) {
+        if (joint < 1 || joint + 1 >= nodes) continue; // an end of the chain has no joint
+        for (std::vector<Vec3>& on : slots.bending_force_n) on[joint].setZero();
+        rest_angle[joint] = 0.0;
+    }
+}
+
+/// ½ k_elo (ε l_w)², the spring energy of a segment at strain ε [J].
+double spring_energy_j(const WireChain& wire, double strain)
+{
+    const double dl = strain * wire.segment_length_m;
+    return 0.5 * wire.axial_stiffness_n_per_m * dl * dl;
+}
+
 } // namespace
 
 double wire_retardation_time_s(const WireChain& wire)
@@ -31,6 +52,7 @@ void configure_wire(World& w, const WireSpec& spec)
     wire.axial_stiffness_n_per_m = wire_axial_stiffness_n_per_m(spec.youngs_modulus_pa, spec.radius_m, spec.segment_length_m);
     wire.bending_stiffness_n_m = wire_bending_stiffness_n_m(spec.youngs_modulus_pa, spec.radius_m, spec.segment_length_m);
     wire.bending_yield_angle_rad = wire_bending_yield_angle_rad(spec.bending_yield_strain, spec.radius_m, spec.segment_length_m);
+    wire.breaking_strain = spec.breaking_strain;
     wire.node_mass_kg = spec.density_scale * spec.density_kg_per_m3 * std::numbers::pi * spec.radius_m * spec.radius_m
                       * spec.segment_length_m;
     wire.material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
@@ -122,6 +144,19 @@ void compute_wire_forces(World& w, ThreadPool& pool)
             for (int j = 0; j < 3; ++j) slots.bending_force_n[j][i] = f[j];
         }
     });
+    // Removed segments, then the ones that break now (serial, in segment
+    // order: the same events for any thread count). Nothing to do for a whole,
+    // unbreakable wire, which computes what it always did.
+    for (const WireBreak& b : w.wire_breaks) clear_removed_segment(slots, rest_angle, b.segment, nodes);
+    if (std::isfinite(wire.breaking_strain)) {
+        for (std::size_t s = 0; s + 1 < nodes; ++s) {
+            const double strain = slots.segment_strain[s]; // a removed segment's is 0 < ε_b
+            if (!(strain > wire.breaking_strain)) continue;
+            w.wire_breaks.push_back({.segment = static_cast<std::uint32_t>(s), .cause = WireBreakCause::strain,
+                .time_s = w.time_s + w.dt_s, .strain = strain, .released_energy_j = spring_energy_j(wire, strain)});
+            clear_removed_segment(slots, rest_angle, s, nodes);
+        }
+    }
     // Gather in a fixed order: segments i−1 and i, then the bending couples of
     // the joints at nodes i−1, i and i+1. Nodes 2 … nodes−3 have all five,
     // lanes at a time where the CPU can.
@@ -148,11 +183,54 @@ void compute_wire_forces(World& w, ThreadPool& pool)
     });
 }
 
+bool cut_wire_segment(World& w, std::uint32_t segment)
+{
+    const auto& x = w.of(BodyKind::wire).x[0];
+    const std::size_t nodes = x.size();
+    if (std::size_t{segment} + 1 >= nodes) return false;
+    for (const WireBreak& b : w.wire_breaks)
+        if (b.segment == segment) return false;
+    const double strain = ((x[segment + 1] - x[segment]).norm() - w.wire.segment_length_m) / w.wire.segment_length_m;
+    w.wire_breaks.push_back({.segment = segment, .cause = WireBreakCause::cut, .time_s = w.time_s, .strain = strain,
+        .released_energy_j = spring_energy_j(w.wire, strain)});
+    return true;
+}
+
+std::vector<std::uint8_t> removed_wire_segments(const State& s)
+{
+    const std::size_t nodes = s.of(BodyKind::wire).size();
+    std::vector<std::uint8_t> removed(nodes > 0 ? nodes - 1 : 0, 0);
+    for (const WireBreak& b : s.wire_breaks)
+        if (b.segment < removed.size()) removed[b.segment] = 1;
+    return removed;
+}
+
+std::vector<WirePiece> wire_pieces(const World& w)
+{
+    const auto& x = w.of(BodyKind::wire).x[0];
+    const std::vector<std::uint8_t> removed = removed_wire_segments(w);
+    std::vector<WirePiece> pieces;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (i == 0 || removed[i - 1]) pieces.push_back({.first_node = static_cast<std::uint32_t>(i)});
+        WirePiece& p = pieces.back();
+        if (i > p.first_node) p.length_m += (x[i] - x[i - 1]).norm();
+        ++p.nodes;
+    }
+    for (WirePiece& p : pieces) p.rest_length_m = static_cast<double>(p.nodes - 1) * w.wire.segment_length_m;
+    return pieces;
+}
+
 double wire_length_m(const World& w)
 {
     const auto& x = w.of(BodyKind::wire).x[0];
     double len = 0.0;
-    for (std::size_t s = 0; s + 1 < x.size(); ++s) len += (x[s + 1] - x[s]).norm();
+    if (w.wire_breaks.empty()) {
+        for (std::size_t s = 0; s + 1 < x.size(); ++s) len += (x[s + 1] - x[s]).norm();
+        return len;
+    }
+    const std::vector<std::uint8_t> removed = removed_wire_segments(w); // the gaps between pieces are no wire
+    for (std::size_t s = 0; s + 1 < x.size(); ++s)
+        if (removed[s] == 0) len += (x[s + 1] - x[s]).norm();
     return len;
 }
 

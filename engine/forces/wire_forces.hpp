@@ -23,6 +23,10 @@
 #include "parallel/thread_pool.hpp"
 #include "state/world.hpp"
 
+#include <cstdint>
+#include <limits>
+#include <vector>
+
 namespace wiredem::engine {
 
 /// Wire parameters (the model spec §2); masses are multiplied by density_scale.
@@ -38,6 +42,9 @@ struct WireSpec {
     /// "Wire"). 0.05 is a polyamide-like wire (σ_y = 50 MPa at E_w = 1 GPa);
     /// +∞ is the specification's elastic wire (straight rest state).
     double bending_yield_strain = 0.05;
+    /// ε_b, the strain past which a segment breaks (WireChain::breaking_strain),
+    /// > 0; +∞: unbreakable, the model spec's wire.
+    double breaking_strain = std::numeric_limits<double>::infinity();
 };
 
 /// Damping ratio ξ_w of the wire's highest axial mode (Kelvin–Voigt material
@@ -67,9 +74,40 @@ std::uint32_t append_wire_node(World& w, const Vec3& position_m, const Vec3& vel
 /// and lets the joints' rest angles yield (State::wire_rest_angle_rad; calling it
 /// twice at the same positions changes nothing more).
 /// Velocities are the integrator's current ones (x[1] / δt).
+///
+/// Breaking (docs/model.md, "A wire that breaks"): a removed segment
+/// (State::wire_breaks) exerts nothing, and neither do the joints at its two
+/// ends; when the wire is breakable, every other segment whose strain exceeds
+/// ε_b now breaks, in ascending order, recorded in State::wire_breaks at the
+/// time the step ends (time_s + δt) and removed from this step's forces on.
+/// The check is serial over the segments; an unbreakable, whole wire skips it
+/// and computes what it always did.
 void compute_wire_forces(World& w, ThreadPool& pool);
 
-/// Total length of the wire along its nodes [m].
+/// Cuts segment `segment` (between nodes segment and segment + 1) between two
+/// steps: recorded in State::wire_breaks as a cut at time_s with the strain
+/// and spring energy it held. The next step computes the forces without it;
+/// the last step's outputs (forces, strains) stay as they were.
+/// @return false, changing nothing, when the wire has no such segment or it
+///         is removed already
+bool cut_wire_segment(World& w, std::uint32_t segment);
+
+/// Whether each segment is removed (1) or whole (0), by segment index.
+[[nodiscard]] std::vector<std::uint8_t> removed_wire_segments(const State& s);
+
+/// The pieces of the wire between its removed segments, in chain order (one
+/// piece, the whole chain, when none is removed; none without nodes).
+[[nodiscard]] std::vector<WirePiece> wire_pieces(const World& w);
+
+/// The position along the wire of the middle of segment `segment`, as the
+/// rest length from the first node: (segment + ½) l_w [m]. Cuts are asked
+/// for and breaks reported at such positions.
+[[nodiscard]] inline double wire_segment_position_m(const WireChain& wire, std::uint32_t segment)
+{
+    return (static_cast<double>(segment) + 0.5) * wire.segment_length_m;
+}
+
+/// Total length of the wire along its nodes [m], its removed segments left out.
 [[nodiscard]] double wire_length_m(const World& w);
 
 } // namespace wiredem::engine

@@ -45,9 +45,9 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2728, "World changed: update for_each_field and this size");
-static_assert(sizeof(Model) == 456, "Model changed: update for_each_field and this size");
-static_assert(sizeof(State) == 1056, "State changed: update for_each_field and this size");
+static_assert(sizeof(World) == 2760, "World changed: update for_each_field and this size");
+static_assert(sizeof(Model) == 464, "Model changed: update for_each_field and this size");
+static_assert(sizeof(State) == 1080, "State changed: update for_each_field and this size");
 // Caches::next_prediction and Caches::near are the members not listed: a
 // restored run predicts afresh from the saved derivatives, and selects its
 // near pairs afresh, with the same bits. ContactList::rolling_on_ is not
@@ -59,7 +59,7 @@ static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: up
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 112, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
-static_assert(sizeof(WireChain) == 56, "WireChain changed: update for_each_field and this size");
+static_assert(sizeof(WireChain) == 64, "WireChain changed: update for_each_field and this size");
 static_assert(sizeof(WireForces) == 144, "WireForces changed: update for_each_field and this size");
 static_assert(sizeof(MembraneMesh) == 200, "MembraneMesh changed: update for_each_field and this size");
 static_assert(sizeof(MembraneForces) == 24, "MembraneForces changed: update for_each_field and this size");
@@ -67,6 +67,7 @@ static_assert(sizeof(ContactList) == 272, "ContactList changed: update for_each_
 static_assert(sizeof(ContactSettings) == 64, "ContactSettings changed: update for_each_field and this size");
 static_assert(sizeof(TangentialState) == 32, "TangentialState changed: update its FieldCodec and this size");
 static_assert(sizeof(ContactOutput) == 64, "ContactOutput changed: update its FieldCodec and this size");
+static_assert(sizeof(WireBreak) == 32, "WireBreak changed: update its FieldCodec and this size");
 
 namespace {
 
@@ -192,6 +193,9 @@ std::string mismatched_sizes(const World& w)
     check(error, w.wire_forces.bending_force_n[2].size(), nodes, "wire/bending_force_on_next_n");
     check(error, w.wire_forces.segment_force_n.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_force_n");
     check(error, w.wire_forces.segment_strain.size(), nodes > 0 ? nodes - 1 : 0, "wire/segment_strain");
+    for (const WireBreak& b : w.wire_breaks)
+        if (error.empty() && (b.segment + std::size_t{1} >= nodes || static_cast<std::uint8_t>(b.cause) > 1))
+            error = "field wire/breaks names a segment the wire does not have, or an unknown cause";
     const MembraneMesh& m = w.membrane;
     if (error.empty()) error = membrane_grid_error(w);
     const std::size_t membrane_nodes = w.of(BodyKind::membrane).size();
@@ -305,6 +309,11 @@ Result<World, std::string> restore_snapshot(
         w.walls.resize(walls);
         w.wall_point_at_build_m.resize(walls);
         w.wall_loads.resize(walls);
+        // Versions 2 to 8 have no breakable wire: it is unbreakable and whole.
+        const bool wire_unbreakable = version <= 8;
+        // Removed wire segments saved: make them present, so that
+        // for_each_field lists them and they are read.
+        if (root.exists("wire/breaks")) w.wire_breaks.resize(1);
         // Rolling springs saved: make them present, so that for_each_field
         // lists them (it lists them only when there are any) and they are read.
         if (root.exists("contacts/rolling_rad")) w.contacts.rolling_rad.resize(1);
@@ -317,6 +326,7 @@ Result<World, std::string> restore_snapshot(
             if (skin_not_kept && name == "skin_at_build_m") return;                       // below
             if (rolling_not_kept && name.starts_with("contact/rolling_")) return;         // off
             if (wall_friction_not_kept && name.starts_with("walls/") && name.ends_with("/friction_coeff")) return;
+            if (wire_unbreakable && name == "wire/breaking_strain") return;               // +∞
             if (!root.exists(name)) {
                 error = "field " + name + " is missing";
                 return;

@@ -29,8 +29,9 @@ namespace wiredem::engine {
 /// grid order, without incidence lists or per-element forces; a wire joint's
 /// bending forces in three arrays; the skin the neighbour list was built with;
 /// 7: the rolling law's parameters, and its springs and torques while it is on;
-/// 8: a wall's own friction coefficient (Wall::friction_coeff).
-inline constexpr std::int64_t snapshot_version = 8;
+/// 8: a wall's own friction coefficient (Wall::friction_coeff);
+/// 9: the wire's breaking strain, and its removed segments when it has any.
+inline constexpr std::int64_t snapshot_version = 9;
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";

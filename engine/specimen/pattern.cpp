@@ -1,13 +1,16 @@
 #include "specimen/pattern.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 
 namespace wiredem::engine {
 
 bool parse_pattern_kind(std::string_view name, PatternKind& out)
 {
-    for (PatternKind k : {PatternKind::none, PatternKind::helix, PatternKind::spiral_helix, PatternKind::radial_helix})
+    for (PatternKind k :
+        {PatternKind::none, PatternKind::helix, PatternKind::spiral_helix, PatternKind::radial_helix, PatternKind::toolpath})
         if (name == pattern_name(k)) {
             out = k;
             return true;
@@ -22,6 +25,7 @@ std::string_view pattern_name(PatternKind kind)
     case PatternKind::helix: return "helix";
     case PatternKind::spiral_helix: return "spiral_helix";
     case PatternKind::radial_helix: return "radial_helix";
+    case PatternKind::toolpath: return "toolpath";
     }
     return "none";
 }
@@ -31,11 +35,57 @@ double pattern_reach_m(const PatternSpec& p)
     switch (p.kind) {
     case PatternKind::none: return 0.0;
     case PatternKind::spiral_helix: return p.helix_radius_m + p.inner_radius_m;
+    case PatternKind::toolpath: {
+        // A leg between two points stays within the larger of their radii,
+        // and turning a layer about the axis keeps every radius.
+        double reach = 0.0;
+        for (const Vec3& x : p.toolpath_m) reach = std::max(reach, std::hypot(x.x(), x.y()));
+        return reach;
+    }
     default: return p.helix_radius_m;
     }
 }
 
-NozzlePath::NozzlePath(const PatternSpec& spec, double hairpin_gap_m) : spec_(spec), hairpin_gap_m_(hairpin_gap_m) {}
+namespace {
+
+/// (x, y) of `x` turned about the z axis by `angle_rad`, z = 0.
+Vec3 turned(const Vec3& x, double angle_rad)
+{
+    const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+    return {c * x.x() - s * x.y(), s * x.x() + c * x.y(), 0.0};
+}
+
+} // namespace
+
+NozzlePath::NozzlePath(const PatternSpec& spec, double hairpin_gap_m) : spec_(spec), hairpin_gap_m_(hairpin_gap_m)
+{
+    if (spec_.kind != PatternKind::toolpath) return;
+    std::vector<Vec3>& points = spec_.toolpath_m;
+    for (Vec3& x : points) x.z() = 0.0;
+    // Legs: point i to point i + 1, and the last point to the next layer's first.
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Vec3 to = i + 1 < points.size() ? points[i + 1] : turned(points[0], spec_.toolpath_rotation_per_layer_rad);
+        leg_start_m_.push_back(layer_m_);
+        leg_m_.push_back((to - points[i]).norm());
+        layer_m_ += leg_m_.back();
+    }
+}
+
+Vec3 NozzlePath::toolpath_at(double s_m) const
+{
+    const std::vector<Vec3>& points = spec_.toolpath_m;
+    if (!(layer_m_ > 0.0)) return points.empty() ? Vec3::Zero() : points[0];
+    const double layer = std::floor(s_m / layer_m_);
+    const double u = s_m - layer * layer_m_;
+    // The leg that holds u: the last one starting at or before it (a leg of
+    // zero length is never the last such).
+    const auto next = std::upper_bound(leg_start_m_.begin(), leg_start_m_.end(), u);
+    const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(next - leg_start_m_.begin() - 1, 0));
+    const Vec3& from = points[i];
+    const Vec3 to = i + 1 < points.size() ? points[i + 1] : turned(points[0], spec_.toolpath_rotation_per_layer_rad);
+    const double t = leg_m_[i] > 0.0 ? std::min(1.0, (u - leg_start_m_[i]) / leg_m_[i]) : 0.0;
+    return turned(from + t * (to - from), layer * spec_.toolpath_rotation_per_layer_rad);
+}
 
 NozzlePath::Hairpin NozzlePath::hairpin() const
 {
@@ -92,6 +142,8 @@ Vec3 NozzlePath::at(double s_m) const
     switch (spec_.kind) {
     case PatternKind::none:
         return Vec3::Zero();
+    case PatternKind::toolpath:
+        return toolpath_at(s_m);
     case PatternKind::helix:
         return {ra * std::cos(s_m / ra), ra * std::sin(s_m / ra), 0.0};
     case PatternKind::spiral_helix:

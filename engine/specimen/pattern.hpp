@@ -1,18 +1,20 @@
 // Wire-deployment patterns (the model spec §5): the nozzle's horizontal
 // trajectory, parametrised by path length so that the nozzle can move at the
-// constant path speed ω R_a whatever the pattern.
+// constant path speed ω R_a whatever the pattern. Besides the four built-in
+// patterns, a toolpath: the robot's own path, a polyline per layer (issue 39).
 #pragma once
 
 #include "core/types.hpp"
 
 #include <string>
+#include <vector>
 #include <string_view>
 
 namespace wiredem::engine {
 
-enum class PatternKind { none, helix, spiral_helix, radial_helix };
+enum class PatternKind { none, helix, spiral_helix, radial_helix, toolpath };
 
-/// Parses "none", "helix", "spiral_helix", "radial_helix".
+/// Parses "none", "helix", "spiral_helix", "radial_helix", "toolpath".
 [[nodiscard]] bool parse_pattern_kind(std::string_view name, PatternKind& out);
 [[nodiscard]] std::string_view pattern_name(PatternKind kind);
 
@@ -24,9 +26,20 @@ struct PatternSpec {
     double period_angle_rad = 1.5707963267948966; ///< φ_rs (spiral and radial): π/2
     double angular_speed_rad_per_s = 300.0; ///< ω; path speed ω R_a
     double rise_speed_m_per_s = 0.5;        ///< v_z^w, the nozzle's largest rise speed
+    /// toolpath: one layer of the nozzle's path, a polyline of points (x, y)
+    /// in the column's frame (z is ignored) [m], at least two of them apart.
+    /// The nozzle walks it from the first point to the last, then straight on
+    /// to the first point of the next layer, which is the same polyline
+    /// turned about the axis by toolpath_rotation_per_layer_rad (layer k:
+    /// turned by k times it). Every layer has the same length.
+    std::vector<Vec3> toolpath_m;
+    double toolpath_rotation_per_layer_rad = 0.0; ///< toolpath: the turn from one layer to the next [rad]
 };
 
-/// Largest distance of the pattern from the axis [m].
+/// Largest distance of the pattern from the axis [m]: R_a, R_a + R_i for the
+/// spiral helix, the farthest point of a toolpath (its legs and the turns of
+/// its layers stay within that radius). The preparation and the job's checks
+/// keep it r_w + clearance inside the membrane.
 [[nodiscard]] double pattern_reach_m(const PatternSpec& p);
 
 /// Horizontal nozzle trajectory, walked by path length.
@@ -44,6 +57,8 @@ public:
     {
         return spec_.kind == PatternKind::spiral_helix ? spiral_angle(s_m) : s_m / spec_.helix_radius_m;
     }
+    /// The path length of one layer of a toolpath [m] (0 for the other patterns).
+    [[nodiscard]] double layer_length_m() const { return layer_m_; }
     /// Constant path speed ω R_a [m/s].
     [[nodiscard]] double speed_m_per_s() const { return spec_.angular_speed_rad_per_s * spec_.helix_radius_m; }
 
@@ -73,6 +88,11 @@ private:
     [[nodiscard]] double spiral_angle(double s_m) const;
     [[nodiscard]] Vec3 spiral_point(double theta) const;
     [[nodiscard]] double spiral_speed(double theta) const; ///< |dP/dΘ|
+
+    /// toolpath: where each leg of a layer starts along it, and its length [m].
+    [[nodiscard]] Vec3 toolpath_at(double s_m) const;
+    std::vector<double> leg_start_m_, leg_m_;
+    double layer_m_ = 0.0;
 
     PatternSpec spec_;
     double hairpin_gap_m_;

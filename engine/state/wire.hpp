@@ -25,6 +25,39 @@ struct WireChain {
     double bending_yield_angle_rad = std::numeric_limits<double>::infinity();
     double node_mass_kg = 0.0;              ///< ρ_w π r_w² l_w (× density scaling)
     std::uint8_t material = 0;
+    /// ε_b, the strain past which a segment breaks (compute_wire_forces): the
+    /// segment is removed and the chain has two free ends there; +∞: the
+    /// model spec's unbreakable wire (docs/model.md, "A wire that breaks").
+    double breaking_strain = std::numeric_limits<double>::infinity();
+};
+
+/// Why a segment was removed from the chain.
+enum class WireBreakCause : std::uint8_t {
+    strain = 0, ///< stretched past the breaking strain during a step
+    cut = 1,    ///< cut between two steps (cut_wire_segment)
+};
+
+/// A segment removed from the chain, in the order it happened (one step's
+/// breaks in ascending segment order). A removed segment exerts no force, its
+/// two end joints bend no more (their nodes are free ends, rest angle 0) and
+/// it reports strain 0; it never forms again. The spring's elastic energy is
+/// dissipated by the break (docs/model.md, "A wire that breaks"); what the
+/// nodes carry (their kinetic energy) stays with them.
+struct WireBreak {
+    std::uint32_t segment = 0;                ///< s, the segment between nodes s and s + 1
+    WireBreakCause cause = WireBreakCause::strain;
+    double time_s = 0.0;                      ///< State::time_s at the end of the step (or of the cut) [s]
+    double strain = 0.0;                      ///< the segment's strain when it broke (≥ ε_b for a break)
+    double released_energy_j = 0.0;           ///< ½ k_elo (ε l_w)², the spring energy it held [J]
+    friend bool operator==(const WireBreak&, const WireBreak&) = default;
+};
+
+/// One piece of the wire between two removed segments (or the chain's ends).
+struct WirePiece {
+    std::uint32_t first_node = 0;             ///< its first node
+    std::uint32_t nodes = 0;                  ///< its nodes (≥ 1)
+    double rest_length_m = 0.0;               ///< (nodes − 1) l_w, its length as laid, unstretched [m]
+    double length_m = 0.0;                    ///< its length along its nodes now [m]
 };
 
 /// What compute_wire_forces writes every step before anything reads it: the

@@ -129,6 +129,9 @@ struct State {
     /// is appended and yields in compute_wire_forces; it travels with the
     /// specimen (copies of the World, result.h5's specimen group).
     std::vector<double> wire_rest_angle_rad;
+    /// The segments removed from the wire (broken or cut), in the order it
+    /// happened (state/wire.hpp). Empty for a whole wire.
+    std::vector<WireBreak> wire_breaks;
 
     /// Total number of bodies over all kinds.
     [[nodiscard]] std::size_t body_count() const

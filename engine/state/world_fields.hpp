@@ -129,6 +129,24 @@ struct FieldCodec<ContactOutput> {
     }
 };
 
+/// Segment and cause (exact in a double), time, strain, released energy.
+template <>
+struct FieldCodec<WireBreak> {
+    using Number = double;
+    static constexpr std::size_t columns = 5;
+    static void put(const WireBreak& b, Number* out)
+    {
+        out[0] = b.segment, out[1] = static_cast<double>(b.cause), out[2] = b.time_s, out[3] = b.strain;
+        out[4] = b.released_energy_j;
+    }
+    static void get(const Number* in, WireBreak& b)
+    {
+        b.segment = static_cast<std::uint32_t>(in[0]);
+        b.cause = static_cast<WireBreakCause>(static_cast<std::uint8_t>(in[1]));
+        b.time_s = in[2], b.strain = in[3], b.released_energy_j = in[4];
+    }
+};
+
 /// E, ν, ρ.
 template <>
 struct FieldCodec<Material> {
@@ -366,7 +384,12 @@ void for_each_field(W& w, Visit&& field)
     field("wire/bending_yield_angle_rad", wire.bending_yield_angle_rad, R::model);
     field("wire/node_mass_kg", wire.node_mass_kg, R::model);
     field("wire/material", wire.material, R::model);
+    field("wire/breaking_strain", wire.breaking_strain, R::model);
     field("wire/rest_angle_rad", w.wire_rest_angle_rad, R::state);
+    // The removed segments: listed only when there are any, so that a whole
+    // wire's hash and snapshot do not change (a restore marks them present
+    // first when the file has them: io/snapshot.cpp).
+    if (!w.wire_breaks.empty()) field("wire/breaks", w.wire_breaks, R::state);
     field("wire/segment_force_n", w.wire_forces.segment_force_n, R::output);
     field("wire/bending_force_on_previous_n", w.wire_forces.bending_force_n[0], R::output);
     field("wire/bending_force_on_node_n", w.wire_forces.bending_force_n[1], R::output);

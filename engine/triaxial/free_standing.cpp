@@ -259,6 +259,10 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     if (continued && st.next_snapshot > plan.size())
         return Err(std::string("the test's saved state is inconsistent (snapshot plan)"));
     const std::uint64_t expected = expected_free_standing_steps(settings, st.reference_height_m, dt);
+    // The breaks the World had before the test (a continued test has recorded the rest).
+    if (result.wire_breaks.size() > w.wire_breaks.size())
+        return Err(std::string("the test's saved state is inconsistent (more wire breaks than the World has)"));
+    const std::size_t breaks_before_test = w.wire_breaks.size() - result.wire_breaks.size();
     const double bottom_m = w.walls[bottom_plate_wall].point_m.z();
 
     // Sampling: the triaxial row, with the free column's radius and σ₁ on
@@ -291,6 +295,9 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     auto progress = [&] { return std::pair<std::uint64_t, std::uint64_t>{st.steps, std::max(expected, st.steps)}; };
     auto advance = [&](auto&& prescribe) -> std::optional<std::string> {
         if (auto e = stepper.step(prescribe, progress)) return e;
+        if (w.wire_breaks.size() > breaks_before_test + result.wire_breaks.size())
+            record_wire_breaks(w, breaks_before_test, static_cast<double>(st.steps) * dt,
+                analysis::axial_strain(st.reference_height_m, plates_apart_m()), result.wire_breaks);
         if ((st.steps - 1) % sample_every == 0) sample();
         return std::nullopt;
     };

@@ -217,6 +217,9 @@ struct FreeStandingResult {
     std::size_t loading_start_sample = 0;     ///< first compression row
     QuasiStaticVerdict verdict;               ///< over the compression rows that bear load
     std::vector<std::string> warnings;
+    /// The wire's segments that broke during the test, in order (none for an
+    /// unbreakable wire).
+    std::vector<TestWireBreak> wire_breaks;
     std::uint64_t steps = 0;
     double time_step_s = 0.0;
     double simulated_time_s = 0.0;

@@ -4,6 +4,7 @@
 #include "analysis/stress.hpp"
 #include "energy.hpp"
 #include "forces/membrane_forces.hpp"
+#include "forces/wire_forces.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -225,6 +226,37 @@ TriaxialSnapshot take_triaxial_snapshot(const World& w)
         f.wall_force_n.push_back(c.output[p].force_n);
     }
     return snap;
+}
+
+void record_wire_breaks(const World& w, std::size_t breaks_before_test, double test_time_s, double axial_strain,
+    std::vector<TestWireBreak>& recorded)
+{
+    for (std::size_t i = breaks_before_test + recorded.size(); i < w.wire_breaks.size(); ++i) {
+        const WireBreak& b = w.wire_breaks[i];
+        recorded.push_back({.event = b, .test_time_s = test_time_s, .axial_strain = axial_strain,
+            .position_m = wire_segment_position_m(w.wire, b.segment)});
+    }
+}
+
+const char* to_string(PeakFailure f)
+{
+    switch (f) {
+    case PeakFailure::grains: return "grains";
+    case PeakFailure::wire: return "wire";
+    case PeakFailure::grains_after_break: return "grains_after_break";
+    }
+    return "?";
+}
+
+PeakFailure peak_failure(const TriaxialSeries& series, std::size_t peak, const std::vector<TestWireBreak>& breaks)
+{
+    if (breaks.empty() || peak >= series.size()) return PeakFailure::grains;
+    const double first = breaks.front().test_time_s;
+    const double before = peak > 0 ? series.time_s[peak - 1] : -std::numeric_limits<double>::infinity();
+    const double after = peak + 1 < series.size() ? series.time_s[peak + 1] : std::numeric_limits<double>::infinity();
+    if (first <= before) return PeakFailure::grains_after_break;
+    if (first <= after) return PeakFailure::wire;
+    return PeakFailure::grains;
 }
 
 } // namespace wiredem::engine

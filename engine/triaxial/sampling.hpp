@@ -135,6 +135,38 @@ struct TriaxialSnapshot {
     ForceNetwork forces;
 };
 
+/// A segment of the wire that broke during a test (state/wire.hpp), and where
+/// the test was then.
+struct TestWireBreak {
+    WireBreak event;                      ///< as the World recorded it (time_s: the World's clock)
+    double test_time_s = 0.0;             ///< since the test started [s]
+    double axial_strain = 0.0;            ///< ε_a of the test after that step
+    double position_m = 0.0;              ///< along the wire, rest length to the segment's middle [m]
+};
+
+/// Appends to `recorded` the breaks `w` has recorded beyond the first
+/// `breaks_before_test + recorded.size()` (those of the test's last step),
+/// with the test's time and axial strain now. A test calls it after every step.
+void record_wire_breaks(const World& w, std::size_t breaks_before_test, double test_time_s, double axial_strain,
+    std::vector<TestWireBreak>& recorded);
+
+/// What failed at a test's peak, for a wire that can break (issue 39; Brown et
+/// al., PRL 2012: packings of chains do not yield until the chain breaks).
+enum class PeakFailure : std::uint8_t {
+    grains,          ///< the wire was whole at the peak: the grains gave way
+    wire,            ///< a segment broke within a row of the peak: the wire gave way
+    grains_after_break, ///< the wire had broken before: the grains gave way on a broken wire
+};
+
+/// The text of a PeakFailure: "grains", "wire", "grains_after_break".
+[[nodiscard]] const char* to_string(PeakFailure f);
+
+/// What failed at row `peak` of `series`: the first break of `breaks` after
+/// the row before the peak and no later than the row after it (test time) is
+/// the wire's failure; a break before that, a broken wire's; none up to the row
+/// after the peak, the grains'.
+[[nodiscard]] PeakFailure peak_failure(const TriaxialSeries& series, std::size_t peak, const std::vector<TestWireBreak>& breaks);
+
 /// Whether the loading was slow enough to be called quasi-static.
 struct QuasiStaticVerdict {
     bool quasi_static = true;

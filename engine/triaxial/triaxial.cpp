@@ -223,6 +223,10 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
         && (st.next_snapshot > plan.size() || (st.loading && st.loading_start_sample >= result.series.size())
             || !(st.reference_height_m > 0.0) || !(st.column_radius_m > 0.0)))
         return Err(std::string("the test's saved state is inconsistent (snapshot plan, loading start or heights)"));
+    // The breaks the World had before the test (a continued test has recorded the rest).
+    if (result.wire_breaks.size() > w.wire_breaks.size())
+        return Err(std::string("the test's saved state is inconsistent (more wire breaks than the World has)"));
+    const std::size_t breaks_before_test = w.wire_breaks.size() - result.wire_breaks.size();
     if (!continued) {
         st.reference_height_m = plates_apart_m();
         st.expected_steps = expected_triaxial_steps(settings, st.reference_height_m, dt);
@@ -300,6 +304,9 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
             carry_with_cap(w, st.cap_nodes, top_plate_wall);
         };
         if (auto e = stepper.step(prescribe, [&] { return triaxial_progress(st); })) return e;
+        if (w.wire_breaks.size() > breaks_before_test + result.wire_breaks.size())
+            record_wire_breaks(w, breaks_before_test, static_cast<double>(st.steps) * dt,
+                analysis::axial_strain(st.reference_height_m, plates_apart_m()), result.wire_breaks);
         if ((st.steps - 1) % sample_every == 0) {
             sample();
             st.column_radius_m = result.series.column_radius_m.back();

@@ -114,6 +114,9 @@ struct TriaxialResult {
     double initial_volume_m3 = 0.0;           ///< V₀ = π r₀² h₀ [m³]
     QuasiStaticVerdict verdict;
     std::vector<std::string> warnings;        ///< the verdict's warning and any other
+    /// The wire's segments that broke during the test, in order (none for an
+    /// unbreakable wire).
+    std::vector<TestWireBreak> wire_breaks;
     /// How long σ₃ was held before loading [s]: hold_time_s, or longer until
     /// the column had consolidated (at most max_hold_time_s).
     double hold_time_s = 0.0;

@@ -247,6 +247,92 @@ TEST(JobSpec, FreeStandingFieldsAreCheckedAtTheDoor)
     EXPECT_EQ(ok.value().free_standing.dead_load_n, 7000.0);
 }
 
+TEST(JobSpec, WireBreakingAndCutsAreCheckedAtTheDoor)
+{
+    const auto message = [](const std::vector<FieldError>& e, const std::string& path) {
+        const FieldError* f = error_at(e, path);
+        return f ? f->message : std::string("(no error at ") + path + ")";
+    };
+    auto r = parse_job_spec(R"({"specimen": {"wire": {"breaking_strain": 0}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.breaking_strain").find("0 is out of range (0, 10]"), std::string::npos)
+        << message(r.error(), "specimen.wire.breaking_strain");
+    r = parse_job_spec(R"({"specimen": {"wire": {"breaking_strain": "brittle"}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.breaking_strain").find("\"unbreakable\""), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"cuts_at_m": [0.5, 0.2]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.cuts_at_m[1]").find("strictly increasing"), std::string::npos)
+        << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"cuts_at_m": [0]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.cuts_at_m[0]").find("(0, 10000]"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"cut_every_loops": -1}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "specimen.wire.cut_every_loops"), nullptr);
+    r = parse_job_spec(R"({"specimen": {"wire": {"length_m": 2, "cuts_at_m": [1, 2.5]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.cuts_at_m[1]").find("length_m is 2"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "none", "breaking_strain": 0.1, "cut_every_loops": 2}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.breaking_strain").find("lays no wire"), std::string::npos);
+    EXPECT_NE(error_at(r.error(), "specimen.wire.cut_every_loops"), nullptr);
+
+    const auto ok = parse_job_spec(R"({"specimen": {"wire": {"breaking_strain": 0.2, "cuts_at_m": [0.1, 0.3], "cut_every_loops": 3}}})");
+    ASSERT_TRUE(ok.ok()) << describe(ok.error());
+    const WireSpec& w = ok.value().specimen.wire;
+    EXPECT_EQ(w.breaking_strain, 0.2);
+    EXPECT_EQ(w.cuts_at_m, (std::vector<double>{0.1, 0.3}));
+    EXPECT_EQ(w.cut_every_loops, 3u);
+    const auto back = parse_job_spec(json::serialize(to_json(ok.value())));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), ok.value());
+    const auto unbreakable = parse_job_spec(R"({"specimen": {"wire": {"breaking_strain": "unbreakable"}}})");
+    ASSERT_TRUE(unbreakable.ok());
+    EXPECT_EQ(unbreakable.value(), JobSpec{});
+    // An unbreakable, uncut wire is written as before: job.json stays as it was.
+    const json::value written = to_json(JobSpec{});
+    const json::object& wire = written.at("specimen").at("wire").as_object();
+    for (const char* key : {"breaking_strain", "cuts_at_m", "cut_every_loops"}) EXPECT_FALSE(wire.contains(key)) << key;
+}
+
+TEST(JobSpec, AToolpathIsCheckedAtTheDoorWithTheBuiltInPatternsFitRule)
+{
+    const auto message = [](const std::vector<FieldError>& e, const std::string& path) {
+        const FieldError* f = error_at(e, path);
+        return f ? f->message : std::string("(no error at ") + path + ")";
+    };
+    // R = 20 mm, r_w = 0.5 mm, clearance 1 mm: points within 18.5 mm of the axis.
+    auto r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0185, 0], "toolpath_y_m": [0, 0.01]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("reaches 0.0185"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01], "toolpath_y_m": [0]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("at least 2 points"), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01, 0.01], "toolpath_y_m": [0, 0]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("one place"), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 2]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_y_m[1]").find("[-1, 1]"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 0.01]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("not \"helix\""), std::string::npos);
+    r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_rotation_per_layer_rad": 7}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "specimen.wire.toolpath_rotation_per_layer_rad"), nullptr);
+
+    const auto ok = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0184, 0, -0.01], "toolpath_y_m": [0, 0.01, 0], "toolpath_rotation_per_layer_rad": 0.5}}})");
+    ASSERT_TRUE(ok.ok()) << describe(ok.error());
+    EXPECT_EQ(ok.value().specimen.wire.pattern, WirePattern::toolpath);
+    const auto back = parse_job_spec(json::serialize(to_json(ok.value())));
+    ASSERT_TRUE(back.ok()) << describe(back.error());
+    EXPECT_EQ(back.value(), ok.value());
+    const json::value written = to_json(JobSpec{});
+    const json::object& wire = written.at("specimen").at("wire").as_object();
+    for (const char* key : {"toolpath_x_m", "toolpath_y_m", "toolpath_rotation_per_layer_rad"}) EXPECT_FALSE(wire.contains(key)) << key;
+}
+
 TEST(JobSpec, RestitutionFormRoundTrips)
 {
     JobSpec s;

@@ -198,9 +198,40 @@ void expect_same(const eng::TriaxialResult& a, const eng::TriaxialResult& b)
     EXPECT_EQ(a.time_step_s, b.time_step_s);
     EXPECT_EQ(a.simulated_time_s, b.simulated_time_s);
     EXPECT_EQ(a.wall_time_s, b.wall_time_s);
+    ASSERT_EQ(a.wire_breaks.size(), b.wire_breaks.size());
+    for (std::size_t i = 0; i < a.wire_breaks.size(); ++i) {
+        EXPECT_EQ(a.wire_breaks[i].event, b.wire_breaks[i].event);
+        EXPECT_EQ(a.wire_breaks[i].test_time_s, b.wire_breaks[i].test_time_s);
+        EXPECT_EQ(a.wire_breaks[i].axial_strain, b.wire_breaks[i].axial_strain);
+        EXPECT_EQ(a.wire_breaks[i].position_m, b.wire_breaks[i].position_m);
+    }
 }
 
 } // namespace
+
+TEST(CampaignFiles, ATestsWireBreaksReadBackExactlyAndAWholeWireWritesNone)
+{
+    const fs::path path = temp_file("breaks");
+    eng::TriaxialResult written = sample_result(5);
+    const eng::TriaxialResult whole = written;
+    written.wire_breaks.push_back({.event = {.segment = 17, .cause = eng::WireBreakCause::strain, .time_s = 1.25,
+                                       .strain = 0.0501, .released_energy_j = 3.2e-4},
+        .test_time_s = 0.031, .axial_strain = 0.0123, .position_m = 17.5 * 1.25e-3});
+    written.wire_breaks.push_back({.event = {.segment = 3, .cause = eng::WireBreakCause::cut, .time_s = 1.5,
+                                       .strain = -1e-4, .released_energy_j = 1e-12},
+        .test_time_s = 0.0625, .axial_strain = 0.025, .position_m = 3.5 * 1.25e-3});
+    io::write_file_atomically(path, [&](io::Group& root) {
+        io::Group g = root.create_group("test");
+        write_triaxial_result(g, written);
+        io::Group h = root.create_group("whole");
+        write_triaxial_result(h, whole);
+    });
+    const io::File f = io::File::open_read_only(path);
+    expect_same(read_triaxial_result(f.root().open_group("test")), written);
+    EXPECT_FALSE(f.root().open_group("whole").exists("wire_breaks")) << "a whole wire's record is as it was";
+    expect_same(read_triaxial_result(f.root().open_group("whole")), whole);
+    fs::remove(path);
+}
 
 TEST(CampaignFiles, ATestsRecordReadsBackExactly)
 {

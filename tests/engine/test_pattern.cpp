@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <numbers>
 
 using namespace wiredem::engine;
@@ -104,4 +106,104 @@ TEST(NozzlePath, RadialExcursionsArePeriodAngleApartAndReachTowardsTheAxis)
         EXPECT_NEAR(step, p.period_angle_rad, 0.02) << "excursion " << k;
     }
     EXPECT_LT(min_r, 0.25 * p.helix_radius_m);
+}
+
+namespace {
+
+/// A toolpath of one layer: `points` (x, y), turned by `turn_rad` per layer.
+PatternSpec toolpath(std::vector<Vec3> points, double turn_rad = 0.0)
+{
+    PatternSpec p;
+    p.kind = PatternKind::toolpath;
+    p.toolpath_m = std::move(points);
+    p.toolpath_rotation_per_layer_rad = turn_rad;
+    return p;
+}
+
+/// A regular n-gon inscribed in the circle of radius r, its first vertex on +x, counter-clockwise.
+std::vector<Vec3> polygon(int n, double r)
+{
+    std::vector<Vec3> v;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * std::numbers::pi * i / n;
+        v.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+    }
+    return v;
+}
+
+} // namespace
+
+TEST(Toolpath, WalksItsPolylineAtThePathSpeedThenTurnsForTheNextLayer)
+{
+    // A square of side 8 mm, open at its last corner: the layer is the three
+    // sides and the leg from the last corner back to the first, turned by
+    // 90° for the next layer (which here is the same square, started at
+    // another corner).
+    const std::vector<Vec3> square{{4e-3, -4e-3, 0}, {4e-3, 4e-3, 0}, {-4e-3, 4e-3, 0}, {-4e-3, -4e-3, 0}};
+    const PatternSpec p = toolpath(square, std::numbers::pi / 2);
+    const NozzlePath path(p, 1.25e-3);
+    const double side = 8e-3;
+    // Turned by 90°, the first point (4, −4) goes to (4, 4): the closing leg from (−4, −4) is a diagonal.
+    EXPECT_NEAR(path.layer_length_m(), 3 * side + std::hypot(8e-3, 8e-3), 1e-15);
+    EXPECT_NEAR((path.at(0.0) - square[0]).norm(), 0.0, 1e-18);
+    EXPECT_NEAR((path.at(0.5 * side) - Vec3(4e-3, 0, 0)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((path.at(2.5 * side) - Vec3(-4e-3, 0, 0)).norm(), 0.0, 1e-15);
+    const double layer = path.layer_length_m();
+    // The second layer starts at the first point turned by 90° and follows the turned polyline.
+    EXPECT_NEAR((path.at(layer) - Vec3(4e-3, 4e-3, 0)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((path.at(layer + 0.5 * side) - Vec3(0, 4e-3, 0)).norm(), 0.0, 1e-15);
+    // Equal steps in path length give equal chords but at the corners.
+    Vec3 prev = path.at(0.0);
+    int off = 0;
+    for (int i = 1; i < 5000; ++i) {
+        const Vec3 x = path.at(i * ds);
+        if (std::abs((x - prev).norm() / ds - 1.0) > 1e-9) ++off;
+        prev = x;
+    }
+    EXPECT_LE(off, 2 * static_cast<int>(5000 * ds / layer + 1) * 4) << "only the steps across a corner are short";
+    EXPECT_DOUBLE_EQ(pattern_reach_m(p), std::hypot(4e-3, 4e-3));
+    PatternKind k;
+    ASSERT_TRUE(parse_pattern_kind("toolpath", k));
+    EXPECT_EQ(k, PatternKind::toolpath);
+}
+
+TEST(Toolpath, StaysWithinItsReachOverManyTurnedLayers)
+{
+    const PatternSpec p = toolpath({{5e-3, 0, 0}, {-2e-3, 3e-3, 0}, {1e-3, -6e-3, 0}}, 0.7);
+    const NozzlePath path(p, 1.25e-3);
+    double farthest = 0.0;
+    for (int i = 0; i < 20000; ++i) farthest = std::max(farthest, path.at(i * ds).norm());
+    EXPECT_LE(farthest, pattern_reach_m(p) * (1.0 + 1e-12));
+    EXPECT_GT(farthest, 0.99 * pattern_reach_m(p));
+}
+
+TEST(Toolpath, APolygonReproducesTheHelixWithinTheChordBound)
+{
+    // The built-in helix of R_a = 4 mm against a toolpath of its inscribed
+    // regular n-gon (n = 2000, not turned): at path length s the two nozzles
+    // are apart by at most the polygon's sagitta R(1 − cos(π/n)) plus the
+    // lag of the polygon's arc length behind the circle's, s(1 − sin(π/n)/(π/n))
+    // R-scaled: a polygon of perimeter 2nR sin(π/n) walked at the same speed
+    // finishes each turn early by 2πR − 2nR sin(π/n): 4.9·10⁻⁹ m and
+    // 1.03·10⁻⁸ m per turn, 1.1·10⁻⁷ m over ten turns.
+    PatternSpec helix = pattern(PatternKind::helix);
+    helix.helix_radius_m = 4e-3;
+    const int n = 2000;
+    PatternSpec gon = toolpath(polygon(n, helix.helix_radius_m));
+    gon.helix_radius_m = helix.helix_radius_m; // the same path speed ω R_a
+    const NozzlePath a(helix, 1.25e-3), b(gon, 1.25e-3);
+    EXPECT_DOUBLE_EQ(a.speed_m_per_s(), b.speed_m_per_s());
+    const double r = helix.helix_radius_m, turn = 2.0 * std::numbers::pi * r;
+    const double sagitta = r * (1.0 - std::cos(std::numbers::pi / n));
+    const double short_per_turn = turn - 2.0 * n * r * std::sin(std::numbers::pi / n);
+    double worst = 0.0, worst_bound_ratio = 0.0;
+    for (int i = 0; i <= 100000; ++i) {
+        const double s = 10.0 * turn * i / 100000;
+        const double apart = (a.at(s) - b.at(s)).norm();
+        const double bound = sagitta + short_per_turn * (std::floor(s / turn) + 1.0);
+        worst = std::max(worst, apart);
+        worst_bound_ratio = std::max(worst_bound_ratio, apart / bound);
+    }
+    EXPECT_LE(worst_bound_ratio, 1.0) << "largest distance " << worst << " m";
+    EXPECT_LT(worst, 1.1e-7);
 }

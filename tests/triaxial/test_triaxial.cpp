@@ -4,6 +4,7 @@
 //
 // The specimens are built directly (column_specimens.hpp).
 #include "forces/membrane_forces.hpp"
+#include "forces/wire_forces.hpp"
 #include "laws/hertz.hpp"
 #include "scene.hpp"
 #include "step.hpp"
@@ -701,6 +702,69 @@ TEST(TriaxialContinuation, ATestContinuedFromAnyStepEndsBitIdentically)
     again.world = start;
     ASSERT_TRUE(run_triaxial(again, top, set).ok());
     EXPECT_EQ(state_hash(again.world), end_hash);
+}
+
+// A breakable wire's breaks are recorded once, with the test's time and
+// axial strain, also by a test continued after them: a wire of three held
+// nodes beside the column (it touches nothing), its second segment stretched
+// past ε_b, breaks in the test's first step; a test continued from the hold
+// or the loading has it in its state and records it no second time.
+TEST(TriaxialContinuation, AWireBreakIsRecordedOnceAndSurvivesTheContinuation)
+{
+    const TriaxialSettings set = fast_settings(10e3);
+    Simulation whole(2);
+    const std::size_t top = build_grain_stack(whole, 0.0, MembraneEdgeLaw::linear);
+    World& w = whole.world;
+    WireSpec wire;
+    wire.density_scale = 1e4; // so that the wire does not set δt
+    wire.breaking_strain = 0.01;
+    configure_wire(w, wire);
+    const double l0 = wire.segment_length_m, x0 = 0.03; // far outside the 8 mm membrane
+    for (const double x : {x0, x0 + l0, x0 + 2.0 * l0 * 1.01}) { // segment 1 at 2 %
+        const std::uint32_t n = append_wire_node(w, Vec3(x, 0.0, 5e-3));
+        set_motion(w, {BodyKind::wire, n}, Motion::fixed);
+    }
+    std::vector<std::pair<World, TriaxialDriverState>> saved;
+    TriaxialContinuation c;
+    c.between_steps = [&](const World& world, const TriaxialDriverState& st) {
+        const double t = static_cast<double>(st.steps) * world.dt_s;
+        if ((saved.empty() && t > set.pressure_ramp_time_s + 0.5 * set.hold_time_s)
+            || (saved.size() == 1 && st.loading && st.result.series.size() > st.loading_start_sample + 3))
+            saved.emplace_back(world, st);
+    };
+    const auto full = run_triaxial(whole, top, set, {}, c);
+    ASSERT_TRUE(full.ok()) << full.error();
+    ASSERT_EQ(saved.size(), 2u);
+    const std::vector<TestWireBreak>& breaks = full.value().wire_breaks;
+    ASSERT_EQ(breaks.size(), 1u);
+    EXPECT_EQ(breaks[0].event.segment, 1u);
+    EXPECT_EQ(breaks[0].test_time_s, w.dt_s) << "in the first step";
+    EXPECT_NEAR(breaks[0].axial_strain, 0.0, 1e-9) << "the piston has barely moved after one step";
+    EXPECT_DOUBLE_EQ(breaks[0].position_m, 1.5 * l0);
+    EXPECT_EQ(peak_failure(full.value().series, full.value().peak_sample, breaks), PeakFailure::grains_after_break);
+    for (auto& [world, state] : saved) {
+        ASSERT_EQ(state.result.wire_breaks.size(), 1u);
+        Simulation rest(3);
+        rest.world = world;
+        TriaxialContinuation from;
+        from.from = state;
+        const auto r = run_triaxial(rest, top, set, {}, from);
+        ASSERT_TRUE(r.ok()) << r.error();
+        ASSERT_EQ(r.value().wire_breaks.size(), 1u);
+        EXPECT_EQ(r.value().wire_breaks[0].event, breaks[0].event);
+        EXPECT_EQ(r.value().wire_breaks[0].test_time_s, breaks[0].test_time_s);
+        EXPECT_EQ(state_hash(rest.world), state_hash(w));
+    }
+    // A state that claims more breaks than its World has is refused.
+    TriaxialDriverState wrong = saved[0].second;
+    wrong.result.wire_breaks.push_back(breaks[0]);
+    Simulation other(1);
+    other.world = saved[0].first;
+    TriaxialContinuation from;
+    from.from = wrong;
+    const auto refused = run_triaxial(other, top, set, {}, from);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().find("more wire breaks"), std::string::npos) << refused.error();
 }
 
 TEST(TriaxialContinuation, AStateFromAnotherWorldIsRefused)
