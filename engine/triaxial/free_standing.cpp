@@ -140,6 +140,24 @@ RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vec
     return p;
 }
 
+Deposit deposit(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m, double fraction)
+{
+    Deposit d;
+    if (position_m.empty()) return d;
+    std::vector<double> edge(position_m.size());
+    for (std::size_t i = 0; i < position_m.size(); ++i) edge[i] = std::hypot(position_m[i].x(), position_m[i].y()) + radius_m[i];
+    std::vector<double> sorted = edge;
+    std::sort(sorted.begin(), sorted.end());
+    // The ⌈f N⌉-th smallest edge: the smallest radius that holds f N of them.
+    const auto n = static_cast<double>(sorted.size());
+    const auto k = static_cast<std::size_t>(std::clamp(std::ceil(fraction * n), 1.0, n)) - 1;
+    d.runout_radius_m = sorted[k];
+    d.max_radius_m = sorted.back();
+    for (std::size_t i = 0; i < position_m.size(); ++i)
+        if (edge[i] <= d.runout_radius_m) d.height_m = std::max(d.height_m, position_m[i].z() + radius_m[i] - bottom_m);
+    return d;
+}
+
 double axial_force_through_plane_n(const World& w, double z_m)
 {
     auto above = [&](BodyRef b) { return w.of(b.kind()).x[0][b.index()].z() > z_m; };

@@ -9,6 +9,7 @@
 #include "triaxial/formwork.hpp"
 #include "triaxial/free_standing.hpp"
 
+#include "column_collapse.hpp"
 #include "column_specimens.hpp"
 
 #include <gtest/gtest.h>
@@ -295,4 +296,84 @@ TEST(RadiusProfile, AFilledCylinderHasItsRadiusInEverySlice)
     x.emplace_back(0.5, 0.0, r);
     radius.push_back(r);
     EXPECT_EQ(radius_profile(x, radius, 0.0, 0.1).grains[0], 400u);
+}
+
+// A deposit of known shape: N grains on rings of radii 1…N mm (one per ring)
+// and a tall grain on the axis. The edge that holds f N grains is the
+// ⌈f N⌉-th ring's plus r; the height is the highest grain within it.
+TEST(Deposit, TheRunoutHoldsItsFractionOfTheGrainsAndTheHeightIsWithinIt)
+{
+    const double r = 0.5e-3;
+    std::vector<Vec3> x;
+    std::vector<double> radius;
+    for (int k = 1; k <= 20; ++k) {
+        x.emplace_back(1e-3 * k * std::cos(k), 1e-3 * k * std::sin(k), 0.2 + r);  // bottom plate at z = 0.2
+        radius.push_back(r);
+    }
+    x.emplace_back(0.0, 0.0, 0.2 + 7e-3);
+    radius.push_back(r);
+    x.emplace_back(30e-3, 0.0, 0.2 + 9e-3);  // a grain that flew off, high up
+    radius.push_back(r);
+    const Deposit d = deposit(x, radius, 0.2, 0.9);  // ⌈0.9 · 22⌉ = 20: the 19th ring's edge
+    EXPECT_NEAR(d.runout_radius_m, 19e-3 + r, 1e-12);
+    EXPECT_NEAR(d.max_radius_m, 30e-3 + r, 1e-12);
+    EXPECT_NEAR(d.height_m, 7e-3 + r, 1e-12) << "the flown-off grain is beyond r∞";
+    EXPECT_NEAR(deposit(x, radius, 0.2, 1.0).height_m, 9e-3 + r, 1e-12);
+    EXPECT_EQ(deposit({}, {}, 0.0, 0.9).runout_radius_m, 0.0);
+}
+
+// The collapse of a column without wire (docs/validation.md, "Collapse of a
+// column without wire"): the tests' lattice column, 9 layers in an 8 mm
+// formwork (Hᵢ = 19 mm, Rᵢ = 7.6 mm: a = 2.5, three grain diameters in
+// radius), released at 5 √(g Hᵢ), faster than it falls, as the experiments
+// lift their tube. The published laws (Lube et al. 2004, lube_runout and
+// lube_final_height: at a = 2.5, (r∞ − Rᵢ)/Rᵢ = 2.53 and H∞/Rᵢ = 1.03) are
+// for sand, whose grains slide but do not roll. What a deposit of so few
+// grains can be held to: r∞ and H∞ are edges and tops of grains, so each is
+// known to a grain diameter d, d/Rᵢ = 0.32 of the scaled figures.
+namespace {
+
+/// d/Rᵢ of a collapse: the resolution of its scaled runout and height.
+double resolution(const CollapseOutcome& o) { return 2.0 * grain_radius_m / o.initial_radius_m; }
+
+} // namespace
+
+// The model's spheres (no rolling resistance) roll on the flat plate: the
+// column does not stand, it spreads into a layer one grain high (H∞ = the
+// largest grain diameter, 2r) and runs out far beyond the sand's runout, more
+// than a grain beyond it, and is still moving when the settling ends.
+TEST(ColumnCollapse, WithoutRollingResistanceTheSpheresSpreadIntoOneLayerFarBeyondSandsRunout)
+{
+    const auto r = run_collapse(CollapseCase{});
+    ASSERT_TRUE(r.ok()) << r.error();
+    const CollapseOutcome& o = r.value();
+    const double a = o.aspect_ratio();
+    ASSERT_NEAR(a, 2.5, 0.1);
+    EXPECT_FALSE(o.settling.stands);
+    EXPECT_LE(o.deposit.height_m, 2.0 * grain_radius_m) << "one layer of grains";
+    EXPECT_GT(o.runout(), lube_runout(a) + resolution(o));
+    EXPECT_LT(o.final_height(), lube_final_height(a) - resolution(o));
+}
+
+// Rolling resistance stands for the angular grains' (model §10): grains that
+// hardly roll (μ_r = 0.3) stop short of the sand's runout, grains that roll
+// easily (μ_r = 0.1) run past it, each by more than a grain; the law lies
+// between them. The deposit of the grains that hardly roll comes to rest, its
+// height within a grain of the law's.
+TEST(ColumnCollapse, SandsRunoutLiesBetweenGrainsThatRollEasilyAndHardlyAndItsHeightWithinAGrain)
+{
+    CollapseCase hardly;
+    hardly.rolling_friction_coeff = 0.3;
+    CollapseCase easily;
+    easily.rolling_friction_coeff = 0.1;
+    const auto h = run_collapse(hardly);
+    const auto e = run_collapse(easily);
+    ASSERT_TRUE(h.ok()) << h.error();
+    ASSERT_TRUE(e.ok()) << e.error();
+    const double a = h.value().aspect_ratio();
+    EXPECT_FALSE(h.value().settling.stands);
+    EXPECT_TRUE(h.value().settling.at_rest);
+    EXPECT_LT(h.value().runout() + resolution(h.value()), lube_runout(a));
+    EXPECT_GT(e.value().runout() - resolution(e.value()), lube_runout(a));
+    EXPECT_NEAR(h.value().final_height(), lube_final_height(a), resolution(h.value()));
 }
