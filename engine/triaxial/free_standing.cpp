@@ -428,6 +428,14 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         result.peak_snapshot = std::move(snap);
     };
     if (!st.loading_begun) {
+        // Straight from the settling the plate was just set on the column: its
+        // last row has the plate where the removal left it (above the column,
+        // ε < 0) and the contact forces of that step. One step with the plate
+        // at rest gives the first row its place and its forces. (After a dead
+        // load the plate is on the column already.) On the step count, not on
+        // a flag, so that a test continued from just after it ends the same.
+        if (!result.dead_load && st.steps == st.phase_start_step)
+            if (auto e = advance(nothing)) return Err(*e);
         st.loading_begun = true;
         if (st.last_sample_step == st.steps) { // this step's row belongs to the loading
             result.series.phase.back() = static_cast<std::uint8_t>(FreeStandingPhase::loading);

@@ -269,6 +269,31 @@ TEST(FreeStanding, RejectsSettingsOutOfRangeNamingTheField)
     EXPECT_NE(r.error().find("dead_load.force_n"), std::string::npos) << r.error();
 }
 
+// The compression's first row is taken with the plate set on the column (at
+// h₀: ε = 0) and with that plate's forces, not the settling's last row, taken
+// while the plate was still where the removal had lifted it (ε < 0 by the
+// removal distance over h₀, and the forces of grains that touched it there).
+// The stack stands; the plate is set on its top grain without overlap, and
+// in one step the grain's leftover motion presses it by a trace: σ₁ is
+// below 5 % of the stack's weight over the cross-section (it touches; it
+// does not load).
+TEST(FreeStanding, TheCompressionsFirstRowHasThePlateOnTheColumn)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    const auto r = run_free_standing(sim, lid, quick_settings());
+    ASSERT_TRUE(r.ok()) << r.error();
+    const FreeStandingResult& f = r.value();
+    const std::size_t first = f.loading_start_sample;
+    ASSERT_GT(first, 0u);
+    EXPECT_EQ(f.series.phase[first], static_cast<std::uint8_t>(FreeStandingPhase::loading));
+    EXPECT_EQ(f.series.phase[first - 1], static_cast<std::uint8_t>(FreeStandingPhase::settling));
+    EXPECT_EQ(f.series.axial_strain[first], 0.0);
+    const double weight_stress_pa = f.settling.weight_n / (std::numbers::pi * f.settling.radius_m * f.settling.radius_m);
+    EXPECT_LT(std::abs(f.series.sigma1_pa[first]), 0.05 * weight_stress_pa);
+    EXPECT_GT(f.series.time_s[first], f.series.time_s[first - 1]);
+}
+
 // A radius profile of a filled cylinder of radius R: its grain centres fill
 // a disc of radius R − r uniformly, so ⟨ρ²⟩ = (R − r)²/2 and the equivalent
 // radius √(2⟨ρ²⟩) + r is R (to the sampling of the disc).
