@@ -432,8 +432,9 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         // last row has the plate where the removal left it (above the column,
         // ε < 0) and the contact forces of that step. One step with the plate
         // at rest gives the first row its place and its forces. (After a dead
-        // load the plate is on the column already.) On the step count, not on
-        // a flag, so that a test continued from just after it ends the same.
+        // load the plate is on the column already.) A checkpoint is taken
+        // before a step: continued from the one before this step, the test
+        // takes it (no step of the phase yet); from any later one, not.
         if (!result.dead_load && st.steps == st.phase_start_step)
             if (auto e = advance(nothing)) return Err(*e);
         st.loading_begun = true;

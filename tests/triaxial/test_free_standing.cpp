@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 using namespace wiredem::engine;
 using namespace wiredem::engine::test;
@@ -292,6 +293,45 @@ TEST(FreeStanding, TheCompressionsFirstRowHasThePlateOnTheColumn)
     const double weight_stress_pa = f.settling.weight_n / (std::numbers::pi * f.settling.radius_m * f.settling.radius_m);
     EXPECT_LT(std::abs(f.series.sigma1_pa[first]), 0.05 * weight_stress_pa);
     EXPECT_GT(f.series.time_s[first], f.series.time_s[first - 1]);
+}
+
+// Without a dead load, the compression begins with one step of the plate at
+// rest on the column. A host checkpoints before a step: a test continued
+// from the checkpoint before that step (the plate set, the compression not
+// begun) and from the one after it (its first row taken) ends bit-identically.
+TEST(FreeStanding, ATestContinuedAroundThePlatesFirstStepEndsBitIdentically)
+{
+    Simulation whole(1);
+    const std::size_t top = build_grain_stack(whole, 0.0);
+    const FreeStandingSettings s = quick_settings();
+    std::vector<std::pair<World, FreeStandingDriverState>> saved;
+    FreeStandingContinuation c;
+    c.between_steps = [&](const World& w, const FreeStandingDriverState& st) {
+        if (st.phase == FreeStandingPhase::loading && st.steps <= st.phase_start_step + 1) saved.emplace_back(w, st);
+    };
+    const auto full = run_free_standing(whole, top, s, {}, c);
+    ASSERT_TRUE(full.ok()) << full.error();
+    ASSERT_EQ(saved.size(), 2u);
+    EXPECT_FALSE(saved[0].second.loading_begun);
+    EXPECT_TRUE(saved[1].second.loading_begun);
+    for (std::size_t k = 0; k < saved.size(); ++k) {
+        SCOPED_TRACE("continued from checkpoint " + std::to_string(k));
+        Simulation rest(2);
+        rest.world = saved[k].first;
+        FreeStandingContinuation from;
+        from.from = saved[k].second;
+        const auto r = run_free_standing(rest, top, s, {}, from);
+        ASSERT_TRUE(r.ok()) << r.error();
+        EXPECT_EQ(state_hash(rest.world), state_hash(whole.world));
+        const FreeStandingResult &a = r.value(), &b = full.value();
+        EXPECT_EQ(a.steps, b.steps);
+        EXPECT_EQ(a.loading_start_sample, b.loading_start_sample);
+        ASSERT_EQ(a.series.size(), b.series.size());
+        for (std::size_t i = 0; i < a.series.size(); ++i) {
+            EXPECT_EQ(a.series.axial_strain[i], b.series.axial_strain[i]) << "row " << i;
+            EXPECT_EQ(a.series.sigma1_pa[i], b.series.sigma1_pa[i]) << "row " << i;
+        }
+    }
 }
 
 // A radius profile of a filled cylinder of radius R: its grain centres fill
