@@ -6,7 +6,8 @@ without wire").
 Runs wiredem-collapse (tests/validation/collapse_sweep.cpp: lattice columns
 of one radius and several heights, their formwork removed quickly and
 slowly, with and without rolling resistance), keeps its CSV in
-docs/validation/collapse.csv and plots docs/validation/collapse.png: the
+docs/validation/collapse.csv and plots docs/validation/collapse.png (--name
+changes the files' name: collapse-paper for the paper's 20 mm column): the
 runout (r_inf - R_i)/R_i and the final height H_inf/R_i against the aspect
 ratio a = H_i/R_i, with Lube et al.'s laws (J. Fluid Mech. 508, 2004) beside
 them and a band of one grain diameter over R_i around them (the resolution
@@ -14,7 +15,7 @@ of a column a few grains wide).
 
     python3 scripts/collapse_figure.py [--bin build/release/tests/validation/wiredem-collapse]
         [--radius 0.008] [--layers 3,5,9,13] [--speeds 5,0.05] [--rolling 0,0.1,0.2,0.3]
-        [--csv FILE (plot it, run nothing)]
+        [--name collapse] [--csv FILE (plot it, run nothing)]
 """
 from __future__ import annotations
 
@@ -51,6 +52,7 @@ def main() -> None:
     ap.add_argument("--rolling", default="0,0.1,0.2,0.3")
     ap.add_argument("--csv", help="plot this CSV instead of running the sweep")
     ap.add_argument("--out", default=str(ROOT / "docs/validation"))
+    ap.add_argument("--name", default="collapse", help="the files' name: OUT/NAME.csv and OUT/NAME.png")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -59,7 +61,7 @@ def main() -> None:
     else:
         text = subprocess.run([args.bin, args.radius, args.layers, args.speeds, args.rolling], check=True,
                               capture_output=True, text=True).stdout
-        (out / "collapse.csv").write_text(text)
+        (out / f"{args.name}.csv").write_text(text)
     rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(io.StringIO(text))]
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5.2))
@@ -97,7 +99,7 @@ def main() -> None:
     fig.suptitle(f"Collapse of a column without wire: formwork radius {r0 * 1000:g} mm "
                  f"({r0 / GRAIN_DIAMETER_M:.1f} grain diameters), mu = 0.3; r_inf holds 95 % of the grains; open markers: not at rest at 0.4 s", fontsize=10)
     fig.tight_layout(rect=(0, 0.16, 1, 1))
-    fig.savefig(out / "collapse.png", dpi=120)
+    fig.savefig(out / f"{args.name}.png", dpi=120)
     for r in rows:
         print(f"mu_r = {r['rolling_friction_coeff']:g}, a = {r['aspect_ratio']:.2f} (release {r['release_speed_ratio']:g}): runout {r['runout']:.2f} "
               f"(law {r['lube_runout']:.2f}), height {r['final_height']:.2f} (law {r['lube_final_height']:.2f}), "
