@@ -124,9 +124,10 @@ ProgressShares progress_shares(const WorkEstimate& work)
     // their estimates are not usable: a hostile spec's infinities).
     const double tests_steps = work.tests_total_steps();
     const bool by_steps = std::isfinite(tests_steps) && tests_steps > 0.0;
-    for (const double steps : work.test_steps)
-        s.tests.push_back((ProgressShares::tests_end - s.preparation)
-                          * (by_steps ? steps / tests_steps : 1.0 / static_cast<double>(work.test_steps.size())));
+    const double parts = static_cast<double>(work.test_steps.size()) + (work.free_standing_steps > 0.0 ? 1.0 : 0.0);
+    const auto share = [&](double steps) { return (ProgressShares::tests_end - s.preparation) * (by_steps ? steps / tests_steps : 1.0 / parts); };
+    for (const double steps : work.test_steps) s.tests.push_back(share(steps));
+    if (work.free_standing_steps > 0.0) s.free_standing = share(work.free_standing_steps);
     return s;
 }
 

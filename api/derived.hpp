@@ -84,20 +84,24 @@ struct WorkEstimate {
 /// same whether its stages run in one process (campaign::run) or as jobs of
 /// a cluster (the server's Slurm executor): preparation and tests share
 /// 0–tests_end in proportion to their estimated steps; analysis and writing
-/// the rest.
+/// the rest. The free-standing test (after the triaxial tests) is one more
+/// test of its estimated steps.
 struct ProgressShares {
     static constexpr double tests_end = 0.95;
     double preparation = 0.0;        ///< the preparation's share
     std::vector<double> tests;       ///< each test's share
+    double free_standing = 0.0;      ///< the free-standing test's share (0 when the job has none)
     /// Overall progress from the preparation's fraction, each test's (in
-    /// test order; tests beyond the span count as not begun) and the analysis's.
-    /// Divided by the same sum with every part done, so that a finished
-    /// campaign is at exactly 1 (the shares' sum may round off it).
+    /// test order; tests beyond the span count as not begun), the analysis's
+    /// and the free-standing test's. Divided by the same sum with every part
+    /// done, so that a finished campaign is at exactly 1 (the shares' sum may
+    /// round off it).
     [[nodiscard]] double overall(double preparation_fraction, std::span<const double> test_fractions,
-        double analysis_fraction) const
+        double analysis_fraction, double free_standing_fraction) const
     {
-        double p = preparation * preparation_fraction + (1.0 - tests_end) * analysis_fraction;
-        double whole = preparation + (1.0 - tests_end);
+        double p = preparation * preparation_fraction + (1.0 - tests_end) * analysis_fraction
+                 + free_standing * free_standing_fraction;
+        double whole = preparation + (1.0 - tests_end) + free_standing;
         for (std::size_t k = 0; k < tests.size(); ++k) {
             p += tests[k] * (k < test_fractions.size() ? test_fractions[k] : 0.0);
             whole += tests[k];

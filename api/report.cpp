@@ -102,6 +102,15 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
     }
     data["tests"] = std::move(tests.at("tests"));
     data["series"] = std::move(series);
+    // The free-standing test, as the job page asks for it (renderFreeStanding:
+    // its test reply and the series of freeStandingColumns).
+    data["free_standing"] = nullptr;
+    if (const std::string fs_name(free_standing_group); root.exists(fs_name)) {
+        const io::Group g = root.open_group(fs_name);
+        data["free_standing"] = json::object{
+            {"test", free_standing_json(g, "", spec.value().specimen.wire.segment_length_m)},
+            {"series", series_json(g, fs_name, {"axial_strain", "sigma1_pa", "phase"}, 2000)}};
+    }
     data["wire"] = nullptr;
     if (!names.empty()) {
         const io::Group last = root.open_group("tests/" + names.back());

@@ -1,6 +1,7 @@
 // The offline report: one self-contained HTML file with a job's results
 // (summary, warnings, curves, Mohr circles, the wire's strain and its
-// autocorrelation) that opens in a browser without a server. The data are the
+// autocorrelation, the free-standing test's stress–strain curve, radius
+// profiles and wire tension) that opens in a browser without a server. The data are the
 // result data routes' own shapes (api/result_data.hpp); the drawing code is
 // the web page's (web/src/js/results_view.js and its imports, read from the
 // installed page and inlined). Written by `wiredem report OUT/` and served by

@@ -176,6 +176,74 @@ json::object tests_json(const io::Group& root, const std::string& url_base)
     return json::object{{"tests", std::move(tests)}};
 }
 
+std::vector<std::string> free_standing_series_columns(const io::Group& g)
+{
+    std::vector<std::string> out = series_columns(g);
+    // The series' rows: time_s's (every row has a time).
+    const std::size_t rows = g.exists("time_s") ? g.open_dataset("time_s").shape()[0] : 0;
+    std::erase_if(out, [&](const std::string& c) {
+        return std::find(free_standing_wire_arrays.begin(), free_standing_wire_arrays.end(), c) != free_standing_wire_arrays.end()
+            || g.open_dataset(c).shape()[0] != rows;  // volumetric_strain: not derived for this test
+    });
+    return out;
+}
+
+json::object free_standing_json(const io::Group& g, const std::string& url_base, double l_w)
+{
+    const std::string base = url_base + "/" + std::string(free_standing_group);
+    json::array columns;
+    std::size_t rows = 0;
+    for (const std::string& c : free_standing_series_columns(g)) {
+        const io::Dataset d = g.open_dataset(c);
+        rows = std::max(rows, d.shape()[0]);
+        columns.push_back(json::object{{"name", c}, {"units", units_of(d)}});
+    }
+    const auto numbers = [](const std::vector<double>& v) {
+        json::array a;
+        a.reserve(v.size());
+        for (double x : v) a.push_back(finite_or_null(x));
+        return a;
+    };
+    json::object profiles;
+    for (std::string_view name : free_standing_profiles) {
+        const std::string n(name);
+        if (!g.exists(n)) {
+            profiles[n] = nullptr;
+            continue;
+        }
+        const io::Group p = g.open_group(n);
+        json::array grains;
+        for (std::int64_t k : p.open_dataset("grains").read_int64s()) grains.push_back(k);
+        profiles[n] = json::object{{"height_m", numbers(p.open_dataset("height_m").read_doubles())},
+            {"radius_m", numbers(p.open_dataset("radius_m").read_doubles())}, {"grains", std::move(grains)}};
+    }
+    json::value wire = nullptr;
+    const std::string strain_name(free_standing_wire_arrays[0]), tension_name(free_standing_wire_arrays[1]);
+    if (g.exists(strain_name) && g.exists(tension_name)) {
+        const std::vector<double> strain = g.open_dataset(strain_name).read_doubles();
+        json::array distance;
+        for (std::size_t k = 0; k < strain.size(); ++k) distance.push_back((static_cast<double>(k) + 0.5) * l_w);
+        wire = json::object{{"segment_length_m", l_w}, {"distance_m", std::move(distance)}, {"strain", numbers(strain)},
+            {"tension_n", numbers(g.open_dataset(tension_name).read_doubles())}};
+    }
+    json::array snaps;
+    for (std::size_t k : snapshot_indices(g)) {
+        json::object o = attributes_of(g.open_group("snapshots/" + std::string(snapshot_prefix) + std::to_string(k)));
+        o["index"] = k;
+        o["url"] = base + "/snapshots/" + std::to_string(k);
+        snaps.push_back(std::move(o));
+    }
+    json::value peak = nullptr;
+    if (g.exists(std::string(free_standing_peak_snapshot))) {
+        json::object o = attributes_of(g.open_group(std::string(free_standing_peak_snapshot)));
+        o["url"] = base + "/" + std::string(free_standing_peak_snapshot);
+        peak = std::move(o);
+    }
+    return json::object{{"name", std::string(free_standing_group)}, {"rows", rows}, {"attributes", attributes_of(g)},
+        {"columns", std::move(columns)}, {"profiles", std::move(profiles)}, {"wire_at_peak", std::move(wire)},
+        {"snapshots", std::move(snaps)}, {"peak_snapshot", std::move(peak)}, {"series_url", base + "/series"}};
+}
+
 json::object series_json(const io::Group& t, const std::string& name, const std::vector<std::string>& columns,
     std::size_t max_points)
 {

@@ -11,6 +11,7 @@
 
 #include <boost/json/object.hpp>
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -75,6 +76,37 @@ struct SeriesColumn {
 /// a wire's segment strains with its first local and first prominent maximum
 /// (engine/analysis/autocorrelation.hpp); error (and empty lists) when there is none.
 [[nodiscard]] boost::json::object wire_autocorrelation_json(std::span<const double> segment_strain, double segment_length_m);
+
+/// The group of result.h5 (and of the runner's tests/free_standing.h5) that
+/// holds the free-standing test (docs/results.md, campaign/files.hpp writes it).
+inline constexpr std::string_view free_standing_group = "free_standing";
+
+/// The free-standing group's per-segment datasets (the wire at the largest
+/// σ₁): 1-D like its series columns, but not of the series' length.
+inline constexpr std::array<std::string_view, 2> free_standing_wire_arrays{"wire_strain_at_peak", "wire_tension_at_peak_n"};
+
+/// Its radius profiles (subgroups of height_m, radius_m, grains per slice):
+/// before the removal, settled, at the largest σ₁, at the end.
+inline constexpr std::array<std::string_view, 4> free_standing_profiles{
+    "profile_before", "profile_settled", "profile_at_peak", "profile_at_end"};
+
+/// Its peak snapshot's subgroup (the force network at the largest σ₁).
+inline constexpr std::string_view free_standing_peak_snapshot = "peak_snapshot";
+
+/// The free-standing group's time-series columns: its 1-D numeric datasets
+/// of the length of its time_s but the wire's per-segment arrays (the
+/// triaxial record's volumetric_strain is left empty by this test).
+[[nodiscard]] std::vector<std::string> free_standing_series_columns(const engine::io::Group& g);
+
+/// The free-standing test of a group as the routes give it: {name
+/// ("free_standing"), rows, attributes (the settling, dead load and
+/// compression readings as stored), columns: [{name, units}], profiles:
+/// {profile_before: {height_m, radius_m, grains} | null, …}, wire_at_peak:
+/// {segment_length_m, distance_m ((k + ½) l_w of segment k), strain,
+/// tension_n} | null, snapshots: [{…attributes, index, url}], peak_snapshot:
+/// {…attributes, url} | null, series_url}; urls under url_base ("/v1/jobs/{id}").
+[[nodiscard]] boost::json::object free_standing_json(
+    const engine::io::Group& g, const std::string& url_base, double segment_length_m);
 
 /// Rows kept when a series of `rows` rows is thinned to at most `max_points`
 /// (≥ 2): evenly spaced, the first and the last always among them; every row

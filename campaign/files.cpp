@@ -483,8 +483,8 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     g.write_double_attribute("base_force_tolerance_n", s.base_force_tolerance_n);
     g.write_int_attribute("stands", s.stands ? 1 : 0);
     g.write_double_attribute("max_removal_kinetic_energy_j", s.max_removal_kinetic_energy_j);
-    write_profile(g.create_group("profile_before"), s.profile_before);
-    write_profile(g.create_group("profile_settled"), s.profile);
+    write_profile(g.create_group(std::string(api::free_standing_profiles[0])), s.profile_before);
+    write_profile(g.create_group(std::string(api::free_standing_profiles[1])), s.profile);
     if (r.dead_load) {
         const eng::DeadLoadReading& d = *r.dead_load;
         g.write_double_attribute("dead_load_n", d.force_n);
@@ -501,10 +501,10 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
         g.write_double_attribute("max_sigma1_pa", c.max_sigma1_pa);
         g.write_int_attribute("max_sigma1_sample", static_cast<std::int64_t>(c.max_sigma1_sample));
         g.write_int_attribute("failed", c.failed ? 1 : 0);
-        write_profile(g.create_group("profile_at_peak"), c.profile_at_peak);
-        write_profile(g.create_group("profile_at_end"), c.profile_at_end);
-        units(g.write_dataset("wire_strain_at_peak", std::span<const double>(c.wire_strain_at_peak)), "1");
-        units(g.write_dataset("wire_tension_at_peak_n", std::span<const double>(c.wire_tension_at_peak_n)), "N");
+        write_profile(g.create_group(std::string(api::free_standing_profiles[2])), c.profile_at_peak);
+        write_profile(g.create_group(std::string(api::free_standing_profiles[3])), c.profile_at_end);
+        units(g.write_dataset(std::string(api::free_standing_wire_arrays[0]), std::span<const double>(c.wire_strain_at_peak)), "1");
+        units(g.write_dataset(std::string(api::free_standing_wire_arrays[1]), std::span<const double>(c.wire_tension_at_peak_n)), "N");
     }
     g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(r.loading_start_sample));
     g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
@@ -522,7 +522,7 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     write_series(g, r.series, free_standing_phase_units);
     write_snapshots(g, r.snapshots);
     write_wire_breaks(g, r.wire_breaks);
-    if (r.peak_snapshot) write_snapshot(g.create_group("peak_snapshot"), *r.peak_snapshot);
+    if (r.peak_snapshot) write_snapshot(g.create_group(std::string(api::free_standing_peak_snapshot)), *r.peak_snapshot);
 }
 
 eng::FreeStandingResult read_free_standing_result(const io::Group& g)
@@ -542,8 +542,8 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     s.base_force_tolerance_n = g.read_double_attribute("base_force_tolerance_n");
     s.stands = g.read_int_attribute("stands") != 0;
     s.max_removal_kinetic_energy_j = g.read_double_attribute("max_removal_kinetic_energy_j");
-    s.profile_before = read_profile(g.open_group("profile_before"));
-    s.profile = read_profile(g.open_group("profile_settled"));
+    s.profile_before = read_profile(g.open_group(std::string(api::free_standing_profiles[0])));
+    s.profile = read_profile(g.open_group(std::string(api::free_standing_profiles[1])));
     if (g.has_attribute("dead_load_n")) {
         eng::DeadLoadReading d;
         d.force_n = g.read_double_attribute("dead_load_n");
@@ -561,10 +561,10 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
         c.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
         c.max_sigma1_sample = read_index(g, "max_sigma1_sample");
         c.failed = g.read_int_attribute("failed") != 0;
-        c.profile_at_peak = read_profile(g.open_group("profile_at_peak"));
-        c.profile_at_end = read_profile(g.open_group("profile_at_end"));
-        c.wire_strain_at_peak = read_doubles(g, "wire_strain_at_peak");
-        c.wire_tension_at_peak_n = read_doubles(g, "wire_tension_at_peak_n");
+        c.profile_at_peak = read_profile(g.open_group(std::string(api::free_standing_profiles[2])));
+        c.profile_at_end = read_profile(g.open_group(std::string(api::free_standing_profiles[3])));
+        c.wire_strain_at_peak = read_doubles(g, std::string(api::free_standing_wire_arrays[0]));
+        c.wire_tension_at_peak_n = read_doubles(g, std::string(api::free_standing_wire_arrays[1]));
         r.compression = std::move(c);
     }
     r.loading_start_sample = read_index(g, "loading_start_sample");
@@ -585,7 +585,7 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     if (r.loading_start_sample >= rows || (r.compression && r.compression->strength.index >= rows))
         throw std::runtime_error(g.path() + ": a row index is past the series");
     r.snapshots = read_snapshots(g);
-    if (g.exists("peak_snapshot")) r.peak_snapshot = read_snapshot(g.open_group("peak_snapshot"));
+    if (const std::string peak(api::free_standing_peak_snapshot); g.exists(peak)) r.peak_snapshot = read_snapshot(g.open_group(peak));
     return r;
 }
 

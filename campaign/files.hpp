@@ -57,7 +57,7 @@ struct JobDir {
 };
 
 /// The group of free_standing.h5, and of result.h5, that holds the free-standing test.
-inline constexpr const char* free_standing_group = "free_standing";
+inline constexpr const char* free_standing_group = api::free_standing_group.data();
 
 /// The group of test_K.h5 that holds the test's record.
 inline constexpr const char* test_file_group = "test";

@@ -944,12 +944,16 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     // before its time limit (never run).
     std::vector<double> done(n_tests, 1.0);  // fraction of each test
     double prep_done = 0.0;                  // fraction of the preparation
+    // Fraction of the free-standing test (1 when the job has none or it ran before).
+    std::error_code fs_ec;
+    double free_standing_done = spec.free_standing.enabled && !std::filesystem::exists(dir.free_standing(), fs_ec) ? 0.0 : 1.0;
     double steps_run = 0.0;
     bool testing = false;  // the tests have begun
     const auto report_work = [&] {  // under report_mutex
         if (!control.work) return;
         double left = (1.0 - prep_done) * work.preparation_steps;
         for (std::size_t k = 0; k < n_tests; ++k) left += (1.0 - done[k]) * work.test_steps[k];
+        left += (1.0 - free_standing_done) * work.free_standing_steps;
         control.work(WorkSteps{steps_run, left, testing});
     };
 
@@ -959,7 +963,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
         steps_run += std::max(0.0, f - prep_done) * work.preparation_steps;
         prep_done = f;
         report_work();
-        report(control, stage, shares.overall(f, {}, 0.0), m);
+        report(control, stage, shares.overall(f, {}, 0.0, 0.0), m);
     };
     if (auto e = prepare(spec, dir, prep_control)) return e;
     prep_done = 1.0;  // prepared now, or by an earlier run (then it reported nothing)
@@ -1015,7 +1019,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
                     // Never back: a test continued on more threads reports 0 as it restarts.
                     done[k] = std::max(done[k], f);
                     report_work();
-                    report(control, stage, shares.overall(1.0, done, 0.0), m);
+                    report(control, stage, shares.overall(1.0, done, 0.0, 0.0), m);
                 };
                 errors[k] = run_test(dir, k, tc);
                 std::lock_guard lock(schedule_mutex);
@@ -1074,13 +1078,17 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     for (const StageError& e : errors)
         if (e) return e;
     if (control.cancel && control.cancel->load()) return std::string("cancelled");
-    // The free-standing test, after the triaxial tests, on every thread (its
-    // progress stays at the tests' end: ProgressShares has no share for it yet).
+    // The free-standing test, after the triaxial tests, on every thread: its
+    // share of the progress and of the work left, as a test's.
     {
         StageControl fc = control;
-        fc.progress = [&](const char* stage, double, const std::string& m) {
+        fc.progress = [&](const char* stage, double f, const std::string& m) {
             std::lock_guard lock(report_mutex);
-            report(control, stage, shares.overall(1.0, done, 0.0), m);
+            testing = true;
+            steps_run += std::max(0.0, f - free_standing_done) * work.free_standing_steps;
+            free_standing_done = std::max(free_standing_done, f);
+            report_work();
+            report(control, stage, shares.overall(1.0, done, 0.0, free_standing_done), m);
         };
         if (auto e = run_free_standing_test(dir, fc)) return e;
     }
@@ -1089,7 +1097,7 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     analysis_control.progress = [&](const char* stage, double f, const std::string& m) {
         std::lock_guard lock(report_mutex);
         report_work();  // nothing left to step
-        report(control, stage, shares.overall(1.0, std::vector<double>(n_tests, 1.0), f), m);
+        report(control, stage, shares.overall(1.0, std::vector<double>(n_tests, 1.0), f, 1.0), m);
     };
     return analyse(dir, analysis_control);
 }

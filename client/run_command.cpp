@@ -230,7 +230,11 @@ int test_main(const std::filesystem::path& dir, std::optional<std::size_t> index
 
 int analyse_main(const std::filesystem::path& dir, const StageOptions& options)
 {
-    return run_stage(options.json_progress, options.control(), [&](const campaign::StageControl& c) {
+    // The free-standing test (when the job has one and it has not run) comes
+    // first: it needs every thread, after the triaxial tests, as in `wiredem
+    // run`; a cluster's analysis job runs it (docs/studies.md).
+    return run_stage(options.json_progress, options.control(), [&](const campaign::StageControl& c) -> campaign::StageError {
+        if (auto e = campaign::run_free_standing_test(campaign::JobDir{dir}, c)) return e;
         return campaign::analyse(campaign::JobDir{dir}, c);
     });
 }

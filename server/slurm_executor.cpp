@@ -110,7 +110,8 @@ LiveProgress slurm_progress(const std::vector<SlurmUnit>& units, const SlurmFile
         }
     }
     LiveProgress p;
-    p.progress = shares.overall(fraction[0], std::span<const double>(fraction).subspan(1, tests), fraction.back());
+    // The analysis unit runs the free-standing test first (`wiredem analyse`): its fraction stands for both.
+    p.progress = shares.overall(fraction[0], std::span<const double>(fraction).subspan(1, tests), fraction.back(), fraction.back());
     if (units[0].state != S::succeeded) {
         p.state = JobState::preparing;
         p.stage = "preparing";

@@ -149,6 +149,24 @@ RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vec
     return p;
 }
 
+Deposit deposit(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m, double fraction)
+{
+    Deposit d;
+    if (position_m.empty()) return d;
+    std::vector<double> edge(position_m.size());
+    for (std::size_t i = 0; i < position_m.size(); ++i) edge[i] = std::hypot(position_m[i].x(), position_m[i].y()) + radius_m[i];
+    std::vector<double> sorted = edge;
+    std::sort(sorted.begin(), sorted.end());
+    // The ⌈f N⌉-th smallest edge: the smallest radius that holds f N of them.
+    const auto n = static_cast<double>(sorted.size());
+    const auto k = static_cast<std::size_t>(std::clamp(std::ceil(fraction * n), 1.0, n)) - 1;
+    d.runout_radius_m = sorted[k];
+    d.max_radius_m = sorted.back();
+    for (std::size_t i = 0; i < position_m.size(); ++i)
+        if (edge[i] <= d.runout_radius_m) d.height_m = std::max(d.height_m, position_m[i].z() + radius_m[i] - bottom_m);
+    return d;
+}
+
 double axial_force_through_plane_n(const World& w, double z_m)
 {
     auto above = [&](BodyRef b) { return w.of(b.kind()).x[0][b.index()].z() > z_m; };
@@ -428,6 +446,15 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         result.peak_snapshot = std::move(snap);
     };
     if (!st.loading_begun) {
+        // Straight from the settling the plate was just set on the column: its
+        // last row has the plate where the removal left it (above the column,
+        // ε < 0) and the contact forces of that step. One step with the plate
+        // at rest gives the first row its place and its forces. (After a dead
+        // load the plate is on the column already.) A checkpoint is taken
+        // before a step: continued from the one before this step, the test
+        // takes it (no step of the phase yet); from any later one, not.
+        if (!result.dead_load && st.steps == st.phase_start_step)
+            if (auto e = advance(nothing)) return Err(*e);
         st.loading_begun = true;
         if (st.last_sample_step == st.steps) { // this step's row belongs to the loading
             result.series.phase.back() = static_cast<std::uint8_t>(FreeStandingPhase::loading);

@@ -139,6 +139,26 @@ struct RadiusProfile {
 [[nodiscard]] RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
     double bottom_m, double escape_distance_m);
 
+/// The deposit of a column that collapsed, measured as the experiments on
+/// axisymmetric granular collapse measure theirs (Lube et al., J. Fluid
+/// Mech. 508, 2004; Lajeunesse et al., Phys. Fluids 16, 2004): its runout
+/// radius r∞ and its final height H∞ (docs/validation.md, "Collapse of a
+/// column without wire").
+struct Deposit {
+    /// r∞: the smallest radius about the axis that holds the outer edges
+    /// (ρ + r) of `fraction` of the grains: the edge of the continuous
+    /// deposit, without the few grains that rolled away from it [m].
+    double runout_radius_m = 0.0;
+    double max_radius_m = 0.0;  ///< the outermost grain edge from the axis [m]
+    /// H∞: the top of the highest grain within r∞ of the axis above the bottom plate [m].
+    double height_m = 0.0;
+};
+
+/// The deposit of grains at `position_m` with radii `radius_m` on a bottom
+/// plate at `bottom_m`; `fraction` in (0, 1]. All zero without grains.
+[[nodiscard]] Deposit deposit(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m,
+    double fraction);
+
 /// The vertical force the part of the system above the plane z = `z_m`
 /// receives from the part below it through contacts and wire bonds (springs
 /// and joints), > 0 pushing up [N]: every interaction with members on both

@@ -145,14 +145,18 @@ std::variant<SeriesQuery, Response> series_query(
     return out;
 }
 
-/// GET …/tests/{test}/series of a succeeded job, from result.h5.
-Response series(const Request& req, const io::Group& t, const std::string& name, const Query& q)
+/// GET …/tests/{test}/series of a succeeded job, from result.h5, or
+/// …/free_standing/series from a file that holds the test; `available`: the
+/// group's series columns (all of them when the query names none).
+Response series(const Request& req, const io::Group& t, const std::string& name, const std::vector<std::string>& available,
+    const Query& q, const json::object& extra = {})
 {
-    auto parsed = series_query(req, name, api::series_columns(t), q);
+    auto parsed = series_query(req, name, available, q);
     if (auto* res = std::get_if<Response>(&parsed)) return std::move(*res);
     const auto& sq = std::get<SeriesQuery>(parsed);
-    json::object body = api::series_json(t, name, sq.columns, sq.max_points);
+    json::object body = api::series_json(t, name, sq.columns.empty() ? available : sq.columns, sq.max_points);
     body["partial"] = false;
+    for (const auto& [key, value] : extra) body[key] = value;
     return json_response(req, http::status::ok, body);
 }
 
@@ -222,6 +226,92 @@ Response wire_autocorrelation(const Request& req, const io::Group& snap, const s
         req, http::status::ok, api::wire_autocorrelation_json(strain, stored_spec(spec_json).specimen.wire.segment_length_m));
 }
 
+/// GET of a snapshot group (`array` null) or of one of its arrays or its wire
+/// autocorrelation; `index` null for the free-standing test's peak snapshot.
+Response snapshot(const Request& req, const io::Group& snap, const std::string& test, std::optional<std::size_t> index,
+    const std::string& where, const std::string& url, const std::string* array, const std::string& spec_json)
+{
+    if (!array)
+        return json_response(req, http::status::ok,
+            json::object{{"test", test}, {"index", index ? json::value(*index) : json::value(nullptr)},
+                {"attributes", api::attributes_of(snap)}, {"arrays", api::arrays_of(snap, url)},
+                {"wire_autocorrelation_url", url + "/wire_autocorrelation"}});
+    if (*array == "wire_autocorrelation") return wire_autocorrelation(req, snap, where, spec_json);
+    return array_response(req, snap, *array, where);
+}
+
+/// The free-standing test's routes on a group that holds it (result.h5's, or
+/// the runner's tests/free_standing.h5 of a running job: the same layout):
+/// …/free_standing, …/free_standing/series, …/free_standing/snapshots/{k}[/…],
+/// …/free_standing/peak_snapshot[/…]; seg[4…] past "free_standing".
+/// `extra`: fields added to the test's and its series' replies (a running job's state).
+Response free_standing_routes(const Request& req, const std::vector<std::string>& seg, const Query& q, const io::Group& g,
+    const std::string& base, const std::string& spec_json, const json::object& extra = {})
+{
+    const std::string name(api::free_standing_group);
+    const bool is_series = seg.size() == 5 && seg[4] == "series";
+    if (!is_series)
+        if (auto bad = q.check({})) return bad_parameter(req, bad->second, bad->first);
+    if (seg.size() == 4) {
+        json::object body = api::free_standing_json(g, base, stored_spec(spec_json).specimen.wire.segment_length_m);
+        body["partial"] = false;
+        for (const auto& [key, value] : extra) body[key] = value;
+        return json_response(req, http::status::ok, body);
+    }
+    if (is_series) return series(req, g, name, api::free_standing_series_columns(g), q, extra);
+    const std::string url_base = base + "/" + name;
+    if (seg[4] == api::free_standing_peak_snapshot && seg.size() <= 6) {
+        const std::string peak(api::free_standing_peak_snapshot);
+        if (!g.exists(peak)) return not_found(req, "the free-standing test has no peak snapshot (no compression)");
+        return snapshot(req, g.open_group(peak), name, std::nullopt, "the free-standing test's peak snapshot",
+            url_base + "/" + peak, seg.size() == 5 ? nullptr : &seg[5], spec_json);
+    }
+    if (seg[4] != "snapshots" || seg.size() < 6 || seg.size() > 7) return not_found(req, "no such route");
+    const std::vector<std::size_t> ks = api::snapshot_indices(g);
+    std::size_t k = 0;
+    auto [p, ec] = std::from_chars(seg[5].data(), seg[5].data() + seg[5].size(), k);
+    if (seg[5].empty() || ec != std::errc() || p != seg[5].data() + seg[5].size() || std::find(ks.begin(), ks.end(), k) == ks.end())
+        return not_found(req, "the free-standing test has no snapshot '" + seg[5] + "'");
+    const io::Group snap = g.open_group("snapshots/" + std::string(api::snapshot_prefix) + std::to_string(k));
+    return snapshot(req, snap, name, k, "snapshot " + std::to_string(k) + " of the free-standing test",
+        url_base + "/snapshots/" + std::to_string(k), seg.size() == 6 ? nullptr : &seg[6], spec_json);
+}
+
+/// …/free_standing and …/free_standing/series of a job that prepares or
+/// runs: from the runner's tests/free_standing.h5 once the test has finished
+/// (the same reply as after the job, but marked with its state); before,
+/// its state (waiting: not begun; running: its stage holds its lock) and no
+/// rows (the test keeps no checkpoint: its rows come when it ends). 409 for
+/// its snapshots until the job has succeeded.
+Response live_free_standing(const Request& req, const std::vector<std::string>& seg, const Query& q, Services& svc, const JobRecord& r)
+{
+    const campaign::JobDir dir{attempt_output_dir(svc.config.data_dir, r.id)};
+    const std::string base = "/v1/jobs/" + r.id;
+    const std::string name(api::free_standing_group);
+    std::error_code ec;
+    if (std::filesystem::exists(dir.free_standing(), ec)) {
+        // Written whole by a rename: once it is there, it reads.
+        const io::File f = io::File::open_read_only(dir.free_standing());
+        return free_standing_routes(req, seg, q, f.root().open_group(name), base, r.spec_json, json::object{{"state", "finished"}});
+    }
+    const bool running = std::filesystem::exists(dir.free_standing_lock(), ec);
+    const char* state = running ? "running" : "waiting";
+    if (seg.size() == 4) {
+        if (auto bad = q.check({})) return bad_parameter(req, bad->second, bad->first);
+        return json_response(req, http::status::ok,
+            json::object{{"name", name}, {"state", state}, {"partial", true}, {"rows", 0}, {"attributes", json::object()},
+                {"columns", json::array()}, {"profiles", nullptr}, {"wire_at_peak", nullptr}, {"snapshots", json::array()},
+                {"peak_snapshot", nullptr}, {"series_url", base + "/" + name + "/series"}});
+    }
+    auto parsed = series_query(req, name, {}, q);
+    if (auto* res = std::get_if<Response>(&parsed)) return std::move(*res);
+    json::object body = api::series_json(name, std::vector<api::SeriesColumn>{}, std::get<SeriesQuery>(parsed).max_points);
+    body["partial"] = true;
+    body["state"] = state;
+    body["reached"] = nullptr;
+    return json_response(req, http::status::ok, body);
+}
+
 /// result.xdmf: small XML, read whole.
 Response xdmf(const Request& req, const std::filesystem::path& data_dir, const std::string& id)
 {
@@ -244,7 +334,7 @@ Response xdmf(const Request& req, const std::filesystem::path& data_dir, const s
 bool is_result_data_route(std::string_view fourth_segment) noexcept
 {
     return fourth_segment == "tests" || fourth_segment == "specimen" || fourth_segment == "result.xdmf"
-        || fourth_segment == "report.html";
+        || fourth_segment == "report.html" || fourth_segment == api::free_standing_group;
 }
 
 Response handle_result_data(const Request& req, const std::vector<std::string>& seg, const QueryParams& params, Services& svc)
@@ -254,8 +344,14 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const auto r = svc.store.get(id);
     if (!r) return not_found(req, "no job " + id);
     const bool is_tests = seg[3] == "tests" && (seg.size() == 4 || (seg.size() == 6 && seg[5] == "series"));
+    const bool is_free_standing = seg[3] == api::free_standing_group;
+    if (is_free_standing && !stored_spec(r->spec_json).free_standing.enabled)
+        return not_found(req, "job " + id + " has no free-standing test (free_standing.enabled is false)");
+    const bool is_free_standing_live = is_free_standing && (seg.size() == 4 || (seg.size() == 5 && seg[4] == "series"));
     if (r->state != JobState::succeeded) {
         if (is_tests && (r->state == JobState::preparing || r->state == JobState::running)) return live_data(req, seg, q, svc, *r);
+        if (is_free_standing_live && (r->state == JobState::preparing || r->state == JobState::running))
+            return live_free_standing(req, seg, q, svc, *r);
         return error_response(req, http::status::conflict, "not_succeeded",
             "job " + id + " is " + std::string(to_string(r->state))
                 + "; results exist only once it has succeeded (the tests and their series also while it runs)", "id");
@@ -263,8 +359,9 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const std::filesystem::path dir = svc.config.data_dir / "jobs" / id;
     const std::string base = "/v1/jobs/" + id;
 
-    // Only the series route takes query parameters.
-    const bool is_series = seg.size() == 6 && seg[3] == "tests" && seg[5] == "series";
+    // Only the series routes take query parameters.
+    const bool is_series = (seg.size() == 6 && seg[3] == "tests" && seg[5] == "series")
+                        || (seg.size() == 5 && is_free_standing && seg[4] == "series");
     if (!is_series)
         if (auto bad = q.check({})) return bad_parameter(req, bad->second, bad->first);
 
@@ -295,6 +392,13 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const io::File file = io::File::open_read_only(h5);
     const io::Group root = file.root();
 
+    if (is_free_standing) {
+        if (!root.exists(std::string(api::free_standing_group)))
+            return error_response(req, http::status::internal_server_error, "internal",
+                "result of job " + id + " has no free-standing test though its job asked for one");
+        return free_standing_routes(req, seg, q, root.open_group(std::string(api::free_standing_group)), base, r->spec_json);
+    }
+
     if (seg[3] == "specimen") {
         if (!root.exists("specimen")) return not_found(req, "the result holds no specimen");
         const io::Group s = root.open_group("specimen");
@@ -316,7 +420,7 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     if (std::find(names.begin(), names.end(), test) == names.end())
         return not_found(req, "the result has no test '" + test + "'");
     const io::Group t = root.open_group("tests/" + test);
-    if (seg.size() == 6 && seg[5] == "series") return series(req, t, test, q);
+    if (seg.size() == 6 && seg[5] == "series") return series(req, t, test, api::series_columns(t), q);
     if (seg.size() < 7 || seg.size() > 8 || seg[5] != "snapshots") return not_found(req, "no such route");
     const std::vector<std::size_t> ks = api::snapshot_indices(t);
     std::size_t k = 0;
@@ -326,12 +430,7 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const io::Group snap = t.open_group(api::snapshot_path(k));
     const std::string where = "snapshot " + std::to_string(k) + " of " + test;
     const std::string url = base + "/tests/" + test + "/snapshots/" + std::to_string(k);
-    if (seg.size() == 7)
-        return json_response(req, http::status::ok,
-            json::object{{"test", test}, {"index", k}, {"attributes", api::attributes_of(snap)}, {"arrays", api::arrays_of(snap, url)},
-                {"wire_autocorrelation_url", url + "/wire_autocorrelation"}});
-    if (seg[7] == "wire_autocorrelation") return wire_autocorrelation(req, snap, where, r->spec_json);
-    return array_response(req, snap, seg[7], where);
+    return snapshot(req, snap, test, k, where, url, seg.size() == 7 ? nullptr : &seg[7], r->spec_json);
 }
 
 } // namespace wiredem::server
@@ -446,6 +545,98 @@ const boost::json::object& result_data_openapi_paths()
         }
       }
     },
+    "/v1/jobs/{id}/free_standing": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The free-standing test (a job with free_standing.enabled; docs/model.md, \"The free-standing test\"): its readings as stored (settling, dead load, compression: attributes), its time-series columns, the radius profiles (radius against height before the removal, settled, at the largest sigma1, at the end), the wire's segment strain and tension along its length at the largest sigma1, its snapshots; while the job prepares or runs, its state (rows only once it has finished: it keeps no checkpoint)",
+        "responses": {
+          "200": {"description": "The test", "content": {"application/json": {"schema": {"type": "object",
+            "required": ["name", "partial", "rows", "attributes", "columns", "profiles", "wire_at_peak", "snapshots", "peak_snapshot", "series_url"],
+            "properties": {"name": {"type": "string", "enum": ["free_standing"]}, "rows": {"type": "integer"},
+              "partial": {"type": "boolean", "description": "true while the job prepares or runs and the test has not finished"},
+              "state": {"type": "string", "enum": ["waiting", "running", "finished"], "description": "while the job runs only"},
+              "attributes": {"type": "object", "description": "result.h5 /free_standing's attributes (docs/results.md)"},
+              "columns": {"type": "array", "items": {"type": "object", "properties": {"name": {"type": "string"}, "units": {"type": "string", "nullable": true}}}},
+              "profiles": {"type": "object", "nullable": true, "description": "profile_before, profile_settled, profile_at_peak, profile_at_end (null: not reached)",
+                "additionalProperties": {"$ref": "#/components/schemas/RadiusProfile"}},
+              "wire_at_peak": {"type": "object", "nullable": true, "description": "per segment at the largest sigma1 (null without a compression)",
+                "required": ["segment_length_m", "distance_m", "strain", "tension_n"],
+                "properties": {"segment_length_m": {"type": "number"}, "distance_m": {"type": "array", "items": {"type": "number"}, "description": "(k + 1/2) l_w of segment k"},
+                  "strain": {"type": "array", "items": {"type": "number", "nullable": true}}, "tension_n": {"type": "array", "items": {"type": "number", "nullable": true}}}},
+              "snapshots": {"type": "array", "items": {"type": "object", "properties": {"index": {"type": "integer"}, "url": {"type": "string"},
+                "requested_axial_strain": {"type": "number"}, "axial_strain": {"type": "number"}, "time_s": {"type": "number"}}}},
+              "peak_snapshot": {"type": "object", "nullable": true, "description": "the snapshot at the largest sigma1 (force network there): attributes and url"},
+              "series_url": {"type": "string"}}}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/free_standing/series": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"},
+        {"name": "max_points", "in": "query", "description": "at most this many rows, evenly spaced, the first and last among them (default: every row)",
+         "schema": {"type": "integer", "minimum": 2, "maximum": 1000000}},
+        {"name": "columns", "in": "query", "description": "comma-separated column names (default: every column)", "schema": {"type": "string", "example": "axial_strain,sigma1_pa,phase"}}],
+      "get": {
+        "summary": "The free-standing test's time series (phase 0 removal, 1 settling, 2 dead_load, 3 loading; sigma1_pa = F_top / (pi r0^2)), as a test's series route gives it; empty (partial) until the test has finished",
+        "responses": {
+          "200": {"description": "Columns of equal length, as /tests/{test}/series", "content": {"application/json": {"schema": {"type": "object",
+            "required": ["test", "rows", "returned_rows", "row_index", "units", "columns", "partial"],
+            "properties": {"test": {"type": "string"}, "rows": {"type": "integer"}, "partial": {"type": "boolean"},
+              "state": {"type": "string", "enum": ["waiting", "running", "finished"]}, "reached": {"$ref": "#/components/schemas/Reached"},
+              "returned_rows": {"type": "integer"}, "row_index": {"type": "array", "items": {"type": "integer"}},
+              "units": {"type": "object", "additionalProperties": {"type": "string"}},
+              "columns": {"type": "object", "additionalProperties": {"type": "array", "items": {"type": "number", "nullable": true}}}}}}}},
+          "400": {"$ref": "#/components/responses/Error"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/free_standing/snapshots/{k}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Snapshot"}],
+      "get": {
+        "summary": "A snapshot of the free-standing test's compression, laid out as a test's",
+        "responses": {
+          "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/free_standing/snapshots/{k}/{array}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Snapshot"}, {"$ref": "#/components/parameters/Array"}],
+      "get": {
+        "summary": "One array of a free-standing snapshot, binary (wire_autocorrelation: JSON, as a test's)",
+        "responses": {
+          "200": {"$ref": "#/components/responses/BinaryArray"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/free_standing/peak_snapshot": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}],
+      "get": {
+        "summary": "The free-standing test's snapshot at the largest sigma1 (the force network at the peak)",
+        "responses": {
+          "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
+    "/v1/jobs/{id}/free_standing/peak_snapshot/{array}": {
+      "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Array"}],
+      "get": {
+        "summary": "One array of the peak snapshot, binary",
+        "responses": {
+          "200": {"$ref": "#/components/responses/BinaryArray"},
+          "404": {"$ref": "#/components/responses/Error"},
+          "409": {"$ref": "#/components/responses/Error"}
+        }
+      }
+    },
     "/v1/jobs/{id}/report.html": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}],
       "get": {
@@ -486,6 +677,9 @@ const boost::json::object& result_data_openapi_components()
         "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}}}
     },
     "schemas": {
+      "RadiusProfile": {"type": "object", "nullable": true, "description": "the standing grains' equivalent radius in horizontal slices of a mean grain diameter (engine::radius_profile)",
+        "required": ["height_m", "radius_m", "grains"], "properties": {"height_m": {"type": "array", "items": {"type": "number"}},
+          "radius_m": {"type": "array", "items": {"type": "number"}}, "grains": {"type": "array", "items": {"type": "integer"}}}},
       "Reached": {"type": "object", "nullable": true, "description": "how far a test of a running job has come: its last recorded row (null before the first; while the job runs only)",
         "properties": {"rows": {"type": "integer"}, "time_s": {"type": "number"}, "axial_strain": {"type": "number"}}},
       "ArrayGroup": {"type": "object", "required": ["attributes", "arrays"], "properties": {

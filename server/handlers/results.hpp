@@ -9,6 +9,9 @@
 //   GET /v1/jobs/{id}/tests/{test}/snapshots/{k}             a snapshot's figures and arrays
 //   GET /v1/jobs/{id}/tests/{test}/snapshots/{k}/{array}     one array (binary)
 //   GET /v1/jobs/{id}/tests/{test}/snapshots/{k}/wire_autocorrelation
+//   GET /v1/jobs/{id}/free_standing                          the free-standing test: readings, columns, profiles, wire at the peak
+//   GET /v1/jobs/{id}/free_standing/series?max_points=&columns=  its time series (JSON)
+//   GET /v1/jobs/{id}/free_standing/{snapshots/{k}|peak_snapshot}[/{array}]  its snapshots
 //   GET /v1/jobs/{id}/result.xdmf                            the ParaView sidecar
 //   GET /v1/jobs/{id}/report.html                            the offline report (api/report.hpp)
 //
@@ -18,8 +21,10 @@
 // While a job prepares or runs, /tests and /tests/{test}/series answer from
 // the runner's per-test files instead (campaign::read_test_so_far: a
 // finished test's file, a running test's last checkpoint), marked partial,
-// with how far each test has reached; the other routes are 409 until the
-// job has succeeded.
+// with how far each test has reached; so do /free_standing and its series
+// (from the runner's tests/free_standing.h5 once the test has finished,
+// before that its state); the other routes are 409 until the job has
+// succeeded. A job without a free-standing test has no /free_standing (404).
 // Arrays are little-endian float32 (positions, forces, strains, radii) or int32
 // (indices), row-major, with the shape in `X-Wiredem-Shape: N,3` and the type in
 // `X-Wiredem-Dtype`: what a WebGL buffer takes without conversion.
@@ -44,7 +49,7 @@ namespace wiredem::server {
 /// Whether the fourth path segment of /v1/jobs/{id}/… names a route of this file.
 [[nodiscard]] bool is_result_data_route(std::string_view fourth_segment) noexcept;
 
-/// Answers GET /v1/jobs/{id}/{tests|specimen|result.xdmf}/…; `seg` are the
+/// Answers GET /v1/jobs/{id}/{tests|free_standing|specimen|result.xdmf|report.html}/…; `seg` are the
 /// decoded path segments ("v1", "jobs", id, …), id already valid. 404 for what
 /// the file does not hold, 409 until the job has succeeded (but for the live
 /// tests and series), 400 bad_parameter for a query parameter the route does

@@ -778,3 +778,45 @@ TEST(Stages, AStudyRunsItsPointsReportsAFailedOneAndContinuesWhenRunAgain)
     EXPECT_NE(o.err.find("points[1] (seed=-2): seed"), std::string::npos) << o.err;
     EXPECT_FALSE(fs::exists(dir / "bad/points"));
 }
+
+namespace {
+
+/// summary.json's free_standing without how it ran.
+json::value computed_free_standing(const fs::path& summary)
+{
+    json::value v = json::parse(read_text(summary)).at("free_standing");
+    v.as_object().erase("wall_time_s");
+    v.as_object().erase("threads");
+    return v;
+}
+
+} // namespace
+
+// A job with a free-standing test: `analyse` runs it (after the tests, as
+// `run` does: a cluster's analysis job has it to run) into
+// tests/free_standing.h5, and the staged results are run's, bit for bit but
+// for how it ran; a second `analyse` finds it done and gives the same.
+TEST(Stages, AnalyseRunsTheFreeStandingTestAsRunDoes)
+{
+    json::value job = json::parse(read_text(tiny_job()));
+    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    job.as_object()["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
+    const fs::path dir = fresh_dir("free_standing"), spec = dir / "job.json";
+    std::ofstream(spec) << json::serialize(job);
+    const Outcome ran = run_wiredem({"run", spec.string(), "-o", (dir / "run").string(), "--threads", "1"}, dir / "log");
+    ASSERT_TRUE(ran.ok()) << ran.err;
+    const fs::path out = dir / "staged";
+    ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0", "--threads", "1"}, dir / "log").ok());
+    EXPECT_FALSE(fs::exists(out / "tests/free_standing.h5"));
+    const Outcome a = run_wiredem({"analyse", out.string(), "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(a.ok()) << a.err;
+    EXPECT_TRUE(fs::exists(out / "tests/free_standing.h5"));
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", dir / "run/result.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+    const Outcome again = run_wiredem({"analyse", out.string()}, dir / "log");
+    ASSERT_TRUE(again.ok()) << again.err;
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
+}

@@ -4,6 +4,7 @@
 // every figure the routes return can be compared with what was written.
 #include "harness.hpp"
 
+#include "files.hpp"
 #include "io/hdf5.hpp"
 
 #include <boost/json.hpp>
@@ -16,6 +17,7 @@
 #include <cstring>
 #include <future>
 #include <numbers>
+#include <set>
 #include <thread>
 
 namespace wiredem::test {
@@ -442,6 +444,240 @@ TEST(ResultDataThreads, ALargeReadDoesNotHoldUpOtherRequests)
     ASSERT_GT(read_ms, 400.0) << "the large read was too quick to tell anything";
     EXPECT_LT(t2, t3) << "the status request waited for the large read";
     EXPECT_LT(status_ms, 0.25 * read_ms);
+}
+
+} // namespace
+} // namespace wiredem::test
+
+// The free-standing test's routes (handlers/results.hpp) against a result.h5
+// whose /free_standing group campaign::write_free_standing_result wrote from
+// a record with known values: the readings, the series, the radius profiles,
+// the wire at the largest σ₁ and the snapshots come back as written; a job
+// without the test has no such route; while a job runs, the route says
+// whether the test has begun and serves it once its file is there.
+namespace wiredem::test {
+namespace {
+
+constexpr std::size_t fs_rows = 40;
+constexpr std::size_t fs_segments = 12;
+
+/// Row i of the free-standing series: phase by quarters, σ₁ distinct per row.
+engine::FreeStandingResult free_standing_record()
+{
+    engine::FreeStandingResult r;
+    for (std::size_t i = 0; i < fs_rows; ++i) {
+        engine::TriaxialSample s;
+        s.time_s = 1e-3 * static_cast<double>(i);
+        s.phase = static_cast<engine::TriaxialPhase>(std::min<std::size_t>(3, i / 10));
+        s.axial_strain = i < 30 ? 0.0 : 0.01 * static_cast<double>(i - 30);
+        s.sigma1_pa = 1000.0 + 7.0 * static_cast<double>(i);
+        r.series.push_back(s);
+    }
+    r.settling.at_rest = true;
+    r.settling.stands = true;
+    r.settling.height_loss = 0.0125;
+    r.settling.profile_before = {{0.001, 0.003}, {0.008, 0.0081}, {5, 6}};
+    r.settling.profile = {{0.001, 0.003, 0.005}, {0.0085, 0.0086, 0.0079}, {4, 5, 2}};
+    engine::CompressionReading c;
+    c.strength.shape = engine::analysis::CurveShape::peak;
+    c.strength.index = 35;
+    c.strength.value = 1234.5;
+    c.max_sigma1_pa = 1273.0;
+    c.max_sigma1_sample = 39;
+    c.profile_at_peak = {{0.002}, {0.0095}, {9}};
+    c.profile_at_end = {{0.002}, {0.0101}, {8}};
+    for (std::size_t k = 0; k < fs_segments; ++k) {
+        c.wire_strain_at_peak.push_back(1e-4 * static_cast<double>(k));
+        c.wire_tension_at_peak_n.push_back(0.5 * static_cast<double>(k));
+    }
+    r.compression = c;
+    r.loading_start_sample = 30;
+    engine::TriaxialSnapshot snap;
+    snap.requested_axial_strain = 0.05;
+    snap.axial_strain = 0.0501;
+    snap.grain_position_m = {{0.001, 0.002, 0.003}, {0.004, 0.005, 0.006}};
+    snap.grain_radius_m = {1e-3, 1e-3};
+    r.snapshots.push_back(snap);
+    r.peak_snapshot = snap;
+    return r;
+}
+
+/// result.h5 with a specimen, no triaxial test and the free-standing test;
+/// the same group alone as the runner's tests/free_standing.h5.
+void write_free_standing_files(const fs::path& dir)
+{
+    fs::create_directories(dir);
+    {
+        io::File file = io::File::create(dir / "result.h5");
+        io::Group root = file.root();
+        root.write_string_attribute("format", "wiredem-result-1");
+        root.write_string_dataset("job_spec", R"({"name": "slow free", "free_standing": {"enabled": true}})");
+        io::Group g = root.create_group(campaign::free_standing_group);
+        campaign::write_free_standing_result(g, free_standing_record());
+    }
+    io::File file = io::File::create(dir / "free_standing.h5");
+    io::Group g = file.root().create_group(campaign::free_standing_group);
+    campaign::write_free_standing_result(g, free_standing_record());
+}
+
+class FreeStandingData : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        tmp_ = new TempDir;
+        write_free_standing_files(tmp_->path() / "made");
+        ::setenv("WIREDEM_FAKE_RESULT_DIR", (tmp_->path() / "made").c_str(), 1);
+        server_ = new ServerProcess(tmp_->path() / "data", {}, 0.02);
+        ::unsetenv("WIREDEM_FAKE_RESULT_DIR");
+        // "slow": the fake runner hands its free_standing.h5 over three quarters through its steps.
+        const auto res = http(server_->port(), "POST", "/v1/jobs",
+            R"({"name": "slow free", "specimen": {"wire": {"segment_length_m": )" + std::to_string(segment_length_m)
+                + R"(}}, "free_standing": {"enabled": true}})");
+        ASSERT_EQ(res.status, 201) << res.body;
+        id_ = std::string(res.json().at("id").get_string());
+        // While it runs: waiting (or running) first, then finished with the file's rows.
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        json::value job;
+        for (;;) {
+            job = http(server_->port(), "GET", "/v1/jobs/" + id_).json();
+            const std::string state = state_of(job);
+            if (state == "succeeded" || state == "failed" || std::chrono::steady_clock::now() > deadline) break;
+            if (state == "running") {
+                // The job may succeed between two requests: a reply without
+                // "state" is the succeeded job's (checked by the tests below).
+                const auto fs = get("/free_standing");
+                const json::value b = fs.status == 200 ? fs.json() : json::value();
+                const json::value* fs_state = b.is_object() ? b.as_object().if_contains("state") : nullptr;
+                if (fs_state) {
+                    const std::string now(fs_state->get_string());
+                    if (now != "finished") {
+                        EXPECT_EQ(b.at("rows").to_number<std::size_t>(), 0u);
+                        EXPECT_TRUE(b.at("partial").as_bool());
+                        const auto series = get("/free_standing/series");
+                        EXPECT_EQ(series.status, 200) << series.body;
+                        const json::value sb = series.json();
+                        if (sb.as_object().contains("state") && sb.at("state") != "finished") {
+                            EXPECT_EQ(sb.at("rows").to_number<std::size_t>(), 0u);
+                        }
+                    } else {
+                        EXPECT_EQ(b.at("rows").to_number<std::size_t>(), fs_rows);
+                        EXPECT_FALSE(b.at("partial").as_bool());
+                        const auto snap = get("/free_standing/snapshots/0");
+                        if (snap.status != 409) {
+                            EXPECT_EQ(state_of(http(server_->port(), "GET", "/v1/jobs/" + id_).json()), "succeeded")
+                                << "snapshots only once the job has succeeded";
+                        }
+                    }
+                    live_states_.insert(now);
+                }
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        ASSERT_EQ(state_of(job), "succeeded") << server_->log();
+    }
+    static void TearDownTestSuite()
+    {
+        delete server_;
+        delete tmp_;
+    }
+    static RawReply get(const std::string& path) { return http(server_->port(), "GET", "/v1/jobs/" + id_ + path); }
+
+    static inline TempDir* tmp_ = nullptr;
+    static inline ServerProcess* server_ = nullptr;
+    static inline std::string id_;
+    static inline std::set<std::string> live_states_;
+};
+
+TEST_F(FreeStandingData, TheTestIsServedWithItsReadingsProfilesAndWireAsWritten)
+{
+    const auto res = get("/free_standing");
+    ASSERT_EQ(res.status, 200) << res.body;
+    const json::value b = res.json();
+    EXPECT_EQ(b.at("name").get_string(), "free_standing");
+    EXPECT_FALSE(b.at("partial").as_bool());
+    EXPECT_EQ(b.at("rows").to_number<std::size_t>(), fs_rows);
+    const auto& a = b.at("attributes");
+    EXPECT_EQ(a.at("stands").to_number<int>(), 1);
+    EXPECT_DOUBLE_EQ(a.at("height_loss").to_number<double>(), 0.0125);
+    EXPECT_EQ(a.at("strength_shape").get_string(), "peak");
+    EXPECT_DOUBLE_EQ(a.at("strength_smoothed_maximum").to_number<double>(), 1234.5);
+    // The columns are the series' (not the wire's per-segment arrays, not the underived ε_v).
+    std::vector<std::string> columns;
+    for (const auto& c : b.at("columns").as_array()) columns.emplace_back(c.at("name").get_string());
+    for (const char* c : {"time_s", "axial_strain", "sigma1_pa", "phase"})
+        EXPECT_NE(std::find(columns.begin(), columns.end(), c), columns.end()) << c;
+    for (const char* c : {"wire_strain_at_peak", "wire_tension_at_peak_n", "volumetric_strain"})
+        EXPECT_EQ(std::find(columns.begin(), columns.end(), c), columns.end()) << c;
+    // Radius profiles: radius against height, as written.
+    const auto& settled = b.at("profiles").at("profile_settled");
+    ASSERT_EQ(settled.at("height_m").as_array().size(), 3u);
+    EXPECT_DOUBLE_EQ(settled.at("radius_m").at(1).to_number<double>(), 0.0086);
+    EXPECT_EQ(settled.at("grains").at(2).to_number<int>(), 2);
+    EXPECT_DOUBLE_EQ(b.at("profiles").at("profile_at_peak").at("radius_m").at(0).to_number<double>(), 0.0095);
+    EXPECT_DOUBLE_EQ(b.at("profiles").at("profile_before").at("height_m").at(1).to_number<double>(), 0.003);
+    // The wire at the largest σ₁: along its length at the spec's l_w.
+    const auto& w = b.at("wire_at_peak");
+    ASSERT_EQ(w.at("tension_n").as_array().size(), fs_segments);
+    EXPECT_DOUBLE_EQ(w.at("tension_n").at(5).to_number<double>(), 2.5);
+    EXPECT_DOUBLE_EQ(w.at("strain").at(5).to_number<double>(), 5e-4);
+    EXPECT_DOUBLE_EQ(w.at("distance_m").at(5).to_number<double>(), 5.5 * segment_length_m);
+    EXPECT_EQ(b.at("snapshots").as_array().size(), 1u);
+    EXPECT_EQ(b.at("peak_snapshot").at("url").get_string(), "/v1/jobs/" + id_ + "/free_standing/peak_snapshot");
+}
+
+TEST_F(FreeStandingData, ItsSeriesHoldTheRecordsRowsAndTakeTheTestsParameters)
+{
+    const auto all = get("/free_standing/series?columns=phase,sigma1_pa");
+    ASSERT_EQ(all.status, 200) << all.body;
+    const json::value b = all.json();
+    EXPECT_EQ(b.at("rows").to_number<std::size_t>(), fs_rows);
+    for (std::size_t i = 0; i < fs_rows; ++i) {
+        EXPECT_DOUBLE_EQ(b.at("columns").at("sigma1_pa").at(i).to_number<double>(), 1000.0 + 7.0 * static_cast<double>(i));
+        EXPECT_EQ(b.at("columns").at("phase").at(i).to_number<int>(), static_cast<int>(std::min<std::size_t>(3, i / 10)));
+    }
+    EXPECT_EQ(b.at("units").at("phase").get_string(), "0 removal, 1 settling, 2 dead_load, 3 loading");
+    const auto thin = get("/free_standing/series?max_points=2");
+    ASSERT_EQ(thin.status, 200) << thin.body;
+    EXPECT_EQ(thin.json().at("returned_rows").to_number<std::size_t>(), 2u);
+    EXPECT_EQ(get("/free_standing/series?columns=wire_tension_at_peak_n").error_code(), "bad_parameter");
+    EXPECT_EQ(get("/free_standing/series?bogus=1").error_code(), "bad_parameter");
+    EXPECT_EQ(get("/free_standing?max_points=3").error_code(), "bad_parameter");
+}
+
+TEST_F(FreeStandingData, ItsSnapshotsAndThePeakOneAreServedAsATestsAre)
+{
+    const auto snap = get("/free_standing/snapshots/0");
+    ASSERT_EQ(snap.status, 200) << snap.body;
+    EXPECT_DOUBLE_EQ(snap.json().at("attributes").at("axial_strain").to_number<double>(), 0.0501);
+    const auto peak = get("/free_standing/peak_snapshot/grain_position_m");
+    ASSERT_EQ(peak.status, 200) << peak.body;
+    EXPECT_EQ(peak.headers.at("x-wiredem-shape"), "2,3");
+    ASSERT_EQ(peak.body.size(), 6 * sizeof(float));
+    float first = 0;
+    std::memcpy(&first, peak.body.data(), sizeof first);
+    EXPECT_FLOAT_EQ(first, 0.001f);
+    EXPECT_EQ(get("/free_standing/snapshots/1").status, 404);
+    EXPECT_EQ(get("/free_standing/peak_snapshot/nothing").status, 404);
+    EXPECT_EQ(get("/free_standing/other").status, 404);
+}
+
+TEST_F(FreeStandingData, WhileTheJobRanTheRouteSaidWhetherTheTestHadFinished)
+{
+    EXPECT_TRUE(live_states_.count("finished")) << "the runner's tests/free_standing.h5 was served while the job ran";
+    EXPECT_TRUE(live_states_.count("waiting") || live_states_.count("running")) << "and before it, the test's state";
+}
+
+TEST_F(FreeStandingData, AJobWithoutTheTestHasNoRoute)
+{
+    const auto res = http(server_->port(), "POST", "/v1/jobs", R"({"name": "no free-standing"})");
+    ASSERT_EQ(res.status, 201);
+    const std::string id(res.json().at("id").get_string());
+    const auto res2 = http(server_->port(), "GET", "/v1/jobs/" + id + "/free_standing");
+    EXPECT_EQ(res2.status, 404) << res2.body;
+    const json::value doc = http(server_->port(), "GET", "/v1/openapi.json").json();
+    for (const char* p : {"/v1/jobs/{id}/free_standing", "/v1/jobs/{id}/free_standing/series",
+             "/v1/jobs/{id}/free_standing/snapshots/{k}", "/v1/jobs/{id}/free_standing/peak_snapshot"})
+        EXPECT_TRUE(doc.at("paths").as_object().contains(p)) << p;
 }
 
 } // namespace

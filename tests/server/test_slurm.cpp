@@ -243,10 +243,29 @@ TEST(SlurmState, TheStagesSharesSumToTheWholeJob)
     w.test_steps = {4.5e5, 3e5, 1.5e5};  // slower plates at the low pressures
     const auto s = wiredem::api::progress_shares(w);
     const std::vector<double> all{1.0, 1.0, 1.0};
-    EXPECT_EQ(s.overall(1.0, all, 1.0), 1.0);  // exactly: what is left is nothing
-    EXPECT_DOUBLE_EQ(s.overall(0.0, {}, 0.0), 0.0);
-    EXPECT_DOUBLE_EQ(s.overall(1.0, {}, 0.0), 0.95 * 1e5 / 1e6);
+    EXPECT_EQ(s.overall(1.0, all, 1.0, 0.0), 1.0);  // exactly: what is left is nothing
+    EXPECT_DOUBLE_EQ(s.overall(0.0, {}, 0.0, 0.0), 0.0);
+    EXPECT_DOUBLE_EQ(s.overall(1.0, {}, 0.0, 0.0), 0.95 * 1e5 / 1e6);
     // Each test in proportion to its steps: the first is half the tests' work.
     const std::vector<double> first{1.0, 0.0, 0.0};
-    EXPECT_DOUBLE_EQ(s.overall(1.0, first, 0.0), 0.95 * (1e5 + 4.5e5) / 1e6);
+    EXPECT_DOUBLE_EQ(s.overall(1.0, first, 0.0, 0.0), 0.95 * (1e5 + 4.5e5) / 1e6);
+    EXPECT_EQ(s.free_standing, 0.0) << "no share for a test the job does not run";
+}
+
+// The free-standing test is one more test of its estimated steps: its share
+// is in proportion to them, the triaxial tests' shrink to make room, and a
+// job whose every part is done is at exactly 1.
+TEST(SlurmState, TheFreeStandingTestHasItsShareOfTheProgress)
+{
+    wiredem::api::WorkEstimate w;
+    w.preparation_steps = 1e5;
+    w.test_steps = {4.5e5, 3e5, 1.5e5};
+    w.free_standing_steps = 1e5;  // a tenth of the job's steps
+    const auto s = wiredem::api::progress_shares(w);
+    const std::vector<double> all{1.0, 1.0, 1.0};
+    EXPECT_EQ(s.overall(1.0, all, 1.0, 1.0), 1.0);
+    EXPECT_NEAR(s.overall(1.0, {}, 0.0, 0.0), 0.95 * 1e5 / 1.1e6, 1e-12);
+    EXPECT_NEAR(s.overall(1.0, all, 0.0, 0.0), 0.95 * 1e6 / 1.1e6, 1e-12);
+    EXPECT_NEAR(s.overall(1.0, all, 0.0, 0.5), 0.95 * (1e6 + 0.5e5) / 1.1e6, 1e-12);
+    EXPECT_NEAR(s.overall(1.0, all, 0.0, 1.0), 0.95, 1e-12);
 }

@@ -303,6 +303,9 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   assert.match(await page.$eval('#plot-volumetric .note', (e) => e.textContent), /positive when the column compacts/);
   assert.match(plots['plot-volumetric'].yLabel, /> 0 compaction/);
 
+  // The free-standing test: σ₁ against ε₁ with the strength marked and labelled, radius profiles, the wire's tension.
+  await checkFreeStanding(page, plots, 'job page');
+
   // The wire: segments along its length, and the autocorrelation of the snapshot the summary's lag comes from.
   assert.equal(plots['plot-wire-strain'].series[0].x.length, summary.specimen.wire_nodes - 1);
   const ac = plots['plot-autocorrelation'];
@@ -378,6 +381,61 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   assert.deepEqual(w.problems, []);
   await page.close();
 });
+
+/// The free-standing test where a page shows it, against summary.json and the
+/// API's /free_standing and its series: the compression's points (σ₁ of every
+/// phase-3 row), the unconfined strength drawn at its value with its shape in
+/// the label and a marker at its strain, the envelope's prediction drawn at
+/// its value; radius against height for each profile the test has, point
+/// for point; the wire's tension along its length, segment for segment.
+async function checkFreeStanding(page, plots, where) {
+  const fs = summary.free_standing;
+  assert.ok(fs, `${where}: the test job has a free-standing test`);
+  const c = fs.compression;
+  const test = (await server.api('GET', `/v1/jobs/${mainId}/free_standing`)).json;
+  const s = (await server.api('GET', `${test.series_url}?max_points=2000&columns=axial_strain,sigma1_pa,phase`)).json;
+  const rows = s.columns.phase.map((_, r) => r).filter((r) => s.columns.phase[r] === 3);
+  assert.ok(rows.length > 10, `${where}: the compression has rows (${rows.length})`);
+  const stress = plots['plot-fs-stress'];
+  assert.ok(stress, `${where}: the stress–strain plot is drawn`);
+  const curve = stress.series[0];
+  assert.equal(curve.x.length, rows.length, `${where}: a point per compression row`);
+  // === (not Object.is): a −0 the API sends reaches the test from the page as 0.
+  assert.ok(curve.y.at(-1) === s.columns.sigma1_pa[rows.at(-1)] / 1000, `${where}: last σ₁ ${curve.y.at(-1)}`);
+  assert.ok(curve.x.at(-1) === s.columns.axial_strain[rows.at(-1)], `${where}: last ε₁ ${curve.x.at(-1)}`);
+  assert.ok(['peak', 'plateau', 'rising'].includes(c.shape), JSON.stringify(c));
+  const strength = stress.series.find((x) => x.label.startsWith('unconfined strength'));
+  assert.ok(strength && strength.label.includes(`(${c.shape})`), `${where}: the strength is labelled with its shape: ${strength?.label}`);
+  assert.ok(strength.y.every((v) => v === c.unconfined_strength_pa / 1000), `${where}: the strength line at ${c.unconfined_strength_pa} Pa`);
+  assert.equal(stress.strength.shape, c.shape, where);
+  for (const [k, v] of [['value_pa', c.unconfined_strength_pa], ['strain', c.strain_at_failure], ['predicted_pa', c.predicted_unconfined_strength_pa]])
+    assert.ok(stress.strength[k] === v, `${where}: strength.${k} ${stress.strength[k]} against ${v}`);
+  assertShown(await page.$eval('[data-figure="fs_unconfined_strength_pa"] .value', (e) => e.textContent), c.unconfined_strength_pa / 1000, `${where}: strength tile`);
+  assert.match(await page.$eval('[data-figure="fs_unconfined_strength_pa"] .label', (e) => e.textContent), new RegExp(`\\(${c.shape}\\)`));
+  if (c.predicted_unconfined_strength_pa != null) {
+    const predicted = stress.series.find((x) => x.label.startsWith('envelope'));
+    assert.ok(predicted && predicted.y.every((v) => v === c.predicted_unconfined_strength_pa / 1000), `${where}: the prediction is drawn at its value`);
+  }
+  assert.equal(await page.$eval('[data-figure="fs_stands"] .value', (e) => e.textContent), fs.settling.stands ? 'yes' : 'no');
+  const profile = plots['plot-fs-profile'];
+  const present = ['profile_before', 'profile_settled', 'profile_at_peak', 'profile_at_end'].filter((k) => test.profiles[k]);
+  assert.deepEqual(profile.profiles, present, `${where}: one curve per profile`);
+  assert.ok(present.includes('profile_settled') && present.includes('profile_at_peak'), `${where}: settled and at failure`);
+  present.forEach((k, i) => {
+    assertSameNumbers(profile.series[i].x, test.profiles[k].height_m.map((h) => h * 1000), `${where}: ${k} heights`);
+    assertSameNumbers(profile.series[i].y, test.profiles[k].radius_m.map((r) => r * 1000), `${where}: ${k} radii`);
+  });
+  const wire = plots['plot-fs-wire'];
+  assert.equal(wire.segments, test.wire_at_peak.tension_n.length, `${where}: every segment's tension`);
+  assert.equal(wire.segments, summary.specimen.wire_nodes - 1, `${where}: the whole wire`);
+  assertSameNumbers(wire.series[0].y, test.wire_at_peak.tension_n.map((t) => t * 1000), `${where}: the tensions as stored, in mN`);
+}
+
+/// Two lists of numbers equal element by element (=== : 0 and −0 alike).
+function assertSameNumbers(a, b, what) {
+  assert.equal(a.length, b.length, `${what}: length`);
+  a.forEach((v, i) => assert.ok(v === b[i], `${what}: [${i}] ${v} against ${b[i]}`));
+}
 
 /// The flagged fit where a page shows it: every caveat of summary.json's
 /// fits in #fit-caveats, φ, c and R² marked, the constrained fits shown, and
@@ -658,6 +716,7 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   assert.ok(Math.abs(env.y[0] - expected) < 1e-9 * Math.max(...env.y.map(Math.abs)), `envelope at σ = ${env.x[0]}: ${env.y[0]}, expected ${expected}`);
   assert.equal(plots['plot-autocorrelation'].first_maximum_lag_m, summary.wire.autocorrelation_lag_m);
   assert.equal(plots['plot-autocorrelation'].prominent_maximum_lag_m, summary.wire.autocorrelation_prominent_lag_m);
+  await checkFreeStanding(page, plots, 'offline report');
   assert.equal(w.requests.filter((r) => !r.url.startsWith('file:')).length, 0, 'the report fetches nothing');
   // The server offers the same report (the job page's download button).
   const served = await fetch(`${server.url}/v1/jobs/${mainId}/report.html`);

@@ -193,3 +193,86 @@ export function renderWire(grid, summary, label, nodePositions, strain, ac) {
   box.wiredemPlot.prominent_maximum_lag_m = prominent;
   box.wiredemPlot.markers = markers.map((m) => m.label);
 }
+
+/// The columns the free-standing plot needs (its series route's ?columns=).
+export const freeStandingColumns = 'axial_strain,sigma1_pa,phase';
+
+/// Rows of the free-standing test's unconfined compression (phase 3).
+export function compressionRows(series) {
+  const phase = series.columns.phase;
+  return series.columns.axial_strain.map((_, i) => i).filter((i) => phase && phase[i] === 3);
+}
+
+const yesNo = (b) => (b === true ? 'yes' : b === false ? 'no' : '—');
+
+/// The free-standing test (docs/model.md, "The free-standing test"): its
+/// figures from summary.free_standing; σ₁ against axial strain in the
+/// unconfined compression with the unconfined strength marked and labelled
+/// (peak / plateau / rising) and the envelope's prediction 2c cos φ/(1 − sin φ);
+/// the column's radius against height before the removal, settled, at the
+/// largest σ₁ and at the end; the wire's tension along its length at the
+/// largest σ₁. `test` as GET …/free_standing gives it, `series` its series
+/// reply (freeStandingColumns).
+export function renderFreeStanding(body, summary, test, series) {
+  const fs = (summary && summary.free_standing) || {};
+  const st = fs.settling || {};
+  const c = fs.compression || {};
+  const dl = fs.dead_load;
+  body.append(el('h2', { id: 'free-standing' }, 'Free-standing test'));
+  body.append(el('div', { class: 'figures', id: 'free-standing-figures' },
+    figure('stands', yesNo(st.stands), 'fs_stands'),
+    figure('height loss', num(st.height_loss, 3), 'fs_height_loss'),
+    figure('height before → after [mm]', `${mm(st.height_before_m)} → ${mm(st.height_m)}`, 'fs_height'),
+    figure('grains that left', st.escaped_grains ?? '—', 'fs_escaped_grains'),
+    figure('time to rest [s]', num(st.time_to_rest_s, 3), 'fs_time_to_rest_s'),
+    figure('base force / weight', st.weight_n ? num(st.base_force_n / st.weight_n, 4) : '—', 'fs_base_over_weight'),
+    figure(`unconfined strength (${c.shape || '—'}) [kPa]`, kpa(c.unconfined_strength_pa), 'fs_unconfined_strength_pa'),
+    figure('predicted by the envelope [kPa]', kpa(c.predicted_unconfined_strength_pa), 'fs_predicted_unconfined_strength_pa'),
+    figure('strain at failure', num(c.strain_at_failure, 4), 'fs_strain_at_failure'),
+    figure('quasi-static', yesNo(c.quasi_static), 'fs_quasi_static'),
+    dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : ''));
+  const grid = el('div', { class: 'grid' });
+  body.append(grid);
+
+  // σ₁ against ε in the compression, the strength as a horizontal line at its
+  // value and a vertical one at its strain, the prediction beside it.
+  const rows = compressionRows(series);
+  const x = rows.map((r) => series.columns.axial_strain[r]);
+  const y = rows.map((r) => series.columns.sigma1_pa[r] / 1000);
+  const xMax = Math.max(0, ...x.filter(Number.isFinite));
+  const curves = [{ label: 'σ₁ = F_top/(π r₀²)', x, y }];
+  const markers = [];
+  if (c.unconfined_strength_pa != null) {
+    curves.push({ label: `unconfined strength (${c.shape}) ${kpa(c.unconfined_strength_pa)} kPa`, x: [0, xMax],
+      y: [c.unconfined_strength_pa / 1000, c.unconfined_strength_pa / 1000], color: '#1d2330', dash: [8, 4], width: 2 });
+    if (c.strain_at_failure != null) markers.push({ x: c.strain_at_failure, label: `${c.shape} at ε₁ = ${num(c.strain_at_failure, 3)}` });
+  }
+  if (c.predicted_unconfined_strength_pa != null)
+    curves.push({ label: `envelope: 2c cos φ/(1 − sin φ) = ${kpa(c.predicted_unconfined_strength_pa)} kPa`, x: [0, xMax],
+      y: [c.predicted_unconfined_strength_pa / 1000, c.predicted_unconfined_strength_pa / 1000], color: '#d9480f', dash: [2, 4], width: 2 });
+  const note = [c.shape === 'rising' ? 'The curve still rises at the end: the strength is a lower bound.' : '',
+    c.definition || ''].filter(Boolean).join(' ');
+  const box = linePlot(grid, { id: 'plot-fs-stress', title: 'Unconfined compression: axial stress σ₁ against axial strain',
+    xLabel: 'axial strain ε₁', yLabel: 'σ₁ [kPa]', series: curves, markers, note, swatches: true });
+  box.wiredemPlot.strength = { value_pa: c.unconfined_strength_pa ?? null, shape: c.shape ?? null,
+    strain: c.strain_at_failure ?? null, predicted_pa: c.predicted_unconfined_strength_pa ?? null };
+
+  // Radius against height: before the removal, settled, at failure, at the end.
+  const profiles = (test && test.profiles) || {};
+  const named = [['profile_before', 'before the removal'], ['profile_settled', 'settled'],
+    ['profile_at_peak', 'at the largest σ₁ (failure)'], ['profile_at_end', 'at the end of the compression']];
+  const shapes = named.filter(([k]) => profiles[k]).map(([k, label]) => ({ label, key: k,
+    x: profiles[k].height_m.map((h) => h * 1000), y: profiles[k].radius_m.map((r) => r * 1000) }));
+  const profileBox = linePlot(grid, { id: 'plot-fs-profile', title: 'Column radius against height',
+    xLabel: 'height above the bottom plate [mm]', yLabel: 'equivalent radius [mm]', series: shapes, swatches: true,
+    note: 'Equivalent radius √(2⟨ρ²⟩) + ⟨r⟩ of the standing grains in slices of one grain diameter (a bulge shows as a rise at mid-height).' });
+  profileBox.wiredemPlot.profiles = shapes.map((s) => s.key);
+
+  // The wire's tension along its length at the largest σ₁.
+  const w = test && test.wire_at_peak;
+  const wireBox = linePlot(grid, { id: 'plot-fs-wire', title: 'Wire tension along its length at the largest σ₁',
+    xLabel: 'distance along the wire [mm]', yLabel: 'tension [mN]',
+    series: w ? [{ label: 'segment tension E_w π r_w² ε', x: w.distance_m.map((d) => d * 1000), y: w.tension_n.map((t) => t * 1000) }] : [],
+    note: w ? `Segment k at (k + ½) l_w, l_w = ${mm(w.segment_length_m)} mm; negative: compressed.` : 'No wire, or no compression.' });
+  wireBox.wiredemPlot.segments = w ? w.tension_n.length : 0;
+}
