@@ -28,8 +28,9 @@ namespace wiredem::engine {
 /// pairs grouped by their kinds (pair_key); 6: the membrane's elements in
 /// grid order, without incidence lists or per-element forces; a wire joint's
 /// bending forces in three arrays; the skin the neighbour list was built with;
-/// 7: the rolling law's parameters, and its springs and torques while it is on.
-inline constexpr std::int64_t snapshot_version = 7;
+/// 7: the rolling law's parameters, and its springs and torques while it is on;
+/// 8: clumps (rigid multi-sphere grains) while there are any.
+inline constexpr std::int64_t snapshot_version = 8;
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";
