@@ -183,6 +183,12 @@ double ClumpBody::smallest_radius_m() const
     return r;
 }
 
+ClumpBody unit_clump_shape(const std::vector<ClumpSphere>& template_spheres, int angular_nodes)
+{
+    const ClumpBody body = clump_body(template_spheres, angular_nodes);
+    return scaled_clump(body, 1.0 / body.equivalent_radius_m());
+}
+
 Quat uniform_orientation(double u1, double u2, double u3)
 {
     const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);

@@ -89,6 +89,12 @@ struct ClumpBody {
 /// moments × f⁵): the mass properties are computed once per template.
 [[nodiscard]] ClumpBody scaled_clump(const ClumpBody& body, double factor);
 
+/// clump_body of a template scaled to a volume-equivalent radius of 1 m: the
+/// shape a grain of radius r takes as scaled_clump(shape, r) (the
+/// preparation's grain_shape).
+[[nodiscard]] ClumpBody unit_clump_shape(
+    const std::vector<ClumpSphere>& template_spheres, int angular_nodes = clump_default_angular_nodes);
+
 /// A uniformly distributed random orientation from three uniform numbers in
 /// [0, 1) (Shoemake, "Uniform random rotations", Graphics Gems III, 1992).
 [[nodiscard]] Quat uniform_orientation(double u1, double u2, double u3);

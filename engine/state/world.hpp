@@ -238,6 +238,16 @@ void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q);
 /// mass; the stable time step's Hertz limit takes it).
 [[nodiscard]] double clump_sphere_effective_mass_kg(const State& s, std::size_t grain);
 
+/// Grains as bodies: free grains and clumps (a clump's spheres count once, as their clump).
+[[nodiscard]] inline std::size_t grain_body_count(const State& s)
+{
+    const std::size_t spheres = s.of(BodyKind::grain).size();
+    if (s.clumps.empty()) return spheres;
+    std::size_t members = 0;
+    for (const std::uint32_t n : s.clumps.member_count) members += n;
+    return spheres - members + s.clumps.size();
+}
+
 /// Angular velocity of a clump in space [rad/s].
 [[nodiscard]] Vec3 clump_angular_velocity_rad_per_s(const State& s, std::uint32_t clump);
 /// Angular momentum of a clump about its centre of mass, space frame [kg·m²/s].
