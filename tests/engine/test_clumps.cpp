@@ -351,6 +351,78 @@ TEST(ClumpOnPlate, AFlatClumpDroppedTiltedComesToRestOnItsFace)
 
 namespace {
 
+struct OnIncline {
+    double slip_m = 0.0;         ///< the centre's travel along the slope over the hold
+    double acceleration = 0.0;   ///< along the slope over the hold's second half [m/s²]
+    double tilt_rad = 0.0;       ///< how far its face turned from the plate
+};
+
+/// The flat clump (spheres of 2 mm on a square of side 3 mm) resting on its
+/// face, then gravity tilted to β over 20 ms (a sudden tilt overshoots: a
+/// sticking spring has no dashpot) and held for `time_s` (the plate stays z = 0).
+OnIncline flat_clump_on_incline(double tan_beta, double friction, double time_s)
+{
+    Simulation sim(1);
+    World& w = sim.world;
+    flat_clump_over_plate(w, Integrator::gear5, Quat::Identity());
+    w.contact.tangential.friction_coeff = friction;
+    // Down onto the plate and to rest on its face, under vertical gravity.
+    w.clumps.x[0][0] = Vec3(0, 0, 2e-3);
+    w.clumps.x[1][0] = Vec3::Zero();
+    w.clumps.omega[1][0] = Vec3::Zero();
+    place_clump_spheres(w, 0, w.clumps.orientation[0]);
+    invalidate_prediction(w);
+    invalidate_neighbours(w);
+    relax(sim, static_cast<std::uint64_t>(0.05 / w.dt_s), 0.002);
+    const double beta = std::atan(tan_beta);
+    const auto per_ms = static_cast<std::uint64_t>(1e-3 / w.dt_s);
+    for (int ms = 1; ms <= 20; ++ms) {
+        const double b = beta * ms / 20.0;
+        w.gravity_m_per_s2 = 10.0 * Vec3(std::sin(b), 0, -std::cos(b));
+        EXPECT_EQ(sim.run(per_ms).end, RunEnd::completed);
+    }
+    const Vec3 start = w.clumps.x[0][0];
+    const auto half = static_cast<std::uint64_t>(0.5 * time_s / w.dt_s);
+    EXPECT_EQ(sim.run(half).end, RunEnd::completed);
+    const double v1 = w.clumps.x[1][0].x() / w.dt_s;
+    EXPECT_EQ(sim.run(half).end, RunEnd::completed);
+    OnIncline r;
+    r.slip_m = w.clumps.x[0][0].x() - start.x();
+    r.acceleration = (w.clumps.x[1][0].x() / w.dt_s - v1) / (static_cast<double>(half) * w.dt_s);
+    r.tilt_rad = std::acos(std::min(1.0, (w.clumps.orientation[0] * Vec3::UnitZ()).z()));
+    return r;
+}
+
+} // namespace
+
+TEST(ClumpOnIncline, HoldsSlidesOrTipsWhereStaticsSays)
+{
+    // Statics of the flat clump on a plate tilted by β: it slides once
+    // tan β > μ, and tips over its downhill spheres once its centre of mass
+    // (one sphere radius r up) passes over their contact points (0.75 r
+    // downhill of it): tan β > 0.75.
+    // μ = 0.3, tan β = 0.2: holds.
+    const OnIncline holds = flat_clump_on_incline(0.2, 0.3, 0.05);
+    EXPECT_LT(std::abs(holds.slip_m), 1e-6);
+    EXPECT_LT(holds.tilt_rad, 1e-3);
+    // μ = 0.3, tan β = 0.45: slides without tipping, at g (sin β − μ cos β).
+    const double beta = std::atan(0.45);
+    const double a = 10.0 * (std::sin(beta) - 0.3 * std::cos(beta));
+    const OnIncline slides = flat_clump_on_incline(0.45, 0.3, 0.05);
+    std::printf("sliding: %.4g m/s² against g (sin β − μ cos β) = %.4g m/s²\n", slides.acceleration, a);
+    EXPECT_NEAR(slides.acceleration, a, 0.02 * a);
+    EXPECT_LT(slides.tilt_rad, 0.02);
+    // μ = 1: tan β = 0.65 holds; tan β = 0.85 tips.
+    const OnIncline stands = flat_clump_on_incline(0.65, 1.0, 0.05);
+    EXPECT_LT(std::abs(stands.slip_m), 1e-6);
+    EXPECT_LT(stands.tilt_rad, 1e-3);
+    const OnIncline tips = flat_clump_on_incline(0.85, 1.0, 0.1);
+    std::printf("tan β = 0.85, μ = 1: turned %.1f° in 0.1 s\n", tips.tilt_rad * 180.0 / pi);
+    EXPECT_GT(tips.tilt_rad, 0.5);
+}
+
+namespace {
+
 /// Clumps of every built-in shape and free grains falling into a cylinder
 /// and kicked: contacts between clumps, with grains, with both walls.
 void build_clump_column(World& w, Integrator integrator)
