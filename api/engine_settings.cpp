@@ -28,6 +28,14 @@ engine::SieveCurve sieve_curve(const GrainSizesSpec& g)
     return c;
 }
 
+engine::ClumpBody grain_shape_body(const GrainShapeSpec& g)
+{
+    if (!g.template_name.empty()) return engine::unit_clump_shape(*engine::builtin_clump_template(g.template_name));
+    std::vector<engine::ClumpSphere> spheres;
+    for (const auto& s : g.spheres) spheres.push_back({engine::Vec3(s[0], s[1], s[2]), s[3]});
+    return engine::unit_clump_shape(spheres);
+}
+
 double reference_grain_radius_m(const SpecimenSpec& s)
 {
     if (!s.grain_sizes) return s.grain_radius_m;
@@ -47,6 +55,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.grain_radius_m = s.grain_radius_m;
     p.grain_radius_spread = s.grain_radius_spread;
     if (s.grain_sizes) p.grain_sizes = sieve_curve(*s.grain_sizes);
+    if (s.grain_shape) p.grain_shape = grain_shape_body(*s.grain_shape);
     p.grain = engine::Material{s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3};
     p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
     p.plate.poisson_ratio = s.plate.poisson_ratio;

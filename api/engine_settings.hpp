@@ -45,6 +45,9 @@ namespace wiredem::api {
 [[nodiscard]] engine::FreeStandingSettings free_standing_settings(const JobSpec& spec);
 /// The engine's sieve curve for a job's grain sizes.
 [[nodiscard]] engine::SieveCurve sieve_curve(const GrainSizesSpec& g);
+/// The clump a job's grain shape describes, at a volume-equivalent radius of
+/// 1 m (engine::unit_clump_shape; its mass properties computed here, ~50 ms).
+[[nodiscard]] engine::ClumpBody grain_shape_body(const GrainShapeSpec& g);
 
 /// The grain that stands for all where one size is needed (the restitution
 /// fit's head-on pair): r_p, or half the curve's D50 (by mass) [m].

@@ -15,11 +15,13 @@
 #include "core/format.hpp"
 #include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
+#include "state/clump_shape.hpp"
 #include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <boost/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <initializer_list>
@@ -798,6 +800,122 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
     if (ok) out = std::move(g);
 }
 
+constexpr std::size_t max_clump_spheres = 32;
+/// The smallest sphere of a clump against its largest: a smaller one would
+/// set the time step without shaping the grain.
+constexpr double min_clump_radius_ratio = 0.1;
+
+/// specimen.grain_shape: null (or absent: spheres), or {"template": name}
+/// or {"spheres": [[x, y, z, r], …]}. Described in one schema entry.
+void read_grain_shape(ObjectReader& r, std::optional<GrainShapeSpec>& out)
+{
+    Validator& v = r.validator();
+    const std::string_view key = "grain_shape";
+    if (v.recording()) {
+        json::array names;
+        for (const std::string_view name : engine::builtin_clump_names) names.push_back(json::string(name));
+        json::object sphere{{"type", "array"}, {"items", json::object{{"type", "number"}}}, {"minItems", 4},
+            {"maxItems", 4}, {"description", "x, y, z of the centre and the radius, in any one length unit"}};
+        json::object shape{{"type", json::array{"object", "null"}}, {"default", nullptr},
+            {"properties",
+                json::object{{"template", json::object{{"type", "string"}, {"enum", std::move(names)},
+                                              {"description", "a built-in clump (docs/model.md, \"Clumps\")"}}},
+                    {"spheres", json::object{{"type", "array"}, {"items", std::move(sphere)}, {"minItems", 2},
+                                    {"maxItems", max_clump_spheres},
+                                    {"description", "the clump's spheres; their union is one connected body, every "
+                                                    "radius at least a tenth of the largest"}}}}},
+            {"additionalProperties", false}};
+        r.describe(key, std::move(shape),
+            {nullptr, "every grain a rigid clump of overlapping spheres: {\"template\": \"elongated\", \"flat\", \"tetrahedral\" or \"crushed\"} or {\"spheres\": [[x, y, z, r], …]}, scaled to the grain's size as its volume-equivalent radius and poured turned at random (docs/model.md, \"Clumps\"); null: spheres"});
+    }
+    const json::value* j = r.take(key);
+    if (j == nullptr || j->is_null()) return;
+    const std::string path = r.path_of(key);
+    if (!j->is_object()) {
+        v.fail(path, "expected an object or null, got " + std::string(kind_text(*j)));
+        return;
+    }
+    ObjectReader c(v, j, path);
+    GrainShapeSpec g;
+    bool ok = true;
+    const json::value* name = c.take("template");
+    const json::value* spheres = c.take("spheres");
+    c.finish();
+    if ((name == nullptr) == (spheres == nullptr)) {
+        v.fail(path, name == nullptr ? "needs \"template\" or \"spheres\"" : "has both \"template\" and \"spheres\"; give one");
+        return;
+    }
+    if (name != nullptr) {
+        std::string allowed;
+        for (const std::string_view n : engine::builtin_clump_names) allowed += (allowed.empty() ? "\"" : ", \"") + std::string(n) + "\"";
+        if (!name->is_string()) {
+            v.fail(c.path_of("template"), "expected a string, got " + std::string(kind_text(*name)));
+            return;
+        }
+        g.template_name.assign(name->get_string().data(), name->get_string().size());
+        if (!engine::builtin_clump_template(g.template_name)) {
+            v.fail(c.path_of("template"), "\"" + g.template_name + "\" is not one of " + allowed);
+            return;
+        }
+        out = std::move(g);
+        return;
+    }
+    const std::string spath = c.path_of("spheres");
+    if (!spheres->is_array()) {
+        v.fail(spath, "expected an array, got " + std::string(kind_text(*spheres)));
+        return;
+    }
+    const json::array& a = spheres->get_array();
+    if (a.size() < 2 || a.size() > max_clump_spheres) {
+        v.fail(spath, "has " + std::to_string(a.size()) + " spheres; a clump has 2 to " + std::to_string(max_clump_spheres)
+                          + " (one sphere is the default grain: leave grain_shape out)");
+        return;
+    }
+    const Range coordinate = closed(-1e6, 1e6), radius = open_closed(0.0, 1e6);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string at = index_path(spath, i);
+        if (!a[i].is_array() || a[i].get_array().size() != 4) {
+            v.fail(at, "expected [x, y, z, radius], got " + std::string(a[i].is_array() ? "an array of another length" : kind_text(a[i])));
+            ok = false;
+            continue;
+        }
+        std::array<double, 4> s{};
+        for (std::size_t k = 0; k < 4; ++k)
+            ok = read_number(v, a[i].get_array()[k], index_path(at, k), k < 3 ? coordinate : radius, s[k]) && ok;
+        g.spheres.push_back(s);
+    }
+    if (!ok) return;
+    double largest = 0.0;
+    for (const auto& s : g.spheres) largest = std::max(largest, s[3]);
+    for (std::size_t i = 0; i < g.spheres.size(); ++i)
+        if (g.spheres[i][3] < min_clump_radius_ratio * largest) {
+            v.fail(index_path(index_path(spath, i), 3), exact_text(g.spheres[i][3]) + " is below "
+                + exact_text(min_clump_radius_ratio) + " × the largest radius " + exact_text(largest)
+                + "; so small a sphere would set the time step without shaping the grain");
+            ok = false;
+        }
+    // One rigid body: every sphere reached from the first through spheres that overlap or touch.
+    std::vector<char> reached(g.spheres.size(), 0);
+    reached[0] = 1;
+    for (bool grew = true; grew;) {
+        grew = false;
+        for (std::size_t i = 0; i < g.spheres.size(); ++i)
+            for (std::size_t j = 0; j < g.spheres.size(); ++j) {
+                if (!reached[i] || reached[j]) continue;
+                const auto& p = g.spheres[i];
+                const auto& q = g.spheres[j];
+                const double d = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+                if (d <= p[3] + q[3]) reached[j] = 1, grew = true;
+            }
+    }
+    for (std::size_t i = 0; i < g.spheres.size() && ok; ++i)
+        if (!reached[i]) {
+            v.fail(index_path(spath, i), "touches no sphere connected to the first: a clump's spheres must form one body");
+            ok = false;
+        }
+    if (ok) out = std::move(g);
+}
+
 void read_specimen(ObjectReader& r, SpecimenSpec& s)
 {
     r.number("membrane_radius_m", open_closed(0.0, 1.0), s.membrane_radius_m,
@@ -815,6 +933,7 @@ void read_specimen(ObjectReader& r, SpecimenSpec& s)
     r.number("grain_radius_spread", closed_open(0.0, 0.5), s.grain_radius_spread,
         {"1", "s: radii uniform in r_p·(1 ± s); 0 = monodisperse"});
     read_grain_sizes(r, s.grain_sizes);
+    read_grain_shape(r, s.grain_shape);
     // A curve gives every size: a radius or spread beside it would be ignored.
     if (s.grain_sizes)
         for (const std::string_view key : {"grain_radius_m", "grain_radius_spread"})
@@ -1519,6 +1638,16 @@ json::object specimen_json(const SpecimenSpec& s)
         wire["toolpath_x_m"] = std::move(x);
         wire["toolpath_y_m"] = std::move(y);
         wire["toolpath_rotation_per_layer_rad"] = w.toolpath_rotation_per_layer_rad;
+    }
+    // Written only when set: every job without it writes what it wrote before.
+    if (s.grain_shape) {
+        if (!s.grain_shape->template_name.empty()) {
+            o["grain_shape"] = json::object{{"template", s.grain_shape->template_name}};
+        } else {
+            json::array spheres;
+            for (const auto& sphere : s.grain_shape->spheres) spheres.push_back(json::array{sphere[0], sphere[1], sphere[2], sphere[3]});
+            o["grain_shape"] = json::object{{"spheres", std::move(spheres)}};
+        }
     }
     // A curve sets every size: the reader refuses a radius or spread beside it.
     if (s.grain_sizes) {

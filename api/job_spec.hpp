@@ -15,6 +15,7 @@
 #include <boost/json/object.hpp>
 #include <boost/json/value.hpp>
 
+#include <array>
 #include <cstdint>
 #include <numbers>
 #include <optional>
@@ -72,6 +73,20 @@ struct GrainSizesSpec {
     /// nondecreasing, the first 0 and the last 1.
     std::vector<double> fraction_passing;
     friend bool operator==(const GrainSizesSpec&, const GrainSizesSpec&) = default;
+};
+
+/// The shape of every grain: a rigid clump of overlapping spheres
+/// (docs/model.md, "Clumps"), a built-in template or the given spheres.
+/// Exactly one of the two is set. A grain of radius r (from grain_radius_m
+/// and its spread, or a curve) is the clump scaled to a volume-equivalent
+/// radius r.
+struct GrainShapeSpec {
+    /// A built-in template: "elongated", "flat", "tetrahedral" or "crushed"; empty when spheres are given.
+    std::string template_name;
+    /// Spheres (x, y, z, radius) in any length unit (only the shape counts):
+    /// 2–32, radii > 0 and at least a tenth of the largest, the union connected.
+    std::vector<std::array<double, 4>> spheres;
+    friend bool operator==(const GrainShapeSpec&, const GrainShapeSpec&) = default;
 };
 
 /// Elastic properties of the grains (the model spec §2).
@@ -192,6 +207,8 @@ struct SpecimenSpec {
     /// Grain sizes from a curve instead of r_p and s (which must then be
     /// left out of the JSON; reference_grain_radius_m stands for r_p).
     std::optional<GrainSizesSpec> grain_sizes;
+    /// Every grain a clump of this shape; none: spheres (the model spec's grains).
+    std::optional<GrainShapeSpec> grain_shape;
     GrainMaterialSpec grain;                   ///< grain material
     PlateMaterialSpec plate;                   ///< plate material
     WireSpec wire;                             ///< the wire and its deployment

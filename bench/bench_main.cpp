@@ -491,6 +491,14 @@ int main(int argc, char** argv)
            "(all give the same results)")
         ->transform(CLI::CheckedTransformer(std::map<std::string, SimdKernels>{
             {"auto", SimdKernels::automatic}, {"avx2", SimdKernels::avx2}, {"scalar", SimdKernels::scalar}}));
+    std::string clumps;
+    app.add_option("--clumps", clumps,
+           "time a packing of clumps of this built-in shape (elongated, flat, tetrahedral, crushed; --grains of them, "
+           "of volume-equivalent radius r_p, turned at random) instead of spheres; bodies then counts their spheres")
+        ->check(CLI::IsMember(std::vector<std::string>(builtin_clump_names.begin(), builtin_clump_names.end())));
+    double sphere_radius = 0.0;
+    app.add_option("--grain-radius", sphere_radius, "grain radius r_p [m] (default: the paper's 1.23 mm)")
+        ->check(CLI::Range(1e-5, 0.1));
     double rolling_friction = 0.0;
     app.add_option("--rolling-friction", rolling_friction,
            "time the settled packing with rolling resistance μ_r (engine/laws/rolling.hpp; f_r = 1, η_r = 0.3); 0: off")
@@ -518,9 +526,12 @@ int main(int argc, char** argv)
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);
     spec.lattice_gap = 0.02;
+    if (sphere_radius > 0.0) spec.grain_radius_m = sphere_radius;
+    if (!clumps.empty()) spec.clump = unit_clump_shape(*builtin_clump_template(clumps));
     build_container(settle.world, spec);
     World& w = settle.world;
-    const double mass = w.bodies[0].mass_kg[0];
+    // e_n = 0.5 for two grains (clumps: of the clump's mass) head-on.
+    const double mass = clumps.empty() ? w.bodies[0].mass_kg[0] : w.clumps.mass_kg[0];
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
@@ -543,7 +554,7 @@ int main(int argc, char** argv)
 
     std::vector<Case> cases;
     for (Integrator integrator : integrators) {
-        const auto more = time_cases("settled_packing", w, steps, thread_counts, integrator);
+        const auto more = time_cases(clumps.empty() ? "settled_packing" : "clump_packing", w, steps, thread_counts, integrator);
         cases.insert(cases.end(), more.begin(), more.end());
     }
     std::vector<double> dts(cases.size(), w.dt_s);

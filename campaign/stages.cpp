@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -574,6 +575,15 @@ void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& spe
     const eng::TranslationalState& g = w.of(eng::BodyKind::grain);
     write_units(sp.write_dataset("grain_position_m", std::span<const eng::Vec3>(g.x[0])), "m");
     write_units(sp.write_dataset("grain_radius_m", std::span<const double>(g.radius_m)), "m");
+    // Clumps: every sphere is a grain above; which clump it belongs to
+    // (−1: a free grain), so that a viewer can colour or pick a clump. Only
+    // with clumps: every other result.h5 stays as it was.
+    if (!w.clumps.empty()) {
+        std::vector<std::int64_t> clump(g.size(), -1);
+        for (std::size_t i = 0; i < g.size(); ++i)
+            if (w.clumps.is_member(i)) clump[i] = w.clumps.member_clump[i];
+        write_units(sp.write_dataset("grain_clump", std::span<const std::int64_t>(clump)), "1");
+    }
     const eng::TranslationalState& wn = w.of(eng::BodyKind::wire);
     write_units(sp.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(wn.x[0])), "m");
     // The plastic joints' rest angles are part of the wire's state (docs/model.md, "Wire").

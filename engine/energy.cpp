@@ -90,6 +90,8 @@ double gravitational_energy_j(const World& w)
         for (std::size_t i = 0; i < body.size(); ++i)
             if (is_dynamic(body, i)) e -= body.mass_kg[i] * w.gravity_m_per_s2.dot(body.x[0][i]);
     }
+    if (w.gravity_acts[static_cast<int>(BodyKind::grain)]) // clumps: their spheres weigh nothing
+        for (std::size_t i = 0; i < w.clumps.size(); ++i) e -= w.clumps.mass_kg[i] * w.gravity_m_per_s2.dot(w.clumps.x[0][i]);
     return e;
 }
 

@@ -12,7 +12,9 @@ double build_container(World& w, const ContainerSpec& spec)
     add_wall(w, make_cylinder(spec.container_radius_m, wall_mat));
 
     SplitMix64 rng(spec.seed);
-    const double r = spec.grain_radius_m;
+    const std::optional<ClumpBody> clump
+        = spec.clump ? std::optional<ClumpBody>(scaled_clump(*spec.clump, spec.grain_radius_m)) : std::nullopt;
+    const double r = clump ? clump->bounding_radius_m() : spec.grain_radius_m;
     const double pitch = 2.0 * r * (1.0 + spec.lattice_gap);
     const double gap = pitch - 2.0 * r;
     const double reach = spec.container_radius_m - r - 0.5 * gap; // centre must stay inside
@@ -33,7 +35,12 @@ double build_container(World& w, const ContainerSpec& spec)
                 const double jy = rng.uniform() - 0.5;
                 const double jx = rng.uniform() - 0.5;
                 const Vec3 jitter(jx, jy, jz);
-                add_grain(w, Vec3(x, y, z) + spec.jitter * gap * jitter, r, grain_mat);
+                if (clump) {
+                    const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+                    add_clump(w, *clump, Vec3(x, y, z) + spec.jitter * gap * jitter, uniform_orientation(u1, u2, u3), grain_mat);
+                } else {
+                    add_grain(w, Vec3(x, y, z) + spec.jitter * gap * jitter, r, grain_mat);
+                }
                 ++placed;
                 top = z;
             }

@@ -43,6 +43,11 @@ struct ContainerSpec {
     std::uint64_t seed = 1;
     Material grain{};               ///< default: the paper's grains
     Material wall{1e9, 0.3, 7800.0}; ///< plates and cylinder (E_b)
+    /// When set, each lattice site holds a clump of this shape (at a
+    /// volume-equivalent radius of 1 m, scaled by grain_radius_m), turned to
+    /// a random orientation, instead of a sphere; the lattice's pitch then
+    /// follows the clump's bounding radius.
+    std::optional<ClumpBody> clump;
 };
 
 /// Adds a floor at z = 0, the cylinder wall and `spec.grains` grains on a

@@ -1,5 +1,7 @@
 #include "simulation.hpp"
 
+#include "integrate/clumps.hpp"
+
 namespace wiredem::engine {
 
 RunOutcome Simulation::run(std::uint64_t steps, const RunControl& control)
@@ -53,6 +55,7 @@ double kinetic_energy_j(const World& w, ThreadPool& pool)
             return s;
         },
         [](double a, double b) { return a + b; });
+    if (!w.clumps.empty()) e += clump_kinetic_energy_j(w); // their spheres weigh nothing
     return e;
 }
 

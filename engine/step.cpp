@@ -6,6 +6,7 @@
 #include "core/assert.hpp"
 #include "forces/membrane_forces.hpp"
 #include "forces/wire_forces.hpp"
+#include "integrate/clumps.hpp"
 #include "integrate/gear5.hpp"
 #include "integrate/verlet.hpp"
 #include "laws/hertz.hpp"
@@ -44,6 +45,7 @@ void begin_run(World& w, ThreadPool& pool)
     parallel_for(pool, rot.orientation.size(), [&](std::size_t i) {
         if (is_dynamic(w.of(BodyKind::grain), i)) rot.theta[2][i] = half_dt2 * rot.inv_inertia_per_kg_m2[i] * w.grain_torque_n_m[i];
     });
+    clump_initial_accelerations(w, pool);
 }
 
 StepReport step(World& w, ThreadPool& pool, StepProfile* profile)
@@ -296,8 +298,12 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
         // Neighbours along the wire are held by its springs, not by contact.
         if (a.kind() == BodyKind::wire && b.kind() == BodyKind::wire && b.index() - a.index() < w.wire_contact_skip)
             return false;
+        // Two spheres of one clump never touch: it is rigid.
+        if (a.kind() == BodyKind::grain && b.kind() == BodyKind::grain && w.clumps.is_member(a.index())
+            && w.clumps.member_clump[a.index()] == w.clumps.member_clump[b.index()])
+            return false;
         // Two bodies whose motion is prescribed never need a contact.
-        return is_dynamic(w.of(a.kind()), a.index()) || is_dynamic(w.of(b.kind()), b.index());
+        return moves_by_forces(w.of(a.kind()), a.index()) || moves_by_forces(w.of(b.kind()), b.index());
     };
     const auto pairs = w.grid.find_pairs(pool, pos, radius, skin, partners, filter);
 
@@ -323,7 +329,7 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
         for (std::uint32_t i = 0; i < n; ++i) {
             const TranslationalState& body = w.of(ref[i].kind());
             const std::uint32_t b = ref[i].index();
-            if (is_dynamic(body, b) && wall_gap(wall, pos[i]).gap_m < radius[i] + skin) {
+            if (moves_by_forces(body, b) && wall_gap(wall, pos[i]).gap_m < radius[i] + skin) {
                 first.push_back(ref[i]);
                 second.push_back(wall_ref(wi));
             }
@@ -465,12 +471,24 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         const TranslationalState& grains = w.of(BodyKind::grain);
         const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
         // 1/(I + m r²): each grain's inverse inertia about a point of its
-        // surface (0 for a grain that must not turn), once per step.
+        // surface (0 for a grain that must not turn), once per step. A
+        // clump's sphere, which has no mass of its own, takes its clump's
+        // about the sphere's farthest surface point on the axis of I₁,
+        // 1/(I₁ + M (|b| + r)²): a lone sphere's value at b = 0.
         std::vector<double> inverse_inertia_about_contact(grains.size());
+        const ClumpState& clumps = w.clumps;
         parallel_for_blocks(pool, grains.size(), 1024, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
+            for (std::size_t i = begin; i < end; ++i) {
+                if (grains.motion[i] == Motion::clumped) {
+                    const std::uint32_t k = clumps.member_clump[i];
+                    const double arm = clumps.member_offset_m[i].norm() + grains.radius_m[i];
+                    inverse_inertia_about_contact[i]
+                        = 1.0 / (clumps.principal_inertia_kg_m2[k].minCoeff() + clumps.mass_kg[k] * arm * arm);
+                    continue;
+                }
                 inverse_inertia_about_contact[i]
                     = inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+            }
         });
         auto roll = [&](std::size_t p, const Vec3& normal, const Vec3& relative_spin_dt, double eff_radius_m,
                         double inverse_inertia) {

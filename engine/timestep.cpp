@@ -105,6 +105,8 @@ StabilityInputs stability_inputs(const World& w, MembraneAs membrane)
             const double modulus = plane_modulus_pa(w.materials[b.material[i]]);
             if (as_deformable_membrane)
                 in.kinds[k].include(w.membrane.node_mass_kg[i], w.membrane.node_fixed[i] != 0, b.radius_m[i], modulus);
+            else if (b.motion[i] == Motion::clumped) // its clump's mass as its contacts feel it
+                in.kinds[k].include(clump_sphere_effective_mass_kg(w, i), false, b.radius_m[i], modulus);
             else
                 in.kinds[k].include(b.mass_kg[i], !is_dynamic(b, i), b.radius_m[i], modulus);
         }

@@ -1,6 +1,7 @@
 #include "integrate/gear5.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
+#include "integrate/clumps.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
@@ -281,6 +282,7 @@ void gear5_predict(World& w, ThreadPool& pool)
 #if defined(WIREDEM_CHECK_PREDICTION)
     if (take) check_kept<Position::without>(rot.theta, next.theta, grain_motion, "the rotation of grain");
 #endif
+    gear5_predict_clumps(w, pool); // puts their spheres, which the loops above skip
 }
 
 bool gear5_correct(World& w, ThreadPool& pool)
@@ -320,6 +322,7 @@ bool gear5_correct(World& w, ThreadPool& pool)
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
     });
+    finite = gear5_correct_clumps(w, pool) && finite;
     next.for_step = w.step_count + 1; // step() counts this step after the corrector
     return finite;
 }

@@ -1,6 +1,7 @@
 #include "integrate/verlet.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
+#include "integrate/clumps.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
 
@@ -117,6 +118,7 @@ void verlet_first_half(World& w, ThreadPool& pool)
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
     });
+    verlet_first_half_clumps(w, pool); // puts their spheres, which the loops above skip
 }
 
 bool verlet_second_half(World& w, ThreadPool& pool)
@@ -148,7 +150,7 @@ bool verlet_second_half(World& w, ThreadPool& pool)
             (void)kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
         });
     });
-    return finite;
+    return verlet_second_half_clumps(w, pool) && finite;
 }
 
 } // namespace wiredem::engine

@@ -45,17 +45,19 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 2760, "World changed: update for_each_field and this size");
+static_assert(sizeof(World) == 3288, "World changed: update for_each_field and this size");
 static_assert(sizeof(Model) == 464, "Model changed: update for_each_field and this size");
-static_assert(sizeof(State) == 1080, "State changed: update for_each_field and this size");
+static_assert(sizeof(State) == 1536, "State changed: update for_each_field and this size");
 // Caches::next_prediction and Caches::near are the members not listed: a
 // restored run predicts afresh from the saved derivatives, and selects its
 // near pairs afresh, with the same bits. ContactList::rolling_on_ is not
 // listed either: it follows from Model::contact.rolling at the next step.
-static_assert(sizeof(Caches) == 1216, "Caches changed: update for_each_field and this size");
+static_assert(sizeof(Caches) == 1288, "Caches changed: update for_each_field and this size");
 static_assert(sizeof(GearPrediction) == 200, "GearPrediction changed: update this size");
 static_assert(sizeof(NearPairs) == 192, "NearPairs changed: update this size");
 static_assert(sizeof(TranslationalState) == 264, "TranslationalState changed: update for_each_field and this size");
+static_assert(sizeof(ClumpState) == 456, "ClumpState changed: update for_each_field and this size");
+static_assert(sizeof(ClumpLoads) == 72, "ClumpLoads changed: update for_each_field and this size");
 static_assert(sizeof(RotationalState) == 192, "RotationalState changed: update for_each_field and this size");
 static_assert(sizeof(Wall) == 112, "Wall changed: update for_each_field and this size");
 static_assert(sizeof(WallLoad) == 32, "WallLoad changed: update for_each_field and this size");
@@ -214,6 +216,26 @@ std::string mismatched_sizes(const World& w)
         check(error, w.contacts.rolling_rad.size(), w.contacts.size(), "contacts/rolling_rad");
         check(error, w.contacts.rolling_torque_n_m.size(), w.contacts.size(), "contacts/rolling_torque_n_m");
     }
+    const ClumpState& cl = w.clumps;
+    if (!cl.empty()) {
+        const std::size_t n = cl.size();
+        for (int d = 0; d < gear_order; ++d) {
+            check(error, cl.x[d].size(), n, "clumps/x" + std::to_string(d));
+            check(error, cl.omega[d].size(), n, "clumps/omega" + std::to_string(d));
+        }
+        check(error, cl.orientation.size(), n, "clumps/orientation");
+        check(error, cl.principal_inertia_kg_m2.size(), n, "clumps/principal_inertia_kg_m2");
+        check(error, cl.first_member.size(), n, "clumps/first_member");
+        check(error, cl.member_count.size(), n, "clumps/member_count");
+        check(error, w.clump_loads.force_n.size(), n, "clumps/force_n");
+        check(error, w.clump_loads.torque_n_m.size(), n, "clumps/torque_n_m");
+        check(error, w.clump_loads.predicted_orientation.size(), n, "clumps/predicted_orientation");
+        check(error, cl.member_clump.size(), grains, "clumps/member_clump");
+        check(error, cl.member_offset_m.size(), grains, "clumps/member_offset_m");
+        for (std::size_t i = 0; error.empty() && i < n; ++i)
+            if (cl.first_member[i] + std::uint64_t{cl.member_count[i]} > grains)
+                error = "field clumps/first_member names spheres that are not grains";
+    }
     for (const auto& [body, f] : w.point_loads)
         if (error.empty() && (is_wall(body) || body.index() >= w.of(body.kind()).size()))
             error = "field point_loads names a body that does not exist";
@@ -317,6 +339,8 @@ Result<World, std::string> restore_snapshot(
         // Rolling springs saved: make them present, so that for_each_field
         // lists them (it lists them only when there are any) and they are read.
         if (root.exists("contacts/rolling_rad")) w.contacts.rolling_rad.resize(1);
+        // Clumps saved (version 10 on): likewise.
+        if (root.exists("clumps/mass_kg")) w.clumps.mass_kg.resize(1);
         std::string error;
         for_each_field(w, [&](const std::string& name, auto& value, FieldRole) {
             if (!error.empty()) return;

@@ -30,8 +30,9 @@ namespace wiredem::engine {
 /// bending forces in three arrays; the skin the neighbour list was built with;
 /// 7: the rolling law's parameters, and its springs and torques while it is on;
 /// 8: a wall's own friction coefficient (Wall::friction_coeff);
-/// 9: the wire's breaking strain, and its removed segments when it has any.
-inline constexpr std::int64_t snapshot_version = 9;
+/// 9: the wire's breaking strain, and its removed segments when it has any;
+/// 10: clumps (rigid multi-sphere grains) while there are any.
+inline constexpr std::int64_t snapshot_version = 10;
 
 /// The group of a snapshot file that holds the host's state (below).
 inline constexpr const char* snapshot_host_group = "host";

@@ -227,6 +227,8 @@ public:
         vertices(n);
         geometry(*pos);
         if (const auto r = find_scalars(g, "grain_radius_m", n)) attribute("radius_m", "Scalar", "Node", *r);
+        // Clumps: each sphere is a vertex; its clump's index (−1: a free grain).
+        if (const auto c = find_scalars(g, "grain_clump", n)) attribute("clump", "Scalar", "Node", *c);
         if (with_velocity)
             if (const auto v = find_vectors(g, "grain_velocity_m_per_s"); v && v->rows() == n)
                 attribute("velocity_m_per_s", "Vector", "Node", *v);

@@ -1,5 +1,7 @@
 #include "specimen/preparation.hpp"
 
+#include "integrate/clumps.hpp"
+
 #include "contact/geometry.hpp"
 #include "core/result.hpp"
 #include "scene.hpp"
@@ -394,6 +396,7 @@ double settling_energy_j(const World& w, double wire_mass_scale)
         const double inv_i = w.grain_rotation.inv_inertia_per_kg_m2[i];
         if (inv_i > 0.0) e += 0.5 * omega.squaredNorm() / inv_i;
     }
+    if (!w.clumps.empty()) e += clump_kinetic_energy_j(w); // their spheres weigh nothing
     const TranslationalState& n = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < n.size(); ++i)
         if (is_dynamic(n, i)) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
@@ -469,7 +472,11 @@ Column empty_column(const PreparationSpec& spec)
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
     World probe = w;
-    add_grain(probe, Vec3(0, 0, 1), smallest_grain_radius_m(spec), c.grain_mat);
+    if (spec.grain_shape) // a clump of the smallest size: its smallest sphere, the mass its contacts see
+        add_clump(probe, scaled_clump(*spec.grain_shape, smallest_grain_radius_m(spec)), Vec3(0, 0, 1),
+            Quat::Identity(), c.grain_mat);
+    else
+        add_grain(probe, Vec3(0, 0, 1), smallest_grain_radius_m(spec), c.grain_mat);
     if (with_wire) {
         append_wire_node(probe, Vec3(0, 0, 2));
         append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
@@ -597,20 +604,29 @@ Result<PreparationReport, std::string> prepare_specimen(
             // afresh, as it always has.) A size still unplaced when the
             // batch's attempts run out is dropped.
             double curve_radius = 0.0;
-            for (int a = 0; a < attempts && st.owed_grains >= 1.0 && w.of(BodyKind::grain).size() < spec.grain_count; ++a) {
+            for (int a = 0; a < attempts && st.owed_grains >= 1.0 && grain_body_count(w) < spec.grain_count; ++a) {
                 if (sizes && curve_radius == 0.0) curve_radius = 0.5 * sizes->diameter_at_number_fraction(rng.uniform());
                 const double radius = sizes ? curve_radius
                     : spec.grain_radius_m * (1.0 + spec.grain_radius_spread * (2.0 * rng.uniform() - 1.0));
                 const double rho = pour_radius * std::sqrt(rng.uniform()), phi = 2.0 * std::numbers::pi * rng.uniform();
                 const Vec3 x(rho * std::cos(phi), rho * std::sin(phi), zone_low + zone_height * rng.uniform());
+                // A clump is placed where its bounding sphere is free, turned at random.
+                const std::optional<ClumpBody> clump
+                    = spec.grain_shape ? std::optional<ClumpBody>(scaled_clump(*spec.grain_shape, radius)) : std::nullopt;
+                const double extent = clump ? clump->bounding_radius_m() : radius;
                 bool free = true;
                 for (int k = 0; k < 2 && free; ++k) {
                     const TranslationalState& b = w.bodies[k];
                     for (std::size_t i = b.size(); i-- > 0 && free;) // the newest bodies are the likeliest neighbours
-                        free = (b.x[0][i] - x).norm() >= radius + b.radius_m[i] + 0.1 * r_max;
+                        free = (b.x[0][i] - x).norm() >= extent + b.radius_m[i] + 0.1 * r_max;
                 }
                 if (!free) continue;
-                add_grain(w, x, radius, column.grain_mat, Vec3(0, 0, -entry_speed));
+                if (clump) {
+                    const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+                    add_clump(w, *clump, x, uniform_orientation(u1, u2, u3), column.grain_mat, Vec3(0, 0, -entry_speed));
+                } else {
+                    add_grain(w, x, radius, column.grain_mat, Vec3(0, 0, -entry_speed));
+                }
                 curve_radius = 0.0;
                 st.poured_volume_m3 += 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
                 st.owed_grains -= 1.0;
@@ -639,7 +655,7 @@ Result<PreparationReport, std::string> prepare_specimen(
     auto settling_ended = [&]() -> std::optional<bool> {
         if (st.steps % check_every != 0) return std::nullopt;
         const double ke = settling_energy_j(w, spec.wire_mass_scale);
-        if (ke / static_cast<double>(w.of(BodyKind::grain).size()) < spec.settle_kinetic_energy_per_grain_j * spec.density_scale)
+        if (ke / static_cast<double>(grain_body_count(w)) < spec.settle_kinetic_energy_per_grain_j * spec.density_scale)
             return true;
         if (w.time_s > spec.max_time_s) return false;
         return std::nullopt;
@@ -656,7 +672,7 @@ Result<PreparationReport, std::string> prepare_specimen(
         for (;;) {
             switch (st.phase) {
             case PreparationPhase::pouring:
-                if (w.of(BodyKind::grain).size() >= spec.grain_count) {
+                if (grain_body_count(w) >= spec.grain_count) {
                     // The nozzle stops laying with the pour, if the fill has
                     // not stopped it before (a wire cover of zero: the fill
                     // height is reached only by the last grain). Still laying,
@@ -745,10 +761,18 @@ Result<PreparationReport, std::string> prepare_specimen(
     PreparationReport report;
     report.top_plate_wall = st.top_plate_wall;
     report.settled = st.settled_before_lid && st.settled_under_lid;
+    // A grain's radius: a sphere's, or a clump's volume-equivalent one (the
+    // size it was drawn with; its spheres overlap, so their volumes would
+    // count the overlaps twice).
     const TranslationalState& g = w.of(BodyKind::grain);
+    std::vector<double> grain_radii;
+    const double density = w.materials[column.grain_mat].density_kg_per_m3;
+    for (std::size_t i = 0; i < g.size(); ++i)
+        if (!w.clumps.is_member(i)) grain_radii.push_back(g.radius_m[i]);
+    for (const double m : w.clumps.mass_kg) grain_radii.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * density)));
     double grain_volume = 0.0;
-    for (double r : g.radius_m) grain_volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-    report.grains = g.size();
+    for (double r : grain_radii) grain_volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    report.grains = grain_radii.size();
     report.wire_nodes = w.of(BodyKind::wire).size();
     report.wire_length_m = wire_length_m(w);
     report.nozzle_path_m = with_wire ? nozzle.path_m() : 0.0;
@@ -763,7 +787,7 @@ Result<PreparationReport, std::string> prepare_specimen(
     const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, sample_m);
     report.core_grain_volume_fraction = core.grain;
     report.core_wire_volume_fraction = core.wire;
-    if (spec.grain_sizes && g.size() > 0) report.grain_sizes = grain_size_report(g.radius_m, *spec.grain_sizes);
+    if (spec.grain_sizes && !grain_radii.empty()) report.grain_sizes = grain_size_report(grain_radii, *spec.grain_sizes);
     report.simulated_time_s = w.time_s;
     report.steps = st.steps;
     report.time_step_s = dt;
@@ -779,8 +803,10 @@ double smallest_grain_radius_m(const PreparationSpec& spec)
 
 double largest_grain_radius_m(const PreparationSpec& spec)
 {
-    if (spec.grain_sizes) return 0.5 * spec.grain_sizes->diameters_m.back();
-    return spec.grain_radius_m * (1.0 + spec.grain_radius_spread);
+    // A clump reaches its bounding radius from its centre (≥ its volume-equivalent radius).
+    const double extent = spec.grain_shape ? spec.grain_shape->bounding_radius_m() : 1.0;
+    if (spec.grain_sizes) return extent * (0.5 * spec.grain_sizes->diameters_m.back());
+    return extent * (spec.grain_radius_m * (1.0 + spec.grain_radius_spread));
 }
 
 double required_membrane_height_m(const PreparationSpec& spec)

@@ -12,6 +12,7 @@
 #include "forces/wire_forces.hpp"
 #include "simulation.hpp"
 #include "specimen/grain_sizes.hpp"
+#include "state/clump_shape.hpp"
 #include "specimen/pattern.hpp"
 
 #include <cstdint>
@@ -31,6 +32,11 @@ struct PreparationSpec {
     /// (grain_radius_m and grain_radius_spread are then not used for sizes;
     /// smallest_grain_radius_m and the functions after it read either).
     std::optional<SieveCurve> grain_sizes;
+    /// When set, every grain is a clump of this shape (state/clump_shape.hpp)
+    /// in its body frame at a volume-equivalent radius of 1 m: a grain of
+    /// radius r (drawn as without it) is this body × r, the volume of a
+    /// sphere of radius r, poured turned to a uniformly random orientation.
+    std::optional<ClumpBody> grain_shape;
     Material grain{};
     Material plate{1e9, 0.3, 7800.0};      ///< E_b
     WireSpec wire{};
@@ -95,11 +101,14 @@ struct PreparationReport {
 };
 
 /// The radius of the smallest grain the preparation can draw [m]: r (1 − s),
-/// or half the curve's smallest diameter. The stable time step takes it.
+/// or half the curve's smallest diameter (a clump's volume-equivalent
+/// radius). The stable time step takes it (a clump of that size with a
+/// grain_shape).
 [[nodiscard]] double smallest_grain_radius_m(const PreparationSpec& spec);
 /// The radius of the largest grain the preparation can draw [m]: r (1 + s),
-/// or half the curve's largest diameter. The pouring zone, the column's
-/// width, the wire's cover and the cell grid take it.
+/// or half the curve's largest diameter, times a clump's bounding radius
+/// per volume-equivalent radius with a grain_shape. The pouring zone, the
+/// column's width, the wire's cover and the cell grid take it.
 [[nodiscard]] double largest_grain_radius_m(const PreparationSpec& spec);
 
 /// Gravity on the scaled bodies: every body weighs `weight_factor` times its

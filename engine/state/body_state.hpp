@@ -19,6 +19,10 @@ enum class Motion : std::uint8_t {
     dynamic,   ///< integrated from its forces
     kinematic, ///< moves at its prescribed velocity x₁/δt (set_velocity) whatever the forces; they are still gathered (Caches::body_force_n)
     fixed,     ///< does not move
+    /// A sphere of a clump (a grain of several rigid spheres: state/world.hpp,
+    /// ClumpState): placed by its clump's motion every step; its contacts are
+    /// those of a dynamic body, its forces are summed on the clump.
+    clumped,
 };
 
 /// The spheres of one kind (grains, wire nodes or membrane nodes): what

@@ -1,5 +1,7 @@
 #include "state/world.hpp"
 
+#include "core/assert.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -19,9 +21,94 @@ std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::
     w.grain_rotation.theta[1].back() = angular_velocity_rad_per_s * w.dt_s;
     w.force_of(BodyKind::grain).push_back(Vec3::Zero());
     w.grain_torque_n_m.push_back(Vec3::Zero());
+    if (!w.clumps.member_clump.empty()) { // a free grain beside clumps
+        w.clumps.member_clump.push_back(ClumpState::none);
+        w.clumps.member_offset_m.push_back(Vec3::Zero());
+    }
     w.neighbours_dirty = true;
     invalidate_prediction(w);
     return id;
+}
+
+std::uint32_t add_clump(World& w, const ClumpBody& body, const Vec3& position_m, const Quat& orientation,
+    std::uint8_t material, const Vec3& velocity_m_per_s, const Vec3& angular_velocity_rad_per_s)
+{
+    WIREDEM_ASSERT(!body.spheres.empty(), "a clump has spheres");
+    ClumpState& c = w.clumps;
+    TranslationalState& grains = w.of(BodyKind::grain);
+    if (c.member_clump.empty()) { // the first clump: the per-grain arrays appear
+        c.member_clump.assign(grains.size(), ClumpState::none);
+        c.member_offset_m.assign(grains.size(), Vec3::Zero());
+    }
+    const double density = w.materials[material].density_kg_per_m3;
+    const auto id = static_cast<std::uint32_t>(c.size());
+    const Quat q = orientation.normalized();
+    c.x[0].push_back(position_m);
+    c.x[1].push_back(velocity_m_per_s * w.dt_s);
+    const Vec3 omega_body = q.conjugate() * angular_velocity_rad_per_s;
+    c.omega[0].push_back(Vec3::Zero());
+    c.omega[1].push_back(omega_body * w.dt_s);
+    for (int k = 2; k < gear_order; ++k) {
+        c.x[k].push_back(Vec3::Zero());
+        c.omega[k].push_back(Vec3::Zero());
+    }
+    c.orientation.push_back(q);
+    c.mass_kg.push_back(density * body.volume_m3);
+    c.principal_inertia_kg_m2.push_back(density * body.principal_inertia_m5);
+    c.first_member.push_back(static_cast<std::uint32_t>(grains.size()));
+    c.member_count.push_back(static_cast<std::uint32_t>(body.spheres.size()));
+    for (const ClumpSphere& s : body.spheres) {
+        // No mass of its own: nothing integrates it, gravity acts on the clump.
+        grains.add(position_m, Vec3::Zero(), s.radius_m, 0.0, material, w.dt_s);
+        grains.motion.back() = Motion::clumped;
+        w.grain_rotation.add(0.0);
+        w.force_of(BodyKind::grain).push_back(Vec3::Zero());
+        w.grain_torque_n_m.push_back(Vec3::Zero());
+        c.member_clump.push_back(id);
+        c.member_offset_m.push_back(s.centre_m);
+    }
+    w.clump_loads.force_n.push_back(Vec3::Zero());
+    w.clump_loads.torque_n_m.push_back(Vec3::Zero());
+    w.clump_loads.predicted_orientation.push_back(q);
+    place_clump_spheres(w, id, q);
+    w.neighbours_dirty = true;
+    invalidate_prediction(w);
+    return id;
+}
+
+void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q)
+{
+    const ClumpState& c = s.clumps;
+    TranslationalState& grains = s.of(BodyKind::grain);
+    const Vec3 centre = c.x[0][clump], velocity = c.x[1][clump];
+    const Vec3 spin = q * c.omega[1][clump]; // δt ω in space
+    const std::uint32_t end = c.first_member[clump] + c.member_count[clump];
+    for (std::uint32_t i = c.first_member[clump]; i < end; ++i) {
+        const Vec3 arm = q * c.member_offset_m[i];
+        grains.x[0][i] = centre + arm;
+        grains.x[1][i] = velocity + spin.cross(arm); // δt (v + ω × r)
+        s.grain_rotation.theta[1][i] = spin;
+    }
+}
+
+double clump_sphere_effective_mass_kg(const State& s, std::size_t grain)
+{
+    const ClumpState& c = s.clumps;
+    const std::uint32_t i = c.member_clump[grain];
+    const double smallest_inertia = c.principal_inertia_kg_m2[i].minCoeff();
+    return 1.0 / (1.0 / c.mass_kg[i] + c.member_offset_m[grain].squaredNorm() / smallest_inertia);
+}
+
+Vec3 clump_angular_velocity_rad_per_s(const State& s, std::uint32_t clump)
+{
+    return s.clumps.orientation[clump] * s.clumps.omega[1][clump] / s.dt_s;
+}
+
+Vec3 clump_angular_momentum(const State& s, std::uint32_t clump)
+{
+    const ClumpState& c = s.clumps;
+    const Vec3 l_body = c.principal_inertia_kg_m2[clump].cwiseProduct(c.omega[1][clump]) / s.dt_s;
+    return c.orientation[clump] * l_body;
 }
 
 std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double radius_m, double mass_kg,
@@ -84,6 +171,8 @@ void set_time_step(World& w, double dt_s)
         for (auto& body : s.bodies)
             for (Vec3& v : body.x[k]) v *= scale;
         for (Vec3& v : s.grain_rotation.theta[k]) v *= scale;
+        for (Vec3& v : s.clumps.x[k]) v *= scale;
+        for (Vec3& v : s.clumps.omega[k]) v *= scale;
     }
     s.dt_s = dt_s;
 }
@@ -96,6 +185,17 @@ void set_integrator(World& w, Integrator integrator)
         for (auto& body : w.bodies)
             for (Vec3& v : body.x[k]) v.setZero();
         for (Vec3& v : w.grain_rotation.theta[k]) v.setZero();
+        for (Vec3& v : w.clumps.x[k]) v.setZero();
+        for (Vec3& v : w.clumps.omega[k]) v.setZero();
+    }
+    // A clump's omega[2] is δt²/2 ω̇_b under Gear-5 and δt²/2 I⁻¹τ_b under
+    // Verlet; they differ by the gyroscopic term, ½ I⁻¹(w₁ × I w₁) with w₁ = δt ω_b.
+    ClumpState& c = w.clumps;
+    const double sign = integrator == Integrator::verlet ? 1.0 : -1.0;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const Vec3& inertia = c.principal_inertia_kg_m2[i];
+        const Vec3 w1 = c.omega[1][i];
+        c.omega[2][i] += sign * 0.5 * w1.cross(inertia.cwiseProduct(w1)).cwiseQuotient(inertia);
     }
     w.integrator = integrator;
 }
@@ -120,6 +220,7 @@ void set_motion(World& w, BodyRef b, Motion motion)
 {
     TranslationalState& body = w.of(b.kind());
     const std::uint32_t i = b.index();
+    WIREDEM_ASSERT(body.motion[i] != Motion::clumped && motion != Motion::clumped, "a clump's sphere moves with its clump");
     if (body.motion[i] == motion) return;
     invalidate_prediction(w);
     body.motion[i] = motion;
@@ -141,6 +242,7 @@ void place_body(World& w, BodyRef b, const Vec3& position_m)
 {
     TranslationalState& body = w.of(b.kind());
     const std::uint32_t i = b.index();
+    WIREDEM_ASSERT(body.motion[i] != Motion::clumped, "a clump's sphere moves with its clump");
     invalidate_prediction(w);
     body.x[0][i] = position_m;
     for (int k = 1; k < gear_order; ++k) body.x[k][i].setZero();
@@ -155,6 +257,9 @@ void scale_velocities(World& w, double factor)
     for (auto& body : w.bodies)
         for (Vec3& v : body.x[1]) v *= factor;
     for (Vec3& v : w.grain_rotation.theta[1]) v *= factor;
+    for (Vec3& v : w.clumps.x[1]) v *= factor;
+    for (Vec3& v : w.clumps.omega[1]) v *= factor;
+    for (std::uint32_t i = 0; i < w.clumps.size(); ++i) place_clump_spheres(w, i, w.clumps.orientation[i]);
 }
 
 void invalidate_neighbours(World& w)

@@ -28,6 +28,8 @@
 #include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 #include "state/body_state.hpp"
+#include "state/clump_shape.hpp"
+#include "state/clump_state.hpp"
 #include "state/materials.hpp"
 #include "state/membrane.hpp"
 #include "state/wire.hpp"
@@ -123,6 +125,8 @@ struct State {
     std::uint64_t step_count = 0;
     std::array<TranslationalState, body_kind_count> bodies;  ///< by BodyKind
     RotationalState grain_rotation;       ///< parallel to bodies[grain]
+    /// Rigid multi-sphere grains (state/clump_state.hpp); empty unless add_clump was called.
+    ClumpState clumps;
     std::vector<Wall> walls;
     /// The rest angle ζ₀ ≥ 0 of the wire's joint at every node (0 at the two
     /// ends, which have no joint) [rad]. Starts at 0 (straight) when the node
@@ -199,6 +203,7 @@ struct Caches {
     // Written by every step before anything reads them.
     std::array<std::vector<Vec3>, body_kind_count> body_force_n; ///< total force per body, by BodyKind [N]
     std::vector<Vec3> grain_torque_n_m;    ///< total torque per grain [N·m]
+    ClumpLoads clump_loads;                ///< per clump (empty without clumps)
     std::vector<WallLoad> wall_loads;      ///< per wall
     WireForces wire_forces;
     MembraneForces membrane_forces;
@@ -221,6 +226,43 @@ std::uint8_t add_material(World& w, const Material& m);
 /// returns its index.
 std::uint32_t add_grain(World& w, const Vec3& position_m, double radius_m, std::uint8_t material,
     const Vec3& velocity_m_per_s = Vec3::Zero(), const Vec3& angular_velocity_rad_per_s = Vec3::Zero());
+
+/// Adds a clump: a rigid body of `body`'s spheres (its body frame:
+/// state/clump_shape.hpp) of the material's density, its centre of mass at
+/// `position_m`, turned by `orientation` (body → space), moving at
+/// `velocity_m_per_s` and spinning at `angular_velocity_rad_per_s` (space
+/// frame). Its spheres are appended as consecutive grains of
+/// Motion::clumped and put in place. Returns the clump's index.
+std::uint32_t add_clump(World& w, const ClumpBody& body, const Vec3& position_m, const Quat& orientation,
+    std::uint8_t material, const Vec3& velocity_m_per_s = Vec3::Zero(),
+    const Vec3& angular_velocity_rad_per_s = Vec3::Zero());
+
+/// Puts clump `clump`'s spheres where it is, turned by `q` (its orientation,
+/// or Gear-5's predicted one): x₀ = X + q b, x₁ = δt (V + ω × q b) and the
+/// spin δt ω (space frame), ω = q ω_b, for each sphere's offset b.
+void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q);
+
+/// The smallest mass a contact on a clump's sphere (grain `grain`) can see:
+/// along a normal n through the sphere's centre, offset b from the clump's
+/// centre, 1/m = 1/M + (b × n)ᵀ I⁻¹ (b × n) ≤ 1/M + |b|²/I₁, so
+/// 1/(1/M + |b|²/I₁) [kg] (M for a sphere at the centre, as a lone grain's
+/// mass; the stable time step's Hertz limit takes it).
+[[nodiscard]] double clump_sphere_effective_mass_kg(const State& s, std::size_t grain);
+
+/// Grains as bodies: free grains and clumps (a clump's spheres count once, as their clump).
+[[nodiscard]] inline std::size_t grain_body_count(const State& s)
+{
+    const std::size_t spheres = s.of(BodyKind::grain).size();
+    if (s.clumps.empty()) return spheres;
+    std::size_t members = 0;
+    for (const std::uint32_t n : s.clumps.member_count) members += n;
+    return spheres - members + s.clumps.size();
+}
+
+/// Angular velocity of a clump in space [rad/s].
+[[nodiscard]] Vec3 clump_angular_velocity_rad_per_s(const State& s, std::uint32_t clump);
+/// Angular momentum of a clump about its centre of mass, space frame [kg·m²/s].
+[[nodiscard]] Vec3 clump_angular_momentum(const State& s, std::uint32_t clump);
 
 /// Adds a node of a kind without rotation (wire or membrane); returns its index.
 std::uint32_t add_node(World& w, BodyKind kind, const Vec3& position_m, double radius_m, double mass_kg,
@@ -273,6 +315,12 @@ void invalidate_neighbours(World& w);
 [[nodiscard]] inline bool is_dynamic(const TranslationalState& body, std::size_t i)
 {
     return body.motion[i] == Motion::dynamic;
+}
+/// Whether the body moves by forces, its own or (a clump's sphere) its clump's:
+/// such a body needs contacts, with walls too.
+[[nodiscard]] inline bool moves_by_forces(const TranslationalState& body, std::size_t i)
+{
+    return body.motion[i] == Motion::dynamic || body.motion[i] == Motion::clumped;
 }
 
 } // namespace wiredem::engine

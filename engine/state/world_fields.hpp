@@ -358,6 +358,25 @@ void for_each_field(W& w, Visit&& field)
     field("grain_rotation/inv_inertia_per_kg_m2", rot.inv_inertia_per_kg_m2, R::model);
     field("grain_rotation/torque_n_m", w.grain_torque_n_m, R::output);
 
+    // Clumps (state/clump_state.hpp): listed only when there are any, so that
+    // without them neither the hash nor a snapshot changes (a restore marks
+    // them present first when the file has them: io/snapshot.cpp).
+    if (!w.clumps.empty()) {
+        auto& cl = w.clumps;
+        for (int d = 0; d < gear_order; ++d) field("clumps/x" + std::to_string(d), cl.x[d], R::state);
+        for (int d = 0; d < gear_order; ++d) field("clumps/omega" + std::to_string(d), cl.omega[d], R::state);
+        field("clumps/orientation", cl.orientation, R::state);
+        field("clumps/mass_kg", cl.mass_kg, R::model);
+        field("clumps/principal_inertia_kg_m2", cl.principal_inertia_kg_m2, R::model);
+        field("clumps/first_member", cl.first_member, R::model);
+        field("clumps/member_count", cl.member_count, R::model);
+        field("clumps/member_clump", cl.member_clump, R::model);
+        field("clumps/member_offset_m", cl.member_offset_m, R::model);
+        field("clumps/force_n", w.clump_loads.force_n, R::output);
+        field("clumps/torque_n_m", w.clump_loads.torque_n_m, R::output);
+        field("clumps/predicted_orientation", w.clump_loads.predicted_orientation, R::output);
+    }
+
     // Walls. Their contacts (springs and touching flags) are in the contact
     // list, below; where a wall was at the last rebuild is cache.
     for (std::size_t i = 0; i < w.walls.size(); ++i) {

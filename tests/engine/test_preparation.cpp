@@ -8,6 +8,7 @@
 #include "io/snapshot.hpp"
 #include "small_column.hpp"
 #include "specimen/preparation.hpp"
+#include "state/clump_shape.hpp"
 #include "state/state_hash.hpp"
 
 #include <gtest/gtest.h>
@@ -131,6 +132,40 @@ TEST(PreparationGrainSizes, PoursGrainsThatReproduceTheCurve)
     // The curve's D10 is its second sieve's log step: P = 0.1 at a quarter
     // of the way from 1.6 to 2.4 mm.
     EXPECT_NEAR(z.requested.d10_m, 1.6e-3 * std::pow(1.5, 0.25), 1e-12);
+}
+
+TEST(PreparationClumps, PoursRandomlyTurnedClumpsIntoASoundColumn)
+{
+    // 60 crushed-gravel clumps (five spheres each) of volume-equivalent
+    // radius 1.23 mm: all poured, settled, inside the membrane and between
+    // the plates, turned every way (for uniform orientations the mean
+    // |cos| of a body axis with the vertical is 1/2).
+    PreparationSpec spec = small_column(PatternKind::none, 60);
+    spec.grain_shape = unit_clump_shape(*builtin_clump_template("crushed"));
+    Simulation sim(1);
+    const auto r = prepare_specimen(sim, spec);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const World& w = sim.world;
+    const PreparationReport& report = r.value();
+    EXPECT_TRUE(report.settled);
+    EXPECT_EQ(report.grains, 60u);
+    ASSERT_EQ(w.clumps.size(), 60u);
+    EXPECT_EQ(w.of(BodyKind::grain).size(), 300u);
+    const double inner = spec.membrane_radius_m - spec.membrane.contact_radius_m;
+    const double top = w.walls[report.top_plate_wall].point_m.z();
+    const TranslationalState& g = w.of(BodyKind::grain);
+    for (std::size_t i = 0; i < g.size(); ++i) {
+        EXPECT_LT(g.x[0][i].head<2>().norm() + g.radius_m[i], spec.membrane_radius_m) << "sphere " << i;
+        EXPECT_LT(g.x[0][i].head<2>().norm(), inner) << "sphere " << i;
+        EXPECT_GE(g.x[0][i].z() - g.radius_m[i], -0.1 * g.radius_m[i]) << "sphere " << i;
+        EXPECT_LE(g.x[0][i].z() + g.radius_m[i], top + 0.1 * g.radius_m[i]) << "sphere " << i;
+    }
+    double mean_cos = 0.0;
+    for (const Quat& q : w.clumps.orientation) mean_cos += std::abs((q * Vec3::UnitX()).z()) / 60.0;
+    EXPECT_NEAR(mean_cos, 0.5, 0.15);
+    // The grains' volume is the clumps' (spheres of the equivalent radius), not the spheres'.
+    const double volume = 60.0 * 4.0 / 3.0 * std::numbers::pi * std::pow(spec.grain_radius_m, 3);
+    EXPECT_NEAR(report.grain_volume_fraction * report.sample_volume_m3 / volume, 1.0, 1e-9);
 }
 
 TEST(Preparation, RefusesADampingNoExplicitStepCanFollow)

@@ -315,6 +315,34 @@ TEST(XdmfSidecar, TopologySizesMatchGeometryAndAttributes)
     EXPECT_EQ(velocity, 1);
 }
 
+TEST(XdmfSidecar, ClumpsSpheresAreGrainsWithTheirClumpsIndex)
+{
+    // A result of clumps (docs/results.md): every sphere is a grain vertex with
+    // its radius, and grain_clump (an integer per sphere, −1 for a free grain)
+    // becomes the grains' `clump` attribute; without it there is none.
+    const TempDir dir;
+    const fs::path h5 = dir.path() / "result.h5";
+    write_result(h5, Sizes{}, false);
+    {
+        const File f = File::open_read_write(h5);
+        units(f.root().open_group("specimen").write_dataset("grain_clump", std::vector<std::int64_t>{0, 0, 1, 1, -1}), "1");
+    }
+    write_xdmf(h5);
+    const ptree tree = read_xml(dir.path() / "result.xdmf");
+    const auto grids = uniform_grids(tree.get_child("Xdmf.Domain"));
+    std::vector<std::string> names;
+    for (const auto& [name, child] : *grids.at("specimen/grains"))
+        if (name == "Attribute") {
+            names.push_back(attr(child, "Name"));
+            if (attr(child, "Name") == "clump") {
+                const ptree& item = data_item_of(child);
+                EXPECT_EQ(item_rows(item), 5u);
+                EXPECT_EQ(attr(item, "NumberType"), "Int");
+            }
+        }
+    EXPECT_EQ(names, (std::vector<std::string>{"radius_m", "clump"}));
+}
+
 TEST(XdmfSidecar, WireIsAPolylineOfNodesMinusOneSegmentsWithTheirStrain)
 {
     const TempDir dir;
