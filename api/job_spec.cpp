@@ -889,8 +889,8 @@ void read_grain_shape(ObjectReader& r, std::optional<GrainShapeSpec>& out)
     for (const auto& s : g.spheres) largest = std::max(largest, s[3]);
     for (std::size_t i = 0; i < g.spheres.size(); ++i)
         if (g.spheres[i][3] < min_clump_radius_ratio * largest) {
-            v.fail(index_path(index_path(spath, i), 3), exact_text(g.spheres[i][3]) + " is below "
-                + exact_text(min_clump_radius_ratio) + " × the largest radius " + exact_text(largest)
+            v.fail(index_path(index_path(spath, i), 3), exact_number(g.spheres[i][3]) + " is below "
+                + exact_number(min_clump_radius_ratio) + " × the largest radius " + exact_number(largest)
                 + "; so small a sphere would set the time step without shaping the grain");
             ok = false;
         }
