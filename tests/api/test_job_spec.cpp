@@ -302,10 +302,11 @@ TEST(JobSpec, AToolpathIsCheckedAtTheDoorWithTheBuiltInPatternsFitRule)
         const FieldError* f = error_at(e, path);
         return f ? f->message : std::string("(no error at ") + path + ")";
     };
-    // R = 20 mm, r_w = 0.5 mm, clearance 1 mm: points within 18.5 mm of the axis.
-    auto r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0185, 0], "toolpath_y_m": [0, 0.01]}}})");
+    // R = 20 mm, membrane nodes' contact radius r_m = 0.5 mm, r_w = 0.5 mm,
+    // clearance 1 mm: points within 18 mm of the axis (engine::wire_reach_limit_m).
+    auto r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0182, 0], "toolpath_y_m": [0, 0.01]}}})");
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("reaches 0.0185"), std::string::npos) << describe(r.error());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("reaches 0.0182"), std::string::npos) << describe(r.error());
     r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.01], "toolpath_y_m": [0]}}})");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("at least 2 points"), std::string::npos);
@@ -322,7 +323,7 @@ TEST(JobSpec, AToolpathIsCheckedAtTheDoorWithTheBuiltInPatternsFitRule)
     ASSERT_FALSE(r.ok());
     EXPECT_NE(error_at(r.error(), "specimen.wire.toolpath_rotation_per_layer_rad"), nullptr);
 
-    const auto ok = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0184, 0, -0.01], "toolpath_y_m": [0, 0.01, 0], "toolpath_rotation_per_layer_rad": 0.5}}})");
+    const auto ok = parse_job_spec(R"({"specimen": {"wire": {"pattern": "toolpath", "toolpath_x_m": [0.0179, 0, -0.01], "toolpath_y_m": [0, 0.01, 0], "toolpath_rotation_per_layer_rad": 0.5}}})");
     ASSERT_TRUE(ok.ok()) << describe(ok.error());
     EXPECT_EQ(ok.value().specimen.wire.pattern, WirePattern::toolpath);
     const auto back = parse_job_spec(json::serialize(to_json(ok.value())));

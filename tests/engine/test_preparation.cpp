@@ -632,7 +632,8 @@ TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
     Simulation sim(1);
     const auto r = prepare_specimen(sim, spec);
     ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.error().find("inside the membrane"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("must stay below the membrane radius less the membrane nodes' contact radius"),
+        std::string::npos) << r.error();
 }
 
 TEST(Preparation, RejectsAFillRateTheNozzleCannotFollow)

@@ -285,8 +285,10 @@ TEST(WorkLimits, JobsThatWouldNeverEndAreRefusedNamingTheField)
     refused(with("engine", "time_step_s", "5e-324"), "engine.time_step_s", "no job may take more than 1e+15");
     // A plate that barely moves.
     refused(with("triaxial", "plate_speed_m_per_s", "1e-12"), "triaxial.plate_speed_m_per_s", "time steps");
-    // Rows every step of a test that is otherwise fine.
-    refused(with("triaxial", "sample_interval_s", "1e-300"), "triaxial.sample_interval_s", "(--max-samples-per-test)");
+    // Rows more often than steps: the job spec refuses it (docs/job-spec.md).
+    refused(with("triaxial", "sample_interval_s", "1e-300"), "triaxial.sample_interval_s", "shorter than the time step");
+    // Rows every other step of a test that is otherwise fine: more than this server keeps.
+    refused(with("triaxial", "sample_interval_s", "1e-5"), "triaxial.sample_interval_s", "(--max-samples-per-test)");
     // The paper-literal default spec (no mass scaling, 0.2 mm/s): ~10⁹ steps.
     refused("{}", "triaxial.plate_speed_m_per_s", "time steps");
     // tiny.json itself is accepted.
