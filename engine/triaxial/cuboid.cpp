@@ -248,7 +248,8 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
             target_pa, measured_pa, area_m2, wall_response(w, wall), dt, cuboid.servo_relaxation, max_wall_speed);
         w.walls[wall].velocity_m_per_s = v * w.walls[wall].normal;
     };
-    ColumnTestStepper<TriaxialDriverState> stepper(sim, control, {}, st, "the cuboid triaxial test", wall_start);
+    const ColumnTestStepper<TriaxialDriverState>::BetweenSteps no_checkpoints; // the cell keeps none yet
+    ColumnTestStepper<TriaxialDriverState> stepper(sim, control, no_checkpoints, st, "the cuboid triaxial test", wall_start);
     auto advance = [&]() -> std::optional<std::string> {
         auto prescribe = [&] {
             sigma3_pa = ramped_pressure_pa(

@@ -37,6 +37,10 @@ public:
           wall_start_(wall_start)
     {
     }
+    /// The stepper keeps a reference to `between_steps`: a temporary (`{}`)
+    /// would dangle after the constructor (ASan found one in the cuboid cell).
+    ColumnTestStepper(Simulation& sim, const RunControl& control, BetweenSteps&& between_steps, State& st,
+        std::string test, std::chrono::steady_clock::time_point wall_start) = delete;
 
     /// One step. Before it, a host may take a checkpoint (between_steps: not
     /// before the first step of this run, whose state is the one the run
