@@ -3,7 +3,13 @@
 
 #include "api/derived.hpp"
 
+#include <array>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace wiredem::api {
 
@@ -30,10 +36,29 @@ engine::SieveCurve sieve_curve(const GrainSizesSpec& g)
 
 engine::ClumpBody grain_shape_body(const GrainShapeSpec& g)
 {
-    if (!g.template_name.empty()) return engine::unit_clump_shape(*engine::builtin_clump_template(g.template_name));
-    std::vector<engine::ClumpSphere> spheres;
-    for (const auto& s : g.spheres) spheres.push_back({engine::Vec3(s[0], s[1], s[2]), s[3]});
-    return engine::unit_clump_shape(spheres);
+    // A pure function of the shape, asked by every check that builds the
+    // job's preparation geometry (about ten per validation): computed once
+    // per shape and kept (a bounded cache; the same body, bit for bit).
+    static std::mutex mutex;
+    static std::map<std::pair<std::string, std::vector<std::array<double, 4>>>, engine::ClumpBody> cache;
+    constexpr std::size_t max_cached = 64;
+    const auto key = std::make_pair(g.template_name, g.spheres);
+    {
+        const std::lock_guard lock(mutex);
+        if (const auto it = cache.find(key); it != cache.end()) return it->second;
+    }
+    engine::ClumpBody body;
+    if (!g.template_name.empty()) {
+        body = engine::unit_clump_shape(*engine::builtin_clump_template(g.template_name));
+    } else {
+        std::vector<engine::ClumpSphere> spheres;
+        for (const auto& s : g.spheres) spheres.push_back({engine::Vec3(s[0], s[1], s[2]), s[3]});
+        body = engine::unit_clump_shape(spheres);
+    }
+    const std::lock_guard lock(mutex);
+    if (cache.size() >= max_cached) cache.clear();
+    cache.emplace(key, body);
+    return body;
 }
 
 double reference_grain_radius_m(const SpecimenSpec& s)

@@ -46,7 +46,8 @@ namespace wiredem::api {
 /// The engine's sieve curve for a job's grain sizes.
 [[nodiscard]] engine::SieveCurve sieve_curve(const GrainSizesSpec& g);
 /// The clump a job's grain shape describes, at a volume-equivalent radius of
-/// 1 m (engine::unit_clump_shape; its mass properties computed here, ~50 ms).
+/// 1 m (engine::unit_clump_shape; its mass properties computed here, ~50 ms,
+/// once per shape: later calls return the kept body).
 [[nodiscard]] engine::ClumpBody grain_shape_body(const GrainShapeSpec& g);
 
 /// The grain that stands for all where one size is needed (the restitution

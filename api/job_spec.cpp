@@ -1269,12 +1269,14 @@ void check_wire_fits(Validator& v, const JobSpec& spec)
 {
     const SpecimenSpec& s = spec.specimen;
     const WireSpec& w = s.wire;
+    const std::string pattern(to_string(w.pattern));
+    // Points with another pattern (none included) would be dropped on writing.
+    if (v.clean("specimen.wire") && w.pattern != WirePattern::toolpath
+        && (!w.toolpath_x_m.empty() || !w.toolpath_y_m.empty()))
+        v.note("specimen.wire.toolpath_x_m", "toolpath points are for the pattern \"toolpath\", not \"" + pattern + "\"");
     if (w.pattern == WirePattern::none
         || !v.clean({"specimen.membrane_radius_m", "specimen.membrane", "specimen.wire"}))
         return;
-    const std::string pattern(to_string(w.pattern));
-    if (w.pattern != WirePattern::toolpath && (!w.toolpath_x_m.empty() || !w.toolpath_y_m.empty()))
-        v.note("specimen.wire.toolpath_x_m", "toolpath points are for the pattern \"toolpath\", not \"" + pattern + "\"");
     if (w.pattern == WirePattern::toolpath) {
         if (w.toolpath_x_m.size() != w.toolpath_y_m.size() || w.toolpath_x_m.size() < 2) {
             v.note("specimen.wire.toolpath_x_m",

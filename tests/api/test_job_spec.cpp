@@ -319,6 +319,10 @@ TEST(JobSpec, AToolpathIsCheckedAtTheDoorWithTheBuiltInPatternsFitRule)
     r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 0.01]}}})");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("not \"helix\""), std::string::npos);
+    // With no wire at all, too (the spec fuzz target found it: the points were dropped on writing).
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "none", "toolpath_x_m": [0.01, 0], "toolpath_y_m": [0, 0.01]}}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "specimen.wire.toolpath_x_m").find("not \"none\""), std::string::npos);
     r = parse_job_spec(R"({"specimen": {"wire": {"toolpath_rotation_per_layer_rad": 7}}})");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(error_at(r.error(), "specimen.wire.toolpath_rotation_per_layer_rad"), nullptr);

@@ -10,6 +10,12 @@
 
 using namespace wiredem;
 
+extern "C" int LLVMFuzzerInitialize(int*, char***)
+{
+    fuzz::warm_clump_templates();
+    return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -285,6 +285,7 @@ void report_slowest()
 extern "C" int LLVMFuzzerInitialize(int*, char***)
 {
     (void)setup();
+    fuzz::warm_clump_templates();
     std::atexit(report_slowest);
     return 0;
 }
