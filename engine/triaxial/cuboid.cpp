@@ -267,26 +267,8 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
     // 1. Ramp and hold, the top wall following the consolidation target, as
     // the membrane cell does (run_triaxial): at least hold_time_s, then until
     // consolidated, at most the longest hold.
-    {
-        const auto max_pre_load_steps
-            = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + longest_hold_s(settings)) / dt));
-        const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
-        auto consolidated = [&] {
-            const double s3 = consolidation_target_pa();
-            return st.window_sigma1_pa && std::abs(*st.window_sigma1_pa - s3) <= consolidated_mismatch * s3
-                && std::abs(w.walls[walls.top].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
-        };
-        while (st.steps < pre_load_steps || (st.steps < max_pre_load_steps && !consolidated())) {
-            if (auto e = advance()) return Err(*e);
-            st.window_force_n += plate_compression_n(w, walls.top);
-            if (++st.window_filled == window_steps) {
-                st.window_sigma1_pa = analysis::axial_stress_pa(
-                    st.window_force_n / static_cast<double>(window_steps), st.column_radius_m);
-                st.window_force_n = 0.0;
-                st.window_filled = 0;
-            }
-        }
-    }
+    if (auto e = hold_until_consolidated(w, walls.top, settings, st, pre_load_steps, advance, consolidation_target_pa))
+        return Err(*e);
     result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
 
     // 2. Loading at constant speed from h₀ now.

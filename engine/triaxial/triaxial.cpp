@@ -321,25 +321,8 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     // piston moving, and the piston's inertia keeps σ₁ off σ₃ while it
     // does). At most max_hold_time_s.
     if (!st.loading) {
-        const double max_hold_s = longest_hold_s(settings);
-        const auto max_pre_load_steps
-            = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + max_hold_s) / dt));
-        const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
-        auto consolidated = [&] {
-            const double s3 = consolidation_target_pa();
-            return st.window_sigma1_pa && std::abs(*st.window_sigma1_pa - s3) <= consolidated_mismatch * s3
-                && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
-        };
-        while (st.steps < pre_load_steps || (st.steps < max_pre_load_steps && !consolidated())) {
-            if (auto e = advance()) return Err(*e);
-            st.window_force_n += plate_compression_n(w, top_plate_wall);
-            if (++st.window_filled == window_steps) {
-                st.window_sigma1_pa = analysis::axial_stress_pa(
-                    st.window_force_n / static_cast<double>(window_steps), st.column_radius_m);
-                st.window_force_n = 0.0;
-                st.window_filled = 0;
-            }
-        }
+        if (auto e = hold_until_consolidated(w, top_plate_wall, settings, st, pre_load_steps, advance, consolidation_target_pa))
+            return Err(*e);
         result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
 
         // 2. Loading at constant plate speed, from h₀ now.

@@ -15,12 +15,15 @@
 #pragma once
 
 #include "analysis/strength.hpp"
+#include "analysis/stress.hpp"
 #include "core/result.hpp"
 #include "simulation.hpp"
 #include "triaxial/consolidation.hpp"
 #include "triaxial/sampling.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -172,6 +175,41 @@ struct TriaxialDriverState {
 /// reaches 1 at the estimated end. Never decreases from one step to the next,
 /// and is below 1 until the estimated end.
 [[nodiscard]] std::pair<std::uint64_t, std::uint64_t> triaxial_progress(const TriaxialDriverState& st) noexcept;
+
+/// The hold of a test's consolidation phase (consolidation.hpp), every
+/// cell's (run_triaxial, run_cuboid_triaxial): `advance()` takes a step (an
+/// error message stops the hold) until `pre_load_steps`, then on until the
+/// column has consolidated, at most the ramp and longest_hold_s. Consolidated:
+/// σ₁, the plate `top_plate_wall`'s force averaged over consolidation_window_s
+/// on the column's area, within consolidated_mismatch of `target_pa()`, and
+/// the plate slower than the loading speed. The window is st's, so a
+/// continued test goes on with it.
+template <class Advance, class Target>
+[[nodiscard]] std::optional<std::string> hold_until_consolidated(const World& w, std::size_t top_plate_wall,
+    const TriaxialSettings& settings, TriaxialDriverState& st, std::uint64_t pre_load_steps, Advance&& advance,
+    Target&& target_pa)
+{
+    const double dt = w.dt_s;
+    const auto max_pre_load_steps
+        = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + longest_hold_s(settings)) / dt));
+    const auto window_steps = static_cast<std::uint64_t>(std::max(1.0, std::round(consolidation_window_s / dt)));
+    const auto consolidated = [&] {
+        const double s3 = target_pa();
+        return st.window_sigma1_pa && std::abs(*st.window_sigma1_pa - s3) <= consolidated_mismatch * s3
+            && std::abs(w.walls[top_plate_wall].velocity_m_per_s.z()) <= settings.plate_speed_m_per_s;
+    };
+    while (st.steps < pre_load_steps || (st.steps < max_pre_load_steps && !consolidated())) {
+        if (auto e = advance()) return e;
+        st.window_force_n += plate_compression_n(w, top_plate_wall);
+        if (++st.window_filled == window_steps) {
+            st.window_sigma1_pa
+                = analysis::axial_stress_pa(st.window_force_n / static_cast<double>(window_steps), st.column_radius_m);
+            st.window_force_n = 0.0;
+            st.window_filled = 0;
+        }
+    }
+    return std::nullopt;
+}
 
 
 /// Runs one triaxial test on `sim.world` (grains, optional wire, membrane,
