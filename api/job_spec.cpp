@@ -419,10 +419,11 @@ private:
     std::vector<std::string_view> known_;
 };
 
-/// Reads an array of numbers, each in `range`, strictly increasing, with
-/// `min_n`–`max_n` entries. Returns false (leaving `out`) on any problem.
-bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n,
-    std::size_t max_n, std::string_view what, std::vector<double>& out, const Meaning& m)
+/// Reads an array of numbers, each in `range`, with `min_n`–`max_n` entries;
+/// strictly increasing unless `what` (the array's name in the message) is
+/// empty. Returns false (leaving `out`) on any problem.
+bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n, std::size_t max_n,
+    std::string_view what, std::vector<double>& out, const Meaning& m)
 {
     if (r.validator().recording()) {
         json::array d;
@@ -450,7 +451,7 @@ bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range,
     for (std::size_t i = 0; i < a.size(); ++i) {
         valid[i] = read_number(v, a[i], index_path(path, i), range, values[i]);
         ok = ok && valid[i];
-        if (i > 0 && valid[i] && valid[i - 1] && !(values[i] > values[i - 1])) {
+        if (!what.empty() && i > 0 && valid[i] && valid[i - 1] && !(values[i] > values[i - 1])) {
             v.fail(index_path(path, i), exact_number(values[i]) + " is not greater than the previous entry "
                                             + exact_number(values[i - 1]) + "; " + std::string(what)
                                             + " must be strictly increasing");
@@ -459,6 +460,22 @@ bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range,
     }
     if (ok) out = std::move(values);
     return ok;
+}
+
+/// Reads an array of numbers, each in `range`, strictly increasing (`what`
+/// names it in the message), with `min_n`–`max_n` entries. Returns false
+/// (leaving `out`) on any problem.
+bool read_increasing_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n,
+    std::size_t max_n, std::string_view what, std::vector<double>& out, const Meaning& m)
+{
+    return read_numbers(r, key, range, min_n, max_n, what, out, m);
+}
+
+/// The same in any order.
+bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n, std::size_t max_n,
+    std::vector<double>& out, const Meaning& m)
+{
+    return read_numbers(r, key, range, min_n, max_n, {}, out, m);
 }
 
 // ----------------------------------------------------------- schema readers
@@ -526,42 +543,11 @@ void read_plate(ObjectReader& r, PlateMaterialSpec& p)
 /// The most points a toolpath's layer may have.
 constexpr std::size_t max_toolpath_points = 10'000;
 
-/// An array of numbers, each in `range`, with `min_n`–`max_n` entries (no
-/// order asked for). Returns false (leaving `out`) on any problem.
-bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_t min_n, std::size_t max_n,
-    std::vector<double>& out, const Meaning& m)
-{
-    if (r.validator().recording()) {
-        json::array d;
-        for (double x : out) d.push_back(x);
-        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
-                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
-    }
-    const json::value* j = r.take(key);
-    if (j == nullptr) return false;
-    Validator& v = r.validator();
-    const std::string path = r.path_of(key);
-    if (!j->is_array()) {
-        v.fail(path, "expected an array, got " + std::string(kind_text(*j)));
-        return false;
-    }
-    const json::array& a = j->get_array();
-    bool ok = true;
-    if (a.size() < min_n || a.size() > max_n) {
-        v.fail(path, "has " + std::to_string(a.size()) + " entries; allowed " + std::to_string(min_n) + " to "
-                         + std::to_string(max_n));
-        ok = false;
-    }
-    std::vector<double> values(a.size(), 0.0);
-    for (std::size_t i = 0; i < a.size(); ++i) ok = read_number(v, a[i], index_path(path, i), range, values[i]) && ok;
-    if (ok) out = std::move(values);
-    return ok;
-}
 
 void read_toolpath(ObjectReader& r, WireSpec& w)
 {
     read_numbers(r, "toolpath_x_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_x_m,
-        {"m", "the pattern \"toolpath\": x of the points of one layer of the nozzle's path, in the column's frame (the axis at x = y = 0); with toolpath_y_m, 2 or more points. The nozzle walks the polyline at the path speed ω R_a, then straight on to the next layer's first point, and lays the next layer on the fill as it rises, the polyline turned by toolpath_rotation_per_layer_rad; the farthest point must stay radius_m + clearance_m inside the membrane, as the built-in patterns' reach must (docs/model.md, \"The robot's own toolpath\"). Only with the pattern \"toolpath\""});
+        {"m", "the pattern \"toolpath\": x of the points of one layer of the nozzle's path, in the column's frame (the axis at x = y = 0); with toolpath_y_m, 2 or more points. The nozzle walks the polyline at the path speed ω R_a, then straight on to the next layer's first point, and lays the next layer on the fill as it rises, the polyline turned by toolpath_rotation_per_layer_rad; the farthest point must stay below membrane_radius_m less the membrane nodes' contact radius, radius_m and clearance_m, as the built-in patterns' reach must (docs/model.md, \"The robot's own toolpath\"). Only with the pattern \"toolpath\""});
     read_numbers(r, "toolpath_y_m", closed(-1.0, 1.0), 0, max_toolpath_points, w.toolpath_y_m,
         {"m", "the pattern \"toolpath\": y of the points, as many as toolpath_x_m"});
     r.number("toolpath_rotation_per_layer_rad", closed(-two_pi, two_pi), w.toolpath_rotation_per_layer_rad,
