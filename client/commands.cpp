@@ -439,7 +439,11 @@ int cmd_prepare(const LocalStage& s)
     return prepare_main(spec, s.dir, stage_options(s));
 }
 
-int cmd_test(const LocalStage& s) { return test_main(s.dir, s.index, s.pressure_pa, stage_options(s)); }
+int cmd_test(const LocalStage& s)
+{
+    if (s.free_standing) return free_standing_test_main(s.dir, stage_options(s));
+    return test_main(s.dir, s.index, s.pressure_pa, stage_options(s));
+}
 
 int cmd_analyse(const LocalStage& s) { return analyse_main(s.dir, stage_options(s)); }
 

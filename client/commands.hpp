@@ -50,6 +50,7 @@ struct LocalStage {
     std::filesystem::path dir;                  ///< the job directory
     std::optional<std::size_t> index;           ///< test: by index …
     std::optional<double> pressure_pa;          ///< … or by confining pressure
+    bool free_standing = false;                 ///< … or the free-standing test
     unsigned threads = 0;                       ///< 0: every core
     std::string progress = "text";              ///< text or json
     double checkpoint_interval_s = campaign::default_checkpoint_interval_s; ///< run, prepare, test; ≤ 0: none

@@ -107,13 +107,17 @@ int main(int argc, char** argv)
     checkpoint_option(prepare);
     specimen_from_option(prepare);
 
-    auto* test = app.add_subcommand("test", "run one triaxial test of a prepared job directory (stage 2 of run)");
+    auto* test = app.add_subcommand("test", "run one test of a prepared job directory (stage 2 of run)");
     test->add_option("dir", local.dir, "job directory (wiredem prepare)")->required();
     auto* by_index = test->add_option("--index", local.index, "the test: index of its confining pressure in the job (0 first)");
     auto* by_pressure = test->add_option("--pressure", local.pressure_pa, "the test: its confining pressure [Pa]");
+    auto* free_standing = test->add_flag("--free-standing", local.free_standing,
+        "the test: the job's free-standing test (free_standing.enabled), which `run` and `analyse` run after the triaxial tests");
     by_index->excludes(by_pressure);
+    free_standing->excludes(by_index)->excludes(by_pressure);
     test->callback([&] {
-        if (!local.index && !local.pressure_pa) throw CLI::ValidationError("test", "give --index or --pressure");
+        if (!local.index && !local.pressure_pa && !local.free_standing)
+            throw CLI::ValidationError("test", "give --index, --pressure or --free-standing");
     });
     stage_options(test);
     checkpoint_option(test);

@@ -228,6 +228,18 @@ int test_main(const std::filesystem::path& dir, std::optional<std::size_t> index
     });
 }
 
+int free_standing_test_main(const std::filesystem::path& dir, const StageOptions& options)
+{
+    return run_stage(options.json_progress, options.control(), [&](const campaign::StageControl& c) -> campaign::StageError {
+        const campaign::JobDir job_dir{dir};
+        auto job = campaign::read_job(job_dir);
+        if (!job.ok()) return job.error();
+        if (!job.value().free_standing.enabled)
+            return "--free-standing: the job has no free-standing test (its free_standing.enabled is false)";
+        return campaign::run_free_standing_test(job_dir, c);
+    });
+}
+
 int analyse_main(const std::filesystem::path& dir, const StageOptions& options)
 {
     // The free-standing test (when the job has one and it has not run) comes

@@ -43,6 +43,9 @@ int prepare_main(const wiredem::api::JobSpec& spec, const std::filesystem::path&
 /// Runs one test of a prepared directory, chosen by index or by its confining pressure.
 int test_main(const std::filesystem::path& dir, std::optional<std::size_t> index, std::optional<double> pressure_pa,
     const StageOptions& options);
+/// Runs the free-standing test of a prepared directory (an error when the job
+/// has none); `run` and `analyse` run it after the triaxial tests.
+int free_standing_test_main(const std::filesystem::path& dir, const StageOptions& options);
 /// Writes result.h5, result.xdmf and summary.json from the tests of a directory.
 int analyse_main(const std::filesystem::path& dir, const StageOptions& options);
 /// Runs a parameter study here (campaign/study_run.hpp), `at_once` points at a

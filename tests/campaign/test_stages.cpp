@@ -820,3 +820,37 @@ TEST(Stages, AnalyseRunsTheFreeStandingTestAsRunDoes)
     ASSERT_TRUE(again.ok()) << again.err;
     EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
 }
+
+// `wiredem test --free-standing` runs the free-standing test alone, before or
+// without the triaxial tests (it starts from the prepared specimen, as `run`'s
+// does): the staged results are run's, bit for bit but for how it ran.
+TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
+{
+    json::value job = json::parse(read_text(tiny_job()));
+    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    job.as_object()["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
+    const fs::path dir = fresh_dir("free_standing_stage"), spec = dir / "job.json";
+    std::ofstream(spec) << json::serialize(job);
+    const Outcome ran = run_wiredem({"run", spec.string(), "-o", (dir / "run").string(), "--threads", "1"}, dir / "log");
+    ASSERT_TRUE(ran.ok()) << ran.err;
+    const fs::path out = dir / "staged";
+    ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    Outcome o = run_wiredem({"test", out.string(), "--free-standing", "--index", "0"}, dir / "log");
+    EXPECT_EQ(o.code(), 2) << o.err; // usage: one test at a time
+    o = run_wiredem({"test", out.string(), "--free-standing", "--threads", "2"}, dir / "log");
+    ASSERT_TRUE(o.ok()) << o.err;
+    EXPECT_TRUE(fs::exists(out / "tests/free_standing.h5"));
+    ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0", "--threads", "1"}, dir / "log").ok());
+    ASSERT_TRUE(run_wiredem({"analyse", out.string()}, dir / "log").ok());
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", dir / "run/result.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+
+    // A job without a free-standing test says so.
+    const fs::path plain = dir / "plain";
+    ASSERT_TRUE(run_wiredem({"prepare", tiny_job().string(), "-o", plain.string(), "--threads", "1"}, dir / "log").ok());
+    o = run_wiredem({"test", plain.string(), "--free-standing"}, dir / "log");
+    EXPECT_EQ(o.code(), 1);
+    EXPECT_NE(o.err.find("free_standing.enabled is false"), std::string::npos) << o.err;
+}
