@@ -1154,6 +1154,17 @@ void read_engine(ObjectReader& r, EngineSpec& e)
 void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 {
     ObjectReader r(v, &doc, "");
+    // The document's format (job_spec_schema_version): read, checked, and not
+    // kept (to_json writes today's). A user writes today's format; a stored
+    // document without it was written before the field (version 1). A trusted
+    // reader takes any range but cannot read a future format either.
+    std::uint64_t version = v.trusted() ? 1 : job_spec_schema_version;
+    r.integer("schema_version", IntRange{1, job_spec_schema_version}, version,
+        {"1", "the version of the document's format (api::job_spec_schema_version); wiredem writes it first in every "
+              "job it stores and reads a stored job without it as version 1; a version above the reader's is refused"});
+    if (v.clean("schema_version") && version > job_spec_schema_version)
+        v.fail("schema_version", std::to_string(version) + " is newer than this wiredem reads (1 to "
+                                     + std::to_string(job_spec_schema_version) + "): a newer wiredem wrote this job");
     r.text("name", spec.name,
         {nullptr, "label of the job"});
     if (v.recording())
@@ -1809,6 +1820,7 @@ engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const char* text
 json::value to_json(const JobSpec& spec)
 {
     json::object o{
+        {"schema_version", job_spec_schema_version},
         {"name", spec.name},
         {"comment", spec.comment},
         {"seed", spec.seed},

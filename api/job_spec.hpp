@@ -361,6 +361,15 @@ struct FieldError {
     friend bool operator==(const FieldError&, const FieldError&) = default;
 };
 
+/// The version of the job document's format, written first by to_json as
+/// `schema_version`. Version 1 is every document written before the field
+/// existed (until 2026-12-06): a document without it is read as version 1.
+/// A reader refuses a version above its own (a newer wiredem wrote it). Raise
+/// it when a field's meaning changes so that a reader must tell old documents
+/// from new; a new field whose default keeps the old behaviour needs no new
+/// version.
+inline constexpr std::uint64_t job_spec_schema_version = 2;
+
 /// Parses and validates a job document. Reports every problem it finds
 /// (unknown keys, wrong types, values out of range, then the cross-field
 /// checks whose inputs are valid), each with its field path; never throws on

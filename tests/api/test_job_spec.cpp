@@ -202,6 +202,36 @@ TEST(JobSpec, AWrittenJobIsNotJudgedAgainstTodaysRules)
     EXPECT_EQ(wrong_type.error().front().path, "triaxial.target_axial_strain");
 }
 
+// The document's format has a version: to_json writes today's first, a
+// document without one is version 1 (before the field), and neither reader
+// takes a version it does not know, each saying which it reads.
+TEST(JobSpec, AJobDocumentCarriesTheVersionOfItsFormat)
+{
+    json::value doc = to_json(JobSpec{});
+    ASSERT_TRUE(doc.as_object().contains("schema_version"));
+    EXPECT_EQ(doc.at("schema_version").to_number<std::uint64_t>(), job_spec_schema_version);
+    EXPECT_EQ(doc.as_object().begin()->key(), "schema_version");
+    EXPECT_TRUE(parse_written_job_spec(json::serialize(doc)).ok());
+    json::value unversioned = doc;
+    unversioned.as_object().erase("schema_version");
+    EXPECT_TRUE(parse_written_job_spec(json::serialize(unversioned)).ok());
+    EXPECT_TRUE(parse_job_spec(unversioned).ok());
+
+    json::value future = doc;
+    future.as_object()["schema_version"] = job_spec_schema_version + 1;
+    const auto written = parse_written_job_spec(json::serialize(future));
+    ASSERT_FALSE(written.ok());
+    EXPECT_EQ(written.error().front().path, "schema_version");
+    EXPECT_NE(written.error().front().message.find("a newer wiredem wrote this job"), std::string::npos)
+        << written.error().front().message;
+    const auto submitted = parse_job_spec(future);
+    ASSERT_FALSE(submitted.ok());
+    EXPECT_EQ(submitted.error().front().path, "schema_version");
+    EXPECT_NE(submitted.error().front().message.find("out of range"), std::string::npos) << submitted.error().front().message;
+    future.as_object()["schema_version"] = 0;
+    EXPECT_FALSE(parse_job_spec(future).ok());
+}
+
 TEST(JobSpec, EveryFieldRoundTripsThroughJsonValue)
 {
     const JobSpec s = everything_changed();
