@@ -428,8 +428,11 @@ bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_
     if (r.validator().recording()) {
         json::array d;
         for (double x : out) d.push_back(x);
-        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
-                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
+        json::object schema{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n}, {"maxItems", max_n},
+            {"default", std::move(d)}};
+        // The order the reader checks, for the web form's "allowed" column.
+        if (!what.empty()) schema["x-order"] = "increasing";
+        r.describe(key, std::move(schema), m);
     }
     const json::value* j = r.take(key);
     if (j == nullptr) return false;
@@ -696,11 +699,11 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
         for (const auto& [name, value] : grain_size_bases) bases.push_back(json::string(name));
         json::object diameters{{"type", "array"}, {"items", number_schema(grain_diameter_range)}, {"minItems", 2},
             {"maxItems", max_grain_size_points}, {"description", "D_k, grain diameters (sieve apertures), strictly increasing"},
-            {"x-unit", "m"}};
+            {"x-unit", "m"}, {"x-order", "increasing"}};
         json::object fractions{{"type", "array"}, {"items", number_schema(closed(0.0, 1.0))}, {"minItems", 2},
             {"maxItems", max_grain_size_points},
             {"description", "P_k, the fraction passing D_k: one per diameter, nondecreasing, the first 0 and the last 1"},
-            {"x-unit", "1"}};
+            {"x-unit", "1"}, {"x-order", "nondecreasing"}};
         // One schema entry, an object or null (as the optional numbers are
         // a number or null); its own fields are described inside it.
         json::object curve{{"type", json::array{"object", "null"}}, {"default", nullptr},
@@ -810,7 +813,9 @@ void read_grain_shape(ObjectReader& r, std::optional<GrainShapeSpec>& out)
                                     {"maxItems", max_clump_spheres},
                                     {"description", "the clump's spheres; their union is one connected body, every "
                                                     "radius at least a tenth of the largest"}}}}},
-            {"additionalProperties", false}};
+            // One of the two, never both (the reader refuses both and neither);
+            // the web form clears the other when one is given.
+            {"minProperties", 1}, {"maxProperties", 1}, {"additionalProperties", false}};
         r.describe(key, std::move(shape),
             {nullptr, "every grain a rigid clump of overlapping spheres: {\"template\": \"elongated\", \"flat\", \"tetrahedral\" or \"crushed\"} or {\"spheres\": [[x, y, z, r], …]}, scaled to the grain's size as its volume-equivalent radius and poured turned at random (docs/model.md, \"Clumps\"); null: spheres"});
     }
