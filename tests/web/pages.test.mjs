@@ -855,10 +855,13 @@ test('submit: the grain-size curve, grain shape, rolling resistance and wire-bre
     assert.ok(shown.includes(d.message), `${d.field}: shows '${shown}', the door says '${d.message}'`);
   }
   assert.equal(await page.$$eval('#submit-error li', (li) => li.length), 0, 'every problem is next to its field');
-  if (screenshots) {
-    const rows = await page.$('tr[data-field="specimen.grain_sizes"]');
-    await rows.scrollIntoView();
-    await shot(page, 'web-submit-grains.png');
+  if (screenshots) {  // the rows of the two groups, with their errors
+    const clip = await page.evaluate(() => {
+      const top = document.querySelector('tr[data-field="specimen.grain_sizes"]').getBoundingClientRect();
+      const bottom = document.querySelector('tr[data-field="specimen.grain_shape.spheres"]').getBoundingClientRect();
+      return { x: top.left + window.scrollX, y: top.top + window.scrollY, width: top.width, height: bottom.bottom - top.top };
+    });
+    await page.screenshot({ path: path.join(screenshots, 'web-submit-grains.png'), clip, captureBeyondViewport: true });
   }
 
   // Fixed in the form, the spec is the clump job with what the form set, and the door takes it.
