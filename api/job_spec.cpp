@@ -1223,19 +1223,25 @@ void check_grain_size(Validator& v, const JobSpec& spec)
     const double largest_m = engine::largest_grain_radius_m(preparation_geometry(spec));
     const double limit_m = s.membrane_radius_m / min_column_grain_diameters;
     if (largest_m <= limit_m) return;
+    // A clump reaches beyond its volume-equivalent radius: say by how much,
+    // or a size below the limit would read as refused for nothing.
+    const double plain_m = s.grain_sizes ? 0.5 * s.grain_sizes->diameters_m.back() : s.grain_radius_m * (1.0 + s.grain_radius_spread);
+    const std::string clump = s.grain_shape ? "; the clump of specimen.grain_shape reaches " + format_number(largest_m / plain_m)
+            + " × the grain's radius from its centre, so the largest grain spans " + format_number(2.0 * largest_m)
+                                            : std::string();
     if (s.grain_sizes)
         v.note("specimen.grain_sizes.diameters_m",
             "the largest diameter " + exact_number(s.grain_sizes->diameters_m.back())
                 + " is too big for the membrane: the column must be at least " + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so it must not exceed 2 membrane_radius_m / "
-                + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m) + clump);
     else
         v.note("specimen.grain_radius_m",
             exact_number(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
                 + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so grain_radius_m × (1 + grain_radius_spread) must not exceed "
                   "membrane_radius_m / "
-                + exact_number(min_column_grain_diameters) + " = " + format_number(limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(limit_m) + clump);
 }
 
 void check_grain_volume(Validator& v, const JobSpec& spec)
