@@ -886,6 +886,13 @@ test('submit: the grain-size curve, grain shape, rolling resistance and wire-bre
 
   // The 3D view: every sphere of every clump, coloured by its clump, as the specimen's grain_clump says.
   await page.waitForFunction(() => document.querySelector('#view3d-canvas')?.wiredemView, { timeout: 60000 });
+  // And the sizes drawn against the curve's (summary.specimen.grain_sizes).
+  const sizes = (await server.api('GET', `/v1/jobs/${id}/summary`)).json.specimen.grain_sizes;
+  for (const key of ['d10_m', 'd50_m', 'd60_m', 'uniformity_coefficient'])
+    for (const which of ['requested', 'drawn'])
+      assertShown(await page.$eval(`#grain-sizes-table tr[data-key="${key}"] td[data-which="${which}"]`, (e) => e.textContent),
+        sizes[which][key] * (key.endsWith('_m') ? 1000 : 1), `${which} ${key}`);
+  assert.match(await page.$eval('#grain-sizes-ks', (e) => e.textContent), new RegExp(`distance of the drawn sizes from the curve: ${Number(sizes.ks_distance.toPrecision(3))} `));
   const res = await fetch(`${server.url}/v1/jobs/${id}/specimen/grain_clump`);
   assert.equal(res.status, 200);
   const clumpOf = new Int32Array(await res.arrayBuffer());

@@ -353,3 +353,23 @@ export function renderWireParts(body, summary) {
     el('p', { class: 'muted' }, 'The prepared wire\'s pieces in chain order, before any test (a piece of one node is a node between two removed segments).'));
   }
 }
+
+/// A job with a grain-size curve (specimen.grain_sizes): the sizes drawn
+/// against those asked for (D10, D50, D60, the uniformity coefficient C_u =
+/// D60/D10, by mass) and the Kolmogorov–Smirnov distance between the drawn
+/// and requested number distributions beside the value a true draw exceeds
+/// with probability 1 % (summary.specimen.grain_sizes; docs/model.md, "Size
+/// distribution"). Nothing without a curve.
+export function renderGrainSizes(body, summary) {
+  const g = summary && summary.specimen && summary.specimen.grain_sizes;
+  if (!g) return;
+  const rows = [['D10 [mm]', 'd10_m', 1000], ['D50 [mm]', 'd50_m', 1000], ['D60 [mm]', 'd60_m', 1000], ['C_u = D60/D10', 'uniformity_coefficient', 1]];
+  const within = g.ks_distance != null && g.ks_critical_1pct != null ? g.ks_distance <= g.ks_critical_1pct : null;
+  body.append(el('h2', {}, 'Grain sizes'), el('table', { id: 'grain-sizes-table' },
+    el('thead', {}, el('tr', {}, ['', 'requested', `drawn (${g.grains ?? '—'} grains)`].map((h) => el('th', {}, h)))),
+    el('tbody', {}, rows.map(([label, key, scale]) => el('tr', { 'data-key': key }, el('td', {}, label),
+      el('td', { class: 'num', 'data-which': 'requested' }, num((g.requested || {})[key] * scale, 4)),
+      el('td', { class: 'num', 'data-which': 'drawn' }, num((g.drawn || {})[key] * scale, 4)))))),
+  el('p', { class: 'muted', id: 'grain-sizes-ks' }, `Kolmogorov–Smirnov distance of the drawn sizes from the curve: ${num(g.ks_distance, 3)} `
+    + `(a true draw of this many grains exceeds ${num(g.ks_critical_1pct, 3)} with probability 1 %${within === false ? ': this one does' : ''}).`));
+}
