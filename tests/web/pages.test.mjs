@@ -8,7 +8,11 @@
 // its background in a screenshot; the flagged Mohr-Coulomb fits wherever they
 // are shown; the 3D view's wire seen (by ray casts in its scene graph and by
 // its colours in screenshots), its framing and colour bar; the compare
-// view's colours and dashes; a submit form no wider than the window. Every page must load without a console
+// view's colours and dashes; a submit form no wider than the window; the
+// form's grain-size, grain-shape, rolling and wire-break fields with the
+// door's errors, and the clump job they make drawn sphere by sphere; a wire's
+// breaks and pieces (tests/web/job-breaks.json) on the job page and the
+// offline report. Every page must load without a console
 // error or a failed request; a job named like an HTML tag shows as text.
 //
 // Run through ctest (tests/web/run.sh). WIREDEM_WEB_SCREENSHOTS=DIR saves the
