@@ -428,8 +428,11 @@ bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_
     if (r.validator().recording()) {
         json::array d;
         for (double x : out) d.push_back(x);
-        r.describe(key, json::object{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n},
-                            {"maxItems", max_n}, {"default", std::move(d)}}, m);
+        json::object schema{{"type", "array"}, {"items", number_schema(range)}, {"minItems", min_n}, {"maxItems", max_n},
+            {"default", std::move(d)}};
+        // The order the reader checks, for the web form's "allowed" column.
+        if (!what.empty()) schema["x-order"] = "increasing";
+        r.describe(key, std::move(schema), m);
     }
     const json::value* j = r.take(key);
     if (j == nullptr) return false;
@@ -696,11 +699,11 @@ void read_grain_sizes(ObjectReader& r, std::optional<GrainSizesSpec>& out)
         for (const auto& [name, value] : grain_size_bases) bases.push_back(json::string(name));
         json::object diameters{{"type", "array"}, {"items", number_schema(grain_diameter_range)}, {"minItems", 2},
             {"maxItems", max_grain_size_points}, {"description", "D_k, grain diameters (sieve apertures), strictly increasing"},
-            {"x-unit", "m"}};
+            {"x-unit", "m"}, {"x-order", "increasing"}};
         json::object fractions{{"type", "array"}, {"items", number_schema(closed(0.0, 1.0))}, {"minItems", 2},
             {"maxItems", max_grain_size_points},
             {"description", "P_k, the fraction passing D_k: one per diameter, nondecreasing, the first 0 and the last 1"},
-            {"x-unit", "1"}};
+            {"x-unit", "1"}, {"x-order", "nondecreasing"}};
         // One schema entry, an object or null (as the optional numbers are
         // a number or null); its own fields are described inside it.
         json::object curve{{"type", json::array{"object", "null"}}, {"default", nullptr},
@@ -810,7 +813,9 @@ void read_grain_shape(ObjectReader& r, std::optional<GrainShapeSpec>& out)
                                     {"maxItems", max_clump_spheres},
                                     {"description", "the clump's spheres; their union is one connected body, every "
                                                     "radius at least a tenth of the largest"}}}}},
-            {"additionalProperties", false}};
+            // One of the two, never both (the reader refuses both and neither);
+            // the web form clears the other when one is given.
+            {"minProperties", 1}, {"maxProperties", 1}, {"additionalProperties", false}};
         r.describe(key, std::move(shape),
             {nullptr, "every grain a rigid clump of overlapping spheres: {\"template\": \"elongated\", \"flat\", \"tetrahedral\" or \"crushed\"} or {\"spheres\": [[x, y, z, r], …]}, scaled to the grain's size as its volume-equivalent radius and poured turned at random (docs/model.md, \"Clumps\"); null: spheres"});
     }
@@ -1229,19 +1234,25 @@ void check_grain_size(Validator& v, const JobSpec& spec)
     const double largest_m = engine::largest_grain_radius_m(preparation_geometry(spec));
     const double limit_m = s.membrane_radius_m / min_column_grain_diameters;
     if (largest_m <= limit_m) return;
+    // A clump reaches beyond its volume-equivalent radius: say by how much,
+    // or a size below the limit would read as refused for nothing.
+    const double plain_m = s.grain_sizes ? 0.5 * s.grain_sizes->diameters_m.back() : s.grain_radius_m * (1.0 + s.grain_radius_spread);
+    const std::string clump = s.grain_shape ? "; the clump of specimen.grain_shape reaches " + format_number(largest_m / plain_m)
+            + " × the grain's radius from its centre, so the largest grain spans " + format_number(2.0 * largest_m)
+                                            : std::string();
     if (s.grain_sizes)
         v.note("specimen.grain_sizes.diameters_m",
             "the largest diameter " + exact_number(s.grain_sizes->diameters_m.back())
                 + " is too big for the membrane: the column must be at least " + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so it must not exceed 2 membrane_radius_m / "
-                + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m) + clump);
     else
         v.note("specimen.grain_radius_m",
             exact_number(s.grain_radius_m) + " is too big for the membrane: the column must be at least "
                 + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so grain_radius_m × (1 + grain_radius_spread) must not exceed "
                   "membrane_radius_m / "
-                + exact_number(min_column_grain_diameters) + " = " + format_number(limit_m));
+                + exact_number(min_column_grain_diameters) + " = " + format_number(limit_m) + clump);
 }
 
 void check_grain_volume(Validator& v, const JobSpec& spec)

@@ -487,7 +487,7 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/specimen": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}],
       "get": {
-        "summary": "The prepared specimen: its attributes and its arrays (shape, type, url)",
+        "summary": "The prepared specimen: its attributes and its arrays (shape, type, url); with clumps (specimen.grain_shape) every sphere of a clump is a grain of grain_position_m and grain_radius_m, and grain_clump (int32, -1 for a free grain) names its clump, for every snapshot too (the same spheres in the same order)",
         "responses": {
           "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
           "404": {"$ref": "#/components/responses/Error"},
@@ -509,7 +509,7 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/tests/{test}/snapshots/{k}": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}, {"$ref": "#/components/parameters/Test"}, {"$ref": "#/components/parameters/Snapshot"}],
       "get": {
-        "summary": "A snapshot of a test: its attributes (requested and measured axial strain, time) and arrays (positions, radii, wire strain, membrane triangles, contacts)",
+        "summary": "A snapshot of a test: its attributes (requested and measured axial strain, time) and arrays (positions, radii, wire strain, membrane triangles, contacts; with clumps a position and radius per sphere, their clumps in /specimen/grain_clump)",
         "responses": {
           "200": {"description": "Figures and arrays", "content": {"application/json": {"schema": {"$ref": "#/components/schemas/ArrayGroup"}}}},
           "404": {"$ref": "#/components/responses/Error"},

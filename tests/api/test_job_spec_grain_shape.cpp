@@ -113,6 +113,12 @@ TEST(JobSpecGrainShape, TheColumnWidthCheckTakesTheClumpsExtent)
     EXPECT_EQ(spheres_errors.find("too big for the membrane"), std::string::npos) << spheres_errors;
     ASSERT_FALSE(clumps.ok());
     EXPECT_NE(all(clumps.error()).find("too big for the membrane"), std::string::npos) << all(clumps.error());
+    // And says why a radius below membrane_radius_m / 4 is refused: the clump's reach.
+    EXPECT_NE(all(clumps.error()).find("the clump of specimen.grain_shape reaches 1.43 × the grain's radius from its centre, "
+                                       "so the largest grain spans 0.00542"),
+        std::string::npos)
+        << all(clumps.error());
+    EXPECT_EQ(spheres_errors.find("clump"), std::string::npos) << spheres_errors;
 }
 
 } // namespace wiredem::api

@@ -233,6 +233,37 @@ std::optional<double> docs_number(std::string t)
     return std::nullopt;
 }
 
+// x-order (the web form's "allowed" column) says what the reader checks: an
+// array of numbers with equal entries is refused as not strictly increasing
+// exactly when its schema says "increasing".
+TEST(JobSpecSchema, ArraysSayTheOrderTheReaderChecks)
+{
+    int ordered = 0, unordered = 0;
+    for (const auto& [path, f] : schema_fields()) {
+        const auto items = f.find("items");
+        if (items == f.end() || !items->value().as_object().contains("maximum")) continue;
+        const json::object& item = items->value().as_object();
+        const double hi = item.at("maximum").to_number<double>();
+        const double lo = item.contains("minimum") ? item.at("minimum").to_number<double>()
+                                                   : item.at("exclusiveMinimum").to_number<double>();
+        const double x = lo + 0.5 * (hi - lo);
+        const std::size_t n = std::max<std::size_t>(2, f.at("minItems").to_number<std::size_t>());
+        json::array same;
+        for (std::size_t i = 0; i < n; ++i) same.push_back(x);
+        const auto r = parse_job_spec(json::value(with_field(path, std::move(same))));
+        bool refused_order = false;
+        if (!r.ok())
+            for (const auto& e : r.error())
+                refused_order = refused_order || (e.path == path + "[1]" && e.message.find("strictly increasing") != std::string::npos);
+        const auto order = f.find("x-order");
+        const bool says_increasing = order != f.end() && order->value() == "increasing";
+        EXPECT_EQ(refused_order, says_increasing) << path;
+        ++(says_increasing ? ordered : unordered);
+    }
+    EXPECT_GE(ordered, 3);   // the pressures, the snapshot strains, the cuts
+    EXPECT_GE(unordered, 2); // the toolpath's x and y
+}
+
 TEST(JobSpecSchema, MatchesTheTableOfDocsJobSpec)
 {
     std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/docs/job-spec.md");

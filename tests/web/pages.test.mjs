@@ -8,7 +8,11 @@
 // its background in a screenshot; the flagged Mohr-Coulomb fits wherever they
 // are shown; the 3D view's wire seen (by ray casts in its scene graph and by
 // its colours in screenshots), its framing and colour bar; the compare
-// view's colours and dashes; a submit form no wider than the window. Every page must load without a console
+// view's colours and dashes; a submit form no wider than the window; the
+// form's grain-size, grain-shape, rolling and wire-break fields with the
+// door's errors, and the clump job they make drawn sphere by sphere; a wire's
+// breaks and pieces (tests/web/job-breaks.json) on the job page and the
+// offline report. Every page must load without a console
 // error or a failed request; a job named like an HTML tag shows as text.
 //
 // Run through ctest (tests/web/run.sh). WIREDEM_WEB_SCREENSHOTS=DIR saves the
@@ -105,7 +109,7 @@ function watch(page) {
   return w;
 }
 
-let browser, tmp, server, mainId, xssId, growId, summary;
+let browser, tmp, server, mainId, xssId, growId, breaksId, summary;
 
 async function newPage() {
   const page = await browser.newPage();
@@ -146,6 +150,10 @@ before(async () => {
   const grow = await server.api('POST', '/v1/jobs', { body: JSON.stringify(slow) });
   assert.equal(grow.status, 201, JSON.stringify(grow.json));
   growId = grow.json.id;
+  // A wire that breaks in its test and is cut (tests/web/job-breaks.json, about 14 s): its breaks and pieces.
+  const breaks = await server.api('POST', '/v1/jobs', { body: readFileSync(path.join(sourceDir, 'tests/web/job-breaks.json'), 'utf8') });
+  assert.equal(breaks.status, 201, JSON.stringify(breaks.json));
+  breaksId = breaks.json.id;
   browser = await puppeteer.launch({
     executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
     headless: true,
@@ -532,7 +540,9 @@ test('submit: a form from the job spec\'s schema; an invalid spec shows each err
   await page.waitForSelector('tr[data-field="specimen.wire.pattern"] select');
   // The form has a row for every field of the job spec's schema, and edits the JSON.
   const schema = (await server.api('GET', '/v1/job-spec/schema')).json;
-  const countLeaves = (s) => Object.values(s.properties).reduce((n, f) => n + (f.type === 'object' ? countLeaves(f) : 1), 0);
+  // An object-or-null field with fields of its own (a grain-size curve, a grain shape) is a row and its fields' rows.
+  const countLeaves = (s) => Object.values(s.properties).reduce((n, f) => n + (f.type === 'object' ? countLeaves(f)
+    : Array.isArray(f.type) && f.type.includes('object') ? 1 + countLeaves(f) : 1), 0);
   assert.equal(await page.$$eval('#spec-fields tbody tr', (rows) => rows.length), countLeaves(schema));
   // Each row shows the field's unit and meaning, as the schema gives them.
   const radius = schema.properties.specimen.properties.membrane_radius_m;
@@ -764,6 +774,245 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   }
   assert.deepEqual(negWatch.problems, []);
   await neg.close();
+});
+
+/// The clump job the form builds (examples/tiny-clumps.json, smaller: 60
+/// grains at one pressure, a few seconds), without the fields the form sets.
+function clumpJobBase() {
+  const job = JSON.parse(readFileSync(path.join(sourceDir, 'examples/tiny-clumps.json'), 'utf8'));
+  delete job.comment;
+  delete job.specimen.grain_shape;
+  job.name = 'web test: clumps from the form';
+  Object.assign(job.specimen, { grain_count: 60, membrane_height_m: 0.025 });
+  Object.assign(job.triaxial, { confining_pressures_pa: [20000], target_axial_strain: 0.04, snapshot_strains: [0, 0.04] });
+  return job;
+}
+
+test('submit: the grain-size curve, grain shape, rolling resistance and wire-break fields edit the spec, show the door\'s errors next to them, and submit a clump job, whose 3D view draws every sphere coloured by its clump', async () => {
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/submit`);
+  await page.waitForSelector('tr[data-field="specimen.grain_shape.template"] select');
+  const schema = (await server.api('GET', '/v1/job-spec/schema')).json;
+  const field = (p) => p.split('.').reduce((f, k) => f.properties[k], schema);
+  // The groups and their fields, each with the schema's meaning and, for numbers, unit.
+  for (const group of ['specimen.grain_sizes', 'specimen.grain_shape'])
+    assert.equal(await page.$eval(`tr.group[data-field="${group}"] td.meaning`, (e) => e.textContent), field(group).description);
+  for (const p of ['specimen.grain_sizes.basis', 'specimen.grain_sizes.diameters_m', 'specimen.grain_sizes.fraction_passing',
+    'specimen.grain_shape.template', 'specimen.grain_shape.spheres', 'contact.rolling_friction_coeff', 'contact.rolling_stiffness_factor',
+    'contact.rolling_damping_ratio', 'specimen.wire.breaking_strain', 'specimen.wire.cuts_at_m', 'specimen.wire.cut_every_loops']) {
+    const row = await page.$eval(`tr[data-field="${p}"]`, (r) => ({ meaning: r.querySelector('td.meaning').textContent,
+      unit: r.querySelector('td.unit').textContent, allowed: r.querySelector('td.muted').textContent }));
+    assert.equal(row.meaning, field(p).description, p);
+    assert.equal(row.unit, field(p)['x-unit'] ?? '', p);
+    assert.ok(row.allowed.length > 0, `${p} says what it allows`);
+  }
+  assert.equal(await page.$eval('tr[data-field="specimen.grain_sizes.diameters_m"] td.muted', (e) => e.textContent), '2–64 numbers in [0.00002, 0.2], increasing');
+  assert.equal(await page.$eval('tr[data-field="specimen.grain_sizes.fraction_passing"] td.muted', (e) => e.textContent), '2–64 numbers in [0, 1], nondecreasing');
+  assert.equal(await page.$eval('tr[data-field="specimen.grain_shape.spheres"] td.muted', (e) => e.textContent), '2–32 entries of 4 numbers');
+  assert.equal(await page.$eval('tr[data-field="specimen.grain_shape"] td.muted', (e) => e.textContent), 'one of template, spheres, or null');
+
+  const setSpec = (text) => page.$eval('#spec-editor', (e, t) => { e.value = t; e.dispatchEvent(new Event('change')); }, text);
+  const spec = () => page.$eval('#spec-editor', (e) => JSON.parse(e.value));
+  const type = (p, text) => page.$eval(`[data-path="${p}"]`, (e, t) => { e.value = t; e.dispatchEvent(new Event('change')); }, text);
+  const valueOf = (p) => page.$eval(`[data-path="${p}"]`, (e) => e.value);
+  const base = clumpJobBase();
+  await setSpec(JSON.stringify(base, null, 2));
+  assert.equal(await page.$eval('.group-state[data-group="specimen.grain_shape"]', (e) => e.textContent), 'null (the default)');
+
+  // A shape is a template or spheres: giving one drops the other.
+  const spheres = [[0, 0, 0, 1], [1.2, 0, 0, 0.8]];
+  await page.select('[data-path="specimen.grain_shape.template"]', 'crushed');
+  assert.deepEqual((await spec()).specimen.grain_shape, { template: 'crushed' });
+  assert.equal(await page.$eval('.group-state[data-group="specimen.grain_shape"]', (e) => e.textContent), 'given');
+  await type('specimen.grain_shape.spheres', JSON.stringify(spheres));
+  assert.deepEqual((await spec()).specimen.grain_shape, { spheres });
+  assert.equal(await valueOf('specimen.grain_shape.template'), '', 'the template was dropped');
+  // "leave out" makes it null (absent) again.
+  await page.click('.group-clear[data-group="specimen.grain_shape"]');
+  assert.equal((await spec()).specimen.grain_shape, undefined);
+  assert.equal(await valueOf('specimen.grain_shape.spheres'), '');
+
+  // Bad values through the form: each of the door's messages next to its field (a sphere's radius: the spheres' row).
+  await type('specimen.grain_shape.spheres', JSON.stringify([[0, 0, 0, 1], [1.2, 0, 0, -0.8]]));
+  await type('specimen.grain_sizes.diameters_m', '[0.0015, 0.002, 0.0025]');
+  await type('specimen.grain_sizes.fraction_passing', '[0, 0.7, 0.5]');
+  await page.select('[data-path="specimen.grain_sizes.basis"]', 'number');
+  await type('contact.rolling_friction_coeff', '2');
+  await type('contact.rolling_damping_ratio', '0.05');
+  await type('specimen.wire.breaking_strain', '0');
+  await type('specimen.wire.cuts_at_m', '[0.02, 0.01]');
+  const bad = await spec();
+  assert.deepEqual(bad.specimen.grain_sizes, { diameters_m: [0.0015, 0.002, 0.0025], fraction_passing: [0, 0.7, 0.5], basis: 'number' });
+  assert.equal(bad.contact.rolling_friction_coeff, 2);
+  assert.equal(bad.specimen.wire.breaking_strain, 0);
+  w.expect(400, '/v1/jobs');
+  await page.click('#submit-button');
+  await page.waitForSelector('tr[data-field="contact.rolling_friction_coeff"] .field-error div');
+  const api = (await server.api('POST', '/v1/jobs', { body: JSON.stringify(bad) })).json.error;
+  const fields = api.details.map((d) => d.field);
+  for (const f of ['contact.rolling_friction_coeff', 'specimen.grain_sizes.fraction_passing[2]', 'specimen.grain_shape.spheres[1][3]',
+    'specimen.wire.breaking_strain', 'specimen.wire.cuts_at_m[1]'])
+    assert.ok(fields.includes(f), `the door names ${f}: ${JSON.stringify(api.details)}`);
+  for (const d of api.details) {
+    const row = d.field.replace(/(\[\d+\])+$/, '');
+    const shown = await page.$eval(`tr[data-field="${row}"] .field-error`, (e) => e.textContent);
+    assert.ok(shown.includes(d.message), `${d.field}: shows '${shown}', the door says '${d.message}'`);
+  }
+  assert.equal(await page.$$eval('#submit-error li', (li) => li.length), 0, 'every problem is next to its field');
+  if (screenshots) {  // the rows of the two groups, with their errors
+    const clip = await page.evaluate(() => {
+      const top = document.querySelector('tr[data-field="specimen.grain_sizes"]').getBoundingClientRect();
+      const bottom = document.querySelector('tr[data-field="specimen.grain_shape.spheres"]').getBoundingClientRect();
+      return { x: top.left + window.scrollX, y: top.top + window.scrollY, width: top.width, height: bottom.bottom - top.top };
+    });
+    await page.screenshot({ path: path.join(screenshots, 'web-submit-grains.png'), clip, captureBeyondViewport: true });
+  }
+
+  // Fixed in the form, the spec is the clump job with what the form set, and the door takes it.
+  await type('specimen.grain_sizes.fraction_passing', '[0, 0.5, 1]');
+  await page.select('[data-path="specimen.grain_shape.template"]', 'crushed');
+  await type('contact.rolling_friction_coeff', '0.1');
+  await type('specimen.wire.breaking_strain', '');
+  await type('specimen.wire.cuts_at_m', '');
+  const good = await spec();
+  assert.deepEqual(good, { ...base, specimen: { ...base.specimen, wire: { pattern: 'none' }, grain_shape: { template: 'crushed' },
+    grain_sizes: { diameters_m: [0.0015, 0.002, 0.0025], fraction_passing: [0, 0.5, 1], basis: 'number' } },
+    contact: { rolling_friction_coeff: 0.1, rolling_damping_ratio: 0.05 } });
+  await page.click('#submit-button');
+  await page.waitForFunction(() => /^#\/jobs\/[0-9a-f]{24}$/.test(location.hash));
+  const id = (await page.evaluate(() => location.hash)).split('/')[2];
+  const job = await server.waitFor(id, ['succeeded', 'failed', 'cancelled']);
+  assert.equal(job.state, 'succeeded', server.log());
+  const stored = (await server.api('GET', `/v1/jobs/${id}`)).json.spec;
+  assert.deepEqual(stored.specimen.grain_shape, { template: 'crushed' });
+  assert.deepEqual(stored.specimen.grain_sizes, { basis: 'number', diameters_m: [0.0015, 0.002, 0.0025], fraction_passing: [0, 0.5, 1] });
+  assert.equal(stored.contact.rolling_friction_coeff, 0.1);
+
+  // The 3D view: every sphere of every clump, coloured by its clump, as the specimen's grain_clump says.
+  await page.waitForFunction(() => document.querySelector('#view3d-canvas')?.wiredemView, { timeout: 60000 });
+  // And the sizes drawn against the curve's (summary.specimen.grain_sizes).
+  const sizes = (await server.api('GET', `/v1/jobs/${id}/summary`)).json.specimen.grain_sizes;
+  for (const key of ['d10_m', 'd50_m', 'd60_m', 'uniformity_coefficient'])
+    for (const which of ['requested', 'drawn'])
+      assertShown(await page.$eval(`#grain-sizes-table tr[data-key="${key}"] td[data-which="${which}"]`, (e) => e.textContent),
+        sizes[which][key] * (key.endsWith('_m') ? 1000 : 1), `${which} ${key}`);
+  assert.match(await page.$eval('#grain-sizes-ks', (e) => e.textContent), new RegExp(`distance of the drawn sizes from the curve: ${Number(sizes.ks_distance.toPrecision(3))} `));
+  const res = await fetch(`${server.url}/v1/jobs/${id}/specimen/grain_clump`);
+  assert.equal(res.status, 200);
+  const clumpOf = new Int32Array(await res.arrayBuffer());
+  const jobSummary = (await server.api('GET', `/v1/jobs/${id}/summary`)).json;
+  const clumps = new Set(clumpOf.filter((k) => k >= 0)).size;
+  assert.equal(clumps, jobSummary.specimen.grains, 'a clump per grain');
+  assert.equal(clumpOf.length, 5 * clumps, 'the crushed clump has five spheres');
+  const checkView = async (what) => {
+    const view = await page.$eval('#view3d-canvas', (c) => c.wiredemView);
+    assert.equal(view.grains, clumpOf.length, `${what}: every sphere drawn`);
+    assert.equal(view.clumps, clumps, what);
+    assert.equal(view.clumpSpheres, clumpOf.length, what);
+    const colours = await page.$eval('#view3d-canvas', (c, n) => Array.from({ length: n }, (_, i) => c.wiredemClumpColour(i)), clumpOf.length);
+    const byClump = new Map();
+    clumpOf.forEach((k, i) => byClump.set(k, [...(byClump.get(k) || []), colours[i]]));
+    for (const [k, cs] of byClump) assert.equal(new Set(cs).size, 1, `${what}: the spheres of clump ${k} share a colour`);
+    const distinct = new Set([...byClump.values()].map((cs) => cs[0])).size;
+    assert.ok(distinct >= 0.9 * clumps, `${what}: ${distinct} colours for ${clumps} clumps`);
+    assert.match(await page.$eval('#view3d-info', (e) => e.textContent), new RegExp(`^${clumps} clumps of ${clumpOf.length} spheres`));
+  };
+  await checkView('the prepared specimen');
+  // A snapshot of the test: its positions, the specimen's clumps.
+  const snap = (await server.api('GET', `/v1/jobs/${id}/tests`)).json.tests[0].snapshots.at(-1);
+  const snapGroup = (await server.api('GET', snap.url)).json;
+  assert.deepEqual(snapGroup.arrays.find((a) => a.name === 'grain_position_m').shape, [clumpOf.length, 3], 'a snapshot has every sphere');
+  await page.$eval('#view3d-canvas', (c) => { c.wiredemView.stale = true; });
+  await page.select('#view3d-source', '0');
+  await page.waitForFunction(() => !document.querySelector('#view3d-canvas').wiredemView.stale);
+  await checkView('the end of the test');
+  await page.select('#view3d-grain-mode', 'solid');
+  if (screenshots) {
+    const canvas = await page.$('#view3d-canvas');
+    await canvas.scrollIntoView();
+    await canvas.screenshot({ path: path.join(screenshots, 'web-3d-clumps.png') });
+  }
+  assert.deepEqual(w.problems, []);
+  await page.close();
+});
+
+/// The breaks of a breakable wire and the pieces of a cut one, as `page`
+/// shows them, against summary.json: what failed at each test's peak, each
+/// break listed and marked on its curve, the prepared wire's pieces.
+async function checkWireParts(page, s, where) {
+  const rows = s.tests.map((t) => [String(t.confining_pressure_pa), t]);
+  if (s.free_standing) rows.push(['free_standing', s.free_standing.compression]);
+  for (const [key, t] of rows) {
+    const shown = await page.$eval(`#wire-failure-table tr[data-test="${key}"]`, (r) => ({
+      failure: r.querySelector('[data-key="peak_failure"]').dataset.value, breaks: Number(r.querySelector('[data-key="breaks"]').textContent) }));
+    assert.equal(shown.failure, t.peak_failure ?? '', `${where}: peak_failure of ${key}`);
+    assert.equal(shown.breaks, (t.wire_breaks || []).length, `${where}: breaks of ${key}`);
+  }
+  const all = rows.flatMap(([key, t]) => (t.wire_breaks || []).map((b) => [key, b]));
+  const listed = await page.$$eval('#wire-breaks-table tbody tr', (trs) => trs.map((r) => ({ test: r.dataset.test,
+    ...Object.fromEntries([...r.querySelectorAll('[data-key]')].map((c) => [c.dataset.key, c.textContent])) })));
+  assert.equal(listed.length, all.length, `${where}: every break listed`);
+  all.forEach(([key, b], i) => {
+    assert.equal(listed[i].test, key, where);
+    assertShown(listed[i].time_s, b.time_s, `${where}: time of break ${i}`);
+    assertShown(listed[i].axial_strain, b.axial_strain, `${where}: axial strain of break ${i}`);
+    assertShown(listed[i].position_m, b.position_m * 1000, `${where}: position of break ${i} [mm]`);
+    assert.equal(Number(listed[i].segment), b.segment, where);
+  });
+  const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
+  assert.deepEqual(plots['plot-q'].breaks, s.tests.flatMap((t) => (t.wire_breaks || []).map((b) => b.axial_strain)), `${where}: breaks marked on q`);
+  if (s.free_standing)
+    assert.deepEqual(plots['plot-fs-stress'].breaks, (s.free_standing.compression.wire_breaks || []).map((b) => b.axial_strain), where);
+  const pieces = s.specimen.wire_pieces;
+  const shownPieces = await page.$$eval('#wire-pieces-table tbody tr', (trs) => trs.map((r) => ({
+    rest: r.querySelector('[data-key="rest_length_m"]').textContent, length: r.querySelector('[data-key="length_m"]').textContent })));
+  assert.equal(shownPieces.length, pieces.length, `${where}: every piece listed`);
+  pieces.forEach((p, i) => {
+    assertShown(shownPieces[i].rest, p.rest_length_m * 1000, `${where}: rest length of piece ${i}`);
+    assertShown(shownPieces[i].length, p.length_m * 1000, `${where}: length of piece ${i}`);
+  });
+  assert.equal(await page.$eval('[data-figure="wire_cuts"] .value', (e) => e.textContent), String(s.specimen.wire_cuts), where);
+}
+
+test('a breakable wire cut every two loops: its breaks marked on the curves and listed, what failed at the peak, the pieces, on the job page and in the offline report', async () => {
+  const job = await server.waitFor(breaksId, ['succeeded', 'failed', 'cancelled']);
+  assert.equal(job.state, 'succeeded', server.log());
+  const s = (await server.api('GET', `/v1/jobs/${breaksId}/summary`)).json;
+  // The job is made to break its wire in the test and to be cut (job-breaks.json): else this test checks nothing.
+  assert.ok(s.tests.some((t) => t.wire_breaks.length > 0), JSON.stringify(s.tests.map((t) => t.wire_breaks)));
+  assert.ok(s.specimen.wire_cuts > 0 && s.specimen.wire_pieces.length > 1, JSON.stringify(s.specimen.wire_pieces));
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/jobs/${breaksId}`);
+  await page.waitForSelector('#wire-parts');
+  await page.waitForFunction(() => document.querySelector('#plot-fs-stress')?.wiredemPlot);
+  await checkWireParts(page, s, 'job page');
+  if (screenshots) {
+    const section = await page.$('#plot-q');
+    await section.scrollIntoView();
+    await section.screenshot({ path: path.join(screenshots, 'web-wire-breaks-q.png') });
+    const parts = await page.$('#wire-parts');
+    await parts.scrollIntoView();
+    await parts.screenshot({ path: path.join(screenshots, 'web-wire-breaks.png') });
+  }
+  assert.deepEqual(w.problems, []);
+  await page.close();
+
+  const out = mkdtempSync(path.join(tmp, 'report-breaks-'));
+  for (const [route, file] of [['summary', 'summary.json'], ['result.h5', 'result.h5']]) {
+    const res = await fetch(`${server.url}/v1/jobs/${breaksId}/${route}`);
+    assert.equal(res.status, 200);
+    writeFileSync(path.join(out, file), Buffer.from(await res.arrayBuffer()));
+  }
+  const run = spawn(path.join(path.dirname(serverBin), 'wiredem'), ['report', out], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  run.stderr.on('data', (d) => { stderr += d; });
+  assert.equal(await new Promise((resolve) => run.on('exit', resolve)), 0, stderr);
+  const { page: report, w: reportWatch } = await newPage();
+  await report.goto(`file://${path.join(out, 'report.html')}`);
+  await report.waitForSelector('#main[data-rendered="true"]');
+  await checkWireParts(report, s, 'offline report');
+  assert.deepEqual(reportWatch.problems, []);
+  await report.close();
 });
 
 test('token: the page asks for it, sends it as a bearer header only, and the API refuses requests without it', async () => {

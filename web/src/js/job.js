@@ -3,7 +3,7 @@
 // from the result data routes (docs/api.md).
 import { json, blob, array, cancelJob } from './api.js';
 import { el, replace, num, seconds, saveBlob } from './dom.js';
-import { renderSummary, renderCurves, renderWire, renderFreeStanding, kPaLabel, curveColumns, freeStandingColumns } from './results_view.js';
+import { renderSummary, renderCurves, renderWire, renderFreeStanding, renderWireParts, renderGrainSizes, kPaLabel, curveColumns, freeStandingColumns } from './results_view.js';
 import { View3d } from './view3d.js';
 
 const finalStates = new Set(['succeeded', 'failed', 'cancelled']);
@@ -139,6 +139,7 @@ async function renderResults(body, job) {
   const series = await Promise.all(tests.map((t) => json(`${t.series_url}?max_points=1000&columns=${curveColumns}`)));
 
   renderSummary(body, summary);
+  renderGrainSizes(body, summary);
 
   body.append(el('h2', {}, 'Downloads'), el('div', { class: 'toolbar', id: 'downloads' },
     el('button', { onclick: () => download(`${base}/summary`, 'summary.json') }, 'summary.json'),
@@ -151,6 +152,7 @@ async function renderResults(body, job) {
     const fs = await json(`${base}/free_standing`);
     renderFreeStanding(body, summary, fs, await json(`${fs.series_url}?max_points=2000&columns=${freeStandingColumns}`));
   }
+  renderWireParts(body, summary);
 
   const withWire = (summary.specimen && summary.specimen.wire_nodes > 1) && tests.some((t) => t.snapshots.length);
   const view = new View3d(body, job, tests);

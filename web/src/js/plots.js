@@ -16,7 +16,7 @@ function sorted(x, y) {
 
 /// Draws `series` ([{label, x, y, color?, dash?, width?}]) into a new box in
 /// `parent`. `markers`: vertical lines [{x, label}], each label a line below the
-/// previous one's (markers a few pixels apart stay readable). `equalAspect`: one unit
+/// previous one's (markers a few pixels apart stay readable; '' for none). `equalAspect`: one unit
 /// of x as long as one of y (Mohr circles stay round), y from `yMin` (≤ 0) up,
 /// with a line along y = 0 when yMin < 0.
 /// `swatches`: a legend of its own below the plot, each entry a short line in
@@ -61,7 +61,8 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
         ctx.stroke();
         ctx.restore();
       }
-      for (const [i, m] of markers.entries()) {
+      let labelled = 0;  // markers without a label take no line
+      for (const m of markers) {
         const cx = u.valToPos(m.x, 'x', true);
         ctx.save();
         ctx.strokeStyle = '#57606a';
@@ -74,7 +75,7 @@ export function linePlot(parent, { id, title, xLabel, yLabel, series, markers = 
         ctx.font = `${12 * devicePixelRatio}px system-ui`;
         ctx.textAlign = 'left';  // uPlot leaves the y axis's right alignment set
         ctx.textBaseline = 'alphabetic';
-        ctx.fillText(m.label, cx + 4, u.bbox.top + (14 + 16 * i) * devicePixelRatio);
+        if (m.label) ctx.fillText(m.label, cx + 4, u.bbox.top + (14 + 16 * labelled++) * devicePixelRatio);
         ctx.restore();
       }
     }] },

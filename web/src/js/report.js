@@ -3,15 +3,17 @@
 // server. The command inlines this module with dom.js, plots.js and
 // results_view.js (imports and exports stripped) and uPlot's browser build.
 import { el } from './dom.js';
-import { renderSummary, renderCurves, renderWire, renderFreeStanding } from './results_view.js';
+import { renderSummary, renderCurves, renderWire, renderFreeStanding, renderWireParts, renderGrainSizes } from './results_view.js';
 
 const data = JSON.parse(document.getElementById('report-data').textContent);
 const main = document.getElementById('main');
 document.title = `wiredem report: ${data.name}`;
 main.append(el('h1', { id: 'job-name' }, data.name), el('p', { class: 'muted' }, `${data.source} · ${data.written_by}`));
 renderSummary(main, data.summary);
+renderGrainSizes(main, data.summary);
 renderCurves(main, data.summary, data.tests, data.series);
 if (data.free_standing) renderFreeStanding(main, data.summary, data.free_standing.test, data.free_standing.series);
+renderWireParts(main, data.summary);
 if (data.wire) {
   const grid = el('div', { class: 'grid' });
   main.append(el('h2', {}, 'Wire strain'), grid);

@@ -1,6 +1,6 @@
 // What a succeeded job's results look like, from data in the shapes of the
 // result data routes (docs/api.md): the summary, the curves, the Mohr circles
-// and the wire's strain. Shared by the job page (job.js, data from the API)
+// and the wire's strain, breaks and pieces. Shared by the job page (job.js, data from the API)
 // and the offline report (report.js, data embedded by `wiredem report`), so
 // both draw the same plots. Imports only dom.js and plots.js (the report
 // inlines these four modules into one file).
@@ -110,7 +110,12 @@ export function renderCurves(body, summary, tests, series) {
     return { label: kPaLabel(t.attributes.confining_pressure_pa),
       x: drawn.map((r) => series[i].columns.axial_strain[r]), y: drawn.map((r) => values[r] * scale) };
   });
-  linePlot(grid, { id: 'plot-q', title: 'Deviatoric stress q against axial strain (loading)', xLabel: 'axial strain ε₁', yLabel: 'q [kPa]', series: curves('deviatoric_stress_pa', 1e-3) });
+  // A breakable wire's breaks, each a vertical line at the axial strain it broke at.
+  const breaks = summary ? breakMarkers((summary.tests || []).map((t) => [kPaLabel(t.confining_pressure_pa), t.wire_breaks])) : [];
+  const qBox = linePlot(grid, { id: 'plot-q', title: 'Deviatoric stress q against axial strain (loading)', xLabel: 'axial strain ε₁', yLabel: 'q [kPa]',
+    series: curves('deviatoric_stress_pa', 1e-3), markers: breaks,
+    note: breaks.length ? 'Dashed lines: the wire broke there (the list under "Wire breaks and pieces").' : undefined });
+  qBox.wiredemPlot.breaks = breaks.map((m) => m.x);
   linePlot(grid, { id: 'plot-ratio', title: 'Stress ratio (σ₁ − σ₃)/(σ₁ + σ₃) against axial strain', xLabel: 'axial strain ε₁', yLabel: 'stress ratio', series: curves('stress_ratio') });
   linePlot(grid, { id: 'plot-volumetric', title: 'Volumetric strain against axial strain', xLabel: 'axial strain ε₁', yLabel: volumetricLabel, series: curves('volumetric_strain'),
     note: volumetricNote });
@@ -230,6 +235,7 @@ export function renderFreeStanding(body, summary, test, series) {
     figure('predicted by the envelope [kPa]', kpa(c.predicted_unconfined_strength_pa), 'fs_predicted_unconfined_strength_pa'),
     figure('strain at failure', num(c.strain_at_failure, 4), 'fs_strain_at_failure'),
     figure('quasi-static', yesNo(c.quasi_static), 'fs_quasi_static'),
+    c.peak_failure !== undefined ? figure('failed by', failureText(c.peak_failure), 'fs_peak_failure') : '',
     dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : ''));
   const grid = el('div', { class: 'grid' });
   body.append(grid);
@@ -250,12 +256,15 @@ export function renderFreeStanding(body, summary, test, series) {
   if (c.predicted_unconfined_strength_pa != null)
     curves.push({ label: `envelope: 2c cos φ/(1 − sin φ) = ${kpa(c.predicted_unconfined_strength_pa)} kPa`, x: [0, xMax],
       y: [c.predicted_unconfined_strength_pa / 1000, c.predicted_unconfined_strength_pa / 1000], color: '#d9480f', dash: [2, 4], width: 2 });
+  const fsBreaks = breakMarkers([['free-standing', c.wire_breaks]]);
+  markers.push(...fsBreaks);
   const note = [c.shape === 'rising' ? 'The curve still rises at the end: the strength is a lower bound.' : '',
-    c.definition || ''].filter(Boolean).join(' ');
+    c.definition || '', fsBreaks.length ? 'Dashed lines after the strength\'s: the wire broke there.' : ''].filter(Boolean).join(' ');
   const box = linePlot(grid, { id: 'plot-fs-stress', title: 'Unconfined compression: axial stress σ₁ against axial strain',
     xLabel: 'axial strain ε₁', yLabel: 'σ₁ [kPa]', series: curves, markers, note, swatches: true });
   box.wiredemPlot.strength = { value_pa: c.unconfined_strength_pa ?? null, shape: c.shape ?? null,
     strain: c.strain_at_failure ?? null, predicted_pa: c.predicted_unconfined_strength_pa ?? null };
+  box.wiredemPlot.breaks = fsBreaks.map((m) => m.x);
 
   // Radius against height: before the removal, settled, at failure, at the end.
   const profiles = (test && test.profiles) || {};
@@ -275,4 +284,92 @@ export function renderFreeStanding(body, summary, test, series) {
     series: w ? [{ label: 'segment tension E_w π r_w² ε', x: w.distance_m.map((d) => d * 1000), y: w.tension_n.map((t) => t * 1000) }] : [],
     note: w ? `Segment k at (k + ½) l_w, l_w = ${mm(w.segment_length_m)} mm; negative: compressed.` : 'No wire, or no compression.' });
   wireBox.wiredemPlot.segments = w ? w.tension_n.length : 0;
+}
+
+/// What gave way at the peak (a test's peak_failure, docs/results.md), for people.
+export function failureText(f) {
+  return { grains: 'the grains (wire whole)', wire: 'the wire (a break at the peak)',
+    grains_after_break: 'the grains, after the wire broke' }[f] ?? (f == null ? '—' : String(f));
+}
+
+/// Plot markers for the breaks of `[[label, wire_breaks]]`: one vertical
+/// line per break at its axial strain; the first break of each test says
+/// how many there are (a label per break would pile up).
+function breakMarkers(tests) {
+  const out = [];
+  for (const [label, breaks] of tests) {
+    (breaks || []).forEach((b, i) => out.push({ x: b.axial_strain,
+      label: i ? '' : `${label}: wire broke ${breaks.length === 1 ? 'once' : `${breaks.length} times`} from ε₁ = ${num(b.axial_strain, 3)}` }));
+  }
+  return out;
+}
+
+/// A breakable or cut wire (specimen.wire.breaking_strain, cuts_at_m,
+/// cut_every_loops): what gave way at each test's peak (peak_failure), every
+/// break of every test (time since the test started, the test's axial
+/// strain, the position along the wire as its rest length to the segment's
+/// middle, the segment and its strain when it broke), and the prepared
+/// wire's pieces with their lengths (summary.specimen.wire_pieces). Nothing
+/// for an unbreakable wire that was not cut.
+export function renderWireParts(body, summary) {
+  const sp = (summary && summary.specimen) || {};
+  const tests = (summary && summary.tests) || [];
+  const fs = summary && summary.free_standing && summary.free_standing.compression;
+  const rows = tests.map((t) => [kPaLabel(t.confining_pressure_pa), t, String(t.confining_pressure_pa)]);
+  if (fs) rows.push(['free-standing compression', fs, 'free_standing']);
+  const breakable = rows.some(([, t]) => t.peak_failure !== undefined || t.wire_breaks !== undefined);
+  if (!breakable && !sp.wire_pieces) return;
+  const section = el('div', { id: 'wire-parts' });
+  body.append(el('h2', {}, 'Wire breaks and pieces'), section);
+  if (breakable) {
+    section.append(el('table', { id: 'wire-failure-table' },
+      el('thead', {}, el('tr', {}, ['test', 'failed at the peak by', 'breaks'].map((h) => el('th', {}, h)))),
+      el('tbody', {}, rows.map(([label, t, key]) => el('tr', { 'data-test': key }, el('td', {}, label),
+        el('td', { 'data-key': 'peak_failure', 'data-value': t.peak_failure ?? '' }, failureText(t.peak_failure)),
+        el('td', { class: 'num', 'data-key': 'breaks' }, (t.wire_breaks || []).length))))));
+    const all = rows.flatMap(([label, t, key]) => (t.wire_breaks || []).map((b) => [label, key, b]));
+    section.append(all.length ? el('table', { id: 'wire-breaks-table' },
+      el('thead', {}, el('tr', {}, ['test', 'time [s]', 'axial strain ε₁', 'position along the wire [mm]', 'segment', 'segment strain'].map((h) => el('th', {}, h)))),
+      el('tbody', {}, all.map(([label, key, b]) => el('tr', { 'data-test': key },
+        el('td', {}, label), el('td', { class: 'num', 'data-key': 'time_s' }, num(b.time_s, 4)),
+        el('td', { class: 'num', 'data-key': 'axial_strain' }, num(b.axial_strain, 4)),
+        el('td', { class: 'num', 'data-key': 'position_m' }, mm(b.position_m)),
+        el('td', { class: 'num', 'data-key': 'segment' }, b.segment),
+        el('td', { class: 'num', 'data-key': 'segment_strain' }, num(b.segment_strain, 4))))))
+      : el('p', { class: 'muted', id: 'wire-breaks-none' }, 'The wire broke in no test.'));
+  }
+  const pieces = sp.wire_pieces;
+  if (pieces) {
+    section.append(el('div', { class: 'figures', id: 'wire-pieces-figures' },
+      figure('pieces', pieces.length, 'wire_pieces'),
+      figure('segments cut', sp.wire_cuts ?? '—', 'wire_cuts'),
+      figure('broke in the preparation', sp.wire_breaks_in_preparation ?? '—', 'wire_breaks_in_preparation')),
+    el('table', { id: 'wire-pieces-table' },
+      el('thead', {}, el('tr', {}, ['piece', 'first node', 'nodes', 'rest length [mm]', 'length along its nodes [mm]'].map((h) => el('th', {}, h)))),
+      el('tbody', {}, pieces.map((p, i) => el('tr', { 'data-piece': i },
+        el('td', { class: 'num' }, i + 1), el('td', { class: 'num' }, p.first_node), el('td', { class: 'num' }, p.nodes),
+        el('td', { class: 'num', 'data-key': 'rest_length_m' }, mm(p.rest_length_m)),
+        el('td', { class: 'num', 'data-key': 'length_m' }, mm(p.length_m)))))),
+    el('p', { class: 'muted' }, 'The prepared wire\'s pieces in chain order, before any test (a piece of one node is a node between two removed segments).'));
+  }
+}
+
+/// A job with a grain-size curve (specimen.grain_sizes): the sizes drawn
+/// against those asked for (D10, D50, D60, the uniformity coefficient C_u =
+/// D60/D10, by mass) and the Kolmogorov–Smirnov distance between the drawn
+/// and requested number distributions beside the value a true draw exceeds
+/// with probability 1 % (summary.specimen.grain_sizes; docs/model.md, "Size
+/// distribution"). Nothing without a curve.
+export function renderGrainSizes(body, summary) {
+  const g = summary && summary.specimen && summary.specimen.grain_sizes;
+  if (!g) return;
+  const rows = [['D10 [mm]', 'd10_m', 1000], ['D50 [mm]', 'd50_m', 1000], ['D60 [mm]', 'd60_m', 1000], ['C_u = D60/D10', 'uniformity_coefficient', 1]];
+  const within = g.ks_distance != null && g.ks_critical_1pct != null ? g.ks_distance <= g.ks_critical_1pct : null;
+  body.append(el('h2', {}, 'Grain sizes'), el('table', { id: 'grain-sizes-table' },
+    el('thead', {}, el('tr', {}, ['', 'requested', `drawn (${g.grains ?? '—'} grains)`].map((h) => el('th', {}, h)))),
+    el('tbody', {}, rows.map(([label, key, scale]) => el('tr', { 'data-key': key }, el('td', {}, label),
+      el('td', { class: 'num', 'data-which': 'requested' }, num((g.requested || {})[key] * scale, 4)),
+      el('td', { class: 'num', 'data-which': 'drawn' }, num((g.drawn || {})[key] * scale, 4)))))),
+  el('p', { class: 'muted', id: 'grain-sizes-ks' }, `Kolmogorov–Smirnov distance of the drawn sizes from the curve: ${num(g.ks_distance, 3)} `
+    + `(a true draw of this many grains exceeds ${num(g.ks_critical_1pct, 3)} with probability 1 %${within === false ? ': this one does' : ''}).`));
 }

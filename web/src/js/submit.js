@@ -3,9 +3,12 @@
 // the reader's own description): the path the server names the field by, an
 // input holding what the JSON gives (empty: the default, shown greyed), its
 // unit, the allowed range or choices, and what it means (the schema's
-// x-unit and description). Form and editor stay in step. A 400's details are
-// shown next to the field they name; problems with no such field are listed
-// above the form.
+// x-unit and description). An object-or-null field with fields of its own
+// (a grain-size curve, a grain shape) is a group: a row of its own (its
+// meaning, its errors, "leave out") and a row per field; a group that takes
+// one field only (maxProperties 1: a template or spheres) keeps the last one
+// given. Form and editor stay in step. A 400's details are shown next to the
+// field they name; problems with no such field are listed above the form.
 import { json, submitJob } from './api.js';
 import { el, replace } from './dom.js';
 
@@ -16,28 +19,52 @@ const starter = {
   triaxial: { confining_pressures_pa: [10000, 20000], target_axial_strain: 0.05 },
 };
 
-/// Leaf fields of a schema: [path, schema] in document order.
+/// An object-or-null field with fields of its own (specimen.grain_sizes,
+/// specimen.grain_shape): a group in the form, null (left out) by default.
+export const isGroup = (f) => Array.isArray(f.type) && f.type.includes('object') && !!f.properties;
+
+/// The form's rows of a schema, in document order: [path, schema, group]
+/// for every leaf field, and for each object-or-null group a row of its own
+/// (group = true: its meaning, its errors, a button that leaves it out)
+/// followed by its fields' rows.
 export function schemaLeaves(schema, prefix = '', out = []) {
   for (const [key, field] of Object.entries(schema.properties || {})) {
     const path = prefix ? `${prefix}.${key}` : key;
     if (field.type === 'object') schemaLeaves(field, path, out);
-    else out.push([path, field]);
+    else if (isGroup(field)) {
+      out.push([path, field, true]);
+      schemaLeaves(field, path, out);
+    } else out.push([path, field, false]);
   }
   return out;
 }
 
-/// What a field allows, for people: "(0, 1]", "none | helix", "≤ 200 characters".
-function allowed(f) {
+/// A number's interval, "(0, 1]", or '' when the schema gives none.
+function interval(s) {
+  if (s.minimum === undefined && s.exclusiveMinimum === undefined) return '';
+  const lo = s.exclusiveMinimum !== undefined ? `(${s.exclusiveMinimum}` : `[${s.minimum}`;
+  const hi = s.exclusiveMaximum !== undefined ? `${s.exclusiveMaximum})` : `${s.maximum}]`;
+  return `${lo}, ${hi}`;
+}
+
+/// What a field allows, for people: "(0, 1]", "none | helix", "≤ 200 characters",
+/// "1–16 numbers in (0, 1e7], increasing", "2–32 entries of 4 numbers".
+function allowed(f, group = false) {
+  if (group) {
+    const one = f.maxProperties === 1 ? `one of ${Object.keys(f.properties).join(', ')}` : 'the fields below';
+    return `${one}, or null`;
+  }
   const s = f.oneOf ? f.oneOf[0] : f.items || f;
   let text = '';
   if (s.enum) text = s.enum.join(' | ');
-  else if (s.minimum !== undefined || s.exclusiveMinimum !== undefined) {
-    const lo = s.exclusiveMinimum !== undefined ? `(${s.exclusiveMinimum}` : `[${s.minimum}`;
-    const hi = s.exclusiveMaximum !== undefined ? `${s.exclusiveMaximum})` : `${s.maximum}]`;
-    text = `${lo}, ${hi}`;
-  } else if (s.maxLength) text = `≤ ${s.maxLength} characters`;
+  else if (interval(s)) text = interval(s);
+  else if (s.maxLength) text = `≤ ${s.maxLength} characters`;
   if (f.oneOf) text += ` or "${f.oneOf[1].const}"`;
-  if (f.items) text = `${f.minItems}–${f.maxItems} numbers in ${text}, increasing`;
+  if (f.items) {
+    const count = `${f.minItems}–${f.maxItems}`;
+    text = f.items.type === 'array' ? `${count} entries of ${f.items.minItems} numbers`
+      : `${count} numbers${text ? ` in ${text}` : ''}${f['x-order'] ? `, ${f['x-order']}` : ''}`;
+  }
   if (Array.isArray(f.type) && f.type.includes('null')) text += ' or null';
   return text;
 }
@@ -51,15 +78,30 @@ function getPath(root, path) {
   }
   return node;
 }
-function setPath(root, path, value) {
+/// Sets (undefined: removes) the field at `path`, making the objects on the
+/// way. In a group (`groups`: path → schema) a value replaces the group's
+/// other fields when it takes one field only (a grain shape: a template or
+/// spheres), and a group left with no field is left out (null, its default).
+function setPath(root, path, value, groups = new Map()) {
   const keys = keysOf(path);
   let node = root;
+  const chain = [];
   for (const k of keys.slice(0, -1)) {
     if (!node[k] || typeof node[k] !== 'object' || Array.isArray(node[k])) node[k] = {};
+    chain.push([node, k]);
     node = node[k];
   }
+  const parent = keys.slice(0, -1).join('.');
+  const group = groups.get(parent);
   if (value === undefined) delete node[keys.at(-1)];
-  else node[keys.at(-1)] = value;
+  else {
+    if (group && group.maxProperties === 1) for (const k of Object.keys(node)) delete node[k];
+    node[keys.at(-1)] = value;
+  }
+  if (group && Object.keys(node).length === 0) {
+    const [above, k] = chain.at(-1);
+    delete above[k];
+  }
 }
 
 const shown = (v) => (v === undefined ? '' : typeof v === 'string' ? v : JSON.stringify(v));
@@ -82,6 +124,7 @@ export function show(main) {
 
   let leaves = [];
   const inputs = new Map();
+  const groupStates = new Map();
 
   function parsed() {
     try { return JSON.parse(editor.value); } catch (e) {
@@ -96,32 +139,55 @@ export function show(main) {
     if (spec === null) return false;
     replace(general);
     for (const [path, input] of inputs) input.value = shown(getPath(spec, path));
+    for (const [path, state] of groupStates) {
+      const v = getPath(spec, path);
+      state.textContent = v === undefined || v === null ? 'null (the default)' : 'given';
+    }
     return true;
   }
 
   function buildForm(schema) {
     leaves = schemaLeaves(schema);
-    replace(fields, leaves.map(([path, f]) => {
+    const groups = new Map(leaves.filter(([, , g]) => g).map(([path, f]) => [path, f]));
+    const edit = (change) => {
+      const spec = parsed();
+      if (spec === null) return;
+      change(spec);
+      editor.value = JSON.stringify(spec, null, 2);
+      fill();  // a group's other fields may have gone with this one
+    };
+    replace(fields, leaves.map(([path, f, group]) => {
+      const meaning = el('td', { class: 'meaning' }, f.description ?? '');
+      const errors = el('div', { class: 'field-error' });
+      if (group) {
+        // The group itself: null (left out) until one of its fields is given.
+        const state = el('span', { class: 'group-state', 'data-group': path });
+        const clear = el('button', { type: 'button', class: 'group-clear', 'data-group': path,
+          onclick: () => edit((spec) => setPath(spec, path, undefined)) }, 'leave out (null)');
+        groupStates.set(path, state);
+        return el('tr', { 'data-field': path, class: 'group' }, el('td', { class: 'path' }, path),
+          el('td', {}, state, ' ', clear, errors), el('td', { class: 'unit' }, ''),
+          el('td', { class: 'muted' }, allowed(f, true)), meaning);
+      }
       let input;
       if (f.enum) {
+        const none = f.default === undefined ? '(not given)' : `(default: ${f.default})`;
         input = el('select', { 'data-path': path, 'aria-label': path },
-          el('option', { value: '' }, `(default: ${f.default})`), f.enum.map((v) => el('option', { value: v }, v)));
+          el('option', { value: '' }, none), f.enum.map((v) => el('option', { value: v }, v)));
       } else {
         input = el('input', { 'data-path': path, 'aria-label': path, placeholder: shown(f.default) });
       }
       input.addEventListener('change', () => {
-        const spec = parsed();
-        if (spec === null) return;
         let v = input.value.trim();
         if (v === '') v = undefined;
         else if (f.type !== 'string' && !f.enum) { try { v = JSON.parse(v); } catch { /* a word such as "auto": kept as text */ } }
-        setPath(spec, path, v);
-        editor.value = JSON.stringify(spec, null, 2);
+        edit((spec) => setPath(spec, path, v, groups));
       });
       inputs.set(path, input);
-      return el('tr', { 'data-field': path }, el('td', { class: 'path' }, path),
-        el('td', {}, input, el('div', { class: 'field-error' })), el('td', { class: 'unit' }, f['x-unit'] ?? ''),
-        el('td', { class: 'muted' }, allowed(f)), el('td', { class: 'meaning' }, f.description ?? ''));
+      const inGroup = groups.has(keysOf(path).slice(0, -1).join('.'));
+      return el('tr', { 'data-field': path, class: inGroup ? 'in-group' : undefined }, el('td', { class: 'path' }, path),
+        el('td', {}, input, errors), el('td', { class: 'unit' }, f['x-unit'] ?? ''),
+        el('td', { class: 'muted' }, allowed(f)), meaning);
     }));
     fill();
   }
@@ -130,8 +196,9 @@ export function show(main) {
     const problems = err.details.length ? err.details : [{ field: err.field || '', message: err.message }];
     const unplaced = [];
     for (const p of problems) {
-      // triaxial.confining_pressures_pa[2] belongs to the array's row.
-      const row = p.field ? p.field.replace(/\[\d+\]$/, '') : '';
+      // triaxial.confining_pressures_pa[2] belongs to the array's row, and
+      // specimen.grain_shape.spheres[1][3] to the spheres' row.
+      const row = p.field ? p.field.replace(/(\[\d+\])+$/, '') : '';
       const cell = row ? fields.querySelector(`tr[data-field="${CSS.escape(row)}"] .field-error`) : null;
       if (cell) cell.append(el('div', {}, row === p.field ? p.message : `${p.field.slice(row.length)}: ${p.message}`));
       else unplaced.push(p);

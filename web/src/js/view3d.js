@@ -2,7 +2,9 @@
 // instanced spheres, the wire as a chain of cylinders coloured by segment
 // strain, the membrane translucent, the force network as cylinders between
 // the bodies' centres with a radius proportional to the normal force, a
-// snapshot slider, orbit/zoom, and a cut-away half. Positions arrive as
+// snapshot slider, orbit/zoom, and a cut-away half. Clumps (a job with
+// specimen.grain_shape) are drawn as their spheres, coloured per clump from
+// the specimen's grain_clump. Positions arrive as
 // float32 arrays from the result data routes; the scene is in millimetres.
 //
 // The wire lies inside the packing, so the grains can be drawn small (a
@@ -27,6 +29,13 @@ function strainColour(e, maxAbs, out) {
   if (t >= 0) out.setRGB(1, 1 - t, 1 - t);
   else out.setRGB(1 + t, 1 + t, 1);
   return out;
+}
+
+/// A clump's colour: earthy hues a golden-ratio step apart, so neighbouring
+/// clump indices differ; the colour of the spheres for a free grain (−1).
+function clumpColour(k, out) {
+  if (k < 0) return out.set(0xb39b72);
+  return out.setHSL((0.07 + 0.618034 * k) % 1, 0.42, 0.56);
 }
 
 /// Instanced cylinders from a[i] to b[i] with radius r[i]; colour per instance.
@@ -154,18 +163,31 @@ export class View3d {
       // The specimen has no triangles of its own: the membrane mesh is the same in every snapshot.
       const firstSnap = this.tests.find((x) => x.snapshots.length)?.snapshots[0];
       const triangles = names.has('membrane_triangles') ? get('membrane_triangles') : firstSnap ? array(`${firstSnap.url}/membrane_triangles`).catch(() => null) : null;
-      const [grains, radii, wire, strain, membrane, tri, bodies, force] = await Promise.all([
+      const [grains, radii, wire, strain, membrane, tri, bodies, force, clump] = await Promise.all([
         get('grain_position_m'), get('grain_radius_m'), get('wire_node_position_m'), get('wire_segment_strain'),
-        get('membrane_node_position_m'), triangles, get('contact_bodies'), get('contact_normal_force_n')]);
+        get('membrane_node_position_m'), triangles, get('contact_bodies'), get('contact_normal_force_n'), this.clumps()]);
       if (token !== this.loading) return;  // a later choice won
-      this.build({ grains, radii, wire, strain, membrane, tri, bodies, force });
+      this.build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump });
       replace(this.error);
     } catch (e) {
       replace(this.error, el('div', { class: 'error-box' }, `Cannot load the 3D view: ${e.message}`));
     }
   }
 
-  build({ grains, radii, wire, strain, membrane, tri, bodies, force }) {
+  /// Which clump each sphere belongs to (−1: a free grain), or null without
+  /// clumps: the specimen's grain_clump (docs/results.md), which holds for
+  /// every snapshot too (a snapshot's grains are the same spheres in the same
+  /// order), fetched once.
+  clumps() {
+    if (!this.clumpsPromise) {
+      const url = `/v1/jobs/${this.job.id}/specimen`;
+      this.clumpsPromise = json(url).then((g) => (g.arrays.some((a) => a.name === 'grain_clump') ? array(`${url}/grain_clump`) : null));
+      this.clumpsPromise.catch(() => { this.clumpsPromise = null; });  // tried again on the next load
+    }
+    return this.clumpsPromise;
+  }
+
+  build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump }) {
     for (const child of [...this.group.children]) {
       this.group.remove(child);
       child.geometry.dispose();
@@ -176,10 +198,24 @@ export class View3d {
     const stats = { grains: n, wireSegments: 0, membraneTriangles: 0, contacts: 0 };
     this.meshes = {};
 
+    const clumped = clump && clump.data.length === n && clump.data.some((k) => k >= 0);
     if (n) {
       // Double-sided: a grain the cut-away opens shows its inside, not the grains behind it.
+      // Clumps: every sphere drawn, coloured by its clump (white material: the instance colour shows as it is).
       const sphere = new THREE.InstancedMesh(new THREE.SphereGeometry(1, 20, 14),
-        new THREE.MeshStandardMaterial({ color: 0xb39b72, roughness: 0.85, side: THREE.DoubleSide }), n);
+        new THREE.MeshStandardMaterial({ color: clumped ? 0xffffff : 0xb39b72, roughness: 0.85, side: THREE.DoubleSide }), n);
+      if (clumped) {
+        const c = new THREE.Color();
+        const ids = new Set();
+        for (let i = 0; i < n; ++i) {
+          const k = clump.data[i];
+          if (k >= 0) ids.add(k);
+          sphere.setColorAt(i, clumpColour(k, c));
+        }
+        stats.clumps = ids.size;
+        stats.clumpSpheres = clump.data.filter((k) => k >= 0).length;
+        this.clumpOf = clump.data;
+      } else this.clumpOf = null;
       this.meshes.grains = sphere;
       this.grainRadii = radii.data;
       this.grainPositions = grains;
@@ -232,7 +268,15 @@ export class View3d {
     this.setColourBar(stats.maxAbsStrain);
     this.canvas.wiredemView = stats;
     this.canvas.wiredemWireVisibility = () => this.wireVisibility();
-    this.info.textContent = `${stats.grains} grains · ${stats.wireSegments} wire segments` +
+    this.canvas.wiredemClumpColour = (i) => {
+      if (!this.clumpOf) return null;
+      const c = new THREE.Color();
+      this.meshes.grains.getColorAt(i, c);
+      return c.getHexString();
+    };
+    const grainText = stats.clumps ? `${stats.clumps} clumps of ${stats.clumpSpheres} spheres (a colour per clump)` +
+      (stats.grains > stats.clumpSpheres ? ` and ${stats.grains - stats.clumpSpheres} free grains` : '') : `${stats.grains} grains`;
+    this.info.textContent = `${grainText} · ${stats.wireSegments} wire segments` +
       (stats.maxAbsStrain ? ` (colour: segment strain, ±${num(stats.maxAbsStrain, 2)}, blue compressed, red stretched)` : '') +
       ` · ${stats.membraneTriangles} membrane triangles · ${stats.contacts} contacts (radius ∝ normal force)`;
 
