@@ -104,8 +104,9 @@ TEST(JobSpecGrainShape, BadShapesAreRefusedNamingTheFieldAndTheRule)
 
 TEST(JobSpecGrainShape, TheColumnWidthCheckTakesTheClumpsExtent)
 {
-    // r = 2 mm in R = 8 mm passes as spheres (4 diameters wide); a crushed
-    // clump of that volume reaches 1.26 r, and is refused.
+    // r = 1.9 mm in R = 8 mm passes as spheres (over 4 diameters wide); a
+    // crushed clump of that volume reaches 1.43 r (largest_grain_radius_m),
+    // and is refused.
     const std::string sized = R"({"specimen": {"wire": {"pattern": "none"}, "membrane_radius_m": 0.008, "grain_radius_m": 0.0019)";
     const auto spheres = parse_job_spec(json::parse(sized + "}}"));
     const auto clumps = parse_job_spec(json::parse(sized + R"(, "grain_shape": {"template": "crushed"}}})"));
