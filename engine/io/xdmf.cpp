@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -123,6 +124,25 @@ std::optional<Array> find_scalars(const Group& g, const std::string& path, std::
     return a;
 }
 
+/// The wire segments removed in `g`'s wire_breaks (a test's or the
+/// specimen's) at test time `up_to_s` or before, appended to `out`.
+void append_removed_segments(const Group& g, double up_to_s, std::vector<std::int64_t>& out)
+{
+    if (!g.exists("wire_breaks/segment") || !g.exists("wire_breaks/time_s")) return;
+    const std::vector<std::int64_t> segment = g.open_dataset("wire_breaks/segment").read_int64s();
+    const std::vector<double> time = g.open_dataset("wire_breaks/time_s").read_doubles();
+    for (std::size_t i = 0; i < segment.size() && i < time.size(); ++i)
+        if (time[i] <= up_to_s) out.push_back(segment[i]);
+}
+
+/// Sorted and without repeats, for binary_search.
+std::vector<std::int64_t> sorted_set(std::vector<std::int64_t> v)
+{
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+}
+
 /// Indented XML text, one element per line.
 class Xml {
 public:
@@ -174,6 +194,14 @@ public:
             }
             xml.line(row);
         }
+        xml.close("DataItem");
+    }
+
+    /// <DataItem> holding N doubles inline (the strain of a cut wire's segments).
+    void inline_scalars(const std::vector<double>& values)
+    {
+        xml.open("DataItem Dimensions=\"" + std::to_string(values.size()) + "\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\"");
+        for (const double v : values) xml.line(number_text(v));
         xml.close("DataItem");
     }
 
@@ -236,27 +264,44 @@ public:
         ++summary_.grids;
     }
 
-    /// The wire as W − 1 two-node segments, with the segment strain.
-    void wire(const Group& g, bool with_strain)
+    /// The wire as its W − 1 two-node segments but those `removed` (sorted:
+    /// broken or cut by then), with the segment strain. A whole wire's strain
+    /// is a reference to the file; with segments removed, the others' are
+    /// written inline.
+    void wire(const Group& g, bool with_strain, const std::vector<std::int64_t>& removed)
     {
         const auto pos = find_vectors(g, "wire_node_position_m");
         if (!pos || pos->rows() < 2) return;
         const std::size_t segments = pos->rows() - 1;
-        xml.open("Grid Name=\"wire\" GridType=\"Uniform\"");
-        xml.open("Topology TopologyType=\"Polyline\" NumberOfElements=\"" + std::to_string(segments)
-                 + "\" NodesPerElement=\"2\"");
-        std::vector<std::int64_t> pairs;
+        std::vector<std::int64_t> pairs, kept;
         pairs.reserve(2 * segments);
         for (std::size_t s = 0; s < segments; ++s) {
+            if (std::binary_search(removed.begin(), removed.end(), static_cast<std::int64_t>(s))) continue;
+            kept.push_back(static_cast<std::int64_t>(s));
             pairs.push_back(static_cast<std::int64_t>(s));
             pairs.push_back(static_cast<std::int64_t>(s + 1));
         }
+        if (kept.empty()) return;
+        xml.open("Grid Name=\"wire\" GridType=\"Uniform\"");
+        xml.open("Topology TopologyType=\"Polyline\" NumberOfElements=\"" + std::to_string(kept.size())
+                 + "\" NodesPerElement=\"2\"");
         inline_item(pairs, 2);
         xml.close("Topology");
         geometry(*pos);
         if (with_strain)
-            if (const auto e = find_scalars(g, "wire_segment_strain", segments))
-                attribute("segment_strain", "Scalar", "Cell", *e);
+            if (const auto e = find_scalars(g, "wire_segment_strain", segments)) {
+                if (kept.size() == segments) {
+                    attribute("segment_strain", "Scalar", "Cell", *e);
+                } else {
+                    const std::vector<double> all = g.open_dataset("wire_segment_strain").read_doubles();
+                    std::vector<double> values;
+                    values.reserve(kept.size());
+                    for (const std::int64_t s : kept) values.push_back(all[static_cast<std::size_t>(s)]);
+                    xml.open("Attribute Name=\"segment_strain\" AttributeType=\"Scalar\" Center=\"Cell\"");
+                    inline_scalars(values);
+                    xml.close("Attribute");
+                }
+            }
         xml.close("Grid");
         ++summary_.grids;
     }
@@ -421,7 +466,9 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
         xml.open("Grid Name=\"specimen\" GridType=\"Collection\" CollectionType=\"Spatial\"");
         sum.specimen = true;
         w.grains(sp, false);
-        w.wire(sp, false);
+        std::vector<std::int64_t> prepared_removed;
+        append_removed_segments(sp, std::numeric_limits<double>::infinity(), prepared_removed);
+        w.wire(sp, false, sorted_set(prepared_removed));
         w.membrane(sp, triangles);
         xml.close("Grid");
     }
@@ -461,7 +508,13 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
             if (tri && (tri->shape.size() != 2 || tri->shape[1] != 3 || tri->rows() == 0 || tri->number_type == "Float"))
                 tri.reset();
             w.grains(g, true);
-            w.wire(g, true);
+            // The wire as it was at the snapshot: without the segments cut or
+            // broken in the preparation, and in this test up to then.
+            std::vector<std::int64_t> removed;
+            if (root.exists("specimen"))
+                append_removed_segments(root.open_group("specimen"), std::numeric_limits<double>::infinity(), removed);
+            append_removed_segments(root.open_group("tests/" + t.name), time_s[k], removed);
+            w.wire(g, true, sorted_set(std::move(removed)));
             w.membrane(g, tri);
             w.contacts(g);
             xml.close("Grid");

@@ -88,7 +88,8 @@ void write_snapshot(Group g, const Sizes& n, double strain, double time_s)
 
 /// A result file of the documented layout: specimen, two tests (written in the
 /// order 100 kPa, 20 kPa so that byte order and pressure order differ), snapshots.
-void write_result(const fs::path& path, const Sizes& n, bool with_tests = true)
+void write_result(const fs::path& path, const Sizes& n, bool with_tests = true,
+    const std::function<void(Group& root)>& more = {})
 {
     write_file_atomically(path, [&](Group& root) {
         root.write_string_attribute("format", "wiredem-result-1");
@@ -111,6 +112,7 @@ void write_result(const fs::path& path, const Sizes& n, bool with_tests = true)
             for (int k = 0; k < 11; ++k)
                 write_snapshot(t2.create_group("snapshots/snapshot_" + std::to_string(k)), n, 0.01 * k, 0.02 * k);
         }
+        if (more) more(root);
     });
 }
 
@@ -368,6 +370,52 @@ TEST(XdmfSidecar, WireIsAPolylineOfNodesMinusOneSegmentsWithTheirStrain)
     EXPECT_EQ(attr(strain, "Name"), "segment_strain");
     EXPECT_EQ(attr(strain, "Center"), "Cell");
     EXPECT_EQ(data_item_of(strain).get_value<std::string>(), "result.h5:/tests/sigma3_100000/snapshots/snapshot_1/wire_segment_strain");
+}
+
+// A cut or broken wire is drawn as it was: the specimen without the segments
+// removed in the preparation, each snapshot also without those its test broke
+// by then (wire_breaks' time_s, the test's clock, as the snapshot's), the
+// remaining segments' strain beside them.
+TEST(XdmfSidecar, ACutOrBrokenWireHasNoSegmentWhereItWasCutOrBroke)
+{
+    const TempDir dir;
+    const fs::path h5 = dir.path() / "result.h5";
+    Sizes n;
+    n.wire_nodes = 9; // segments 0 … 7
+    const auto breaks = [](Group g, std::vector<std::int64_t> segment, std::vector<double> time_s) {
+        Group b = g.create_group("wire_breaks");
+        b.write_dataset("segment", std::span<const std::int64_t>(segment));
+        b.write_dataset("time_s", std::span<const double>(time_s));
+    };
+    write_result(h5, n, true, [&](Group& root) {
+        breaks(root.open_group("specimen"), {2}, {0.5});
+        breaks(root.open_group("tests/sigma3_100000"), {5}, {0.05}); // between its snapshots at 0 and 0.1 s
+    });
+    write_xdmf(h5);
+    const ptree tree = read_xml(dir.path() / "result.xdmf");
+    const auto grids = uniform_grids(tree.get_child("Xdmf.Domain"));
+    const auto segments = [&](const std::string& key) {
+        const ptree& topo = grids.at(key)->get_child("Topology");
+        const std::vector<std::size_t> v = inline_values(data_item_of(topo));
+        EXPECT_EQ(std::to_string(v.size() / 2), attr(topo, "NumberOfElements")) << key;
+        std::vector<std::size_t> first;
+        for (std::size_t i = 0; i + 1 < v.size(); i += 2) {
+            EXPECT_EQ(v[i + 1], v[i] + 1) << key;
+            first.push_back(v[i]);
+        }
+        return first;
+    };
+    EXPECT_EQ(segments("specimen/wire"), (std::vector<std::size_t>{0, 1, 3, 4, 5, 6, 7}));
+    EXPECT_EQ(segments("sigma3_100000/snapshot_0/wire"), (std::vector<std::size_t>{0, 1, 3, 4, 5, 6, 7}));
+    EXPECT_EQ(segments("sigma3_100000/snapshot_1/wire"), (std::vector<std::size_t>{0, 1, 3, 4, 6, 7}));
+    EXPECT_EQ(segments("sigma3_20000/snapshot_10/wire"), (std::vector<std::size_t>{0, 1, 3, 4, 5, 6, 7}));
+    // The strain of the segments drawn, in their order (write_snapshot: 1e-3 s).
+    const ptree& strain = grids.at("sigma3_100000/snapshot_1/wire")->get_child("Attribute");
+    EXPECT_EQ(attr(strain, "Center"), "Cell");
+    const std::vector<double> e = inline_doubles(data_item_of(strain));
+    ASSERT_EQ(e.size(), 6u);
+    const std::vector<double> drawn{0, 1, 3, 4, 6, 7};
+    for (std::size_t i = 0; i < e.size(); ++i) EXPECT_EQ(e[i], 1e-3 * drawn[i]) << i;
 }
 
 TEST(XdmfSidecar, ForceNetworkJoinsTheRightBodies)
