@@ -986,6 +986,17 @@ test('a breakable wire cut every two loops: its breaks marked on the curves and 
   await page.waitForSelector('#wire-parts');
   await page.waitForFunction(() => document.querySelector('#plot-fs-stress')?.wiredemPlot);
   await checkWireParts(page, s, 'job page');
+  // The 3D view draws the wire as it was: the prepared pieces' segments, less
+  // those the test broke by the snapshot shown (the end of the test: all of them).
+  await page.waitForFunction(() => document.querySelector('#view3d-canvas')?.wiredemView, { timeout: 60000 });
+  const inPieces = s.specimen.wire_pieces.reduce((n, p) => n + p.nodes - 1, 0);
+  const brokeInTest = s.tests.at(-1).wire_breaks.length;
+  assert.ok(inPieces < s.specimen.wire_nodes - 1, 'the cuts removed segments');
+  assert.equal((await page.$eval('#view3d-canvas', (c) => c.wiredemView)).wireSegments, inPieces - brokeInTest, 'the end of the test');
+  await page.$eval('#view3d-canvas', (c) => { c.wiredemView.stale = true; });
+  await page.select('#view3d-source', 'specimen');
+  await page.waitForFunction(() => !document.querySelector('#view3d-canvas').wiredemView.stale);
+  assert.equal((await page.$eval('#view3d-canvas', (c) => c.wiredemView)).wireSegments, inPieces, 'the prepared specimen');
   if (screenshots) {
     const section = await page.$('#plot-q');
     await section.scrollIntoView();

@@ -155,7 +155,7 @@ async function renderResults(body, job) {
   renderWireParts(body, summary);
 
   const withWire = (summary.specimen && summary.specimen.wire_nodes > 1) && tests.some((t) => t.snapshots.length);
-  const view = new View3d(body, job, tests);
+  const view = new View3d(body, job, tests, summary);
   if (withWire) await wireSection(body, tests, summary);
   await view.ready;
   return view;

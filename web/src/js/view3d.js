@@ -67,10 +67,32 @@ function placeCylinders(mesh, ends, radius) {
   mesh.boundingBox = null;
 }
 
+/// The wire segments gone in the state shown (segment s joins nodes s and
+/// s + 1): those between the prepared wire's pieces (summary.specimen.wire_pieces:
+/// cut or broken in the preparation) and, for a snapshot, those its test broke
+/// by the snapshot's time (the test's wire_breaks, time_s on the test's clock
+/// as the snapshot's). A Set of segment indices; empty for a whole wire.
+export function removedWireSegments(summary, wireNodes, test, snap) {
+  const gone = new Set();
+  const pieces = summary?.specimen?.wire_pieces;
+  if (Array.isArray(pieces) && pieces.length) {
+    const kept = new Set();
+    for (const p of pieces) for (let s = p.first_node; s < p.first_node + p.nodes - 1; ++s) kept.add(s);
+    for (let s = 0; s < wireNodes - 1; ++s) if (!kept.has(s)) gone.add(s);
+  }
+  if (test && snap) {
+    const pressure = test.attributes?.confining_pressure_pa;
+    const t = (summary?.tests || []).find((x) => x.confining_pressure_pa === pressure);
+    for (const b of t?.wire_breaks || []) if (b.time_s <= snap.time_s) gone.add(b.segment);
+  }
+  return gone;
+}
+
 export class View3d {
-  constructor(parent, job, tests) {
+  constructor(parent, job, tests, summary = null) {
     this.job = job;
     this.tests = tests;
+    this.summary = summary;
     this.canvas = el('canvas', { id: 'view3d-canvas', 'aria-label': '3D view of the specimen' });
     this.source = el('select', { id: 'view3d-source', 'aria-label': 'what to show' },
       el('option', { value: 'specimen' }, 'prepared specimen'),
@@ -167,7 +189,8 @@ export class View3d {
         get('grain_position_m'), get('grain_radius_m'), get('wire_node_position_m'), get('wire_segment_strain'),
         get('membrane_node_position_m'), triangles, get('contact_bodies'), get('contact_normal_force_n'), this.clumps()]);
       if (token !== this.loading) return;  // a later choice won
-      this.build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump });
+      const gone = wire ? removedWireSegments(this.summary, wire.shape[0], t, snap) : new Set();
+      this.build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump, gone });
       replace(this.error);
     } catch (e) {
       replace(this.error, el('div', { class: 'error-box' }, `Cannot load the 3D view: ${e.message}`));
@@ -187,7 +210,7 @@ export class View3d {
     return this.clumpsPromise;
   }
 
-  build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump }) {
+  build({ grains, radii, wire, strain, membrane, tri, bodies, force, clump, gone = new Set() }) {
     for (const child of [...this.group.children]) {
       this.group.remove(child);
       child.geometry.dispose();
@@ -222,15 +245,18 @@ export class View3d {
       this.group.add(sphere);
     }
     const wireRadius = (this.job.spec?.specimen?.wire?.radius_m ?? 5e-4) * mm;
-    if (wire && wire.shape[0] > 1) {
-      const segs = wire.shape[0] - 1;
+    // The segments still there (a cut or broken wire's others are not drawn).
+    const segs = [];
+    if (wire) for (let s = 0; s + 1 < wire.shape[0]; ++s) if (!gone.has(s)) segs.push(s);
+    if (segs.length) {
       let maxAbs = 0;
-      if (strain) for (const e of strain.data) maxAbs = Math.max(maxAbs, Math.abs(e));
-      this.meshes.wire = cylinders(segs, (i, x, y) => { pos(wire, i, x); pos(wire, i + 1, y); }, () => wireRadius,
-        (i, c) => (strain ? strainColour(strain.data[i], maxAbs, c) : c.set(0x3b4252)),
+      if (strain) for (const s of segs) maxAbs = Math.max(maxAbs, Math.abs(strain.data[s]));
+      this.meshes.wire = cylinders(segs.length, (i, x, y) => { pos(wire, segs[i], x); pos(wire, segs[i] + 1, y); }, () => wireRadius,
+        (i, c) => (strain ? strainColour(strain.data[segs[i]], maxAbs, c) : c.set(0x3b4252)),
         new THREE.MeshStandardMaterial({ color: 0xffffff, roughness: 0.5 }));
       this.group.add(this.meshes.wire);
-      stats.wireSegments = segs;
+      stats.wireSegments = segs.length;
+      stats.wireSegmentsGone = gone.size;
       stats.maxAbsStrain = maxAbs;
     }
     if (membrane && tri) {
