@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""The study's columns standing on their own (docs/study.md, "The free-standing
+column"): reads the free-standing test of each job directory given
+(`wiredem prepare JOB -o DIR` then `wiredem test DIR --free-standing`, the jobs
+in docs/study/free-standing/), writes one JSON record per directory into OUT
+(what the summary's free_standing block holds, from tests/free_standing.h5),
+prints the markdown table of docs/study.md and plots OUT/../figures/free_standing.png:
+sigma_1 against the axial strain of the unconfined compression, and the
+column's radius against height before the formwork was removed and after the
+column settled.
+
+The unconfined strength predicted by a Mohr-Coulomb envelope (phi, c) is
+2 c cos(phi) / (1 - sin(phi)) (none when c <= 0): the envelope is taken from
+the study's summary of the same pattern and seed (docs/study/PATTERN-seedK.json,
+its mohr_coulomb), a check of the whole chain, not a tuning target.
+
+    python3 scripts/free_standing_study.py DIR... [--out docs/study/free-standing]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+LABELS = {"none": "no wire", "helix": "helix", "spiral_helix": "spiral helix", "radial_helix": "radially reinforced helix"}
+
+
+def predicted_ucs_pa(phi_deg: float, c_pa: float) -> float | None:
+    """The unconfined strength on the envelope: the circle through (0, 0) tangent to it."""
+    if c_pa <= 0:
+        return None
+    phi = math.radians(phi_deg)
+    return 2 * c_pa * math.cos(phi) / (1 - math.sin(phi))
+
+
+def attribute(g: h5py.Group, name: str, default=None):
+    v = g.attrs.get(name, default)
+    if isinstance(v, bytes):
+        return v.decode()
+    return v.item() if hasattr(v, "item") else v
+
+
+def profile(g: h5py.Group, name: str) -> dict | None:
+    if name not in g:
+        return None
+    p = g[name]
+    return {k: [float(x) for x in p[k][:]] for k in ("height_m", "radius_m", "grains")}
+
+
+def given_in(sparse, full) -> bool:
+    """Whether every field of `sparse` (a job as written by hand) has its value in
+    `full` (the job as wiredem wrote it, every default filled in)."""
+    if isinstance(sparse, dict):
+        return isinstance(full, dict) and all(k in full and given_in(v, full[k]) for k, v in sparse.items())
+    return sparse == full
+
+
+def read_run(d: Path) -> dict:
+    job = json.loads((d / "job.json").read_text())
+    pattern = job["specimen"].get("wire", {}).get("pattern", "helix")
+    with h5py.File(d / "tests" / "free_standing.h5", "r") as f:
+        g = f["free_standing"]
+        rec = {
+            "dir": str(d),
+            "pattern": pattern,
+            "seed": job.get("seed", 1),
+            "stands": bool(attribute(g, "stands", 0)),
+            "at_rest": bool(attribute(g, "at_rest", 0)),
+            "time_to_rest_s": attribute(g, "time_to_rest_s"),
+            "height_before_m": attribute(g, "height_before_m"),
+            "height_m": attribute(g, "height_m"),
+            "height_loss": attribute(g, "height_loss"),
+            "radius_before_m": attribute(g, "radius_before_m"),
+            "radius_m": attribute(g, "radius_m"),
+            "escaped_grains": attribute(g, "escaped_grains"),
+            "weight_n": attribute(g, "weight_n"),
+            "base_force_n": attribute(g, "base_force_n"),
+            "max_removal_kinetic_energy_j": attribute(g, "max_removal_kinetic_energy_j"),
+            "steps": attribute(g, "steps"),
+            "time_step_s": attribute(g, "time_step_s"),
+            "wall_time_s": attribute(g, "wall_time_s"),
+            "threads": attribute(g, "threads"),
+            "quasi_static": bool(attribute(g, "quasi_static", 0)),
+            "max_inertial_number": attribute(g, "max_inertial_number"),
+            "warnings": json.loads(attribute(g, "warnings", "[]") or "[]"),
+            "profile_before": profile(g, "profile_before"),
+            "profile_settled": profile(g, "profile_settled"),
+        }
+        if "strength_smoothed_maximum" in g.attrs:
+            rec["compression"] = {
+                "unconfined_strength_pa": attribute(g, "strength_smoothed_maximum"),
+                "shape": attribute(g, "strength_shape"),
+                "strength_axial_strain": attribute(g, "strength_axial_strain"),
+                "max_sigma1_pa": attribute(g, "max_sigma1_pa"),
+                "failed": bool(attribute(g, "failed", 0)),
+            }
+        phase = g["phase"][:]
+        loading = phase == 3
+        rec["curve"] = {
+            "axial_strain": [float(x) for x in g["axial_strain"][:][loading]],
+            "sigma1_pa": [float(x) for x in g["sigma1_pa"][:][loading]],
+        }
+    # The envelope of the study's campaign of the same column: only when the
+    # job prepares the study's specimen (examples/paper-*.json) with that seed.
+    study = ROOT / "docs" / "study" / f"{pattern}-seed{rec['seed']}.json"
+    paper = ROOT / "examples" / f"paper-{pattern.replace('_', '-')}.json"
+    same_column = paper.exists() and given_in(json.loads(paper.read_text())["specimen"], job["specimen"])
+    if study.exists() and same_column:
+        mc = json.loads(study.read_text())["mohr_coulomb"]
+        rec["envelope"] = {"source": str(study.relative_to(ROOT)), "friction_angle_deg": mc["friction_angle_deg"],
+                           "cohesion_pa": mc["cohesion_pa"],
+                           "predicted_unconfined_strength_pa": predicted_ucs_pa(mc["friction_angle_deg"], mc["cohesion_pa"])}
+    return rec
+
+
+def kpa(x: float | None) -> str:
+    return "—" if x is None else f"{x / 1e3:.2f}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dirs", nargs="+", type=Path)
+    ap.add_argument("--out", type=Path, default=ROOT / "docs/study/free-standing")
+    args = ap.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs = [read_run(d) for d in args.dirs]
+    for r in runs:
+        record = {k: v for k, v in r.items() if k not in ("curve", "dir")}
+        (args.out / f"{r['pattern']}-seed{r['seed']}-result.json").write_text(json.dumps(record, indent=2) + "\n")
+
+    print("| pattern | stands | height loss | radius before → after [mm] | grains escaped | at rest after [s] "
+          "| unconfined strength [kPa] (shape, ε₁) | predicted by the seed's envelope [kPa] | steps, wall time |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in runs:
+        c = r.get("compression")
+        ucs = f"{kpa(c['unconfined_strength_pa'])} ({c['shape']}, {c['strength_axial_strain']:.3f})" if c else "—"
+        env = r.get("envelope")
+        pred = "—"
+        if env:
+            p = env["predicted_unconfined_strength_pa"]
+            pred = (f"{kpa(p)} (φ = {env['friction_angle_deg']:.1f}°, c = {env['cohesion_pa'] / 1e3:.1f} kPa)" if p
+                    else f"none (c = {env['cohesion_pa'] / 1e3:.1f} kPa ≤ 0)")
+        print(f"| {LABELS.get(r['pattern'], r['pattern'])} | {'yes' if r['stands'] else 'no'} | {100 * r['height_loss']:.1f} % "
+              f"| {1e3 * r['radius_before_m']:.1f} → {1e3 * r['radius_m']:.1f} | {r['escaped_grains']} "
+              f"| {r['time_to_rest_s']:.3f}{'' if r['at_rest'] else ' (not at rest)'} | {ucs} | {pred} "
+              f"| {r['steps']}, {r['wall_time_s']:.0f} s on {r['threads']} |")
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for r in runs:
+        label = LABELS.get(r["pattern"], r["pattern"])
+        if r["curve"]["axial_strain"]:
+            ax1.plot(r["curve"]["axial_strain"], [s / 1e3 for s in r["curve"]["sigma1_pa"]], label=label)
+        for key, style in (("profile_before", ":"), ("profile_settled", "-")):
+            p = r[key]
+            if p:
+                ax2.plot([1e3 * x for x in p["radius_m"]], [1e3 * z for z in p["height_m"]], style,
+                         label=f"{label}, {'before removal' if key == 'profile_before' else 'settled'}")
+    ax1.set_xlabel("axial strain ε₁")
+    ax1.set_ylabel("σ₁ [kPa] (top plate)")
+    ax1.set_title("unconfined compression")
+    ax1.legend(fontsize=8)
+    ax2.set_xlabel("radius [mm]")
+    ax2.set_ylabel("height [mm]")
+    ax2.set_title("the column's radius, before and after the formwork went")
+    ax2.legend(fontsize=7)
+    fig.tight_layout()
+    figures = ROOT / "docs/study/figures"
+    figures.mkdir(parents=True, exist_ok=True)
+    fig.savefig(figures / "free_standing.png", dpi=120)
+
+
+if __name__ == "__main__":
+    main()
