@@ -472,11 +472,7 @@ Column empty_column(const PreparationSpec& spec)
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
     World probe = w;
-    if (spec.grain_shape) // a clump of the smallest size: its smallest sphere, the mass its contacts see
-        add_clump(probe, scaled_clump(*spec.grain_shape, smallest_grain_radius_m(spec)), Vec3(0, 0, 1),
-            Quat::Identity(), c.grain_mat);
-    else
-        add_grain(probe, Vec3(0, 0, 1), smallest_grain_radius_m(spec), c.grain_mat);
+    add_smallest_grain(probe, spec, c.grain_mat);
     if (with_wire) {
         append_wire_node(probe, Vec3(0, 0, 2));
         append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
@@ -799,6 +795,24 @@ double smallest_grain_radius_m(const PreparationSpec& spec)
 {
     if (spec.grain_sizes) return 0.5 * spec.grain_sizes->diameters_m.front();
     return spec.grain_radius_m * (1.0 - spec.grain_radius_spread);
+}
+
+void add_smallest_grain(World& w, const PreparationSpec& spec, std::uint8_t material)
+{
+    if (spec.grain_shape) // a clump of the smallest size: its smallest sphere, the mass its contacts see
+        add_clump(w, scaled_clump(*spec.grain_shape, smallest_grain_radius_m(spec)), Vec3(0, 0, 1), Quat::Identity(),
+            material);
+    else
+        add_grain(w, Vec3(0, 0, 1), smallest_grain_radius_m(spec), material);
+}
+
+StabilityInputs::Kind smallest_grain_stability(const PreparationSpec& spec)
+{
+    World probe;
+    Material grain = spec.grain;
+    grain.density_kg_per_m3 *= spec.density_scale; // as empty_column scales it
+    add_smallest_grain(probe, spec, add_material(probe, grain));
+    return stability_inputs(probe).kinds[static_cast<std::size_t>(BodyKind::grain)];
 }
 
 double largest_grain_radius_m(const PreparationSpec& spec)
