@@ -757,17 +757,13 @@ Result<PreparationReport, std::string> prepare_specimen(
     PreparationReport report;
     report.top_plate_wall = st.top_plate_wall;
     report.settled = st.settled_before_lid && st.settled_under_lid;
-    // A grain's radius: a sphere's, or a clump's volume-equivalent one (the
-    // size it was drawn with; its spheres overlap, so their volumes would
-    // count the overlaps twice).
-    const TranslationalState& g = w.of(BodyKind::grain);
-    std::vector<double> grain_radii;
-    const double density = w.materials[column.grain_mat].density_kg_per_m3;
-    for (std::size_t i = 0; i < g.size(); ++i)
-        if (!w.clumps.is_member(i)) grain_radii.push_back(g.radius_m[i]);
-    for (const double m : w.clumps.mass_kg) grain_radii.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * density)));
-    double grain_volume = 0.0;
-    for (double r : grain_radii) grain_volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    // The grains as grains (grain_volumes): a clump is one, of the volume
+    // of the union of its spheres and its volume-equivalent radius (the size
+    // it was drawn with); its spheres overlap, so their volumes would count
+    // the overlaps twice.
+    const GrainVolumes grains = grain_volumes(w);
+    const std::vector<double>& grain_radii = grains.radius_m;
+    const double grain_volume = grains.total_volume_m3;
     report.grains = grain_radii.size();
     report.wire_nodes = w.of(BodyKind::wire).size();
     report.wire_length_m = wire_length_m(w);
