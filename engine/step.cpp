@@ -588,7 +588,10 @@ void gather_scalar(const GatherInputs& in, std::size_t begin, std::size_t end)
             const Incidence link = in.incidence[e];
             const ContactOutput& out = c.output[link.contact()];
             f += link.sign() * out.force_n;
-            if constexpr (rotates) tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+            if constexpr (rotates) {
+                tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+                if (in.rolling_torque_n_m != nullptr) tau += link.sign() * in.rolling_torque_n_m[link.contact()];
+            }
         }
         if (in.extra_force_n != nullptr) f += in.extra_force_n[i];
         in.force_n[i] = f;
@@ -631,24 +634,12 @@ void gather_forces(World& w, ThreadPool& pool)
         if (kind == BodyKind::wire) in.extra_force_n = w.wire_forces.node_force_n.data();
         if (kind == BodyKind::membrane) in.extra_force_n = w.membrane_forces.node_force_n.data();
         in.force_n = w.body_force_n[k].data();
-        if (kind == BodyKind::grain) in.torque_n_m = w.grain_torque_n_m.data();
+        if (kind == BodyKind::grain) {
+            in.torque_n_m = w.grain_torque_n_m.data();
+            // Only grains turn; a contact that does not roll holds zero.
+            if (!w.contacts.rolling_torque_n_m.empty()) in.rolling_torque_n_m = w.contacts.rolling_torque_n_m.data();
+        }
         parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
-    }
-    // Rolling torques (with the rolling law on): each grain adds its
-    // contacts' in the order of its incidences, after the rest of its
-    // torque. Only grains turn; a contact that does not roll holds zero.
-    const ContactList& c = w.contacts;
-    if (!c.rolling_torque_n_m.empty()) {
-        const std::uint32_t* start = w.near.incidence_start_of(c).data() + w.flat_offset(BodyKind::grain);
-        const Incidence* incidence = w.near.incidence_of(c).data();
-        parallel_for_blocks(pool, w.of(BodyKind::grain).size(), 256, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                Vec3 tau = w.grain_torque_n_m[i];
-                for (std::uint32_t e = start[i]; e < start[i + 1]; ++e)
-                    tau += incidence[e].sign() * c.rolling_torque_n_m[incidence[e].contact()];
-                w.grain_torque_n_m[i] = tau;
-            }
-        });
     }
     for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }
