@@ -7,6 +7,7 @@
 #include "laws/hertz.hpp"
 #include "laws/membrane_edge.hpp"
 #include "laws/wire_bond.hpp"
+#include "specimen/preparation.hpp"
 #include "state/world.hpp"
 #include "timestep.hpp"
 #include "triaxial/sampling.hpp"
@@ -47,10 +48,11 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
         return engine::plane_modulus_pa({material.youngs_modulus_pa, material.poisson_ratio});
     };
     engine::StabilityInputs in;
-    // Density scaling multiplies every mass; the wire's once more.
-    const double smallest_grain_m = engine::smallest_grain_radius_m(preparation_geometry(spec));
-    in.kinds[0].include(engine::sphere_mass_kg(s.grain.density_kg_per_m3 * scale, smallest_grain_m), false,
-        smallest_grain_m, plane_modulus_pa(s.grain));
+    // Density scaling multiplies every mass; the wire's once more. The
+    // grains: the smallest one the preparation draws, a sphere or a clump
+    // (its smallest sphere, the mass its contacts see), as the engine's
+    // World holds it.
+    in.kinds[0] = engine::smallest_grain_stability(preparation_geometry(spec));
     if (s.wire.pattern != WirePattern::none) {
         const double node_mass_kg = wire_node_mass_kg(s.wire) * wire_scale;
         in.kinds[1].include(node_mass_kg, false, s.wire.radius_m, plane_modulus_pa(s.wire));

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace wiredem::engine {
 void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
@@ -359,10 +360,34 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
     ++w.neighbour_builds;
 }
 
+/// The rolling law's view of a grain–grain or grain–wall contact: the
+/// bodies' relative spin δt (ω_first − ω_second), R* (r against a wall) and
+/// the sum of their inverse inertias about the contact point.
+struct RollingSides {
+    Vec3 relative_spin_dt;
+    double eff_radius_m;
+    double inverse_inertia;
+};
+
+/// The rolling law on touching contact p whose normal (first to second) is
+/// `normal` and normal force fn: its spring and torque slots.
+[[gnu::always_inline]] inline void roll_contact(
+    ContactList& c, std::size_t p, const Vec3& normal, double fn, const RollingSides& s, const ContactInputs& in)
+{
+    if (!(s.inverse_inertia > 0.0)) return; // neither side turns
+    const RollingResult r = rolling_torque(c.rolling_rad[p], normal, s.relative_spin_dt * in.inv_dt, fn, s.eff_radius_m,
+        in.tangential.stiffness_per_m, 1.0 / s.inverse_inertia, in.rolling, in.dt);
+    if (in.memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
+    c.rolling_torque_n_m[p] = r.torque_n_m;
+}
+
 /// The contact kernel: from a contact's geometry (or its absence) to its
 /// force, spring and slots, with the laws of laws/. One writer per slot.
+/// `rolling` (nullptr: no rolling law on this contact) is worked out only
+/// where the contact overlaps.
+template <class Rolling>
 [[gnu::always_inline]] inline void evaluate_contact(ContactList& c, std::size_t p, bool overlaps,
-    const ContactGeometry& g, const ContactInputs& in, const TangentialParams& tangential)
+    const ContactGeometry& g, const ContactInputs& in, const TangentialParams& tangential, Rolling&& rolling)
 {
     if (!overlaps) {
         // Apart: the contact (and its spring) is gone. Slots of a contact
@@ -381,6 +406,8 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
     out.overlap_m = g.overlap_m;
     out.normal_force_n = fn;
     c.touching[p] = 1;
+    if (in.inverse_inertia_about_contact != nullptr)
+        if (const std::optional<RollingSides> s = rolling()) roll_contact(c, p, g.normal, fn, *s, in);
 }
 
 } // namespace
@@ -391,6 +418,40 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     // What both kernels read, by kind, hoisted out of the loops.
     ContactInputs in = contact_inputs(w);
     in.memory = memory;
+    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
+    // only (wire and membrane nodes do not turn), in the kernels after each
+    // contact's force, from its F_n; the list keeps its springs while the
+    // law is on.
+    const RollingParams& rolling = w.contact.rolling;
+    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
+    std::vector<double> inverse_inertia_about_contact;
+    if (rolling.on()) {
+        const TranslationalState& grains = w.of(BodyKind::grain);
+        const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
+        // 1/(I + m r²): each grain's inverse inertia about a point of its
+        // surface (0 for a grain that must not turn), once per step. A
+        // clump's sphere, which has no mass of its own, takes its clump's
+        // about the sphere's farthest surface point on the axis of I₁,
+        // 1/(I₁ + M (|b| + r)²): a lone sphere's value at b = 0.
+        inverse_inertia_about_contact.resize(grains.size());
+        const ClumpState& clumps = w.clumps;
+        parallel_for_blocks(pool, grains.size(), 1024, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                if (grains.motion[i] == Motion::clumped) {
+                    const std::uint32_t k = clumps.member_clump[i];
+                    const double arm = clumps.member_offset_m[i].norm() + grains.radius_m[i];
+                    inverse_inertia_about_contact[i]
+                        = 1.0 / (clumps.principal_inertia_kg_m2[k].minCoeff() + clumps.mass_kg[k] * arm * arm);
+                    continue;
+                }
+                inverse_inertia_about_contact[i]
+                    = inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
+            }
+        });
+        in.rolling = rolling;
+        in.inverse_inertia_about_contact = inverse_inertia_about_contact.data();
+    }
+    const auto grain = static_cast<std::size_t>(BodyKind::grain);
     const Vec3 no_spin = Vec3::Zero();
     auto spin_of = [&](BodyRef b) -> const Vec3& { return b.kind() == BodyKind::grain ? in.spin_dt[b.index()] : no_spin; };
 
@@ -403,7 +464,11 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         ContactGeometry g;
         const bool overlaps = sphere_sphere_geometry(in.x[ka][ia], in.x[kb][ib], in.radius[ka][ia], in.radius[kb][ib],
             in.v_dt[ka][ia], in.v_dt[kb][ib], spin_of(a), spin_of(b), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in, in.tangential);
+        evaluate_contact(c, p, overlaps, g, in, in.tangential, [&]() -> std::optional<RollingSides> {
+            if (ka != grain || kb != grain) return std::nullopt;
+            return RollingSides{in.spin_dt[ia] - in.spin_dt[ib], effective_radius_m(in.radius[grain][ia], in.radius[grain][ib]),
+                in.inverse_inertia_about_contact[ia] + in.inverse_inertia_about_contact[ib]};
+        });
     };
     // The near pairs only (NearPairs: the others are apart); four or eight
     // at a time where the CPU can (same bits, contact/pair_kernel_simd.hpp);
@@ -434,6 +499,12 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
     std::vector<TangentialParams> wall_tangential(w.walls.size(), in.tangential);
     for (std::size_t wi = 0; wi < w.walls.size(); ++wi)
         if (w.walls[wi].friction_coeff) wall_tangential[wi].friction_coeff = *w.walls[wi].friction_coeff;
+    // A grain on a wall: R* = r; the wall does not turn.
+    auto wall_rolling = [&](std::size_t p) -> std::optional<RollingSides> {
+        if (c.first[p].kind() != BodyKind::grain) return std::nullopt;
+        const std::uint32_t ia = c.first[p].index();
+        return RollingSides{in.spin_dt[ia], in.radius[grain][ia], in.inverse_inertia_about_contact[ia]};
+    };
     auto wall_contact = [&](std::size_t p) {
         const BodyRef a = c.first[p];
         const auto ka = static_cast<std::size_t>(a.kind());
@@ -442,7 +513,7 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
         ContactGeometry g;
         const bool overlaps = sphere_wall_geometry(
             w.walls[wall], in.x[ka][ia], in.radius[ka][ia], in.v_dt[ka][ia], spin_of(a), in.inv_dt, g);
-        evaluate_contact(c, p, overlaps, g, in, wall_tangential[wall]);
+        evaluate_contact(c, p, overlaps, g, in, wall_tangential[wall], [&]() { return wall_rolling(p); });
     };
     parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = pairs + begin; p < pairs + end;) {
@@ -451,77 +522,20 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             if (simd.wall && !w.walls[wall].friction_coeff
                 && p + lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
                 const std::uint32_t done = simd.wall(c, p, w.walls[wall], in);
-                for (std::size_t l = 0; l < lanes; ++l)
+                for (std::size_t l = 0; l < lanes; ++l) {
                     if (!(done >> l & 1u)) wall_contact(p + l);
+                    else if (in.inverse_inertia_about_contact != nullptr && c.touching[p + l])
+                        // The lanes' wall contacts roll one by one (few against the pairs).
+                        if (const std::optional<RollingSides> s = wall_rolling(p + l))
+                            roll_contact(c, p + l, wall_gap(w.walls[wall], in.x[grain][c.first[p + l].index()]).towards,
+                                c.output[p + l].normal_force_n, *s, in);
+                }
                 p += lanes;
             } else {
                 wall_contact(p++);
             }
         }
     });
-
-    // Rolling resistance (laws/rolling.hpp), grain–grain and grain–wall
-    // only (wire and membrane nodes do not turn), after the force kernels,
-    // from what they wrote (touching, |F_n|): one scalar pass for every SIMD
-    // choice, so the bits do not depend on it. The list keeps its springs
-    // while the law is on.
-    const RollingParams& rolling = w.contact.rolling;
-    if (rolling.on() ? c.rolling_rad.size() != c.size() : c.rolls()) c.keep_rolling(rolling.on());
-    if (rolling.on()) {
-        const TranslationalState& grains = w.of(BodyKind::grain);
-        const std::vector<double>& inv_inertia = w.grain_rotation.inv_inertia_per_kg_m2;
-        // 1/(I + m r²): each grain's inverse inertia about a point of its
-        // surface (0 for a grain that must not turn), once per step. A
-        // clump's sphere, which has no mass of its own, takes its clump's
-        // about the sphere's farthest surface point on the axis of I₁,
-        // 1/(I₁ + M (|b| + r)²): a lone sphere's value at b = 0.
-        std::vector<double> inverse_inertia_about_contact(grains.size());
-        const ClumpState& clumps = w.clumps;
-        parallel_for_blocks(pool, grains.size(), 1024, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                if (grains.motion[i] == Motion::clumped) {
-                    const std::uint32_t k = clumps.member_clump[i];
-                    const double arm = clumps.member_offset_m[i].norm() + grains.radius_m[i];
-                    inverse_inertia_about_contact[i]
-                        = 1.0 / (clumps.principal_inertia_kg_m2[k].minCoeff() + clumps.mass_kg[k] * arm * arm);
-                    continue;
-                }
-                inverse_inertia_about_contact[i]
-                    = inv_inertia[i] / (1.0 + grains.mass_kg[i] * grains.radius_m[i] * grains.radius_m[i] * inv_inertia[i]);
-            }
-        });
-        auto roll = [&](std::size_t p, const Vec3& normal, const Vec3& relative_spin_dt, double eff_radius_m,
-                        double inverse_inertia) {
-            if (!(inverse_inertia > 0.0)) return; // neither side turns
-            const RollingResult r = rolling_torque(c.rolling_rad[p], normal, relative_spin_dt * in.inv_dt,
-                c.output[p].normal_force_n, eff_radius_m, in.tangential.stiffness_per_m, 1.0 / inverse_inertia, rolling,
-                in.dt);
-            if (memory == MemoryUpdate::commit) c.rolling_rad[p] = r.next_rad;
-            c.rolling_torque_n_m[p] = r.torque_n_m;
-        };
-        const std::vector<BodyRef>& firsts = w.near.first_of(c);
-        const std::vector<BodyRef>& seconds = w.near.second_of(c);
-        const auto grain = static_cast<std::size_t>(BodyKind::grain);
-        parallel_for_blocks(pool, near.size(), pair_block, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) {
-                const std::uint32_t p = near[k];
-                if (!c.touching[p] || firsts[k].kind() != BodyKind::grain || seconds[k].kind() != BodyKind::grain) continue;
-                const std::uint32_t ia = firsts[k].index(), ib = seconds[k].index();
-                const Vec3 d = in.x[grain][ib] - in.x[grain][ia]; // touching: not zero
-                roll(p, d * (1.0 / d.norm()), in.spin_dt[ia] - in.spin_dt[ib],
-                    effective_radius_m(in.radius[grain][ia], in.radius[grain][ib]),
-                    inverse_inertia_about_contact[ia] + inverse_inertia_about_contact[ib]);
-            }
-        });
-        parallel_for_blocks(pool, c.size() - pairs, 256, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t p = pairs + begin; p < pairs + end; ++p) {
-                if (!c.touching[p] || c.first[p].kind() != BodyKind::grain) continue;
-                const std::uint32_t ia = c.first[p].index(); // R* = r; the wall does not turn
-                roll(p, wall_gap(w.walls[c.second[p].index()], in.x[grain][ia]).towards, in.spin_dt[ia],
-                    in.radius[grain][ia], inverse_inertia_about_contact[ia]);
-            }
-        });
-    }
 
     // What the bodies exert on each wall, summed in contact order, one
     // reduction per body kind (a wall's contacts are sorted by kind): the
@@ -574,7 +588,10 @@ void gather_scalar(const GatherInputs& in, std::size_t begin, std::size_t end)
             const Incidence link = in.incidence[e];
             const ContactOutput& out = c.output[link.contact()];
             f += link.sign() * out.force_n;
-            if constexpr (rotates) tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+            if constexpr (rotates) {
+                tau += (in.radius_m[i] - 0.5 * out.overlap_m) * out.normal_x_tangential_n;
+                if (in.rolling_torque_n_m != nullptr) tau += link.sign() * in.rolling_torque_n_m[link.contact()];
+            }
         }
         if (in.extra_force_n != nullptr) f += in.extra_force_n[i];
         in.force_n[i] = f;
@@ -617,24 +634,12 @@ void gather_forces(World& w, ThreadPool& pool)
         if (kind == BodyKind::wire) in.extra_force_n = w.wire_forces.node_force_n.data();
         if (kind == BodyKind::membrane) in.extra_force_n = w.membrane_forces.node_force_n.data();
         in.force_n = w.body_force_n[k].data();
-        if (kind == BodyKind::grain) in.torque_n_m = w.grain_torque_n_m.data();
+        if (kind == BodyKind::grain) {
+            in.torque_n_m = w.grain_torque_n_m.data();
+            // Only grains turn; a contact that does not roll holds zero.
+            if (!w.contacts.rolling_torque_n_m.empty()) in.rolling_torque_n_m = w.contacts.rolling_torque_n_m.data();
+        }
         parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
-    }
-    // Rolling torques (with the rolling law on): each grain adds its
-    // contacts' in the order of its incidences, after the rest of its
-    // torque. Only grains turn; a contact that does not roll holds zero.
-    const ContactList& c = w.contacts;
-    if (!c.rolling_torque_n_m.empty()) {
-        const std::uint32_t* start = w.near.incidence_start_of(c).data() + w.flat_offset(BodyKind::grain);
-        const Incidence* incidence = w.near.incidence_of(c).data();
-        parallel_for_blocks(pool, w.of(BodyKind::grain).size(), 256, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                Vec3 tau = w.grain_torque_n_m[i];
-                for (std::uint32_t e = start[i]; e < start[i + 1]; ++e)
-                    tau += incidence[e].sign() * c.rolling_torque_n_m[incidence[e].contact()];
-                w.grain_torque_n_m[i] = tau;
-            }
-        });
     }
     for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
 }

@@ -71,6 +71,8 @@ template <bool rotates>
             if constexpr (rotates) {
                 const __m256d overlap = _mm256_broadcast_sd(record + 3); // ξ, loaded again rather than shuffled
                 tau = tau + (r - half * overlap) * _mm256_load_pd(record + 4);
+                if (in.rolling_torque_n_m != nullptr)
+                    tau = tau + _mm256_broadcast_sd(&signs[link.side()]) * load3(in.rolling_torque_n_m[link.contact()]);
             }
         }
         if (in.extra_force_n != nullptr) f = f + load3(in.extra_force_n[i]);

@@ -26,6 +26,10 @@ struct GatherInputs {
     const Vec3* extra_force_n = nullptr;  ///< the wire's or membrane's own forces, or nullptr
     Vec3* force_n = nullptr;              ///< out: m g + Σ ±F + extra
     Vec3* torque_n_m = nullptr;           ///< out: Σ (r − ξ/2) n × F_t; nullptr for a kind that does not turn
+    /// With the rolling law on (grains only): ContactList::rolling_torque_n_m,
+    /// each contact's ± rolling torque added to the torque right after its
+    /// (r − ξ/2) n × F_t; nullptr: none.
+    const Vec3* rolling_torque_n_m = nullptr;
 };
 
 /// Gathers bodies [begin, end) of the kind in `in`.

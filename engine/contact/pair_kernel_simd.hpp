@@ -31,6 +31,7 @@
 #pragma once
 
 #include "contact/contact_list.hpp"
+#include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 
 #include <array>
@@ -55,6 +56,13 @@ struct ContactInputs {
     double dt = 0.0;
     double damping_s = 0.0; ///< γ_n
     TangentialParams tangential;
+    /// Rolling resistance (laws/rolling.hpp) on the grain–grain and
+    /// grain–wall contacts, worked out in the kernels with the force; off
+    /// while inverse_inertia_about_contact is nullptr.
+    RollingParams rolling;
+    /// Per grain, 1/(I + m r²): its inverse inertia about a point of its
+    /// surface (0 for a grain that does not turn); compute_contact_forces.
+    const double* inverse_inertia_about_contact = nullptr;
     /// keep: an overlapping contact's spring and sliding flag are not
     /// written. What depends on the positions alone is written either way:
     /// a contact apart is released (spring reset, not touching), one that

@@ -9,8 +9,9 @@
 namespace wiredem::engine {
 namespace {
 
-/// The loads on clump i with its spheres' lever arms at orientation q.
-void sum_loads(World& w, std::uint32_t i, const Quat& q)
+/// The loads on clump i with its spheres' lever arms at orientation q, or,
+/// given `arm_m` (indexed by grain id), those arms as worked out at q.
+void sum_loads(World& w, std::uint32_t i, const Quat& q, const Vec3* arm_m = nullptr)
 {
     const ClumpState& c = w.clumps;
     const std::vector<Vec3>& force = w.force_of(BodyKind::grain);
@@ -19,7 +20,8 @@ void sum_loads(World& w, std::uint32_t i, const Quat& q)
     const std::uint32_t end = c.first_member[i] + c.member_count[i];
     for (std::uint32_t m = c.first_member[i]; m < end; ++m) {
         f += force[m];
-        tau += (q * c.member_offset_m[m]).cross(force[m]) + w.grain_torque_n_m[m];
+        const Vec3 arm = arm_m != nullptr ? arm_m[m] : Vec3(q * c.member_offset_m[m]);
+        tau += arm.cross(force[m]) + w.grain_torque_n_m[m];
     }
     w.clump_loads.force_n[i] = f;
     w.clump_loads.torque_n_m[i] = tau;
@@ -59,6 +61,15 @@ Vec3 half_kick(const ClumpState& c, const ClumpLoads& loads, std::size_t i, cons
     return half_dt2 * (q.conjugate() * loads.torque_n_m[i]).cwiseQuotient(c.principal_inertia_kg_m2[i]);
 }
 
+/// The lever arms' scratch (ClumpLoads::member_arm_m), one per grain, for a
+/// first half to fill and its second half to read.
+Vec3* clump_arms(World& w)
+{
+    std::vector<Vec3>& arms = w.clump_loads.member_arm_m;
+    arms.resize(w.of(BodyKind::grain).size());
+    return arms.data();
+}
+
 bool finite(const ClumpState& c, std::size_t i)
 {
     return c.x[0][i].allFinite() && c.x[1][i].allFinite() && c.omega[1][i].allFinite();
@@ -88,6 +99,7 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
+    Vec3* arms = clump_arms(w);
     parallel_for(pool, c.size(), [&](std::size_t i) {
         const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
         const Vec3 turn = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
@@ -95,7 +107,7 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
         predict_all(c.omega, i, 1);
         const Quat q = (c.orientation[i] * rotation_quaternion(turn)).normalized();
         w.clump_loads.predicted_orientation[i] = q;
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), q);
+        place_clump_spheres(w, static_cast<std::uint32_t>(i), q, arms);
     });
 }
 
@@ -105,10 +117,11 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
     if (c.empty()) return true;
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::vector<char> ok(c.size(), 1);
+    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the predictor's, at the predicted orientation
     parallel_for(pool, c.size(), [&](std::size_t i) {
         const auto id = static_cast<std::uint32_t>(i);
         const Quat predicted = w.clump_loads.predicted_orientation[i];
-        sum_loads(w, id, predicted);
+        sum_loads(w, id, predicted, arms);
         correct_all(c.x, i, half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i], 0);
         // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
         const Vec3 target = half_kick(c, w.clump_loads, i, predicted, half_dt2)
@@ -129,12 +142,13 @@ void verlet_first_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
+    Vec3* arms = clump_arms(w);
     parallel_for(pool, c.size(), [&](std::size_t i) {
         c.x[0][i] += c.x[1][i] + c.x[2][i]; // the bodies' drift_flat, x₀ += x₁ + x₂
         c.x[1][i] += c.x[2][i];
         c.omega[1][i] += c.omega[2][i];     // L_b += δt/2 τ_b
         free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i]);
+        place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i], arms);
     });
 }
 
@@ -144,15 +158,16 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
     if (c.empty()) return true;
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::vector<char> ok(c.size(), 1);
+    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the first half's, at the same orientation
     parallel_for(pool, c.size(), [&](std::size_t i) {
         const auto id = static_cast<std::uint32_t>(i);
         const Quat q = c.orientation[i];
-        sum_loads(w, id, q);
+        sum_loads(w, id, q, arms);
         c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
         c.x[1][i] += c.x[2][i];
         c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
         c.omega[1][i] += c.omega[2][i];
-        place_clump_spheres(w, id, q);
+        place_clump_spheres_at_arms(w, id, q, arms);
         ok[i] = finite(c, i) ? 1 : 0;
     });
     for (char v : ok)

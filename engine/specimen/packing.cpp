@@ -8,6 +8,26 @@
 
 namespace wiredem::engine {
 
+GrainVolumes grain_volumes(const World& w)
+{
+    GrainVolumes out;
+    const TranslationalState& g = w.of(BodyKind::grain);
+    const ClumpState& c = w.clumps;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+        if (c.is_member(i)) continue;
+        const double r = g.radius_m[i];
+        out.radius_m.push_back(r);
+        out.volume_m3.push_back(4.0 / 3.0 * std::numbers::pi * r * r * r);
+    }
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        const double density = w.materials[g.material[c.first_member[k]]].density_kg_per_m3;
+        out.radius_m.push_back(std::cbrt(3.0 * c.mass_kg[k] / (4.0 * std::numbers::pi * density)));
+        out.volume_m3.push_back(c.mass_kg[k] / density);
+    }
+    for (const double v : out.volume_m3) out.total_volume_m3 += v;
+    return out;
+}
+
 CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m, double top_z_m,
     double margin_m, double grid_m)
 {

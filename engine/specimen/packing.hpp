@@ -23,6 +23,22 @@ struct CoreFractions {
 /// midpoints lie in the core, each π r_w² times its length (a cylinder: the
 /// node spheres alone would miss half the wire's volume between them).
 /// Zero fractions for an empty core.
+/// The grains of a World as grains, not spheres: each free sphere, and each
+/// clump as one grain. Free spheres first, in id order, then the clumps in
+/// clump order.
+struct GrainVolumes {
+    /// A sphere's radius, or a clump's volume-equivalent radius (3V/4π)^{1/3} [m]
+    std::vector<double> radius_m;
+    /// A sphere's (4/3) π r³; a clump's volume, that of the union of its
+    /// spheres (union_mass_properties: add_clump gives it the mass ρ V, so V
+    /// is its mass over its density), not the sum of its overlapping spheres' [m³]
+    std::vector<double> volume_m3;
+    double total_volume_m3 = 0.0;  ///< Σ volume_m3, in that order [m³]
+};
+
+/// The grains of `w` (grain_body_count of them) and their volumes.
+[[nodiscard]] GrainVolumes grain_volumes(const World& w);
+
 [[nodiscard]] CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m,
     double top_z_m, double margin_m, double grid_m);
 

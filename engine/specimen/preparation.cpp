@@ -472,11 +472,7 @@ Column empty_column(const PreparationSpec& spec)
     // The time step must hold for the wire and the grains before they exist:
     // probe with one of each.
     World probe = w;
-    if (spec.grain_shape) // a clump of the smallest size: its smallest sphere, the mass its contacts see
-        add_clump(probe, scaled_clump(*spec.grain_shape, smallest_grain_radius_m(spec)), Vec3(0, 0, 1),
-            Quat::Identity(), c.grain_mat);
-    else
-        add_grain(probe, Vec3(0, 0, 1), smallest_grain_radius_m(spec), c.grain_mat);
+    add_smallest_grain(probe, spec, c.grain_mat);
     if (with_wire) {
         append_wire_node(probe, Vec3(0, 0, 2));
         append_wire_node(probe, Vec3(0, 0, 2 + spec.wire.segment_length_m));
@@ -761,17 +757,13 @@ Result<PreparationReport, std::string> prepare_specimen(
     PreparationReport report;
     report.top_plate_wall = st.top_plate_wall;
     report.settled = st.settled_before_lid && st.settled_under_lid;
-    // A grain's radius: a sphere's, or a clump's volume-equivalent one (the
-    // size it was drawn with; its spheres overlap, so their volumes would
-    // count the overlaps twice).
-    const TranslationalState& g = w.of(BodyKind::grain);
-    std::vector<double> grain_radii;
-    const double density = w.materials[column.grain_mat].density_kg_per_m3;
-    for (std::size_t i = 0; i < g.size(); ++i)
-        if (!w.clumps.is_member(i)) grain_radii.push_back(g.radius_m[i]);
-    for (const double m : w.clumps.mass_kg) grain_radii.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * density)));
-    double grain_volume = 0.0;
-    for (double r : grain_radii) grain_volume += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    // The grains as grains (grain_volumes): a clump is one, of the volume
+    // of the union of its spheres and its volume-equivalent radius (the size
+    // it was drawn with); its spheres overlap, so their volumes would count
+    // the overlaps twice.
+    const GrainVolumes grains = grain_volumes(w);
+    const std::vector<double>& grain_radii = grains.radius_m;
+    const double grain_volume = grains.total_volume_m3;
     report.grains = grain_radii.size();
     report.wire_nodes = w.of(BodyKind::wire).size();
     report.wire_length_m = wire_length_m(w);
@@ -799,6 +791,24 @@ double smallest_grain_radius_m(const PreparationSpec& spec)
 {
     if (spec.grain_sizes) return 0.5 * spec.grain_sizes->diameters_m.front();
     return spec.grain_radius_m * (1.0 - spec.grain_radius_spread);
+}
+
+void add_smallest_grain(World& w, const PreparationSpec& spec, std::uint8_t material)
+{
+    if (spec.grain_shape) // a clump of the smallest size: its smallest sphere, the mass its contacts see
+        add_clump(w, scaled_clump(*spec.grain_shape, smallest_grain_radius_m(spec)), Vec3(0, 0, 1), Quat::Identity(),
+            material);
+    else
+        add_grain(w, Vec3(0, 0, 1), smallest_grain_radius_m(spec), material);
+}
+
+StabilityInputs::Kind smallest_grain_stability(const PreparationSpec& spec)
+{
+    World probe;
+    Material grain = spec.grain;
+    grain.density_kg_per_m3 *= spec.density_scale; // as empty_column scales it
+    add_smallest_grain(probe, spec, add_material(probe, grain));
+    return stability_inputs(probe).kinds[static_cast<std::size_t>(BodyKind::grain)];
 }
 
 double largest_grain_radius_m(const PreparationSpec& spec)

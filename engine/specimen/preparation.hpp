@@ -14,6 +14,7 @@
 #include "specimen/grain_sizes.hpp"
 #include "state/clump_shape.hpp"
 #include "specimen/pattern.hpp"
+#include "timestep.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -105,6 +106,21 @@ struct PreparationReport {
 /// radius). The stable time step takes it (a clump of that size with a
 /// grain_shape).
 [[nodiscard]] double smallest_grain_radius_m(const PreparationSpec& spec);
+
+/// Adds to `w` one grain of the smallest size the preparation can draw, at
+/// rest at (0, 0, 1) m, of material `material`: a sphere of
+/// smallest_grain_radius_m, or, with a grain_shape, a clump of that
+/// volume-equivalent radius (its smallest sphere, and the mass and inertia
+/// its contacts see: stability_inputs of a World). What bounds the stable
+/// time step among the grains (smallest_grain_stability).
+void add_smallest_grain(World& w, const PreparationSpec& spec, std::uint8_t material);
+
+/// The grains' part of the stable time step's inputs
+/// (StabilityInputs::kinds[grain]): stability_inputs of a World holding one
+/// add_smallest_grain of the grain material at its scaled density
+/// (density_scale). The preparation's step and the job's estimate at the
+/// door (api::stability_inputs) both come from it.
+[[nodiscard]] StabilityInputs::Kind smallest_grain_stability(const PreparationSpec& spec);
 /// The radius of the largest grain the preparation can draw [m]: r (1 + s),
 /// or half the curve's largest diameter, times a clump's bounding radius
 /// per volume-equivalent radius with a grain_shape. The pouring zone, the

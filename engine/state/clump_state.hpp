@@ -64,6 +64,12 @@ struct ClumpLoads {
     /// Gear-5: the predicted orientation the spheres were put at this step
     /// (the lever arms of the forces); scratch, not state.
     std::vector<Quat> predicted_orientation;
+    /// Per clump sphere (indexed by grain id, sized by the integrators'
+    /// clump passes): its lever arm q b_i at the orientation the spheres were
+    /// last put at in this step (place_clump_spheres), which the step's second
+    /// half takes instead of turning b_i again (the same bits); scratch, not
+    /// state, neither saved nor hashed.
+    std::vector<Vec3> member_arm_m;
 };
 
 } // namespace wiredem::engine

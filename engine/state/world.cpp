@@ -76,19 +76,40 @@ std::uint32_t add_clump(World& w, const ClumpBody& body, const Vec3& position_m,
     return id;
 }
 
-void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q)
+namespace {
+
+/// Sphere i of a clump at centre X, velocity δt V and spin δt ω, lever arm q b.
+inline void put_clump_sphere(State& s, std::uint32_t i, const Vec3& centre, const Vec3& velocity, const Vec3& spin,
+    const Vec3& arm)
+{
+    TranslationalState& grains = s.of(BodyKind::grain);
+    grains.x[0][i] = centre + arm;
+    grains.x[1][i] = velocity + spin.cross(arm); // δt (v + ω × r)
+    s.grain_rotation.theta[1][i] = spin;
+}
+
+} // namespace
+
+void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q, Vec3* arm_m)
 {
     const ClumpState& c = s.clumps;
-    TranslationalState& grains = s.of(BodyKind::grain);
     const Vec3 centre = c.x[0][clump], velocity = c.x[1][clump];
     const Vec3 spin = q * c.omega[1][clump]; // δt ω in space
     const std::uint32_t end = c.first_member[clump] + c.member_count[clump];
     for (std::uint32_t i = c.first_member[clump]; i < end; ++i) {
         const Vec3 arm = q * c.member_offset_m[i];
-        grains.x[0][i] = centre + arm;
-        grains.x[1][i] = velocity + spin.cross(arm); // δt (v + ω × r)
-        s.grain_rotation.theta[1][i] = spin;
+        if (arm_m != nullptr) arm_m[i] = arm;
+        put_clump_sphere(s, i, centre, velocity, spin, arm);
     }
+}
+
+void place_clump_spheres_at_arms(State& s, std::uint32_t clump, const Quat& q, const Vec3* arm_m)
+{
+    const ClumpState& c = s.clumps;
+    const Vec3 centre = c.x[0][clump], velocity = c.x[1][clump];
+    const Vec3 spin = q * c.omega[1][clump];
+    const std::uint32_t end = c.first_member[clump] + c.member_count[clump];
+    for (std::uint32_t i = c.first_member[clump]; i < end; ++i) put_clump_sphere(s, i, centre, velocity, spin, arm_m[i]);
 }
 
 double clump_sphere_effective_mass_kg(const State& s, std::size_t grain)

@@ -239,8 +239,14 @@ std::uint32_t add_clump(World& w, const ClumpBody& body, const Vec3& position_m,
 
 /// Puts clump `clump`'s spheres where it is, turned by `q` (its orientation,
 /// or Gear-5's predicted one): x₀ = X + q b, x₁ = δt (V + ω × q b) and the
-/// spin δt ω (space frame), ω = q ω_b, for each sphere's offset b.
-void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q);
+/// spin δt ω (space frame), ω = q ω_b, for each sphere's offset b. With
+/// `arm_m` (indexed by grain id), each sphere's lever arm q b is written there.
+void place_clump_spheres(State& s, std::uint32_t clump, const Quat& q, Vec3* arm_m = nullptr);
+
+/// place_clump_spheres with the lever arms q b already worked out (`arm_m`,
+/// indexed by grain id, as place_clump_spheres wrote them for the same q):
+/// the same bits without turning each offset again.
+void place_clump_spheres_at_arms(State& s, std::uint32_t clump, const Quat& q, const Vec3* arm_m);
 
 /// The smallest mass a contact on a clump's sphere (grain `grain`) can see:
 /// along a normal n through the sphere's centre, offset b from the clump's

@@ -1,8 +1,11 @@
 // Quantities derived from a job: the stable time step against the spring
 // formulas of the model spec §4, the body estimate, the damping time.
 #include "api/derived.hpp"
+#include "api/engine_settings.hpp"
 
 #include "laws/hertz.hpp"
+#include "state/clump_shape.hpp"
+#include "state/world.hpp"
 #include "timestep.hpp"
 
 #include <gtest/gtest.h>
@@ -91,6 +94,44 @@ TEST(StableStep, StiffGrainsTakeOverFromASoftWire)
     s.specimen.membrane.youngs_modulus_pa = 1e5;
     s.specimen.grain.youngs_modulus_pa = 1e12;
     EXPECT_EQ(stable_time_step(s).limited_by, "grain–grain contacts");
+}
+
+// A job of clumps: the estimate at the door takes the clump's smallest
+// sphere and the mass its contacts see (its mass and inertia), as the
+// engine's World does: the door's step is the step of a World holding the
+// job's clumps (all of one size: no spread), whatever their orientation.
+TEST(StableStep, AClumpJobsEstimateIsTheEnginesStepOfItsClumps)
+{
+    namespace engine = wiredem::engine;
+    JobSpec s;
+    s.specimen.wire.pattern = WirePattern::none;
+    s.specimen.membrane.youngs_modulus_pa = 1e4; // the grains set the step
+    s.specimen.grain.youngs_modulus_pa = 1e11;
+    s.specimen.grain_shape = GrainShapeSpec{"tetrahedral", {}};
+    const StableStep door = stable_time_step(s);
+    ASSERT_EQ(door.limited_by, "grain–grain contacts");
+
+    engine::World w;
+    const std::uint8_t grain = engine::add_material(w, engine::Material{s.specimen.grain.youngs_modulus_pa,
+        s.specimen.grain.poisson_ratio, s.specimen.grain.density_kg_per_m3});
+    const engine::ClumpBody clump
+        = engine::scaled_clump(grain_shape_body(*s.specimen.grain_shape), s.specimen.grain_radius_m);
+    engine::add_wall(w, engine::make_plate(0.0, +1.0,
+        engine::add_material(w, engine::Material{s.specimen.plate.youngs_modulus_pa, s.specimen.plate.poisson_ratio, 7800.0})));
+    for (int i = 0; i < 3; ++i)
+        engine::add_clump(w, clump, engine::Vec3(0.01 * i, 0.0, 0.01),
+            engine::Quat(Eigen::AngleAxisd(0.7 * i, engine::Vec3(1.0, 2.0, 3.0).normalized())), grain);
+    const StableStep engine_step = engine::stable_time_step(w);
+    EXPECT_EQ(engine_step.limited_by, "grain–grain contacts");
+    EXPECT_EQ(door.critical_s, engine_step.critical_s);
+    EXPECT_EQ(door.undamped_critical_s, engine_step.undamped_critical_s);
+
+    // Spheres of the clumps' volume-equivalent radius (what the door took
+    // before) are larger than a clump's spheres (0.808 mm against 1.23 mm)
+    // and heavier than what a clump's contact sees: a longer step.
+    JobSpec spheres = s;
+    spheres.specimen.grain_shape.reset();
+    EXPECT_LT(door.critical_s, stable_time_step(spheres).critical_s);
 }
 
 TEST(StableStep, ParserAcceptsTheCriticalStepAndRejectsJustAbove)

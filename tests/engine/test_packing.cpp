@@ -3,6 +3,7 @@
 #include "forces/wire_forces.hpp"
 #include "scene.hpp"
 #include "specimen/packing.hpp"
+#include "state/clump_shape.hpp"
 #include "state/world.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,44 @@
 #include <numbers>
 
 using namespace wiredem::engine;
+
+// Clumps count as grains, with the volume of the union of their spheres:
+// five clumps of two spheres of radius r whose centres are d = r apart,
+// V = 2 (4/3) π r³ − π (4r + d)(2r − d)²/12 (the lens they share counted
+// once) = 27/12 π r³, 1.6875 sphere volumes and not 2, beside three free
+// spheres, in a box of known volume. The union's volume comes from the mass-properties
+// integration, exact for a pair to 2·10⁻¹⁰ (state/clump_shape.hpp).
+TEST(GrainVolumes, TwoSphereClumpsCountAsOneGrainEachWithTheirUnionVolume)
+{
+    World w;
+    const std::uint8_t m = add_material(w, Material{10e9, 0.3, 2650.0});
+    const double r = 1e-3, d = r;
+    const ClumpBody pair = clump_body({{Vec3(-0.5 * d, 0, 0), r}, {Vec3(0.5 * d, 0, 0), r}});
+    for (int i = 0; i < 3; ++i) add_grain(w, Vec3(0.01 * i, 0.0, 0.0), r, m);
+    for (int i = 0; i < 5; ++i)
+        add_clump(w, pair, Vec3(0.01 * i, 0.01, 0.0), Quat(Eigen::AngleAxisd(0.4 * i, Vec3(0, 0, 1))), m);
+    ASSERT_EQ(w.of(BodyKind::grain).size(), 3u + 10u);
+
+    const double sphere = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double lens = std::numbers::pi * (4.0 * r + d) * (2.0 * r - d) * (2.0 * r - d) / 12.0;
+    const double clump = 2.0 * sphere - lens;
+    const GrainVolumes g = grain_volumes(w);
+    ASSERT_EQ(g.volume_m3.size(), 8u);
+    EXPECT_EQ(g.volume_m3.size(), grain_body_count(w));
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(g.volume_m3[i], sphere);
+        EXPECT_EQ(g.radius_m[i], r);
+    }
+    for (int i = 3; i < 8; ++i) {
+        EXPECT_NEAR(g.volume_m3[i], clump, 1e-9 * clump);
+        EXPECT_NEAR(g.radius_m[i], std::cbrt(3.0 * clump / (4.0 * std::numbers::pi)), 1e-9 * r);
+    }
+    // In a box of 10 mm × 20 mm × 5 mm: the grains' volume fraction.
+    const double box_m3 = 10e-3 * 20e-3 * 5e-3;
+    EXPECT_NEAR(g.total_volume_m3 / box_m3, (3.0 * sphere + 5.0 * clump) / box_m3, 1e-9 * (3.0 * sphere + 5.0 * clump) / box_m3);
+    // 3 + 5 × 1.6875 = 11.4375 sphere volumes, where the spheres' would be 13.
+    EXPECT_NEAR(g.total_volume_m3, 11.4375 * sphere, 1e-9 * 11.4375 * sphere);
+}
 
 TEST(CoreVolumeFractions, ASimpleCubicLatticeFillsPiOverSix)
 {
