@@ -483,6 +483,7 @@ void write_pull_out(io::Group& g, const eng::PullOutReading& p)
     g.write_double_attribute("pull_out_wire_in_column_m", p.wire_in_column_m);
     g.write_int_attribute("pull_out_grains_in_column", static_cast<std::int64_t>(p.grains_in_column));
     g.write_int_attribute("pull_out_wire_broke", p.wire_broke ? 1 : 0);
+    g.write_double_attribute("pull_out_ramp_inertia_n", p.ramp_inertia_n);
     io::Group s = g.create_group(std::string(api::pull_out_group));
     const eng::PullOutSeries& x = p.series;
     units(s.write_dataset("time_s", std::span<const double>(x.time_s)), "s");
@@ -512,6 +513,7 @@ eng::PullOutReading read_pull_out(const io::Group& g)
     p.wire_in_column_m = g.read_double_attribute("pull_out_wire_in_column_m");
     p.grains_in_column = read_index(g, "pull_out_grains_in_column");
     p.wire_broke = g.read_int_attribute("pull_out_wire_broke") != 0;
+    p.ramp_inertia_n = g.read_double_attribute("pull_out_ramp_inertia_n");
     const io::Group s = g.open_group(std::string(api::pull_out_group));
     eng::PullOutSeries& x = p.series;
     x.time_s = read_doubles(s, "time_s");

@@ -678,6 +678,7 @@ json::object free_standing_json(const eng::FreeStandingResult& r,
         q["wire_in_column_m"] = finite_or_null(p.wire_in_column_m);
         q["grains_in_column"] = p.grains_in_column;
         q["wire_broke"] = p.wire_broke;
+        q["ramp_inertia_n"] = finite_or_null(p.ramp_inertia_n);
         q["end"] = eng::to_string(p.end);
         q["pulled_node"] = p.pulled_node;
         q["definition"] = "pull force: the drive's force on the pulled wire node along the pull, averaged over each "

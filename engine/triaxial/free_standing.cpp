@@ -525,6 +525,16 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         const double pull_began_s = static_cast<double>(st.phase_start_step) * dt;
         r.wire_broke = std::any_of(result.wire_breaks.begin(), result.wire_breaks.end(),
             [&](const TestWireBreak& b) { return b.test_time_s > pull_began_s; });
+        double wire_mass_kg = 0.0;
+        for (double m : w.of(BodyKind::wire).mass_kg) wire_mass_kg += m;
+        r.ramp_inertia_n = p.ramp_time_s > 0.0 ? wire_mass_kg * p.speed_m_per_s * std::numbers::pi / (2.0 * p.ramp_time_s)
+                                               : std::numeric_limits<double>::infinity();
+        if (r.pulled_length_at_peak_m <= 0.5 * p.speed_m_per_s * p.ramp_time_s + 1e-12
+            && !(r.ramp_inertia_n < 0.1 * r.peak_pull_force_n))
+            result.warnings.push_back("pull-out: the peak pull force " + format_number(r.peak_pull_force_n)
+                                      + " N came during the speed ramp, where accelerating the wire takes up to "
+                                      + format_number(r.ramp_inertia_n)
+                                      + " N (its masses as scaled): lengthen pull_out_ramp_time_s or lower the wire's mass scaling");
         if (r.end == PullOutEnd::time)
             result.warnings.push_back("pull-out: " + std::string(p.length_m ? "the pulled length" : "the wire's exit from the column")
                                       + " was not reached in max_time_s = " + format_number(p.max_time_s) + " s");

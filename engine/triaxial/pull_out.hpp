@@ -144,6 +144,12 @@ struct PullOutReading {
     double wire_in_column_m = 0.0;         ///< at the end [m]
     std::size_t grains_in_column = 0;      ///< at the end
     bool wire_broke = false;               ///< a segment broke during the pull
+    /// The force it takes to accelerate the whole wire (its masses as the
+    /// World has them: mass scaling included) at the ramp's largest
+    /// acceleration v π/(2T), M_w v π/(2T) [N] (∞ without a ramp): a peak
+    /// during the ramp and of this order is the wire's inertia, not the
+    /// grains' hold (a warning says so).
+    double ramp_inertia_n = 0.0;
     PullOutEnd end = PullOutEnd::time;
     PullOutSeries series;
 };

@@ -332,7 +332,7 @@ constexpr const char* openapi_text = R"json({
               "wire_breaks": {"type": "array", "description": "only with a breakable wire: the segments that broke during the test, in order", "items": {"$ref": "#/components/schemas/SummaryWireBreak"}},
               "peak_failure": {"type": "string", "nullable": true, "enum": ["grains", "wire", "grains_after_break", null], "description": "only with a breakable wire: what gave way at the largest raw sigma1 (as a test's peak_failure); null when the curve cannot be read"}}},
           "pull_out": {"type": "object", "description": "only with a pull-out (free_standing.pull_out_speed_m_per_s), which replaces the compression (whose figures are then null): one end of the wire pulled out of the settled column (docs/model.md, \"Pulling the wire out\")",
-            "required": ["peak_pull_force_n", "pulled_length_at_peak_m", "pulled_length_m", "wire_in_column_before_m", "wire_in_column_m", "grains_in_column", "wire_broke", "end", "pulled_node", "definition"],
+            "required": ["peak_pull_force_n", "pulled_length_at_peak_m", "pulled_length_m", "wire_in_column_before_m", "wire_in_column_m", "grains_in_column", "wire_broke", "ramp_inertia_n", "end", "pulled_node", "definition"],
             "properties": {
               "peak_pull_force_n": {"type": "number", "nullable": true, "description": "the largest pull force, a mean over one sample interval [N]"},
               "pulled_length_at_peak_m": {"type": "number", "nullable": true, "description": "how far the end had been pulled then [m]"},
@@ -341,6 +341,7 @@ constexpr const char* openapi_text = R"json({
               "wire_in_column_m": {"type": "number", "nullable": true, "description": "wire left in it at the end [m]"},
               "grains_in_column": {"type": "integer", "description": "grains within free_standing.escape_distance_m of the axis at the end"},
               "wire_broke": {"type": "boolean", "description": "a segment broke during the pull (a breakable wire; the breaks are in wire_breaks)"},
+              "ramp_inertia_n": {"type": "number", "nullable": true, "description": "M_w v pi / (2 T): the force that accelerates the whole wire (masses as scaled) at the ramp's largest acceleration [N]; null without a ramp. A peak during the ramp of this order is inertia (a warning says so)"},
               "end": {"type": "string", "enum": ["length", "wire_out", "time", "host"], "description": "what ended it: the pulled length, the pulled piece's exit from the column, pull_out_max_time_s, or the host"},
               "pulled_node": {"type": "integer", "description": "the wire node driven"},
               "definition": {"type": "string"}}},

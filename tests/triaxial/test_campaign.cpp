@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -325,6 +326,41 @@ TEST(Campaign, APullOutIsInTheSummaryAndTheResultFile)
     std::size_t pull_rows = 0;
     for (std::int64_t phase : g.open_dataset("phase").read_int64s()) pull_rows += phase == 4 ? 1 : 0;
     EXPECT_EQ(pull_rows, force.size());
+
+    // `wiredem cuts` on this result: the two places of lowest strain of the
+    // test's first snapshot at least 1 cm apart and from the ends, which the
+    // test reads from the same snapshot by brute force.
+    const std::string command = std::string(WIREDEM_BIN) + " cuts " + out.string()
+                              + " --count 2 --min-spacing-m 0.01 --at-strain 0 2>&1";
+    std::string text;
+    if (FILE* pipe = ::popen(command.c_str(), "r")) {
+        char buf[4096];
+        while (const std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) text.append(buf, n);
+        EXPECT_EQ(::pclose(pipe), 0) << text;
+    }
+    const json::value cuts = json::parse(text);
+    const auto test = f.root().open_group("tests").child_names().front();
+    const std::vector<double> strain
+        = f.root().open_group("tests/" + test + "/snapshots/snapshot_0").open_dataset("wire_segment_strain").read_doubles();
+    const double l_w = 1.25e-3, spacing = 0.01;
+    const std::size_t n = strain.size();
+    std::size_t best = n, second = n;
+    for (std::size_t s = 0; s < n; ++s) { // the lowest allowed segment, then the lowest 8 or more segments from it
+        const double at = (s + 0.5) * l_w;
+        if (at < spacing || (n - s - 0.5) * l_w < spacing) continue;
+        if (best == n || strain[s] < strain[best]) best = s;
+    }
+    for (std::size_t s = 0; s < n; ++s) {
+        const double at = (s + 0.5) * l_w;
+        if (at < spacing || (n - s - 0.5) * l_w < spacing || (s > best ? s - best : best - s) * l_w < spacing) continue;
+        if (second == n || strain[s] < strain[second]) second = s;
+    }
+    ASSERT_LT(second, n);
+    const json::array& at = cuts.at("cuts_at_m").as_array();
+    ASSERT_EQ(at.size(), 2u) << text;
+    EXPECT_DOUBLE_EQ(at[0].to_number<double>(), (std::min(best, second) + 0.5) * l_w) << text;
+    EXPECT_DOUBLE_EQ(at[1].to_number<double>(), (std::max(best, second) + 0.5) * l_w) << text;
+    EXPECT_EQ(cuts.at("test").as_string(), test);
     fs::remove_all(dir);
 }
 
