@@ -593,7 +593,7 @@ constexpr std::size_t max_wire_cuts = 10'000;
 void read_wire_cuts(ObjectReader& r, WireSpec& w)
 {
     read_increasing_numbers(r, "cuts_at_m", open_closed(0.0, 1e4), 0, max_wire_cuts, "the cut positions", w.cuts_at_m,
-        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces)"});
+        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces). To cut where a reference test's wire strain was lowest (the seed paper's claim that the spiral helix can be cut between its loops without losing much strength), run the reference job, then wiredem cuts RESULT --count N (docs/client.md) prints these positions"});
     r.integer("cut_every_loops", IntRange{0, 1'000'000}, w.cut_every_loops,
         {"1", "cut the prepared wire after every this many loops around the column's axis (the winding angle of its nodes about the axis, unwrapped along the wire): the segment where the angle passes each multiple of 2π k is removed; 0: no such cuts"});
 }
@@ -1114,7 +1114,7 @@ void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
     r.number("dead_load_hold_time_s", open_closed(0.0, 1e3), f.dead_load_hold_time_s,
         {"s", "the dead load is then held this long"});
     optional_number(r, "pull_out_speed_m_per_s", open_closed(0.0, 10.0), f.pull_out_speed_m_per_s,
-        {"m/s", "pull the wire out after settling, instead of the dead load and the compression: one end node driven at this speed along pull_out_direction (the force it takes, the wire and grains left in the column; docs/model.md, \"Pulling the wire out\"); needs a wire; null (or absent) = no pull-out"});
+        {"m/s", "pull the wire out after settling, instead of the dead load and the compression: one end node driven at this speed along pull_out_direction (the force it takes, the wire and grains left in the column; docs/model.md, \"Pulling the wire out\"); needs a wire; not with dead_load_n; null (or absent) = no pull-out"});
     r.choice("pull_out_end", wire_ends, f.pull_out_end,
         {nullptr, "the end pulled: last, the last node laid (the top of a printed column), or first (the bottom)"});
     read_numbers(r, "pull_out_direction", closed(-1.0, 1.0), 3, 3, f.pull_out_direction,
@@ -1122,7 +1122,7 @@ void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
     r.number("pull_out_ramp_time_s", closed(0.0, 1e3), f.pull_out_ramp_time_s,
         {"s", "the pull's speed rises over this time as ½(1 − cos πt/T): a wire set moving in one step takes the impulse of its axial wave"});
     optional_number(r, "pull_out_length_m", open_closed(0.0, 1e3), f.pull_out_length_m,
-        {"m", "the pull ends after pulling the end this far; null (or absent) = when the pulled piece of wire has left the settled column"});
+        {"m", "the pull ends after pulling the end this far; null (or absent) = when the pulled piece of wire has left the settled column (no segment of it within escape_distance_m of the axis and below the settled height)"});
     r.number("pull_out_max_time_s", open_closed(0.0, 1e4), f.pull_out_max_time_s,
         {"s", "the pull ends here at the latest (a warning says when the length or the wire's exit was not reached)"});
     r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), f.plate_speed_m_per_s,
