@@ -173,6 +173,17 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
     s.max_settling_time_s = f.max_settling_time_s;
     s.max_height_loss = f.max_height_loss;
     if (f.dead_load_n) s.dead_load = engine::DeadLoad{*f.dead_load_n, f.dead_load_ramp_time_s, f.dead_load_hold_time_s};
+    if (f.pull_out_speed_m_per_s) {
+        engine::PullOutSettings p;
+        p.end = f.pull_out_end == WireEndSpec::first ? engine::WireEnd::first : engine::WireEnd::last;
+        if (f.pull_out_direction.size() == 3)
+            p.direction = engine::Vec3(f.pull_out_direction[0], f.pull_out_direction[1], f.pull_out_direction[2]);
+        p.speed_m_per_s = *f.pull_out_speed_m_per_s;
+        p.ramp_time_s = f.pull_out_ramp_time_s;
+        p.length_m = f.pull_out_length_m;
+        p.max_time_s = f.pull_out_max_time_s;
+        s.pull_out = p;
+    }
     s.plate_speed_m_per_s = f.plate_speed_m_per_s;
     s.target_axial_strain = f.target_axial_strain;
     s.failure_drop = f.failure_drop;

@@ -506,6 +506,11 @@ constexpr std::array<std::pair<std::string_view, GrainSizeBasis>, 2> grain_size_
     {"number", GrainSizeBasis::number},
 }};
 
+constexpr std::array<std::pair<std::string_view, WireEndSpec>, 2> wire_ends{{
+    {"last", WireEndSpec::last},
+    {"first", WireEndSpec::first},
+}};
+
 constexpr std::array<std::pair<std::string_view, Consolidation>, 2> consolidations{{
     {"cell_pressure", Consolidation::cell_pressure},
     {"effective", Consolidation::effective},
@@ -591,7 +596,7 @@ constexpr std::size_t max_wire_cuts = 10'000;
 void read_wire_cuts(ObjectReader& r, WireSpec& w)
 {
     read_increasing_numbers(r, "cuts_at_m", open_closed(0.0, 1e4), 0, max_wire_cuts, "the cut positions", w.cuts_at_m,
-        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces)"});
+        {"m", "where the prepared wire is cut before any test: positions along the wire, as the rest length from its first node (l_w per segment); the segment that holds a position is removed. A position past the laid wire's end fails the preparation. The pieces and their lengths are in the summary (specimen.wire_pieces). To cut where a reference test's wire strain was lowest (the seed paper's claim that the spiral helix can be cut between its loops without losing much strength), run the reference job, then wiredem cuts RESULT --count N (docs/client.md) prints these positions"});
     r.integer("cut_every_loops", IntRange{0, 1'000'000}, w.cut_every_loops,
         {"1", "cut the prepared wire after every this many loops around the column's axis (the winding angle of its nodes about the axis, unwrapped along the wire): the segment where the angle passes each multiple of 2π k is removed; 0: no such cuts"});
 }
@@ -1113,6 +1118,18 @@ void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
         {"s", "the dead load rises over this time as ½(1 − cos πt/T)"});
     r.number("dead_load_hold_time_s", open_closed(0.0, 1e3), f.dead_load_hold_time_s,
         {"s", "the dead load is then held this long"});
+    optional_number(r, "pull_out_speed_m_per_s", open_closed(0.0, 10.0), f.pull_out_speed_m_per_s,
+        {"m/s", "pull the wire out after settling, instead of the dead load and the compression: one end node driven at this speed along pull_out_direction (the force it takes, the wire and grains left in the column; docs/model.md, \"Pulling the wire out\"); needs a wire; not with dead_load_n; null (or absent) = no pull-out"});
+    r.choice("pull_out_end", wire_ends, f.pull_out_end,
+        {nullptr, "the end pulled: last, the last node laid (the top of a printed column), or first (the bottom)"});
+    read_numbers(r, "pull_out_direction", closed(-1.0, 1.0), 3, 3, f.pull_out_direction,
+        {"1", "the direction of the pull [x, y, z] in the column's frame, normalised; not all zero; [0, 0, 1]: upward along the axis"});
+    r.number("pull_out_ramp_time_s", closed(0.0, 1e3), f.pull_out_ramp_time_s,
+        {"s", "the pull's speed rises over this time as ½(1 − cos πt/T): a wire set moving in one step takes the impulse of its axial wave"});
+    optional_number(r, "pull_out_length_m", open_closed(0.0, 1e3), f.pull_out_length_m,
+        {"m", "the pull ends after pulling the end this far; null (or absent) = when the pulled piece of wire has left the settled column (no segment of it within escape_distance_m of the axis and below the settled height)"});
+    r.number("pull_out_max_time_s", open_closed(0.0, 1e4), f.pull_out_max_time_s,
+        {"s", "the pull ends here at the latest (a warning says when the length or the wire's exit was not reached)"});
     r.number("plate_speed_m_per_s", open_closed(0.0, 10.0), f.plate_speed_m_per_s,
         {"m/s", "the top plate's speed in the unconfined compression"});
     r.number("target_axial_strain", open_closed(0.0, 0.5), f.target_axial_strain,
@@ -1419,10 +1436,17 @@ void check_test_settings(Validator& v, const JobSpec& spec)
         return;
     }
     if (!spec.free_standing.enabled || !v.clean({"free_standing", "specimen.membrane_radius_m"})) return;
+    if (spec.free_standing.pull_out_speed_m_per_s && spec.specimen.wire.pattern == WirePattern::none) {
+        v.note("free_standing.pull_out_speed_m_per_s", "a pull-out needs a wire: specimen.wire.pattern is \"none\"");
+        return;
+    }
     if (const auto e = engine::free_standing_settings_error(free_standing_settings(spec))) {
-        // The engine's dead_load.* are the job's dead_load_*.
+        // The engine's dead_load.* are the job's dead_load_*, its pull_out.*
+        // the job's pull_out_* (pull_out itself: the field that asks for it).
         std::string field = e->field;
         if (field.starts_with("dead_load.")) field = field == "dead_load.force_n" ? "dead_load_n" : "dead_load_" + field.substr(10);
+        if (field == "pull_out") field = "pull_out_speed_m_per_s";
+        if (field.starts_with("pull_out.")) field = "pull_out_" + field.substr(9);
         v.note(field == "snapshot_strains" ? "free_standing" : "free_standing." + field, e->message);
     }
 }
@@ -1716,6 +1740,12 @@ json::object free_standing_json(const FreeStandingSpec& f)
         {"dead_load_n", optional_json(f.dead_load_n)},
         {"dead_load_ramp_time_s", f.dead_load_ramp_time_s},
         {"dead_load_hold_time_s", f.dead_load_hold_time_s},
+        {"pull_out_speed_m_per_s", optional_json(f.pull_out_speed_m_per_s)},
+        {"pull_out_end", to_string(f.pull_out_end)},
+        {"pull_out_direction", numbers_json(f.pull_out_direction)},
+        {"pull_out_ramp_time_s", f.pull_out_ramp_time_s},
+        {"pull_out_length_m", optional_json(f.pull_out_length_m)},
+        {"pull_out_max_time_s", f.pull_out_max_time_s},
         {"plate_speed_m_per_s", f.plate_speed_m_per_s},
         {"target_axial_strain", f.target_axial_strain},
         {"failure_drop", f.failure_drop},
@@ -1765,6 +1795,13 @@ std::string_view to_string(GrainSizeBasis b)
 {
     for (const auto& [name, value] : grain_size_bases)
         if (value == b) return name;
+    return "?";
+}
+
+std::string_view to_string(WireEndSpec e)
+{
+    for (const auto& [name, value] : wire_ends)
+        if (value == e) return name;
     return "?";
 }
 

@@ -282,6 +282,10 @@ struct TriaxialSpec {
 /// after the triaxial tests, the prepared column's formwork is removed, the
 /// column settles on the bottom plate, optionally carries a dead load, and is
 /// compressed unconfined. Not run unless `enabled`.
+/// Which end of the wire a pull-out pulls.
+enum class WireEndSpec : std::uint8_t { last, first };
+[[nodiscard]] std::string_view to_string(WireEndSpec e);
+
 struct FreeStandingSpec {
     bool enabled = false;                      ///< run the test
     double removal_time_s = 0.02;              ///< the formwork opens over this time [s], (0, 1e3]
@@ -296,6 +300,16 @@ struct FreeStandingSpec {
     std::optional<double> dead_load_n;
     double dead_load_ramp_time_s = 0.01;       ///< the load rises over this [s], [0, 1e3]
     double dead_load_hold_time_s = 0.05;       ///< then is held this long [s], (0, 1e3]
+    /// Pull the wire out after settling, instead of the compression, at this
+    /// speed [m/s], (0, 10]; nullopt: no pull-out (engine/triaxial/pull_out.hpp).
+    std::optional<double> pull_out_speed_m_per_s;
+    WireEndSpec pull_out_end = WireEndSpec::last; ///< the end pulled: the last node laid (top) or the first
+    std::vector<double> pull_out_direction{0.0, 0.0, 1.0}; ///< d, 3 numbers in [−1, 1], not all 0
+    double pull_out_ramp_time_s = 0.01;        ///< the speed rises over this [s], [0, 1e3]
+    /// Stop after pulling this far [m], (0, 1e3]; nullopt: when the pulled
+    /// piece of wire has left the settled column.
+    std::optional<double> pull_out_length_m;
+    double pull_out_max_time_s = 1.0;          ///< the pull ends here at the latest [s], (0, 1e4]
     double plate_speed_m_per_s = 1e-3;         ///< the compression's plate speed [m/s], (0, 10]
     double target_axial_strain = 0.1;          ///< the compression ends here at the latest, (0, 0.5]
     double failure_drop = 0.5;                 ///< failed when σ₁ stays below (1 − this) of its largest, (0, 1]

@@ -239,8 +239,20 @@ json::object free_standing_json(const io::Group& g, const std::string& url_base,
         o["url"] = base + "/" + std::string(free_standing_peak_snapshot);
         peak = std::move(o);
     }
+    json::value pull_out = nullptr; // the pull-out's rows, by column, with their units
+    if (g.exists(std::string(pull_out_group))) {
+        const io::Group p = g.open_group(std::string(pull_out_group));
+        json::object o;
+        for (const char* c : {"time_s", "pulled_length_m", "pull_force_n", "end_tension_n", "wire_in_column_m", "grains_in_column"})
+            if (p.exists(c)) {
+                const io::Dataset d = p.open_dataset(c);
+                o[c] = json::object{{"units", units_of(d)}, {"values", numbers(d.read_doubles())}};
+            }
+        pull_out = std::move(o);
+    }
     return json::object{{"name", std::string(free_standing_group)}, {"rows", rows}, {"attributes", attributes_of(g)},
         {"columns", std::move(columns)}, {"profiles", std::move(profiles)}, {"wire_at_peak", std::move(wire)},
+        {"pull_out", std::move(pull_out)},
         {"snapshots", std::move(snaps)}, {"peak_snapshot", std::move(peak)}, {"series_url", base + "/series"}};
 }
 

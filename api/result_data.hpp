@@ -92,6 +92,11 @@ inline constexpr std::array<std::string_view, 4> free_standing_profiles{
 
 /// Its peak snapshot's subgroup (the force network at the largest σ₁).
 inline constexpr std::string_view free_standing_peak_snapshot = "peak_snapshot";
+/// The subgroup of the free-standing test's group that holds a pull-out's
+/// rows (time_s, pulled_length_m, pull_force_n, end_tension_n,
+/// wire_in_column_m, grains_in_column); its figures are the group's
+/// attributes pull_out_* (docs/results.md).
+inline constexpr std::string_view pull_out_group = "pull_out";
 
 /// The free-standing group's time-series columns: its 1-D numeric datasets
 /// of the length of its time_s but the wire's per-segment arrays (the

@@ -46,6 +46,8 @@ namespace {
 /// Units of the phase column: what its integers mean.
 constexpr std::string_view phase_units = "0 ramp, 1 hold, 2 loading";
 constexpr std::string_view free_standing_phase_units = "0 removal, 1 settling, 2 dead_load, 3 loading";
+/// With a pull-out (only then, so that the files of other tests stay as they were).
+constexpr std::string_view free_standing_pull_out_phase_units = "0 removal, 1 settling, 2 dead_load, 3 loading, 4 pull_out";
 
 void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
 
@@ -467,6 +469,70 @@ double wire_length_per_volume_m_per_m3(const eng::PreparationReport& r)
     return r.sample_volume_m3 > 0.0 ? r.wire_length_m / r.sample_volume_m3 : std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+
+/// The pull-out's figures as attributes pull_out_* of the test's group, its
+/// rows in the group pull_out (api::pull_out_group), one per series row of
+/// the phase.
+void write_pull_out(io::Group& g, const eng::PullOutReading& p)
+{
+    g.write_string_attribute("pull_out_end", eng::to_string(p.end));
+    g.write_int_attribute("pull_out_node", p.pulled_node);
+    g.write_double_attribute("pull_out_peak_force_n", p.peak_pull_force_n);
+    g.write_double_attribute("pull_out_length_at_peak_m", p.pulled_length_at_peak_m);
+    g.write_double_attribute("pull_out_length_m", p.pulled_length_m);
+    g.write_double_attribute("pull_out_wire_in_column_before_m", p.wire_in_column_before_m);
+    g.write_double_attribute("pull_out_wire_in_column_m", p.wire_in_column_m);
+    g.write_int_attribute("pull_out_grains_in_column", static_cast<std::int64_t>(p.grains_in_column));
+    g.write_int_attribute("pull_out_wire_broke", p.wire_broke ? 1 : 0);
+    g.write_double_attribute("pull_out_ramp_inertia_n", p.ramp_inertia_n);
+    io::Group s = g.create_group(std::string(api::pull_out_group));
+    const eng::PullOutSeries& x = p.series;
+    units(s.write_dataset("time_s", std::span<const double>(x.time_s)), "s");
+    units(s.write_dataset("pulled_length_m", std::span<const double>(x.pulled_length_m)), "m");
+    units(s.write_dataset("pull_force_n", std::span<const double>(x.pull_force_n)), "N");
+    units(s.write_dataset("end_tension_n", std::span<const double>(x.end_tension_n)), "N");
+    units(s.write_dataset("wire_in_column_m", std::span<const double>(x.wire_in_column_m)), "m");
+    units(s.write_dataset("grains_in_column", std::span<const double>(x.grains_in_column)), "1");
+}
+
+eng::PullOutReading read_pull_out(const io::Group& g)
+{
+    eng::PullOutReading p;
+    const std::string end = g.read_string_attribute("pull_out_end");
+    bool known = false;
+    for (auto e : {eng::PullOutEnd::length, eng::PullOutEnd::wire_out, eng::PullOutEnd::time, eng::PullOutEnd::host})
+        if (end == eng::to_string(e)) {
+            p.end = e;
+            known = true;
+        }
+    if (!known) throw std::runtime_error(g.path() + ": pull_out_end \"" + end + "\" is not a known end");
+    p.pulled_node = static_cast<std::uint32_t>(read_index(g, "pull_out_node"));
+    p.peak_pull_force_n = g.read_double_attribute("pull_out_peak_force_n");
+    p.pulled_length_at_peak_m = g.read_double_attribute("pull_out_length_at_peak_m");
+    p.pulled_length_m = g.read_double_attribute("pull_out_length_m");
+    p.wire_in_column_before_m = g.read_double_attribute("pull_out_wire_in_column_before_m");
+    p.wire_in_column_m = g.read_double_attribute("pull_out_wire_in_column_m");
+    p.grains_in_column = read_index(g, "pull_out_grains_in_column");
+    p.wire_broke = g.read_int_attribute("pull_out_wire_broke") != 0;
+    p.ramp_inertia_n = g.read_double_attribute("pull_out_ramp_inertia_n");
+    const io::Group s = g.open_group(std::string(api::pull_out_group));
+    eng::PullOutSeries& x = p.series;
+    x.time_s = read_doubles(s, "time_s");
+    x.pulled_length_m = read_doubles(s, "pulled_length_m");
+    x.pull_force_n = read_doubles(s, "pull_force_n");
+    x.end_tension_n = read_doubles(s, "end_tension_n");
+    x.wire_in_column_m = read_doubles(s, "wire_in_column_m");
+    x.grains_in_column = read_doubles(s, "grains_in_column");
+    const std::size_t n = x.size();
+    if (x.pulled_length_m.size() != n || x.pull_force_n.size() != n || x.end_tension_n.size() != n
+        || x.wire_in_column_m.size() != n || x.grains_in_column.size() != n)
+        throw std::runtime_error(s.path() + ": the pull-out's columns differ in length");
+    return p;
+}
+
+} // namespace
+
 void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
 {
     const eng::SettlingReading& s = r.settling;
@@ -519,7 +585,8 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     json::array warnings;
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
     g.write_string_attribute("warnings", json::serialize(warnings));
-    write_series(g, r.series, free_standing_phase_units);
+    if (r.pull_out) write_pull_out(g, *r.pull_out);
+    write_series(g, r.series, r.pull_out ? free_standing_pull_out_phase_units : free_standing_phase_units);
     write_snapshots(g, r.snapshots);
     write_wire_breaks(g, r.wire_breaks);
     if (r.peak_snapshot) write_snapshot(g.create_group(std::string(api::free_standing_peak_snapshot)), *r.peak_snapshot);
@@ -579,8 +646,9 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     r.wall_time_s = g.read_double_attribute("wall_time_s");
     const json::value warnings = json::parse(g.read_string_attribute("warnings"));
     for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
-    r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::loading));
+    r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::pull_out));
     r.wire_breaks = read_wire_breaks(g);
+    if (g.has_attribute("pull_out_end")) r.pull_out = read_pull_out(g);
     const std::size_t rows = r.series.size();
     if (r.loading_start_sample >= rows || (r.compression && r.compression->strength.index >= rows))
         throw std::runtime_error(g.path() + ": a row index is past the series");

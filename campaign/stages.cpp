@@ -668,6 +668,24 @@ json::object free_standing_json(const eng::FreeStandingResult& r,
     c["max_inertial_number"] = finite_or_null(r.verdict.max_inertial_number);
     c["mean_kinetic_to_elastic"] = finite_or_null(r.verdict.mean_kinetic_to_elastic);
     o["compression"] = std::move(c);
+    if (r.pull_out) { // only with a pull-out: the summaries of other jobs stay as they were
+        const eng::PullOutReading& p = *r.pull_out;
+        json::object q;
+        q["peak_pull_force_n"] = finite_or_null(p.peak_pull_force_n);
+        q["pulled_length_at_peak_m"] = finite_or_null(p.pulled_length_at_peak_m);
+        q["pulled_length_m"] = finite_or_null(p.pulled_length_m);
+        q["wire_in_column_before_m"] = finite_or_null(p.wire_in_column_before_m);
+        q["wire_in_column_m"] = finite_or_null(p.wire_in_column_m);
+        q["grains_in_column"] = p.grains_in_column;
+        q["wire_broke"] = p.wire_broke;
+        q["ramp_inertia_n"] = finite_or_null(p.ramp_inertia_n);
+        q["end"] = eng::to_string(p.end);
+        q["pulled_node"] = p.pulled_node;
+        q["definition"] = "pull force: the drive's force on the pulled wire node along the pull, averaged over each "
+                          "sample interval (peak_pull_force_n the largest such mean); wire_in_column_m: rest length of the "
+                          "whole segments within escape_distance_m of the axis and below the settled height";
+        o["pull_out"] = std::move(q);
+    }
     o["steps"] = r.steps;
     o["wall_time_s"] = r.wall_time_s;
     o["threads"] = threads;

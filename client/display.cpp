@@ -294,13 +294,23 @@ std::string format_summary(const json::value& summary)
             out << "  dead load              " << fmt("%.4g N", number(at(*f, {"dead_load", "force_n"}))) << ": holds "
                 << yes_no(at(*f, {"dead_load", "holds"})) << ", creep "
                 << fmt("%.3f %%", scaled(number(at(*f, {"dead_load", "creep_strain"})), 100.0)) << '\n';
-        out << "  unconfined strength    " << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "unconfined_strength_pa"}))))
-            << " (" << text(at(*f, {"compression", "shape"})) << ", at "
-            << fmt("%.2f %%", scaled(number(at(*f, {"compression", "strain_at_failure"})), 100.0)) << " strain)\n"
-            << "  predicted by envelope  "
-            << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
-            << " (2c cos phi / (1 - sin phi))\n"
-            << "  quasi-static           " << yes_no(at(*f, {"compression", "quasi_static"})) << '\n';
+        if (const auto* p = at(*f, {"pull_out"}); p && p->is_object()) {
+            out << "  peak pull force        " << fmt("%.4g N", number(at(*p, {"peak_pull_force_n"}))) << " (at "
+                << fmt("%.4g m", number(at(*p, {"pulled_length_at_peak_m"}))) << " pulled)\n"
+                << "  pulled out             " << fmt("%.4g m", number(at(*p, {"pulled_length_m"}))) << ", ended by "
+                << text(at(*p, {"end"})) << "; wire in the column "
+                << fmt("%.4g m", number(at(*p, {"wire_in_column_before_m"}))) << " -> "
+                << fmt("%.4g m", number(at(*p, {"wire_in_column_m"}))) << ", wire broke " << yes_no(at(*p, {"wire_broke"}))
+                << '\n';
+        } else {
+            out << "  unconfined strength    " << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "unconfined_strength_pa"}))))
+                << " (" << text(at(*f, {"compression", "shape"})) << ", at "
+                << fmt("%.2f %%", scaled(number(at(*f, {"compression", "strain_at_failure"})), 100.0)) << " strain)\n"
+                << "  predicted by envelope  "
+                << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
+                << " (2c cos phi / (1 - sin phi))\n"
+                << "  quasi-static           " << yes_no(at(*f, {"compression", "quasi_static"})) << '\n';
+        }
     }
 
     out << "\nSpecimen\n"

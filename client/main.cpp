@@ -7,6 +7,7 @@
 #include "export_command.hpp"
 #include "report_command.hpp"
 #include "autocorrelation_command.hpp"
+#include "cuts_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -179,6 +180,18 @@ int main(int argc, char** argv)
     autocorrelation->add_option("--test", ac_test, "test group, e.g. sigma3_20000 (default: the highest pressure)");
     autocorrelation->add_option("--snapshot", ac_snapshot, "snapshot index k (default: the test's last)");
 
+    auto* cuts = app.add_subcommand("cuts",
+        "where to cut the wire: the places of lowest segment strain of a reference test in a result file, as JSON for specimen.wire.cuts_at_m");
+    CutsRequest cuts_request;
+    cuts->add_option("result", cuts_request.result, "result.h5, or the output folder that holds it (docs/results.md)")->required();
+    cuts->add_option("--count", cuts_request.count, "how many cuts N")->required()->check(CLI::Range(1, 1000000));
+    cuts->add_option("--test", cuts_request.test,
+        "reference test: a test group, e.g. sigma3_20000, or free_standing (default: the highest pressure)");
+    cuts->add_option("--at-strain", cuts_request.at_strain,
+        "the snapshot nearest this axial strain (default: nearest the test's peak; the free-standing test's peak snapshot)");
+    cuts->add_option("--min-spacing-m", cuts_request.min_spacing_m,
+        "cuts at least this far apart and from the wire's ends [m] (default: the wire's length per loop about the axis)");
+
     auto* report = app.add_subcommand("report", "write OUT/report.html: the results of a run's output folder as one page that opens without a server");
     std::string report_dir, report_file, web_dir;
     report->add_option("out", report_dir, "output folder of wiredem run or wiredem fetch (summary.json, result.h5)")->required();
@@ -224,6 +237,7 @@ int main(int argc, char** argv)
         if (*export_xdmf) return cmd_export_xdmf(h5_file, xdmf_file);
         if (*report) return cmd_report(report_dir, report_file, web_dir);
         if (*autocorrelation) return cmd_autocorrelation(h5_file, ac_test, ac_snapshot);
+        if (*cuts) return cmd_cuts(cuts_request);
     } catch (const CommandError& e) {
         std::cerr << "wiredem: " << e.what() << std::endl;
         return e.code;

@@ -1,5 +1,6 @@
 #include "specimen/wire_cuts.hpp"
 
+#include "analysis/cut_selection.hpp"
 #include "forces/wire_forces.hpp"
 #include "triaxial/sampling.hpp"
 
@@ -29,9 +30,7 @@ Result<std::vector<std::uint32_t>, std::string> wire_cut_segments(const World& w
         double winding_rad = 0.0;
         double cuts_made = 0.0;
         for (std::size_t s = 0; s < segments; ++s) {
-            // The angle between the two nodes' horizontal positions, in (−π, π].
-            const double ax = x[s].x(), ay = x[s].y(), bx = x[s + 1].x(), by = x[s + 1].y();
-            winding_rad += std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+            winding_rad += analysis::winding_step_rad(x[s], x[s + 1]); // in (−π, π]
             if (std::floor(std::abs(winding_rad) / per_cut_rad) > cuts_made) {
                 ++cuts_made;
                 out.push_back(static_cast<std::uint32_t>(s));

@@ -33,6 +33,7 @@ std::optional<std::string> validate(const World& w, std::size_t top_plate_wall, 
     if (w.of(BodyKind::grain).size() == 0) return "the world has no grains";
     if (w.of(BodyKind::membrane).size() == 0) return "the world has no membrane (the formwork to remove)";
     if (!(w.dt_s > 0.0)) return "the time step is not set";
+    if (s.pull_out && w.of(BodyKind::wire).size() < 2) return "pull_out: the column has no wire to pull (fewer than two nodes)";
     return std::nullopt;
 }
 
@@ -93,6 +94,14 @@ std::optional<SettingsError> free_standing_settings_error(const FreeStandingSett
         return error("sample_interval_s", format_number(s.sample_interval_s) + " must be > 0");
     for (double e : s.snapshot_strains)
         if (!std::isfinite(e)) return error("snapshot_strains", "every strain must be finite");
+    if (s.pull_out) {
+        if (s.dead_load)
+            return error("pull_out", "a pull-out replaces the dead load and the compression: give one of pull_out and dead_load");
+        if (auto e = pull_out_settings_error(*s.pull_out)) {
+            e->field = "pull_out." + e->field;
+            return e;
+        }
+    }
     return std::nullopt;
 }
 
@@ -103,6 +112,7 @@ const char* to_string(FreeStandingPhase p) noexcept
     case FreeStandingPhase::settling: return "settling";
     case FreeStandingPhase::dead_load: return "dead_load";
     case FreeStandingPhase::loading: return "loading";
+    case FreeStandingPhase::pull_out: return "pull_out";
     }
     return "loading";
 }
@@ -209,7 +219,8 @@ double column_weight_n(const World& w)
 
 double longest_free_standing_time_s(const FreeStandingSettings& s, double height_m)
 {
-    double t = s.removal_time_s + s.max_settling_time_s + loading_time_s(s.target_axial_strain, height_m, s.plate_speed_m_per_s);
+    double t = s.removal_time_s + s.max_settling_time_s
+             + (s.pull_out ? s.pull_out->max_time_s : loading_time_s(s.target_axial_strain, height_m, s.plate_speed_m_per_s));
     if (s.dead_load) t += s.dead_load->ramp_time_s + s.dead_load->hold_time_s;
     return t;
 }
@@ -283,12 +294,15 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     const std::size_t breaks_before_test = w.wire_breaks.size() - result.wire_breaks.size();
     const double bottom_m = w.walls[bottom_plate_wall].point_m.z();
 
+    // The settled column, where the pull-out counts wire as still in it.
+    auto column_region = [&] { return ColumnRegion{bottom_m, st.reference_height_m, settings.escape_distance_m}; };
     // Sampling: the triaxial row, with the free column's radius and σ₁ on
     // its settled cross-section.
     auto sample = [&] {
         TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, st.reference_height_m);
         s.time_s = static_cast<double>(st.steps) * dt;
-        s.column_radius_m = standing_column(w, settings.escape_distance_m).radius_m;
+        const StandingColumn column = standing_column(w, settings.escape_distance_m);
+        s.column_radius_m = column.radius_m;
         s.sigma1_pa = analysis::axial_stress_pa(s.top_plate_force_n, st.reference_radius_m);
         s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
         s.stress_ratio = analysis::stress_ratio(s.sigma1_pa, s.sigma3_effective_pa);
@@ -303,6 +317,26 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         result.series.push_back(s);
         result.series.phase.back() = static_cast<std::uint8_t>(st.phase);
         st.last_sample_step = st.steps;
+        if (st.phase == FreeStandingPhase::pull_out && result.pull_out) { // the pull's row beside it
+            PullOutReading& r = *result.pull_out;
+            const Vec3 d = settings.pull_out->direction.normalized();
+            const double steps = static_cast<double>(std::max<std::uint64_t>(st.pull_steps_summed, 1));
+            const double force_n = st.pull_force_sum_n / steps;
+            const double pulled_m = (w.of(BodyKind::wire).x[0][r.pulled_node] - st.pull_start_m).dot(d);
+            PullOutSeries& ps = r.series;
+            ps.time_s.push_back(s.time_s);
+            ps.pulled_length_m.push_back(pulled_m);
+            ps.pull_force_n.push_back(force_n);
+            ps.end_tension_n.push_back(st.end_tension_sum_n / steps);
+            st.pull_force_sum_n = st.end_tension_sum_n = 0.0;
+            st.pull_steps_summed = 0;
+            if (force_n > r.peak_pull_force_n) {
+                r.peak_pull_force_n = force_n;
+                r.pulled_length_at_peak_m = pulled_m;
+            }
+            ps.wire_in_column_m.push_back(wire_in_region_m(w, column_region()));
+            ps.grains_in_column.push_back(static_cast<double>(grains.size() - column.escaped_grains));
+        }
     };
     auto sample_unless_taken = [&] {
         if (st.last_sample_step != st.steps) sample();
@@ -313,6 +347,12 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     auto progress = [&] { return std::pair<std::uint64_t, std::uint64_t>{st.steps, std::max(expected, st.steps)}; };
     auto advance = [&](auto&& prescribe) -> std::optional<std::string> {
         if (auto e = stepper.step(prescribe, progress)) return e;
+        if (st.phase == FreeStandingPhase::pull_out) { // the pull of every step goes into the row's mean
+            const PullForces f = pull_forces(w, settings.pull_out->end, settings.pull_out->direction.normalized());
+            st.pull_force_sum_n += f.pull_force_n;
+            st.end_tension_sum_n += f.end_tension_along_n;
+            ++st.pull_steps_summed;
+        }
         if (w.wire_breaks.size() > breaks_before_test + result.wire_breaks.size())
             record_wire_breaks(w, breaks_before_test, static_cast<double>(st.steps) * dt,
                 analysis::axial_strain(st.reference_height_m, plates_apart_m()), result.wire_breaks);
@@ -391,8 +431,9 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
             return Err(std::string("no grain is left standing within escape_distance_m of the axis"));
         st.reference_height_m = after.top_m;
         st.reference_radius_m = after.radius_m;
-        place_plate_on_column();
-        st.phase = settings.dead_load ? FreeStandingPhase::dead_load : FreeStandingPhase::loading;
+        if (!settings.pull_out) place_plate_on_column(); // a pull-out leaves the plate above the column
+        st.phase = settings.pull_out ? FreeStandingPhase::pull_out
+                 : settings.dead_load ? FreeStandingPhase::dead_load : FreeStandingPhase::loading;
         st.phase_start_step = st.steps;
     }
 
@@ -431,6 +472,78 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         r.holds = !collapsed;
         st.phase = FreeStandingPhase::loading;
         st.phase_start_step = st.steps;
+    }
+
+    // 4'. Pulling the wire out (instead of the compression): one end node
+    // driven at v d̂ until the pulled length, the pulled piece's exit from the
+    // settled column, or max_time_s.
+    if (st.phase == FreeStandingPhase::pull_out) {
+        const PullOutSettings& p = *settings.pull_out;
+        const Vec3 d = p.direction.normalized();
+        if (!result.pull_out) {
+            PullOutReading r;
+            r.pulled_node = pulled_node(w, p.end);
+            r.wire_in_column_before_m = wire_in_region_m(w, column_region());
+            st.pull_start_m = w.of(BodyKind::wire).x[0][r.pulled_node];
+            result.pull_out = std::move(r);
+            result.loading_start_sample = result.series.size();
+            // The plate rises with the pulled end, never onto the wire.
+            w.walls[top_plate_wall].velocity_m_per_s = Vec3(0.0, 0.0, std::max(0.0, p.speed_m_per_s * d.z()));
+        }
+        PullOutReading& r = *result.pull_out;
+        const std::uint64_t max_steps = steps_of(p.max_time_s);
+        auto pulled_length_m = [&] { return (w.of(BodyKind::wire).x[0][r.pulled_node] - st.pull_start_m).dot(d); };
+        r.end = PullOutEnd::time;
+        // The drive's speed is set before each step of the ramp (and the
+        // first): a kinematic node keeps it afterwards.
+        auto drive = [&] {
+            const double t = static_cast<double>(st.steps + 1 - st.phase_start_step) * dt;
+            if (st.steps == st.phase_start_step || t < p.ramp_time_s + dt) drive_pulled_node(w, p, t);
+        };
+        while (st.steps - st.phase_start_step < max_steps) {
+            if (auto e = advance(drive)) return Err(*e);
+            if (p.length_m && pulled_length_m() >= *p.length_m) {
+                r.end = PullOutEnd::length;
+                break;
+            }
+            if (!p.length_m && (st.steps - st.phase_start_step) % check_every == 0
+                && !(wire_in_region_m(w, column_region(), r.pulled_node) > 0.0)) {
+                r.end = PullOutEnd::wire_out;
+                break;
+            }
+            if (control.after_step && !control.after_step(w, StepReport{})) {
+                r.end = PullOutEnd::host;
+                break;
+            }
+        }
+        sample_unless_taken();
+        w.walls[top_plate_wall].velocity_m_per_s.setZero();
+        set_velocity(w, {BodyKind::wire, r.pulled_node}, Vec3::Zero());
+        r.pulled_length_m = pulled_length_m();
+        r.wire_in_column_m = wire_in_region_m(w, column_region());
+        r.grains_in_column = grains.size() - standing_column(w, settings.escape_distance_m).escaped_grains;
+        const double pull_began_s = static_cast<double>(st.phase_start_step) * dt;
+        r.wire_broke = std::any_of(result.wire_breaks.begin(), result.wire_breaks.end(),
+            [&](const TestWireBreak& b) { return b.test_time_s > pull_began_s; });
+        double wire_mass_kg = 0.0;
+        for (double m : w.of(BodyKind::wire).mass_kg) wire_mass_kg += m;
+        r.ramp_inertia_n = p.ramp_time_s > 0.0 ? wire_mass_kg * p.speed_m_per_s * std::numbers::pi / (2.0 * p.ramp_time_s)
+                                               : std::numeric_limits<double>::infinity();
+        if (r.pulled_length_at_peak_m <= 0.5 * p.speed_m_per_s * p.ramp_time_s + 1e-12
+            && !(r.ramp_inertia_n < 0.1 * r.peak_pull_force_n))
+            result.warnings.push_back("pull-out: the peak pull force " + format_number(r.peak_pull_force_n)
+                                      + " N came during the speed ramp, where accelerating the wire takes up to "
+                                      + format_number(r.ramp_inertia_n)
+                                      + " N (its masses as scaled): lengthen pull_out_ramp_time_s or lower the wire's mass scaling");
+        if (r.end == PullOutEnd::time)
+            result.warnings.push_back("pull-out: " + std::string(p.length_m ? "the pulled length" : "the wire's exit from the column")
+                                      + " was not reached in max_time_s = " + format_number(p.max_time_s) + " s");
+        if (r.end == PullOutEnd::host)
+            result.warnings.push_back("pull-out: stopped by the host after " + format_number(r.pulled_length_m) + " m");
+        result.steps = st.steps;
+        result.simulated_time_s = static_cast<double>(st.steps) * dt;
+        result.wall_time_s = stepper.wall_time_s();
+        return std::move(result);
     }
 
     // 4. Unconfined compression at constant plate speed, from h₀ of the

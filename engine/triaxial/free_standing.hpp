@@ -17,7 +17,13 @@
 //                does it hold, and how much does it creep;
 //   4. loading   unconfined compression: the top plate moves down at a
 //                constant speed until the column fails (its axial stress fell
-//                to 1 − failure_drop of its largest) or the target strain.
+//                to 1 − failure_drop of its largest) or the target strain;
+//   or
+//   4. pull_out  (optional, instead of the dead load and the compression)
+//                one end of the wire is pulled out at a constant speed
+//                (pull_out.hpp): the force it takes against the pulled
+//                length, until a length, the pulled piece's exit from the
+//                column or a time bound.
 //
 // Conventions as in sampling.hpp. The axial strain is measured from h₀, the
 // height of the settled column (the top of its highest standing grain or
@@ -36,6 +42,7 @@
 #include "analysis/strength.hpp"
 #include "core/result.hpp"
 #include "simulation.hpp"
+#include "triaxial/pull_out.hpp"
 #include "triaxial/sampling.hpp"
 #include "triaxial/triaxial.hpp"
 
@@ -51,9 +58,9 @@
 namespace wiredem::engine {
 
 /// The phases of a free-standing test (the series' phase column).
-enum class FreeStandingPhase : std::uint8_t { removal = 0, settling = 1, dead_load = 2, loading = 3 };
+enum class FreeStandingPhase : std::uint8_t { removal = 0, settling = 1, dead_load = 2, loading = 3, pull_out = 4 };
 
-/// "removal", "settling", "dead_load", "loading".
+/// "removal", "settling", "dead_load", "loading", "pull_out".
 [[nodiscard]] const char* to_string(FreeStandingPhase p) noexcept;
 
 /// The quasi-static verdict of the compression reads the rows from the
@@ -104,6 +111,14 @@ struct FreeStandingSettings {
     std::vector<double> snapshot_strains{};
     /// As TriaxialSettings::real_weights: the test starts by giving every body its real weight.
     std::optional<TriaxialSettings::MassScaling> real_weights;
+    /// Pull the wire out after settling instead of compressing the column
+    /// (the plate_speed, target, failure and snapshot settings are then
+    /// unused); not with a dead load. The top plate stays where the removal
+    /// lifted it and rises with the pulled end (at v max(0, d̂_z)), so that
+    /// it never touches the wire pulled up. The region "in the column" is
+    /// the settled column: within escape_distance_m of the axis and at most
+    /// h₀ above the bottom plate.
+    std::optional<PullOutSettings> pull_out;
 };
 
 /// The rules the settings obey on their own, before any World is looked at
@@ -233,8 +248,9 @@ struct FreeStandingResult {
     std::optional<TriaxialSnapshot> peak_snapshot; ///< at the largest raw σ₁ (force network there)
     SettlingReading settling;
     std::optional<DeadLoadReading> dead_load;
-    std::optional<CompressionReading> compression; ///< empty, with a warning, when the curve cannot be read
-    std::size_t loading_start_sample = 0;     ///< first compression row
+    std::optional<CompressionReading> compression; ///< empty, with a warning, when the curve cannot be read (or with a pull-out)
+    std::optional<PullOutReading> pull_out;   ///< with settings.pull_out: the pull, its rows those of the phase
+    std::size_t loading_start_sample = 0;     ///< first row of the compression (or of the pull-out)
     QuasiStaticVerdict verdict;               ///< over the compression rows that bear load
     std::vector<std::string> warnings;
     /// The wire's segments that broke during the test, in order (none for an
@@ -261,7 +277,11 @@ struct FreeStandingDriverState {
     double below_since_strain = std::numeric_limits<double>::quiet_NaN();
     bool loading_begun = false;
     double window_force_n = 0.0;              ///< settling: bottom plate force summed over the window so far
-    double window_kinetic_energy_j = 0.0;     ///< settling: kinetic energy as the window began [J]               ///< the compression's first row is taken, the plate moving
+    double window_kinetic_energy_j = 0.0;     ///< settling: kinetic energy as the window began [J]
+    Vec3 pull_start_m = Vec3::Zero();         ///< pull-out: where the pulled node was when the pull began [m]
+    double pull_force_sum_n = 0.0;            ///< pull-out: the pull force summed over the steps since the last row [N]
+    double end_tension_sum_n = 0.0;           ///< and the end segment's tension along the pull [N]
+    std::uint64_t pull_steps_summed = 0;      ///< the steps in those sums
     double wall_time_s = 0.0;
     FreeStandingResult result;
 };
@@ -273,7 +293,8 @@ struct FreeStandingContinuation {
 };
 
 /// The longest simulated time of a test (the removal, the longest settling,
-/// the dead load and the compression to the target) on a column of height
+/// the dead load and the compression to the target, or the pull-out's
+/// max_time_s) on a column of height
 /// `height_m` [s].
 [[nodiscard]] double longest_free_standing_time_s(const FreeStandingSettings& s, double height_m);
 

@@ -94,6 +94,11 @@ JobSpec everything_changed()
     s.free_standing.dead_load_n = 70.0;
     s.free_standing.dead_load_ramp_time_s = 0.02;
     s.free_standing.dead_load_hold_time_s = 0.1;
+    s.free_standing.pull_out_end = WireEndSpec::first;
+    s.free_standing.pull_out_direction = {0.5, 0.0, 1.0};
+    s.free_standing.pull_out_ramp_time_s = 0.03;
+    s.free_standing.pull_out_length_m = 0.2;
+    s.free_standing.pull_out_max_time_s = 4.0;
     s.free_standing.plate_speed_m_per_s = 2e-3;
     s.free_standing.target_axial_strain = 0.2;
     s.free_standing.failure_drop = 0.4;
@@ -275,6 +280,49 @@ TEST(JobSpec, FreeStandingFieldsAreCheckedAtTheDoor)
     ASSERT_TRUE(ok.ok()) << describe(ok.error());
     EXPECT_TRUE(ok.value().free_standing.enabled);
     EXPECT_EQ(ok.value().free_standing.dead_load_n, 7000.0);
+}
+
+TEST(JobSpec, APullOutIsCheckedAtTheDoorNamingTheField)
+{
+    const auto message = [](const std::vector<FieldError>& e, const std::string& path) {
+        const FieldError* f = error_at(e, path);
+        return f ? f->message : std::string("(no error at ") + path + ")";
+    };
+    auto r = parse_job_spec(R"({"free_standing": {"enabled": true, "pull_out_speed_m_per_s": 0}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "free_standing.pull_out_speed_m_per_s").find("(0, 10]"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"free_standing": {"enabled": true, "pull_out_speed_m_per_s": 0.01, "pull_out_direction": [0, 0, 0]}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "free_standing.pull_out_direction").find("nonzero length"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"free_standing": {"pull_out_direction": [0, 1]}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "free_standing.pull_out_direction").find("allowed 3 to 3"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"free_standing": {"pull_out_end": "middle"}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "free_standing.pull_out_end"), nullptr);
+    r = parse_job_spec(R"({"free_standing": {"pull_out_max_time_s": 0}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "free_standing.pull_out_max_time_s"), nullptr);
+    r = parse_job_spec(R"({"free_standing": {"pull_out_length_m": -1}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(error_at(r.error(), "free_standing.pull_out_length_m"), nullptr);
+    r = parse_job_spec(R"({"free_standing": {"enabled": true, "pull_out_speed_m_per_s": 0.01, "dead_load_n": 1}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "free_standing.pull_out_speed_m_per_s").find("dead_load"), std::string::npos) << describe(r.error());
+    r = parse_job_spec(R"({"specimen": {"wire": {"pattern": "none"}}, "free_standing": {"enabled": true, "pull_out_speed_m_per_s": 0.01}})");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(message(r.error(), "free_standing.pull_out_speed_m_per_s").find("needs a wire"), std::string::npos) << describe(r.error());
+    const auto ok = parse_job_spec(R"({"free_standing": {"enabled": true, "pull_out_speed_m_per_s": 0.02, "pull_out_end": "first",
+        "pull_out_direction": [1, 0, 1], "pull_out_length_m": 0.05, "pull_out_max_time_s": 3}})");
+    ASSERT_TRUE(ok.ok()) << describe(ok.error());
+    const wiredem::engine::FreeStandingSettings s = free_standing_settings(ok.value());
+    ASSERT_TRUE(s.pull_out.has_value());
+    EXPECT_EQ(s.pull_out->end, wiredem::engine::WireEnd::first);
+    EXPECT_EQ(s.pull_out->direction, wiredem::engine::Vec3(1, 0, 1));
+    EXPECT_EQ(s.pull_out->speed_m_per_s, 0.02);
+    EXPECT_EQ(s.pull_out->length_m, 0.05);
+    EXPECT_EQ(s.pull_out->max_time_s, 3.0);
+    EXPECT_FALSE(free_standing_settings(parse_job_spec(R"({})").value()).pull_out.has_value());
 }
 
 TEST(JobSpec, WireBreakingAndCutsAreCheckedAtTheDoor)

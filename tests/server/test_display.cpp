@@ -114,6 +114,22 @@ TEST(ClientDisplay, TheFreeStandingTestShowsWhetherItStandsAndItsStrengthBesideT
     EXPECT_EQ(format_summary(json::object{}).find("Free-standing"), std::string::npos);
 }
 
+// With a pull-out the compression's figures (null) give way to the pull's.
+TEST(ClientDisplay, APullOutShowsThePeakPullForceInsteadOfTheCompression)
+{
+    const json::value summary = json::parse(R"({"free_standing": {
+        "settling": {"stands": true, "at_rest": true},
+        "dead_load": null,
+        "compression": {"unconfined_strength_pa": null, "shape": null},
+        "pull_out": {"peak_pull_force_n": 0.4926, "pulled_length_at_peak_m": 0.00087, "pulled_length_m": 0.0499,
+                     "wire_in_column_before_m": 0.0825, "wire_in_column_m": 0.03, "wire_broke": false, "end": "time"}}})");
+    const std::string table = format_summary(summary);
+    for (const char* part : {"peak pull force        0.4926 N (at 0.00087 m pulled)", "ended by time",
+             "0.0825 m -> 0.03 m", "wire broke no"})
+        EXPECT_NE(table.find(part), std::string::npos) << part << "\n" << table;
+    EXPECT_EQ(table.find("unconfined strength"), std::string::npos) << table;
+}
+
 TEST(ClientDisplay, SummaryTableGivesYieldAndMaxQPerPressureInKpaAndBothEnvelopes)
 {
     const json::value summary = json::parse(R"({

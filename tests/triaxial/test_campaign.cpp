@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -279,6 +280,87 @@ TEST(Campaign, AFreeStandingTestIsInTheSummaryAndTheResultFile)
     EXPECT_GT(rows, 10u);
     EXPECT_EQ(g.open_dataset("phase").shape().at(0), rows);
     EXPECT_EQ(g.open_group("profile_settled").open_dataset("radius_m").read_string_attribute("units"), "m");
+    fs::remove_all(dir);
+}
+
+// A job that pulls the wire out of its free-standing column instead of the
+// compression (the web test's job, examples/tiny.json with a helix, its
+// top end pulled up by 5 mm):
+// summary.json's free_standing.pull_out and result.h5's /free_standing say
+// the same, the rows of the pull are those of the series' phase 4, and the
+// compression is left out (null figures).
+TEST(Campaign, APullOutIsInTheSummaryAndTheResultFile)
+{
+    const fs::path dir = fresh_dir("pull_out"), out = dir / "out";
+    json::object job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "tests/web/job.json")).as_object();
+    job["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    job["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"pull_out_speed_m_per_s", 0.05}, {"pull_out_ramp_time_s", 0.005},
+        {"pull_out_length_m", 0.005}, {"pull_out_max_time_s", 0.5}, {"sample_interval_s", 0.0005}};
+    {
+        std::ofstream o(dir / "job.json");
+        o << json::serialize(job);
+    }
+    const int status = run_binary(dir / "job.json", out, dir / "log");
+    const std::string err = read_text(dir / "log.stderr");
+    ASSERT_TRUE(WIFEXITED(status)) << err;
+    ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+
+    const json::value s = json::parse(read_text(out / "summary.json"));
+    const json::value& p = at(s, {"free_standing", "pull_out"});
+    EXPECT_EQ(at(p, {"end"}).as_string(), "length");
+    EXPECT_GE(at(p, {"pulled_length_m"}).to_number<double>(), 0.005);
+    EXPECT_GT(at(p, {"peak_pull_force_n"}).to_number<double>(), 0.0);
+    EXPECT_GT(at(p, {"wire_in_column_before_m"}).to_number<double>(), 0.0);
+    EXPECT_TRUE(at(s, {"free_standing", "compression", "unconfined_strength_pa"}).is_null());
+
+    const File f = File::open_read_only(out / "result.h5");
+    const auto g = f.root().open_group("free_standing");
+    EXPECT_EQ(g.read_string_attribute("pull_out_end"), "length");
+    EXPECT_DOUBLE_EQ(g.read_double_attribute("pull_out_peak_force_n"), at(p, {"peak_pull_force_n"}).to_number<double>());
+    const auto rows = g.open_group("pull_out");
+    const std::vector<double> force = rows.open_dataset("pull_force_n").read_doubles();
+    EXPECT_EQ(rows.open_dataset("pull_force_n").read_string_attribute("units"), "N");
+    ASSERT_FALSE(force.empty());
+    EXPECT_DOUBLE_EQ(*std::max_element(force.begin(), force.end()), at(p, {"peak_pull_force_n"}).to_number<double>());
+    std::size_t pull_rows = 0;
+    for (std::int64_t phase : g.open_dataset("phase").read_int64s()) pull_rows += phase == 4 ? 1 : 0;
+    EXPECT_EQ(pull_rows, force.size());
+
+    // `wiredem cuts` on this result: the two places of lowest strain of the
+    // test's first snapshot at least 1 cm apart and from the ends, which the
+    // test reads from the same snapshot by brute force.
+    const std::string command = std::string(WIREDEM_BIN) + " cuts " + out.string()
+                              + " --count 2 --min-spacing-m 0.01 --at-strain 0 2>&1";
+    std::string text;
+    if (FILE* pipe = ::popen(command.c_str(), "r")) {
+        char buf[4096];
+        while (const std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) text.append(buf, n);
+        EXPECT_EQ(::pclose(pipe), 0) << text;
+    }
+    const json::value cuts = json::parse(text);
+    const auto test = f.root().open_group("tests").child_names().front();
+    const std::vector<double> strain
+        = f.root().open_group("tests/" + test + "/snapshots/snapshot_0").open_dataset("wire_segment_strain").read_doubles();
+    const double l_w = 1.25e-3, spacing = 0.01;
+    const std::size_t n = strain.size();
+    std::size_t best = n, second = n;
+    for (std::size_t s = 0; s < n; ++s) { // the lowest allowed segment, then the lowest 8 or more segments from it
+        const double at = (s + 0.5) * l_w;
+        if (at < spacing || (n - s - 0.5) * l_w < spacing) continue;
+        if (best == n || strain[s] < strain[best]) best = s;
+    }
+    for (std::size_t s = 0; s < n; ++s) {
+        const double at = (s + 0.5) * l_w;
+        if (at < spacing || (n - s - 0.5) * l_w < spacing || (s > best ? s - best : best - s) * l_w < spacing) continue;
+        if (second == n || strain[s] < strain[second]) second = s;
+    }
+    ASSERT_LT(second, n);
+    const json::array& at = cuts.at("cuts_at_m").as_array();
+    ASSERT_EQ(at.size(), 2u) << text;
+    EXPECT_DOUBLE_EQ(at[0].to_number<double>(), (std::min(best, second) + 0.5) * l_w) << text;
+    EXPECT_DOUBLE_EQ(at[1].to_number<double>(), (std::max(best, second) + 0.5) * l_w) << text;
+    EXPECT_EQ(cuts.at("test").as_string(), test);
     fs::remove_all(dir);
 }
 
