@@ -75,6 +75,29 @@ std::optional<std::string> box_preparation_error(const BoxPreparationSpec& s)
     return std::nullopt;
 }
 
+Result<BoxPreparationSpec, std::string> box_preparation_from(
+    const PreparationSpec& poured, double consolidation_pressure_pa, std::optional<double> wall_friction_coeff)
+{
+    if (poured.grain_shape)
+        return Err(std::string("the box preparation places spheres only: a grain shape (clumps) cannot be prepared in the "
+                               "cuboid cell"));
+    BoxPreparationSpec box;
+    box.grain_count = poured.grain_count;
+    box.grain_radius_m = poured.grain_radius_m;
+    box.grain_radius_spread = poured.grain_radius_spread;
+    box.grain_sizes = poured.grain_sizes;
+    box.grain = poured.grain;
+    box.grain.density_kg_per_m3 *= poured.density_scale;
+    box.wall = poured.plate;
+    box.contact = poured.contact;
+    box.integrator = poured.integrator;
+    box.time_step_s = poured.time_step_s;
+    box.seed = poured.seed;
+    box.consolidation_pressure_pa = consolidation_pressure_pa;
+    box.wall_friction_coeff = wall_friction_coeff;
+    return box;
+}
+
 double unbalanced_force_ratio(const World& w)
 {
     const ContactList& c = w.contacts;

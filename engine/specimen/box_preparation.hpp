@@ -31,6 +31,7 @@
 #include "core/result.hpp"
 #include "simulation.hpp"
 #include "specimen/grain_sizes.hpp"
+#include "specimen/preparation.hpp"
 #include "triaxial/cuboid.hpp"
 
 #include <cstdint>
@@ -108,6 +109,17 @@ struct BoxPreparationReport {
 /// contacts after the last step (YADE's unbalancedForce); 0 with no contact.
 /// Serial, in id and contact order.
 [[nodiscard]] double unbalanced_force_ratio(const World& w);
+
+/// The box preparation of the grains a membrane preparation would pour, one
+/// mapping for every host (a job's `specimen`, engine/specimen/
+/// preparation.hpp): the count, the sizes (r and spread, or the curve), the
+/// grain and plate materials (the grains' density × density_scale, the
+/// pour's mass scaling), the contact law, the integrator, δt and the seed;
+/// σ_c and the walls' μ_w from the caller, the rest the box's defaults. The
+/// wire, the membrane and the pour's rates have no meaning in a box.
+/// @return the spec, or an error: a grain shape (the box places spheres only).
+[[nodiscard]] Result<BoxPreparationSpec, std::string> box_preparation_from(
+    const PreparationSpec& poured, double consolidation_pressure_pa, std::optional<double> wall_friction_coeff);
 
 /// Builds the World in sim.world (replacing it) and compacts it (see the
 /// file comment). RunControl: cancel every step, progress (steps done, an
