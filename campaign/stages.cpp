@@ -171,6 +171,14 @@ std::optional<std::string> specimen_difference(const api::JobSpec& a, const api:
         json::object o = api::to_json(spec).as_object();
         for (const char* key : {"triaxial", "free_standing", "name", "comment"}) o.erase(key);
         if (auto* engine = o.if_contains("engine"); engine && engine->is_object()) engine->as_object().erase("threads");
+        // The cuboid cell's specimen is its box, compacted to the lowest
+        // pressure: those belong to the specimen (a membrane job's part is as
+        // it was).
+        if (spec.triaxial.cell == api::CellKind::cuboid) {
+            json::object t = api::to_json(spec).at("triaxial").as_object();
+            o["triaxial"] = json::object{{"cell", t.at("cell")}, {"cuboid", t.at("cuboid")},
+                {"lowest_confining_pressure_pa", spec.triaxial.confining_pressures_pa.front()}};
+        }
         return o;
     };
     const json::object x = specimen_part(a), y = specimen_part(b);
