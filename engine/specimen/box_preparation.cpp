@@ -93,6 +93,7 @@ Result<BoxPreparationSpec, std::string> box_preparation_from(
     box.integrator = poured.integrator;
     box.time_step_s = poured.time_step_s;
     box.seed = poured.seed;
+    box.max_time_s = poured.max_time_s;
     box.consolidation_pressure_pa = consolidation_pressure_pa;
     box.wall_friction_coeff = wall_friction_coeff;
     return box;

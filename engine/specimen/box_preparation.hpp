@@ -114,7 +114,7 @@ struct BoxPreparationReport {
 /// mapping for every host (a job's `specimen`, engine/specimen/
 /// preparation.hpp): the count, the sizes (r and spread, or the curve), the
 /// grain and plate materials (the grains' density × density_scale, the
-/// pour's mass scaling), the contact law, the integrator, δt and the seed;
+/// pour's mass scaling), the contact law, the integrator, δt, the seed and the time limit;
 /// σ_c and the walls' μ_w from the caller, the rest the box's defaults. The
 /// wire, the membrane and the pour's rates have no meaning in a box.
 /// @return the spec, or an error: a grain shape (the box places spheres only).

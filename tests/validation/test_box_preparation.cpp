@@ -223,6 +223,7 @@ TEST(BoxPreparation, TakesThePouredGrainsButNotAShape)
     poured.density_scale = 100.0;
     poured.contact.tangential.friction_coeff = 0.45;
     poured.seed = 77;
+    poured.max_time_s = 3.5;
     const auto box = box_preparation_from(poured, 30e3, 0.1);
     ASSERT_TRUE(box.ok()) << box.error();
     EXPECT_EQ(box.value().grain_count, 123u);
@@ -232,6 +233,7 @@ TEST(BoxPreparation, TakesThePouredGrainsButNotAShape)
     EXPECT_EQ(box.value().grain.density_kg_per_m3, 100.0 * poured.grain.density_kg_per_m3);
     EXPECT_EQ(box.value().contact.tangential.friction_coeff, 0.45);
     EXPECT_EQ(box.value().seed, 77u);
+    EXPECT_EQ(box.value().max_time_s, 3.5);
     EXPECT_EQ(box.value().consolidation_pressure_pa, 30e3);
     EXPECT_EQ(box.value().wall_friction_coeff, 0.1);
     poured.grain_shape = ClumpBody{};
