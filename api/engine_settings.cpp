@@ -215,4 +215,14 @@ engine::PatternSpec pattern_spec(const WireSpec& w)
     return p;
 }
 
+engine::Result<engine::BoxPreparationSpec, std::string> box_preparation_spec(const JobSpec& spec)
+{
+    const TriaxialSpec& t = spec.triaxial;
+    auto box = engine::box_preparation_from(preparation_spec(spec), t.confining_pressures_pa.front(), t.cuboid.wall_friction_coeff);
+    if (!box.ok()) return box;
+    box.value().aspect_ratio = t.cuboid.aspect_ratio;
+    box.value().compaction_friction_coeff = t.cuboid.compaction_friction_coeff;
+    return box;
+}
+
 } // namespace wiredem::api

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "api/job_spec.hpp"
+#include "specimen/box_preparation.hpp"
 #include "specimen/preparation.hpp"
 #include "specimen/wire_cuts.hpp"
 #include "triaxial/free_standing.hpp"
@@ -39,6 +40,12 @@ namespace wiredem::api {
 /// The settings of the job's test `test` (an index into
 /// triaxial.confining_pressures_pa) (the model spec §6).
 [[nodiscard]] engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test);
+
+/// The box preparation of a cuboid-cell job (triaxial.cell = cuboid): the
+/// poured specimen's grains (engine::box_preparation_from), compacted to the
+/// lowest confining pressure, with triaxial.cuboid's aspect ratio, wall and
+/// compaction friction. An error for what the box cannot hold (clumps).
+[[nodiscard]] engine::Result<engine::BoxPreparationSpec, std::string> box_preparation_spec(const JobSpec& spec);
 
 /// The settings of the job's free-standing test (free_standing; whether it
 /// runs is free_standing.enabled).

@@ -13,6 +13,7 @@
 #include "api/json_text.hpp"
 #include "api/utf8.hpp"
 #include "core/format.hpp"
+#include "specimen/box_preparation.hpp"
 #include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
 #include "state/clump_shape.hpp"
@@ -514,6 +515,11 @@ constexpr std::array<std::pair<std::string_view, WireEndSpec>, 2> wire_ends{{
 constexpr std::array<std::pair<std::string_view, Consolidation>, 2> consolidations{{
     {"cell_pressure", Consolidation::cell_pressure},
     {"effective", Consolidation::effective},
+}};
+
+constexpr std::array<std::pair<std::string_view, CellKind>, 2> cell_kinds{{
+    {"membrane", CellKind::membrane},
+    {"cuboid", CellKind::cuboid},
 }};
 
 /// An optional number: absent or null leaves `out` empty.
@@ -1087,6 +1093,16 @@ void read_triaxial(ObjectReader& r, TriaxialSpec& t)
     read_increasing_numbers(r, "snapshot_strains", closed(0.0, 0.5), 0, max_snapshots, "the snapshot strains",
         t.snapshot_strains,
         {"1", "axial strains at which the wire elongation profile and the force network are saved; the default follows the target"});
+    r.choice("cell", cell_kinds, t.cell,
+        {nullptr, "the triaxial cell: membrane, the poured column in the pressurised membrane (the model spec §6); cuboid, a box of six rigid walls, the grains placed at random in a loose box and compacted by its servo walls to the lowest confining pressure, then tested with four servo walls holding σ_3 and the top at the plate speed (docs/model.md, \"The rigid-wall cell\"). The cuboid cell takes no wire (specimen.wire.pattern \"none\"), no grain_shape and no free-standing test; specimen.membrane_* and specimen.pouring are checked as for the membrane cell but not used. Its preparation and tests keep no checkpoints (a stopped stage runs again, the same bits). Written to the job file only for the cuboid cell"});
+    ObjectReader c(r.validator(), r.take("cuboid"), r.path_of("cuboid"));
+    c.number("aspect_ratio", closed(0.25, 4.0), t.cuboid.aspect_ratio,
+        {"1", "the cuboid cell's box: height over its square width when the grains are placed (the compaction is isotropic)"});
+    c.number("wall_friction_coeff", closed(0.0, 10.0), t.cuboid.wall_friction_coeff,
+        {"1", "μ_w of the cuboid cell's six walls (0: frictionless)"});
+    optional_number(c, "compaction_friction_coeff", closed(0.0, 10.0), t.cuboid.compaction_friction_coeff,
+        {"1", "μ between the grains while the box is compacted, which sets the packing's density (0: dense, near random close packing); contact.friction_coeff again for the tests; null (or absent) = contact.friction_coeff"});
+    c.finish();
 }
 
 void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
@@ -1559,8 +1575,36 @@ void check_wire_cuts(Validator& v, const WireSpec& w)
             exact_number(w.cuts_at_m.back()) + " is not within the wire: specimen.wire.length_m is " + exact_number(*w.length_m));
 }
 
+/// The cuboid cell holds a box of grains and nothing else (issue 43): no
+/// wire, no clumps, no free-standing column; and its box preparation's own
+/// rules (engine::box_preparation_error), so that an accepted job runs.
+void check_cuboid_cell(Validator& v, const JobSpec& spec)
+{
+    if (spec.triaxial.cell != CellKind::cuboid || !v.clean({"triaxial", "specimen", "free_standing", "contact", "engine"}))
+        return;
+    bool ok = true;
+    if (spec.specimen.wire.pattern != WirePattern::none) {
+        v.note("specimen.wire.pattern", "is \"" + std::string(to_string(spec.specimen.wire.pattern))
+                                            + "\"; the cuboid cell (triaxial.cell) has no wire: lay none (\"none\")");
+        ok = false;
+    }
+    if (spec.free_standing.enabled) {
+        v.note("free_standing.enabled", "the free-standing test stands the poured column up when its membrane goes; the "
+                                        "cuboid cell (triaxial.cell) has neither: leave it off or use the membrane cell");
+        ok = false;
+    }
+    if (!ok) return;
+    const auto box = box_preparation_spec(spec);
+    if (!box.ok()) {
+        v.note(spec.specimen.grain_shape ? "specimen.grain_shape" : "triaxial.cell", box.error());
+        return;
+    }
+    if (const auto e = engine::box_preparation_error(box.value())) v.note("triaxial.cuboid", *e);
+}
+
 void cross_check(Validator& v, const JobSpec& spec)
 {
+    check_cuboid_cell(v, spec);
     check_wire_cuts(v, spec.specimen.wire);
     check_escape_distance(v, spec);
     check_grain_size(v, spec);
@@ -1727,6 +1771,20 @@ json::object triaxial_json(const TriaxialSpec& t)
     };
 }
 
+/// The triaxial object: the cell and its box only for the cuboid cell (a
+/// membrane job's file is as it was before the field).
+json::object triaxial_with_cell_json(const TriaxialSpec& t)
+{
+    json::object o = triaxial_json(t);
+    if (t.cell != CellKind::membrane || !(t.cuboid == TriaxialSpec::Cuboid{})) {
+        o["cell"] = to_string(t.cell);
+        o["cuboid"] = json::object{{"aspect_ratio", t.cuboid.aspect_ratio},
+            {"wall_friction_coeff", t.cuboid.wall_friction_coeff},
+            {"compaction_friction_coeff", optional_json(t.cuboid.compaction_friction_coeff)}};
+    }
+    return o;
+}
+
 json::object free_standing_json(const FreeStandingSpec& f)
 {
     return {
@@ -1812,6 +1870,13 @@ std::string_view to_string(Consolidation c)
     return "?";
 }
 
+std::string_view to_string(CellKind c)
+{
+    for (const auto& [name, value] : cell_kinds)
+        if (value == c) return name;
+    return "?";
+}
+
 engine::Result<JobSpec, std::vector<FieldError>> parse_job_spec(const json::value& doc)
 {
     Validator v;
@@ -1874,7 +1939,7 @@ json::value to_json(const JobSpec& spec)
         {"seed", spec.seed},
         {"specimen", specimen_json(spec.specimen)},
         {"contact", contact_json(spec.contact)},
-        {"triaxial", triaxial_json(spec.triaxial)},
+        {"triaxial", triaxial_with_cell_json(spec.triaxial)},
     };
     // Only a job that asks for it (job_spec.hpp): the files of every other job stay as they were.
     if (!(spec.free_standing == FreeStandingSpec{})) o["free_standing"] = free_standing_json(spec.free_standing);

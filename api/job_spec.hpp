@@ -56,6 +56,13 @@ enum class Consolidation : std::uint8_t {
     effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels (default)
 };
 
+/// The triaxial cell. JSON: "membrane", "cuboid". See
+/// engine/triaxial/cuboid.hpp and engine/specimen/box_preparation.hpp.
+enum class CellKind : std::uint8_t {
+    membrane, ///< the poured column in the pressurised membrane (default; the model spec §6)
+    cuboid,   ///< a box of six rigid walls, the specimen compacted in it by servo walls (issue 43)
+};
+
 /// What the fractions of a grain-size curve count. JSON: "mass", "number".
 enum class GrainSizeBasis : std::uint8_t {
     mass,    ///< fraction passing by mass, as a sieve analysis reports it
@@ -270,6 +277,18 @@ struct TriaxialSpec {
     /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
     /// absent from the JSON: {0, target/2, target}.
     std::vector<double> snapshot_strains{0.0, 0.05, 0.1};
+    /// The cell. to_json writes it (and `cuboid`) only for the cuboid cell,
+    /// so that the job files and results of membrane jobs stay as they were.
+    CellKind cell = CellKind::membrane;
+    /// The cuboid cell's box and walls (read with cell = cuboid only).
+    struct Cuboid {
+        double aspect_ratio = 2.0;                 ///< height/width of the box, [0.25, 4]
+        double wall_friction_coeff = 0.0;          ///< μ_w of the six walls, [0, 10]
+        /// μ_c while the box is compacted (sets the density), [0, 10];
+        /// nullopt: contact.friction_coeff.
+        std::optional<double> compaction_friction_coeff;
+        friend bool operator==(const Cuboid&, const Cuboid&) = default;
+    } cuboid;
     /// v_z of test `test` (an index into confining_pressures_pa).
     [[nodiscard]] double plate_speed_m_per_s(std::size_t test) const
     {
@@ -426,6 +445,8 @@ inline constexpr std::uint64_t job_spec_schema_version = 2;
 [[nodiscard]] std::string_view to_string(Integrator i);
 [[nodiscard]] std::string_view to_string(MembraneEdges e);
 [[nodiscard]] std::string_view to_string(Consolidation c);
+/// The JSON name of a cell.
+[[nodiscard]] std::string_view to_string(CellKind c);
 [[nodiscard]] std::string_view to_string(GrainSizeBasis b);
 
 } // namespace wiredem::api

@@ -14,8 +14,10 @@
 #include "io/snapshot.hpp"
 #include "io/xdmf.hpp"
 #include "simulation.hpp"
+#include "specimen/box_preparation.hpp"
 #include "specimen/wire_cuts.hpp"
 #include "timestep.hpp"
+#include "triaxial/cuboid.hpp"
 
 #include <boost/json.hpp>
 
@@ -169,6 +171,14 @@ std::optional<std::string> specimen_difference(const api::JobSpec& a, const api:
         json::object o = api::to_json(spec).as_object();
         for (const char* key : {"triaxial", "free_standing", "name", "comment"}) o.erase(key);
         if (auto* engine = o.if_contains("engine"); engine && engine->is_object()) engine->as_object().erase("threads");
+        // The cuboid cell's specimen is its box, compacted to the lowest
+        // pressure: those belong to the specimen (a membrane job's part is as
+        // it was).
+        if (spec.triaxial.cell == api::CellKind::cuboid) {
+            json::object t = api::to_json(spec).at("triaxial").as_object();
+            o["triaxial"] = json::object{{"cell", t.at("cell")}, {"cuboid", t.at("cuboid")},
+                {"lowest_confining_pressure_pa", spec.triaxial.confining_pressures_pa.front()}};
+        }
         return o;
     };
     const json::object x = specimen_part(a), y = specimen_part(b);
@@ -225,6 +235,50 @@ StageError take_specimen(const api::JobSpec& spec, const JobDir& dir, const Stag
     return std::nullopt;
 }
 
+/// The cuboid cell's specimen (triaxial.cell = cuboid): the grains compacted
+/// in the box (engine/specimen/box_preparation.hpp), saved as a poured one
+/// is, with the report's fields a box has (no wire, no core: the whole box's
+/// fraction). Not checkpointed: the preparation is a pure function of the
+/// job, prepared again (the same bits) if it was stopped.
+StageError prepare_box(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
+{
+    const auto box_spec = api::box_preparation_spec(spec);
+    if (!box_spec.ok()) return "preparation failed: " + box_spec.error();
+    eng::Simulation sim(control.threads);
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(0.99, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "preparing", f, "compacting " + std::to_string(box_spec.value().grain_count)
+                                             + " grains in the box, step " + std::to_string(done));
+    };
+    report(control, "preparing", 0.0, "preparing the specimen in the box");
+    auto prepared = eng::prepare_box_specimen(sim, box_spec.value(), rc);
+    if (!prepared.ok()) return "preparation failed: " + prepared.error();
+    const eng::BoxPreparationReport& box = prepared.value();
+    report(control, "preparing", 1.0, "specimen prepared in " + std::to_string(box.steps) + " steps");
+    eng::PreparationReport prep;
+    prep.grains = box.grains;
+    prep.pile_height_m = box.box.height_m;
+    prep.sample_volume_m3 = box.sample_volume_m3;
+    prep.grain_volume_fraction = box.grain_volume_fraction;
+    prep.core_grain_volume_fraction = box.grain_volume_fraction;
+    prep.simulated_time_s = box.simulated_time_s;
+    prep.wall_time_s = box.wall_time_s;
+    prep.steps = box.steps;
+    prep.time_step_s = box.time_step_s;
+    prep.settled = box.at_rest;
+    prep.top_plate_wall = box.walls.top;
+    prep.grain_sizes = box.grain_sizes;
+    auto saved = eng::save_snapshot(sim.world, dir.specimen(), [&](io::Group& host) {
+        write_preparation_report(host, prep);
+        host.write_int_attribute("threads", sim.threads());
+    });
+    if (!saved.ok()) return saved.error();
+    return std::nullopt;
+}
+
 } // namespace
 
 StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
@@ -259,6 +313,7 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     } catch (const std::exception& e) {
         return std::string(e.what());
     }
+    if (spec.triaxial.cell == api::CellKind::cuboid) return prepare_box(spec, dir, control);
 
     const eng::PreparationSpec prep_spec = api::preparation_spec(spec);
     eng::Simulation sim(control.threads);
@@ -334,6 +389,41 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     if (!specimen.ok()) return specimen.error();
     const std::size_t top_plate = specimen.value().report.top_plate_wall;
     eng::Simulation sim(control.threads);
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, "testing", f, label + ", step " + std::to_string(done));
+    };
+    auto write_test = [&](const eng::TriaxialResult& result) -> StageError {
+        try {
+            io::write_file_atomically(dir.test(index), [&](io::Group& root) {
+                io::Group g = root.create_group(test_file_group);
+                g.write_double_attribute("confining_pressure_pa", pressures[index]);
+                g.write_int_attribute("threads", sim.threads());
+                write_triaxial_result(g, result);
+            });
+        } catch (const std::exception& e) {
+            return io::write_failure_text("cannot write " + dir.test(index).string() + ": ", e);
+        }
+        std::filesystem::remove(dir.checkpoint(index), ec);
+        return std::nullopt;
+    };
+    if (spec.triaxial.cell == api::CellKind::cuboid) {
+        // The box's walls in add_cuboid_walls' order on the box's World
+        // (bottom, top, x_min, x_max, y_min, y_max; run_cuboid_triaxial
+        // checks their normals). Not checkpointed (cuboid.hpp): a stopped
+        // test runs again from the specimen.
+        sim.world = std::move(specimen.value().world);
+        const eng::CuboidWalls walls{0, top_plate, {2, 3, 4, 5}};
+        eng::CuboidSettings settings;
+        settings.triaxial = api::triaxial_settings(spec, index);
+        report(control, "testing", 0.0, label);
+        auto r = eng::run_cuboid_triaxial(sim, walls, settings, rc);
+        if (!r.ok()) return label + " failed: " + r.error();
+        return write_test(r.value().triaxial);
+    }
     eng::TriaxialContinuation continuation;
     if (std::filesystem::exists(dir.checkpoint(index), ec)) {
         eng::TriaxialDriverState state;
@@ -347,29 +437,10 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
 
     continuation.between_steps = checkpointer<eng::TriaxialDriverState>(control, dir.checkpoint(index), label,
         [](io::Group& host, const eng::TriaxialDriverState& st) { write_driver_state(host, st); });
-    eng::RunControl rc;
-    rc.cancel = control.cancel;
-    rc.progress_every = 500;
-    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "testing", f, label + ", step " + std::to_string(done));
-    };
     report(control, "testing", 0.0, label);
     auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, index), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
-
-    try {
-        io::write_file_atomically(dir.test(index), [&](io::Group& root) {
-            io::Group g = root.create_group(test_file_group);
-            g.write_double_attribute("confining_pressure_pa", pressures[index]);
-            g.write_int_attribute("threads", sim.threads());
-            write_triaxial_result(g, r.value());
-        });
-    } catch (const std::exception& e) {
-        return io::write_failure_text("cannot write " + dir.test(index).string() + ": ", e);
-    }
-    std::filesystem::remove(dir.checkpoint(index), ec);
-    return std::nullopt;
+    return write_test(r.value());
 }
 
 StageError run_free_standing_test(const JobDir& dir, const StageControl& control)

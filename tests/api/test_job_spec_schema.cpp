@@ -140,6 +140,10 @@ TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
     with_test.specimen.wire.breaking_strain = 0.1;
     with_test.specimen.wire.cuts_at_m = {0.5};
     with_test.specimen.wire.cut_every_loops = 2;
+    // So are the cell and its box (triaxial): written for the cuboid cell only.
+    EXPECT_FALSE(to_json(JobSpec{}).at("triaxial").as_object().contains("cell"));
+    EXPECT_FALSE(to_json(JobSpec{}).at("triaxial").as_object().contains("cuboid"));
+    with_test.triaxial.cell = CellKind::cuboid;
     // And a toolpath's points, with its pattern.
     with_test.specimen.wire.pattern = WirePattern::toolpath;
     with_test.specimen.wire.toolpath_x_m = {0.01, 0.0};
@@ -149,7 +153,8 @@ TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
         ASSERT_TRUE(fields.count(path)) << path << " is written but not in the schema";
         if (path == "free_standing.enabled" || path == "specimen.wire.breaking_strain"
             || path == "specimen.wire.cuts_at_m" || path == "specimen.wire.cut_every_loops"
-            || path == "specimen.wire.pattern" || path == "specimen.wire.toolpath_x_m" || path == "specimen.wire.toolpath_y_m")
+            || path == "specimen.wire.pattern" || path == "specimen.wire.toolpath_x_m" || path == "specimen.wire.toolpath_y_m"
+            || path == "triaxial.cell")
             continue;
         const json::value& d = fields.at(path).at("default");
         if (value.is_number() && d.is_number())

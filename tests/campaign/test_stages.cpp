@@ -685,6 +685,28 @@ TEST(Stages, ACampaignTakesThePreparedSpecimenOfAJobThatDiffersInItsTestsOnly)
     EXPECT_NE(o.err.find("job.json"), std::string::npos) << o.err;
 }
 
+// The cuboid cell's specimen is its box, compacted to the lowest pressure:
+// a job of the other cell, or of another box or lowest pressure, prepares
+// another specimen; the other test settings still do not.
+TEST(Stages, TheCellAndTheBoxBelongToTheSpecimen)
+{
+    api::JobSpec membrane;
+    membrane.specimen.wire.pattern = api::WirePattern::none;
+    api::JobSpec cuboid = membrane;
+    cuboid.triaxial.cell = api::CellKind::cuboid;
+    EXPECT_EQ(campaign::specimen_difference(membrane, cuboid), "triaxial");
+    api::JobSpec other_box = cuboid;
+    other_box.triaxial.cuboid.aspect_ratio = 1.0;
+    EXPECT_EQ(campaign::specimen_difference(cuboid, other_box), "triaxial.cuboid.aspect_ratio");
+    api::JobSpec other_lowest = cuboid;
+    other_lowest.triaxial.confining_pressures_pa = {10e3, 20e3};
+    EXPECT_EQ(campaign::specimen_difference(cuboid, other_lowest), "triaxial.lowest_confining_pressure_pa");
+    api::JobSpec other_tests = cuboid;
+    other_tests.triaxial.target_axial_strain = 0.05;
+    other_tests.triaxial.confining_pressures_pa.push_back(100e3);
+    EXPECT_EQ(campaign::specimen_difference(cuboid, other_tests), std::nullopt);
+}
+
 // A job directory whose job.json lacks triaxial.consolidation was written
 // before the field existed, when every test consolidated to the cell
 // pressure (the default is `effective` since): its tests run, and its

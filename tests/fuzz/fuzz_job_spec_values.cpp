@@ -240,12 +240,13 @@ void mutate(FuzzedDataProvider& in, json::value& doc, const Base& base)
     case 8: {  // an enum switched
         static const std::pair<const char*, std::vector<const char*>> enums[] = {
             {"pattern", {"none", "helix", "spiral_helix", "radial_helix"}}, {"integrator", {"gear5", "verlet"}},
-            {"edges", {"tension_only", "linear"}}, {"consolidation", {"cell_pressure", "effective"}}};
-        const auto& [key, names] = enums[in.ConsumeIntegralInRange<std::size_t>(0, 3)];
+            {"edges", {"tension_only", "linear"}}, {"consolidation", {"cell_pressure", "effective"}},
+            {"cell", {"membrane", "cuboid"}}};
+        const auto& [key, names] = enums[in.ConsumeIntegralInRange<std::size_t>(0, std::size(enums) - 1)];
         const char* name = names[in.ConsumeIntegralInRange<std::size_t>(0, names.size() - 1)];
         json::object& parent = std::string(key) == "integrator"      ? doc.at("engine").as_object()
                              : std::string(key) == "edges"           ? doc.at("specimen").at("membrane").as_object()
-                             : std::string(key) == "consolidation"   ? doc.at("triaxial").as_object()
+                             : std::string(key) == "consolidation" || std::string(key) == "cell" ? doc.at("triaxial").as_object()
                                                                      : doc.at("specimen").at("wire").as_object();
         parent[key] = name;
         break;

@@ -8,6 +8,7 @@
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "api/job_spec.hpp"
+#include "specimen/box_preparation.hpp"
 #include "specimen/preparation.hpp"
 #include "state/clump_shape.hpp"
 #include "triaxial/free_standing.hpp"
@@ -32,7 +33,8 @@ inline constexpr double max_validation_cpu_s = 1.0;
 /// body estimates are numbers (not NaN); and what the runner computes from it
 /// before running (client/run_command.cpp: the steps each test expects,
 /// engine::expected_triaxial_steps) has no undefined behaviour (UBSan); and
-/// the engine's own set-up rules, the preparation's and each test's, pass.
+/// the engine's own set-up rules, the preparation's (the box's too with the
+/// cuboid cell) and each test's, pass.
 inline void check_parsed_spec(const api::JobSpec& spec)
 {
     const boost::json::value doc = api::to_json(spec);
@@ -71,6 +73,12 @@ inline void check_parsed_spec(const api::JobSpec& spec)
         const auto test = engine::settings_error(api::triaxial_settings(spec, k));
         FUZZ_CHECK(!test, "accepted, but test " + std::to_string(k) + " refuses its settings ("
                               + (test ? test->field + ": " + test->message : "") + "): " + text);
+    }
+    if (spec.triaxial.cell == api::CellKind::cuboid) { // the box preparation's rules too
+        const auto box = api::box_preparation_spec(spec);
+        FUZZ_CHECK(box.ok(), "accepted, but the box preparation refuses it (" + (box.ok() ? "" : box.error()) + "): " + text);
+        const auto e = engine::box_preparation_error(box.value());
+        FUZZ_CHECK(!e, "accepted, but the box preparation refuses it (" + e.value_or("") + "): " + text);
     }
     if (spec.free_standing.enabled) {
         const auto test = engine::free_standing_settings_error(api::free_standing_settings(spec));

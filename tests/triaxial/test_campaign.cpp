@@ -229,6 +229,42 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
     fs::remove_all(dir);
 }
 
+// The rigid-wall cell as a job (triaxial.cell = cuboid, examples/tiny-cuboid.json):
+// the box preparation and the cuboid tests through the same stages and files.
+TEST(Campaign, ACuboidCellJobWritesItsSummaryAndResultFile)
+{
+    const fs::path dir = fresh_dir("cuboid"), out = dir / "out";
+    const int status = run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json", out, dir / "log");
+    const std::string err = read_text(dir / "log.stderr");
+    ASSERT_TRUE(WIFEXITED(status)) << err;
+    ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+    const json::value s = json::parse(read_text(out / "summary.json"));
+    const json::array& tests = s.at("tests").as_array();
+    ASSERT_EQ(tests.size(), 2u);
+    for (const json::value& t : tests) {
+        // The lateral walls hold σ₃ (within the servo's band, a few %), and a
+        // packing of frictional spheres under load has σ₁ > σ₃.
+        const double s3 = t.at("confining_pressure_pa").to_number<double>();
+        const json::value& y = t.at("yield");
+        EXPECT_NEAR(y.at("sigma3_effective_pa").to_number<double>() / s3, 1.0, 0.1) << json::serialize(t);
+        EXPECT_GT(y.at("sigma1_pa").to_number<double>(), 1.2 * s3) << json::serialize(t);
+        EXPECT_GT(t.at("peak_deviatoric_stress_pa").to_number<double>(), 0.0);
+    }
+    EXPECT_TRUE(at(s, {"mohr_coulomb", "friction_angle_deg"}).is_number());
+    EXPECT_EQ(at(s, {"specimen", "grains"}).to_number<std::int64_t>(), 150);
+    // The compacted box, not a poured column: a random packing's fraction.
+    const double phi = at(s, {"specimen", "grain_volume_fraction"}).to_number<double>();
+    EXPECT_GT(phi, 0.45);
+    EXPECT_LT(phi, 0.65);
+    const File f = File::open_read_only(out / "result.h5");
+    const auto root = f.root();
+    const json::value spec = json::parse(root.open_dataset("job_spec").read_string());
+    EXPECT_EQ(at(spec, {"triaxial", "cell"}), "cuboid");
+    for (const char* name : {"sigma3_10000", "sigma3_20000"})
+        EXPECT_TRUE(root.exists(std::string("tests/") + name)) << name;
+    fs::remove_all(dir);
+}
+
 // A job with a free-standing test (examples/tiny.json with the test asked
 // for): summary.json's free_standing and result.h5's /free_standing say the
 // same, the weight the column settles with is its real weight under the
