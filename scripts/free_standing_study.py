@@ -2,7 +2,7 @@
 """The study's columns standing on their own (docs/study.md, "The free-standing
 column"): reads the free-standing test of each job directory given
 (`wiredem prepare JOB -o DIR` then `wiredem test DIR --free-standing`, the jobs
-in docs/study/free-standing/), writes one JSON record per directory into OUT
+in docs/study/free-standing/), writes one JSON record per directory into OUT (DIRNAME-result.json)
 (what the summary's free_standing block holds, from tests/free_standing.h5),
 prints the markdown table of docs/study.md and plots OUT/../figures/free_standing.png:
 sigma_1 against the axial strain of the unconfined compression, and the
@@ -72,6 +72,7 @@ def read_run(d: Path) -> dict:
             "dir": str(d),
             "pattern": pattern,
             "seed": job.get("seed", 1),
+            "rolling_friction_coeff": job.get("contact", {}).get("rolling_friction_coeff", 0),
             "stands": bool(attribute(g, "stands", 0)),
             "at_rest": bool(attribute(g, "at_rest", 0)),
             "time_to_rest_s": attribute(g, "time_to_rest_s"),
@@ -112,7 +113,12 @@ def read_run(d: Path) -> dict:
     # job prepares the study's specimen (examples/paper-*.json) with that seed.
     study = ROOT / "docs" / "study" / f"{pattern}-seed{rec['seed']}.json"
     paper = ROOT / "examples" / f"paper-{pattern.replace('_', '-')}.json"
-    same_column = paper.exists() and given_in(json.loads(paper.read_text())["specimen"], job["specimen"])
+    same_column = False
+    if paper.exists():
+        ref = json.loads(paper.read_text())
+        # The same specimen and the same contact law (the study's has no rolling resistance).
+        contact = dict({"rolling_friction_coeff": 0}, **ref.get("contact", {}))
+        same_column = given_in(ref["specimen"], job["specimen"]) and given_in(contact, job.get("contact", {}))
     if study.exists() and same_column:
         mc = json.loads(study.read_text())["mohr_coulomb"]
         rec["envelope"] = {"source": str(study.relative_to(ROOT)), "friction_angle_deg": mc["friction_angle_deg"],
@@ -134,7 +140,7 @@ def main() -> None:
     runs = [read_run(d) for d in args.dirs]
     for r in runs:
         record = {k: v for k, v in r.items() if k not in ("curve", "dir")}
-        (args.out / f"{r['pattern']}-seed{r['seed']}-result.json").write_text(json.dumps(record, indent=2) + "\n")
+        (args.out / f"{Path(r['dir']).name}-result.json").write_text(json.dumps(record, indent=2) + "\n")
 
     print("| pattern | stands | height loss | radius before → after [mm] | grains escaped | at rest after [s] "
           "| unconfined strength [kPa] (shape, ε₁) | predicted by the seed's envelope [kPa] | steps, wall time |")
@@ -148,14 +154,15 @@ def main() -> None:
             p = env["predicted_unconfined_strength_pa"]
             pred = (f"{kpa(p)} (φ = {env['friction_angle_deg']:.1f}°, c = {env['cohesion_pa'] / 1e3:.1f} kPa)" if p
                     else f"none (c = {env['cohesion_pa'] / 1e3:.1f} kPa ≤ 0)")
-        print(f"| {LABELS.get(r['pattern'], r['pattern'])} | {'yes' if r['stands'] else 'no'} | {100 * r['height_loss']:.1f} % "
+        label = LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {r['rolling_friction_coeff']}" if r["rolling_friction_coeff"] else "")
+        print(f"| {label} | {'yes' if r['stands'] else 'no'} | {100 * r['height_loss']:.1f} % "
               f"| {1e3 * r['radius_before_m']:.1f} → {1e3 * r['radius_m']:.1f} | {r['escaped_grains']} "
               f"| {r['time_to_rest_s']:.3f}{'' if r['at_rest'] else ' (not at rest)'} | {ucs} | {pred} "
               f"| {r['steps']}, {r['wall_time_s']:.0f} s on {r['threads']} |")
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     for r in runs:
-        label = LABELS.get(r["pattern"], r["pattern"])
+        label = LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {r['rolling_friction_coeff']}" if r["rolling_friction_coeff"] else "")
         if r["curve"]["axial_strain"]:
             ax1.plot(r["curve"]["axial_strain"], [s / 1e3 for s in r["curve"]["sigma1_pa"]], label=label)
         for key, style in (("profile_before", ":"), ("profile_settled", "-")):
