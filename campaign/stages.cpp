@@ -76,6 +76,23 @@ void report(const StageControl& c, const char* stage, double fraction, const std
     if (c.progress) c.progress(stage, std::clamp(fraction, 0.0, 1.0), message);
 }
 
+/// The engine's run control of a stage: `control`'s cancel, and every 500
+/// steps the progress of `stage` as done / total, at most `cap` (a
+/// preparation's settling runs past the steps the engine expected: short of
+/// done until it has returned), with the message text(done).
+eng::RunControl stage_run_control(const StageControl& control, const char* stage, double cap,
+    std::function<std::string(std::uint64_t done)> text)
+{
+    eng::RunControl rc;
+    rc.cancel = control.cancel;
+    rc.progress_every = 500;
+    rc.progress = [&control, stage, cap, text = std::move(text)](std::uint64_t done, std::uint64_t total) {
+        const double f = total ? std::min(cap, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+        report(control, stage, f, text(done));
+    };
+    return rc;
+}
+
 /// What a preparation in `phase` is doing, for a progress message.
 std::string preparation_phase_text(eng::PreparationPhase phase, std::size_t grains)
 {
@@ -245,14 +262,9 @@ StageError prepare_box(const api::JobSpec& spec, const JobDir& dir, const StageC
     const auto box_spec = api::box_preparation_spec(spec);
     if (!box_spec.ok()) return "preparation failed: " + box_spec.error();
     eng::Simulation sim(control.threads);
-    eng::RunControl rc;
-    rc.cancel = control.cancel;
-    rc.progress_every = 500;
-    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? std::min(0.99, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "preparing", f, "compacting " + std::to_string(box_spec.value().grain_count)
-                                             + " grains in the box, step " + std::to_string(done));
-    };
+    eng::RunControl rc = stage_run_control(control, "preparing", 0.99, [&](std::uint64_t done) {
+        return "compacting " + std::to_string(box_spec.value().grain_count) + " grains in the box, step " + std::to_string(done);
+    });
     report(control, "preparing", 0.0, "preparing the specimen in the box");
     auto prepared = eng::prepare_box_specimen(sim, box_spec.value(), rc);
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
@@ -336,16 +348,11 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
         phase = st.phase;
         if (save) save(w, st);
     };
-    eng::RunControl rc;
-    rc.cancel = control.cancel;
-    rc.progress_every = 500;
-    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        // The engine's total is the pour's expected steps; the settling
-        // phases after it take as long as the column needs: short of done
-        // until the preparation has returned.
-        const double f = total ? std::min(0.99, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "preparing", f, preparation_phase_text(phase, prep_spec.grain_count) + ", step " + std::to_string(done));
-    };
+    // The engine's total is the pour's expected steps; the settling phases
+    // after it take as long as the column needs.
+    eng::RunControl rc = stage_run_control(control, "preparing", 0.99, [&](std::uint64_t done) {
+        return preparation_phase_text(phase, prep_spec.grain_count) + ", step " + std::to_string(done);
+    });
     report(control, "preparing", 0.0, "preparing the specimen");
     auto prepared = eng::prepare_specimen(sim, prep_spec, rc, std::move(continuation));
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
@@ -389,13 +396,8 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     if (!specimen.ok()) return specimen.error();
     const std::size_t top_plate = specimen.value().report.top_plate_wall;
     eng::Simulation sim(control.threads);
-    eng::RunControl rc;
-    rc.cancel = control.cancel;
-    rc.progress_every = 500;
-    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "testing", f, label + ", step " + std::to_string(done));
-    };
+    eng::RunControl rc = stage_run_control(
+        control, "testing", 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
     auto write_test = [&](const eng::TriaxialResult& result) -> StageError {
         try {
             io::write_file_atomically(dir.test(index), [&](io::Group& root) {
@@ -460,13 +462,8 @@ StageError run_free_standing_test(const JobDir& dir, const StageControl& control
     const std::size_t top_plate = specimen.value().report.top_plate_wall;
     eng::Simulation sim(control.threads);
     sim.world = std::move(specimen.value().world);
-    eng::RunControl rc;
-    rc.cancel = control.cancel;
-    rc.progress_every = 500;
-    rc.progress = [&](std::uint64_t done, std::uint64_t total) {
-        const double f = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
-        report(control, "testing", f, label + ", step " + std::to_string(done));
-    };
+    eng::RunControl rc = stage_run_control(
+        control, "testing", 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
     report(control, "testing", 0.0, label);
     auto r = eng::run_free_standing(sim, top_plate, api::free_standing_settings(spec), rc);
     if (!r.ok()) return label + " failed: " + r.error();
