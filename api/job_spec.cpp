@@ -1057,12 +1057,16 @@ void read_plate_speeds(ObjectReader& r, TriaxialSpec& t)
     const json::array& a = j->get_array();
     const std::size_t tests = t.confining_pressures_pa.size();
     bool ok = true;
-    if (v.clean(r.path_of("confining_pressures_pa")) && a.size() != tests) {
+    // Without valid pressures the count cannot be checked: the speeds are
+    // still read for their own errors, but not kept (the spec is refused).
+    const bool pressures_valid = v.clean(r.path_of("confining_pressures_pa"));
+    if (pressures_valid && a.size() != tests) {
         v.fail(path, "has " + std::to_string(a.size()) + (a.size() == 1 ? " entry" : " entries")
                          + "; give one speed per confining pressure (" + std::to_string(tests)
                          + "), or a number for every test");
         ok = false;
     }
+    ok = ok && pressures_valid;
     std::vector<double> speeds(a.size(), 0.0);
     for (std::size_t i = 0; i < a.size(); ++i) ok = read_number(v, a[i], index_path(path, i), range, speeds[i]) && ok;
     if (ok) t.plate_speeds_m_per_s = std::move(speeds);
@@ -1467,14 +1471,21 @@ void check_test_settings(Validator& v, const JobSpec& spec)
     }
 }
 
+/// estimated_work reads every test's pressure and plate speed, the
+/// free-standing phases, the grains, the contact law (the auto step) and the
+/// engine's scales: it runs only on a spec whose inputs to it are all valid.
+bool work_inputs_clean(const Validator& v)
+{
+    return v.clean({"specimen", "contact", "triaxial", "free_standing", "engine"});
+}
+
 /// A record has at most a row a step: a sample interval shorter than the
 /// step the job will run at would silently become "every step" (the run's
 /// own step can still differ from this estimate; the test then says so in
 /// a warning, engine::sample_interval_warning).
 void check_sample_intervals(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen", "contact", "engine", "triaxial.sample_interval_s", "free_standing.sample_interval_s"}))
-        return;
+    if (!work_inputs_clean(v)) return;
     const double dt = estimated_work(spec).time_step_s;
     const auto check = [&](const char* field, double interval_s) {
         if (interval_s >= dt) return;
@@ -1524,7 +1535,7 @@ void check_damping(Validator& v, const JobSpec& spec)
 
 void check_work(Validator& v, const JobSpec& spec)
 {
-    if (!v.clean({"specimen", "triaxial", "free_standing", "engine"})) return;
+    if (!work_inputs_clean(v)) return;
     const WorkEstimate work = estimated_work(spec);
     if (work.total_steps() <= max_steps_of_any_job) return;
     v.note(work_field(spec, work),

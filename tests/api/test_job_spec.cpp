@@ -643,6 +643,21 @@ TEST(JobSpec, OneBadValueGivesOneErrorNotACascade)
     EXPECT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
 }
 
+TEST(JobSpec, PlateSpeedsBesideABadPressureListAreRefusedNotIndexedPastTheEnd)
+{
+    // Found by fuzz_job_spec_text: with a pressure that is not a number the
+    // count of speeds cannot be checked, and the cross checks that estimate
+    // the work read a speed for every test (std::vector::at threw, the
+    // server's validation aborted). One error, at the pressure.
+    for (const char* speeds : {"[0.002, 0.08]", "[0.002]", "[0.002, 0.003, 0.004, 0.005, 0.006]"}) {
+        const auto parsed = parse_job_spec(std::string(R"({"triaxial": {"confining_pressures_pa": [2e4, "x", 6e4, 8e4],
+            "plate_speed_m_per_s": )") + speeds + "}}");
+        ASSERT_FALSE(parsed.ok()) << speeds;
+        ASSERT_EQ(parsed.error().size(), 1u) << describe(parsed.error());
+        EXPECT_EQ(parsed.error().front().path, "triaxial.confining_pressures_pa[1]") << describe(parsed.error());
+    }
+}
+
 TEST(JobSpec, FailedCrossChecksDoNotHideOtherCrossChecks)
 {
     // Each value is in range; five independent cross-field checks fail, and
