@@ -195,6 +195,34 @@ TEST(Determinism, GearsKeptPredictionGivesTheBitsOfAFreshOne)
     }
 }
 
+/// Point loads (World::point_loads; a column test's wire weight under mass
+/// scaling) are added in the gather's blocks when the list names each body
+/// once in BodyRef order, else after the gather in list order: a load on
+/// every wire node and a few grains gives the same bits both ways (the list
+/// sorted, and reversed), on 1 and 3 threads, and moves the bodies.
+TEST(Determinism, PointLoadsGiveTheSameBitsInTheGathersBlocksAsAfterIt)
+{
+    std::vector<std::uint64_t> hashes;
+    for (bool sorted : {true, false})
+        for (unsigned threads : {1u, 3u}) {
+            Simulation sim(threads);
+            test::build_wired_column(sim.world, Integrator::gear5);
+            World& w = sim.world;
+            for (std::uint32_t i = 0; i < w.of(BodyKind::grain).size(); i += 7)
+                w.point_loads.emplace_back(BodyRef(BodyKind::grain, i), Vec3(1e-4, 0.0, -2e-4));
+            for (std::uint32_t i = 0; i < w.of(BodyKind::wire).size(); ++i)
+                w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), Vec3(0.0, 3e-5, -1e-4));
+            if (!sorted) std::reverse(w.point_loads.begin(), w.point_loads.end());
+            ASSERT_EQ(sim.run(300).end, RunEnd::completed);
+            hashes.push_back(state_hash(w));
+        }
+    EXPECT_EQ(hashes, std::vector<std::uint64_t>(4, hashes[0]));
+    Simulation unloaded(1);
+    test::build_wired_column(unloaded.world, Integrator::gear5);
+    ASSERT_EQ(unloaded.run(300).end, RunEnd::completed);
+    EXPECT_NE(state_hash(unloaded.world), hashes[0]) << "the loads act";
+}
+
 /// The SIMD contact kernels (contact/pair_kernel_simd.hpp; AVX-512 and
 /// AVX2, whichever the CPU has) take the lanes they are sure of and give the
 /// scalar law's bits: the kicked column (contacts forming, sliding,
