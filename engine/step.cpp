@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -115,35 +116,33 @@ Moves body_moves(const World& w, ThreadPool& pool, bool check_list, bool check_n
     const double limit2 = 0.25 * w.skin_at_build_m * w.skin_at_build_m;
     const double near_limit = near_reselect_fraction * w.near.skin_m;
     const double near_limit2 = near_limit * near_limit;
-    Moves moved;
-    for (int k = 0; k < body_kind_count && !(moved.list && moved.near); ++k) {
+    // Every kind's bodies in one loop; an or needs no order. A block skips
+    // the test that another has answered already.
+    std::array<std::size_t, body_kind_count> sizes{};
+    for (int k = 0; k < body_kind_count; ++k) sizes[k] = w.bodies[k].size();
+    std::atomic<bool> list_moved{false}, near_moved{false};
+    parallel_for_parts(pool, sizes, reduction_block, [&](std::size_t k, std::size_t b, std::size_t e) {
+        const bool test_list = check_list && !list_moved.load(std::memory_order_relaxed);
+        const bool test_near = check_near && !near_moved.load(std::memory_order_relaxed);
         const auto& pos = w.bodies[k].x[0];
         const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
         // Only the positions looked at: the other array may be empty.
-        const Vec3* at_build = check_list ? w.position_at_build_m.data() + offset : nullptr;
-        const Vec3* at_selection = check_near ? w.near.position_m.data() + offset : nullptr;
-        const auto kind = reduce_blocks(
-            pool, pos.size(), Moves{},
-            [&](std::size_t b, std::size_t e) {
-                bool list = false, near = false;
-                if (check_list && check_near)
-                    for (std::size_t i = b; i < e; ++i) {
-                        list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
-                        near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
-                    }
-                else if (check_list)
-                    for (std::size_t i = b; i < e; ++i) list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
-                else if (check_near)
-                    for (std::size_t i = b; i < e; ++i) near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
-                return Moves{list, near};
-            },
-            [](Moves a, Moves b) { return Moves{a.list || b.list, a.near || b.near}; });
-        moved = {moved.list || kind.list, moved.near || kind.near};
-        // What is known need not be looked at again.
-        check_list = check_list && !moved.list;
-        check_near = check_near && !moved.near;
-    }
-    return moved;
+        const Vec3* at_build = test_list ? w.position_at_build_m.data() + offset : nullptr;
+        const Vec3* at_selection = test_near ? w.near.position_m.data() + offset : nullptr;
+        bool list = false, near = false;
+        if (test_list && test_near)
+            for (std::size_t i = b; i < e; ++i) {
+                list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
+                near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
+            }
+        else if (test_list)
+            for (std::size_t i = b; i < e; ++i) list |= (pos[i] - at_build[i]).squaredNorm() >= limit2;
+        else if (test_near)
+            for (std::size_t i = b; i < e; ++i) near |= (pos[i] - at_selection[i]).squaredNorm() >= near_limit2;
+        if (list) list_moved.store(true, std::memory_order_relaxed);
+        if (near) near_moved.store(true, std::memory_order_relaxed);
+    });
+    return Moves{list_moved.load(), near_moved.load()};
 }
 
 /// Selects the near pairs of the contact list at the current positions
@@ -619,10 +618,13 @@ void gather_forces(World& w, ThreadPool& pool)
 {
     const SimdGather simd = simd_gather();
     const SimdGather gather = simd != nullptr ? simd : &gather_block_scalar;
+    std::array<GatherInputs, body_kind_count> inputs;
+    std::array<std::size_t, body_kind_count> sizes{};
     for (int k = 0; k < body_kind_count; ++k) {
         const auto kind = static_cast<BodyKind>(k);
         const TranslationalState& body = w.bodies[k];
-        GatherInputs in;
+        sizes[k] = body.size();
+        GatherInputs& in = inputs[k];
         in.contacts = &w.contacts;
         in.incidence_start = w.near.incidence_start_of(w.contacts).data();
         in.incidence = w.near.incidence_of(w.contacts).data();
@@ -639,9 +641,30 @@ void gather_forces(World& w, ThreadPool& pool)
             // Only grains turn; a contact that does not roll holds zero.
             if (!w.contacts.rolling_torque_n_m.empty()) in.rolling_torque_n_m = w.contacts.rolling_torque_n_m.data();
         }
-        parallel_for_blocks(pool, body.size(), 256, [&](std::size_t begin, std::size_t end) { gather(in, begin, end); });
     }
-    for (const auto& [body, f] : w.point_loads) w.force_of(body.kind())[body.index()] += f;
+    // Point loads (World::point_loads; in a column test under mass scaling,
+    // the wire's weight: one per node) are added to a body's sum in list
+    // order. When the list names each body once, in BodyRef order (as
+    // set_weights makes it), a block adds its own bodies' loads right after
+    // their sums, on its thread; else the calling thread adds them all after
+    // the loop. Either way each body's f + p in list order: the same bits.
+    const std::vector<std::pair<BodyRef, Vec3>>& loads = w.point_loads;
+    const bool loads_in_blocks = std::adjacent_find(loads.begin(), loads.end(), [](const auto& a, const auto& b) {
+        return !(a.first < b.first);
+    }) == loads.end();
+    // Every kind's bodies in one loop (each body's sum is its own).
+    parallel_for_parts(pool, sizes, 256, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        gather(inputs[k], begin, end);
+        if (!loads_in_blocks) return;
+        const auto kind = static_cast<BodyKind>(k);
+        std::vector<Vec3>& force = w.body_force_n[k];
+        auto load = std::lower_bound(loads.begin(), loads.end(), BodyRef(kind, static_cast<std::uint32_t>(begin)),
+            [](const std::pair<BodyRef, Vec3>& l, BodyRef b) { return l.first < b; });
+        for (; load != loads.end() && load->first.kind() == kind && load->first.index() < end; ++load)
+            force[load->first.index()] += load->second;
+    });
+    if (!loads_in_blocks)
+        for (const auto& [body, f] : loads) w.force_of(body.kind())[body.index()] += f;
 }
 
 } // namespace wiredem::engine

@@ -5,6 +5,7 @@
 // (see reduce_blocks), so a result is the same for any thread count.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -119,6 +120,38 @@ void parallel_for_blocks(ThreadPool& pool, std::size_t n, std::size_t block, F&&
     }
     const std::function<void(std::size_t, std::size_t)> body = [&f](std::size_t b, std::size_t e) { f(b, e); };
     pool.for_chunks(n, block, body);
+}
+
+/// Runs f(part, begin, end) on consecutive blocks [begin, end) of at most
+/// `block` items covering [0, sizes[part]) of every part, all parts' blocks
+/// in one loop over the threads (in part order on the calling thread alone
+/// for one thread or one block). Each part is cut into the blocks
+/// parallel_for_blocks would cut it into alone, so a body that works block by
+/// block computes the same; the parts share one loop, and one wait for the
+/// slowest thread, instead of one each: the engine's per-kind loops (grains,
+/// wire nodes, membrane nodes, grains' rotations) of a step are short at the
+/// paper's size (a few tens of microseconds), and a loop's start and join
+/// cost about as much on two threads as a small loop's work.
+template <std::size_t Parts, class F>
+void parallel_for_parts(ThreadPool& pool, const std::array<std::size_t, Parts>& sizes, std::size_t block, F&& f)
+{
+    std::array<std::size_t, Parts + 1> first_block{}; // index of each part's first block
+    for (std::size_t p = 0; p < Parts; ++p) first_block[p + 1] = first_block[p] + (sizes[p] + block - 1) / block;
+    const std::size_t blocks = first_block[Parts];
+    const auto run = [&](std::size_t b) {
+        std::size_t p = 0;
+        while (b >= first_block[p + 1]) ++p;
+        const std::size_t begin = (b - first_block[p]) * block;
+        f(p, begin, begin + block < sizes[p] ? begin + block : sizes[p]);
+    };
+    if (pool.size() == 1 || blocks <= 1) {
+        for (std::size_t b = 0; b < blocks; ++b) run(b);
+        return;
+    }
+    const std::function<void(std::size_t, std::size_t)> body = [&run](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) run(i);
+    };
+    pool.for_chunks(blocks, 1, body);
 }
 
 /// Block size of every deterministic reduction in the engine. Fixed, so that

@@ -233,7 +233,12 @@ Vec3 angular_velocity_rad_per_s(const State& s, std::uint32_t grain)
 
 void set_velocity(World& w, BodyRef b, const Vec3& v_m_per_s)
 {
-    invalidate_prediction(w);
+    // The kept prediction holds the dynamic bodies only (GearPrediction): a
+    // kinematic or fixed body's next x₀ and x₁ come from its stored ones,
+    // this x₁ included. So prescribing a kinematic body's velocity at every
+    // step (a column test's cap nodes, carried with the plate) keeps it.
+    const Motion motion = w.of(b.kind()).motion[b.index()];
+    if (motion != Motion::kinematic && motion != Motion::fixed) invalidate_prediction(w);
     w.of(b.kind()).x[1][b.index()] = v_m_per_s * w.dt_s;
 }
 

@@ -53,6 +53,27 @@ TEST(ThreadPool, ALoopOfMoreChunksThanATicketCountsStillGetsChunksOfTheAskedSize
     }
 }
 
+TEST(ThreadPool, APartsLoopCutsEveryPartIntoTheBlocksOfItsOwnLoop)
+{
+    // Parts of 0, 5, 1000 and 257 items in blocks of 128: each part's blocks
+    // start at its own 0 (as parallel_for_blocks cuts it), each once.
+    const std::array<std::size_t, 4> sizes{0, 5, 1000, 257};
+    std::vector<std::array<std::size_t, 3>> expected;
+    for (std::size_t p = 0; p < sizes.size(); ++p)
+        for (std::size_t b = 0; b < sizes[p]; b += 128) expected.push_back({p, b, std::min(b + 128, sizes[p])});
+    for (unsigned threads : {1u, 2u, 3u}) {
+        ThreadPool pool(threads);
+        std::mutex m;
+        std::vector<std::array<std::size_t, 3>> seen;
+        parallel_for_parts(pool, sizes, 128, [&](std::size_t part, std::size_t begin, std::size_t end) {
+            const std::lock_guard<std::mutex> lock(m);
+            seen.push_back({part, begin, end});
+        });
+        std::sort(seen.begin(), seen.end());
+        EXPECT_EQ(seen, expected) << "threads=" << threads;
+    }
+}
+
 TEST(ThreadPool, BlockReductionIsBitIdenticalForAnyThreadCount)
 {
     // Terms of very different magnitude: any change of summation order shows.
