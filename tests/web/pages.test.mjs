@@ -425,6 +425,13 @@ async function checkFreeStanding(page, plots, where) {
     assert.ok(predicted && predicted.y.every((v) => v === c.predicted_unconfined_strength_pa / 1000), `${where}: the prediction is drawn at its value`);
   }
   assert.equal(await page.$eval('[data-figure="fs_stands"] .value', (e) => e.textContent), fs.settling.stands ? 'yes' : 'no');
+  // The verdict reads the grains' bulk and the grains lost (the job keeps the default bounds, 0.1 and 0.1).
+  const st = fs.settling;
+  assert.equal(st.stands, st.at_rest && st.bulk_height_loss <= 0.1 && st.lost_fraction <= 0.1, `${where}: ${JSON.stringify(st)}`);
+  assert.equal(Number(await page.$eval('[data-figure="fs_bulk_height_loss"] .value', (e) => e.textContent)),
+    Number(st.bulk_height_loss.toPrecision(3)), `${where}: the bulk height loss`);
+  assert.match(await page.$eval('[data-figure="fs_escaped_grains"] .value', (e) => e.textContent),
+    new RegExp(`^${st.escaped_grains} of ${st.grains} \\(`), `${where}: the grains lost`);
   const profile = plots['plot-fs-profile'];
   const present = ['profile_before', 'profile_settled', 'profile_at_peak', 'profile_at_end'].filter((k) => test.profiles[k]);
   assert.deepEqual(profile.profiles, present, `${where}: one curve per profile`);

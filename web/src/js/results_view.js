@@ -211,7 +211,9 @@ export function compressionRows(series) {
 const yesNo = (b) => (b === true ? 'yes' : b === false ? 'no' : '—');
 
 /// The free-standing test (docs/model.md, "The free-standing test"): its
-/// figures from summary.free_standing; σ₁ against axial strain in the
+/// figures from summary.free_standing (whether it stands, read from the
+/// grains' bulk height and the grains lost; the top, where the plate was
+/// set); σ₁ against axial strain in the
 /// unconfined compression with the unconfined strength marked and labelled
 /// (peak / plateau / rising) and the envelope's prediction 2c cos φ/(1 − sin φ);
 /// the column's radius against height before the removal, settled, at the
@@ -226,9 +228,12 @@ export function renderFreeStanding(body, summary, test, series) {
   body.append(el('h2', { id: 'free-standing' }, 'Free-standing test'));
   body.append(el('div', { class: 'figures', id: 'free-standing-figures' },
     figure('stands', yesNo(st.stands), 'fs_stands'),
-    figure('height loss', num(st.height_loss, 3), 'fs_height_loss'),
-    figure('height before → after [mm]', `${mm(st.height_before_m)} → ${mm(st.height_m)}`, 'fs_height'),
-    figure('grains that left', st.escaped_grains ?? '—', 'fs_escaped_grains'),
+    figure('grains\' bulk height loss', num(st.bulk_height_loss, 3), 'fs_bulk_height_loss'),
+    figure('grains\' bulk height before → after [mm]', `${mm(st.bulk_height_before_m)} → ${mm(st.bulk_height_m)}`, 'fs_bulk_height'),
+    figure('grains that left (share of their volume)', st.escaped_grains != null
+      ? `${st.escaped_grains} of ${st.grains ?? '—'} (${st.lost_fraction != null ? num(st.lost_fraction * 100, 3) : '—'} %)` : '—', 'fs_escaped_grains'),
+    figure('top (grain or wire) before → after [mm]', `${mm(st.height_before_m)} → ${mm(st.height_m)}`, 'fs_height'),
+    figure('top height loss', num(st.height_loss, 3), 'fs_height_loss'),
     figure('time to rest [s]', num(st.time_to_rest_s, 3), 'fs_time_to_rest_s'),
     figure('base force / weight', st.weight_n ? num(st.base_force_n / st.weight_n, 4) : '—', 'fs_base_over_weight'),
     figure(`unconfined strength (${c.shape || '—'}) [kPa]`, kpa(c.unconfined_strength_pa), 'fs_unconfined_strength_pa'),
