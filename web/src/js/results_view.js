@@ -218,13 +218,15 @@ const yesNo = (b) => (b === true ? 'yes' : b === false ? 'no' : '—');
 /// (peak / plateau / rising) and the envelope's prediction 2c cos φ/(1 − sin φ);
 /// the column's radius against height before the removal, settled, at the
 /// largest σ₁ and at the end; the wire's tension along its length at the
-/// largest σ₁. `test` as GET …/free_standing gives it, `series` its series
-/// reply (freeStandingColumns).
+/// largest σ₁; with a pull-out instead of the compression, the pull force
+/// against the pulled length (renderPullOut). `test` as GET …/free_standing
+/// gives it, `series` its series reply (freeStandingColumns).
 export function renderFreeStanding(body, summary, test, series) {
   const fs = (summary && summary.free_standing) || {};
   const st = fs.settling || {};
   const c = fs.compression || {};
   const dl = fs.dead_load;
+  const po = fs.pull_out;
   body.append(el('h2', { id: 'free-standing' }, 'Free-standing test'));
   body.append(el('div', { class: 'figures', id: 'free-standing-figures' },
     figure('stands', yesNo(st.stands), 'fs_stands'),
@@ -241,9 +243,13 @@ export function renderFreeStanding(body, summary, test, series) {
     figure('strain at failure', num(c.strain_at_failure, 4), 'fs_strain_at_failure'),
     figure('quasi-static', yesNo(c.quasi_static), 'fs_quasi_static'),
     c.peak_failure !== undefined ? figure('failed by', failureText(c.peak_failure), 'fs_peak_failure') : '',
-    dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : ''));
+    dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : '',
+    po ? figure('peak pull force [N]', num(po.peak_pull_force_n, 4), 'fs_peak_pull_force_n') : '',
+    po ? figure('pulled length at the peak → in all [mm]', `${mm(po.pulled_length_at_peak_m)} → ${mm(po.pulled_length_m)}`, 'fs_pulled_length') : '',
+    po ? figure('wire in the column before → after [mm]', `${mm(po.wire_in_column_before_m)} → ${mm(po.wire_in_column_m)}`, 'fs_wire_in_column') : ''));
   const grid = el('div', { class: 'grid' });
   body.append(grid);
+  if (po) renderPullOut(grid, po, test && test.pull_out);
 
   // σ₁ against ε in the compression, the strength as a horizontal line at its
   // value and a vertical one at its strain, the prediction beside it.
@@ -289,6 +295,37 @@ export function renderFreeStanding(body, summary, test, series) {
     series: w ? [{ label: 'segment tension E_w π r_w² ε', x: w.distance_m.map((d) => d * 1000), y: w.tension_n.map((t) => t * 1000) }] : [],
     note: w ? `Segment k at (k + ½) l_w, l_w = ${mm(w.segment_length_m)} mm; negative: compressed.` : 'No wire, or no compression.' });
   wireBox.wiredemPlot.segments = w ? w.tension_n.length : 0;
+}
+
+/// The pull-out (docs/model.md, "Pulling the wire out"): the pull force (the
+/// drive's reaction, a mean over each row's interval) and the end segment's
+/// tension along the pull against the pulled length, one point per row of
+/// GET …/free_standing's `pull_out` (`rows`), the peak from the summary
+/// (`po`) drawn at its value and marked at its pulled length, and the force
+/// that accelerating the wire takes in the ramp (`ramp_inertia_n`): a peak of
+/// that order during the ramp is the wire's inertia.
+function renderPullOut(grid, po, rows) {
+  const column = (k) => (rows && rows[k] ? rows[k].values : []);
+  const x = column('pulled_length_m').map((v) => v * 1000);
+  const curves = [
+    { label: 'pull force (the drive\'s reaction)', x, y: column('pull_force_n') },
+    { label: 'end segment\'s tension along the pull', x, y: column('end_tension_n'), dash: [6, 3] },
+  ];
+  const xMax = Math.max(0, ...x.filter(Number.isFinite));
+  const markers = [];
+  if (po.peak_pull_force_n != null) {
+    curves.push({ label: `peak ${num(po.peak_pull_force_n, 4)} N`, x: [0, xMax], y: [po.peak_pull_force_n, po.peak_pull_force_n],
+      color: '#1d2330', dash: [8, 4], width: 2 });
+    if (po.pulled_length_at_peak_m != null) markers.push({ x: po.pulled_length_at_peak_m * 1000, label: `peak at ${mm(po.pulled_length_at_peak_m)} mm` });
+  }
+  if (Number.isFinite(po.ramp_inertia_n))
+    curves.push({ label: `accelerating the wire in the ramp: ${num(po.ramp_inertia_n, 3)} N`, x: [0, xMax],
+      y: [po.ramp_inertia_n, po.ramp_inertia_n], color: '#d9480f', dash: [2, 4], width: 2 });
+  const box = linePlot(grid, { id: 'plot-fs-pull', title: 'Pulling the wire out: force against pulled length',
+    xLabel: 'pulled length [mm]', yLabel: 'force [N]', series: curves, markers, swatches: true,
+    note: `One point per row (means over its sample interval). Ended by ${po.end ?? '—'}${po.wire_broke ? '; the wire broke' : ''}.` });
+  box.wiredemPlot.rows = x.length;
+  box.wiredemPlot.peak = { force_n: po.peak_pull_force_n ?? null, length_m: po.pulled_length_at_peak_m ?? null };
 }
 
 /// What gave way at the peak (a test's peak_failure, docs/results.md), for people.
