@@ -973,6 +973,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         summary["definitions"] = definitions_json();
 
         json::object sp;
+        sp["cell"] = std::string(api::to_string(spec.triaxial.cell)); // which triaxial cell ran
         sp["grain_volume_fraction"] = prep.grain_volume_fraction;
         sp["wire_volume_fraction"] = prep.wire_volume_fraction;
         sp["wire_length_per_volume_m_per_m3"] = finite_or_null(wire_length_per_volume_m_per_m3(prep));

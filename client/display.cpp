@@ -318,7 +318,11 @@ std::string format_summary(const json::value& summary)
         }
     }
 
+    const std::string cell = text(at(summary, {"specimen", "cell"}));
     out << "\nSpecimen\n"
+        << "  triaxial cell          "
+        << (cell == "cuboid" ? "cuboid (six rigid walls; its side walls confine)"
+               : cell == "membrane" ? "membrane (flexible, pressurised)" : cell) << '\n'
         << "  grain volume fraction  "
         << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
         << "  wire volume fraction   " << fmt("%.5f", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'

@@ -453,10 +453,11 @@ constexpr const char* openapi_text = R"json({
           "constrained_fits": {"type": "string"}, "caveats": {"type": "string"}}},
       "SummarySpecimen": {"type": "object",
         "description": "The prepared specimen. Volume fractions: of the whole sample (sample_volume_m3) and of its core, a grain diameter away from the membrane's inner surface and both plates (engine/specimen/packing.hpp); wire as a cylinder along its length.",
-        "required": ["grain_volume_fraction", "wire_volume_fraction", "wire_length_per_volume_m_per_m3", "core_grain_volume_fraction", "core_wire_volume_fraction",
+        "required": ["cell", "grain_volume_fraction", "wire_volume_fraction", "wire_length_per_volume_m_per_m3", "core_grain_volume_fraction", "core_wire_volume_fraction",
           "sample_volume_m3", "grains", "wire_nodes", "wire_length_m", "nozzle_path_m", "pile_height_m", "settled",
           "preparation_time_step_s", "preparation_steps", "preparation_wall_time_s"],
         "properties": {
+          "cell": {"type": "string", "enum": ["membrane", "cuboid"], "description": "the triaxial cell that ran (triaxial.cell): membrane, the flexible pressurised membrane round a column; cuboid, six rigid walls round a box (its series' membrane_contacts count the grains' contacts with its four side walls)"},
           "grain_volume_fraction": {"type": "number", "description": "[1]"},
           "wire_volume_fraction": {"type": "number", "description": "[1]"},
           "wire_length_per_volume_m_per_m3": {"type": "number", "nullable": true, "description": "string length per volume: wire_length_m / sample_volume_m3, the figure printed columns are designed by [m/m^3]"},

@@ -142,11 +142,12 @@ TEST(ClientDisplay, SummaryTableGivesYieldAndMaxQPerPressureInKpaAndBothEnvelope
                  "residual_stress_ratio": 0.4321}],
       "mohr_coulomb": {"friction_angle_deg": 38.5, "cohesion_pa": 1500, "r_squared": 0.99},
       "mohr_coulomb_max_q": {"friction_angle_deg": 41.75, "cohesion_pa": 2500, "paper_top_line_angle_deg": 33.3},
-      "specimen": {"grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
+      "specimen": {"cell": "cuboid", "grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
       "warnings": ["fit used two points"]})");
     const std::string table = format_summary(summary);
     for (const char* expected : {"20.0", "0.457", "plateau", "3.11", "77.7", "28.9", "81.2", "rising", "4.12", "0.432",
-             "38.50 deg", "1.50 kPa", "41.75 deg", "2.50 kPa", "33.30 deg", "0.6100", "0.00800", "fit used two points"})
+             "38.50 deg", "1.50 kPa", "41.75 deg", "2.50 kPa", "33.30 deg", "0.6100", "0.00800", "fit used two points",
+             "triaxial cell          cuboid (six rigid walls; its side walls confine)"})
         EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
     EXPECT_NE(table.find("wire nodes             -"), std::string::npos) << "missing fields print as -\n" << table;
     EXPECT_NE(format_summary(json::object{}).find("(no tests in the summary)"), std::string::npos);

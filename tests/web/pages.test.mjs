@@ -265,6 +265,9 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   assertShown(await figure('friction_angle_deg'), mc.friction_angle_deg, 'φ');
   assertShown(await figure('cohesion_pa'), mc.cohesion_pa / 1000, 'c [kPa]');
   assertShown(await figure('grain_volume_fraction'), summary.specimen.grain_volume_fraction, 'grain volume fraction');
+  // Which triaxial cell ran (the job's membrane).
+  assert.equal(summary.specimen.cell, 'membrane');
+  assert.equal(await figure('cell'), 'membrane (flexible, pressurised)', 'the triaxial cell');
   assertShown(await figure('autocorrelation_lag_m'), summary.wire.autocorrelation_lag_m * 1000, 'lag [mm]');
   const prominentShown = await figure('autocorrelation_prominent_lag_m');
   if (summary.wire.autocorrelation_prominent_lag_m == null) assert.equal(prominentShown, '—', 'no prominent lag');
@@ -728,6 +731,7 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   await page.waitForSelector('#main[data-rendered="true"]');
   assert.equal(await page.$eval('#job-name', (e) => e.textContent), summary.name ?? (await server.api('GET', `/v1/jobs/${mainId}`)).json.name);
   assertShown(await page.$eval('[data-figure="friction_angle_deg"] .value', (e) => e.textContent), summary.mohr_coulomb.friction_angle_deg, 'φ');
+  assert.equal(await page.$eval('[data-figure="cell"] .value', (e) => e.textContent), 'membrane (flexible, pressurised)', 'offline report: the triaxial cell');
   await checkFlaggedFit(page, 'offline report');
   const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
   checkMohrAxis(plots['plot-mohr'], 'offline report');

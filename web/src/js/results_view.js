@@ -28,6 +28,11 @@ export const curveColumns = 'axial_strain,deviatoric_stress_pa,stress_ratio,volu
 
 /// Warnings (first: a result that was not quasi-static or not settled must not
 /// be read as if it were), the summary figures and the per-test table.
+/// The triaxial cell that ran (summary.specimen.cell, triaxial.cell), for people.
+export function cellText(c) {
+  return { membrane: 'membrane (flexible, pressurised)', cuboid: 'cuboid (six rigid walls; its side walls confine)' }[c] ?? (c == null ? '—' : String(c));
+}
+
 export function renderSummary(body, summary) {
   if (summary.warnings && summary.warnings.length)
     body.append(el('div', { class: 'warnings', id: 'warnings' }, el('h2', {}, `Warnings (${summary.warnings.length})`),
@@ -47,6 +52,7 @@ export function renderSummary(body, summary) {
       figure('φ with c = 0 [°]', num(c0.friction_angle_deg, 4), 'cohesionless_friction_angle_deg'),
       figure('α, slope of the tops [°]', num(mc.paper_top_line_angle_deg, 4), 'paper_top_line_angle_deg'),
       fitFigure(mcq, 'φ (max q) [°]', num(mcq.friction_angle_deg, 4), 'max_q_friction_angle_deg'),
+      figure('triaxial cell', cellText(sp.cell), 'cell'),
       figure('grain volume fraction', num(sp.grain_volume_fraction, 4), 'grain_volume_fraction'),
       figure('wire volume fraction', num(sp.wire_volume_fraction, 4), 'wire_volume_fraction'),
       figure('grains', sp.grains ?? '—', 'grains'),
