@@ -172,6 +172,8 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
     s.settle_kinetic_energy_per_grain_j = f.settle_kinetic_energy_per_grain_j;
     s.max_settling_time_s = f.max_settling_time_s;
     s.max_height_loss = f.max_height_loss;
+    s.bulk_fraction = f.bulk_fraction;
+    s.max_lost_fraction = f.max_lost_fraction;
     if (f.dead_load_n) s.dead_load = engine::DeadLoad{*f.dead_load_n, f.dead_load_ramp_time_s, f.dead_load_hold_time_s};
     if (f.pull_out_speed_m_per_s) {
         engine::PullOutSettings p;

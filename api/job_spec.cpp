@@ -1131,7 +1131,11 @@ void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
     r.number("max_settling_time_s", open_closed(0.0, 1e4), f.max_settling_time_s,
         {"s", "settling ends here at the latest (a warning says the column was not at rest)"});
     r.number("max_height_loss", open_open(0.0, 1.0), f.max_height_loss,
-        {"1", "the column stands when it came to rest having lost at most this fraction of its height"});
+        {"1", "the column stands when it came to rest having lost at most this fraction of its grains' bulk height (bulk_fraction; not the top of its highest grain or wire node, which a wire left standing keeps), and at most max_lost_fraction of its grains"});
+    r.number("bulk_fraction", closed(0.5, 1.0), f.bulk_fraction,
+        {"1", "q of the grains' bulk height z_q / q, z_q the height below which this share of the standing grains' volume lies: a uniform column reads its height, the grains above the bulk that hold less than 1 - q of the volume (caught in a wire left standing) do not raise it (docs/model.md, \"What stands\"); 1: the top of the highest grain"});
+    r.number("max_lost_fraction", closed_open(0.0, 1.0), f.max_lost_fraction,
+        {"1", "the column stands only if at most this share of its grains' volume ended farther than escape_distance_m from the axis"});
     optional_number(r, "dead_load_n", open_closed(0.0, 1e9), f.dead_load_n,
         {"N", "a constant force on the top plate after settling, held for dead_load_hold_time_s: does the column hold, how much does it creep; null (or absent) = none"});
     r.number("dead_load_ramp_time_s", closed(0.0, 1e3), f.dead_load_ramp_time_s,
@@ -1806,6 +1810,8 @@ json::object free_standing_json(const FreeStandingSpec& f)
         {"settle_kinetic_energy_per_grain_j", f.settle_kinetic_energy_per_grain_j},
         {"max_settling_time_s", f.max_settling_time_s},
         {"max_height_loss", f.max_height_loss},
+        {"bulk_fraction", f.bulk_fraction},
+        {"max_lost_fraction", f.max_lost_fraction},
         {"dead_load_n", optional_json(f.dead_load_n)},
         {"dead_load_ramp_time_s", f.dead_load_ramp_time_s},
         {"dead_load_hold_time_s", f.dead_load_hold_time_s},

@@ -314,7 +314,9 @@ struct FreeStandingSpec {
     std::optional<double> escape_distance_m;
     double settle_kinetic_energy_per_grain_j = 1e-9; ///< at rest below this [J], (0, 1]
     double max_settling_time_s = 0.5;          ///< settling ends here at the latest [s], (0, 1e4]
-    double max_height_loss = 0.1;              ///< stands at rest with at most this height loss, (0, 1)
+    double max_height_loss = 0.1;              ///< stands at rest with at most this loss of the grains' bulk height, (0, 1)
+    double bulk_fraction = 0.95;               ///< q of the bulk height z_q / q, [0.5, 1]
+    double max_lost_fraction = 0.1;            ///< stands with at most this share of the grains' volume lost, [0, 1)
     /// A dead load on the top plate after settling [N], (0, 1e9]; nullopt: none.
     std::optional<double> dead_load_n;
     double dead_load_ramp_time_s = 0.01;       ///< the load rises over this [s], [0, 1e3]

@@ -544,6 +544,11 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     g.write_double_attribute("radius_before_m", s.radius_before_m);
     g.write_double_attribute("radius_m", s.radius_m);
     g.write_int_attribute("escaped_grains", static_cast<std::int64_t>(s.escaped_grains));
+    g.write_double_attribute("bulk_height_before_m", s.bulk_height_before_m);
+    g.write_double_attribute("bulk_height_m", s.bulk_height_m);
+    g.write_double_attribute("bulk_height_loss", s.bulk_height_loss);
+    g.write_int_attribute("grains", static_cast<std::int64_t>(s.grains));
+    g.write_double_attribute("lost_fraction", s.lost_fraction);
     g.write_double_attribute("weight_n", s.weight_n);
     g.write_double_attribute("base_force_n", s.base_force_n);
     g.write_double_attribute("base_force_tolerance_n", s.base_force_tolerance_n);
@@ -604,6 +609,16 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     s.radius_before_m = g.read_double_attribute("radius_before_m");
     s.radius_m = g.read_double_attribute("radius_m");
     s.escaped_grains = read_index(g, "escaped_grains");
+    if (g.has_attribute("bulk_height_m")) { // written since 2026-12-06: an older file's verdict read the top
+        s.bulk_height_before_m = g.read_double_attribute("bulk_height_before_m");
+        s.bulk_height_m = g.read_double_attribute("bulk_height_m");
+        s.bulk_height_loss = g.read_double_attribute("bulk_height_loss");
+        s.grains = read_index(g, "grains");
+        s.lost_fraction = g.read_double_attribute("lost_fraction");
+    } else {
+        s.bulk_height_before_m = s.bulk_height_m = s.bulk_height_loss = s.lost_fraction
+            = std::numeric_limits<double>::quiet_NaN();
+    }
     s.weight_n = g.read_double_attribute("weight_n");
     s.base_force_n = g.read_double_attribute("base_force_n");
     s.base_force_tolerance_n = g.read_double_attribute("base_force_tolerance_n");

@@ -693,7 +693,12 @@ json::object free_standing_json(const eng::FreeStandingResult& r,
     settling["height_loss"] = finite_or_null(s.height_loss);
     settling["radius_before_m"] = finite_or_null(s.radius_before_m);
     settling["radius_m"] = finite_or_null(s.radius_m);
+    settling["bulk_height_before_m"] = finite_or_null(s.bulk_height_before_m);
+    settling["bulk_height_m"] = finite_or_null(s.bulk_height_m);
+    settling["bulk_height_loss"] = finite_or_null(s.bulk_height_loss);
+    settling["grains"] = s.grains;
     settling["escaped_grains"] = s.escaped_grains;
+    settling["lost_fraction"] = finite_or_null(s.lost_fraction);
     settling["weight_n"] = finite_or_null(s.weight_n);
     settling["base_force_n"] = finite_or_null(s.base_force_n);
     settling["base_force_tolerance_n"] = finite_or_null(s.base_force_tolerance_n);
@@ -968,6 +973,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
         summary["definitions"] = definitions_json();
 
         json::object sp;
+        sp["cell"] = std::string(api::to_string(spec.triaxial.cell)); // which triaxial cell ran
         sp["grain_volume_fraction"] = prep.grain_volume_fraction;
         sp["wire_volume_fraction"] = prep.wire_volume_fraction;
         sp["wire_length_per_volume_m_per_m3"] = finite_or_null(wire_length_per_volume_m_per_m3(prep));

@@ -281,12 +281,17 @@ std::string format_summary(const json::value& summary)
             << "  stands                 " << yes_no(at(*f, {"settling", "stands"})) << " (at rest: "
             << yes_no(at(*f, {"settling", "at_rest"})) << " after "
             << fmt("%.3g s", number(at(*f, {"settling", "time_to_rest_s"}))) << ")\n"
-            << "  height                 " << fmt("%.4g m", number(at(*f, {"settling", "height_before_m"}))) << " -> "
+            << "  grains' bulk height    " << fmt("%.4g m", number(at(*f, {"settling", "bulk_height_before_m"}))) << " -> "
+            << fmt("%.4g m", number(at(*f, {"settling", "bulk_height_m"}))) << " (loss "
+            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "bulk_height_loss"})), 100.0)) << ")\n"
+            << "  top (grain or wire)    " << fmt("%.4g m", number(at(*f, {"settling", "height_before_m"}))) << " -> "
             << fmt("%.4g m", number(at(*f, {"settling", "height_m"}))) << " (loss "
             << fmt("%.1f %%", scaled(number(at(*f, {"settling", "height_loss"})), 100.0)) << ")\n"
             << "  radius                 " << fmt("%.4g m", number(at(*f, {"settling", "radius_before_m"}))) << " -> "
             << fmt("%.4g m", number(at(*f, {"settling", "radius_m"}))) << '\n'
-            << "  grains that left it    " << fmt("%.0f", number(at(*f, {"settling", "escaped_grains"}))) << '\n'
+            << "  grains that left it    " << fmt("%.0f", number(at(*f, {"settling", "escaped_grains"}))) << " of "
+            << fmt("%.0f", number(at(*f, {"settling", "grains"}))) << " ("
+            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "lost_fraction"})), 100.0)) << " of the volume)\n"
             << "  base force / weight    " << fmt("%.4g N", number(at(*f, {"settling", "base_force_n"}))) << " / "
             << fmt("%.4g N", number(at(*f, {"settling", "weight_n"}))) << " (within "
             << fmt("%.3g N", number(at(*f, {"settling", "base_force_tolerance_n"}))) << " at rest)\n";
@@ -313,7 +318,11 @@ std::string format_summary(const json::value& summary)
         }
     }
 
+    const std::string cell = text(at(summary, {"specimen", "cell"}));
     out << "\nSpecimen\n"
+        << "  triaxial cell          "
+        << (cell == "cuboid" ? "cuboid (six rigid walls; its side walls confine)"
+               : cell == "membrane" ? "membrane (flexible, pressurised)" : cell) << '\n'
         << "  grain volume fraction  "
         << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
         << "  wire volume fraction   " << fmt("%.5f", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'

@@ -4,7 +4,10 @@ column"): reads the free-standing test of each job directory given
 (`wiredem prepare JOB -o DIR` then `wiredem test DIR --free-standing`, the jobs
 in docs/study/free-standing/), writes one JSON record per directory into OUT (DIRNAME-result.json)
 (what the summary's free_standing block holds, from tests/free_standing.h5),
-prints the markdown table of docs/study.md and plots OUT/../figures/free_standing.png:
+prints the markdown table of docs/study.md (with the verdict of docs/model.md,
+"What stands": the grains' bulk height and the grains lost; a run written
+before it had them is re-read from its specimen and the compression's first
+snapshot) and plots OUT/../figures/free_standing.png:
 sigma_1 against the axial strain of the unconfined compression, and the
 column's radius against height before the formwork was removed and after the
 column settled.
@@ -63,6 +66,61 @@ def given_in(sparse, full) -> bool:
     return sparse == full
 
 
+def bulk_height_m(x, radius, bottom_m: float, escape_m: float, q: float) -> float:
+    """The grains' bulk height z_q / q of engine::bulk_height_m (docs/model.md,
+    "What stands"): z_q the height above the plate below which the share q of
+    the standing grains' volume lies, each grain its sphere cut by the plane (a
+    cap); spheres only (the study's grains)."""
+    import numpy as np
+
+    x, r = np.asarray(x), np.asarray(radius).reshape(-1)
+    keep = np.hypot(x[:, 0], x[:, 1]) <= escape_m
+    base, r = x[keep, 2] - r[keep], r[keep]
+    if not len(r):
+        return 0.0
+
+    def below(z):
+        h = np.clip(z - base, 0.0, 2 * r)
+        return float(np.sum(math.pi * h * h * (3 * r - h) / 3))
+
+    lo, hi = float(base.min()), float((base + 2 * r).max())
+    target = q * below(hi)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:
+            break
+        lo, hi = (mid, hi) if below(mid) < target else (lo, mid)
+    return (hi - bottom_m) / q
+
+
+def reread_verdict(d: Path, g: h5py.Group, job: dict) -> dict | None:
+    """For a run written before the verdict read the grains' bulk (2026-12-06):
+    the bulk heights and the grains lost from the prepared specimen (before the
+    removal) and the compression's first snapshot (the settled column, at
+    rest or where the settling stopped), with the job's bounds; None without
+    that snapshot."""
+    import numpy as np
+
+    snaps = g.get("snapshots")
+    if snaps is None or "snapshot_0" not in snaps:
+        return None
+    fs = job.get("free_standing", {})
+    escape = fs.get("escape_distance_m") or 1.5 * job["specimen"]["membrane_radius_m"]
+    q = fs.get("bulk_fraction", 0.95)
+    with h5py.File(d / "specimen.h5", "r") as sp:
+        bottom = float(sp["walls"]["0"]["point_m"][:].reshape(-1)[2])
+        x0, r0 = sp["bodies"]["grain"]["x0"][:], sp["bodies"]["grain"]["radius_m"][:].reshape(-1)
+    s = snaps["snapshot_0"]
+    x1, r1 = s["grain_position_m"][:], s["grain_radius_m"][:].reshape(-1)
+    before, after = bulk_height_m(x0, r0, bottom, escape, q), bulk_height_m(x1, r1, bottom, escape, q)
+    gone = np.hypot(x1[:, 0], x1[:, 1]) > escape
+    lost = float(np.sum(r1[gone] ** 3) / np.sum(r1 ** 3))
+    loss = (before - after) / before
+    return {"bulk_height_before_m": before, "bulk_height_m": after, "bulk_height_loss": loss, "lost_fraction": lost,
+            "stands": bool(attribute(g, "at_rest", 0)) and loss <= fs.get("max_height_loss", 0.1)
+            and lost <= fs.get("max_lost_fraction", 0.1), "reread": True}
+
+
 def read_run(d: Path) -> dict:
     job = json.loads((d / "job.json").read_text())
     pattern = job["specimen"].get("wire", {}).get("pattern", "helix")
@@ -95,6 +153,12 @@ def read_run(d: Path) -> dict:
             "profile_before": profile(g, "profile_before"),
             "profile_settled": profile(g, "profile_settled"),
         }
+        if "bulk_height_m" in g.attrs:
+            for k in ("bulk_height_before_m", "bulk_height_m", "bulk_height_loss", "grains", "lost_fraction"):
+                rec[k] = attribute(g, k)
+        elif (v := reread_verdict(d, g, job)) is not None:
+            rec["verdict_as_recorded"] = rec["stands"]
+            rec.update(v)
         if "strength_smoothed_maximum" in g.attrs:
             rec["compression"] = {
                 "unconfined_strength_pa": attribute(g, "strength_smoothed_maximum"),
@@ -142,9 +206,10 @@ def main() -> None:
         record = {k: v for k, v in r.items() if k not in ("curve", "dir")}
         (args.out / f"{Path(r['dir']).name}-result.json").write_text(json.dumps(record, indent=2) + "\n")
 
-    print("| pattern | stands | height loss | radius before → after [mm] | grains escaped | at rest after [s] "
+    print("| pattern | stands | grains' bulk height before → after [mm] (change) | top (grain or wire) change "
+          "| radius before → after [mm] | grains escaped (share of the volume) | at rest after [s] "
           "| unconfined strength [kPa] (shape, ε₁) | predicted by the seed's envelope [kPa] | steps, wall time |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         c = r.get("compression")
         ucs = f"{kpa(c['unconfined_strength_pa'])} ({c['shape']}, {c['strength_axial_strain']:.3f})" if c else "—"
@@ -155,8 +220,14 @@ def main() -> None:
             pred = (f"{kpa(p)} (φ = {env['friction_angle_deg']:.1f}°, c = {env['cohesion_pa'] / 1e3:.1f} kPa)" if p
                     else f"none (c = {env['cohesion_pa'] / 1e3:.1f} kPa ≤ 0)")
         label = LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {r['rolling_friction_coeff']}" if r["rolling_friction_coeff"] else "")
-        print(f"| {label} | {'yes' if r['stands'] else 'no'} | {100 * r['height_loss']:.1f} % "
-              f"| {1e3 * r['radius_before_m']:.1f} → {1e3 * r['radius_m']:.1f} | {r['escaped_grains']} "
+        stands = "yes" if r["stands"] else "no"
+        if "verdict_as_recorded" in r:  # re-read: the run's own file has the top's verdict
+            stands += f" (recorded: {'yes' if r['verdict_as_recorded'] else 'no'}, read from the top)"
+        bulk = (f"{1e3 * r['bulk_height_before_m']:.1f} → {1e3 * r['bulk_height_m']:.1f} ({-100 * r['bulk_height_loss']:+.1f} %)"
+                if "bulk_height_m" in r else "—")
+        lost = f" ({100 * r['lost_fraction']:.0f} %)" if "lost_fraction" in r else ""
+        print(f"| {label} | {stands} | {bulk} | {-100 * r['height_loss']:+.1f} % "
+              f"| {1e3 * r['radius_before_m']:.1f} → {1e3 * r['radius_m']:.1f} | {r['escaped_grains']}{lost} "
               f"| {r['time_to_rest_s']:.3f}{'' if r['at_rest'] else ' (not at rest)'} | {ucs} | {pred} "
               f"| {r['steps']}, {r['wall_time_s']:.0f} s on {r['threads']} |")
 

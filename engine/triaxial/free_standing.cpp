@@ -3,6 +3,7 @@
 
 #include "analysis/stress.hpp"
 #include "energy.hpp"
+#include "specimen/packing.hpp"
 #include "specimen/preparation.hpp"
 #include "timestep.hpp"
 #include "triaxial/formwork.hpp"
@@ -56,6 +57,10 @@ double equivalent_radius_m(const std::vector<Vec3>& x, const std::vector<double>
 
 bool standing(const Vec3& x, double escape_distance_m) { return std::hypot(x.x(), x.y()) <= escape_distance_m; }
 
+/// The volume of a sphere of radius r below a plane a height h above its
+/// lowest point, h in [0, 2r]: the cap π h² (3r − h)/3 (the sphere at h = 2r).
+double cap_volume_m3(double r, double h) { return std::numbers::pi * h * h * (3.0 * r - h) / 3.0; }
+
 } // namespace
 
 std::optional<SettingsError> free_standing_settings_error(const FreeStandingSettings& s)
@@ -76,6 +81,10 @@ std::optional<SettingsError> free_standing_settings_error(const FreeStandingSett
         return error("max_settling_time_s", format_number(s.max_settling_time_s) + " must be > 0");
     if (!fraction(s.max_height_loss))
         return error("max_height_loss", format_number(s.max_height_loss) + " must lie in (0, 1)");
+    if (!(s.bulk_fraction >= 0.5 && s.bulk_fraction <= 1.0))
+        return error("bulk_fraction", format_number(s.bulk_fraction) + " must lie in [0.5, 1]");
+    if (!(s.max_lost_fraction >= 0.0 && s.max_lost_fraction < 1.0))
+        return error("max_lost_fraction", format_number(s.max_lost_fraction) + " must lie in [0, 1)");
     if (s.dead_load) {
         if (!positive(s.dead_load->force_n))
             return error("dead_load.force_n", format_number(s.dead_load->force_n) + " must be > 0");
@@ -117,19 +126,88 @@ const char* to_string(FreeStandingPhase p) noexcept
     return "loading";
 }
 
-StandingColumn standing_column(const World& w, double escape_distance_m)
+ColumnGrains column_grains(const World& w)
+{
+    ColumnGrains out;
+    const TranslationalState& g = w.of(BodyKind::grain);
+    const ClumpState& c = w.clumps;
+    out.radius_m = grain_volumes(w).radius_m;
+    out.position_m.reserve(out.radius_m.size());
+    for (std::size_t i = 0; i < g.size(); ++i)
+        if (!c.is_member(i)) out.position_m.push_back(g.x[0][i]);
+    for (std::size_t k = 0; k < c.size(); ++k) out.position_m.push_back(c.x[0][k]);
+    return out;
+}
+
+double bulk_height_m(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m,
+    double escape_distance_m, double fraction)
+{
+    std::vector<std::pair<double, double>> grains; // (lowest point, radius) of the standing grains
+    double total_m3 = 0.0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < position_m.size(); ++i) {
+        if (!standing(position_m[i], escape_distance_m)) continue;
+        const double r = radius_m[i], base = position_m[i].z() - r;
+        grains.emplace_back(base, r);
+        total_m3 += cap_volume_m3(r, 2.0 * r);
+        lo = std::min(lo, base);
+        hi = std::max(hi, base + 2.0 * r);
+    }
+    if (grains.empty()) return 0.0;
+    auto below_m3 = [&](double z) {
+        double v = 0.0;
+        for (const auto& [base, r] : grains) v += cap_volume_m3(r, std::clamp(z - base, 0.0, 2.0 * r));
+        return v;
+    };
+    // V(z) rises continuously from 0 at lo to the total at hi: bisection to
+    // the last bit of z (V(lo) < q V ≤ V(hi) throughout).
+    const double target_m3 = fraction * total_m3;
+    for (int k = 0; k < 200; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi)) break;
+        (below_m3(mid) < target_m3 ? lo : hi) = mid;
+    }
+    return (hi - bottom_m) / fraction;
+}
+
+StandingColumn standing_column(const World& w, double escape_distance_m, double bulk_fraction)
 {
     StandingColumn c;
     const double bottom_m = w.walls[0].point_m.z();
-    const TranslationalState& g = w.of(BodyKind::grain);
+    const ColumnGrains g = column_grains(w);
     std::uint32_t count = 0;
-    c.radius_m = equivalent_radius_m(g.x[0], g.radius_m, [&](std::size_t i) { return standing(g.x[0][i], escape_distance_m); }, count);
-    c.escaped_grains = g.size() - count;
-    for (const TranslationalState* s : {&g, &w.of(BodyKind::wire)})
+    c.radius_m = equivalent_radius_m(g.position_m, g.radius_m, [&](std::size_t i) { return standing(g.position_m[i], escape_distance_m); }, count);
+    c.grains = g.position_m.size();
+    c.escaped_grains = c.grains - count;
+    double all_m3 = 0.0, lost_m3 = 0.0;
+    for (std::size_t i = 0; i < c.grains; ++i) {
+        const double v = cap_volume_m3(g.radius_m[i], 2.0 * g.radius_m[i]);
+        all_m3 += v;
+        if (!standing(g.position_m[i], escape_distance_m)) lost_m3 += v;
+    }
+    c.lost_fraction = all_m3 > 0.0 ? lost_m3 / all_m3 : 0.0;
+    c.bulk_height_m = bulk_height_m(g.position_m, g.radius_m, bottom_m, escape_distance_m, bulk_fraction);
+    // The top is where a plate touches the column: every sphere (a clump's
+    // too) and wire node.
+    for (const TranslationalState* s : {&w.of(BodyKind::grain), &w.of(BodyKind::wire)})
         for (std::size_t i = 0; i < s->size(); ++i)
             if (standing(s->x[0][i], escape_distance_m))
                 c.top_m = std::max(c.top_m, s->x[0][i].z() + s->radius_m[i] - bottom_m);
     return c;
+}
+
+void judge_settled_column(SettlingReading& r, const StandingColumn& after, const FreeStandingSettings& s)
+{
+    r.height_m = after.top_m;
+    r.bulk_height_m = after.bulk_height_m;
+    r.radius_m = after.radius_m;
+    r.grains = after.grains;
+    r.escaped_grains = after.escaped_grains;
+    r.lost_fraction = after.lost_fraction;
+    r.height_loss = (r.height_before_m - r.height_m) / r.height_before_m;
+    r.bulk_height_loss = (r.bulk_height_before_m - r.bulk_height_m) / r.bulk_height_before_m;
+    // A wire standing above the grains keeps the top, not the bulk: the
+    // verdict reads the bulk and the grains lost (docs/model.md, "What stands").
+    r.stands = r.at_rest && r.bulk_height_loss <= s.max_height_loss && r.lost_fraction <= s.max_lost_fraction;
 }
 
 RadiusProfile radius_profile(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m, double bottom_m,
@@ -249,11 +327,13 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     const double removal_speed = settings.removal_distance_m / settings.removal_time_s;
     if (!continued) {
         // Formwork: what the column stands like before it goes.
-        const StandingColumn before = standing_column(w, settings.escape_distance_m);
+        const StandingColumn before = standing_column(w, settings.escape_distance_m, settings.bulk_fraction);
         result.settling.height_before_m = before.top_m;
+        result.settling.bulk_height_before_m = before.bulk_height_m;
         result.settling.radius_before_m = before.radius_m;
+        const ColumnGrains g = column_grains(w);
         result.settling.profile_before
-            = radius_profile(grains.x[0], grains.radius_m, w.walls[bottom_plate_wall].point_m.z(), settings.escape_distance_m);
+            = radius_profile(g.position_m, g.radius_m, w.walls[bottom_plate_wall].point_m.z(), settings.escape_distance_m);
         st.reference_height_m = before.top_m;
         st.reference_radius_m = before.radius_m;
         if (settings.real_weights)
@@ -274,10 +354,15 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
                    + " s set by the " + crit.limited_by);
     if (crit.overdamped()) return Err(overdamped_error(crit, w.contact.normal_damping_s));
 
+    // Grains as grains: a clump's spheres have no mass of their own (the
+    // clump has it) and it counts once in the mean radius and per grain.
     double radius_sum_m = 0.0, column_mass_kg = 0.0;
-    for (double r : grains.radius_m) radius_sum_m += r;
+    const std::vector<double> grain_radii_m = grain_volumes(w).radius_m;
+    for (double r : grain_radii_m) radius_sum_m += r;
     for (double m : grains.mass_kg) column_mass_kg += m;
-    const double grain_radius_m = radius_sum_m / static_cast<double>(grains.size());
+    for (double m : w.clumps.mass_kg) column_mass_kg += m;
+    const double grain_count = static_cast<double>(grain_body_count(w));
+    const double grain_radius_m = radius_sum_m / grain_count;
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
     const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
     const double density_scale = settings.real_weights ? settings.real_weights->density_scale : 1.0;
@@ -301,7 +386,7 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     auto sample = [&] {
         TriaxialSample s = measure_triaxial_sample(w, pool, top_plate_wall, bottom_plate_wall, st.reference_height_m);
         s.time_s = static_cast<double>(st.steps) * dt;
-        const StandingColumn column = standing_column(w, settings.escape_distance_m);
+        const StandingColumn column = standing_column(w, settings.escape_distance_m, settings.bulk_fraction);
         s.column_radius_m = column.radius_m;
         s.sigma1_pa = analysis::axial_stress_pa(s.top_plate_force_n, st.reference_radius_m);
         s.deviatoric_stress_pa = analysis::deviatoric_stress_pa(s.sigma1_pa, s.sigma3_effective_pa);
@@ -335,7 +420,7 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
                 r.pulled_length_at_peak_m = pulled_m;
             }
             ps.wire_in_column_m.push_back(wire_in_region_m(w, column_region()));
-            ps.grains_in_column.push_back(static_cast<double>(grains.size() - column.escaped_grains));
+            ps.grains_in_column.push_back(static_cast<double>(column.grains - column.escaped_grains));
         }
     };
     auto sample_unless_taken = [&] {
@@ -408,7 +493,7 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
                                      / (static_cast<double>(check_every) * dt);
             st.window_force_n = 0.0;
             st.window_kinetic_energy_j = ke;
-            if (settling_energy_j(w, wire_mass_scale) / static_cast<double>(grains.size())
+            if (settling_energy_j(w, wire_mass_scale) / grain_count
                 < settings.settle_kinetic_energy_per_grain_j * density_scale) {
                 at_rest = true;
                 break;
@@ -417,13 +502,10 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         sample_unless_taken();
         r.at_rest = at_rest;
         r.time_to_rest_s = static_cast<double>(st.steps - st.phase_start_step) * dt;
-        const StandingColumn after = standing_column(w, settings.escape_distance_m);
-        r.height_m = after.top_m;
-        r.radius_m = after.radius_m;
-        r.escaped_grains = after.escaped_grains;
-        r.height_loss = (r.height_before_m - r.height_m) / r.height_before_m;
-        r.stands = at_rest && r.height_loss <= settings.max_height_loss;
-        r.profile = radius_profile(grains.x[0], grains.radius_m, bottom_m, settings.escape_distance_m);
+        const StandingColumn after = standing_column(w, settings.escape_distance_m, settings.bulk_fraction);
+        judge_settled_column(r, after, settings);
+        const ColumnGrains g = column_grains(w);
+        r.profile = radius_profile(g.position_m, g.radius_m, bottom_m, settings.escape_distance_m);
         if (!at_rest)
             result.warnings.push_back("the free column was not at rest after " + format_number(settings.max_settling_time_s)
                                       + " s of settling; lengthen max_settling_time_s");
@@ -521,7 +603,8 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         set_velocity(w, {BodyKind::wire, r.pulled_node}, Vec3::Zero());
         r.pulled_length_m = pulled_length_m();
         r.wire_in_column_m = wire_in_region_m(w, column_region());
-        r.grains_in_column = grains.size() - standing_column(w, settings.escape_distance_m).escaped_grains;
+        const StandingColumn column = standing_column(w, settings.escape_distance_m, settings.bulk_fraction);
+        r.grains_in_column = column.grains - column.escaped_grains;
         const double pull_began_s = static_cast<double>(st.phase_start_step) * dt;
         r.wire_broke = std::any_of(result.wire_breaks.begin(), result.wire_breaks.end(),
             [&](const TestWireBreak& b) { return b.test_time_s > pull_began_s; });
@@ -557,6 +640,8 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         snap.axial_strain = snap.requested_axial_strain = result.series.axial_strain.back();
         snap.time_s = result.series.time_s.back();
         result.peak_snapshot = std::move(snap);
+        const ColumnGrains g = column_grains(w); // the snapshot's are spheres
+        st.profile_at_max_sigma1 = radius_profile(g.position_m, g.radius_m, bottom_m, settings.escape_distance_m);
     };
     if (!st.loading_begun) {
         // Straight from the settling the plate was just set on the column: its
@@ -635,12 +720,13 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         c.failed = end.value() == LoadingEnd::done;
         if (result.peak_snapshot) {
             const TriaxialSnapshot& p = *result.peak_snapshot;
-            c.profile_at_peak = radius_profile(p.grain_position_m, p.grain_radius_m, bottom_m, settings.escape_distance_m);
+            c.profile_at_peak = st.profile_at_max_sigma1;
             c.wire_strain_at_peak = p.wire_segment_strain;
             for (double e : p.wire_segment_strain)
                 c.wire_tension_at_peak_n.push_back(w.wire.axial_stiffness_n_per_m * e * w.wire.segment_length_m);
         }
-        c.profile_at_end = radius_profile(grains.x[0], grains.radius_m, bottom_m, settings.escape_distance_m);
+        const ColumnGrains g = column_grains(w);
+        c.profile_at_end = radius_profile(g.position_m, g.radius_m, bottom_m, settings.escape_distance_m);
         result.compression = std::move(c);
     } else {
         result.warnings.push_back("unconfined compression: no strength read: " + reading.error());

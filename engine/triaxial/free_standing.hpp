@@ -9,7 +9,8 @@
 //                membrane no longer touches anything;
 //   2. settling  the column settles on the bottom plate under its real weight
 //                until it is at rest by the preparation's kinetic-energy
-//                criterion (or max_settling_time_s): whether it stands, its
+//                criterion (or max_settling_time_s): whether it stands (at
+//                rest, its grains' bulk height kept and few grains lost), its
 //                height loss, its radius against height, the grains that left
 //                it (beyond escape_distance_m from the axis);
 //   3. dead load (optional) the top plate is set on the column and pushes it
@@ -27,7 +28,7 @@
 //
 // Conventions as in sampling.hpp. The axial strain is measured from h₀, the
 // height of the settled column (the top of its highest standing grain or
-// wire node above the bottom plate); σ₁ = F_top / (π r₀²), the nominal
+// wire node above the bottom plate, where the plate touches it); σ₁ = F_top / (π r₀²), the nominal
 // stress on the settled column's cross-section (r₀ its equivalent radius,
 // standing_column), as an unconfined compression test reports it. The
 // unconfined compressive strength is the maximum of σ₁ smoothed over
@@ -94,9 +95,15 @@ struct FreeStandingSettings {
     /// × density_scale [J], > 0.
     double settle_kinetic_energy_per_grain_j = 1e-9;
     double max_settling_time_s = 0.5;     ///< settling ends here even if not at rest [s], > 0
-    /// The column stands when it came to rest with a height loss
-    /// (h_before − h₀)/h_before of at most this, in (0, 1).
+    /// The column stands when it came to rest with a loss of its grains'
+    /// bulk height (H_b before − H_b after)/H_b before of at most this, in
+    /// (0, 1), and with at most max_lost_fraction of its grains lost.
     double max_height_loss = 0.1;
+    /// q of the bulk height H_b = z_q / q (bulk_height_m), in [0.5, 1].
+    double bulk_fraction = 0.95;
+    /// The column stands only if at most this share of its grains' volume
+    /// left it (beyond escape_distance_m), in [0, 1).
+    double max_lost_fraction = 0.1;
     std::optional<DeadLoad> dead_load;    ///< none: no dead-load phase
     double plate_speed_m_per_s = 1e-3;    ///< top plate speed in compression [m/s], > 0
     double target_axial_strain = 0.1;     ///< compression ends here at the latest, in (0, 1)
@@ -126,19 +133,56 @@ struct FreeStandingSettings {
 /// first, and job validation asks the same function at the door.
 [[nodiscard]] std::optional<SettingsError> free_standing_settings_error(const FreeStandingSettings& s);
 
+/// The grains of a World as grains, not spheres (as grain_volumes counts
+/// them): each free sphere at its centre with its radius, each clump at its
+/// centre of mass with its volume-equivalent radius (3V/4π)^{1/3}; free
+/// spheres first in id order, then the clumps in clump order. Without clumps
+/// these are the grains' own positions and radii, in their order.
+struct ColumnGrains {
+    std::vector<Vec3> position_m;
+    std::vector<double> radius_m;
+};
+
+/// The grains of `w` as grains.
+[[nodiscard]] ColumnGrains column_grains(const World& w);
+
+/// The height of the grains' bulk above a bottom plate at `bottom_m`: the
+/// height H_b = z_q / q of a uniform column that has the share q
+/// (`fraction`, in (0, 1]) of its grains' volume below the same height z_q.
+/// V(z), the volume of the standing grains (within `escape_distance_m` of the
+/// axis) below the plane z, counts each grain as the sphere of its radius
+/// cut by the plane (a cap); z_q solves V(z_q) = q V(∞). A column whose grains
+/// fill its cross-section evenly from the plate to H has V(z) = V z / H, so
+/// H_b = H; grains (and wire, which is not counted) above the bulk that hold
+/// less than 1 − q of the volume do not move it; a heap (a cone of height
+/// H_c) reads H_c (1 − (1 − q)^{1/3})/q, 0.66 H_c at q = 0.95. 0 without a
+/// standing grain [m].
+[[nodiscard]] double bulk_height_m(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
+    double bottom_m, double escape_distance_m, double fraction);
+
 /// The standing part of a column: the grains (and wire nodes) within the
-/// escape distance of the axis.
+/// escape distance of the axis. Grains are counted as grains (ColumnGrains:
+/// a clump once, at its centre of mass).
 struct StandingColumn {
-    double top_m = 0.0;          ///< highest top of a standing grain or wire node above the bottom plate [m]
+    /// Highest top of a standing grain's sphere or wire node above the bottom
+    /// plate: where a plate set on the column touches it [m].
+    double top_m = 0.0;
+    /// The grains' bulk height (bulk_height_m at the given fraction) [m].
+    double bulk_height_m = 0.0;
     /// Equivalent radius √(2⟨ρ²⟩) + ⟨r⟩ of the standing grains (ρ their
     /// centres' distance from the axis): the radius of a uniformly filled
     /// cylinder with the same second moment of its grain centres [m].
     double radius_m = 0.0;
+    std::size_t grains = 0;          ///< grains of the column, standing or not
     std::size_t escaped_grains = 0;  ///< grains beyond the escape distance
+    /// The escaped grains' share of all the grains' volume (each grain the
+    /// sphere of its radius), in [0, 1].
+    double lost_fraction = 0.0;
 };
 
-/// The standing column of `w` (bottom plate: wall 0).
-[[nodiscard]] StandingColumn standing_column(const World& w, double escape_distance_m);
+/// The standing column of `w` (bottom plate: wall 0), its bulk height at
+/// `bulk_fraction`.
+[[nodiscard]] StandingColumn standing_column(const World& w, double escape_distance_m, double bulk_fraction);
 
 /// A radius profile: the equivalent radius (as StandingColumn's) of the
 /// standing grains in horizontal slices of one mean grain diameter, from the
@@ -190,12 +234,23 @@ struct Deposit {
 struct SettlingReading {
     bool at_rest = false;            ///< the kinetic-energy criterion was met
     double time_to_rest_s = 0.0;     ///< from the end of the removal [s] (the limit when not at rest)
-    double height_before_m = 0.0;    ///< the standing column's height before the removal [m]
-    double height_m = 0.0;           ///< h₀ after settling [m]
+    /// The standing column's top (StandingColumn::top_m: the highest grain
+    /// or wire node) before the removal, and h₀ after settling, where the
+    /// plate is set and the strain measured from [m]; and the change.
+    double height_before_m = 0.0;
+    double height_m = 0.0;
     double height_loss = 0.0;        ///< (before − after)/before
+    /// The grains' bulk height H_b (bulk_height_m) before the removal and
+    /// after settling [m], and its loss (before − after)/before, which the
+    /// verdict reads.
+    double bulk_height_before_m = 0.0;
+    double bulk_height_m = 0.0;
+    double bulk_height_loss = 0.0;
     double radius_before_m = 0.0;    ///< equivalent radius before the removal [m]
     double radius_m = 0.0;           ///< r₀ after settling [m]
+    std::size_t grains = 0;          ///< the column's grains (a clump counts once)
     std::size_t escaped_grains = 0;  ///< grains beyond the escape distance
+    double lost_fraction = 0.0;      ///< their share of the grains' volume
     /// The self-weight check: the column's weight (column_weight_n), and the
     /// bottom plate's force averaged over the last millisecond of settling,
     /// which equals it within base_force_tolerance_n, the largest change of
@@ -205,11 +260,20 @@ struct SettlingReading {
     double weight_n = 0.0;
     double base_force_n = 0.0;
     double base_force_tolerance_n = 0.0;
-    bool stands = false;             ///< at rest and height_loss ≤ max_height_loss
+    /// At rest, bulk_height_loss ≤ max_height_loss and lost_fraction ≤
+    /// max_lost_fraction (judge_settled_column).
+    bool stands = false;
     double max_removal_kinetic_energy_j = 0.0; ///< largest kinetic energy during the removal [J]
     RadiusProfile profile_before;    ///< radius against height before the removal
     RadiusProfile profile;           ///< and after settling
 };
+
+/// Fills the settled column's part of `r` from `after` (the column after
+/// settling): h₀, the bulk height, the radius, the grains lost, the losses
+/// against the `before` fields r already holds (height_before_m,
+/// bulk_height_before_m), and the verdict `stands` from r.at_rest and the
+/// bounds of `s`.
+void judge_settled_column(SettlingReading& r, const StandingColumn& after, const FreeStandingSettings& s);
 
 /// The dead load's reading.
 struct DeadLoadReading {
@@ -272,6 +336,7 @@ struct FreeStandingDriverState {
     std::uint64_t last_sample_step = std::numeric_limits<std::uint64_t>::max();
     std::size_t next_snapshot = 0;
     double max_sigma1_pa = 0.0;               ///< largest raw σ₁ of the compression so far
+    RadiusProfile profile_at_max_sigma1;      ///< the radius profile there (of grains, not spheres)
     double max_window_sigma1_pa = 0.0;        ///< largest trailing-window mean σ₁ so far
     /// Strain since which that mean has been below the failure level (NaN: it is not).
     double below_since_strain = std::numeric_limits<double>::quiet_NaN();

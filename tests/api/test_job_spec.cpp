@@ -91,6 +91,8 @@ JobSpec everything_changed()
     s.free_standing.settle_kinetic_energy_per_grain_j = 2e-9;
     s.free_standing.max_settling_time_s = 0.4;
     s.free_standing.max_height_loss = 0.2;
+    s.free_standing.bulk_fraction = 0.9;
+    s.free_standing.max_lost_fraction = 0.3;
     s.free_standing.dead_load_n = 70.0;
     s.free_standing.dead_load_ramp_time_s = 0.02;
     s.free_standing.dead_load_hold_time_s = 0.1;
@@ -269,6 +271,26 @@ TEST(JobSpec, FreeStandingFieldsAreCheckedAtTheDoor)
     r = parse_job_spec(R"({"free_standing": {"max_height_loss": 1}})");
     ASSERT_FALSE(r.ok());
     EXPECT_NE(error_at(r.error(), "free_standing.max_height_loss"), nullptr);
+    // The verdict's bounds: the bulk's quantile in [0.5, 1], the grains lost in [0, 1).
+    for (const char* bad : {R"({"free_standing": {"bulk_fraction": 0.4}})", R"({"free_standing": {"bulk_fraction": 1.01}})"}) {
+        r = parse_job_spec(bad);
+        ASSERT_FALSE(r.ok()) << bad;
+        ASSERT_NE(error_at(r.error(), "free_standing.bulk_fraction"), nullptr) << bad;
+        EXPECT_NE(error_at(r.error(), "free_standing.bulk_fraction")->message.find("[0.5, 1]"), std::string::npos)
+            << error_at(r.error(), "free_standing.bulk_fraction")->message;
+    }
+    for (const char* bad : {R"({"free_standing": {"max_lost_fraction": -0.1}})", R"({"free_standing": {"max_lost_fraction": 1}})"}) {
+        r = parse_job_spec(bad);
+        ASSERT_FALSE(r.ok()) << bad;
+        ASSERT_NE(error_at(r.error(), "free_standing.max_lost_fraction"), nullptr) << bad;
+        EXPECT_NE(error_at(r.error(), "free_standing.max_lost_fraction")->message.find("[0, 1)"), std::string::npos)
+            << error_at(r.error(), "free_standing.max_lost_fraction")->message;
+    }
+    const auto bounds = parse_job_spec(R"({"free_standing": {"bulk_fraction": 1, "max_lost_fraction": 0}})");
+    ASSERT_TRUE(bounds.ok()) << describe(bounds.error());
+    EXPECT_EQ(free_standing_settings(bounds.value()).bulk_fraction, 1.0);
+    EXPECT_EQ(free_standing_settings(bounds.value()).max_lost_fraction, 0.0);
+    EXPECT_FALSE(wiredem::engine::free_standing_settings_error(free_standing_settings(bounds.value())));
     r = parse_job_spec(R"({"free_standing": {"escape_distance_m": 0.01}})"); // the membrane's radius is 0.02
     ASSERT_FALSE(r.ok());
     ASSERT_NE(error_at(r.error(), "free_standing.escape_distance_m"), nullptr);

@@ -102,13 +102,15 @@ TEST(ClientDisplay, TheFreeStandingTestShowsWhetherItStandsAndItsStrengthBesideT
 {
     const json::value summary = json::parse(R"({"free_standing": {
         "settling": {"stands": false, "at_rest": true, "time_to_rest_s": 0.12, "height_before_m": 0.05, "height_m": 0.04,
-                     "height_loss": 0.2, "radius_before_m": 0.01, "radius_m": 0.012, "escaped_grains": 7,
+                     "height_loss": 0.2, "bulk_height_before_m": 0.048, "bulk_height_m": 0.03, "bulk_height_loss": 0.375,
+                     "radius_before_m": 0.01, "radius_m": 0.012, "grains": 140, "escaped_grains": 7, "lost_fraction": 0.05,
                      "weight_n": 1.5, "base_force_n": 1.49, "base_force_tolerance_n": 0.02},
         "dead_load": {"force_n": 7, "holds": true, "creep_strain": 0.0012},
         "compression": {"unconfined_strength_pa": 12345, "shape": "peak", "strain_at_failure": 0.021,
                         "predicted_unconfined_strength_pa": 10000, "quasi_static": true}}})");
     const std::string table = format_summary(summary);
-    for (const char* part : {"stands                 no", "loss 20.0 %", "grains that left it    7", "holds yes",
+    for (const char* part : {"stands                 no", "grains' bulk height    0.048 m -> 0.03 m (loss 37.5 %)",
+             "top (grain or wire)    0.05 m -> 0.04 m (loss 20.0 %)", "grains that left it    7 of 140 (5.0 % of the volume)", "holds yes",
              "creep 0.120 %", "12.345 kPa (peak, at 2.10 % strain)", "10.000 kPa (2c cos phi"})
         EXPECT_NE(table.find(part), std::string::npos) << part << "\n" << table;
     EXPECT_EQ(format_summary(json::object{}).find("Free-standing"), std::string::npos);
@@ -140,11 +142,12 @@ TEST(ClientDisplay, SummaryTableGivesYieldAndMaxQPerPressureInKpaAndBothEnvelope
                  "residual_stress_ratio": 0.4321}],
       "mohr_coulomb": {"friction_angle_deg": 38.5, "cohesion_pa": 1500, "r_squared": 0.99},
       "mohr_coulomb_max_q": {"friction_angle_deg": 41.75, "cohesion_pa": 2500, "paper_top_line_angle_deg": 33.3},
-      "specimen": {"grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
+      "specimen": {"cell": "cuboid", "grain_volume_fraction": 0.61, "wire_volume_fraction": 0.008},
       "warnings": ["fit used two points"]})");
     const std::string table = format_summary(summary);
     for (const char* expected : {"20.0", "0.457", "plateau", "3.11", "77.7", "28.9", "81.2", "rising", "4.12", "0.432",
-             "38.50 deg", "1.50 kPa", "41.75 deg", "2.50 kPa", "33.30 deg", "0.6100", "0.00800", "fit used two points"})
+             "38.50 deg", "1.50 kPa", "41.75 deg", "2.50 kPa", "33.30 deg", "0.6100", "0.00800", "fit used two points",
+             "triaxial cell          cuboid (six rigid walls; its side walls confine)"})
         EXPECT_NE(table.find(expected), std::string::npos) << expected << "\n" << table;
     EXPECT_NE(table.find("wire nodes             -"), std::string::npos) << "missing fields print as -\n" << table;
     EXPECT_NE(format_summary(json::object{}).find("(no tests in the summary)"), std::string::npos);

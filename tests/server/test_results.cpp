@@ -476,6 +476,12 @@ engine::FreeStandingResult free_standing_record()
     r.settling.at_rest = true;
     r.settling.stands = true;
     r.settling.height_loss = 0.0125;
+    r.settling.bulk_height_before_m = 0.05;
+    r.settling.bulk_height_m = 0.045;
+    r.settling.bulk_height_loss = 0.1;
+    r.settling.grains = 150;
+    r.settling.escaped_grains = 6;
+    r.settling.lost_fraction = 0.0375;
     r.settling.profile_before = {{0.001, 0.003}, {0.008, 0.0081}, {5, 6}};
     r.settling.profile = {{0.001, 0.003, 0.005}, {0.0085, 0.0086, 0.0079}, {4, 5, 2}};
     engine::CompressionReading c;
@@ -599,6 +605,13 @@ TEST_F(FreeStandingData, TheTestIsServedWithItsReadingsProfilesAndWireAsWritten)
     const auto& a = b.at("attributes");
     EXPECT_EQ(a.at("stands").to_number<int>(), 1);
     EXPECT_DOUBLE_EQ(a.at("height_loss").to_number<double>(), 0.0125);
+    // What the verdict reads: the grains' bulk and the grains lost.
+    EXPECT_DOUBLE_EQ(a.at("bulk_height_before_m").to_number<double>(), 0.05);
+    EXPECT_DOUBLE_EQ(a.at("bulk_height_m").to_number<double>(), 0.045);
+    EXPECT_DOUBLE_EQ(a.at("bulk_height_loss").to_number<double>(), 0.1);
+    EXPECT_EQ(a.at("grains").to_number<int>(), 150);
+    EXPECT_EQ(a.at("escaped_grains").to_number<int>(), 6);
+    EXPECT_DOUBLE_EQ(a.at("lost_fraction").to_number<double>(), 0.0375);
     EXPECT_EQ(a.at("strength_shape").get_string(), "peak");
     EXPECT_DOUBLE_EQ(a.at("strength_smoothed_maximum").to_number<double>(), 1234.5);
     // The columns are the series' (not the wire's per-segment arrays, not the underived ε_v).

@@ -67,7 +67,7 @@ struct CollapseOutcome {
     World& w = sim.world;
     w.contact.rolling.friction_coeff = c.rolling_friction_coeff;
     w.contact.rolling.damping_ratio = c.rolling_friction_coeff > 0.0 ? c.rolling_damping_ratio : 0.0;
-    const StandingColumn before = standing_column(w, 1.0);
+    const StandingColumn before = standing_column(w, 1.0, FreeStandingSettings{}.bulk_fraction);
     const TranslationalState& grains = w.of(BodyKind::grain);
     const double bottom_m = w.walls[0].point_m.z();
     const Deposit column = deposit(grains.x[0], grains.radius_m, bottom_m, 1.0);

@@ -442,3 +442,228 @@ TEST(ColumnCollapse, SandsRunoutLiesBetweenGrainsThatRollEasilyAndHardlyAndItsHe
     EXPECT_GT(e.value().runout() - resolution(e.value()), lube_runout(a));
     EXPECT_NEAR(h.value().final_height(), lube_final_height(a), resolution(h.value()));
 }
+
+// What stands (docs/model.md, "What stands"): the verdict reads the grains'
+// bulk height and the grains lost, not the top of the highest grain or wire
+// node, where a wire left standing as a spring keeps the height. Columns laid
+// out directly: grains on equal-area discs (golden angle), a helix of wire.
+namespace {
+
+constexpr double stands_r = 1e-3;       // grain radius [m]
+constexpr double stands_R = 20e-3;      // the column's radius [m]
+constexpr int stands_layers = 12;       // H = 24 r … 24 mm
+constexpr int stands_per_layer = 100;   // grains per layer of the column
+constexpr double stands_escape = 30e-3; // 1.5 R
+
+/// `count` grain centres filling a disc of radius `rho_m` (centres within
+/// rho_m − r) evenly at height z, from `rho_min_m` out.
+void disc_layer(std::vector<Vec3>& x, int count, double rho_m, double z_m, double rho_min_m = 0.0)
+{
+    const double a = rho_min_m * rho_min_m, b = (rho_m - stands_r) * (rho_m - stands_r);
+    for (int k = 0; k < count; ++k) {
+        const double rho = std::sqrt(a + (b - a) * (k + 0.5) / count), phi = 2.399963 * k;
+        x.emplace_back(rho * std::cos(phi), rho * std::sin(phi), z_m);
+    }
+}
+
+double layer_z(int k) { return stands_r + 2.0 * stands_r * k; }
+
+/// The column as built: stands_layers full layers.
+std::vector<Vec3> built_column()
+{
+    std::vector<Vec3> x;
+    for (int k = 0; k < stands_layers; ++k) disc_layer(x, stands_per_layer, stands_R, layer_z(k));
+    return x;
+}
+
+/// A World of the grains at `x` (radius stands_r) on a bottom plate at z = 0,
+/// with a helix of wire of radius 15 mm from the plate to 2.5 mm above the
+/// built column's top, which stands whatever the grains did.
+World column_world(const std::vector<Vec3>& x)
+{
+    World w;
+    const std::uint8_t mat = add_material(w, soft_grain);
+    add_wall(w, make_plate(0.0, +1.0, mat));
+    for (const Vec3& p : x) add_grain(w, p, stands_r, mat);
+    const double top_m = 2.0 * stands_r * stands_layers + 2.5e-3;
+    for (int i = 0; i <= 200; ++i) {
+        const double t = i / 200.0;
+        add_node(w, BodyKind::wire, Vec3(15e-3 * std::cos(40.0 * t), 15e-3 * std::sin(40.0 * t), 0.5e-3 + t * (top_m - 1e-3)),
+            0.5e-3, 1e-6, mat);
+    }
+    return w;
+}
+
+FreeStandingSettings stands_settings()
+{
+    FreeStandingSettings s;
+    s.escape_distance_m = stands_escape;
+    return s;
+}
+
+/// The settling's reading of a column built as built_column() that settled
+/// into `after`, at rest.
+SettlingReading judged(const std::vector<Vec3>& after, bool at_rest = true)
+{
+    const FreeStandingSettings s = stands_settings();
+    const StandingColumn before = standing_column(column_world(built_column()), s.escape_distance_m, s.bulk_fraction);
+    SettlingReading r;
+    r.at_rest = at_rest;
+    r.height_before_m = before.top_m;
+    r.bulk_height_before_m = before.bulk_height_m;
+    judge_settled_column(r, standing_column(column_world(after), s.escape_distance_m, s.bulk_fraction), s);
+    return r;
+}
+
+} // namespace
+
+// The bulk height of grains filling a cylinder from the plate to H in n
+// layers of centres 2r apart: V(z) rises by a layer's volume over each layer,
+// as the sphere's cap t²(3 − 2t) (t the fraction of its diameter below z)
+// where an even fill rises as t; the two differ by at most 0.096 (at t =
+// 0.211), so z_q is q H within 0.096 × 2r and H_b = z_q/q is H within
+// 0.2 r/q. With q = 1, H_b is the top of the highest grain, to what the
+// rounding of the summed volume leaves near a cap's top, where V(z) is flat
+// (δ ~ √(ε V / (π r n_top)), 10⁻¹⁰ m here): 10⁻⁵ r. Grains beyond the escape
+// distance do not count.
+TEST(BulkHeight, OfAFilledCylinderIsItsHeightWithinAFifthOfAGrainRadius)
+{
+    const double q = FreeStandingSettings{}.bulk_fraction;
+    for (int n = 4; n <= 30; ++n) {
+        std::vector<Vec3> x;
+        for (int k = 0; k < n; ++k) disc_layer(x, 50, 10e-3, layer_z(k));
+        const std::vector<double> radius(x.size(), stands_r);
+        const double h = 2.0 * stands_r * n;
+        EXPECT_NEAR(bulk_height_m(x, radius, 0.0, 1.0, q), h, 0.2 * stands_r / q) << n << " layers";
+        EXPECT_NEAR(bulk_height_m(x, radius, 0.0, 1.0, 1.0), h, 1e-5 * stands_r) << n << " layers";
+        // The same column on a plate 0.1 m up, with grains far out at its top: the same height.
+        for (Vec3& p : x) p.z() += 0.1;
+        std::vector<Vec3> more = x;
+        std::vector<double> more_radius = radius;
+        for (int k = 0; k < 100; ++k) {
+            more.emplace_back(0.5, 0.0, 0.1 + h + 10e-3);
+            more_radius.push_back(stands_r);
+        }
+        EXPECT_NEAR(bulk_height_m(more, more_radius, 0.1, 0.2, q), bulk_height_m(x, radius, 0.1, 1.0, q), 1e-12);
+    }
+    EXPECT_EQ(bulk_height_m({}, {}, 0.0, 1.0, q), 0.0);
+}
+
+// A heap (a cone of height H_c, even areal density) reads H_c (1 − (1 −
+// q)^{1/3})/q: the volume below z is 1 − (1 − z/H_c)³ of it. Stepped into
+// 40 layers, the heap is known to a layer.
+TEST(BulkHeight, OfAHeapIsTheConesHeightTimesItsVolumeLaw)
+{
+    const double q = 0.95, hc = 80.0 * stands_r, rb = 60e-3;
+    std::vector<Vec3> x;
+    for (int k = 0; k < 40; ++k) {
+        const double z = layer_z(k), rho = rb * (1.0 - z / hc);
+        disc_layer(x, static_cast<int>(std::lround(4000.0 * (rho / rb) * (rho / rb))), rho + stands_r, z);
+    }
+    const std::vector<double> radius(x.size(), stands_r);
+    EXPECT_NEAR(bulk_height_m(x, radius, 0.0, 1.0, q), hc * (1.0 - std::cbrt(1.0 - q)) / q, 2.0 * stands_r);
+}
+
+// The column at rest with all its grains, a little settled, stands; the same
+// not at rest does not.
+TEST(WhatStands, AColumnAtRestWithAllItsGrainsStands)
+{
+    std::vector<Vec3> after = built_column();
+    for (Vec3& p : after) p.z() *= 0.98;
+    const SettlingReading r = judged(after);
+    EXPECT_EQ(r.grains, static_cast<std::size_t>(stands_layers * stands_per_layer));
+    EXPECT_EQ(r.escaped_grains, 0u);
+    EXPECT_EQ(r.lost_fraction, 0.0);
+    EXPECT_NEAR(r.bulk_height_before_m, 2.0 * stands_r * stands_layers, 0.2 * stands_r / 0.95);
+    EXPECT_NEAR(r.bulk_height_loss, 0.02, 2.0 * 0.2 * stands_r / 0.95 / r.bulk_height_before_m); // each H_b within 0.2 r/q
+    EXPECT_TRUE(r.stands);
+    EXPECT_FALSE(judged(after, false).stands);
+}
+
+// A column that ran out into a heap, its wire still standing to its old top:
+// the top of the highest grain or wire node did not move (the reading before
+// 2026-12-06 called it standing), the grains' bulk fell to a third and a
+// quarter of them left.
+TEST(WhatStands, AColumnThatRanOutIntoAHeapDoesNotStandThoughItsWireStands)
+{
+    std::vector<Vec3> heap;
+    const int total = stands_layers * stands_per_layer, layers = 6;
+    const double base_m = 45e-3;
+    double sum = 0.0;
+    for (int k = 0; k < layers; ++k) sum += (1.0 - double(k) / layers) * (1.0 - double(k) / layers);
+    int placed = 0;
+    for (int k = layers - 1; k >= 0; --k) { // the bottom layer takes what rounding leaves
+        const double f = 1.0 - double(k) / layers;
+        const int n = k == 0 ? total - placed : static_cast<int>(std::lround(total * f * f / sum));
+        disc_layer(heap, n, base_m * f, layer_z(k));
+        placed += n;
+    }
+    ASSERT_EQ(heap.size(), static_cast<std::size_t>(total));
+    const SettlingReading r = judged(heap);
+    EXPECT_LE(r.height_loss, 0.0) << "the wire keeps the top";
+    EXPECT_GT(r.bulk_height_loss, 0.5);
+    EXPECT_GT(r.lost_fraction, 0.2);
+    EXPECT_FALSE(r.stands);
+    // The same heap gathered within the escape distance (nothing lost): the bulk alone says no.
+    for (Vec3& p : heap) p.head<2>() *= 0.6;
+    const SettlingReading inside = judged(heap);
+    EXPECT_EQ(inside.lost_fraction, 0.0);
+    EXPECT_FALSE(inside.stands);
+}
+
+// The study's case (docs/study.md, "The free-standing column"): a core
+// inside the wire stands to two thirds of the height, a few grains are
+// caught in the wire above it, more than half the grains lie in a skirt
+// beyond the escape distance. Not standing, by its bulk and by the grains
+// lost; and a core that keeps its full height but shed more than the bound
+// of grains does not stand either.
+TEST(WhatStands, ACoreStandingInsideTheWireWithMostGrainsGoneDoesNotStand)
+{
+    const int total = stands_layers * stands_per_layer;
+    std::vector<Vec3> x;
+    for (int k = 0; k < 8; ++k) disc_layer(x, 70, 14e-3, layer_z(k));
+    for (int k = 8; k < stands_layers; ++k) disc_layer(x, 4, 15e-3, layer_z(k), 13.5e-3);
+    disc_layer(x, total - static_cast<int>(x.size()), 45e-3, layer_z(0), 31e-3);
+    const SettlingReading r = judged(x);
+    EXPECT_LE(r.height_loss, 0.0);
+    EXPECT_GT(r.bulk_height_loss, 0.25);
+    EXPECT_GT(r.lost_fraction, 0.5);
+    EXPECT_FALSE(r.stands);
+
+    std::vector<Vec3> shed;
+    for (int k = 0; k < stands_layers; ++k) disc_layer(shed, 80, 16e-3, layer_z(k));
+    disc_layer(shed, total - static_cast<int>(shed.size()), 45e-3, layer_z(0), 31e-3);
+    const SettlingReading s = judged(shed);
+    EXPECT_LE(s.bulk_height_loss, 0.0 + 0.2 * stands_r / s.bulk_height_before_m);
+    EXPECT_NEAR(s.lost_fraction, 0.2, 1e-12);
+    EXPECT_FALSE(s.stands);
+}
+
+// Clumps count as grains: once each, at their centre of mass with their
+// volume-equivalent radius, in the escaped count, the lost volume and the
+// profile (not as their spheres).
+TEST(WhatStands, AClumpCountsOnceAsAGrain)
+{
+    World w;
+    const std::uint8_t mat = add_material(w, soft_grain);
+    add_wall(w, make_plate(0.0, +1.0, mat));
+    const ClumpBody unit = unit_clump_shape(*builtin_clump_template("elongated"));
+    const ClumpBody body = scaled_clump(unit, stands_r);
+    add_grain(w, Vec3(0.0, 0.0, stands_r), stands_r, mat);
+    add_clump(w, body, Vec3(5e-3, 0.0, 3.0 * stands_r), Quat::Identity(), mat);
+    add_clump(w, body, Vec3(-5e-3, 0.0, 3.0 * stands_r), Quat::Identity(), mat);
+    add_clump(w, body, Vec3(50e-3, 0.0, stands_r), Quat::Identity(), mat); // escaped
+    ASSERT_EQ(w.of(BodyKind::grain).size(), 10u);
+    const ColumnGrains g = column_grains(w);
+    ASSERT_EQ(g.position_m.size(), 4u);
+    EXPECT_EQ(g.position_m[1], Vec3(5e-3, 0.0, 3.0 * stands_r));
+    EXPECT_NEAR(g.radius_m[1], stands_r, 1e-9 * stands_r);
+    const StandingColumn c = standing_column(w, stands_escape, 0.95);
+    EXPECT_EQ(c.grains, 4u);
+    EXPECT_EQ(c.escaped_grains, 1u);
+    EXPECT_NEAR(c.lost_fraction, 0.25, 1e-9); // four grains of one volume
+    const RadiusProfile p = radius_profile(g.position_m, g.radius_m, 0.0, stands_escape);
+    std::uint32_t counted = 0;
+    for (std::uint32_t n : p.grains) counted += n;
+    EXPECT_EQ(counted, 3u);
+}

@@ -11,8 +11,9 @@
 // view's colours and dashes; a submit form no wider than the window; the
 // form's grain-size, grain-shape, rolling and wire-break fields with the
 // door's errors, and the clump job they make drawn sphere by sphere; a wire's
-// breaks and pieces (tests/web/job-breaks.json) on the job page and the
-// offline report. Every page must load without a console
+// breaks and pieces (tests/web/job-breaks.json) and a wire pulled out of
+// its column (tests/web/job-pull.json: the pull force against the pulled
+// length) on the job page and the offline report. Every page must load without a console
 // error or a failed request; a job named like an HTML tag shows as text.
 //
 // Run through ctest (tests/web/run.sh). WIREDEM_WEB_SCREENSHOTS=DIR saves the
@@ -109,7 +110,7 @@ function watch(page) {
   return w;
 }
 
-let browser, tmp, server, mainId, xssId, growId, breaksId, summary;
+let browser, tmp, server, mainId, xssId, growId, breaksId, pullId, summary;
 
 async function newPage() {
   const page = await browser.newPage();
@@ -154,6 +155,10 @@ before(async () => {
   const breaks = await server.api('POST', '/v1/jobs', { body: readFileSync(path.join(sourceDir, 'tests/web/job-breaks.json'), 'utf8') });
   assert.equal(breaks.status, 201, JSON.stringify(breaks.json));
   breaksId = breaks.json.id;
+  // The wire pulled out of the free column (tests/web/job-pull.json): the pull's plot.
+  const pull = await server.api('POST', '/v1/jobs', { body: readFileSync(path.join(sourceDir, 'tests/web/job-pull.json'), 'utf8') });
+  assert.equal(pull.status, 201, JSON.stringify(pull.json));
+  pullId = pull.json.id;
   browser = await puppeteer.launch({
     executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
     headless: true,
@@ -260,6 +265,9 @@ test('job page: summary figures, every plot\'s series and points, the Mohr envel
   assertShown(await figure('friction_angle_deg'), mc.friction_angle_deg, 'φ');
   assertShown(await figure('cohesion_pa'), mc.cohesion_pa / 1000, 'c [kPa]');
   assertShown(await figure('grain_volume_fraction'), summary.specimen.grain_volume_fraction, 'grain volume fraction');
+  // Which triaxial cell ran (the job's membrane).
+  assert.equal(summary.specimen.cell, 'membrane');
+  assert.equal(await figure('cell'), 'membrane (flexible, pressurised)', 'the triaxial cell');
   assertShown(await figure('autocorrelation_lag_m'), summary.wire.autocorrelation_lag_m * 1000, 'lag [mm]');
   const prominentShown = await figure('autocorrelation_prominent_lag_m');
   if (summary.wire.autocorrelation_prominent_lag_m == null) assert.equal(prominentShown, '—', 'no prominent lag');
@@ -425,6 +433,13 @@ async function checkFreeStanding(page, plots, where) {
     assert.ok(predicted && predicted.y.every((v) => v === c.predicted_unconfined_strength_pa / 1000), `${where}: the prediction is drawn at its value`);
   }
   assert.equal(await page.$eval('[data-figure="fs_stands"] .value', (e) => e.textContent), fs.settling.stands ? 'yes' : 'no');
+  // The verdict reads the grains' bulk and the grains lost (the job keeps the default bounds, 0.1 and 0.1).
+  const st = fs.settling;
+  assert.equal(st.stands, st.at_rest && st.bulk_height_loss <= 0.1 && st.lost_fraction <= 0.1, `${where}: ${JSON.stringify(st)}`);
+  assert.equal(Number(await page.$eval('[data-figure="fs_bulk_height_loss"] .value', (e) => e.textContent)),
+    Number(st.bulk_height_loss.toPrecision(3)), `${where}: the bulk height loss`);
+  assert.match(await page.$eval('[data-figure="fs_escaped_grains"] .value', (e) => e.textContent),
+    new RegExp(`^${st.escaped_grains} of ${st.grains} \\(`), `${where}: the grains lost`);
   const profile = plots['plot-fs-profile'];
   const present = ['profile_before', 'profile_settled', 'profile_at_peak', 'profile_at_end'].filter((k) => test.profiles[k]);
   assert.deepEqual(profile.profiles, present, `${where}: one curve per profile`);
@@ -716,6 +731,7 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   await page.waitForSelector('#main[data-rendered="true"]');
   assert.equal(await page.$eval('#job-name', (e) => e.textContent), summary.name ?? (await server.api('GET', `/v1/jobs/${mainId}`)).json.name);
   assertShown(await page.$eval('[data-figure="friction_angle_deg"] .value', (e) => e.textContent), summary.mohr_coulomb.friction_angle_deg, 'φ');
+  assert.equal(await page.$eval('[data-figure="cell"] .value', (e) => e.textContent), 'membrane (flexible, pressurised)', 'offline report: the triaxial cell');
   await checkFlaggedFit(page, 'offline report');
   const plots = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('.plot')].map((p) => [p.id, p.wiredemPlot])));
   checkMohrAxis(plots['plot-mohr'], 'offline report');
@@ -1022,6 +1038,63 @@ test('a breakable wire cut every two loops: its breaks marked on the curves and 
   await report.goto(`file://${path.join(out, 'report.html')}`);
   await report.waitForSelector('#main[data-rendered="true"]');
   await checkWireParts(report, s, 'offline report');
+  assert.deepEqual(reportWatch.problems, []);
+  await report.close();
+});
+
+/// The pull-out as `page` shows it, against summary.json's `po` and the
+/// API's rows (GET …/free_standing's pull_out): a point per row, the pull
+/// force and the end tension as stored, the pulled length in mm; the peak
+/// drawn at its value (the largest row mean) and marked at its length; its tile.
+async function checkPullOut(page, po, rows, where) {
+  const plot = await page.$eval('#plot-fs-pull', (p) => p.wiredemPlot);
+  const n = rows.pulled_length_m.values.length;
+  assert.ok(n > 5, `${where}: the pull has rows (${n})`);
+  assert.equal(plot.rows, n, where);
+  assertSameNumbers(plot.series[0].x, rows.pulled_length_m.values.map((v) => v * 1000), `${where}: pulled lengths [mm]`);
+  assertSameNumbers(plot.series[0].y, rows.pull_force_n.values, `${where}: pull forces`);
+  assertSameNumbers(plot.series[1].y, rows.end_tension_n.values, `${where}: end tensions`);
+  assert.equal(Math.max(0, ...rows.pull_force_n.values), po.peak_pull_force_n, `${where}: the peak is the largest row mean`);
+  const peak = plot.series.find((x) => x.label.startsWith('peak'));
+  assert.ok(peak && peak.y.every((v) => v === po.peak_pull_force_n), `${where}: the peak drawn at its value`);
+  assert.deepEqual(plot.peak, { force_n: po.peak_pull_force_n, length_m: po.pulled_length_at_peak_m }, where);
+  assert.equal(Number(await page.$eval('[data-figure="fs_peak_pull_force_n"] .value', (e) => e.textContent)),
+    Number(po.peak_pull_force_n.toPrecision(4)), `${where}: the peak's tile`);
+}
+
+test('pull-out: the pull force against the pulled length, its peak marked, on the job page and in the offline report', async () => {
+  const job = await server.waitFor(pullId, ['succeeded', 'failed', 'cancelled']);
+  assert.equal(job.state, 'succeeded', server.log());
+  const s = (await server.api('GET', `/v1/jobs/${pullId}/summary`)).json;
+  const po = s.free_standing.pull_out;
+  assert.ok(po && po.pulled_length_m > 0 && po.peak_pull_force_n > 0, JSON.stringify(s.free_standing));
+  const rows = (await server.api('GET', `/v1/jobs/${pullId}/free_standing`)).json.pull_out;
+  const { page, w } = await newPage();
+  await page.goto(`${server.url}/#/jobs/${pullId}`);
+  await page.waitForFunction(() => document.querySelector('#plot-fs-pull')?.wiredemPlot);
+  await checkPullOut(page, po, rows, 'job page');
+  if (screenshots) {
+    const plot = await page.$('#plot-fs-pull');
+    await plot.scrollIntoView();
+    await plot.screenshot({ path: path.join(screenshots, 'web-pull-out.png') });
+  }
+  assert.deepEqual(w.problems, []);
+  await page.close();
+
+  const out = mkdtempSync(path.join(tmp, 'report-pull-'));
+  for (const [route, file] of [['summary', 'summary.json'], ['result.h5', 'result.h5']]) {
+    const res = await fetch(`${server.url}/v1/jobs/${pullId}/${route}`);
+    assert.equal(res.status, 200);
+    writeFileSync(path.join(out, file), Buffer.from(await res.arrayBuffer()));
+  }
+  const run = spawn(path.join(path.dirname(serverBin), 'wiredem'), ['report', out], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  run.stderr.on('data', (d) => { stderr += d; });
+  assert.equal(await new Promise((resolve) => run.on('exit', resolve)), 0, stderr);
+  const { page: report, w: reportWatch } = await newPage();
+  await report.goto(`file://${path.join(out, 'report.html')}`);
+  await report.waitForSelector('#main[data-rendered="true"]');
+  await checkPullOut(report, po, rows, 'offline report');
   assert.deepEqual(reportWatch.problems, []);
   await report.close();
 });

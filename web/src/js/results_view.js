@@ -28,6 +28,11 @@ export const curveColumns = 'axial_strain,deviatoric_stress_pa,stress_ratio,volu
 
 /// Warnings (first: a result that was not quasi-static or not settled must not
 /// be read as if it were), the summary figures and the per-test table.
+/// The triaxial cell that ran (summary.specimen.cell, triaxial.cell), for people.
+export function cellText(c) {
+  return { membrane: 'membrane (flexible, pressurised)', cuboid: 'cuboid (six rigid walls; its side walls confine)' }[c] ?? (c == null ? '—' : String(c));
+}
+
 export function renderSummary(body, summary) {
   if (summary.warnings && summary.warnings.length)
     body.append(el('div', { class: 'warnings', id: 'warnings' }, el('h2', {}, `Warnings (${summary.warnings.length})`),
@@ -47,6 +52,7 @@ export function renderSummary(body, summary) {
       figure('φ with c = 0 [°]', num(c0.friction_angle_deg, 4), 'cohesionless_friction_angle_deg'),
       figure('α, slope of the tops [°]', num(mc.paper_top_line_angle_deg, 4), 'paper_top_line_angle_deg'),
       fitFigure(mcq, 'φ (max q) [°]', num(mcq.friction_angle_deg, 4), 'max_q_friction_angle_deg'),
+      figure('triaxial cell', cellText(sp.cell), 'cell'),
       figure('grain volume fraction', num(sp.grain_volume_fraction, 4), 'grain_volume_fraction'),
       figure('wire volume fraction', num(sp.wire_volume_fraction, 4), 'wire_volume_fraction'),
       figure('grains', sp.grains ?? '—', 'grains'),
@@ -211,24 +217,31 @@ export function compressionRows(series) {
 const yesNo = (b) => (b === true ? 'yes' : b === false ? 'no' : '—');
 
 /// The free-standing test (docs/model.md, "The free-standing test"): its
-/// figures from summary.free_standing; σ₁ against axial strain in the
+/// figures from summary.free_standing (whether it stands, read from the
+/// grains' bulk height and the grains lost; the top, where the plate was
+/// set); σ₁ against axial strain in the
 /// unconfined compression with the unconfined strength marked and labelled
 /// (peak / plateau / rising) and the envelope's prediction 2c cos φ/(1 − sin φ);
 /// the column's radius against height before the removal, settled, at the
 /// largest σ₁ and at the end; the wire's tension along its length at the
-/// largest σ₁. `test` as GET …/free_standing gives it, `series` its series
-/// reply (freeStandingColumns).
+/// largest σ₁; with a pull-out instead of the compression, the pull force
+/// against the pulled length (renderPullOut). `test` as GET …/free_standing
+/// gives it, `series` its series reply (freeStandingColumns).
 export function renderFreeStanding(body, summary, test, series) {
   const fs = (summary && summary.free_standing) || {};
   const st = fs.settling || {};
   const c = fs.compression || {};
   const dl = fs.dead_load;
+  const po = fs.pull_out;
   body.append(el('h2', { id: 'free-standing' }, 'Free-standing test'));
   body.append(el('div', { class: 'figures', id: 'free-standing-figures' },
     figure('stands', yesNo(st.stands), 'fs_stands'),
-    figure('height loss', num(st.height_loss, 3), 'fs_height_loss'),
-    figure('height before → after [mm]', `${mm(st.height_before_m)} → ${mm(st.height_m)}`, 'fs_height'),
-    figure('grains that left', st.escaped_grains ?? '—', 'fs_escaped_grains'),
+    figure('grains\' bulk height loss', num(st.bulk_height_loss, 3), 'fs_bulk_height_loss'),
+    figure('grains\' bulk height before → after [mm]', `${mm(st.bulk_height_before_m)} → ${mm(st.bulk_height_m)}`, 'fs_bulk_height'),
+    figure('grains that left (share of their volume)', st.escaped_grains != null
+      ? `${st.escaped_grains} of ${st.grains ?? '—'} (${st.lost_fraction != null ? num(st.lost_fraction * 100, 3) : '—'} %)` : '—', 'fs_escaped_grains'),
+    figure('top (grain or wire) before → after [mm]', `${mm(st.height_before_m)} → ${mm(st.height_m)}`, 'fs_height'),
+    figure('top height loss', num(st.height_loss, 3), 'fs_height_loss'),
     figure('time to rest [s]', num(st.time_to_rest_s, 3), 'fs_time_to_rest_s'),
     figure('base force / weight', st.weight_n ? num(st.base_force_n / st.weight_n, 4) : '—', 'fs_base_over_weight'),
     figure(`unconfined strength (${c.shape || '—'}) [kPa]`, kpa(c.unconfined_strength_pa), 'fs_unconfined_strength_pa'),
@@ -236,9 +249,13 @@ export function renderFreeStanding(body, summary, test, series) {
     figure('strain at failure', num(c.strain_at_failure, 4), 'fs_strain_at_failure'),
     figure('quasi-static', yesNo(c.quasi_static), 'fs_quasi_static'),
     c.peak_failure !== undefined ? figure('failed by', failureText(c.peak_failure), 'fs_peak_failure') : '',
-    dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : ''));
+    dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : '',
+    po ? figure('peak pull force [N]', num(po.peak_pull_force_n, 4), 'fs_peak_pull_force_n') : '',
+    po ? figure('pulled length at the peak → in all [mm]', `${mm(po.pulled_length_at_peak_m)} → ${mm(po.pulled_length_m)}`, 'fs_pulled_length') : '',
+    po ? figure('wire in the column before → after [mm]', `${mm(po.wire_in_column_before_m)} → ${mm(po.wire_in_column_m)}`, 'fs_wire_in_column') : ''));
   const grid = el('div', { class: 'grid' });
   body.append(grid);
+  if (po) renderPullOut(grid, po, test && test.pull_out);
 
   // σ₁ against ε in the compression, the strength as a horizontal line at its
   // value and a vertical one at its strain, the prediction beside it.
@@ -284,6 +301,37 @@ export function renderFreeStanding(body, summary, test, series) {
     series: w ? [{ label: 'segment tension E_w π r_w² ε', x: w.distance_m.map((d) => d * 1000), y: w.tension_n.map((t) => t * 1000) }] : [],
     note: w ? `Segment k at (k + ½) l_w, l_w = ${mm(w.segment_length_m)} mm; negative: compressed.` : 'No wire, or no compression.' });
   wireBox.wiredemPlot.segments = w ? w.tension_n.length : 0;
+}
+
+/// The pull-out (docs/model.md, "Pulling the wire out"): the pull force (the
+/// drive's reaction, a mean over each row's interval) and the end segment's
+/// tension along the pull against the pulled length, one point per row of
+/// GET …/free_standing's `pull_out` (`rows`), the peak from the summary
+/// (`po`) drawn at its value and marked at its pulled length, and the force
+/// that accelerating the wire takes in the ramp (`ramp_inertia_n`): a peak of
+/// that order during the ramp is the wire's inertia.
+function renderPullOut(grid, po, rows) {
+  const column = (k) => (rows && rows[k] ? rows[k].values : []);
+  const x = column('pulled_length_m').map((v) => v * 1000);
+  const curves = [
+    { label: 'pull force (the drive\'s reaction)', x, y: column('pull_force_n') },
+    { label: 'end segment\'s tension along the pull', x, y: column('end_tension_n'), dash: [6, 3] },
+  ];
+  const xMax = Math.max(0, ...x.filter(Number.isFinite));
+  const markers = [];
+  if (po.peak_pull_force_n != null) {
+    curves.push({ label: `peak ${num(po.peak_pull_force_n, 4)} N`, x: [0, xMax], y: [po.peak_pull_force_n, po.peak_pull_force_n],
+      color: '#1d2330', dash: [8, 4], width: 2 });
+    if (po.pulled_length_at_peak_m != null) markers.push({ x: po.pulled_length_at_peak_m * 1000, label: `peak at ${mm(po.pulled_length_at_peak_m)} mm` });
+  }
+  if (Number.isFinite(po.ramp_inertia_n))
+    curves.push({ label: `accelerating the wire in the ramp: ${num(po.ramp_inertia_n, 3)} N`, x: [0, xMax],
+      y: [po.ramp_inertia_n, po.ramp_inertia_n], color: '#d9480f', dash: [2, 4], width: 2 });
+  const box = linePlot(grid, { id: 'plot-fs-pull', title: 'Pulling the wire out: force against pulled length',
+    xLabel: 'pulled length [mm]', yLabel: 'force [N]', series: curves, markers, swatches: true,
+    note: `One point per row (means over its sample interval). Ended by ${po.end ?? '—'}${po.wire_broke ? '; the wire broke' : ''}.` });
+  box.wiredemPlot.rows = x.length;
+  box.wiredemPlot.peak = { force_n: po.peak_pull_force_n ?? null, length_m: po.pulled_length_at_peak_m ?? null };
 }
 
 /// What gave way at the peak (a test's peak_failure, docs/results.md), for people.
