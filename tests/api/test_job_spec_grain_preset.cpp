@@ -10,6 +10,8 @@
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -135,6 +137,36 @@ TEST(JobSpecGrainPreset, RefusesAnUnknownNameAndAScaleTheColumnCannotHoldAtTheFi
     e = error_at(big.error(), "specimen.grain_radius_m");
     ASSERT_NE(e, nullptr) << all(big.error());
     EXPECT_NE(e->message.find("with specimen.grain_preset \"gravel\", the largest diameter"), std::string::npos) << e->message;
+}
+
+// The calibration's record (docs/model.md, "A calibrated gravel"): the heap
+// job that names the preset is the calibration run of the preset's own μ_r,
+// field for field, so the run recorded for that μ_r is the preset's.
+TEST(JobSpecGrainPreset, ThePresetsHeapJobIsTheCalibrationRunOfItsRollingFriction)
+{
+    const auto read = [](const std::string& name) {
+        std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/docs/calibration/gravel/" + name);
+        std::stringstream text;
+        text << in.rdbuf();
+        return parse_job_spec(text.str());
+    };
+    std::ostringstream mu_r;
+    mu_r << gravel_preset.rolling_friction_coeff;
+    const auto preset = read("repose-preset.json");
+    const auto run = read("repose-mu_r-" + mu_r.str() + ".json");
+    ASSERT_TRUE(preset.ok()) << all(preset.error());
+    ASSERT_TRUE(run.ok()) << "no calibration run at the preset's mu_r = " << mu_r.str() << ": " << all(run.error());
+    JobSpec a = preset.value(), b = run.value();
+    a.name = b.name;
+    a.comment = b.comment;
+    a.specimen.grain_preset = GrainPreset::none;
+    a.specimen.grain_radius_m = b.specimen.grain_radius_m;  // the curve sets the sizes: the scale is in it
+    ASSERT_TRUE(a.specimen.grain_sizes && b.specimen.grain_sizes);
+    // The script writes the scaled sizes rounded to 1 nm.
+    for (std::size_t k = 0; k < a.specimen.grain_sizes->diameters_m.size(); ++k)
+        EXPECT_NEAR(a.specimen.grain_sizes->diameters_m[k], b.specimen.grain_sizes->diameters_m[k], 1e-9);
+    a.specimen.grain_sizes = b.specimen.grain_sizes;
+    EXPECT_EQ(a, b);
 }
 
 } // namespace wiredem::api
