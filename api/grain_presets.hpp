@@ -51,7 +51,7 @@ inline constexpr GrainPresetValues gravel_preset{
     {8.0, 11.2, 16.0, 22.4, 31.5},
     {0.0, 0.15, 0.40, 0.70, 1.0},
     0.6,
-    0.4,
+    0.35,
     0.3,
 };
 

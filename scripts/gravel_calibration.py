@@ -219,9 +219,9 @@ SLOW_RELEASE = {"enabled": True, "removal_time_s": 0.1, "removal_distance_m": 0.
                 "sample_interval_s": 0.002}
 
 
-def repose_job(mu_r: float | None) -> dict:
+def repose_job(mu_r: float | None, seed: int = 1) -> dict:
     """A heap of the preset's grains with rolling resistance mu_r (the
-    preset itself when None)."""
+    preset itself when None), poured from `seed`."""
     p = preset_values()
     spec = dict(COLUMN)
     contact = {}
@@ -237,7 +237,7 @@ def repose_job(mu_r: float | None) -> dict:
         name = f"gravel calibration: angle of repose, mu_r = {mu_r}"
     return {"name": name,
             "comment": "scripts/gravel_calibration.py jobs (docs/model.md, 'A calibrated gravel'): 800 clumps of the gravel preset's grading and shape in a 12.5 mm formwork (19 mm high), soft grains (E = 1 MPa: under a heap's own weight the overlaps stay below 1 % of a radius), the formwork opened slowly by the free-standing test; the heap's angle is read from its settled radius profile",
-            "seed": 1, "specimen": spec, "contact": contact, "triaxial": TOKEN_TRIAXIAL,
+            "seed": seed, "specimen": spec, "contact": contact, "triaxial": TOKEN_TRIAXIAL,
             "free_standing": SLOW_RELEASE, "engine": {"threads": 1}}
 
 
@@ -275,12 +275,12 @@ def triaxial_job(mu_r: float | None, quick: bool = False) -> dict:
 
 def write_jobs() -> int:
     OUT.mkdir(parents=True, exist_ok=True)
-    for mu_r in (0.1, 0.3, 0.4):
+    for mu_r in (0.1, 0.3, 0.35, 0.4):
         (OUT / f"repose-mu_r-{mu_r}.json").write_text(json.dumps(repose_job(mu_r), indent=1) + "\n")
+    (OUT / "repose-mu_r-0.35-seed2.json").write_text(json.dumps(repose_job(0.35, seed=2), indent=1) + "\n")
     (OUT / "repose-preset.json").write_text(json.dumps(repose_job(None), indent=1) + "\n")
     # The first check ran the preset while its mu_r was 0.1 (before the calibration): written out.
     (OUT / "triaxial-quick-mu_r-0.1.json").write_text(json.dumps(triaxial_job(0.1, quick=True), indent=1) + "\n")
-    (OUT / "triaxial-preset.json").write_text(json.dumps(triaxial_job(None), indent=1) + "\n")
     for mu_r in (0.3, 0.4):
         (OUT / f"triaxial-mu_r-{mu_r}.json").write_text(json.dumps(triaxial_job(mu_r), indent=1) + "\n")
     print(f"wrote the jobs into {OUT.relative_to(ROOT)}")
