@@ -314,7 +314,8 @@ def read_run(d: Path) -> dict:
                         "profile_settled": {"height_m": prof["height_m"][:].tolist(), "radius_m": prof["radius_m"][:].tolist()},
                         "profile_before": {"height_m": before["height_m"][:].tolist(), "radius_m": before["radius_m"][:].tolist()}})
         st = summary["free_standing"]["settling"]
-        rec.update({"at_rest": st["at_rest"], "height_before_m": st["height_before_m"], "height_m": st["height_m"],
+        rec.update({"at_rest": st["at_rest"], "time_to_rest_s": st["time_to_rest_s"],
+                    "height_before_m": st["height_before_m"], "height_m": st["height_m"],
                     "radius_before_m": st["radius_before_m"]})
     mc = summary.get("mohr_coulomb")
     if mc and not fs.exists():
