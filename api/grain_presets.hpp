@@ -43,8 +43,10 @@ struct GrainPresetValues {
 /// no symmetry), a grading 8–31.5 mm with C_u = 2.0 and D50 = 17.9 mm
 /// (15 % passing 11.2 mm, 40 % 16 mm, 70 % 22.4 mm: the middle of an
 /// 8/32 concrete or drainage gravel's band), μ = 0.6 (rock on rock), and
-/// μ_r calibrated so that a heap of it stands at its angle of repose
-/// (docs/model.md, "A calibrated gravel", which records the runs).
+/// μ_r calibrated so that a heap of it stands at the angle of repose of
+/// crushed rock, 38–42°, in the model's small columns; its triaxial friction
+/// angle is not calibrated (docs/model.md, "A calibrated gravel", which
+/// records the runs and what they leave out).
 inline constexpr GrainPresetValues gravel_preset{
     "gravel",
     "crushed",
