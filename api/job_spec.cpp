@@ -14,6 +14,7 @@
 #include "api/utf8.hpp"
 #include "core/format.hpp"
 #include "specimen/box_preparation.hpp"
+#include "specimen/grain_sizes.hpp"
 #include "specimen/pattern.hpp"
 #include "specimen/preparation.hpp"
 #include "state/clump_shape.hpp"
@@ -507,6 +508,11 @@ constexpr std::array<std::pair<std::string_view, GrainSizeBasis>, 2> grain_size_
     {"number", GrainSizeBasis::number},
 }};
 
+constexpr std::array<std::pair<std::string_view, GrainPreset>, 2> grain_presets{{
+    {"none", GrainPreset::none},
+    {gravel_preset.name, GrainPreset::gravel},
+}};
+
 constexpr std::array<std::pair<std::string_view, WireEndSpec>, 2> wire_ends{{
     {"last", WireEndSpec::last},
     {"first", WireEndSpec::first},
@@ -936,6 +942,8 @@ void read_specimen(ObjectReader& r, SpecimenSpec& s)
         {"1", "s: radii uniform in r_p·(1 ± s); 0 = monodisperse"});
     read_grain_sizes(r, s.grain_sizes);
     read_grain_shape(r, s.grain_shape);
+    r.choice("grain_preset", grain_presets, s.grain_preset,
+        {nullptr, "a named grain: gravel, a crushed gravel 8/32 (the crushed clump, its sieve curve scaled so that D50 = 2 grain_radius_m, μ = 0.6 and rolling resistance calibrated against its angle of repose: docs/model.md, \"A calibrated gravel\"); it sets specimen.grain_sizes, specimen.grain_shape, contact.friction_coeff, contact.rolling_friction_coeff and contact.rolling_damping_ratio, which must then be left out, as must grain_radius_spread; none: the fields as given. Written to the job file only when set"});
     // A curve gives every size: a radius or spread beside it would be ignored.
     if (s.grain_sizes)
         for (const std::string_view key : {"grain_radius_m", "grain_radius_spread"})
@@ -1197,6 +1205,52 @@ void read_engine(ObjectReader& r, EngineSpec& e)
         {"1", "refuse jobs whose estimated body count exceeds this"});
 }
 
+/// specimen.grain_preset: the fields it names filled from the preset
+/// (api/grain_presets.hpp), each of them refused when the document gives it
+/// too (a value beside the preset's would leave the job two answers), and
+/// its sieve curve scaled so that its D50 is 2 specimen.grain_radius_m.
+void apply_grain_preset(Validator& v, const json::value& doc, JobSpec& spec)
+{
+    const GrainPresetValues* p = grain_preset_values(spec.specimen.grain_preset);
+    if (p == nullptr || !v.clean("specimen.grain_preset")) return;
+    const auto given = [&](std::string_view object, std::string_view key) {
+        if (!doc.is_object()) return false;
+        const json::value* o = doc.get_object().if_contains(object);
+        return o != nullptr && o->is_object() && o->get_object().contains(key);
+    };
+    bool ok = true;
+    for (const auto& [object, key] : std::initializer_list<std::pair<std::string_view, std::string_view>>{
+             {"specimen", "grain_sizes"}, {"specimen", "grain_shape"}, {"specimen", "grain_radius_spread"},
+             {"contact", "friction_coeff"}, {"contact", "rolling_friction_coeff"}, {"contact", "rolling_damping_ratio"}})
+        if (given(object, key)) {
+            v.fail(join_path(object, key), "is given with specimen.grain_preset \"" + std::string(p->name)
+                                               + "\", which sets it; leave one of the two out");
+            ok = false;
+        }
+    if (!ok || !v.clean("specimen.grain_radius_m")) return;
+    // The lab's curve scaled to the column: its D50 (linear in log D, as the
+    // engine reads a curve) becomes 2 r_p.
+    engine::SieveCurve lab;
+    lab.diameters_m.assign(p->sieve_mm.begin(), p->sieve_mm.end());
+    lab.fraction_passing.assign(p->fraction_passing.begin(), p->fraction_passing.end());
+    const double scale = 2.0 * spec.specimen.grain_radius_m / engine::GrainSizeDistribution(lab).diameter_at_mass_fraction(0.5);
+    GrainSizesSpec sizes;
+    for (const double d : p->sieve_mm) sizes.diameters_m.push_back(d * scale);
+    sizes.fraction_passing = lab.fraction_passing;
+    if (!grain_diameter_range.contains(sizes.diameters_m.front()) || !grain_diameter_range.contains(sizes.diameters_m.back())) {
+        v.fail("specimen.grain_radius_m", "with specimen.grain_preset \"" + std::string(p->name) + "\" the grains span "
+            + exact_number(sizes.diameters_m.front()) + " to " + exact_number(sizes.diameters_m.back())
+            + " m in diameter (the preset's curve scaled to D50 = 2 grain_radius_m), beyond a curve's "
+            + grain_diameter_range.text());
+        return;
+    }
+    spec.specimen.grain_sizes = std::move(sizes);
+    spec.specimen.grain_shape = GrainShapeSpec{std::string(p->clump_template), {}};
+    spec.contact.friction_coeff = p->friction_coeff;
+    spec.contact.rolling_friction_coeff = p->rolling_friction_coeff;
+    spec.contact.rolling_damping_ratio = p->rolling_damping_ratio;
+}
+
 void read_job(Validator& v, const json::value& doc, JobSpec& spec)
 {
     ObjectReader r(v, &doc, "");
@@ -1244,6 +1298,7 @@ void read_job(Validator& v, const json::value& doc, JobSpec& spec)
         read_contact(c, spec.contact);
         c.finish();
     }
+    apply_grain_preset(v, doc, spec);
     {
         ObjectReader t(v, r.take("triaxial"), "triaxial");
         read_triaxial(t, spec.triaxial);
@@ -1281,9 +1336,12 @@ void check_grain_size(Validator& v, const JobSpec& spec)
     const std::string clump = s.grain_shape ? "; the clump of specimen.grain_shape reaches " + format_number(largest_m / plain_m)
             + " × the grain's radius from its centre, so the largest grain spans " + format_number(2.0 * largest_m)
                                             : std::string();
+    // A preset's curve is scaled from grain_radius_m: that is the field to change.
+    const bool preset = s.grain_preset != GrainPreset::none;
     if (s.grain_sizes)
-        v.note("specimen.grain_sizes.diameters_m",
-            "the largest diameter " + exact_number(s.grain_sizes->diameters_m.back())
+        v.note(preset ? "specimen.grain_radius_m" : "specimen.grain_sizes.diameters_m",
+            std::string(preset ? "with specimen.grain_preset \"" + std::string(to_string(s.grain_preset)) + "\", " : "")
+                + "the largest diameter " + exact_number(s.grain_sizes->diameters_m.back())
                 + " is too big for the membrane: the column must be at least " + exact_number(min_column_grain_diameters)
                 + " grain diameters wide, so it must not exceed 2 membrane_radius_m / "
                 + exact_number(min_column_grain_diameters) + " = " + format_number(2.0 * limit_m) + clump);
@@ -1747,6 +1805,16 @@ json::object specimen_json(const SpecimenSpec& s)
         o.erase("grain_radius_m");
         o.erase("grain_radius_spread");
     }
+    // A preset's name stands for the fields it sets (the reader refuses them
+    // beside it); the grain radius is its scale. Jobs without one write what
+    // they wrote before.
+    if (s.grain_preset != GrainPreset::none) {
+        o.erase("grain_sizes");
+        o.erase("grain_shape");
+        o.erase("grain_radius_spread");
+        o["grain_radius_m"] = s.grain_radius_m;
+        o["grain_preset"] = to_string(s.grain_preset);
+    }
     return o;
 }
 
@@ -1873,6 +1941,13 @@ std::string_view to_string(GrainSizeBasis b)
     return "?";
 }
 
+std::string_view to_string(GrainPreset p)
+{
+    for (const auto& [name, value] : grain_presets)
+        if (value == p) return name;
+    return "?";
+}
+
 std::string_view to_string(WireEndSpec e)
 {
     for (const auto& [name, value] : wire_ends)
@@ -1958,6 +2033,10 @@ json::value to_json(const JobSpec& spec)
         {"contact", contact_json(spec.contact)},
         {"triaxial", triaxial_with_cell_json(spec.triaxial)},
     };
+    if (spec.specimen.grain_preset != GrainPreset::none) {  // the preset sets them (apply_grain_preset)
+        json::object& contact = o["contact"].as_object();
+        for (const std::string_view key : {"friction_coeff", "rolling_friction_coeff", "rolling_damping_ratio"}) contact.erase(key);
+    }
     // Only a job that asks for it (job_spec.hpp): the files of every other job stay as they were.
     if (!(spec.free_standing == FreeStandingSpec{})) o["free_standing"] = free_standing_json(spec.free_standing);
     o["engine"] = engine_json(spec.engine);

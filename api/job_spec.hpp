@@ -10,6 +10,7 @@
 // All functions are pure and thread-safe.
 #pragma once
 
+#include "api/grain_presets.hpp"
 #include "core/result.hpp"
 
 #include <boost/json/object.hpp>
@@ -216,6 +217,12 @@ struct SpecimenSpec {
     std::optional<GrainSizesSpec> grain_sizes;
     /// Every grain a clump of this shape; none: spheres (the model spec's grains).
     std::optional<GrainShapeSpec> grain_shape;
+    /// A named grain preset (api/grain_presets.hpp). The reader fills
+    /// grain_sizes (the preset's sieve curve scaled to D50 = 2 grain_radius_m),
+    /// grain_shape and the contact's friction_coeff, rolling_friction_coeff and
+    /// rolling_damping_ratio from it and refuses those fields (and
+    /// grain_radius_spread) beside it; to_json writes the name instead of them.
+    GrainPreset grain_preset = GrainPreset::none;
     GrainMaterialSpec grain;                   ///< grain material
     PlateMaterialSpec plate;                   ///< plate material
     WireSpec wire;                             ///< the wire and its deployment
@@ -450,5 +457,6 @@ inline constexpr std::uint64_t job_spec_schema_version = 2;
 /// The JSON name of a cell.
 [[nodiscard]] std::string_view to_string(CellKind c);
 [[nodiscard]] std::string_view to_string(GrainSizeBasis b);
+[[nodiscard]] std::string_view to_string(GrainPreset p);
 
 } // namespace wiredem::api

@@ -163,11 +163,14 @@ TEST(JobSpecSchema, HasEveryFieldTheWriterWritesWithTheSameDefault)
             EXPECT_EQ(value, d) << path;
     }
     // The writer leaves out the damping form not taken by default
-    // (normal_damping_s) and specimen.grain_shape while it is null: written
-    // only when set, so that every job of spheres writes what it did before.
+    // (normal_damping_s), specimen.grain_shape while it is null and
+    // specimen.grain_preset while it is none: written only when set, so that
+    // every job of spheres writes what it did before (a preset's job is
+    // JobSpecGrainPreset.IsWrittenAsItsNameAndReadsBackTheSameSpec).
     for (const auto& [path, f] : fields)
         if (!written.count(path)) {
-            EXPECT_TRUE(path == "contact.normal_damping_s" || path == "specimen.grain_shape") << path;
+            EXPECT_TRUE(path == "contact.normal_damping_s" || path == "specimen.grain_shape"
+                || path == "specimen.grain_preset") << path;
         }
 }
 

@@ -241,14 +241,21 @@ void mutate(FuzzedDataProvider& in, json::value& doc, const Base& base)
         static const std::pair<const char*, std::vector<const char*>> enums[] = {
             {"pattern", {"none", "helix", "spiral_helix", "radial_helix"}}, {"integrator", {"gear5", "verlet"}},
             {"edges", {"tension_only", "linear"}}, {"consolidation", {"cell_pressure", "effective"}},
-            {"cell", {"membrane", "cuboid"}}};
+            {"cell", {"membrane", "cuboid"}}, {"grain_preset", {"none", "gravel"}}};
         const auto& [key, names] = enums[in.ConsumeIntegralInRange<std::size_t>(0, std::size(enums) - 1)];
         const char* name = names[in.ConsumeIntegralInRange<std::size_t>(0, names.size() - 1)];
         json::object& parent = std::string(key) == "integrator"      ? doc.at("engine").as_object()
                              : std::string(key) == "edges"           ? doc.at("specimen").at("membrane").as_object()
                              : std::string(key) == "consolidation" || std::string(key) == "cell" ? doc.at("triaxial").as_object()
+                             : std::string(key) == "grain_preset"    ? doc.at("specimen").as_object()
                                                                      : doc.at("specimen").at("wire").as_object();
         parent[key] = name;
+        // A preset refuses the fields it sets: half the time they go, so the preset is also read.
+        if (std::string(key) == "grain_preset" && in.ConsumeBool()) {
+            for (const char* k : {"grain_sizes", "grain_shape", "grain_radius_spread"}) parent.erase(k);
+            for (const char* k : {"friction_coeff", "rolling_friction_coeff", "rolling_damping_ratio"})
+                doc.at("contact").as_object().erase(k);
+        }
         break;
     }
     case 9: {  // the other form of the normal damping
