@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
 namespace wiredem::engine {
 
@@ -69,11 +67,7 @@ bool StableStep::overdamped() const { return critical_s < min_damped_step_fracti
 
 std::string overdamped_error(const StableStep& s, double normal_damping_s)
 {
-    auto text = [](double x) {
-        std::ostringstream o;
-        o << std::setprecision(3) << x;
-        return o.str();
-    };
+    const auto text = [](double x) { return format_number(x); }; // what std::setprecision(3) wrote
     return "the contacts' normal damping γ_n = " + text(normal_damping_s) + " s leaves a stable time step of "
            + text(s.critical_s) + " s (set by the " + s.limited_by + "), under " + text(min_damped_step_fraction)
            + " of the undamped " + text(s.undamped_critical_s)
