@@ -217,14 +217,29 @@ engine::PatternSpec pattern_spec(const WireSpec& w)
     return p;
 }
 
-engine::Result<engine::BoxPreparationSpec, std::string> box_preparation_spec(const JobSpec& spec)
+namespace {
+
+/// The box of the poured specimen `poured` with the job's cuboid settings.
+engine::Result<engine::BoxPreparationSpec, std::string> box_of(const JobSpec& spec, const engine::PreparationSpec& poured)
 {
     const TriaxialSpec& t = spec.triaxial;
-    auto box = engine::box_preparation_from(preparation_spec(spec), t.confining_pressures_pa.front(), t.cuboid.wall_friction_coeff);
+    auto box = engine::box_preparation_from(poured, t.confining_pressures_pa.front(), t.cuboid.wall_friction_coeff);
     if (!box.ok()) return box;
     box.value().aspect_ratio = t.cuboid.aspect_ratio;
     box.value().compaction_friction_coeff = t.cuboid.compaction_friction_coeff;
     return box;
+}
+
+} // namespace
+
+engine::Result<engine::BoxPreparationSpec, std::string> box_preparation_spec(const JobSpec& spec)
+{
+    return box_of(spec, preparation_spec(spec));
+}
+
+engine::Result<engine::BoxPreparationSpec, std::string> box_preparation_geometry(const JobSpec& spec)
+{
+    return box_of(spec, preparation_geometry(spec));
 }
 
 } // namespace wiredem::api

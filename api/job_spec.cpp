@@ -1667,7 +1667,7 @@ void check_cuboid_cell(Validator& v, const JobSpec& spec)
         ok = false;
     }
     if (!ok) return;
-    const auto box = box_preparation_spec(spec);
+    const auto box = box_preparation_geometry(spec); // no collision fit at the door
     if (!box.ok()) {
         v.note(spec.specimen.grain_shape ? "specimen.grain_shape" : "triaxial.cell", box.error());
         return;

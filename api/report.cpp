@@ -4,6 +4,7 @@
 #include "api/job_spec.hpp"
 #include "api/json_text.hpp"
 #include "api/result_data.hpp"
+#include "core/format.hpp"
 #include "io/hdf5.hpp"
 
 #include <boost/json.hpp>
@@ -121,10 +122,11 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
                 const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
                 const std::vector<double> nodes = snap.open_dataset("wire_node_position_m").read_doubles();
                 if (strain.size() > 1) {
-                    std::ostringstream label;
-                    label << "sigma3 = " << last.read_double_attribute("confining_pressure_pa") / 1000 << " kPa, eps1 = "
-                          << snap.read_double_attribute("axial_strain");
-                    data["wire"] = json::object{{"label", label.str()},
+                    // 6 significant digits, as std::ostream's default wrote them.
+                    const std::string label = "sigma3 = "
+                        + engine::format_number(last.read_double_attribute("confining_pressure_pa") / 1000, 6)
+                        + " kPa, eps1 = " + engine::format_number(snap.read_double_attribute("axial_strain"), 6);
+                    data["wire"] = json::object{{"label", label},
                         {"node_position_m", json::value_from(nodes)}, {"segment_strain", json::value_from(strain)},
                         {"autocorrelation", wire_autocorrelation_json(strain, spec.value().specimen.wire.segment_length_m)}};
                 }

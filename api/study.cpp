@@ -3,10 +3,10 @@
 #include "api/json_text.hpp"
 #include "api/utf8.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -125,9 +125,7 @@ std::string number_text(const json::value& v)
 {
     if (v.is_int64()) return std::to_string(v.as_int64());
     if (v.is_uint64()) return std::to_string(v.as_uint64());
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v.as_double());
-    return std::string(buf, r.ptr);
+    return engine::exact_number(v.as_double());
 }
 
 /// A cell's text: strings as they are, numbers shortest, lists joined by ';'.

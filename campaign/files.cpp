@@ -1,5 +1,6 @@
 #include "files.hpp"
 
+#include "core/format.hpp"
 #include "io/snapshot.hpp"
 
 #include <boost/json.hpp>
@@ -10,7 +11,6 @@
 #include <array>
 #include <cstdint>
 #include <fstream>
-#include <sstream>
 #include <span>
 #include <stdexcept>
 #include <system_error>
@@ -35,10 +35,7 @@ std::filesystem::path JobDir::test_lock(std::size_t k) const { return tests() / 
 
 std::string test_group_name(double pa)
 {
-    std::ostringstream o;
-    o.precision(17);
-    o << pa;
-    return "sigma3_" + o.str();
+    return "sigma3_" + eng::format_number(pa, 17); // as std::ostream wrote it at precision 17
 }
 
 namespace {

@@ -1,10 +1,11 @@
 #include "stage_lock.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
-#include <cstdio>
 #include <cstring>
 #include <thread>
 #include <fcntl.h>
@@ -48,8 +49,7 @@ engine::Result<StageLock, std::string> StageLock::acquire(
         std::string message;
         if (error == EWOULDBLOCK) {
             const std::string holder = holder_of(fd);
-            char waited[64];
-            std::snprintf(waited, sizeof waited, "%g s", std::max(0.0, wait_s));
+            const std::string waited = engine::format_number(std::max(0.0, wait_s), 6) + " s";
             message = what + " is already running in another process" + (holder.empty() ? "" : " (" + holder + ")")
                     + ", which holds " + file.string() + " (waited " + waited + "); wait for it to end or stop it";
         } else {

@@ -25,7 +25,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -57,16 +56,13 @@ constexpr double min_laid_fraction = 0.8;
 std::string noise_band_warning(const eng::analysis::Autocorrelation& ac)
 {
     const std::size_t k = *ac.first_maximum_lag;
-    char text[256];
-    std::snprintf(text, sizeof text,
-        "wire autocorrelation: the first local maximum at %.4g mm is below the noise band (prominence %.2g, band %.2g); ",
-        *ac.first_maximum_lag_m * 1e3, eng::analysis::peak_prominence(ac.coefficients, k, k),
-        eng::analysis::white_noise_band_95(ac.samples, k));
-    std::string w = text;
-    if (ac.prominent_maximum_lag_m) {
-        std::snprintf(text, sizeof text, "the first prominent maximum is at %.4g mm", *ac.prominent_maximum_lag_m * 1e3);
-        w += text;
-    } else
+    std::string w = "wire autocorrelation: the first local maximum at " + eng::format_number(*ac.first_maximum_lag_m * 1e3, 4)
+                  + " mm is below the noise band (prominence "
+                  + eng::format_number(eng::analysis::peak_prominence(ac.coefficients, k, k), 2) + ", band "
+                  + eng::format_number(eng::analysis::white_noise_band_95(ac.samples, k), 2) + "); ";
+    if (ac.prominent_maximum_lag_m)
+        w += "the first prominent maximum is at " + eng::format_number(*ac.prominent_maximum_lag_m * 1e3, 4) + " mm";
+    else
         w += "no maximum after it rises above the band";
     return w;
 }
@@ -113,9 +109,7 @@ std::size_t body_count(const eng::World& w)
 
 std::string test_label(std::size_t k, std::size_t n, double pa)
 {
-    char label[96];
-    std::snprintf(label, sizeof label, "test %zu/%zu at sigma3 = %g Pa", k + 1, n, pa);
-    return label;
+    return "test " + std::to_string(k + 1) + "/" + std::to_string(n) + " at sigma3 = " + eng::format_number(pa, 6) + " Pa";
 }
 
 

@@ -3,11 +3,11 @@
 #include "display.hpp"
 
 #include "api/utf8.hpp"
+#include "engine/core/format.hpp"
 
 #include <boost/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -48,13 +48,20 @@ std::string text(const json::value* v, std::string fallback = "-")
     return printable(v->get_string());
 }
 
-/// printf into a std::string; "-" when the value is missing.
-std::string fmt(const char* format, std::optional<double> v)
+/// `v` to `decimals` after the point (engine::fixed_number), then `unit`;
+/// "-" when the value is missing.
+std::string fixed(int decimals, const char* unit, std::optional<double> v)
 {
     if (!v || !std::isfinite(*v)) return "-";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, *v);
-    return buf;
+    return engine::fixed_number(*v, decimals) + unit;
+}
+
+/// `v` to `digits` significant digits (engine::format_number), then `unit`;
+/// "-" when the value is missing.
+std::string significant(int digits, const char* unit, std::optional<double> v)
+{
+    if (!v || !std::isfinite(*v)) return "-";
+    return engine::format_number(*v, digits) + unit;
 }
 
 /// v·factor, or nullopt (std::optional::transform is C++23).
@@ -68,7 +75,7 @@ std::string pad_right(const std::string& s, std::size_t w) { return s.size() >= 
 
 std::string percent(const json::value& job)
 {
-    return fmt("%.0f%%", scaled(number(at(job, {"progress"})), 100.0));
+    return fixed(0, "%", scaled(number(at(job, {"progress"})), 100.0));
 }
 
 std::string eta(const json::value& job)
@@ -82,14 +89,14 @@ std::string eta(const json::value& job)
 namespace {
 
 /// "32.0 ± 2.0 (3)", "40.0 (1)", "- (0)": a spread object {mean, sd, n} scaled.
-std::string mean_sd(const json::value* spread, double factor, const char* format)
+std::string mean_sd(const json::value* spread, double factor, int decimals)
 {
     const auto mean = scaled(number(at(*spread, {"mean"})), factor);
     const auto sd = scaled(number(at(*spread, {"sd"})), factor);
     const auto n = number(at(*spread, {"n"}));
-    std::string s = fmt(format, mean);
-    if (sd) s += " ± " + fmt(format, sd);
-    return s + " (" + fmt("%.0f", n.value_or(0.0)) + ")";
+    std::string s = fixed(decimals, "", mean);
+    if (sd) s += " ± " + fixed(decimals, "", sd);
+    return s + " (" + fixed(0, "", n.value_or(0.0)) + ")";
 }
 
 /// The values of a point or group: `specimen.wire.pattern=helix seed=1`.
@@ -103,8 +110,7 @@ std::string values_text(const json::value* values)
         if (kv.value().is_string()) {
             value = kv.value().as_string();
         } else if (kv.value().is_double()) {
-            char buf[32];
-            value.assign(buf, std::to_chars(buf, buf + sizeof buf, kv.value().as_double()).ptr);
+            value = engine::exact_number(kv.value().as_double());
         } else {
             value = json::serialize(kv.value());
         }
@@ -136,8 +142,8 @@ std::string format_study_summary(const json::value& summary)
             const json::value* phi = at(g, {"friction_angle_deg"});
             const json::value* c = at(g, {"cohesion_pa"});
             out << "  " << pad_right(values_text(at(g, {"values"})), w) << "  "
-                << pad_left(phi ? mean_sd(phi, 1.0, "%.1f") : "-", 20) << "  "
-                << pad_left(c ? mean_sd(c, 1e-3, "%.2f") : "-", 20) << "\n";
+                << pad_left(phi ? mean_sd(phi, 1.0, 1) : "-", 20) << "  "
+                << pad_left(c ? mean_sd(c, 1e-3, 2) : "-", 20) << "\n";
         }
     }
     if (points && points->is_array()) {
@@ -147,11 +153,11 @@ std::string format_study_summary(const json::value& summary)
         out << "  " << pad_left("#", 4) << "  " << pad_right("values", w) << "  " << pad_right("state", 10) << "  "
             << pad_left("phi [deg]", 9) << "  " << pad_left("c [kPa]", 8) << "  " << pad_left("R2", 5) << "\n";
         for (const json::value& p : points->as_array()) {
-            out << "  " << pad_left(fmt("%.0f", number(at(p, {"index"}))), 4) << "  "
+            out << "  " << pad_left(fixed(0, "", number(at(p, {"index"}))), 4) << "  "
                 << pad_right(values_text(at(p, {"values"})), w) << "  " << pad_right(text(at(p, {"state"})), 10) << "  "
-                << pad_left(fmt("%.1f", number(at(p, {"friction_angle_deg"}))), 9) << "  "
-                << pad_left(fmt("%.2f", scaled(number(at(p, {"cohesion_pa"})), 1e-3)), 8) << "  "
-                << pad_left(fmt("%.3f", number(at(p, {"r_squared"}))), 5);
+                << pad_left(fixed(1, "", number(at(p, {"friction_angle_deg"}))), 9) << "  "
+                << pad_left(fixed(2, "", scaled(number(at(p, {"cohesion_pa"})), 1e-3)), 8) << "  "
+                << pad_left(fixed(3, "", number(at(p, {"r_squared"}))), 5);
             // A fit with caveats (negative c, two pressures, ...): an unconstrained line, said so.
             if (const json::value* cs = at(p, {"fit_caveats"}); cs && cs->is_array() && !cs->get_array().empty()) {
                 out << "  (!)";
@@ -233,14 +239,14 @@ std::string format_summary(const json::value& summary)
     if (!tests || !tests->is_array() || tests->get_array().empty()) out << "  (no tests in the summary)\n";
     else
         for (const auto& t : tests->get_array()) {
-            const std::vector<std::string> cells{fmt("%.1f", kpa(number(at(t, {"confining_pressure_pa"})))),
-                fmt("%.3f", number(at(t, {"yield", "stress_ratio"}))), text(at(t, {"yield", "shape"})),
-                fmt("%.2f", scaled(number(at(t, {"yield", "axial_strain"})), 100.0)),
-                fmt("%.1f", kpa(number(at(t, {"yield", "sigma1_pa"})))),
-                fmt("%.1f", kpa(number(at(t, {"yield", "sigma3_effective_pa"})))),
-                fmt("%.1f", kpa(number(at(t, {"peak_deviatoric_stress_pa"})))), text(at(t, {"max_q_shape"})),
-                fmt("%.2f", scaled(number(at(t, {"peak_axial_strain"})), 100.0)),
-                fmt("%.3f", number(at(t, {"residual_stress_ratio"})))};
+            const std::vector<std::string> cells{fixed(1, "", kpa(number(at(t, {"confining_pressure_pa"})))),
+                fixed(3, "", number(at(t, {"yield", "stress_ratio"}))), text(at(t, {"yield", "shape"})),
+                fixed(2, "", scaled(number(at(t, {"yield", "axial_strain"})), 100.0)),
+                fixed(1, "", kpa(number(at(t, {"yield", "sigma1_pa"})))),
+                fixed(1, "", kpa(number(at(t, {"yield", "sigma3_effective_pa"})))),
+                fixed(1, "", kpa(number(at(t, {"peak_deviatoric_stress_pa"})))), text(at(t, {"max_q_shape"})),
+                fixed(2, "", scaled(number(at(t, {"peak_axial_strain"})), 100.0)),
+                fixed(3, "", number(at(t, {"residual_stress_ratio"})))};
             out << "  ";
             for (std::size_t c = 0; c < cols.size(); ++c) out << pad_left(cells[c], cols[c].second) << "  ";
             out << '\n';
@@ -255,15 +261,15 @@ std::string format_summary(const json::value& summary)
         const bool flagged = caveats && caveats->is_array() && !caveats->get_array().empty();
         const char* mark = flagged ? "  (!) unconstrained fit: see below" : "";
         const auto constrained = [&](std::string_view which) {
-            return "phi = " + fmt("%.2f deg", number(at(summary, {key, which, "friction_angle_deg"})))
-                 + ", c = " + fmt("%.2f kPa", kpa(number(at(summary, {key, which, "cohesion_pa"}))))
-                 + ", R^2 = " + fmt("%.4f", number(at(summary, {key, which, "r_squared"})));
+            return "phi = " + fixed(2, " deg", number(at(summary, {key, which, "friction_angle_deg"})))
+                 + ", c = " + fixed(2, " kPa", kpa(number(at(summary, {key, which, "cohesion_pa"}))))
+                 + ", R^2 = " + fixed(4, "", number(at(summary, {key, which, "r_squared"})));
         };
         out << '\n' << title << '\n'
-            << "  friction angle phi  " << fmt("%.2f deg", number(at(summary, {key, "friction_angle_deg"}))) << mark << '\n'
-            << "  cohesion c          " << fmt("%.2f kPa", kpa(number(at(summary, {key, "cohesion_pa"})))) << mark << '\n'
-            << "  fit R^2             " << fmt("%.4f", number(at(summary, {key, "r_squared"}))) << mark << '\n'
-            << "  top-line angle      " << fmt("%.2f deg", number(at(summary, {key, "paper_top_line_angle_deg"})))
+            << "  friction angle phi  " << fixed(2, " deg", number(at(summary, {key, "friction_angle_deg"}))) << mark << '\n'
+            << "  cohesion c          " << fixed(2, " kPa", kpa(number(at(summary, {key, "cohesion_pa"})))) << mark << '\n'
+            << "  fit R^2             " << fixed(4, "", number(at(summary, {key, "r_squared"}))) << mark << '\n'
+            << "  top-line angle      " << fixed(2, " deg", number(at(summary, {key, "paper_top_line_angle_deg"})))
             << "  (the paper's reading: atan of the circle tops' slope)\n";
         if (const json::value* nn = at(summary, {key, "nonnegative"}); nn && nn->is_object())
             out << "  with c >= 0, phi >= 0  " << constrained("nonnegative") << '\n'
@@ -280,39 +286,39 @@ std::string format_summary(const json::value& summary)
         out << "\nFree-standing test (formwork removed, settled, compressed unconfined)\n"
             << "  stands                 " << yes_no(at(*f, {"settling", "stands"})) << " (at rest: "
             << yes_no(at(*f, {"settling", "at_rest"})) << " after "
-            << fmt("%.3g s", number(at(*f, {"settling", "time_to_rest_s"}))) << ")\n"
-            << "  grains' bulk height    " << fmt("%.4g m", number(at(*f, {"settling", "bulk_height_before_m"}))) << " -> "
-            << fmt("%.4g m", number(at(*f, {"settling", "bulk_height_m"}))) << " (loss "
-            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "bulk_height_loss"})), 100.0)) << ")\n"
-            << "  top (grain or wire)    " << fmt("%.4g m", number(at(*f, {"settling", "height_before_m"}))) << " -> "
-            << fmt("%.4g m", number(at(*f, {"settling", "height_m"}))) << " (loss "
-            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "height_loss"})), 100.0)) << ")\n"
-            << "  radius                 " << fmt("%.4g m", number(at(*f, {"settling", "radius_before_m"}))) << " -> "
-            << fmt("%.4g m", number(at(*f, {"settling", "radius_m"}))) << '\n'
-            << "  grains that left it    " << fmt("%.0f", number(at(*f, {"settling", "escaped_grains"}))) << " of "
-            << fmt("%.0f", number(at(*f, {"settling", "grains"}))) << " ("
-            << fmt("%.1f %%", scaled(number(at(*f, {"settling", "lost_fraction"})), 100.0)) << " of the volume)\n"
-            << "  base force / weight    " << fmt("%.4g N", number(at(*f, {"settling", "base_force_n"}))) << " / "
-            << fmt("%.4g N", number(at(*f, {"settling", "weight_n"}))) << " (within "
-            << fmt("%.3g N", number(at(*f, {"settling", "base_force_tolerance_n"}))) << " at rest)\n";
+            << significant(3, " s", number(at(*f, {"settling", "time_to_rest_s"}))) << ")\n"
+            << "  grains' bulk height    " << significant(4, " m", number(at(*f, {"settling", "bulk_height_before_m"}))) << " -> "
+            << significant(4, " m", number(at(*f, {"settling", "bulk_height_m"}))) << " (loss "
+            << fixed(1, " %", scaled(number(at(*f, {"settling", "bulk_height_loss"})), 100.0)) << ")\n"
+            << "  top (grain or wire)    " << significant(4, " m", number(at(*f, {"settling", "height_before_m"}))) << " -> "
+            << significant(4, " m", number(at(*f, {"settling", "height_m"}))) << " (loss "
+            << fixed(1, " %", scaled(number(at(*f, {"settling", "height_loss"})), 100.0)) << ")\n"
+            << "  radius                 " << significant(4, " m", number(at(*f, {"settling", "radius_before_m"}))) << " -> "
+            << significant(4, " m", number(at(*f, {"settling", "radius_m"}))) << '\n'
+            << "  grains that left it    " << fixed(0, "", number(at(*f, {"settling", "escaped_grains"}))) << " of "
+            << fixed(0, "", number(at(*f, {"settling", "grains"}))) << " ("
+            << fixed(1, " %", scaled(number(at(*f, {"settling", "lost_fraction"})), 100.0)) << " of the volume)\n"
+            << "  base force / weight    " << significant(4, " N", number(at(*f, {"settling", "base_force_n"}))) << " / "
+            << significant(4, " N", number(at(*f, {"settling", "weight_n"}))) << " (within "
+            << significant(3, " N", number(at(*f, {"settling", "base_force_tolerance_n"}))) << " at rest)\n";
         if (at(*f, {"dead_load", "force_n"}))
-            out << "  dead load              " << fmt("%.4g N", number(at(*f, {"dead_load", "force_n"}))) << ": holds "
+            out << "  dead load              " << significant(4, " N", number(at(*f, {"dead_load", "force_n"}))) << ": holds "
                 << yes_no(at(*f, {"dead_load", "holds"})) << ", creep "
-                << fmt("%.3f %%", scaled(number(at(*f, {"dead_load", "creep_strain"})), 100.0)) << '\n';
+                << fixed(3, " %", scaled(number(at(*f, {"dead_load", "creep_strain"})), 100.0)) << '\n';
         if (const auto* p = at(*f, {"pull_out"}); p && p->is_object()) {
-            out << "  peak pull force        " << fmt("%.4g N", number(at(*p, {"peak_pull_force_n"}))) << " (at "
-                << fmt("%.4g m", number(at(*p, {"pulled_length_at_peak_m"}))) << " pulled)\n"
-                << "  pulled out             " << fmt("%.4g m", number(at(*p, {"pulled_length_m"}))) << ", ended by "
+            out << "  peak pull force        " << significant(4, " N", number(at(*p, {"peak_pull_force_n"}))) << " (at "
+                << significant(4, " m", number(at(*p, {"pulled_length_at_peak_m"}))) << " pulled)\n"
+                << "  pulled out             " << significant(4, " m", number(at(*p, {"pulled_length_m"}))) << ", ended by "
                 << text(at(*p, {"end"})) << "; wire in the column "
-                << fmt("%.4g m", number(at(*p, {"wire_in_column_before_m"}))) << " -> "
-                << fmt("%.4g m", number(at(*p, {"wire_in_column_m"}))) << ", wire broke " << yes_no(at(*p, {"wire_broke"}))
+                << significant(4, " m", number(at(*p, {"wire_in_column_before_m"}))) << " -> "
+                << significant(4, " m", number(at(*p, {"wire_in_column_m"}))) << ", wire broke " << yes_no(at(*p, {"wire_broke"}))
                 << '\n';
         } else {
-            out << "  unconfined strength    " << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "unconfined_strength_pa"}))))
+            out << "  unconfined strength    " << fixed(3, " kPa", kpa(number(at(*f, {"compression", "unconfined_strength_pa"}))))
                 << " (" << text(at(*f, {"compression", "shape"})) << ", at "
-                << fmt("%.2f %%", scaled(number(at(*f, {"compression", "strain_at_failure"})), 100.0)) << " strain)\n"
+                << fixed(2, " %", scaled(number(at(*f, {"compression", "strain_at_failure"})), 100.0)) << " strain)\n"
                 << "  predicted by envelope  "
-                << fmt("%.3f kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
+                << fixed(3, " kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
                 << " (2c cos phi / (1 - sin phi))\n"
                 << "  quasi-static           " << yes_no(at(*f, {"compression", "quasi_static"})) << '\n';
         }
@@ -324,24 +330,24 @@ std::string format_summary(const json::value& summary)
         << (cell == "cuboid" ? "cuboid (six rigid walls; its side walls confine)"
                : cell == "membrane" ? "membrane (flexible, pressurised)" : cell) << '\n'
         << "  grain volume fraction  "
-        << fmt("%.4f", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
-        << "  wire volume fraction   " << fmt("%.5f", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'
+        << fixed(4, "", number(at(summary, {"specimen", "grain_volume_fraction"}))) << '\n'
+        << "  wire volume fraction   " << fixed(5, "", number(at(summary, {"specimen", "wire_volume_fraction"}))) << '\n'
         << "  wire per volume        "
-        << fmt("%.4g m/m^3", number(at(summary, {"specimen", "wire_length_per_volume_m_per_m3"}))) << '\n'
-        << "  sample volume          " << fmt("%.4g m^3", number(at(summary, {"specimen", "sample_volume_m3"}))) << '\n'
-        << "  grains                 " << fmt("%.0f", number(at(summary, {"specimen", "grains"}))) << '\n'
-        << "  wire nodes             " << fmt("%.0f", number(at(summary, {"specimen", "wire_nodes"}))) << '\n'
-        << "  wire autocorr. lag     " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_lag_m"})))
-        << " (first maximum), " << fmt("%.4g m", number(at(summary, {"wire", "autocorrelation_prominent_lag_m"})))
+        << significant(4, " m/m^3", number(at(summary, {"specimen", "wire_length_per_volume_m_per_m3"}))) << '\n'
+        << "  sample volume          " << significant(4, " m^3", number(at(summary, {"specimen", "sample_volume_m3"}))) << '\n'
+        << "  grains                 " << fixed(0, "", number(at(summary, {"specimen", "grains"}))) << '\n'
+        << "  wire nodes             " << fixed(0, "", number(at(summary, {"specimen", "wire_nodes"}))) << '\n'
+        << "  wire autocorr. lag     " << significant(4, " m", number(at(summary, {"wire", "autocorrelation_lag_m"})))
+        << " (first maximum), " << significant(4, " m", number(at(summary, {"wire", "autocorrelation_prominent_lag_m"})))
         << " (first prominent maximum)\n";
 
     out << "\nEngine\n"
-        << "  time step              " << fmt("%.3g s", number(at(summary, {"engine", "time_step_s"}))) << '\n'
-        << "  steps                  " << fmt("%.0f", number(at(summary, {"engine", "steps"}))) << '\n'
+        << "  time step              " << significant(3, " s", number(at(summary, {"engine", "time_step_s"}))) << '\n'
+        << "  steps                  " << fixed(0, "", number(at(summary, {"engine", "steps"}))) << '\n'
         << "  wall time              "
         << (number(at(summary, {"engine", "wall_time_s"})) ? format_duration(*number(at(summary, {"engine", "wall_time_s"}))) : "-")
         << '\n'
-        << "  body-steps per second  " << fmt("%.3g", number(at(summary, {"engine", "body_steps_per_second"}))) << '\n';
+        << "  body-steps per second  " << significant(3, "", number(at(summary, {"engine", "body_steps_per_second"}))) << '\n';
 
     if (const auto* w = at(summary, {"warnings"}); w && w->is_array() && !w->get_array().empty()) {
         out << "\nWarnings\n";
@@ -362,7 +368,7 @@ std::string format_job(const json::value& job)
         << "state     " << state << '\n'
         << "progress  " << progress << '\n'
         << "message   " << text(at(job, {"message"})) << '\n'
-        << "attempts  " << fmt("%.0f", number(at(job, {"attempts"}))) << '\n'
+        << "attempts  " << fixed(0, "", number(at(job, {"attempts"}))) << '\n'
         << "created   " << text(at(job, {"created_at"})) << '\n'
         << "started   " << text(at(job, {"started_at"})) << '\n'
         << "finished  " << text(at(job, {"finished_at"})) << '\n';
@@ -388,7 +394,7 @@ std::string format_progress_bar(const json::value& job, int width)
     std::string bar = "[";
     for (int i = 0; i < width; ++i) bar += i < filled ? '=' : (i == filled ? '>' : ' ');
     bar += "] ";
-    bar += pad_left(fmt("%.0f%%", 100.0 * p), 4);
+    bar += pad_left(fixed(0, "%", 100.0 * p), 4);
     const std::string stage = text(at(job, {"stage"}), text(at(job, {"state"})));
     bar += "  " + pad_right(stage, 10);
     if (const auto e = eta(job); !e.empty()) bar += "  " + e;

@@ -10,6 +10,7 @@
 #include "run_command.hpp"
 
 #include "api/json_text.hpp"
+#include "core/format.hpp"
 #include "display.hpp"
 #include "stages.hpp"
 #include "study_run.hpp"
@@ -182,9 +183,7 @@ int run_stage(bool json_progress, campaign::StageControl control,
     if (g_cancel.load()) return fail(progress, "cancelled");
     // This run's time: a directory continued from an earlier run's files
     // took that run's time too, which this process did not see.
-    char took[64];
-    std::snprintf(took, sizeof took, "done: this run took %.1f s", seconds_since(t_start));
-    progress.report("writing", 1.0, took, true);
+    progress.report("writing", 1.0, "done: this run took " + wiredem::engine::fixed_number(seconds_since(t_start), 1) + " s", true);
     progress.finish_line();
     return 0;
 }

@@ -1,6 +1,8 @@
 // The Slurm executor's pure pieces: see slurm.hpp.
 #include "slurm.hpp"
 
+#include "core/format.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -185,9 +187,7 @@ std::string slurm_batch_script(
     add("json");
     if (stage == SlurmStage::test) {
         add("--checkpoint-interval");
-        char number[32];
-        const auto end = std::to_chars(number, number + sizeof number, checkpoint_interval_s).ptr;  // shortest exact
-        add(std::string(number, end));
+        add(engine::exact_number(checkpoint_interval_s));  // shortest exact
     }
     const std::string exit_file = stage == SlurmStage::test
         ? shell_quote((files.dir() / "test_").string()) + task + shell_quote(".exit")

@@ -46,19 +46,9 @@ Result<MohrEnvelope, std::string> envelope_of(const std::vector<MohrCircle>& cir
     return e;
 }
 
-std::string format_kpa(double pa)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.1f kPa", pa * 1e-3);
-    return buf;
-}
+std::string format_kpa(double pa) { return fixed_number(pa * 1e-3, 1) + " kPa"; }
 
-std::string format_deg(double rad)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.1f deg", rad * 180.0 / std::numbers::pi);
-    return buf;
-}
+std::string format_deg(double rad) { return fixed_number(rad * 180.0 / std::numbers::pi, 1) + " deg"; }
 
 /// The smallest and the largest circle centre [Pa] (circles not empty).
 std::pair<double, double> centre_range_pa(const std::vector<MohrCircle>& circles) noexcept

@@ -1,6 +1,9 @@
-// Numbers in messages and labels, written one way everywhere (engine, api,
-// server, campaign): a derived quantity to a few significant digits, a value
-// a user gave exactly as it reads back.
+// Numbers in messages, labels and tables, written one way everywhere (engine,
+// api, server, campaign, client, report): a derived quantity to a few
+// significant digits, a value a user gave exactly as it reads back, a table's
+// column to fixed decimals. The one number formatter of the tree: header-only
+// and on the standard library alone, so that every layer can include it (the
+// client's display library, which links no engine, includes it by path).
 #pragma once
 
 #include <algorithm>
@@ -17,6 +20,15 @@ namespace wiredem::engine {
 {
     std::array<char, 48> buf{};
     const int n = std::snprintf(buf.data(), buf.size(), "%.*g", digits, v);
+    return std::string(buf.data(), static_cast<std::size_t>(std::clamp(n, 0, static_cast<int>(buf.size()) - 1)));
+}
+
+/// `v` with `decimals` digits after the point, as printf's %.*f writes it
+/// ("12.3", "100", "0.050"): for a table's columns and a duration.
+[[nodiscard]] inline std::string fixed_number(double v, int decimals)
+{
+    std::array<char, 352> buf{}; // %f of the largest double: 309 digits before the point
+    const int n = std::snprintf(buf.data(), buf.size(), "%.*f", decimals, v);
     return std::string(buf.data(), static_cast<std::size_t>(std::clamp(n, 0, static_cast<int>(buf.size()) - 1)));
 }
 

@@ -4,6 +4,7 @@
 // have; arrays with an unexpected shape are left out rather than described wrongly.
 #include "io/xdmf.hpp"
 
+#include "core/format.hpp"
 #include "io/atomic_file.hpp"
 
 #include "io/hdf5.hpp"
@@ -13,7 +14,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -54,13 +54,8 @@ std::string escape(std::string_view s)
     return out;
 }
 
-/// Shortest text that reads back as the same double.
-std::string number_text(double x)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", x);
-    return buf;
-}
+/// 17 significant digits (%.17g): reads back as the same double.
+std::string number_text(double x) { return format_number(x, 17); }
 
 std::string dims_text(const std::vector<std::size_t>& shape)
 {
@@ -210,11 +205,10 @@ public:
     {
         xml.open("DataItem Dimensions=\"" + std::to_string(xyz.size() / 3)
                  + " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\"");
-        char buf[96];
         for (std::size_t r = 0; 3 * r < xyz.size(); ++r) {
             // 9 significant digits: far below a grain radius, a third of the text of %.17g
-            std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g", xyz[3 * r], xyz[3 * r + 1], xyz[3 * r + 2]);
-            xml.line(buf);
+            xml.line(format_number(xyz[3 * r], 9) + ' ' + format_number(xyz[3 * r + 1], 9) + ' '
+                     + format_number(xyz[3 * r + 2], 9));
         }
         xml.close("DataItem");
     }

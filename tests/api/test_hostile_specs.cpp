@@ -2,7 +2,9 @@
 // test is a reduced input of a crash or property violation, and fails
 // without its fix.
 #include "api/derived.hpp"
+#include "api/engine_settings.hpp"
 #include "api/job_spec.hpp"
+#include "specimen/box_preparation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -50,6 +52,32 @@ TEST(HostileSpecs, ValidationRunsNoCollisionFit)
     EXPECT_LT(took_s, 0.05);
     // The runner still gets the fitted damping time.
     EXPECT_GT(resolved_normal_damping_s(parsed.value()), 0.0);
+}
+
+TEST(HostileSpecs, ACuboidJobValidatesWithoutACollisionFit)
+{
+    // The door asks the box preparation's own rules (engine::
+    // box_preparation_error) of a cuboid job; the box was built from
+    // preparation_spec, whose restitution is fitted by integrated collisions.
+    // fuzz_job_spec_values found it: examples/tiny-cuboid.json with a grain
+    // modulus of 5e-324 took 1.4 s of CPU to validate in the fuzz build
+    // (limit 1 s), the fit in subnormal numbers. The door now builds the box
+    // from preparation_geometry (box_preparation_geometry), as the other
+    // estimates do.
+    const std::string spec = R"({"specimen": {"wire": {"pattern": "none"}, "grain_count": 150,
+                                              "grain": {"youngs_modulus_pa": 5e-324}},
+                                 "contact": {"restitution": 0.5},
+                                 "triaxial": {"cell": "cuboid", "confining_pressures_pa": [1e4, 2e4]}})";
+    const double t0 = thread_cpu_s();
+    const auto parsed = parse_job_spec(std::string_view(spec));
+    const double took_s = thread_cpu_s() - t0;
+    EXPECT_LT(took_s, 0.05) << (parsed.ok() ? std::string("accepted") : describe(parsed.error()));
+    // The same rules judge the box either way (only the damping differs).
+    if (parsed.ok()) {
+        const auto at_door = box_preparation_geometry(parsed.value());
+        ASSERT_TRUE(at_door.ok()) << at_door.error();
+        EXPECT_FALSE(wiredem::engine::box_preparation_error(at_door.value()).has_value());
+    }
 }
 
 TEST(HostileSpecs, ABodyCountNoIntegerHoldsIsRefusedNotWrappedRound)
