@@ -1439,6 +1439,17 @@ void check_fill_rate(Validator& v, const JobSpec& spec)
         return;
     }
     const engine::PreparationSpec p = preparation_geometry(spec);
+    if (with_wire && !(engine::wire_laying_height_m(p) > 0.0)) {
+        // The fill height grows as the grain count: N C/H grains reach the cover.
+        const double fill_m = engine::estimated_fill_height_m(p), cover_m = engine::wire_cover_height_m(p);
+        v.note("specimen.grain_count",
+            std::to_string(s.grain_count) + " grains fill about " + format_number(fill_m)
+                + " m, not above the grains poured over the wire's end (one diameter of the largest grain, "
+                + format_number(cover_m) + " m): the nozzle would lay no wire; with this membrane and these grains "
+                + "grain_count must be at least "
+                + format_number(std::floor(static_cast<double>(s.grain_count) * cover_m / fill_m) + 1.0));
+        return;
+    }
     const double fill_rate = p.fill_rate_m_per_s;
     // The nozzle follows the top of the pile at most v_z^w (the model spec §5).
     const double limit = engine::max_fill_rate_per_rise_speed * s.wire.nozzle_rise_speed_m_per_s;

@@ -498,6 +498,10 @@ std::optional<std::string> preparation_error(const PreparationSpec& spec)
              + "the wire's radius and the clearance: " + std::to_string(R * 1e3) + " - " + std::to_string(r_m * 1e3)
              + " - " + std::to_string(spec.wire.radius_m * 1e3) + " - " + std::to_string(spec.clearance_m * 1e3)
              + " = " + std::to_string(wire_reach_limit_m(spec) * 1e3) + " mm";
+    if (with_wire && !(wire_laying_height_m(spec) > 0.0))
+        return "the grains fill about " + std::to_string(estimated_fill_height_m(spec) * 1e3)
+             + " mm, not above the " + std::to_string(wire_cover_height_m(spec) * 1e3)
+             + " mm of grains poured over the wire's end: the nozzle would lay no wire";
     if (!(spec.fill_rate_m_per_s > 0.0)) return std::string("the fill rate must be positive");
     if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.rise_speed_m_per_s)
         return "the fill rate " + std::to_string(spec.fill_rate_m_per_s) + " m/s is too fast for the nozzle, which "
@@ -846,27 +850,24 @@ double estimated_fill_height_m(const PreparationSpec& spec)
     return grain_volume_m3 / (assumed_packing_fraction * std::numbers::pi * spec.membrane_radius_m * spec.membrane_radius_m);
 }
 
-namespace {
-
-/// Height of fill during which the nozzle lays wire [m].
-double laying_height_m(const PreparationSpec& spec)
+double wire_laying_height_m(const PreparationSpec& spec)
 {
-    return std::max(0.0, estimated_fill_height_m(spec) - wire_cover_height_m(spec));
+    return estimated_fill_height_m(spec) - wire_cover_height_m(spec);
 }
-
-} // namespace
 
 double estimated_wire_length_m(const PreparationSpec& spec)
 {
-    if (spec.pattern.kind == PatternKind::none) return 0.0;
-    const double pour_time_s = laying_height_m(spec) / spec.fill_rate_m_per_s;
+    const double laying_m = wire_laying_height_m(spec);
+    if (spec.pattern.kind == PatternKind::none || !(laying_m > 0.0)) return 0.0;
+    const double pour_time_s = laying_m / spec.fill_rate_m_per_s;
     return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * pour_time_s;
 }
 
 double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m)
 {
     if (spec.pattern.kind == PatternKind::none) return 0.0;
-    return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * laying_height_m(spec) / wire_length_m;
+    return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * std::max(0.0, wire_laying_height_m(spec))
+         / wire_length_m;
 }
 
 } // namespace wiredem::engine

@@ -266,9 +266,16 @@ struct PreparationContinuation {
 /// spec.wire_cover_m, or by default one diameter of the largest grain.
 [[nodiscard]] double wire_cover_height_m(const PreparationSpec& spec);
 
+/// Height of fill during which the nozzle lays wire, the estimated fill
+/// height less the cover (wire_cover_height_m) [m]; ≤ 0 when the grains do not
+/// rise above the cover, and then no wire can be laid: prepare_specimen
+/// refuses a pattern then, and job validation says so before a job is
+/// accepted, from this one figure.
+[[nodiscard]] double wire_laying_height_m(const PreparationSpec& spec);
+
 /// Length of wire prepare_specimen lays, estimated: ω R_a for the time the
 /// fill takes to rise to the wire cover, (fill height − cover) / fill rate
-/// [m]; 0 without a pattern.
+/// [m]; 0 without a pattern or a fill over the cover.
 [[nodiscard]] double estimated_wire_length_m(const PreparationSpec& spec);
 
 /// The fill rate at which prepare_specimen lays `wire_length_m` of wire: the

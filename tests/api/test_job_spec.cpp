@@ -902,6 +902,15 @@ INSTANTIATE_TEST_SUITE_P(JobSpec, JobSpecRejects,
         InvalidCase{"PourLongerThanThePreparation", R"({"specimen": {"wire": {"length_m": 10}}})",
             "specimen.pouring.max_preparation_time_s",
             "2 is too short: pouring 0.0856 m of fill at 0.0299 m/s (the rate that lays specimen.wire.length_m) takes 2.86 s"},
+        // 40 grains fill 0.43 mm (8000 fill 85.6 mm), not above the 2.46 mm
+        // poured over the wire's end: no wire would be laid; 8000 · 2.46/85.6
+        // ≈ 230 grains reach it, so at least 231. (The door said "at 0 m/s
+        // takes inf s" for a wire given by its length and counted 2⁶⁴ − 1
+        // bodies; with a fill rate, it accepted a helix of 0 nodes.)
+        InvalidCase{"NoFillAboveTheWiresCover", R"({"specimen": {"grain_count": 40}})", "specimen.grain_count",
+            "40 grains fill about 0.000428 m, not above the grains poured over the wire's end (one diameter of the "
+            "largest grain, 0.00246 m): the nozzle would lay no wire; with this membrane and these grains grain_count "
+            "must be at least 231"},
         InvalidCase{"UnstableTimeStep", R"({"engine": {"time_step_s": 1e-5}})", "engine.time_step_s",
             "1e-05 exceeds the stable limit 1.35e-07 set by the wire segments"},
         // γ_n = 0.01 s on the default grains: damping ratio far above 1 at the

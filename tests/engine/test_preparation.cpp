@@ -638,10 +638,30 @@ TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
 
 TEST(Preparation, RejectsAFillRateTheNozzleCannotFollow)
 {
-    PreparationSpec spec = small_column(PatternKind::helix, 10);
+    PreparationSpec spec = small_column(PatternKind::helix, 150);
     spec.fill_rate_m_per_s = 0.61 * spec.pattern.rise_speed_m_per_s; // at most 0.6 ×
     Simulation sim(1);
     const auto r = prepare_specimen(sim, spec);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("too fast for the nozzle"), std::string::npos) << r.error();
+}
+
+// Ten grains fill 0.67 mm of the 8 mm membrane, less than the cover of one
+// largest diameter poured over the wire's end (2.46 mm): the nozzle would
+// stop before laying anything, so the preparation refuses the pattern.
+// (It used to lay a wire of one or two nodes.) A fill above the cover is
+// prepared.
+TEST(Preparation, RefusesAWireWhenTheGrainsDoNotRiseAboveItsCover)
+{
+    PreparationSpec spec = small_column(PatternKind::helix, 10);
+    ASSERT_LT(estimated_fill_height_m(spec), wire_cover_height_m(spec));
+    EXPECT_LT(wire_laying_height_m(spec), 0.0);
+    EXPECT_EQ(estimated_wire_length_m(spec), 0.0);
+    Simulation sim(1);
+    const auto r = prepare_specimen(sim, spec);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("the nozzle would lay no wire"), std::string::npos) << r.error();
+    EXPECT_FALSE(preparation_error(small_column(PatternKind::helix, 150)).has_value());
+    spec.pattern.kind = PatternKind::none;
+    EXPECT_FALSE(preparation_error(spec).has_value());
 }
