@@ -83,7 +83,9 @@ constexpr Range closed_open(double lo, double hi) { return {lo, hi, false, true}
 constexpr Range open_open(double lo, double hi) { return {lo, hi, true, true}; }
 
 // Shared ranges (documented in docs/job-spec.md).
-constexpr Range modulus_range = open_closed(0.0, 1e13);       // up to ~10× diamond
+// From the softest grains studied (hydrogel beads, ~10 kPa; a modulus in
+// GPa or MPa is refused) up to ~10× diamond. 5e-324 Pa was accepted.
+constexpr Range modulus_range = closed(1e4, 1e13);
 constexpr Range poisson_range = open_closed(-1.0, 0.5);       // thermodynamic bounds of an isotropic solid
 constexpr Range density_range = open_closed(0.0, 1e5);
 constexpr double two_pi = 2.0 * std::numbers::pi;

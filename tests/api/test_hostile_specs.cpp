@@ -63,9 +63,17 @@ TEST(HostileSpecs, ACuboidJobValidatesWithoutACollisionFit)
     // modulus of 5e-324 took 1.4 s of CPU to validate in the fuzz build
     // (limit 1 s), the fit in subnormal numbers. The door now builds the box
     // from preparation_geometry (box_preparation_geometry), as the other
-    // estimates do.
-    const std::string spec = R"({"specimen": {"wire": {"pattern": "none"}, "grain_count": 150,
+    // estimates do. The modulus's range now starts at 1e4 Pa, so the case
+    // asks its floor, and 5e-324 is refused by its range.
+    const std::string subnormal = R"({"specimen": {"wire": {"pattern": "none"}, "grain_count": 150,
                                               "grain": {"youngs_modulus_pa": 5e-324}},
+                                 "triaxial": {"cell": "cuboid", "confining_pressures_pa": [1e4, 2e4]}})";
+    const auto refused = parse_job_spec(std::string_view(subnormal));
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(describe(refused.error()).find("specimen.grain.youngs_modulus_pa: 5e-324 is out of range [10000, 1e+13]"),
+        std::string::npos) << describe(refused.error());
+    const std::string spec = R"({"specimen": {"wire": {"pattern": "none"}, "grain_count": 150,
+                                              "grain": {"youngs_modulus_pa": 1e4}},
                                  "contact": {"restitution": 0.5},
                                  "triaxial": {"cell": "cuboid", "confining_pressures_pa": [1e4, 2e4]}})";
     const double t0 = thread_cpu_s();
