@@ -13,7 +13,7 @@ docs/python.md is the guide; docs/api.md and docs/results.md the contracts it fo
 from .client import FINAL_STATES, ROUTES, Client, Route
 from .errors import (ApiError, JobCancelled, JobFailed, NetworkError, ResultError, StudyFailed, WaitTimeout,
                      WiredemError)
-from .results import LOADING, MohrCoulomb, Result, Snapshot, Specimen, Test, find_wiredem, open_result
+from .results import LOADING, FreeStanding, MohrCoulomb, Result, Snapshot, Specimen, Test, find_wiredem, open_result
 from .spec import with_fields
 from .study import Study, open_study
 
@@ -23,5 +23,6 @@ open = open_result  # noqa: A001 - wiredem.open("result.h5") is the package's do
 __version__ = "0.1.0"
 
 __all__ = ["Client", "Route", "ROUTES", "FINAL_STATES", "open", "open_result", "open_study", "Result", "Test",
+           "FreeStanding",
            "Snapshot", "Specimen", "MohrCoulomb", "Study", "LOADING", "with_fields", "find_wiredem", "WiredemError", "ApiError",
            "NetworkError", "JobFailed", "JobCancelled", "StudyFailed", "WaitTimeout", "ResultError", "__version__"]

@@ -194,10 +194,13 @@ class Snapshot(_Arrays):
 
     def __init__(self, path: Path, group: str, attributes: Dict[str, Any], units: Dict[str, Optional[str]]) -> None:
         super().__init__(path, group, attributes, units)
-        self.index = int(group.rsplit("_", 1)[1])  #: k of snapshot_<k>
+        last = group.rsplit("/", 1)[1]
+        #: k of snapshot_<k>; None for the free-standing test's ``peak_snapshot``
+        self.index: Optional[int] = int(last.rsplit("_", 1)[1]) if last.startswith("snapshot_") else None
 
     def __repr__(self) -> str:
-        return f"<Snapshot {self.index} at axial strain {self.axial_strain:.4g}>"
+        name = self.index if self.index is not None else "at the peak"
+        return f"<Snapshot {name} at axial strain {self.axial_strain:.4g}>"
 
     @property
     def axial_strain(self) -> float:
@@ -221,8 +224,9 @@ class Snapshot(_Arrays):
 
     @property
     def test_name(self) -> str:
-        """The name of the test it belongs to (``sigma3_20000``)."""
-        return self._group.strip("/").split("/")[1]
+        """The name of the test it belongs to (``sigma3_20000``, or ``free_standing``)."""
+        parts = self._group.strip("/").split("/")
+        return parts[1] if parts[0] == "tests" else parts[0]
 
     def wire_autocorrelation(self, wiredem: Optional[PathLike] = None) -> Dict[str, Any]:
         """The engine's autocorrelation of :attr:`wire_segment_strain`, with its maxima.
@@ -236,6 +240,9 @@ class Snapshot(_Arrays):
         implementation, the one summary.json's lags come from. ``wiredem`` is the
         binary's path; default ``$WIREDEM_BIN``, else ``wiredem`` on the PATH.
         """
+        if self.index is None or not self._group.startswith("/tests/"):
+            raise ResultError(f"{self._group}: the wire's autocorrelation is computed for a triaxial test's "
+                              "snapshots only (wiredem autocorrelation --test NAME --snapshot K)")
         binary = find_wiredem(wiredem)
         run = subprocess.run([binary, "autocorrelation", str(self._path), "--test", self.test_name,
                               "--snapshot", str(self.index)], capture_output=True, text=True)
@@ -417,6 +424,209 @@ class Test:
         return min(self.snapshots, key=lambda s: abs(s.axial_strain - axial_strain))
 
 
+def _phase_names(units: Optional[str]) -> Dict[int, str]:
+    """{code: name} of a ``phase`` dataset whose units attribute lists them
+    (``"0 removal, 1 settling, 2 dead_load, 3 loading, 4 pull_out"``): the file says
+    what its codes mean, so a reader never keeps its own copy of the list."""
+    names: Dict[int, str] = {}
+    for part in (units or "").split(","):
+        code, _, name = part.strip().partition(" ")
+        if code.isdigit() and name:
+            names[int(code)] = name.strip()
+    return names
+
+
+def _read_frame(path: Path, group: str, names: List[str], units: Dict[str, Optional[str]]) -> pd.DataFrame:
+    with h5py.File(path, "r") as f:
+        g = f[group]
+        frame = pd.DataFrame({k: g[k][()] for k in names})
+    frame.attrs["units"] = {k: units.get(k) for k in names}
+    return frame
+
+
+class FreeStanding:
+    """The free-standing test (``/free_standing``; docs/model.md, "The free-standing test"):
+    the formwork taken away, the column settling under its own weight, an optional dead
+    load, then an unconfined compression or a pull-out of the wire.
+
+    ``attributes`` are the group's attributes as the runner wrote them and ``summary``
+    summary.json's ``free_standing`` block (None without summary.json); every figure is
+    read from them, never recomputed. :attr:`series` is the time series of every phase,
+    :attr:`compression` its loading rows, :meth:`profile` the column's radius against
+    height, :attr:`pull_out` the pull's own rows.
+    """
+
+    def __init__(self, path: Path, summary: Optional[Dict[str, Any]]) -> None:
+        self._path = path
+        #: summary.json's ``free_standing`` block (None without summary.json)
+        self.summary = summary
+        with h5py.File(path, "r") as f:
+            g = f["free_standing"]
+            #: the group's attributes as the runner wrote them (docs/results.md)
+            self.attributes: Dict[str, Any] = _attributes(g)
+            units = _dataset_units(g)
+            rows = g["time_s"].shape[0] if "time_s" in g else 0
+            # The series: the datasets with one entry per row (not the per-segment
+            # ones at the peak, nor the volumetric strain a free column leaves empty).
+            self._columns = {k: u for k, u in units.items() if g[k].ndim == 1 and g[k].shape[0] == rows and rows}
+            self._per_segment = {k: u for k, u in units.items() if k.startswith("wire_") and k.endswith("_at_peak")
+                                 or k == "wire_tension_at_peak_n"}
+            self._groups = {k: _dataset_units(g[k]) for k in g if isinstance(g[k], h5py.Group)
+                            and k not in ("snapshots", "peak_snapshot")}
+            #: {phase code: name}, as the file's ``phase`` dataset declares them
+            self.phases: Dict[int, str] = _phase_names(units.get("phase"))
+            snaps = []
+            if "snapshots" in g and isinstance(g["snapshots"], h5py.Group):
+                for k in g["snapshots"]:
+                    snaps.append(Snapshot(path, g["snapshots"][k].name, _attributes(g["snapshots"][k]),
+                                          _dataset_units(g["snapshots"][k])))
+            #: the compression's snapshots (at 0, half and all of its target strain), by ascending strain
+            self.snapshots: List[Snapshot] = sorted(snaps, key=lambda sn: (sn.axial_strain, sn.index or 0))
+            #: the column at the largest σ₁ of the compression (None without one)
+            self.peak_snapshot: Optional[Snapshot] = None
+            if "peak_snapshot" in g and isinstance(g["peak_snapshot"], h5py.Group):
+                p = g["peak_snapshot"]
+                self.peak_snapshot = Snapshot(path, p.name, _attributes(p), _dataset_units(p))
+        self._series: Optional[pd.DataFrame] = None
+
+    def __repr__(self) -> str:
+        verdict = "stands" if self.stands else "does not stand"
+        return f"<FreeStanding: {verdict}, {len(self.series)} rows>"
+
+    @property
+    def stands(self) -> bool:
+        """The engine's verdict (docs/model.md, "What stands"): at rest, with at most
+        ``free_standing.max_height_loss`` of the grains' bulk height and at most
+        ``free_standing.max_lost_fraction`` of their volume lost."""
+        if self.summary is not None:
+            return bool(self.summary["settling"]["stands"])
+        return bool(self.attributes.get("stands"))
+
+    @property
+    def settling(self) -> Dict[str, Any]:
+        """How the column settled once the formwork was gone: summary.json's
+        ``free_standing.settling`` (``stands``, ``at_rest``, ``bulk_height_loss``,
+        ``lost_fraction``, ``weight_n``, ``base_force_n``, …), else the same names
+        from the group's attributes."""
+        if self.summary is not None:
+            return dict(self.summary["settling"])
+        keys = ("stands", "at_rest", "time_to_rest_s", "height_before_m", "height_m", "height_loss",
+                "radius_before_m", "radius_m", "bulk_height_before_m", "bulk_height_m", "bulk_height_loss", "grains",
+                "escaped_grains", "lost_fraction", "weight_n", "base_force_n", "base_force_tolerance_n",
+                "max_removal_kinetic_energy_j")
+        out = {k: self.attributes[k] for k in keys if k in self.attributes}
+        for k in ("stands", "at_rest"):
+            if k in out:
+                out[k] = bool(out[k])
+        return out
+
+    @property
+    def dead_load(self) -> Optional[Dict[str, Any]]:
+        """summary.json's ``free_standing.dead_load`` (``force_n``, ``stress_pa``, ``holds``,
+        ``strain_at_load``, ``creep_strain``); None without a dead load or a summary."""
+        return None if self.summary is None else self.summary.get("dead_load")
+
+    @property
+    def unconfined_compression(self) -> Optional[Dict[str, Any]]:
+        """summary.json's ``free_standing.compression``: ``unconfined_strength_pa`` with its
+        ``shape`` (peak, plateau or rising) and ``strain_at_failure``, ``max_sigma1_pa``,
+        ``failed``, the envelope's ``predicted_unconfined_strength_pa``, ``quasi_static``, …;
+        None without a summary."""
+        return None if self.summary is None else self.summary.get("compression")
+
+    @property
+    def pull_out_figures(self) -> Optional[Dict[str, Any]]:
+        """summary.json's ``free_standing.pull_out`` (``peak_pull_force_n``, ``pulled_length_m``,
+        ``end``, …); None without a pull-out or a summary."""
+        return None if self.summary is None else self.summary.get("pull_out")
+
+    @property
+    def warnings(self) -> List[str]:
+        """The test's own warnings (not at rest, not quasi-static, …)."""
+        w = self.attributes.get("warnings")
+        return list(json.loads(w)) if isinstance(w, str) and w else []
+
+    @property
+    def units(self) -> Dict[str, Optional[str]]:
+        """{column: units} of the time series."""
+        return dict(self._columns)
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The time series of every phase, one row per sample: ``time_s``, ``phase`` and
+        ``phase_name`` (:attr:`phases`), ``axial_strain``, ``sigma1_pa`` (F_top/(π r₀²), r₀
+        the settled column's equivalent radius), ``column_radius_m``, ``height_m``, the plate
+        forces, energies and wire strains (docs/results.md); units in ``frame.attrs["units"]``."""
+        if self._series is None:
+            order = ["time_s", "phase"] + [k for k in self._columns if k not in ("time_s", "phase")]
+            frame = _read_frame(self._path, "/free_standing", [k for k in order if k in self._columns], self._columns)
+            units = frame.attrs["units"]
+            if "phase" in frame:
+                frame.insert(2, "phase_name", frame["phase"].map(self.phases))
+                units["phase_name"] = None
+            frame.index.name = "sample"
+            frame.attrs["units"] = units
+            frame.attrs["test"] = "free_standing"
+            self._series = frame
+        out = self._series.copy()
+        out.attrs = {"units": dict(self._series.attrs["units"]), "test": "free_standing"}
+        return out
+
+    def phase(self, name: str) -> pd.DataFrame:
+        """The rows of one phase by its name (``removal``, ``settling``, ``dead_load``,
+        ``loading``, ``pull_out``: :attr:`phases`)."""
+        codes = [c for c, n in self.phases.items() if n == name]
+        if not codes:
+            raise ResultError(f"{self._path}: the free-standing test has no phase {name!r} "
+                              f"(its phases: {', '.join(self.phases.values())})")
+        s = self.series
+        out = s[s["phase"] == codes[0]]
+        out.attrs = dict(s.attrs)
+        return out
+
+    @property
+    def compression(self) -> pd.DataFrame:
+        """The unconfined compression's rows (phase ``loading``): σ₁ and the column against
+        the axial strain. Empty when the job pulled the wire out instead."""
+        return self.phase("loading")
+
+    def profile(self, which: str = "settled") -> pd.DataFrame:
+        """The column's radius against height: ``height_m``, ``radius_m`` (the equivalent radius
+        of the slice's grains) and ``grains``, per slice of one grain diameter. ``which``:
+        ``before`` (in the formwork), ``settled``, ``at_peak`` or ``at_end`` (of the compression)."""
+        name = f"profile_{which}"
+        if name not in self._groups:
+            have = ", ".join(k[len("profile_"):] for k in self._groups if k.startswith("profile_"))
+            raise ResultError(f"{self._path}: no profile {which!r} (it has {have})")
+        frame = _read_frame(self._path, f"/free_standing/{name}", list(self._groups[name]), self._groups[name])
+        frame.index.name = "slice"
+        return frame
+
+    @property
+    def pull_out(self) -> Optional[pd.DataFrame]:
+        """The pull-out's rows (``time_s``, ``pulled_length_m``, ``pull_force_n``,
+        ``end_tension_n``, ``wire_in_column_m``, ``grains_in_column``); None without one."""
+        if "pull_out" not in self._groups:
+            return None
+        frame = _read_frame(self._path, "/free_standing/pull_out", list(self._groups["pull_out"]),
+                            self._groups["pull_out"])
+        frame.index.name = "row"
+        return frame
+
+    def wire_at_peak(self) -> pd.DataFrame:
+        """Per wire segment, in the order laid, at the compression's largest σ₁:
+        ``strain`` and ``tension_n``."""
+        names = {"wire_strain_at_peak": "strain", "wire_tension_at_peak_n": "tension_n"}
+        have = [k for k in names if k in self._per_segment]
+        if not have:
+            raise ResultError(f"{self._path}: the free-standing test holds no wire at its peak "
+                              "(no wire, or no compression)")
+        frame = _read_frame(self._path, "/free_standing", have, self._per_segment).rename(columns=names)
+        frame.attrs["units"] = {names[k]: self._per_segment[k] for k in have}
+        frame.index.name = "segment"
+        return frame
+
+
 class Result:
     """A campaign's results: ``result.h5`` and, when beside it, ``summary.json``.
 
@@ -446,6 +656,7 @@ class Result:
             #: the job spec it ran with, every field (``api::to_json``)
             self.job_spec: Dict[str, Any] = json.loads(_text(f["job_spec"][()]))
             groups = [f["tests"][k].name for k in f["tests"]]
+            has_free_standing = isinstance(f.get("free_standing"), h5py.Group)
         by_pressure = {}
         for t in (self.summary or {}).get("tests", []):
             by_pressure[float(t["confining_pressure_pa"])] = t
@@ -457,6 +668,10 @@ class Result:
         #: the tests, by ascending confining pressure
         self.tests: List[Test] = sorted(tests, key=lambda t: t.confining_pressure_pa)
         self._specimen: Optional[Specimen] = None
+        #: the free-standing test (None when the job ran none)
+        self.free_standing: Optional[FreeStanding] = None
+        if has_free_standing:
+            self.free_standing = FreeStanding(h5_path, (self.summary or {}).get("free_standing"))
 
     def __repr__(self) -> str:
         return f"<Result {self.name!r}: {len(self.tests)} tests, {self.path}>"
