@@ -144,10 +144,9 @@ def test_the_wires_tension_at_the_peak_is_its_axial_stiffness_times_its_strain(c
     assert w.attrs["units"] == {"strain": "1", "tension_n": "N"}
     assert len(w) == len(r.specimen.wire_node_position_m) - 1  # one row per segment
     wire = r.job_spec["specimen"]["wire"]
-    ea = wire["youngs_modulus_pa"] * math.pi * wire["radius_m"] ** 2  # T = E_w π r_w² ε, stretched
-    stretched = w[w["strain"] > 0]
-    assert len(stretched) > 0
-    assert np.allclose(stretched["tension_n"], ea * stretched["strain"], rtol=1e-12, atol=0)
+    ea = wire["youngs_modulus_pa"] * math.pi * wire["radius_m"] ** 2  # T = E_w π r_w² ε, stretched or pressed
+    assert (w["strain"] > 0).any() and (w["strain"] < 0).any()
+    assert np.allclose(w["tension_n"], ea * w["strain"], rtol=1e-12, atol=0)
 
 
 def test_a_pull_out_has_its_own_rows_and_no_compression(pulled: Path) -> None:
@@ -168,3 +167,30 @@ def test_a_pull_out_has_its_own_rows_and_no_compression(pulled: Path) -> None:
     assert fs.unconfined_compression is not None and fs.unconfined_compression["unconfined_strength_pa"] is None
     with pytest.raises(wiredem.ResultError, match="no wire at its peak"):
         fs.wire_at_peak()
+
+
+def test_the_figure_marks_the_engines_strength_and_says_whether_the_column_stands(compressed: Path, pulled: Path,
+                                                                                 tmp_path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from wiredem import plots
+
+    r = wiredem.open(compressed)
+    fs = r.free_standing
+    assert fs is not None and fs.unconfined_compression is not None
+    fig = plots.plot_free_standing(r)
+    ax = fig.axes[0]
+    circle = next(line for line in ax.get_lines() if line.get_marker() == "o")
+    assert circle.get_xdata()[0] == pytest.approx(100 * fs.unconfined_compression["strain_at_failure"], abs=1e-12)
+    assert circle.get_ydata()[0] == pytest.approx(1e-3 * fs.unconfined_compression["unconfined_strength_pa"],
+                                                  rel=1e-12)
+    triangle = next(line for line in ax.get_lines() if line.get_marker() == "^")
+    assert triangle.get_ydata()[0] == pytest.approx(1e-3 * fs.attributes["max_sigma1_pa"], rel=1e-12)
+    assert ("the column stands" if fs.stands else "the column does not stand") in fig._suptitle.get_text()
+    fig.savefig(tmp_path / "compressed.png")
+    plt.close(fig)
+    fig = plots.plot_free_standing(wiredem.open(pulled))  # the pull's force instead of the compression
+    assert fig.axes[0].get_xlabel() == "pulled length [mm]"
+    fig.savefig(tmp_path / "pulled.png")
+    plt.close(fig)

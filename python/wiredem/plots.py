@@ -1,7 +1,8 @@
 """matplotlib helpers that draw what docs/study.md draws: the curves of a test
 against axial strain with its yield and max-q states, Mohr circles with an
-envelope, the wire's segment strain along its length, and the grains' sizes
-against the job's sieve curve.
+envelope, the wire's segment strain along its length, the grains' sizes
+against the job's sieve curve, and the free-standing test (the unconfined
+compression, the column's profile, the wire's tension at the peak).
 
 Stresses are drawn in kPa and strains in %, as on the study's figures; every
 marked state is the engine's (summary.json, or the test's attributes), not
@@ -14,7 +15,8 @@ from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence,
 
 import numpy as np
 
-from .results import MohrCoulomb, Result, Snapshot, Test
+from .errors import ResultError
+from .results import FreeStanding, MohrCoulomb, Result, Snapshot, Test
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -238,6 +240,94 @@ def plot_grain_sizes(result: Result, ax: Optional["Axes"] = None) -> "Figure":
         title += f" (KS distance {figures['ks_distance']:.3f}, 1 % critical {figures['ks_critical_1pct']:.3f})"
     ax.set_title(title)
     return ax.figure
+
+
+def draw_unconfined_compression(ax: "Axes", fs: FreeStanding, colour: Any = "k", lw: float = 1.5,
+                                label: Optional[str] = None) -> None:
+    """σ₁ [kPa] of the unconfined compression against its axial strain [%], the unconfined
+    strength (the smoothed maximum, at its strain) marked ○ and the largest raw σ₁ △, from
+    the engine's figures (summary.json's ``compression``, else the group's attributes)."""
+    c = fs.compression
+    if c.empty:
+        raise ValueError("no unconfined compression (the job pulled the wire out instead)")
+    ax.plot(c["axial_strain"].to_numpy() * 100.0, c["sigma1_pa"].to_numpy() * 1e-3, color=colour, lw=lw, label=label)
+    figures = fs.unconfined_compression or {}
+    strength = figures.get("unconfined_strength_pa", fs.attributes.get("strength_smoothed_maximum"))
+    at = figures.get("strain_at_failure", fs.attributes.get("strength_axial_strain"))
+    if strength is not None and at is not None:
+        ax.plot(at * 100.0, strength * 1e-3, "o", color=colour, ms=7, mfc="none", mew=1.5)
+    peak = fs.attributes.get("max_sigma1_sample")
+    if peak is not None:
+        ax.plot(c.loc[int(peak), "axial_strain"] * 100.0, c.loc[int(peak), "sigma1_pa"] * 1e-3, "^", color=colour, ms=7)
+    ax.set_xlabel("axial strain ε_a [%]")
+    ax.set_ylabel("σ₁ = F_top/(π r₀²) [kPa]")
+    ax.grid(alpha=0.3)
+    ax.set_xlim(left=0)
+
+
+def draw_profiles(ax: "Axes", fs: FreeStanding, which: Sequence[str] = ("before", "settled", "at_peak")) -> None:
+    """The column's radius [mm] against height [mm], one line per profile (``before`` the
+    formwork went, ``settled``, ``at_peak`` and ``at_end`` of the compression) it holds."""
+    styles = {"before": ("0.6", "--"), "settled": ("C0", "-"), "at_peak": ("C3", "-"), "at_end": ("C1", ":")}
+    for name in which:
+        try:
+            p = fs.profile(name)
+        except ResultError:  # a pull-out has no profile at the peak: draw what there is
+            continue
+        colour, ls = styles.get(name, ("k", "-"))
+        ax.plot(p["radius_m"].to_numpy() * 1e3, p["height_m"].to_numpy() * 1e3, ls, color=colour, marker=".",
+                label=name.replace("_", " "))
+    ax.set_xlabel("radius [mm] (equivalent radius of a slice's grains)")
+    ax.set_ylabel("height [mm]")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+
+
+def plot_free_standing(result: Result) -> "Figure":
+    """The free-standing test on one figure: the unconfined compression (or the pull-out's
+    force against the pulled length), the column's profiles, and the wire's tension along
+    its length at the compression's largest σ₁ (when the column has a wire and a compression);
+    the title says whether the column stands."""
+    fs = result.free_standing
+    if fs is None:
+        raise ValueError(f"{result.path}: the job ran no free-standing test")
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+    pulled = fs.pull_out
+    if pulled is not None:
+        axes[0].plot(pulled["pulled_length_m"].to_numpy() * 1e3, pulled["pull_force_n"].to_numpy(), color="k")
+        axes[0].set_xlabel("pulled length [mm]")
+        axes[0].set_ylabel("pull force [N]")
+        axes[0].grid(alpha=0.3)
+        axes[0].set_title("pull-out")
+    else:
+        draw_unconfined_compression(axes[0], fs)
+        axes[0].set_title("unconfined compression (○ strength, △ largest σ₁)")
+    draw_profiles(axes[1], fs)
+    axes[1].set_title("column profile")
+    try:
+        w = fs.wire_at_peak()
+    except ResultError:  # no wire, or no compression
+        axes[2].set_axis_off()
+    else:
+        seg = float(result.job_spec["specimen"]["wire"]["segment_length_m"])
+        axes[2].plot((w.index.to_numpy() + 0.5) * seg, w["tension_n"].to_numpy(), color="k", lw=0.8)
+        axes[2].set_xlabel("position along the wire s [m] (from the end laid first)")
+        axes[2].set_ylabel("segment tension [N]")
+        axes[2].grid(alpha=0.3)
+        axes[2].set_title("wire tension at the largest σ₁")
+    settling = fs.settling
+    verdict = "stands" if fs.stands else "does not stand"
+    loss = settling.get("bulk_height_loss")
+    lost = settling.get("lost_fraction")
+    detail = "" if loss is None or lost is None else \
+        f" (bulk height {-100 * loss:+.1f} %, {100 * lost:.0f} % of the grains' volume lost" \
+        + ("" if settling.get("at_rest", True) else ", not at rest") + ")"
+    fig.suptitle(f"{result.name}: the column {verdict}{detail}")
+    fig.tight_layout()
+    return fig
 
 
 def tests_by_pressure(results: Iterable[Result]) -> Dict[float, List[Test]]:
