@@ -51,6 +51,14 @@ using api::finite_or_null;
 /// blocked (it feeds no wire where a grain or earlier wire is in the way).
 constexpr double min_laid_fraction = 0.8;
 
+/// Below this height per diameter a membrane specimen is reported as squat:
+/// between rough plates a column shorter than about 1.5 diameters is held by
+/// its ends and reads stronger (Bishop & Green, "The influence of end
+/// restraint on the compression strength of a cohesionless soil",
+/// Géotechnique 15 (1965)); triaxial standards ask for 2 to 2.5, and the
+/// paper's column has 2.1.
+constexpr double min_height_per_diameter = 1.5;
+
 /// The summary's warning when the first local maximum of the wire's
 /// autocorrelation is not its first prominent one (engine/analysis/autocorrelation.hpp).
 std::string noise_band_warning(const eng::analysis::Autocorrelation& ac)
@@ -819,6 +827,15 @@ StageError analyse(const JobDir& dir, const StageControl& control)
                            + engine::format_number(prep.nozzle_path_m)
                            + " m of its path: it fell behind the pile and was blocked; lower "
                              "specimen.pouring.fill_rate_m_per_s");
+    if (spec.triaxial.cell == api::CellKind::membrane) {
+        const double diameter_m = 2.0 * spec.specimen.membrane_radius_m;
+        if (prep.pile_height_m < min_height_per_diameter * diameter_m)
+            warnings.push_back("the specimen is " + engine::format_number(prep.pile_height_m * 1e3, 3) + " mm tall and "
+                               + engine::format_number(diameter_m * 1e3, 3) + " mm wide (H/D = "
+                               + engine::format_number(prep.pile_height_m / diameter_m, 2)
+                               + "): below H/D = 1.5 the plates hold a column by its ends and its strength reads high "
+                                 "(triaxial standards ask for 2 to 2.5); raise specimen.grain_count");
+    }
     for (std::size_t k = 0; k < tests.size(); ++k)
         for (const std::string& w : tests[k].warnings)
             warnings.push_back(test_label(k, pressures.size(), pressures[k]) + ": " + w);
