@@ -4,6 +4,7 @@
 #include "core/format.hpp"
 #include "core/result.hpp"
 #include "scene.hpp"
+#include "state/clump_shape.hpp"
 #include "timestep.hpp"
 #include "triaxial/sampling.hpp"
 
@@ -78,14 +79,12 @@ std::optional<std::string> box_preparation_error(const BoxPreparationSpec& s)
 Result<BoxPreparationSpec, std::string> box_preparation_from(
     const PreparationSpec& poured, double consolidation_pressure_pa, std::optional<double> wall_friction_coeff)
 {
-    if (poured.grain_shape)
-        return Err(std::string("the box preparation places spheres only: a grain shape (clumps) cannot be prepared in the "
-                               "cuboid cell"));
     BoxPreparationSpec box;
     box.grain_count = poured.grain_count;
     box.grain_radius_m = poured.grain_radius_m;
     box.grain_radius_spread = poured.grain_radius_spread;
     box.grain_sizes = poured.grain_sizes;
+    box.grain_shape = poured.grain_shape;
     box.grain = poured.grain;
     box.grain.density_kg_per_m3 *= poured.density_scale;
     box.wall = poured.plate;
@@ -110,8 +109,15 @@ double unbalanced_force_ratio(const World& w)
     const TranslationalState& g = w.of(BodyKind::grain);
     const std::vector<Vec3>& net = w.force_of(BodyKind::grain);
     double net_sum = 0.0;
-    for (std::size_t i = 0; i < g.size(); ++i) net_sum += net[i].norm();
-    return (net_sum / static_cast<double>(g.size())) / (contact_sum / static_cast<double>(contacts));
+    if (w.clumps.empty()) {
+        for (std::size_t i = 0; i < g.size(); ++i) net_sum += net[i].norm();
+        return (net_sum / static_cast<double>(g.size())) / (contact_sum / static_cast<double>(contacts));
+    }
+    // A clump's spheres carry the contacts; the body is the clump.
+    for (std::size_t i = 0; i < g.size(); ++i)
+        if (!w.clumps.is_member(i)) net_sum += net[i].norm();
+    for (const Vec3& f : w.clump_loads.force_n) net_sum += f.norm();
+    return (net_sum / static_cast<double>(grain_body_count(w))) / (contact_sum / static_cast<double>(contacts));
 }
 
 Result<BoxPreparationReport, std::string> prepare_box_specimen(
@@ -131,13 +137,29 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
         r = draw_radius_m(spec, sizes, rng);
         grain_volume_m3 += 4.0 / 3.0 * std::numbers::pi * r * r * r;
     }
+    // A clump is placed where its bounding sphere is free, extent k r (k its
+    // shape's bounding radius per volume-equivalent radius); a sphere's
+    // extent is its radius. The loose box holds the extents' spheres at the
+    // initial fraction (a crushed clump's are 2.9 times its volume).
+    const double k = spec.grain_shape ? spec.grain_shape->bounding_radius_m() : 1.0;
+    std::vector<double> extents(radii.size());
+    double extent_volume_m3 = grain_volume_m3;
+    if (spec.grain_shape) {
+        extent_volume_m3 = 0.0;
+        for (std::size_t i = 0; i < radii.size(); ++i) {
+            extents[i] = k * radii[i];
+            extent_volume_m3 += 4.0 / 3.0 * std::numbers::pi * extents[i] * extents[i] * extents[i];
+        }
+    } else {
+        extents = radii;
+    }
     // The fraction is over the box the centres may take, the box less the
     // largest radius at each wall: counted over the whole box, a small box's
     // centres would crowd at the fraction of a larger one (300 grains at
     // 0.25 over the whole box: 0.36 over the centres' box, and grains
     // found no place).
-    const double r_max = *std::max_element(radii.begin(), radii.end());
-    const double inner_width_m = std::cbrt(grain_volume_m3 / spec.initial_packing_fraction / spec.aspect_ratio); // L² · (a L) = V
+    const double r_max = *std::max_element(extents.begin(), extents.end());
+    const double inner_width_m = std::cbrt(extent_volume_m3 / spec.initial_packing_fraction / spec.aspect_ratio); // L² · (a L) = V
     const double width_m = inner_width_m + 2.0 * r_max;
     const double height_m = spec.aspect_ratio * inner_width_m + 2.0 * r_max;
     const double volume_m3 = width_m * width_m * height_m;
@@ -158,22 +180,27 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     // its centre may take, kept if it overlaps no grain placed before.
     std::vector<Vec3> placed;
     placed.reserve(radii.size());
-    for (std::size_t k = 0; k < radii.size(); ++k) {
-        const double r = radii[k];
+    for (std::size_t n = 0; n < radii.size(); ++n) {
+        const double r = extents[n];
         bool done = false;
         for (int a = 0; a < placement_attempts_per_grain && !done; ++a) {
             const Vec3 x(lo.x() + r + (width_m - 2 * r) * rng.uniform(), lo.y() + r + (width_m - 2 * r) * rng.uniform(),
                 r + (height_m - 2 * r) * rng.uniform());
             done = true;
             for (std::size_t i = 0; i < placed.size() && done; ++i)
-                done = (placed[i] - x).squaredNorm() >= (radii[i] + r) * (radii[i] + r);
+                done = (placed[i] - x).squaredNorm() >= (extents[i] + r) * (extents[i] + r);
             if (done) placed.push_back(x);
         }
         if (!done)
-            return Err("grain " + std::to_string(k) + " found no free place in the loose box after "
+            return Err("grain " + std::to_string(n) + " found no free place in the loose box after "
                        + std::to_string(placement_attempts_per_grain)
                        + " attempts; lower initial_packing_fraction (now " + format_number(spec.initial_packing_fraction) + ")");
-        add_grain(w, placed.back(), r, grain_mat);
+        if (spec.grain_shape) { // turned at random, as the pour turns them
+            const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+            add_clump(w, scaled_clump(*spec.grain_shape, radii[n]), placed.back(), uniform_orientation(u1, u2, u3), grain_mat);
+        } else {
+            add_grain(w, placed.back(), r, grain_mat);
+        }
     }
 
     // δt: a fraction of the stable step with impacts at the walls' top speed.

@@ -48,6 +48,10 @@ struct BoxPreparationSpec {
     /// When set, the diameters are drawn from this curve instead (by number,
     /// as the pour draws them).
     std::optional<SieveCurve> grain_sizes;
+    /// When set, every grain is this clump scaled to its drawn radius as its
+    /// volume-equivalent radius (state/clump_shape.hpp), placed where its
+    /// bounding sphere is free and turned at random, as the pour places them.
+    std::optional<ClumpBody> grain_shape;
     Material grain{};
     Material wall{1e9, 0.3, 7800.0};         ///< the walls' material (the plates' E_b)
     ContactSettings contact{};               ///< the contact law; its μ is restored after the compaction
@@ -58,7 +62,8 @@ struct BoxPreparationSpec {
     /// The grains' volume fraction in the loose box they are placed in,
     /// (0, 0.35]: random sequential addition of equal spheres jams at ≈ 0.38.
     /// Counted over the part of the box the centres may take (the box less
-    /// the largest radius at each wall), so a small box is as easy to fill.
+    /// the largest radius at each wall), so a small box is as easy to fill;
+    /// with a grain_shape, of the clumps' bounding spheres.
     double initial_packing_fraction = 0.25;
     double consolidation_pressure_pa = 20e3; ///< σ_c the walls compress to [Pa], > 0
     /// μ_c during the compaction (sets the density); nullopt: the contact law's μ.
@@ -107,17 +112,18 @@ struct BoxPreparationReport {
 
 /// The mean |net force| on the grains over the mean |force| of the touching
 /// contacts after the last step (YADE's unbalancedForce); 0 with no contact.
-/// Serial, in id and contact order.
+/// A clump is one grain, its net force the sum on its spheres. Serial, in id
+/// and contact order.
 [[nodiscard]] double unbalanced_force_ratio(const World& w);
 
 /// The box preparation of the grains a membrane preparation would pour, one
 /// mapping for every host (a job's `specimen`, engine/specimen/
 /// preparation.hpp): the count, the sizes (r and spread, or the curve), the
-/// grain and plate materials (the grains' density × density_scale, the
+/// grain shape (clumps), the grain and plate materials (the grains' density × density_scale, the
 /// pour's mass scaling), the contact law, the integrator, δt, the seed and the time limit;
 /// σ_c and the walls' μ_w from the caller, the rest the box's defaults. The
 /// wire, the membrane and the pour's rates have no meaning in a box.
-/// @return the spec, or an error: a grain shape (the box places spheres only).
+/// @return the spec.
 [[nodiscard]] Result<BoxPreparationSpec, std::string> box_preparation_from(
     const PreparationSpec& poured, double consolidation_pressure_pa, std::optional<double> wall_friction_coeff);
 

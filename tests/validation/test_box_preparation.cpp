@@ -9,6 +9,7 @@
 // seed (the reason it needs no checkpoint); bad settings named.
 #include "laws/hertz.hpp"
 #include "specimen/box_preparation.hpp"
+#include "state/clump_shape.hpp"
 #include "state/materials.hpp"
 #include "state/state_hash.hpp"
 #include "triaxial/sampling.hpp"
@@ -213,7 +214,7 @@ TEST(BoxPreparation, APreparedBoxRunsThroughTheCuboidCell)
     EXPECT_LT(r.value().servo_mean_deviation, 0.05) << r.value().servo_mean_deviation;
 }
 
-TEST(BoxPreparation, TakesThePouredGrainsButNotAShape)
+TEST(BoxPreparation, TakesThePouredGrainsAndTheirShape)
 {
     PreparationSpec poured;
     poured.grain_count = 123;
@@ -236,8 +237,44 @@ TEST(BoxPreparation, TakesThePouredGrainsButNotAShape)
     EXPECT_EQ(box.value().max_time_s, 3.5);
     EXPECT_EQ(box.value().consolidation_pressure_pa, 30e3);
     EXPECT_EQ(box.value().wall_friction_coeff, 0.1);
-    poured.grain_shape = ClumpBody{};
-    const auto refused = box_preparation_from(poured, 30e3, 0.1);
-    ASSERT_FALSE(refused.ok());
-    EXPECT_NE(refused.error().find("spheres only"), std::string::npos) << refused.error();
+    EXPECT_FALSE(box.value().grain_shape.has_value());
+    poured.grain_shape = unit_clump_shape(*builtin_clump_template("crushed"));
+    const auto clumps = box_preparation_from(poured, 30e3, 0.1);
+    ASSERT_TRUE(clumps.ok()) << clumps.error();
+    ASSERT_TRUE(clumps.value().grain_shape.has_value());
+    EXPECT_EQ(clumps.value().grain_shape->spheres.size(), 5u);
+    EXPECT_EQ(clumps.value().grain_shape->volume_m3, poured.grain_shape->volume_m3);
+}
+
+// Clumps in the box (the gravel's grains, issue 40): 60 crushed clumps of
+// r = 1.23 mm (volume-equivalent) placed where their bounding spheres (1.43 r)
+// are free, turned at random, compacted to σ_c. The grains are the clumps:
+// 60 of them, 300 spheres; at rest with the walls at σ_c and the unbalanced
+// force ratio (of the clumps' net forces, their spheres carry the contacts)
+// below its bound; the grains' volume fraction that of the clumps'
+// volume-equivalent spheres; the same bits on 1 and 2 threads.
+TEST(BoxPreparation, ClumpsArePlacedTurnedAndCompactedAsTheirOwnGrains)
+{
+    BoxPreparationSpec spec = box_spec();
+    spec.grain_count = 60;
+    spec.grain_radius_spread = 0.0;
+    spec.grain_shape = unit_clump_shape(*builtin_clump_template("crushed"));
+    const BoxRun one = run_box(spec);
+    const BoxPreparationReport& r = one.report;
+    ASSERT_TRUE(r.at_rest) << "after " << r.simulated_time_s << " s";
+    EXPECT_EQ(r.grains, 60u);
+    EXPECT_EQ(one.world.clumps.size(), 60u);
+    EXPECT_EQ(one.world.of(BodyKind::grain).size(), 300u);
+    EXPECT_EQ(grain_body_count(one.world), 60u);
+    for (const double sigma : r.box.lateral_pa) EXPECT_NEAR(sigma / sigma_c_pa, 1.0, spec.stress_tolerance);
+    EXPECT_NEAR(r.box.sigma_z_pa / sigma_c_pa, 1.0, spec.stress_tolerance);
+    EXPECT_LE(r.unbalanced_force_ratio, spec.unbalanced_force_ratio);
+    EXPECT_DOUBLE_EQ(r.unbalanced_force_ratio, unbalanced_force_ratio(one.world));
+    const double grain_volume_m3 = 60.0 * 4.0 / 3.0 * std::numbers::pi * std::pow(spec.grain_radius_m, 3);
+    EXPECT_NEAR(r.grain_volume_fraction, grain_volume_m3 / r.sample_volume_m3, 1e-12);
+    // Random orientations: no two clumps turned alike.
+    EXPECT_NE(one.world.clumps.orientation[0].coeffs(), one.world.clumps.orientation[1].coeffs());
+    const BoxRun two = run_box(spec, 2);
+    EXPECT_EQ(state_hash(two.world), state_hash(one.world));
+    EXPECT_EQ(two.report.steps, one.report.steps);
 }
