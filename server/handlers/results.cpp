@@ -281,7 +281,7 @@ Response free_standing_routes(const Request& req, const std::vector<std::string>
 /// runs: from the runner's tests/free_standing.h5 once the test has finished
 /// (the same reply as after the job, but marked with its state); before,
 /// its state (waiting: not begun; running: its stage holds its lock) and no
-/// rows (the test keeps no checkpoint: its rows come when it ends). 409 for
+/// rows (its checkpoint is not read for them yet: its rows come when it ends). 409 for
 /// its snapshots until the job has succeeded.
 Response live_free_standing(const Request& req, const std::vector<std::string>& seg, const Query& q, Services& svc, const JobRecord& r)
 {
@@ -548,7 +548,7 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/free_standing": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}],
       "get": {
-        "summary": "The free-standing test (a job with free_standing.enabled; docs/model.md, \"The free-standing test\"): its readings as stored (settling, dead load, compression: attributes), its time-series columns, the radius profiles (radius against height before the removal, settled, at the largest sigma1, at the end), the wire's segment strain and tension along its length at the largest sigma1, its snapshots; while the job prepares or runs, its state (rows only once it has finished: it keeps no checkpoint)",
+        "summary": "The free-standing test (a job with free_standing.enabled; docs/model.md, \"The free-standing test\"): its readings as stored (settling, dead load, compression: attributes), its time-series columns, the radius profiles (radius against height before the removal, settled, at the largest sigma1, at the end), the wire's segment strain and tension along its length at the largest sigma1, its snapshots; while the job prepares or runs, its state (rows only once it has finished: its checkpoint is not read for them)",
         "responses": {
           "200": {"description": "The test", "content": {"application/json": {"schema": {"type": "object",
             "required": ["name", "partial", "rows", "attributes", "columns", "profiles", "wire_at_peak", "snapshots", "peak_snapshot", "series_url"],
