@@ -569,6 +569,11 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
         g.write_double_attribute("max_sigma1_pa", c.max_sigma1_pa);
         g.write_int_attribute("max_sigma1_sample", static_cast<std::int64_t>(c.max_sigma1_sample));
         g.write_int_attribute("failed", c.failed ? 1 : 0);
+        if (c.failure_mode) {
+            g.write_string_attribute("failure_mode", eng::to_string(*c.failure_mode));
+            g.write_double_attribute("spilled_fraction", c.spilled_fraction);
+            g.write_double_attribute("bulge_m", c.bulge_m);
+        }
         write_profile(g.create_group(std::string(api::free_standing_profiles[2])), c.profile_at_peak);
         write_profile(g.create_group(std::string(api::free_standing_profiles[3])), c.profile_at_end);
         units(g.write_dataset(std::string(api::free_standing_wire_arrays[0]), std::span<const double>(c.wire_strain_at_peak)), "1");
@@ -640,6 +645,17 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
         c.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
         c.max_sigma1_sample = read_index(g, "max_sigma1_sample");
         c.failed = g.read_int_attribute("failed") != 0;
+        if (g.has_attribute("failure_mode")) { // written since 2026-12-06
+            const std::string mode = g.read_string_attribute("failure_mode");
+            for (auto m : {eng::FailureMode::wire_break, eng::FailureMode::grains_spilling, eng::FailureMode::bulging,
+                     eng::FailureMode::unresolved})
+                if (mode == eng::to_string(m)) c.failure_mode = m;
+            if (!c.failure_mode) throw std::runtime_error(g.path() + ": failure_mode \"" + mode + "\" is not a failure mode");
+            c.spilled_fraction = g.read_double_attribute("spilled_fraction");
+            c.bulge_m = g.read_double_attribute("bulge_m");
+        } else {
+            c.spilled_fraction = c.bulge_m = std::numeric_limits<double>::quiet_NaN();
+        }
         c.profile_at_peak = read_profile(g.open_group(std::string(api::free_standing_profiles[2])));
         c.profile_at_end = read_profile(g.open_group(std::string(api::free_standing_profiles[3])));
         c.wire_strain_at_peak = read_doubles(g, std::string(api::free_standing_wire_arrays[0]));

@@ -742,12 +742,18 @@ json::object free_standing_json(const eng::FreeStandingResult& r,
         c["strain_at_failure"] = finite_or_null(k.strength_axial_strain);
         c["max_sigma1_pa"] = finite_or_null(k.max_sigma1_pa);
         c["failed"] = k.failed;
+        c["failure_mode"] = k.failure_mode ? json::value(eng::to_string(*k.failure_mode)) : json::value(nullptr);
+        c["spilled_fraction"] = finite_or_null(k.spilled_fraction);
+        c["bulge_m"] = finite_or_null(k.bulge_m);
     } else {
         c["unconfined_strength_pa"] = nullptr;
         c["shape"] = nullptr;
         c["strain_at_failure"] = nullptr;
         c["max_sigma1_pa"] = nullptr;
         c["failed"] = nullptr;
+        c["failure_mode"] = nullptr;
+        c["spilled_fraction"] = nullptr;
+        c["bulge_m"] = nullptr;
     }
     c["predicted_unconfined_strength_pa"] = fit.ok() ? finite_or_null(eng::analysis::unconfined_strength_pa(
                                                            fit.value().friction_angle_rad, fit.value().cohesion_pa))

@@ -353,6 +353,20 @@ eng::FreeStandingDriverState sample_free_standing_state(eng::FreeStandingPhase p
         p.series.wire_in_column_m = {next_value()};
         p.series.grains_in_column = {140};
         r.pull_out = p;
+        eng::CompressionReading c; // a finished test's (both with a pull-out: the record does not mind)
+        c.strength = {eng::analysis::CurveShape::peak, rows - 2, next_value(), next_value(), next_value(), next_value()};
+        c.strength_axial_strain = next_value();
+        c.max_sigma1_pa = next_value();
+        c.max_sigma1_sample = rows - 2;
+        c.failed = true;
+        c.profile_at_peak = {{next_value()}, {next_value()}, {8}};
+        c.profile_at_end = {{next_value(), next_value()}, {next_value(), next_value()}, {8, 1}};
+        c.wire_strain_at_peak = {next_value(), next_value()};
+        c.wire_tension_at_peak_n = {next_value(), next_value()};
+        c.failure_mode = eng::FailureMode::grains_spilling;
+        c.spilled_fraction = next_value();
+        c.bulge_m = next_value();
+        r.compression = c;
     }
     r.wire_breaks.push_back({.event = {.segment = 17, .cause = eng::WireBreakCause::strain, .time_s = 1.25,
                                  .strain = 0.0501, .released_energy_j = 3.2e-4},
@@ -404,6 +418,11 @@ TEST(CampaignFiles, AFreeStandingDriverStateReadsBackExactlyWithItsPartialRecord
             EXPECT_EQ(r.result.series.sigma1_pa, s.result.series.sigma1_pa);
             EXPECT_EQ(r.result.wire_breaks.size(), 1u);
             EXPECT_EQ(r.result.pull_out.has_value(), rows > 0);
+            ASSERT_EQ(r.result.compression.has_value(), rows > 0);
+            if (rows > 0) {
+                EXPECT_EQ(r.result.compression->failure_mode, eng::FailureMode::grains_spilling);
+                EXPECT_EQ(r.result.compression->bulge_m, s.result.compression->bulge_m);
+            }
             io::write_file_atomically(again, [&](io::Group& root) {
                 io::Group g = root.create_group("host");
                 write_free_standing_driver_state(g, r);
