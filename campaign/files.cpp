@@ -569,6 +569,11 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
         g.write_double_attribute("max_sigma1_pa", c.max_sigma1_pa);
         g.write_int_attribute("max_sigma1_sample", static_cast<std::int64_t>(c.max_sigma1_sample));
         g.write_int_attribute("failed", c.failed ? 1 : 0);
+        if (c.failure_mode) {
+            g.write_string_attribute("failure_mode", eng::to_string(*c.failure_mode));
+            g.write_double_attribute("spilled_fraction", c.spilled_fraction);
+            g.write_double_attribute("bulge_m", c.bulge_m);
+        }
         write_profile(g.create_group(std::string(api::free_standing_profiles[2])), c.profile_at_peak);
         write_profile(g.create_group(std::string(api::free_standing_profiles[3])), c.profile_at_end);
         units(g.write_dataset(std::string(api::free_standing_wire_arrays[0]), std::span<const double>(c.wire_strain_at_peak)), "1");
@@ -640,6 +645,17 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
         c.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
         c.max_sigma1_sample = read_index(g, "max_sigma1_sample");
         c.failed = g.read_int_attribute("failed") != 0;
+        if (g.has_attribute("failure_mode")) { // written since 2026-12-06
+            const std::string mode = g.read_string_attribute("failure_mode");
+            for (auto m : {eng::FailureMode::wire_break, eng::FailureMode::grains_spilling, eng::FailureMode::bulging,
+                     eng::FailureMode::unresolved})
+                if (mode == eng::to_string(m)) c.failure_mode = m;
+            if (!c.failure_mode) throw std::runtime_error(g.path() + ": failure_mode \"" + mode + "\" is not a failure mode");
+            c.spilled_fraction = g.read_double_attribute("spilled_fraction");
+            c.bulge_m = g.read_double_attribute("bulge_m");
+        } else {
+            c.spilled_fraction = c.bulge_m = std::numeric_limits<double>::quiet_NaN();
+        }
         c.profile_at_peak = read_profile(g.open_group(std::string(api::free_standing_profiles[2])));
         c.profile_at_end = read_profile(g.open_group(std::string(api::free_standing_profiles[3])));
         c.wire_strain_at_peak = read_doubles(g, std::string(api::free_standing_wire_arrays[0]));
@@ -662,7 +678,9 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
     r.wire_breaks = read_wire_breaks(g);
     if (g.has_attribute("pull_out_end")) r.pull_out = read_pull_out(g);
     const std::size_t rows = r.series.size();
-    if (r.loading_start_sample >= rows || (r.compression && r.compression->strength.index >= rows))
+    // A running test's record (a checkpoint's) may not have the first row of
+    // its loading or pull-out yet, nor any row: loading_start_sample = rows.
+    if (r.loading_start_sample > rows || (r.compression && r.compression->strength.index >= rows))
         throw std::runtime_error(g.path() + ": a row index is past the series");
     r.snapshots = read_snapshots(g);
     if (const std::string peak(api::free_standing_peak_snapshot); g.exists(peak)) r.peak_snapshot = read_snapshot(g.open_group(peak));
@@ -763,6 +781,67 @@ eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapsho
     s.wall_time_s = g.read_double_attribute("wall_time_s");
     s.cap_nodes = read_u32s(g, "cap_nodes", 1);
     s.result = read_triaxial_result(g.open_group("result"), snapshots);
+    return s;
+}
+
+void write_free_standing_driver_state(io::Group& g, const eng::FreeStandingDriverState& s)
+{
+    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
+    g.write_string_attribute("phase", eng::to_string(s.phase));
+    g.write_int_attribute("phase_start_step", static_cast<std::int64_t>(s.phase_start_step));
+    g.write_double_attribute("reference_height_m", s.reference_height_m);
+    g.write_double_attribute("reference_radius_m", s.reference_radius_m);
+    // "none yet" (the largest value) is written as -1: the same bits.
+    g.write_int_attribute("last_sample_step", static_cast<std::int64_t>(s.last_sample_step));
+    g.write_int_attribute("next_snapshot", static_cast<std::int64_t>(s.next_snapshot));
+    g.write_double_attribute("max_sigma1_pa", s.max_sigma1_pa);
+    write_profile(g.create_group("profile_at_max_sigma1"), s.profile_at_max_sigma1);
+    g.write_double_attribute("max_window_sigma1_pa", s.max_window_sigma1_pa);
+    g.write_double_attribute("below_since_strain", s.below_since_strain); // NaN: not below
+    g.write_int_attribute("loading_begun", s.loading_begun ? 1 : 0);
+    g.write_double_attribute("window_force_n", s.window_force_n);
+    g.write_double_attribute("window_kinetic_energy_j", s.window_kinetic_energy_j);
+    for (int k = 0; k < 3; ++k) g.write_double_attribute("pull_start_m_" + std::string(1, "xyz"[k]), s.pull_start_m[k]);
+    g.write_double_attribute("pull_force_sum_n", s.pull_force_sum_n);
+    g.write_double_attribute("end_tension_sum_n", s.end_tension_sum_n);
+    g.write_int_attribute("pull_steps_summed", static_cast<std::int64_t>(s.pull_steps_summed));
+    g.write_double_attribute("wall_time_s", s.wall_time_s);
+    io::Group result = g.create_group("result");
+    write_free_standing_result(result, s.result);
+}
+
+eng::FreeStandingDriverState read_free_standing_driver_state(const io::Group& g)
+{
+    eng::FreeStandingDriverState s;
+    s.steps = read_index(g, "steps");
+    const std::string phase = g.read_string_attribute("phase");
+    bool known = false;
+    for (auto p : {eng::FreeStandingPhase::removal, eng::FreeStandingPhase::settling, eng::FreeStandingPhase::dead_load,
+             eng::FreeStandingPhase::loading, eng::FreeStandingPhase::pull_out})
+        if (phase == eng::to_string(p)) {
+            s.phase = p;
+            known = true;
+        }
+    if (!known) throw std::runtime_error(g.path() + ": phase \"" + phase + "\" is not a phase of the free-standing test");
+    s.phase_start_step = read_index(g, "phase_start_step");
+    if (s.phase_start_step > s.steps) throw std::runtime_error(g.path() + ": phase_start_step is past steps");
+    s.reference_height_m = g.read_double_attribute("reference_height_m");
+    s.reference_radius_m = g.read_double_attribute("reference_radius_m");
+    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
+    s.next_snapshot = read_index(g, "next_snapshot");
+    s.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
+    s.profile_at_max_sigma1 = read_profile(g.open_group("profile_at_max_sigma1"));
+    s.max_window_sigma1_pa = g.read_double_attribute("max_window_sigma1_pa");
+    s.below_since_strain = g.read_double_attribute("below_since_strain");
+    s.loading_begun = g.read_int_attribute("loading_begun") != 0;
+    s.window_force_n = g.read_double_attribute("window_force_n");
+    s.window_kinetic_energy_j = g.read_double_attribute("window_kinetic_energy_j");
+    for (int k = 0; k < 3; ++k) s.pull_start_m[k] = g.read_double_attribute("pull_start_m_" + std::string(1, "xyz"[k]));
+    s.pull_force_sum_n = g.read_double_attribute("pull_force_sum_n");
+    s.end_tension_sum_n = g.read_double_attribute("end_tension_sum_n");
+    s.pull_steps_summed = read_index(g, "pull_steps_summed");
+    s.wall_time_s = g.read_double_attribute("wall_time_s");
+    s.result = read_free_standing_result(g.open_group("result"));
     return s;
 }
 

@@ -10,6 +10,9 @@
 //                                  the group result.h5 holds for it
 //   DIR/tests/test_K.checkpoint.h5 a running test K: the World and, in /host, the
 //                                  driver's state (engine::TriaxialDriverState)
+//   DIR/tests/free_standing.h5     the free-standing test (job's free_standing.enabled)
+//   DIR/tests/free_standing.checkpoint.h5  a running free-standing test: the World
+//                                  and, in /host, engine::FreeStandingDriverState
 //   DIR/result.h5, result.xdmf, summary.json   written by `analyse` (docs/results.md)
 //   DIR/specimen.lock, DIR/tests/test_K.lock, DIR/analyse.lock
 //                                  held by the stage that runs (stage_lock.hpp): one
@@ -54,6 +57,9 @@ struct JobDir {
     /// The free-standing test's record (group free_standing_file_group) and its lock.
     [[nodiscard]] std::filesystem::path free_standing() const { return tests() / "free_standing.h5"; }
     [[nodiscard]] std::filesystem::path free_standing_lock() const { return tests() / "free_standing.lock"; }
+    /// A running free-standing test: the World and, in /host, the driver's
+    /// state (engine::FreeStandingDriverState), as a triaxial test's checkpoint.
+    [[nodiscard]] std::filesystem::path free_standing_checkpoint() const { return tests() / "free_standing.checkpoint.h5"; }
 };
 
 /// The group of free_standing.h5, and of result.h5, that holds the free-standing test.
@@ -100,13 +106,20 @@ void write_triaxial_result(engine::io::Group& g, const engine::TriaxialResult& r
 /// profiles, the wire at the largest σ₁, the snapshots and the one at the
 /// largest σ₁.
 void write_free_standing_result(engine::io::Group& g, const engine::FreeStandingResult& r);
-/// Reads what write_free_standing_result wrote. Throws like read_triaxial_result.
+/// Reads what write_free_standing_result wrote, also a running test's
+/// partial record (a checkpoint's: no rows yet, no compression reading).
+/// Throws like read_triaxial_result.
 [[nodiscard]] engine::FreeStandingResult read_free_standing_result(const engine::io::Group& g);
 
 /// The test driver's state, its partial result in the subgroup "result".
 void write_driver_state(engine::io::Group& g, const engine::TriaxialDriverState& s);
 [[nodiscard]] engine::TriaxialDriverState read_driver_state(
     const engine::io::Group& g, Snapshots snapshots = Snapshots::read);
+
+/// The free-standing test driver's state (its phase by name), its partial
+/// result in the subgroup "result"; read back with its exact bits.
+void write_free_standing_driver_state(engine::io::Group& g, const engine::FreeStandingDriverState& s);
+[[nodiscard]] engine::FreeStandingDriverState read_free_standing_driver_state(const engine::io::Group& g);
 
 /// How far test K of a job directory has come, from its own files while the
 /// campaign runs: not started (or no checkpoint written yet), running (the

@@ -146,6 +146,31 @@ std::function<void(const eng::World&, const State&)> checkpointer(const StageCon
     };
 }
 
+/// How a test stage continues (one way for every kind of test): from its
+/// checkpoint at `path` when there is one — the World and the driver's state
+/// `State` saved there (read_state reads /host) — else from `start` (the
+/// specimen's World); and, as it runs, saving both there (checkpointer,
+/// write_state writes /host). `Continuation` is the engine's
+/// (TriaxialContinuation, FreeStandingContinuation).
+template <class State, class Continuation>
+StageError continue_from_checkpoint(eng::Simulation& sim, eng::World&& start, const std::filesystem::path& path,
+    const std::string& label, const StageControl& control, Continuation& continuation,
+    std::function<void(io::Group&, const State&)> write_state, std::function<State(const io::Group&)> read_state)
+{
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec)) {
+        State state;
+        auto w = eng::restore_snapshot(path, [&](const io::Group& host) { state = read_state(host); });
+        if (!w.ok()) return "cannot continue " + label + " from its checkpoint: " + w.error();
+        sim.world = std::move(w.value());
+        continuation.from = std::move(state);
+    } else {
+        sim.world = std::move(start);
+    }
+    continuation.between_steps = checkpointer<State>(control, path, label, std::move(write_state));
+    return std::nullopt;
+}
+
 std::string job_text(const api::JobSpec& spec) { return json::serialize(api::to_json(spec)) + "\n"; }
 
 } // namespace
@@ -429,18 +454,11 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
         return write_test(r.value().triaxial);
     }
     eng::TriaxialContinuation continuation;
-    if (std::filesystem::exists(dir.checkpoint(index), ec)) {
-        eng::TriaxialDriverState state;
-        auto w = eng::restore_snapshot(dir.checkpoint(index), [&](const io::Group& host) { state = read_driver_state(host); });
-        if (!w.ok()) return "cannot continue " + label + " from its checkpoint: " + w.error();
-        sim.world = std::move(w.value());
-        continuation.from = std::move(state);
-    } else {
-        sim.world = std::move(specimen.value().world);
-    }
-
-    continuation.between_steps = checkpointer<eng::TriaxialDriverState>(control, dir.checkpoint(index), label,
-        [](io::Group& host, const eng::TriaxialDriverState& st) { write_driver_state(host, st); });
+    if (auto e = continue_from_checkpoint<eng::TriaxialDriverState>(sim, std::move(specimen.value().world),
+            dir.checkpoint(index), label, control, continuation,
+            [](io::Group& host, const eng::TriaxialDriverState& st) { write_driver_state(host, st); },
+            [](const io::Group& host) { return read_driver_state(host); }))
+        return e;
     report(control, "testing", 0.0, label);
     auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, index), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
@@ -463,11 +481,16 @@ StageError run_free_standing_test(const JobDir& dir, const StageControl& control
     if (!specimen.ok()) return specimen.error();
     const std::size_t top_plate = specimen.value().report.top_plate_wall;
     eng::Simulation sim(control.threads);
-    sim.world = std::move(specimen.value().world);
+    eng::FreeStandingContinuation continuation;
+    if (auto e = continue_from_checkpoint<eng::FreeStandingDriverState>(sim, std::move(specimen.value().world),
+            dir.free_standing_checkpoint(), label, control, continuation,
+            [](io::Group& host, const eng::FreeStandingDriverState& st) { write_free_standing_driver_state(host, st); },
+            [](const io::Group& host) { return read_free_standing_driver_state(host); }))
+        return e;
     eng::RunControl rc = stage_run_control(
         control, "testing", 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
     report(control, "testing", 0.0, label);
-    auto r = eng::run_free_standing(sim, top_plate, api::free_standing_settings(spec), rc);
+    auto r = eng::run_free_standing(sim, top_plate, api::free_standing_settings(spec), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
     try {
         io::write_file_atomically(dir.free_standing(), [&](io::Group& root) {
@@ -476,8 +499,9 @@ StageError run_free_standing_test(const JobDir& dir, const StageControl& control
             write_free_standing_result(g, r.value());
         });
     } catch (const std::exception& e) {
-        return "cannot write " + dir.free_standing().string() + ": " + e.what();
+        return io::write_failure_text("cannot write " + dir.free_standing().string() + ": ", e);
     }
+    std::filesystem::remove(dir.free_standing_checkpoint(), ec);
     return std::nullopt;
 }
 
@@ -726,12 +750,18 @@ json::object free_standing_json(const eng::FreeStandingResult& r,
         c["strain_at_failure"] = finite_or_null(k.strength_axial_strain);
         c["max_sigma1_pa"] = finite_or_null(k.max_sigma1_pa);
         c["failed"] = k.failed;
+        c["failure_mode"] = k.failure_mode ? json::value(eng::to_string(*k.failure_mode)) : json::value(nullptr);
+        c["spilled_fraction"] = finite_or_null(k.spilled_fraction);
+        c["bulge_m"] = finite_or_null(k.bulge_m);
     } else {
         c["unconfined_strength_pa"] = nullptr;
         c["shape"] = nullptr;
         c["strain_at_failure"] = nullptr;
         c["max_sigma1_pa"] = nullptr;
         c["failed"] = nullptr;
+        c["failure_mode"] = nullptr;
+        c["spilled_fraction"] = nullptr;
+        c["bulge_m"] = nullptr;
     }
     c["predicted_unconfined_strength_pa"] = fit.ok() ? finite_or_null(eng::analysis::unconfined_strength_pa(
                                                            fit.value().friction_angle_rad, fit.value().cohesion_pa))
@@ -1060,6 +1090,8 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
     // Fraction of the free-standing test (1 when the job has none or it ran before).
     std::error_code fs_ec;
     double free_standing_done = spec.free_standing.enabled && !std::filesystem::exists(dir.free_standing(), fs_ec) ? 0.0 : 1.0;
+    // From a checkpoint: its first step report jumps (as a test's, below).
+    bool free_standing_resumed = free_standing_done == 0.0 && std::filesystem::exists(dir.free_standing_checkpoint(), fs_ec);
     double steps_run = 0.0;
     bool testing = false;  // the tests have begun
     const auto report_work = [&] {  // under report_mutex
@@ -1198,7 +1230,8 @@ StageError run(const api::JobSpec& spec, const JobDir& dir, const StageControl& 
         fc.progress = [&](const char* stage, double f, const std::string& m) {
             std::lock_guard lock(report_mutex);
             testing = true;
-            steps_run += std::max(0.0, f - free_standing_done) * work.free_standing_steps;
+            if (free_standing_resumed && f > 0.0) free_standing_resumed = false; // the checkpoint's step
+            else steps_run += std::max(0.0, f - free_standing_done) * work.free_standing_steps;
             free_standing_done = std::max(free_standing_done, f);
             report_work();
             report(control, stage, shares.overall(1.0, done, 0.0, free_standing_done), m);

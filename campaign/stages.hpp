@@ -8,7 +8,8 @@
 // A preparation or a test writes a checkpoint every `checkpoint_interval_s`
 // of wall time; started again after it was killed, it goes on from the last
 // one and ends with the specimen or result an uninterrupted one gives
-// (engine::PreparationContinuation, engine::TriaxialContinuation).
+// (engine::PreparationContinuation, engine::TriaxialContinuation,
+// engine::FreeStandingContinuation).
 // `run` resumes a job directory at every level: a prepared specimen is not
 // prepared again, a finished test not run again.
 #pragma once
@@ -98,9 +99,9 @@ using StageError = std::optional<std::string>;
 [[nodiscard]] StageError run_test(const JobDir& dir, std::size_t index, const StageControl& control);
 
 /// Runs the free-standing test of a prepared directory (job's
-/// free_standing.enabled) into tests/free_standing.h5; nothing when the job
-/// has none or it has run. No checkpoints yet: a test killed midway runs
-/// again from its start.
+/// free_standing.enabled) into tests/free_standing.h5, from its checkpoint
+/// (tests/free_standing.checkpoint.h5, removed when the record is written)
+/// if there is one, as run_test; nothing when the job has none or it has run.
 [[nodiscard]] StageError run_free_standing_test(const JobDir& dir, const StageControl& control);
 
 /// Reads the specimen and every test, fits the envelopes and writes

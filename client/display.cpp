@@ -321,6 +321,14 @@ std::string format_summary(const json::value& summary)
                 << fixed(3, " kPa", kpa(number(at(*f, {"compression", "predicted_unconfined_strength_pa"}))))
                 << " (2c cos phi / (1 - sin phi))\n"
                 << "  quasi-static           " << yes_no(at(*f, {"compression", "quasi_static"})) << '\n';
+            // How it failed (docs/model.md, "How it failed") and, with a breakable wire, what gave way at the peak.
+            if (const auto* mode = at(*f, {"compression", "failure_mode"}); mode && mode->is_string())
+                out << "  how it failed          " << text(mode) << " (grains spilled "
+                    << fixed(1, " %", scaled(number(at(*f, {"compression", "spilled_fraction"})), 100.0))
+                    << " of the volume, widest slice "
+                    << significant(3, " m", number(at(*f, {"compression", "bulge_m"}))) << " wider)\n";
+            if (const auto* gave = at(*f, {"compression", "peak_failure"}); gave && gave->is_string())
+                out << "  gave way at the peak   " << text(gave) << '\n';
         }
     }
 

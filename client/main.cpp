@@ -126,6 +126,7 @@ int main(int argc, char** argv)
     auto* analyse = app.add_subcommand("analyse", "write result.h5 and summary.json from a job directory's tests (stage 3)");
     analyse->add_option("dir", local.dir, "job directory")->required();
     stage_options(analyse);
+    checkpoint_option(analyse); // it runs the free-standing test when that has not run
 
     auto* study = app.add_subcommand("study", "parameter studies: a base job and the fields to vary (docs/studies.md)");
     study->require_subcommand(1);

@@ -167,6 +167,9 @@ def read_run(d: Path) -> dict:
                 "max_sigma1_pa": attribute(g, "max_sigma1_pa"),
                 "failed": bool(attribute(g, "failed", 0)),
             }
+            if "failure_mode" in g.attrs:  # how it failed (docs/model.md, "How it failed"): runs since 2026-12-06
+                for k in ("failure_mode", "spilled_fraction", "bulge_m"):
+                    rec["compression"][k] = attribute(g, k)
         phase = g["phase"][:]
         loading = phase == 3
         rec["curve"] = {

@@ -126,6 +126,32 @@ const char* to_string(FreeStandingPhase p) noexcept
     return "loading";
 }
 
+const char* to_string(FailureMode m) noexcept
+{
+    switch (m) {
+    case FailureMode::wire_break: return "wire_break";
+    case FailureMode::grains_spilling: return "grains_spilling";
+    case FailureMode::bulging: return "bulging";
+    case FailureMode::unresolved: return "unresolved";
+    }
+    return "unresolved";
+}
+
+FailureMode failure_mode(const FailureSigns& s, double max_lost_fraction, double max_radius_gain) noexcept
+{
+    if (s.wire_broke_at_peak) return FailureMode::wire_break;
+    if (s.spilled_fraction > max_lost_fraction) return FailureMode::grains_spilling;
+    if (s.bulge_m > max_radius_gain * s.radius_m) return FailureMode::bulging;
+    return FailureMode::unresolved;
+}
+
+double column_bulge_m(const RadiusProfile& before, const RadiusProfile& after) noexcept
+{
+    if (before.radius_m.empty() || after.radius_m.empty()) return 0.0;
+    return *std::max_element(after.radius_m.begin(), after.radius_m.end())
+         - *std::max_element(before.radius_m.begin(), before.radius_m.end());
+}
+
 ColumnGrains column_grains(const World& w)
 {
     ColumnGrains out;
@@ -727,6 +753,17 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
         }
         const ColumnGrains g = column_grains(w);
         c.profile_at_end = radius_profile(g.position_m, g.radius_m, bottom_m, settings.escape_distance_m);
+        // How it failed: the wire at the peak, the grains lost and the
+        // widest slice's gain since the column settled.
+        FailureSigns signs;
+        signs.wire_broke_at_peak = peak_failure(ts, c.max_sigma1_sample, result.wire_breaks) == PeakFailure::wire;
+        signs.spilled_fraction = standing_column(w, settings.escape_distance_m, settings.bulk_fraction).lost_fraction
+                               - result.settling.lost_fraction;
+        signs.bulge_m = column_bulge_m(result.settling.profile, c.profile_at_end);
+        signs.radius_m = st.reference_radius_m;
+        c.spilled_fraction = signs.spilled_fraction;
+        c.bulge_m = signs.bulge_m;
+        c.failure_mode = failure_mode(signs, settings.max_lost_fraction, settings.max_height_loss);
         result.compression = std::move(c);
     } else {
         result.warnings.push_back("unconfined compression: no strength read: " + reading.error());

@@ -289,6 +289,41 @@ struct DeadLoadReading {
     bool holds = false;
 };
 
+/// How the unconfined compression failed, as far as the test's record shows
+/// it (docs/model.md, "How it failed"): failure_mode's verdict.
+enum class FailureMode : std::uint8_t {
+    wire_break = 0,      ///< a wire segment broke within a row of the largest σ₁ (PeakFailure::wire)
+    grains_spilling = 1, ///< more than max_lost_fraction of the grains' volume left the column in the compression
+    bulging = 2,         ///< the column's widest slice widened by more than max_height_loss of r₀
+    unresolved = 3,      ///< none of these: a failure inside the column's width (a shear band), or none
+};
+
+/// "wire_break", "grains_spilling", "bulging", "unresolved".
+[[nodiscard]] const char* to_string(FailureMode m) noexcept;
+
+/// What failure_mode reads of a compression.
+struct FailureSigns {
+    bool wire_broke_at_peak = false; ///< peak_failure at the largest raw σ₁ is PeakFailure::wire
+    /// The grains' volume share that left the column (beyond the escape
+    /// distance) during the compression: lost at its end − lost when settled.
+    double spilled_fraction = 0.0;
+    double bulge_m = 0.0;            ///< column_bulge_m from the settled profile to the one at the end [m]
+    double radius_m = 0.0;           ///< r₀, the settled column's equivalent radius [m]
+};
+
+/// The verdict, in this order: wire_break when the wire broke at the peak;
+/// grains_spilling when spilled_fraction > `max_lost_fraction` (the column,
+/// standing before, would not stand by the grains it lost:
+/// FreeStandingSettings::max_lost_fraction); bulging when bulge_m >
+/// `max_radius_gain` × r₀ (widened by as much as `stands` allows a column
+/// to shorten: FreeStandingSettings::max_height_loss); else unresolved.
+[[nodiscard]] FailureMode failure_mode(const FailureSigns& s, double max_lost_fraction, double max_radius_gain) noexcept;
+
+/// How much the widest slice of a column widened: the largest radius of
+/// `after` minus the largest of `before` (RadiusProfile::radius_m); 0 when
+/// either has no slice [m].
+[[nodiscard]] double column_bulge_m(const RadiusProfile& before, const RadiusProfile& after) noexcept;
+
 /// The unconfined compression's reading.
 struct CompressionReading {
     /// The maximum of the smoothed σ₁ and its kind (peak / plateau /
@@ -303,6 +338,11 @@ struct CompressionReading {
     RadiusProfile profile_at_end;             ///< and at the end
     std::vector<double> wire_strain_at_peak;  ///< segment strain along the wire at the largest raw σ₁
     std::vector<double> wire_tension_at_peak_n; ///< E_w π r_w² × that strain [N]
+    /// How it failed (failure_mode with the settings' bounds) and what that
+    /// read; empty only in a record written before it was read (2026-12-06).
+    std::optional<FailureMode> failure_mode;
+    double spilled_fraction = 0.0;            ///< FailureSigns::spilled_fraction
+    double bulge_m = 0.0;                     ///< FailureSigns::bulge_m [m]
 };
 
 /// Everything one free-standing test produced.

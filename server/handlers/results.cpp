@@ -11,6 +11,7 @@
 #include "api/result_data.hpp"
 #include "files.hpp"
 #include "io/hdf5.hpp"
+#include "io/snapshot.hpp"
 
 #include <boost/json.hpp>
 
@@ -23,6 +24,7 @@
 #include <cerrno>
 #include <charconv>
 #include <limits>
+#include <optional>
 #include <variant>
 
 namespace wiredem::server {
@@ -277,22 +279,49 @@ Response free_standing_routes(const Request& req, const std::vector<std::string>
         url_base + "/snapshots/" + std::to_string(k), seg.size() == 6 ? nullptr : &seg[6], spec_json);
 }
 
+/// How far a running record's series in `g` reaches (as `reached`): its last
+/// row's time and axial strain; null before its first row.
+json::value reached_in(const io::Group& g)
+{
+    const std::vector<double> t = g.open_dataset("time_s").read_doubles();
+    if (t.empty()) return nullptr;
+    return json::object{{"rows", t.size()}, {"time_s", t.back()}, {"axial_strain", g.open_dataset("axial_strain").read_doubles().back()}};
+}
+
 /// …/free_standing and …/free_standing/series of a job that prepares or
 /// runs: from the runner's tests/free_standing.h5 once the test has finished
-/// (the same reply as after the job, but marked with its state); before,
-/// its state (waiting: not begun; running: its stage holds its lock) and no
-/// rows (the test keeps no checkpoint: its rows come when it ends). 409 for
-/// its snapshots until the job has succeeded.
+/// (the same reply as after the job, but marked with its state); while it
+/// runs, from its last checkpoint (tests/free_standing.checkpoint.h5: the
+/// record so far, its readings as far as they are read, marked partial,
+/// running, and with how far it reached); before, its state (waiting: not
+/// begun; running: its stage holds its lock, no checkpoint yet) and no rows.
+/// 409 for its snapshots until the job has succeeded.
 Response live_free_standing(const Request& req, const std::vector<std::string>& seg, const Query& q, Services& svc, const JobRecord& r)
 {
     const campaign::JobDir dir{attempt_output_dir(svc.config.data_dir, r.id)};
     const std::string base = "/v1/jobs/" + r.id;
     const std::string name(api::free_standing_group);
     std::error_code ec;
-    if (std::filesystem::exists(dir.free_standing(), ec)) {
+    const auto finished = [&]() -> std::optional<Response> {
+        if (!std::filesystem::exists(dir.free_standing(), ec)) return std::nullopt;
         // Written whole by a rename: once it is there, it reads.
         const io::File f = io::File::open_read_only(dir.free_standing());
         return free_standing_routes(req, seg, q, f.root().open_group(name), base, r.spec_json, json::object{{"state", "finished"}});
+    };
+    if (auto done = finished()) return std::move(*done);
+    if (std::filesystem::exists(dir.free_standing_checkpoint(), ec)) {
+        try {
+            // The record so far; the World beside it is not read.
+            const io::File f = io::File::open_read_only(dir.free_standing_checkpoint());
+            const io::Group g = f.root().open_group(engine::snapshot_host_group).open_group("result");
+            return free_standing_routes(req, seg, q, g, base, r.spec_json,
+                json::object{{"state", "running"}, {"partial", true}, {"reached", reached_in(g)}});
+        } catch (const io::Hdf5Error&) {
+            // Replaced by the next checkpoint or removed as the test ended
+            // while it was read: the finished file, or a real error.
+            if (std::filesystem::exists(dir.free_standing_checkpoint(), ec)) throw;
+        }
+        if (auto done = finished()) return std::move(*done);
     }
     const bool running = std::filesystem::exists(dir.free_standing_lock(), ec);
     const char* state = running ? "running" : "waiting";
@@ -548,7 +577,7 @@ const boost::json::object& result_data_openapi_paths()
     "/v1/jobs/{id}/free_standing": {
       "parameters": [{"$ref": "#/components/parameters/JobId"}],
       "get": {
-        "summary": "The free-standing test (a job with free_standing.enabled; docs/model.md, \"The free-standing test\"): its readings as stored (settling, dead load, compression: attributes), its time-series columns, the radius profiles (radius against height before the removal, settled, at the largest sigma1, at the end), the wire's segment strain and tension along its length at the largest sigma1, its snapshots; while the job prepares or runs, its state (rows only once it has finished: it keeps no checkpoint)",
+        "summary": "The free-standing test (a job with free_standing.enabled; docs/model.md, \"The free-standing test\"): its readings as stored (settling, dead load, compression: attributes), its time-series columns, the radius profiles (radius against height before the removal, settled, at the largest sigma1, at the end), the wire's segment strain and tension along its length at the largest sigma1, its snapshots; while the job prepares or runs, its state and its rows so far (from the runner's last checkpoint: partial, with how far it reached)",
         "responses": {
           "200": {"description": "The test", "content": {"application/json": {"schema": {"type": "object",
             "required": ["name", "partial", "rows", "attributes", "columns", "profiles", "wire_at_peak", "snapshots", "peak_snapshot", "series_url"],

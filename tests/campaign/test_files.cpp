@@ -1,12 +1,15 @@
 // The campaign's records read back exactly what was written (files.hpp): a
 // test's result with its series, strength and snapshots, a driver state, a
 // preparation report; what a running job's directory holds of a test so far;
-// and a damaged record is an error, not a crash.
+// and a damaged record is an error, not a crash. The free-standing test's
+// driver state, with its partial record.
 #include "files.hpp"
+#include "h5_compare.hpp"
 #include "io/snapshot.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <unistd.h>
 
@@ -289,6 +292,146 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
         expect_same(r.result, s.result);
     }
     fs::remove(path);
+}
+
+namespace {
+
+/// A free-standing driver state in `phase` with every field set to its own
+/// value; with `rows` rows of the partial record (0: a checkpoint taken
+/// before the first row, nothing read yet).
+eng::FreeStandingDriverState sample_free_standing_state(eng::FreeStandingPhase phase, std::size_t rows)
+{
+    eng::FreeStandingDriverState s;
+    s.steps = 5151;
+    s.phase = phase;
+    s.phase_start_step = 4000;
+    s.reference_height_m = next_value();
+    s.reference_radius_m = next_value();
+    s.last_sample_step = 5150;
+    s.next_snapshot = 1;
+    s.max_sigma1_pa = next_value();
+    s.profile_at_max_sigma1 = {{next_value(), next_value()}, {next_value(), next_value()}, {3, 4}};
+    s.max_window_sigma1_pa = next_value();
+    s.below_since_strain = next_value();
+    s.loading_begun = true;
+    s.window_force_n = next_value();
+    s.window_kinetic_energy_j = next_value();
+    s.pull_start_m = eng::Vec3(next_value(), -next_value(), next_value());
+    s.pull_force_sum_n = next_value();
+    s.end_tension_sum_n = next_value();
+    s.pull_steps_summed = 7;
+    s.wall_time_s = next_value();
+    eng::FreeStandingResult& r = s.result;
+    if (rows > 0) {
+        eng::TriaxialResult t = sample_result(rows);
+        r.series = t.series;
+        r.snapshots = t.snapshots;
+        r.peak_snapshot = t.snapshots[0];
+        r.loading_start_sample = rows - 1;
+    }
+    eng::SettlingReading& z = r.settling;
+    z.at_rest = true;
+    for (double* v : {&z.time_to_rest_s, &z.height_before_m, &z.height_m, &z.height_loss, &z.bulk_height_before_m,
+             &z.bulk_height_m, &z.bulk_height_loss, &z.radius_before_m, &z.radius_m, &z.lost_fraction, &z.weight_n,
+             &z.base_force_n, &z.base_force_tolerance_n, &z.max_removal_kinetic_energy_j})
+        *v = next_value();
+    z.grains = 150;
+    z.escaped_grains = 3;
+    z.profile_before = {{next_value()}, {next_value()}, {9}};
+    r.dead_load = eng::DeadLoadReading{next_value(), next_value(), next_value(), next_value(), next_value(), true};
+    if (rows > 0) {
+        eng::PullOutReading p;
+        p.pulled_node = 12;
+        p.peak_pull_force_n = next_value();
+        p.pulled_length_at_peak_m = next_value();
+        p.wire_in_column_before_m = next_value();
+        p.end = eng::PullOutEnd::wire_out;
+        p.series.time_s = {next_value()};
+        p.series.pulled_length_m = {next_value()};
+        p.series.pull_force_n = {next_value()};
+        p.series.end_tension_n = {next_value()};
+        p.series.wire_in_column_m = {next_value()};
+        p.series.grains_in_column = {140};
+        r.pull_out = p;
+        eng::CompressionReading c; // a finished test's (both with a pull-out: the record does not mind)
+        c.strength = {eng::analysis::CurveShape::peak, rows - 2, next_value(), next_value(), next_value(), next_value()};
+        c.strength_axial_strain = next_value();
+        c.max_sigma1_pa = next_value();
+        c.max_sigma1_sample = rows - 2;
+        c.failed = true;
+        c.profile_at_peak = {{next_value()}, {next_value()}, {8}};
+        c.profile_at_end = {{next_value(), next_value()}, {next_value(), next_value()}, {8, 1}};
+        c.wire_strain_at_peak = {next_value(), next_value()};
+        c.wire_tension_at_peak_n = {next_value(), next_value()};
+        c.failure_mode = eng::FailureMode::grains_spilling;
+        c.spilled_fraction = next_value();
+        c.bulge_m = next_value();
+        r.compression = c;
+    }
+    r.wire_breaks.push_back({.event = {.segment = 17, .cause = eng::WireBreakCause::strain, .time_s = 1.25,
+                                 .strain = 0.0501, .released_energy_j = 3.2e-4},
+        .test_time_s = 0.031, .axial_strain = 0.0123, .position_m = 17.5 * 1.25e-3});
+    r.verdict = {false, next_value(), next_value(), next_value(), "too fast"};
+    r.warnings = {"not at rest"};
+    r.steps = 5151;
+    r.time_step_s = next_value();
+    r.simulated_time_s = next_value();
+    r.wall_time_s = next_value();
+    return s;
+}
+
+} // namespace
+
+// A free-standing test's checkpoint holds the driver's state and its partial
+// record: read back and written again, it is the same file, attribute for
+// attribute and bit for bit (every field has its own value, so a field read
+// into another's place, or not read, shows), in every phase, before the
+// first row, with "no row yet" and "not below the failure level" (NaN).
+TEST(CampaignFiles, AFreeStandingDriverStateReadsBackExactlyWithItsPartialRecord)
+{
+    using wiredem::campaign::read_free_standing_driver_state;
+    using wiredem::campaign::write_free_standing_driver_state;
+    const fs::path first = temp_file("fs_driver"), again = temp_file("fs_driver_again");
+    for (auto phase : {eng::FreeStandingPhase::removal, eng::FreeStandingPhase::settling, eng::FreeStandingPhase::dead_load,
+             eng::FreeStandingPhase::loading, eng::FreeStandingPhase::pull_out})
+        for (const std::size_t rows : {std::size_t{0}, std::size_t{4}}) {
+            SCOPED_TRACE(std::string(eng::to_string(phase)) + ", rows " + std::to_string(rows));
+            eng::FreeStandingDriverState s = sample_free_standing_state(phase, rows);
+            if (rows == 0) {
+                s.last_sample_step = std::numeric_limits<std::uint64_t>::max(); // "none yet"
+                s.below_since_strain = std::numeric_limits<double>::quiet_NaN();
+            }
+            io::write_file_atomically(first, [&](io::Group& root) {
+                io::Group g = root.create_group("host");
+                write_free_standing_driver_state(g, s);
+            });
+            eng::FreeStandingDriverState r;
+            {
+                const io::File f = io::File::open_read_only(first);
+                r = read_free_standing_driver_state(f.root().open_group("host"));
+            }
+            EXPECT_EQ(r.phase, phase);
+            EXPECT_EQ(r.steps, s.steps);
+            EXPECT_EQ(r.last_sample_step, s.last_sample_step);
+            EXPECT_EQ(std::isnan(r.below_since_strain), rows == 0);
+            EXPECT_EQ(r.pull_start_m, s.pull_start_m);
+            EXPECT_EQ(r.result.series.sigma1_pa, s.result.series.sigma1_pa);
+            EXPECT_EQ(r.result.wire_breaks.size(), 1u);
+            EXPECT_EQ(r.result.pull_out.has_value(), rows > 0);
+            ASSERT_EQ(r.result.compression.has_value(), rows > 0);
+            if (rows > 0) {
+                EXPECT_EQ(r.result.compression->failure_mode, eng::FailureMode::grains_spilling);
+                EXPECT_EQ(r.result.compression->bulge_m, s.result.compression->bulge_m);
+            }
+            io::write_file_atomically(again, [&](io::Group& root) {
+                io::Group g = root.create_group("host");
+                write_free_standing_driver_state(g, r);
+            });
+            const std::vector<std::string> diffs = wiredem::test::h5_differences(first, again, {});
+            EXPECT_TRUE(diffs.empty()) << (diffs.empty() ? std::string() : diffs.front());
+        }
+    fs::remove(first);
+    fs::remove(again);
 }
 
 // What the server's live series read: nothing, then the checkpoint's partial

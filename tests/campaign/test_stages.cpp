@@ -2,16 +2,19 @@
 // prepare + test + analyse give the files `run` gives, bit for bit; tests run
 // at once give what tests run one after another give; a test or a preparation
 // killed with SIGKILL at several points continues from its checkpoints to the
-// same result, a preparation stopped by SIGTERM saves on its way out; and bad
-// requests get clear errors.
+// same result, a preparation stopped by SIGTERM saves on its way out, a
+// free-standing test stopped in every phase continues to the same record;
+// and bad requests get clear errors.
 #include "api/job_spec.hpp"
 #include "h5_compare.hpp"
+#include "io/hdf5.hpp"
 #include "stages.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cerrno>
 #include <cmath>
@@ -23,6 +26,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <spawn.h>
 #include <sstream>
 #include <string>
@@ -31,6 +35,7 @@
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <thread>
+#include <tuple>
 #include <unistd.h>
 #include <vector>
 
@@ -875,4 +880,98 @@ TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
     o = run_wiredem({"test", plain.string(), "--free-standing"}, dir / "log");
     EXPECT_EQ(o.code(), 1);
     EXPECT_NE(o.err.find("free_standing.enabled is false"), std::string::npos) << o.err;
+}
+
+namespace {
+
+/// A free-standing stage run again and again on `dir`, each run stopped (its
+/// cancel flag set, as a server's SIGTERM or a thread handover sets it) after
+/// `steps_per_run` steps, on 2 and 1 threads in turn, until a run finishes:
+/// the phases its checkpoints were saved in, and what went wrong otherwise.
+struct StoppedRuns {
+    bool done = false;
+    std::set<std::string> phases;  ///< of the checkpoints left by the stops
+    int stops = 0;
+    std::string error;
+};
+StoppedRuns stop_until_it_finishes(const campaign::JobDir& dir, int steps_per_run)
+{
+    StoppedRuns r;
+    for (int attempt = 0; attempt < 200 && !r.done; ++attempt) {
+        std::atomic<bool> stop{false};
+        campaign::StageControl control;
+        control.threads = attempt % 2 == 0 ? 2 : 1;
+        control.cancel = &stop;
+        int reports = 0; // every 500 steps (and one at the start)
+        control.progress = [&](const char*, double, const std::string&) {
+            if (++reports > steps_per_run / 500) stop.store(true);
+        };
+        const campaign::StageError e = campaign::run_free_standing_test(dir, control);
+        if (!e) {
+            r.done = true;
+            break;
+        }
+        if (e->find("cancelled") == std::string::npos || !fs::exists(dir.free_standing_checkpoint())) {
+            r.error = "run " + std::to_string(attempt) + ": " + *e;
+            return r;
+        }
+        ++r.stops;
+        const wiredem::engine::io::File f = wiredem::engine::io::File::open_read_only(dir.free_standing_checkpoint());
+        r.phases.insert(f.root().open_group("host").read_string_attribute("phase"));
+    }
+    return r;
+}
+
+} // namespace
+
+// A free-standing test stopped at several points — in the removal, the
+// settling, the dead load and the compression, and (a second job) the
+// pull-out — saves a checkpoint on its way out, and started again, on two
+// threads and one in turn, continues from it: it ends with the record of a
+// test never stopped (run on one thread), bit for bit but for how it ran
+// (h5_differences: every dataset and attribute). The wire is cut every loop
+// before the test (breaks the World holds besides the test's own). A small
+// column (examples/tiny-helix.json, 150 grains) and short phases: seconds.
+TEST(Stages, AFreeStandingTestStoppedInEveryPhaseContinuesToTheSameResult)
+{
+    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-helix.json"));
+    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    job.as_object()["specimen"].as_object()["wire"].as_object()["cut_every_loops"] = 1;
+    const json::object quick{{"enabled", true}, {"removal_time_s", 0.005}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.02}, {"plate_speed_m_per_s", 0.1}, {"target_axial_strain", 0.02},
+        {"sample_interval_s", 0.0005}};
+    json::object loaded = quick, pulled = quick;
+    loaded["dead_load_n"] = 0.05;
+    loaded["dead_load_ramp_time_s"] = 0.002;
+    loaded["dead_load_hold_time_s"] = 0.004;
+    pulled["pull_out_speed_m_per_s"] = 0.5;
+    pulled["pull_out_max_time_s"] = 0.005;
+    const fs::path dir = fresh_dir("free_standing_stopped");
+    fs::path prepared;
+    for (const auto& [name, free_standing, phases] :
+        {std::tuple{"loaded", loaded, std::set<std::string>{"removal", "settling", "dead_load", "loading"}},
+            std::tuple{"pulled", pulled, std::set<std::string>{"removal", "settling", "pull_out"}}}) {
+        SCOPED_TRACE(name);
+        job.as_object()["free_standing"] = free_standing;
+        auto spec = api::parse_job_spec(json::serialize(job));
+        ASSERT_TRUE(spec.ok());
+        const campaign::JobDir whole{dir / (std::string(name) + "_whole")}, stopped{dir / (std::string(name) + "_stopped")};
+        campaign::StageControl control;
+        control.threads = 2;
+        control.specimen_from = prepared; // one pour for both jobs: they differ in their free-standing test only
+        ASSERT_FALSE(campaign::prepare(spec.value(), whole, control));
+        control.specimen_from = prepared = whole.root;
+        ASSERT_FALSE(campaign::prepare(spec.value(), stopped, control));
+        control.threads = 1;
+        const campaign::StageError e = campaign::run_free_standing_test(whole, control);
+        ASSERT_FALSE(e) << *e;
+
+        const StoppedRuns r = stop_until_it_finishes(stopped, 3000);
+        ASSERT_EQ(r.error, "");
+        ASSERT_TRUE(r.done) << "not finished after " << r.stops << " stops";
+        EXPECT_EQ(r.phases, phases) << "stopped " << r.stops << " times";
+        EXPECT_FALSE(fs::exists(stopped.free_standing_checkpoint()));
+        const auto diffs = h5_differences(stopped.free_standing(), whole.free_standing(), how_it_ran);
+        EXPECT_TRUE(diffs.empty()) << joined(diffs);
+    }
 }

@@ -107,11 +107,14 @@ TEST(ClientDisplay, TheFreeStandingTestShowsWhetherItStandsAndItsStrengthBesideT
                      "weight_n": 1.5, "base_force_n": 1.49, "base_force_tolerance_n": 0.02},
         "dead_load": {"force_n": 7, "holds": true, "creep_strain": 0.0012},
         "compression": {"unconfined_strength_pa": 12345, "shape": "peak", "strain_at_failure": 0.021,
-                        "predicted_unconfined_strength_pa": 10000, "quasi_static": true}}})");
+                        "predicted_unconfined_strength_pa": 10000, "quasi_static": true,
+                        "failure_mode": "bulging", "spilled_fraction": 0.012, "bulge_m": 0.0015, "peak_failure": "grains"}}})");
     const std::string table = format_summary(summary);
     for (const char* part : {"stands                 no", "grains' bulk height    0.048 m -> 0.03 m (loss 37.5 %)",
              "top (grain or wire)    0.05 m -> 0.04 m (loss 20.0 %)", "grains that left it    7 of 140 (5.0 % of the volume)", "holds yes",
-             "creep 0.120 %", "12.345 kPa (peak, at 2.10 % strain)", "10.000 kPa (2c cos phi"})
+             "creep 0.120 %", "12.345 kPa (peak, at 2.10 % strain)", "10.000 kPa (2c cos phi",
+             "how it failed          bulging (grains spilled 1.2 % of the volume, widest slice 0.0015 m wider)",
+             "gave way at the peak   grains"})
         EXPECT_NE(table.find(part), std::string::npos) << part << "\n" << table;
     EXPECT_EQ(format_summary(json::object{}).find("Free-standing"), std::string::npos);
 }

@@ -391,6 +391,70 @@ TEST(LiveSeriesRealRunner, ARunningTestsSeriesGrowsAndIsTheBeginningOfTheFinishe
     EXPECT_FALSE(partial.front().at("units").as_object().contains("volumetric_strain"));
 }
 
+// The free-standing test likewise: while it runs, its route and series read
+// its last checkpoint (every 50 ms here), marked partial and running, with
+// how far it reached; every partial series is the beginning of the finished
+// one, bit for bit, and the finished reply is not partial.
+TEST(LiveSeriesRealRunner, ARunningFreeStandingTestsSeriesGrowsAndIsTheBeginningOfTheFinishedOne)
+{
+    namespace fs = std::filesystem;
+    TempDir tmp;
+    json::object spec = json::parse(read_file(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json")).as_object();
+    spec["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+    spec["triaxial"].as_object()["target_axial_strain"] = 0.01;
+    spec["triaxial"].as_object()["snapshot_strains"] = json::array{0.0, 0.01};
+    spec["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
+    ServerProcess server(tmp.path() / "data", {"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "1",
+        "--checkpoint-seconds", "0.05", "--max-steps-per-job", "1e8"});
+    const auto r = http(server.port(), "POST", "/v1/jobs", json::serialize(spec));
+    ASSERT_EQ(r.status, 201) << r.body;
+    const std::string id(r.json().at("id").as_string());
+    const std::string route = "/v1/jobs/" + id + "/free_standing";
+    const std::string series = route + "/series"; // every column: before the test begins, it has none to choose from
+
+    std::vector<json::value> partial;  // each reply that had grown
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    for (;;) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        const json::value job = http(server.port(), "GET", "/v1/jobs/" + id).json();
+        if (state_of(job) == "succeeded") break;
+        ASSERT_TRUE(state_of(job) == "queued" || state_of(job) == "preparing" || state_of(job) == "running") << server.log();
+        ASSERT_LT(std::chrono::steady_clock::now(), deadline) << server.log();
+        const auto reply = http(server.port(), "GET", series);
+        if (reply.status == 409) continue;  // queued, or succeeded meanwhile
+        ASSERT_EQ(reply.status, 200) << reply.body;
+        const json::value s = reply.json();
+        if (!s.at("partial").as_bool()) continue;  // finished already
+        const std::size_t rows = s.at("rows").to_number<std::size_t>();
+        if (rows == 0) continue;  // waiting, or running before its first checkpoint
+        EXPECT_EQ(s.at("state"), "running");
+        EXPECT_EQ(s.at("reached").at("rows").to_number<std::size_t>(), rows);
+        EXPECT_EQ(s.at("reached").at("time_s").to_number<double>(), column_of(s, "time_s").back());
+        if (partial.empty() || rows > partial.back().at("rows").to_number<std::size_t>()) partial.push_back(s);
+        const auto test_reply = http(server.port(), "GET", route);
+        ASSERT_EQ(test_reply.status, 200) << test_reply.body;
+        const json::value t = test_reply.json();
+        if (t.at("state") == "running") {
+            EXPECT_TRUE(t.at("partial").as_bool()) << test_reply.body;
+        }
+    }
+    ASSERT_GE(partial.size(), 2u) << "the series should have grown at least once while the test ran";
+
+    const auto done = http(server.port(), "GET", series);
+    ASSERT_EQ(done.status, 200);
+    const json::value final_series = done.json();
+    EXPECT_FALSE(final_series.at("partial").as_bool());
+    for (const char* column : {"time_s", "sigma1_pa", "phase"}) {
+        const std::vector<double> all = column_of(final_series, column);
+        for (const json::value& p : partial) {
+            const std::vector<double> head = column_of(p, column);
+            ASSERT_LT(head.size(), all.size());
+            EXPECT_TRUE(std::equal(head.begin(), head.end(), all.begin())) << column << ": a partial series is not the start of the final one";
+        }
+    }
+}
+
 } // namespace
 } // namespace wiredem::test
 

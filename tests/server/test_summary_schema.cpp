@@ -180,8 +180,10 @@ TEST(SummarySchemaRealRunner, ARealCampaignsSummaryIsWhatTheOpenApiDocumentSays)
     EXPECT_TRUE(summary.at_pointer("/wire/autocorrelation_lag_m").is_number()) << reply.body;
     EXPECT_TRUE(summary.at_pointer("/free_standing/dead_load").is_object()) << reply.body;
     for (const char* p : {"/free_standing/settling/bulk_height_m", "/free_standing/settling/bulk_height_loss",
-             "/free_standing/settling/lost_fraction"})
+             "/free_standing/settling/lost_fraction", "/free_standing/compression/spilled_fraction",
+             "/free_standing/compression/bulge_m"})
         EXPECT_TRUE(summary.at_pointer(p).is_number()) << p << ": " << reply.body;
+    EXPECT_TRUE(summary.at_pointer("/free_standing/compression/failure_mode").is_string()) << reply.body;
     // String length per volume (issue 39, item 4): the wire's length over the sample's volume.
     EXPECT_GT(summary.at_pointer("/specimen/wire_length_m").to_number<double>(), 0.0);
     EXPECT_DOUBLE_EQ(summary.at_pointer("/specimen/wire_length_per_volume_m_per_m3").to_number<double>(),

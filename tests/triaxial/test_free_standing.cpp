@@ -334,6 +334,70 @@ TEST(FreeStanding, ATestContinuedAroundThePlatesFirstStepEndsBitIdentically)
     }
 }
 
+// How the compression failed, read from constructed signs: the wire breaking
+// at the peak decides first, then the grains lost beyond max_lost_fraction,
+// then the widest slice's gain beyond max_radius_gain × r₀; each bound is
+// strict (at the bound the next rule reads), and with none of them the
+// record does not resolve the mode.
+TEST(FailureMode, TheWireAtThePeakThenTheGrainsLostThenTheBulgeDecide)
+{
+    const double max_lost = 0.1, max_gain = 0.25, r0 = 0.02; // bulge bound 0.25 × 0.02 = 0.005 m exactly
+    const auto mode = [&](bool wire, double spilled, double bulge) {
+        return failure_mode(FailureSigns{wire, spilled, bulge, r0}, max_lost, max_gain);
+    };
+    EXPECT_EQ(mode(true, 0.5, 0.01), FailureMode::wire_break);
+    EXPECT_EQ(mode(true, 0.0, 0.0), FailureMode::wire_break);
+    EXPECT_EQ(mode(false, 0.11, 0.01), FailureMode::grains_spilling);
+    EXPECT_EQ(mode(false, 0.1, 0.0051), FailureMode::bulging) << "at max_lost_fraction the grains lost do not decide";
+    EXPECT_EQ(mode(false, 0.1, 0.005), FailureMode::unresolved) << "at the bulge bound it does not decide";
+    EXPECT_EQ(mode(false, 0.0, 0.0050001), FailureMode::bulging);
+    EXPECT_EQ(mode(false, -0.02, -0.001), FailureMode::unresolved) << "grains come back, the column narrows";
+    EXPECT_EQ(failure_mode(FailureSigns{false, 0.05, 0.003, 0.01}, 0.04, 0.25), FailureMode::grains_spilling)
+        << "the settings' bounds, not defaults";
+    EXPECT_EQ(failure_mode(FailureSigns{false, 0.05, 0.003, 0.01}, 0.1, 0.5), FailureMode::unresolved);
+    EXPECT_STREQ(to_string(FailureMode::wire_break), "wire_break");
+    EXPECT_STREQ(to_string(FailureMode::grains_spilling), "grains_spilling");
+    EXPECT_STREQ(to_string(FailureMode::bulging), "bulging");
+    EXPECT_STREQ(to_string(FailureMode::unresolved), "unresolved");
+}
+
+// The bulge is the widest slice's gain, wherever along the height the widest
+// slices are: a column that narrowed reads a negative gain, an empty profile 0.
+TEST(ColumnBulge, IsTheWidestSlicesGainWhereverItIs)
+{
+    const RadiusProfile settled{{0.001, 0.003, 0.005}, {0.010, 0.0105, 0.010}, {5, 5, 5}};
+    const RadiusProfile barrel{{0.001, 0.003, 0.005}, {0.0101, 0.0125, 0.0102}, {5, 5, 5}};
+    const RadiusProfile foot{{0.001, 0.003}, {0.0131, 0.010}, {9, 5}};
+    const RadiusProfile narrowed{{0.001, 0.003, 0.005}, {0.009, 0.0095, 0.009}, {5, 5, 5}};
+    EXPECT_DOUBLE_EQ(column_bulge_m(settled, barrel), 0.0125 - 0.0105);
+    EXPECT_DOUBLE_EQ(column_bulge_m(settled, foot), 0.0131 - 0.0105);
+    EXPECT_DOUBLE_EQ(column_bulge_m(settled, narrowed), 0.0095 - 0.0105);
+    EXPECT_EQ(column_bulge_m(settled, RadiusProfile{}), 0.0);
+    EXPECT_EQ(column_bulge_m(RadiusProfile{}, barrel), 0.0);
+}
+
+// A compression's reading carries the mode the rule gives on what it read:
+// the grains lost from the settled column to the end, the widest slice's gain
+// from the settled profile to the one at the end, r₀ and the settings' bounds.
+// The stack of grains loses none in a 1 % compression.
+TEST(FreeStanding, TheCompressionReportsTheFailureModeOfWhatItRead)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    const FreeStandingSettings s = quick_settings();
+    const auto r = run_free_standing(sim, lid, s);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const FreeStandingResult& f = r.value();
+    ASSERT_TRUE(f.compression && f.compression->failure_mode);
+    const CompressionReading& c = *f.compression;
+    const StandingColumn end = standing_column(sim.world, s.escape_distance_m, s.bulk_fraction);
+    EXPECT_EQ(c.spilled_fraction, end.lost_fraction - f.settling.lost_fraction);
+    EXPECT_EQ(c.spilled_fraction, 0.0);
+    EXPECT_EQ(c.bulge_m, column_bulge_m(f.settling.profile, c.profile_at_end));
+    EXPECT_EQ(*c.failure_mode, failure_mode(FailureSigns{false, c.spilled_fraction, c.bulge_m, f.settling.radius_m},
+                                   s.max_lost_fraction, s.max_height_loss));
+}
+
 // A radius profile of a filled cylinder of radius R: its grain centres fill
 // a disc of radius R − r uniformly, so ⟨ρ²⟩ = (R − r)²/2 and the equivalent
 // radius √(2⟨ρ²⟩) + r is R (to the sampling of the disc).

@@ -433,6 +433,11 @@ async function checkFreeStanding(page, plots, where) {
     assert.ok(predicted && predicted.y.every((v) => v === c.predicted_unconfined_strength_pa / 1000), `${where}: the prediction is drawn at its value`);
   }
   assert.equal(await page.$eval('[data-figure="fs_stands"] .value', (e) => e.textContent), fs.settling.stands ? 'yes' : 'no');
+  // How it failed: the summary's mode, with the spilled share it read.
+  assert.ok(['wire_break', 'grains_spilling', 'bulging', 'unresolved'].includes(c.failure_mode), `${where}: failure_mode ${c.failure_mode}`);
+  const how = await page.$eval('[data-figure="fs_failure_mode"] .value', (e) => e.textContent);
+  assert.match(how, new RegExp(`^${{ wire_break: 'the wire broke', grains_spilling: 'grains spilling', bulging: 'bulging', unresolved: 'not resolved' }[c.failure_mode]}`), `${where}: ${how}`);
+  assert.ok(how.includes('spilled ') && how.includes('widest slice +'), `${where}: ${how}`);
   // The verdict reads the grains' bulk and the grains lost (the job keeps the default bounds, 0.1 and 0.1).
   const st = fs.settling;
   assert.equal(st.stands, st.at_rest && st.bulk_height_loss <= 0.1 && st.lost_fraction <= 0.1, `${where}: ${JSON.stringify(st)}`);

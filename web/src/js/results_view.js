@@ -249,6 +249,7 @@ export function renderFreeStanding(body, summary, test, series) {
     figure('strain at failure', num(c.strain_at_failure, 4), 'fs_strain_at_failure'),
     figure('quasi-static', yesNo(c.quasi_static), 'fs_quasi_static'),
     c.peak_failure !== undefined ? figure('failed by', failureText(c.peak_failure), 'fs_peak_failure') : '',
+    c.failure_mode != null ? figure('how it failed', failureModeText(c), 'fs_failure_mode') : '',
     dl ? figure(`dead load ${num(dl.force_n, 3)} N holds`, `${yesNo(dl.holds)} (creep ${num(dl.creep_strain, 3)})`, 'fs_dead_load') : '',
     po ? figure('peak pull force [N]', num(po.peak_pull_force_n, 4), 'fs_peak_pull_force_n') : '',
     po ? figure('pulled length at the peak → in all [mm]', `${mm(po.pulled_length_at_peak_m)} → ${mm(po.pulled_length_m)}`, 'fs_pulled_length') : '',
@@ -338,6 +339,15 @@ function renderPullOut(grid, po, rows) {
 export function failureText(f) {
   return { grains: 'the grains (wire whole)', wire: 'the wire (a break at the peak)',
     grains_after_break: 'the grains, after the wire broke' }[f] ?? (f == null ? '—' : String(f));
+}
+
+/// How the unconfined compression failed (compression.failure_mode, docs/model.md
+/// "How it failed"), with what the rule read: the grains spilled and the widest slice's gain.
+export function failureModeText(c) {
+  const mode = { wire_break: 'the wire broke at the peak', grains_spilling: 'grains spilling', bulging: 'bulging',
+    unresolved: 'not resolved by the record' }[c.failure_mode] ?? String(c.failure_mode);
+  const spilled = c.spilled_fraction != null ? `${num(c.spilled_fraction * 100, 3)} %` : '—';
+  return `${mode} (spilled ${spilled} of the grains, widest slice +${mm(c.bulge_m)} mm)`;
 }
 
 /// Plot markers for the breaks of `[[label, wire_breaks]]`: one vertical
