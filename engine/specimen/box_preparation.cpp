@@ -20,6 +20,11 @@ namespace {
 // fraction of 0.25 random sequential addition places a sphere within a few
 // attempts (the jamming limit is ≈ 0.38).
 constexpr int placement_attempts_per_grain = 1000;
+// A loose box where a grain found no place is made this much looser, down to
+// the floor (at 0.05 random sequential addition places any grading: far
+// below its jamming limit).
+constexpr double loosening_factor = 0.8;
+constexpr double min_initial_packing_fraction = 0.05;
 // The servo and the criteria are looked at every step; at rest is checked
 // once every this many seconds of simulated time (about a grain's contact
 // period at σ_c, ~10⁻⁵ s, times 10).
@@ -159,9 +164,60 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     // 0.25 over the whole box: 0.36 over the centres' box, and grains
     // found no place).
     const double r_max = *std::max_element(extents.begin(), extents.end());
-    const double inner_width_m = std::cbrt(extent_volume_m3 / spec.initial_packing_fraction / spec.aspect_ratio); // L² · (a L) = V
-    const double width_m = inner_width_m + 2.0 * r_max;
-    const double height_m = spec.aspect_ratio * inner_width_m + 2.0 * r_max;
+
+    // Random sequential addition: each grain at a uniform point of the box
+    // its centre may take, kept if it overlaps no grain placed before (a
+    // clump then turned at random, as the pour turns them). Where a grain
+    // finds no place (a wide grading places some of its largest grains
+    // late), the box is made looser, its fraction a fifth lower, and the
+    // placing starts again with the draws going on: the first box that
+    // takes every grain is kept (the compaction closes it anyway).
+    struct LooseBox {
+        double width_m = 0.0, height_m = 0.0;
+        std::vector<Vec3> x;
+        std::vector<Quat> orientation;
+    };
+    const auto place = [&](double fraction) -> std::optional<LooseBox> {
+        LooseBox box;
+        const double inner_width_m = std::cbrt(extent_volume_m3 / fraction / spec.aspect_ratio); // L² · (a L) = V
+        box.width_m = inner_width_m + 2.0 * r_max;
+        box.height_m = spec.aspect_ratio * inner_width_m + 2.0 * r_max;
+        box.x.reserve(radii.size());
+        for (std::size_t n = 0; n < radii.size(); ++n) {
+            const double r = extents[n];
+            bool done = false;
+            for (int a = 0; a < placement_attempts_per_grain && !done; ++a) {
+                // Drawn z, y, x: the order GCC took for the arguments of one
+                // constructor (unspecified in C++; clang goes left to right), now
+                // written out so that every compiler places the same grains.
+                const double uz = rng.uniform(), uy = rng.uniform(), ux = rng.uniform();
+                const Vec3 x(-0.5 * box.width_m + r + (box.width_m - 2 * r) * ux,
+                    -0.5 * box.width_m + r + (box.width_m - 2 * r) * uy, r + (box.height_m - 2 * r) * uz);
+                done = true;
+                for (std::size_t i = 0; i < box.x.size() && done; ++i)
+                    done = (box.x[i] - x).squaredNorm() >= (extents[i] + r) * (extents[i] + r);
+                if (done) box.x.push_back(x);
+            }
+            if (!done) return std::nullopt;
+            if (spec.grain_shape) {
+                const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+                box.orientation.push_back(uniform_orientation(u1, u2, u3));
+            }
+        }
+        return box;
+    };
+    double fraction = spec.initial_packing_fraction;
+    std::optional<LooseBox> loose = place(fraction);
+    while (!loose) {
+        if (fraction * loosening_factor < min_initial_packing_fraction)
+            return Err("the grains found no free places in a loose box of fraction " + format_number(fraction)
+                       + " after " + std::to_string(placement_attempts_per_grain) + " attempts each (from "
+                       + format_number(spec.initial_packing_fraction) + ", lowered to "
+                       + format_number(min_initial_packing_fraction) + " at most)");
+        fraction *= loosening_factor;
+        loose = place(fraction);
+    }
+    const double width_m = loose->width_m, height_m = loose->height_m;
     const double volume_m3 = width_m * width_m * height_m;
 
     World& w = sim.world;
@@ -175,32 +231,12 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     BoxPreparationReport report;
     report.walls = add_cuboid_walls(w, lo, hi, wall_mat, spec.wall_friction_coeff);
     report.initial_volume_m3 = volume_m3;
-
-    // Random sequential addition: each grain at a uniform point of the box
-    // its centre may take, kept if it overlaps no grain placed before.
-    std::vector<Vec3> placed;
-    placed.reserve(radii.size());
+    report.initial_packing_fraction = fraction;
     for (std::size_t n = 0; n < radii.size(); ++n) {
-        const double r = extents[n];
-        bool done = false;
-        for (int a = 0; a < placement_attempts_per_grain && !done; ++a) {
-            const Vec3 x(lo.x() + r + (width_m - 2 * r) * rng.uniform(), lo.y() + r + (width_m - 2 * r) * rng.uniform(),
-                r + (height_m - 2 * r) * rng.uniform());
-            done = true;
-            for (std::size_t i = 0; i < placed.size() && done; ++i)
-                done = (placed[i] - x).squaredNorm() >= (extents[i] + r) * (extents[i] + r);
-            if (done) placed.push_back(x);
-        }
-        if (!done)
-            return Err("grain " + std::to_string(n) + " found no free place in the loose box after "
-                       + std::to_string(placement_attempts_per_grain)
-                       + " attempts; lower initial_packing_fraction (now " + format_number(spec.initial_packing_fraction) + ")");
-        if (spec.grain_shape) { // turned at random, as the pour turns them
-            const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-            add_clump(w, scaled_clump(*spec.grain_shape, radii[n]), placed.back(), uniform_orientation(u1, u2, u3), grain_mat);
-        } else {
-            add_grain(w, placed.back(), r, grain_mat);
-        }
+        if (spec.grain_shape)
+            add_clump(w, scaled_clump(*spec.grain_shape, radii[n]), loose->x[n], loose->orientation[n], grain_mat);
+        else
+            add_grain(w, loose->x[n], radii[n], grain_mat);
     }
 
     // δt: a fraction of the stable step with impacts at the walls' top speed.
@@ -224,7 +260,7 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     // The walls close the loose box by ~(1 − (φ₀/0.6)^{1/3}) of its width at
     // the speed cap: the expected length, for progress only.
     const auto expected_steps = static_cast<std::uint64_t>(
-        std::ceil(0.5 * width_m * (1.0 - std::cbrt(spec.initial_packing_fraction / 0.6)) / spec.max_wall_speed_m_per_s / dt)
+        std::ceil(0.5 * width_m * (1.0 - std::cbrt(fraction / 0.6)) / spec.max_wall_speed_m_per_s / dt)
         + 10 * check_every);
     std::uint64_t steps = 0;
     for (; steps < max_steps; ++steps) {

@@ -95,6 +95,9 @@ struct BoxPreparationReport {
     double sample_volume_m3 = 0.0;           ///< L_x L_y h
     double grain_volume_fraction = 0.0;      ///< Σ (4/3) π r³ / (L_x L_y h)
     double initial_volume_m3 = 0.0;          ///< of the loose box
+    /// The loose box's fraction: the spec's, or lower where a grain found no
+    /// place at it (each retry a fifth lower, down to 0.05).
+    double initial_packing_fraction = 0.0;
     double unbalanced_force_ratio = 0.0;     ///< at the end
     double max_overlap_m = 0.0;              ///< the largest overlap of any contact at the end [m]
     bool at_rest = false;                    ///< the criteria held before max_time_s

@@ -278,3 +278,27 @@ TEST(BoxPreparation, ClumpsArePlacedTurnedAndCompactedAsTheirOwnGrains)
     EXPECT_EQ(state_hash(two.world), state_hash(one.world));
     EXPECT_EQ(two.report.steps, one.report.steps);
 }
+
+// A wide grading places some of its largest grains late, where random
+// sequential addition at the default fraction finds them no room: 1000 of the
+// gravel preset's crushed clumps (8/32 curve scaled to D50 = 2 mm) found
+// none for grain 829 at 0.25. The box is then made a fifth looser at a time
+// until every grain has its place (the compaction closes it anyway); a
+// narrow grading keeps the spec's fraction.
+TEST(BoxPreparation, AWideGradingIsPlacedInALooserBoxNotRefused)
+{
+    BoxPreparationSpec spec = box_spec();
+    spec.grain_count = 1000;
+    spec.grain_radius_m = 1e-3;
+    spec.grain_sizes = SieveCurve{SieveCurve::Basis::mass, {0.88e-3, 1.23e-3, 1.76e-3, 2.46e-3, 3.52e-3},
+        {0.0, 0.15, 0.4, 0.7, 1.0}};
+    spec.grain_shape = unit_clump_shape(*builtin_clump_template("crushed"));
+    spec.max_time_s = 1e-5; // the placing only
+    const BoxRun run = run_box(spec);
+    const double f = run.report.initial_packing_fraction;
+    EXPECT_LT(f, spec.initial_packing_fraction);
+    const double k = std::log(f / spec.initial_packing_fraction) / std::log(0.8); // f = 0.25 · 0.8^k
+    EXPECT_NEAR(k, std::round(k), 1e-9) << f;
+    EXPECT_EQ(run.world.clumps.size(), 1000u);
+    EXPECT_EQ(box_run().report.initial_packing_fraction, box_spec().initial_packing_fraction);
+}
