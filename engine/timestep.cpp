@@ -229,8 +229,8 @@ LiveContactLimit live_contact_limit(const World& w)
 std::string live_contact_error(const LiveContactLimit& live, double dt_s, const std::string& after)
 {
     return "stopped " + after + ": the time step " + format_number(dt_s) + " s is " + format_number(dt_s / live.critical_s)
-           + " times the stable limit " + format_number(live.critical_s) + " s of the stiffest contact now (Gear-5 diverges from about "
-           + format_number(live_contact_tolerance) + " times it), a " + live.kinds + " contact pressed to "
+           + " times the stable limit " + format_number(live.critical_s) + " s of the stiffest contact now (runs beyond "
+           + format_number(live_contact_tolerance) + " times it were measured to diverge), a " + live.kinds + " contact pressed to "
            + format_number(live.overlap_m) + " m (" + format_number(live.overlap_m / live.reference_overlap_m)
            + " times the reference overlap the step was set for; its stiffness grows as the square root of the overlap)"
            + ": take a time step below " + format_number(live.critical_s)

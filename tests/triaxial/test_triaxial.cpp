@@ -817,9 +817,9 @@ TEST(TriaxialControl, ASoftColumnWithinTheLiveToleranceRunsToItsEnd)
 {
     // At 200 kPa the lattice's grain–plate contacts reach 6 ξ_ref and the
     // step 1.14 times their live limit, yet Gear-5 holds it and the test ends
-    // (a check at the limit itself stopped it after 960 steps); with a step
-    // 1.1 times as large it reaches 1.22 and blows up (docs/model.md, "The
-    // stiffest live contact"): live_contact_tolerance lies between the two.
+    // (a check at the limit itself stopped it after 960 steps; with a step
+    // 1.1 times as large it holds 1.22, then runs away and blows up:
+    // docs/model.md, "The stiffest live contact").
     Simulation sim(2);
     const std::size_t lid = build_lattice_specimen(sim);
     double largest = 0.0, deepest = 0.0; // δt over the live limit, ξ over ξ_ref, at the checks
