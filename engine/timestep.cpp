@@ -170,4 +170,71 @@ StableStep stable_time_step(const World& w, double impact_speed_m_per_s)
     return stable_time_step(stability_inputs(w), impact_speed_m_per_s);
 }
 
+namespace {
+
+/// The mass a contact on body `r` feels, or infinity for a body that does
+/// not move by forces (held, kinematic, or a wall): as stability_inputs
+/// takes it (a clump's sphere: clump_sphere_effective_mass_kg).
+double contact_mass_kg(const World& w, BodyRef r)
+{
+    if (is_wall(r)) return std::numeric_limits<double>::infinity();
+    const TranslationalState& b = w.of(r.kind());
+    const std::size_t i = r.index();
+    if (b.motion[i] == Motion::clumped) return clump_sphere_effective_mass_kg(w, i);
+    return is_dynamic(b, i) ? b.mass_kg[i] : std::numeric_limits<double>::infinity();
+}
+
+/// A contact side's radius; infinity for a wall.
+double radius_m(const World& w, BodyRef r)
+{
+    return is_wall(r) ? std::numeric_limits<double>::infinity() : w.of(r.kind()).radius_m[r.index()];
+}
+
+std::string side_name(BodyRef r) { return is_wall(r) ? "wall" : kind_name(static_cast<int>(r.kind())); }
+
+} // namespace
+
+LiveContactLimit live_contact_limit(const World& w)
+{
+    // Both bounds fall as ω rises (the damped one through ζ = ω γ_n / 3), so
+    // the contact of the largest ω² = k/m sets the limit: one pass for it,
+    // then its step.
+    const ContactList& c = w.contacts;
+    double max_omega2 = 0.0;
+    std::size_t stiffest = c.size();
+    for (std::size_t p = 0; p < c.size(); ++p) {
+        if (!c.touching[p] || !(c.output[p].overlap_m > 0.0)) continue;
+        const double m = std::min(contact_mass_kg(w, c.first[p]), contact_mass_kg(w, c.second[p]));
+        // dF/dξ of (4/3) E* √R* ξ^{3/2}: (3/2) prefactor √ξ = 2 E* √(R* ξ).
+        const double omega2 = 1.5 * c.hertz_coefficient[p] * std::sqrt(c.output[p].overlap_m) / m; // 0 when held
+        if (omega2 > max_omega2) {
+            max_omega2 = omega2;
+            stiffest = p;
+        }
+    }
+    LiveContactLimit out;
+    if (stiffest == c.size()) return out;
+    const std::size_t p = stiffest;
+    out.overlap_m = c.output[p].overlap_m;
+    out.stiffness_n_per_m = 1.5 * c.hertz_coefficient[p] * std::sqrt(out.overlap_m);
+    out.mass_kg = std::min(contact_mass_kg(w, c.first[p]), contact_mass_kg(w, c.second[p]));
+    const double omega = std::sqrt(out.stiffness_n_per_m / out.mass_kg);
+    out.critical_s = damped_stability_limit(w.integrator, omega * w.contact.normal_damping_s / 3.0) / omega;
+    out.reference_overlap_m
+        = reference_overlap_fraction * effective_radius_m(radius_m(w, c.first[p]), radius_m(w, c.second[p]));
+    out.kinds = side_name(c.first[p]) + "–" + side_name(c.second[p]);
+    return out;
+}
+
+std::string live_contact_error(const LiveContactLimit& live, double dt_s, const std::string& after)
+{
+    return "stopped " + after + ": the time step " + format_number(dt_s) + " s is " + format_number(dt_s / live.critical_s)
+           + " times the stable limit " + format_number(live.critical_s) + " s of the stiffest contact now (runs beyond "
+           + format_number(live_contact_tolerance) + " times it were measured to diverge), a " + live.kinds + " contact pressed to "
+           + format_number(live.overlap_m) + " m (" + format_number(live.overlap_m / live.reference_overlap_m)
+           + " times the reference overlap the step was set for; its stiffness grows as the square root of the overlap)"
+           + ": take a time step below " + format_number(live.critical_s)
+           + " s (engine.time_step_s), stiffer grains (specimen.grain.youngs_modulus_pa) or a lower pressure or load (triaxial.confining_pressures_pa, free_standing.dead_load_n)";
+}
+
 } // namespace wiredem::engine

@@ -136,4 +136,59 @@ inline constexpr double min_damped_step_fraction = 0.1;
 /// The stable step of a built system: stable_time_step(stability_inputs(w), …).
 [[nodiscard]] StableStep stable_time_step(const World& w, double impact_speed_m_per_s = 0.0);
 
+/// The stiffest contact touching now, and the step it allows: what
+/// stable_time_step says of a contact, at the contact's own overlap instead
+/// of the one expected (docs/model.md, "The stiffest live contact"). The
+/// Hertz stiffness grows as √ξ, so a soft column pressed far beyond the
+/// reference overlap needs a shorter step than the one it was given.
+struct LiveContactLimit {
+    /// Largest stable δt of the touching contacts, damping included:
+    /// damped_stability_limit(ζ)/ω of the one that allows the least;
+    /// infinity with no contact on a moving body [s]
+    double critical_s = std::numeric_limits<double>::infinity();
+    double overlap_m = 0.0;           ///< that contact's overlap ξ [m]
+    double stiffness_n_per_m = 0.0;   ///< its tangent stiffness dF/dξ = 2 E* √(R* ξ) [N/m]
+    double mass_kg = 0.0;             ///< the lighter moving body of its two [kg]
+    /// Its reference overlap, reference_overlap_fraction × R* (R* from the
+    /// contact's prefactor: (4/3) E* √R* with E* = stiffness²/(4 R* ξ)) [m]
+    double reference_overlap_m = 0.0;
+    std::string kinds;                ///< "grain–grain", "grain–wall", …
+};
+
+/// The stiffest live contact of `w` (LiveContactLimit): every touching
+/// contact of the list with a moving side, its tangent stiffness
+/// (3/2) · (4/3) E* √R* · √ξ from the list's prefactor and this step's
+/// overlap, on the lighter moving body (a clump's sphere with the mass its
+/// contacts see), as stable_time_step takes a contact. A pass over the
+/// contacts: cheap next to a step, and run every live_check_steps.
+[[nodiscard]] LiveContactLimit live_contact_limit(const World& w);
+
+/// How often a column test checks its stiffest live contact [steps]: a pass
+/// over the contact list, a sqrt and a division per touching contact, every
+/// 10 steps (the step's contact kernel makes the same pass with far more
+/// work). Every 100 was too seldom: the lattice column ramped to 10 MPa in
+/// 5 ms went from 0.54 of the limit to NaN between two checks.
+inline constexpr std::uint64_t live_check_steps = 10;
+
+/// How far beyond the live limit a column test steps before it is stopped:
+/// δt > live_contact_tolerance × LiveContactLimit::critical_s. The limit
+/// keeps the 5–20 % margin of damped_stability_limit; Gear-5 diverges
+/// beyond it, on the damped oscillator at 1.14–1.26 times it (ω δt ζ =
+/// 0.074 at ζ = 0.3, 0.078 at 0.5, 0.081 at 1, against 0.065; undamped
+/// 0.35 against 0.3), but a contact pressed that far is transient and the
+/// growth slow. Measured in column tests (docs/model.md, "The stiffest live
+/// contact"): runs that ended held up to 1.40 (examples/tiny-gravel.json's
+/// second test; tests/web/job-breaks.json 1.152; the lattice column at
+/// 200 kPa 1.14); runs that blew up held 1.2–1.7 for tens to 1 200 steps
+/// and then ran away, 2.3–4.8 at their last check before NaN. 1.5 lets
+/// every run that ended end and stops every one that blew up, at the check
+/// where it runs away at the latest, with finite values.
+inline constexpr double live_contact_tolerance = 1.5;
+
+/// What to tell a run whose step `dt_s` exceeds the live limit `live` by more
+/// than live_contact_tolerance, `after` saying when ("after 1200 steps of
+/// the triaxial test"): the contact, its overlap against the reference, and
+/// the fields to change.
+[[nodiscard]] std::string live_contact_error(const LiveContactLimit& live, double dt_s, const std::string& after);
+
 } // namespace wiredem::engine

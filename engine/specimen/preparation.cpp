@@ -3,6 +3,7 @@
 #include "integrate/clumps.hpp"
 
 #include "contact/geometry.hpp"
+#include "core/format.hpp"
 #include "core/result.hpp"
 #include "scene.hpp"
 #include "specimen/packing.hpp"
@@ -533,6 +534,13 @@ Result<PreparationReport, std::string> prepare_specimen(
     const double entry_speed = pour_entry_speed_m_per_s(spec);
     Column column = empty_column(spec);
     if (column.step.overdamped()) return Err(overdamped_error(column.step, column.world.contact.normal_damping_s));
+    // An explicit step is held to the pour's bound (its contacts' damping at
+    // the fastest impact), as the box preparation and the tests hold theirs;
+    // the door's estimate leaves a restitution's damping out (api/derived.hpp).
+    if (spec.time_step_s > column.step.critical_s)
+        return Err("the time step (engine.time_step_s) " + format_number(spec.time_step_s) + " s exceeds the stable limit "
+                   + format_number(column.step.critical_s) + " s of the pour, set by the " + column.step.limited_by
+                   + " at its fastest impact (\"auto\" would use " + format_number(column.step.auto_s) + " s)");
     World& w = sim.world;
     PreparationDriverState st;
     const bool continuing = continuation.from.has_value();

@@ -7,6 +7,7 @@
 
 #include "core/result.hpp"
 #include "simulation.hpp"
+#include "timestep.hpp"
 
 #include <chrono>
 #include <cstdint>
@@ -47,7 +48,9 @@ public:
     /// started from, but also when the run is about to be cancelled, so that
     /// a host saves on its way out); then cancellation is checked and
     /// `prescribe()` sets what the phase prescribes for the step (pressure,
-    /// plate and node velocities). After it, a blow-up is an error and
+    /// plate and node velocities). After it, a blow-up is an error, so is a
+    /// step more than live_contact_tolerance times the limit of the
+    /// stiffest live contact (live_contact_limit, every live_check_steps), and
     /// progress is reported every control.progress_every steps as
     /// `progress_of()`, a (done, total) pair.
     /// @return an error message, or nothing
@@ -68,6 +71,15 @@ public:
         if (report.blew_up)
             return "the simulation blew up after " + std::to_string(st_.steps) + " steps of " + test_
                  + " (time step too large for the loading?)";
+        // The stiffest live contact, every live_check_steps: a column pressed
+        // beyond the overlap its step was set for stops here with what to
+        // change, before Gear-5 diverges (docs/model.md, "The stiffest live
+        // contact"). It reads the World only: results do not change.
+        if (st_.steps % live_check_steps == 0) {
+            const LiveContactLimit live = live_contact_limit(sim_.world);
+            if (sim_.world.dt_s > live_contact_tolerance * live.critical_s)
+                return live_contact_error(live, sim_.world.dt_s, "after " + std::to_string(st_.steps) + " steps of " + test_);
+        }
         if (control_.progress && control_.progress_every > 0 && st_.steps % control_.progress_every == 0) {
             const auto [done, total] = progress_of();
             control_.progress(done, total);

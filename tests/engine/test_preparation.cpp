@@ -183,6 +183,21 @@ TEST(Preparation, RefusesADampingNoExplicitStepCanFollow)
     // (The same column with its own damping prepares: PoursASoundColumnWithoutWire.)
 }
 
+TEST(Preparation, RefusesAnExplicitStepAboveThePoursStableLimit)
+{
+    // The pour's step is bounded at its fastest impact, damping included; an
+    // explicit step above it is refused, naming the field, before a step is
+    // taken (it used to run and blow up: the gravel job of
+    // docs/calibration/gravel/ at engine.time_step_s = 3.4 µs, in 1 s).
+    PreparationSpec spec = small_column(PatternKind::none, test_column_grains);
+    spec.time_step_s = 1e-3;
+    Simulation sim(1);
+    const auto r = prepare_specimen(sim, spec);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("engine.time_step_s"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("exceeds the stable limit"), std::string::npos) << r.error();
+}
+
 class PreparationWithWire : public ::testing::TestWithParam<PatternKind> {};
 
 TEST_P(PreparationWithWire, LaysTheWireWhilePouringASoundColumn)
