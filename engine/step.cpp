@@ -642,29 +642,23 @@ void gather_forces(World& w, ThreadPool& pool)
             if (!w.contacts.rolling_torque_n_m.empty()) in.rolling_torque_n_m = w.contacts.rolling_torque_n_m.data();
         }
     }
-    // Point loads (World::point_loads; in a column test under mass scaling,
-    // the wire's weight: one per node) are added to a body's sum in list
-    // order. When the list names each body once, in BodyRef order (as
-    // set_weights makes it), a block adds its own bodies' loads right after
-    // their sums, on its thread; else the calling thread adds them all after
-    // the loop. Either way each body's f + p in list order: the same bits.
-    const std::vector<std::pair<BodyRef, Vec3>>& loads = w.point_loads;
-    const bool loads_in_blocks = std::adjacent_find(loads.begin(), loads.end(), [](const auto& a, const auto& b) {
-        return !(a.first < b.first);
-    }) == loads.end();
-    // Every kind's bodies in one loop (each body's sum is its own).
+    // A load on a body past the last (or on a wall) would never be added.
+    for (int k = 0; k < body_kind_count; ++k)
+        WIREDEM_ASSERT(w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(sizes[k]), BodyRef::max_index + 1).empty(),
+            "a point load names a body that does not exist");
+    WIREDEM_ASSERT(w.point_loads.empty() || !is_wall(w.point_loads.list().back().first), "a point load names a wall");
+    // Every kind's bodies in one loop (each body's sum is its own). A block
+    // adds its own bodies' point loads (World::point_loads; in a column test
+    // under mass scaling the wire's weight, one per node) right after their
+    // sums, on its thread: the list names each body at most once, in body
+    // order (state/point_loads.hpp), so each body's force is f + p.
     parallel_for_parts(pool, sizes, 256, [&](std::size_t k, std::size_t begin, std::size_t end) {
         gather(inputs[k], begin, end);
-        if (!loads_in_blocks) return;
-        const auto kind = static_cast<BodyKind>(k);
         std::vector<Vec3>& force = w.body_force_n[k];
-        auto load = std::lower_bound(loads.begin(), loads.end(), BodyRef(kind, static_cast<std::uint32_t>(begin)),
-            [](const std::pair<BodyRef, Vec3>& l, BodyRef b) { return l.first < b; });
-        for (; load != loads.end() && load->first.kind() == kind && load->first.index() < end; ++load)
-            force[load->first.index()] += load->second;
+        for (const auto& [body, p] : w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(begin),
+                 static_cast<std::uint32_t>(end)))
+            force[body.index()] += p;
     });
-    if (!loads_in_blocks)
-        for (const auto& [body, f] : loads) w.force_of(body.kind())[body.index()] += f;
 }
 
 } // namespace wiredem::engine
