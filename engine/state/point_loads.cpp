@@ -48,9 +48,10 @@ void PointLoads::set(BodyRef body, const Vec3& force_n)
 std::span<const PointLoads::Load> PointLoads::of(BodyKind kind, std::uint32_t begin, std::uint32_t end) const
 {
     const auto first = std::lower_bound(loads_.begin(), loads_.end(), BodyRef(kind, begin), before);
-    // From `first` on, the loads of `kind` below `end` come first (the list is sorted).
-    const auto last = std::partition_point(
-        first, loads_.end(), [&](const Load& l) { return l.first.kind() == kind && l.first.index() < end; });
+    // From `first` on, the loads of `kind` below `end` come first (the list
+    // is sorted): as many as the caller is about to add.
+    auto last = first;
+    while (last != loads_.end() && last->first.kind() == kind && last->first.index() < end) ++last;
     return {first, last};
 }
 
