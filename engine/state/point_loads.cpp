@@ -31,6 +31,7 @@ Result<PointLoads, std::string> PointLoads::from_sorted(std::vector<Load> list)
                          " each body at most once");
     PointLoads loads;
     loads.loads_ = std::move(list);
+    loads.index_kinds();
     return loads;
 }
 
@@ -38,21 +39,39 @@ void PointLoads::set(BodyRef body, const Vec3& force_n)
 {
     if (loads_.empty() || loads_.back().first < body) {
         loads_.emplace_back(body, force_n);
-        return;
+    } else {
+        const auto at = std::lower_bound(loads_.begin(), loads_.end(), body, before);
+        if (at != loads_.end() && at->first == body) at->second = force_n;
+        else loads_.emplace(at, body, force_n);
     }
-    const auto at = std::lower_bound(loads_.begin(), loads_.end(), body, before);
-    if (at != loads_.end() && at->first == body) at->second = force_n;
-    else loads_.emplace(at, body, force_n);
+    index_kinds();
+}
+
+void PointLoads::index_kinds() noexcept
+{
+    // Walls (kind bits 3) sort after every body: past the last kind's end.
+    for (int k = 0; k < body_kind_count; ++k)
+        kind_start_[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(
+            std::lower_bound(loads_.begin(), loads_.end(), BodyRef(static_cast<BodyKind>(k), 0), before) - loads_.begin());
+    kind_start_[body_kind_count] = static_cast<std::uint32_t>(
+        std::partition_point(loads_.begin(), loads_.end(), [](const Load& l) { return !is_wall(l.first); }) - loads_.begin());
 }
 
 std::span<const PointLoads::Load> PointLoads::of(BodyKind kind, std::uint32_t begin, std::uint32_t end) const
 {
-    const auto first = std::lower_bound(loads_.begin(), loads_.end(), BodyRef(kind, begin), before);
-    // From `first` on, the loads of `kind` below `end` come first (the list
-    // is sorted): as many as the caller is about to add.
-    auto last = first;
-    while (last != loads_.end() && last->first.kind() == kind && last->first.index() < end) ++last;
-    return {first, last};
+    const auto k = static_cast<std::size_t>(kind);
+    const auto first = loads_.begin() + kind_start_[k], last = loads_.begin() + kind_start_[k + 1];
+    if (first == last || begin >= end) return {};
+    // The kind's loads name bodies lo, lo + 1, …, lo + count − 1: found by index.
+    const std::uint32_t lo = first->first.index(), count = kind_start_[k + 1] - kind_start_[k];
+    if ((last - 1)->first.index() - lo + 1 == count) {
+        const auto at = [&](std::uint32_t i) { return i <= lo ? 0u : std::min(i - lo, count); };
+        return {first + at(begin), first + at(end)};
+    }
+    const auto from = std::lower_bound(first, last, BodyRef(kind, begin), before);
+    auto to = from; // the loads the caller is about to add
+    while (to != last && to->first.index() < end) ++to;
+    return {from, to};
 }
 
 } // namespace wiredem::engine

@@ -12,6 +12,7 @@
 #include "core/result.hpp"
 #include "core/types.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -40,11 +41,17 @@ public:
     /// in body order), else O(size()).
     void set(BodyRef body, const Vec3& force_n);
     /// Removes every load.
-    void clear() noexcept { loads_.clear(); }
+    void clear() noexcept
+    {
+        loads_.clear();
+        kind_start_.fill(0);
+    }
     /// Makes room for `n` loads.
     void reserve(std::size_t n) { loads_.reserve(n); }
 
-    /// The loads on bodies of `kind` with an index in [begin, end), in body order.
+    /// The loads on bodies of `kind` with an index in [begin, end), in body
+    /// order. O(1) where the kind's loads name consecutive bodies (the
+    /// wire's weight: every node), else O(log size()).
     [[nodiscard]] std::span<const Load> of(BodyKind kind, std::uint32_t begin, std::uint32_t end) const;
 
     /// The whole list, in body order.
@@ -56,7 +63,11 @@ public:
     [[nodiscard]] std::vector<Load>::const_iterator end() const noexcept { return loads_.end(); }
 
 private:
+    /// Where each kind's loads start in the list (the last entry: its size).
+    void index_kinds() noexcept;
+
     std::vector<Load> loads_;
+    std::array<std::uint32_t, body_kind_count + 1> kind_start_{};
 };
 
 } // namespace wiredem::engine

@@ -54,6 +54,30 @@ TEST(PointLoads, OfGivesTheLoadsOfOneKindsIndexRange)
     EXPECT_TRUE(PointLoads{}.of(BodyKind::wire, 0, 100).empty());
 }
 
+TEST(PointLoads, OfFindsTheLoadsOfConsecutiveBodiesByIndex)
+{
+    // Every wire node from 2 to 11 loaded (the wire's weight names every
+    // node): found by index; a grain on either side of them.
+    PointLoads loads;
+    loads.set(grain_3, Vec3::UnitX());
+    for (std::uint32_t i = 2; i < 12; ++i) loads.set(BodyRef(BodyKind::wire, i), Vec3(0, 0, -static_cast<double>(i)));
+    loads.set(membrane_2, Vec3::UnitY());
+    const auto middle = loads.of(BodyKind::wire, 5, 9);
+    ASSERT_EQ(middle.size(), 4u);
+    EXPECT_EQ(middle.front().first, BodyRef(BodyKind::wire, 5));
+    EXPECT_EQ(middle.back().second, Vec3(0, 0, -8));
+    EXPECT_EQ(loads.of(BodyKind::wire, 0, 4).size(), 2u);  // nodes 2 and 3
+    EXPECT_EQ(loads.of(BodyKind::wire, 10, 256).size(), 2u); // 10 and 11
+    EXPECT_TRUE(loads.of(BodyKind::wire, 0, 2).empty());
+    EXPECT_TRUE(loads.of(BodyKind::wire, 12, 256).empty());
+    EXPECT_EQ(loads.of(BodyKind::wire, 0, BodyRef::max_index + 1).size(), 10u);
+    loads.set(BodyRef(BodyKind::wire, 20), Vec3::UnitZ()); // no longer consecutive: searched
+    EXPECT_EQ(loads.of(BodyKind::wire, 5, 9).size(), 4u);
+    EXPECT_EQ(loads.of(BodyKind::wire, 10, 256).size(), 3u);
+    loads.clear();
+    EXPECT_TRUE(loads.of(BodyKind::wire, 0, 256).empty());
+}
+
 TEST(PointLoads, AListOutOfBodyOrderIsRefusedNamingTheEntries)
 {
     const Vec3 f(0, 0, -1);
