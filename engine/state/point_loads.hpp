@@ -37,8 +37,8 @@ public:
     [[nodiscard]] static Result<PointLoads, std::string> from_sorted(std::vector<Load> list);
 
     /// Sets the force on `body` [N]: inserted in its place, or replacing the
-    /// body's load. O(1) when `body` follows every listed body (a list built
-    /// in body order), else O(size()).
+    /// body's load. O(log size()) when `body` follows every listed body (a
+    /// list built in body order), else O(size()).
     void set(BodyRef body, const Vec3& force_n);
     /// Removes every load.
     void clear() noexcept
@@ -63,7 +63,8 @@ public:
     [[nodiscard]] std::vector<Load>::const_iterator end() const noexcept { return loads_.end(); }
 
 private:
-    /// Where each kind's loads start in the list (the last entry: its size).
+    /// Where each kind's loads start in the list; the last entry, where the
+    /// last kind's end (loads on walls, which no step adds, sort after it).
     void index_kinds() noexcept;
 
     std::vector<Load> loads_;
