@@ -17,8 +17,10 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <optional>
+#include <utility>
 
 namespace wiredem::engine {
 void evaluate_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
@@ -169,8 +171,20 @@ void select_near_pairs(World& w, ThreadPool& pool)
         near.skin_m = near.drift_m = 0.0;
         return;
     }
+    // In three loops over fixed blocks (the same for any thread count), each
+    // writing what the serial loops over pairs and bodies would: (1) which
+    // pairs are near, and how many in each block of pairs; (2) each block of
+    // bodies' kept incidences, in the block's own part of a scratch list (its
+    // incidences' place in the contact list's), its bodies' positions and
+    // largest drift; (3) the near pairs, and the kept incidences moved to
+    // their place, each block from its offset (the counts summed in block
+    // order).
+    constexpr std::size_t block = reduction_block;
+    const auto blocks_of = [](std::size_t count) { return (count + block - 1) / block; };
     std::vector<std::uint8_t> is_near(c.size(), 1); // wall contacts: always evaluated
-    parallel_for_blocks(pool, pairs, 1024, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> near_before(blocks_of(pairs) + 1, 0);
+    parallel_for_blocks(pool, pairs, block, [&](std::size_t begin, std::size_t end) {
+        std::uint32_t count = 0;
         for (std::size_t p = begin; p < end; ++p) {
             const BodyRef a = c.first[p], b = c.second[p];
             const TranslationalState& A = w.of(a.kind());
@@ -178,43 +192,86 @@ void select_near_pairs(World& w, ThreadPool& pool)
             const double reach = A.radius_m[a.index()] + B.radius_m[b.index()] + skin;
             const bool close = !((B.x[0][b.index()] - A.x[0][a.index()]).squaredNorm() >= reach * reach);
             is_near[p] = close;
+            count += close;
             if (!close && c.touching[p]) c.release(p);
         }
+        near_before[begin / block + 1] = count;
     });
-    near.pairs.clear();
-    near.first.clear();
-    near.second.clear();
-    for (std::uint32_t p = 0; p < pairs; ++p)
-        if (is_near[p]) {
-            near.pairs.push_back(p);
-            near.first.push_back(c.first[p]);
-            near.second.push_back(c.second[p]);
-        }
+    for (std::size_t b = 1; b < near_before.size(); ++b) near_before[b] += near_before[b - 1];
 
-    // Each body's incidences on the contacts kept, in the list's order.
+    // Bodies by kind (as parallel_for_parts cuts them), their blocks numbered
+    // in flat order.
     const std::size_t n = w.body_count();
-    near.incidence_start.resize(n + 1);
-    near.incidence.resize(c.incidence.size());
-    std::uint32_t kept = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        near.incidence_start[i] = kept;
-        for (std::uint32_t e = c.incidence_start[i]; e < c.incidence_start[i + 1]; ++e) {
-            near.incidence[kept] = c.incidence[e];
-            kept += is_near[c.incidence[e].contact()];
-        }
-    }
-    near.incidence_start[n] = kept;
-    near.incidence.resize(kept);
-
-    near.position_m.resize(n);
-    double drift2 = 0.0;
+    std::array<std::size_t, body_kind_count> sizes{};
+    std::array<std::size_t, body_kind_count + 1> first_block{};
     for (int k = 0; k < body_kind_count; ++k) {
-        const auto& pos = w.bodies[k].x[0];
-        const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
-        std::copy(pos.begin(), pos.end(), near.position_m.begin() + offset);
-        const Vec3* at_build = w.position_at_build_m.data() + offset;
-        for (std::size_t i = 0; i < pos.size(); ++i) drift2 = std::max(drift2, (pos[i] - at_build[i]).squaredNorm());
+        sizes[k] = w.bodies[k].size();
+        first_block[k + 1] = first_block[k] + blocks_of(sizes[k]);
     }
+    std::vector<std::uint32_t> kept_before(first_block[body_kind_count] + 1, 0);
+    std::vector<double> block_drift2(first_block[body_kind_count], 0.0);
+    const auto kept_scratch = std::make_unique_for_overwrite<std::uint32_t[]>(c.incidence.size()); // Incidence::bits
+    near.incidence_start.resize(n + 1);
+    near.position_m.resize(n);
+    parallel_for_parts(pool, sizes, block, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
+        // Each body's start counted from the block's (moved in loop 3).
+        std::uint32_t* const out = kept_scratch.get() + c.incidence_start[offset + begin];
+        std::uint32_t kept = 0;
+        for (std::size_t i = offset + begin; i < offset + end; ++i) {
+            near.incidence_start[i] = kept;
+            for (std::uint32_t e = c.incidence_start[i]; e < c.incidence_start[i + 1]; ++e) {
+                out[kept] = c.incidence[e].bits;
+                kept += is_near[c.incidence[e].contact()];
+            }
+        }
+        const auto& pos = w.bodies[k].x[0];
+        const Vec3* at_build = w.position_at_build_m.data() + offset;
+        double drift2 = 0.0;
+        for (std::size_t i = begin; i < end; ++i) {
+            near.position_m[offset + i] = pos[i];
+            drift2 = std::max(drift2, (pos[i] - at_build[i]).squaredNorm());
+        }
+        const std::size_t b = first_block[k] + begin / block;
+        kept_before[b + 1] = kept;
+        block_drift2[b] = drift2;
+    });
+    for (std::size_t b = 1; b < kept_before.size(); ++b) kept_before[b] += kept_before[b - 1];
+
+    // The near pairs (part 0), ascending, and each body's incidences on the
+    // contacts kept, in the list's order (parts 1 to 3, by kind).
+    near.pairs.resize(near_before.back());
+    near.first.resize(near_before.back());
+    near.second.resize(near_before.back());
+    near.incidence.resize(kept_before.back());
+    const std::array<std::size_t, body_kind_count + 1> parts{pairs, sizes[0], sizes[1], sizes[2]};
+    parallel_for_parts(pool, parts, block, [&](std::size_t part, std::size_t begin, std::size_t end) {
+        if (part == 0) {
+            std::uint32_t at = near_before[begin / block];
+            for (auto p = static_cast<std::uint32_t>(begin); p < end; ++p)
+                if (is_near[p]) {
+                    near.pairs[at] = p;
+                    near.first[at] = c.first[p];
+                    near.second[at] = c.second[p];
+                    ++at;
+                }
+            return;
+        }
+        const std::size_t k = part - 1;
+        const std::size_t offset = w.flat_offset(static_cast<BodyKind>(k));
+        const std::size_t b = first_block[k] + begin / block;
+        const std::uint32_t at = kept_before[b], kept = kept_before[b + 1] - at;
+        for (std::size_t i = offset + begin; i < offset + end; ++i) near.incidence_start[i] += at;
+        const std::uint32_t* const from = kept_scratch.get() + c.incidence_start[offset + begin];
+        for (std::uint32_t e = 0; e < kept; ++e) near.incidence[at + e].bits = from[e];
+    });
+    near.incidence_start[n] = kept_before.back();
+
+    // The serial loop's max(): it ignored a NaN (a body flown off in a blown-up
+    // run: std::max(d, NaN) is d), and so does each block's; of the rest, the
+    // largest, whichever the order.
+    double drift2 = 0.0;
+    for (double d : block_drift2) drift2 = std::max(drift2, d);
     near.drift_m = std::sqrt(drift2);
     near.skin_m = skin;
     ++near.selections;
@@ -272,18 +329,41 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
 {
     const std::size_t n = w.body_count();
     const double skin = effective_skin_m(w);
-    std::vector<Vec3> pos;
-    std::vector<double> radius;
-    std::vector<BodyRef> ref;
-    pos.reserve(n);
-    radius.reserve(n);
-    ref.reserve(n);
+    // Loops over fixed blocks (the same for any thread count), each writing
+    // what a serial loop would, in its order.
+    constexpr std::size_t block = reduction_block;
+    const auto blocks_of = [](std::size_t count) { return (count + block - 1) / block; };
+    std::array<std::size_t, body_kind_count> sizes{};
+    std::array<std::size_t, body_kind_count + 1> first_block{}; // blocks of bodies, numbered in flat order
     for (int k = 0; k < body_kind_count; ++k) {
-        const auto& body = w.bodies[k];
-        pos.insert(pos.end(), body.x[0].begin(), body.x[0].end());
-        radius.insert(radius.end(), body.radius_m.begin(), body.radius_m.end());
-        for (std::uint32_t i = 0; i < body.size(); ++i) ref.emplace_back(static_cast<BodyKind>(k), i);
+        sizes[k] = w.bodies[k].size();
+        first_block[k + 1] = first_block[k] + blocks_of(sizes[k]);
     }
+    const std::size_t body_blocks = first_block[body_kind_count];
+    // The bodies in flat order, and each wall's candidates in each block of
+    // them: moving bodies whose gap is below r + skin, in flat order.
+    std::vector<Vec3> pos(n);
+    std::vector<double> radius(n);
+    std::vector<BodyRef> ref(n);
+    const std::size_t walls = w.walls.size();
+    std::vector<std::vector<std::uint32_t>> wall_candidates(walls * body_blocks); // [wall][block]
+    parallel_for_parts(pool, sizes, block, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        const auto kind = static_cast<BodyKind>(k);
+        const TranslationalState& body = w.bodies[k];
+        const std::size_t offset = w.flat_offset(kind);
+        for (std::size_t i = begin; i < end; ++i) {
+            pos[offset + i] = body.x[0][i];
+            radius[offset + i] = body.radius_m[i];
+            ref[offset + i] = BodyRef(kind, static_cast<std::uint32_t>(i));
+        }
+        const std::size_t b = first_block[k] + begin / block;
+        for (std::size_t wi = 0; wi < walls; ++wi) {
+            std::vector<std::uint32_t>& out = wall_candidates[wi * body_blocks + b];
+            for (std::size_t i = begin; i < end; ++i)
+                if (moves_by_forces(body, i) && wall_gap(w.walls[wi], pos[offset + i]).gap_m < radius[offset + i] + skin)
+                    out.push_back(static_cast<std::uint32_t>(offset + i));
+        }
+    });
     // Flat order is kind order: each kind pairs with the later kinds it
     // interacts with (and itself), and the grid looks nowhere else.
     const FlatOffsets flat = w.flat_offsets();
@@ -309,32 +389,40 @@ void rebuild_contact_list(World& w, ThreadPool& pool)
 
     // Body pairs in pair_key order: grouped by their two kinds, each group
     // in the grid's (i, j) order (flat order equals BodyRef order, so i < j
-    // is already first < second); then each wall's candidates: moving
-    // bodies whose gap is below r + skin, by (wall, body).
+    // is already first < second): a stable counting sort, each block of
+    // pairs counting its groups, then writing them from its offsets (group
+    // by group, each in block order).
+    constexpr std::size_t groups = body_kind_count * body_kind_count;
     const auto kinds_of = [&](const std::pair<std::uint32_t, std::uint32_t>& pair) {
         return static_cast<std::size_t>(ref[pair.first].kind()) * body_kind_count
              + static_cast<std::size_t>(ref[pair.second].kind());
     };
-    std::array<std::size_t, body_kind_count * body_kind_count + 1> group_start{};
-    for (const auto& pair : pairs) ++group_start[kinds_of(pair) + 1];
-    for (std::size_t g = 0; g + 1 < group_start.size(); ++g) group_start[g + 1] += group_start[g];
+    std::vector<std::array<std::size_t, groups>> group_at(blocks_of(pairs.size()));
+    parallel_for_blocks(pool, pairs.size(), block, [&](std::size_t begin, std::size_t end) {
+        std::array<std::size_t, groups> count{};
+        for (std::size_t q = begin; q < end; ++q) ++count[kinds_of(pairs[q])];
+        group_at[begin / block] = count;
+    });
+    std::size_t at = 0;
+    for (std::size_t g = 0; g < groups; ++g)
+        for (auto& in_block : group_at) at += std::exchange(in_block[g], at);
     std::vector<BodyRef> first(pairs.size()), second(pairs.size());
-    for (const auto& pair : pairs) {
-        const std::size_t at = group_start[kinds_of(pair)]++;
-        first[at] = ref[pair.first];
-        second[at] = ref[pair.second];
-    }
-    for (std::uint32_t wi = 0; wi < w.walls.size(); ++wi) {
-        const Wall& wall = w.walls[wi];
-        for (std::uint32_t i = 0; i < n; ++i) {
-            const TranslationalState& body = w.of(ref[i].kind());
-            const std::uint32_t b = ref[i].index();
-            if (moves_by_forces(body, b) && wall_gap(wall, pos[i]).gap_m < radius[i] + skin) {
-                first.push_back(ref[i]);
-                second.push_back(wall_ref(wi));
-            }
+    parallel_for_blocks(pool, pairs.size(), block, [&](std::size_t begin, std::size_t end) {
+        std::array<std::size_t, groups>& next = group_at[begin / block];
+        for (std::size_t q = begin; q < end; ++q) {
+            const std::size_t to = next[kinds_of(pairs[q])]++;
+            first[to] = ref[pairs[q].first];
+            second[to] = ref[pairs[q].second];
         }
-        w.wall_point_at_build_m[wi] = wall.point_m;
+    });
+    // Then each wall's candidates, by (wall, body).
+    for (std::size_t wi = 0; wi < walls; ++wi) {
+        for (std::size_t b = 0; b < body_blocks; ++b)
+            for (std::uint32_t i : wall_candidates[wi * body_blocks + b]) {
+                first.push_back(ref[i]);
+                second.push_back(wall_ref(static_cast<std::uint32_t>(wi)));
+            }
+        w.wall_point_at_build_m[wi] = w.walls[wi].point_m;
     }
     ContactList& c = w.contacts;
     c.rebuild(std::move(first), std::move(second), w.walls.size(), flat);
@@ -642,29 +730,23 @@ void gather_forces(World& w, ThreadPool& pool)
             if (!w.contacts.rolling_torque_n_m.empty()) in.rolling_torque_n_m = w.contacts.rolling_torque_n_m.data();
         }
     }
-    // Point loads (World::point_loads; in a column test under mass scaling,
-    // the wire's weight: one per node) are added to a body's sum in list
-    // order. When the list names each body once, in BodyRef order (as
-    // set_weights makes it), a block adds its own bodies' loads right after
-    // their sums, on its thread; else the calling thread adds them all after
-    // the loop. Either way each body's f + p in list order: the same bits.
-    const std::vector<std::pair<BodyRef, Vec3>>& loads = w.point_loads;
-    const bool loads_in_blocks = std::adjacent_find(loads.begin(), loads.end(), [](const auto& a, const auto& b) {
-        return !(a.first < b.first);
-    }) == loads.end();
-    // Every kind's bodies in one loop (each body's sum is its own).
+    // A load on a body past the last (or on a wall) would never be added.
+    for (int k = 0; k < body_kind_count; ++k)
+        WIREDEM_ASSERT(w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(sizes[k]), BodyRef::max_index + 1).empty(),
+            "a point load names a body that does not exist");
+    WIREDEM_ASSERT(w.point_loads.empty() || !is_wall(w.point_loads.list().back().first), "a point load names a wall");
+    // Every kind's bodies in one loop (each body's sum is its own). A block
+    // adds its own bodies' point loads (World::point_loads; in a column test
+    // under mass scaling the wire's weight, one per node) right after their
+    // sums, on its thread: the list names each body at most once, in body
+    // order (state/point_loads.hpp), so each body's force is f + p.
     parallel_for_parts(pool, sizes, 256, [&](std::size_t k, std::size_t begin, std::size_t end) {
         gather(inputs[k], begin, end);
-        if (!loads_in_blocks) return;
-        const auto kind = static_cast<BodyKind>(k);
         std::vector<Vec3>& force = w.body_force_n[k];
-        auto load = std::lower_bound(loads.begin(), loads.end(), BodyRef(kind, static_cast<std::uint32_t>(begin)),
-            [](const std::pair<BodyRef, Vec3>& l, BodyRef b) { return l.first < b; });
-        for (; load != loads.end() && load->first.kind() == kind && load->first.index() < end; ++load)
-            force[load->first.index()] += load->second;
+        for (const auto& [body, p] : w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(begin),
+                 static_cast<std::uint32_t>(end)))
+            force[body.index()] += p;
     });
-    if (!loads_in_blocks)
-        for (const auto& [body, f] : loads) w.force_of(body.kind())[body.index()] += f;
 }
 
 } // namespace wiredem::engine

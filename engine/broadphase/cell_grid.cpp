@@ -179,11 +179,13 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> CellGrid::find_pairs(Thread
         },
         1);
 
-    std::size_t total = 0;
-    for (const auto& f : found) total += f.size();
-    std::vector<Pair> pairs;
-    pairs.reserve(total);
-    for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+    // The chunks' pairs one after the other, each chunk copied by a thread.
+    std::vector<std::size_t> start(chunks + 1, 0);
+    for (std::size_t ch = 0; ch < chunks; ++ch) start[ch + 1] = start[ch] + found[ch].size();
+    std::vector<Pair> pairs(start[chunks]);
+    parallel_for(
+        pool, chunks, [&](std::size_t ch) { std::copy(found[ch].begin(), found[ch].end(), pairs.begin() + static_cast<std::ptrdiff_t>(start[ch])); },
+        1);
     return pairs;
 }
 

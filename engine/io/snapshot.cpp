@@ -45,8 +45,8 @@ namespace wiredem::engine {
 // for_each_field (state/world_fields.hpp), or it is neither saved nor hashed.
 // These sizes (x86-64, libstdc++) stop the build until the table is looked at;
 // update them together with it.
-static_assert(sizeof(World) == 3312, "World changed: update for_each_field and this size");
-static_assert(sizeof(Model) == 464, "Model changed: update for_each_field and this size");
+static_assert(sizeof(World) == 3328, "World changed: update for_each_field and this size");
+static_assert(sizeof(Model) == 480, "Model changed: update for_each_field and this size");
 static_assert(sizeof(State) == 1536, "State changed: update for_each_field and this size");
 // Caches::next_prediction and Caches::near are the members not listed: a
 // restored run predicts afresh from the saved derivatives, and selects its
@@ -359,7 +359,21 @@ Result<World, std::string> restore_snapshot(
             }
             const io::Dataset d = root.open_dataset(name);
             const std::vector<std::size_t> shape = d.shape();
-            using Number = typename FieldCodec<FieldElement<std::remove_cvref_t<decltype(value)>>>::Number;
+            using Value = std::remove_cvref_t<decltype(value)>;
+            using Number = typename FieldCodec<FieldElement<Value>>::Number;
+            if constexpr (std::is_same_v<Value, PointLoads>) {
+                // The loads' order is the type's invariant, which the gather
+                // relies on: a file that breaks it is refused, saying how.
+                std::vector<PointLoads::Load> list;
+                if (shape.size() != 2 || !unflatten(d.read_doubles(), shape[0], list)) {
+                    error = "field " + name + " has an unexpected shape";
+                    return;
+                }
+                auto loads = PointLoads::from_sorted(std::move(list));
+                if (loads) value = std::move(loads).value();
+                else error = "field " + name + ": " + loads.error();
+                return;
+            }
             bool read = false;
             if (shape.size() == 2) {
                 if constexpr (std::is_same_v<Number, double>) read = unflatten(d.read_doubles(), shape[0], value);

@@ -411,9 +411,10 @@ void set_weights(World& w, double density_scale, double wire_mass_scale, double 
     w.gravity_acts[static_cast<int>(BodyKind::wire)] = false;
     const TranslationalState& wire = w.of(BodyKind::wire);
     w.point_loads.clear();
+    w.point_loads.reserve(wire.size());
     const double per_mass = weight_factor / (density_scale * wire_mass_scale);
     for (std::uint32_t i = 0; i < wire.size(); ++i)
-        w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), wire.mass_kg[i] * per_mass * g);
+        w.point_loads.set(BodyRef(BodyKind::wire, i), wire.mass_kg[i] * per_mass * g);
 }
 
 namespace {

@@ -32,6 +32,7 @@
 #include "state/clump_state.hpp"
 #include "state/materials.hpp"
 #include "state/membrane.hpp"
+#include "state/point_loads.hpp"
 #include "state/wire.hpp"
 
 #include <array>
@@ -109,9 +110,10 @@ struct Model {
     std::array<bool, body_kind_count> gravity_acts{true, true, false};
     /// Whether two kinds interact through contact (symmetric).
     KindMatrix kinds_interact = default_kinds_interact;
-    /// External forces on single bodies (loads in tests, tip loads), applied
-    /// after the gather in list order [N].
-    std::vector<std::pair<BodyRef, Vec3>> point_loads;
+    /// External forces on single bodies (loads in tests, tip loads, the
+    /// wire's weight under mass scaling), each added to its body's sum in the
+    /// gather [N]. Sorted by body, each body at most once (state/point_loads.hpp).
+    PointLoads point_loads;
     /// Verlet skin of the neighbour list [m]; ≤ 0 picks 0.2 × the largest radius.
     double skin_m = 0.0;
     WireChain wire;                       ///< the wire's parameters

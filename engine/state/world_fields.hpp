@@ -229,6 +229,11 @@ template <>
 struct ElementOf<MaterialTable> {
     using type = Material;
 };
+/// The point loads likewise, as their list.
+template <>
+struct ElementOf<PointLoads> {
+    using type = PointLoads::Load;
+};
 } // namespace detail
 
 /// The element type of a field: E for std::vector<E>, T for a scalar.
@@ -291,6 +296,23 @@ bool unflatten(const std::vector<Number>& numbers, std::size_t rows, MaterialTab
     if (!unflatten(numbers, rows, list)) return false;
     table = MaterialTable{};
     for (const Material& m : list) table.add(m);
+    return true;
+}
+
+/// The point loads as their list, one row per load.
+inline FlatField flatten(const PointLoads& loads) { return flatten(loads.list()); }
+
+/// Refills the point loads from their rows; false when the rows are not in
+/// the list's order (PointLoads::from_sorted, whose message the snapshot
+/// reader gives).
+template <class Number>
+bool unflatten(const std::vector<Number>& numbers, std::size_t rows, PointLoads& loads)
+{
+    std::vector<PointLoads::Load> list;
+    if (!unflatten(numbers, rows, list)) return false;
+    auto sorted = PointLoads::from_sorted(std::move(list));
+    if (!sorted) return false;
+    loads = std::move(sorted).value();
     return true;
 }
 

@@ -83,7 +83,7 @@ TEST(BeginRun, AContactApartIsReleasedNotLeftWithItsOldSpring)
     const double r = 1.23e-3;
     add_grain(w, Vec3(0, 0, r), r, 0);
     w.grain_rotation.inv_inertia_per_kg_m2[0] = 0.0; // no rolling: the spring takes the shear
-    w.point_loads.push_back({BodyRef(BodyKind::grain, 0), Vec3(0.05, 0.0, -1.0)});
+    w.point_loads.set(BodyRef(BodyKind::grain, 0), Vec3(0.05, 0.0, -1.0));
     set_time_step(w, stable_time_step(w, 0.1).auto_s);
     for (int s = 0; s < 2000; ++s) sim.step();
     const auto p = w.contacts.find(BodyRef(BodyKind::grain, 0), wall_ref(0));

@@ -134,7 +134,7 @@ TEST(ContactPipeline, WallContactMemorySurvivesRebuildsAndIsDroppedWhenTheContac
         add_wall(w, make_plate(0.0, +1.0, plate));
         add_grain(w, Vec3(0, 0, radius_m), radius_m, 0);
         w.grain_rotation.inv_inertia_per_kg_m2[0] = 0.0; // no rolling: the spring takes the shear
-        w.point_loads.push_back({BodyRef(BodyKind::grain, 0), Vec3(0.05, 0.0, -1.0)}); // below μ F_n
+        w.point_loads.set(BodyRef(BodyKind::grain, 0), Vec3(0.05, 0.0, -1.0)); // below μ F_n
         set_time_step(w, stable_time_step(w, 0.1).auto_s);
         w.contact.normal_damping_s = 1e-5;
     };

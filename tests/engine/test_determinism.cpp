@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstdio>
 #include <cstdlib>
 #include <iomanip>
 #include <limits>
@@ -196,23 +197,26 @@ TEST(Determinism, GearsKeptPredictionGivesTheBitsOfAFreshOne)
 }
 
 /// Point loads (World::point_loads; a column test's wire weight under mass
-/// scaling) are added in the gather's blocks when the list names each body
-/// once in BodyRef order, else after the gather in list order: a load on
-/// every wire node and a few grains gives the same bits both ways (the list
-/// sorted, and reversed), on 1 and 3 threads, and moves the bodies.
-TEST(Determinism, PointLoadsGiveTheSameBitsInTheGathersBlocksAsAfterIt)
+/// scaling) are added in the gather's blocks, each block its own bodies'
+/// (the list is in body order: state/point_loads.hpp): a load on every wire
+/// node and every 7th grain gives the same bits on 1 and 3 threads, set in
+/// body order and in reverse, and moves the bodies.
+TEST(Determinism, PointLoadsGiveTheSameBitsOnAnyThreadCount)
 {
     std::vector<std::uint64_t> hashes;
-    for (bool sorted : {true, false})
+    for (bool in_body_order : {true, false})
         for (unsigned threads : {1u, 3u}) {
             Simulation sim(threads);
             test::build_wired_column(sim.world, Integrator::gear5);
             World& w = sim.world;
+            std::vector<PointLoads::Load> loads;
             for (std::uint32_t i = 0; i < w.of(BodyKind::grain).size(); i += 7)
-                w.point_loads.emplace_back(BodyRef(BodyKind::grain, i), Vec3(1e-4, 0.0, -2e-4));
+                loads.emplace_back(BodyRef(BodyKind::grain, i), Vec3(1e-4, 0.0, -2e-4));
             for (std::uint32_t i = 0; i < w.of(BodyKind::wire).size(); ++i)
-                w.point_loads.emplace_back(BodyRef(BodyKind::wire, i), Vec3(0.0, 3e-5, -1e-4));
-            if (!sorted) std::reverse(w.point_loads.begin(), w.point_loads.end());
+                loads.emplace_back(BodyRef(BodyKind::wire, i), Vec3(0.0, 3e-5, -1e-4));
+            if (!in_body_order) std::reverse(loads.begin(), loads.end());
+            for (const auto& [body, f] : loads) w.point_loads.set(body, f);
+            ASSERT_EQ(w.point_loads.size(), loads.size());
             ASSERT_EQ(sim.run(300).end, RunEnd::completed);
             hashes.push_back(state_hash(w));
         }
@@ -221,6 +225,112 @@ TEST(Determinism, PointLoadsGiveTheSameBitsInTheGathersBlocksAsAfterIt)
     test::build_wired_column(unloaded.world, Integrator::gear5);
     ASSERT_EQ(unloaded.run(300).end, RunEnd::completed);
     EXPECT_NE(state_hash(unloaded.world), hashes[0]) << "the loads act";
+}
+
+namespace {
+/// What the blocks of the list's rebuild and of the near pairs' selection
+/// must add up to, worked out here one item at a time: the contacts in
+/// contact_key order; the near pairs ascending, with their sides; each
+/// body's near incidences those of the list on near pairs and walls, in its
+/// order.
+void expect_list_and_selection_whole(const World& w)
+{
+    const ContactList& c = w.contacts;
+    for (std::size_t p = 1; p < c.size(); ++p)
+        ASSERT_LT(contact_key(c.first[p - 1], c.second[p - 1]), contact_key(c.first[p], c.second[p])) << "contact " << p;
+    const NearPairs& near = w.near;
+    if (near.all) return;
+    std::vector<std::uint8_t> is_near(c.size(), 1);
+    std::fill(is_near.begin(), is_near.begin() + static_cast<std::ptrdiff_t>(c.pair_count()), 0);
+    for (std::size_t k = 0; k < near.pairs.size(); ++k) {
+        const std::uint32_t p = near.pairs[k];
+        ASSERT_TRUE(k == 0 || near.pairs[k - 1] < p) << "near pair " << k;
+        ASSERT_LT(p, c.pair_count());
+        ASSERT_TRUE(near.first[k] == c.first[p] && near.second[k] == c.second[p]) << "near pair " << k;
+        is_near[p] = 1;
+    }
+    const std::size_t n = w.body_count();
+    ASSERT_EQ(near.incidence_start.size(), n + 1);
+    std::vector<std::uint32_t> expected;
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(near.incidence_start[i], expected.size()) << "body " << i;
+        for (std::uint32_t e = c.incidence_start[i]; e < c.incidence_start[i + 1]; ++e)
+            if (is_near[c.incidence[e].contact()]) expected.push_back(c.incidence[e].bits);
+    }
+    ASSERT_EQ(near.incidence_start[n], expected.size());
+    ASSERT_EQ(near.incidence.size(), expected.size());
+    for (std::size_t e = 0; e < expected.size(); ++e) ASSERT_EQ(near.incidence[e].bits, expected[e]) << "incidence " << e;
+}
+} // namespace
+
+/// The contact list's rebuild and the near pairs' selection
+/// (update_neighbours) run over fixed blocks of pairs and of bodies on the
+/// pool's threads, each block writing, from offsets summed in block order,
+/// what one serial loop would. A cylinder of 2500 grains on a tight lattice,
+/// kicked (several blocks of bodies and of pairs, floor and cylinder
+/// contacts, rebuilds and selections while the grains fall), has the same
+/// list, near pairs, incidences and selection positions, bit for bit, on 1
+/// and 3 threads after every step, and they are whole (the list sorted, the
+/// near pairs and incidences those of the list: above).
+TEST(Determinism, NeighbourListAndNearPairsAreTheSameOnAnyThreadCount)
+{
+    const auto build = [](Simulation& sim) {
+        World& w = sim.world;
+        ContainerSpec spec;
+        spec.container_radius_m = 12e-3;
+        spec.grains = 2500;
+        spec.lattice_gap = 0.05;
+        spec.grain.youngs_modulus_pa = 1e8;
+        spec.seed = 3;
+        build_container(w, spec);
+        w.contact.normal_damping_s = 1e-5;
+        w.dt_s = stable_time_step(w).auto_s;
+        SplitMix64 rng(5);
+        for (std::uint32_t i = 0; i < w.bodies[0].size(); ++i) {
+            const double vy = rng.uniform() - 0.5; // drawn y first: one scene for every compiler
+            const double vx = rng.uniform() - 0.5;
+            set_velocity(w, {BodyKind::grain, i}, 0.1 * Vec3(vx, vy, -1.0));
+        }
+    };
+    Simulation one(1), three(3);
+    build(one);
+    build(three);
+    const auto bits = [](const std::vector<Incidence>& v) {
+        std::vector<std::uint32_t> out;
+        for (const Incidence& e : v) out.push_back(e.bits);
+        return out;
+    };
+    std::size_t most_pairs = 0, wall_contacts = 0;
+    for (int s = 0; s < 300; ++s) {
+        one.step();
+        three.step();
+        const World& a = one.world;
+        const World& b = three.world;
+        ASSERT_NO_FATAL_FAILURE(expect_list_and_selection_whole(b)) << "step " << s;
+        ASSERT_EQ(a.neighbour_builds, b.neighbour_builds) << "step " << s;
+        ASSERT_EQ(a.near.selections, b.near.selections) << "step " << s;
+        ASSERT_TRUE(a.contacts.first == b.contacts.first && a.contacts.second == b.contacts.second) << "step " << s;
+        ASSERT_EQ(a.contacts.hertz_coefficient, b.contacts.hertz_coefficient) << "step " << s;
+        ASSERT_EQ(bits(a.contacts.incidence), bits(b.contacts.incidence)) << "step " << s;
+        ASSERT_EQ(a.near.all, b.near.all) << "step " << s;
+        ASSERT_EQ(a.near.pairs, b.near.pairs) << "step " << s;
+        ASSERT_TRUE(a.near.first == b.near.first && a.near.second == b.near.second) << "step " << s;
+        ASSERT_EQ(a.near.incidence_start, b.near.incidence_start) << "step " << s;
+        ASSERT_EQ(bits(a.near.incidence), bits(b.near.incidence)) << "step " << s;
+        ASSERT_TRUE(a.near.position_m == b.near.position_m) << "step " << s;
+        ASSERT_EQ(a.near.drift_m, b.near.drift_m) << "step " << s;
+        ASSERT_EQ(state_hash(a), state_hash(b)) << "step " << s;
+        most_pairs = std::max(most_pairs, a.contacts.pair_count());
+        wall_contacts = std::max(wall_contacts, a.contacts.size() - a.contacts.pair_count());
+    }
+    const World& w = one.world;
+    EXPECT_GT(w.bodies[0].size(), 2 * reduction_block) << "several blocks of bodies";
+    EXPECT_GT(most_pairs, 4 * reduction_block) << "several blocks of pairs";
+    EXPECT_GT(wall_contacts, 100u);
+    EXPECT_GE(w.neighbour_builds, 2u) << "a rebuild while the grains fall, besides the first";
+    EXPECT_GE(w.near.selections, 5u);
+    std::printf("[ info ] %zu list pairs at most, %zu wall contacts, %llu builds, %llu selections\n", most_pairs,
+        wall_contacts, static_cast<unsigned long long>(w.neighbour_builds), static_cast<unsigned long long>(w.near.selections));
 }
 
 /// The SIMD contact kernels (contact/pair_kernel_simd.hpp; AVX-512 and

@@ -45,7 +45,7 @@ TEST(SlidingSphere, StopsAndSticksEvenWhenOneFrictionStepOvershootsTheStickWindo
     const double overlap = std::pow(load_n / ((4.0 / 3.0) * e_star * std::sqrt(radius_m)), 2.0 / 3.0);
     place_body(w, BodyRef(BodyKind::grain, 0), Vec3(0, 0, radius_m - overlap));
     set_velocity(w, BodyRef(BodyKind::grain, 0), Vec3(0.1, 0, 0));
-    w.point_loads.push_back({BodyRef(BodyKind::grain, 0), Vec3(0, 0, -load_n)});
+    w.point_loads.set(BodyRef(BodyKind::grain, 0), Vec3(0, 0, -load_n));
 
     // Coulomb friction stops the slip within v₀ / (μ P / m_t) ≈ 30 steps;
     // look at the last 20 000 of 40 000.

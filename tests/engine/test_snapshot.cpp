@@ -9,6 +9,7 @@
 #include "wired_column.hpp"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <algorithm>
 #include <array>
@@ -421,7 +422,7 @@ TEST(Snapshot, ArraysThatDoNotFitTheBodiesAreRefused)
     }
     {
         World w = sim.world;
-        w.point_loads.emplace_back(BodyRef(BodyKind::grain, static_cast<std::uint32_t>(w.of(BodyKind::grain).size())),
+        w.point_loads.set(BodyRef(BodyKind::grain, static_cast<std::uint32_t>(w.of(BodyKind::grain).size())),
             Vec3::UnitZ());
         ASSERT_TRUE(save_snapshot(w, path).ok());
         const auto r = restore_snapshot(path);
@@ -431,6 +432,39 @@ TEST(Snapshot, ArraysThatDoNotFitTheBodiesAreRefused)
     ASSERT_TRUE(save_snapshot(sim.world, path).ok()); // the same column untouched restores
     EXPECT_TRUE(restore_snapshot(path).ok());
     std::filesystem::remove(path);
+}
+
+TEST(Snapshot, PointLoadsOutOfBodyOrderAreRefused)
+{
+    // The gather adds each block's own point loads, which needs the list in
+    // body order, each body once (state/point_loads.hpp). A file whose list
+    // is not (edited, or written by another program) is refused, saying so;
+    // the state hash does not cover the loads (model, not state).
+    Simulation sim(1);
+    build_wired_column(sim.world, Integrator::gear5);
+    World& w = sim.world;
+    w.point_loads.set(BodyRef(BodyKind::grain, 2), Vec3(0, 0, -1));
+    w.point_loads.set(BodyRef(BodyKind::wire, 1), Vec3(0, 0, -2));
+    const std::filesystem::path path = temp_path("point_loads.h5");
+    ASSERT_TRUE(save_snapshot(w, path).ok());
+    ASSERT_TRUE(restore_snapshot(path).ok()); // as saved
+    // The two rows (body, fx, fy, fz) swapped in place.
+    const std::array<double, 8> swapped{
+        static_cast<double>(w.point_loads[1].first.bits), 0, 0, -2, static_cast<double>(w.point_loads[0].first.bits), 0, 0, -1};
+    {
+        const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+        ASSERT_GE(file, 0);
+        const hid_t d = H5Dopen2(file, "point_loads", H5P_DEFAULT);
+        ASSERT_GE(d, 0);
+        EXPECT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, swapped.data()), 0);
+        H5Dclose(d);
+        H5Fclose(file);
+    }
+    const auto r = restore_snapshot(path);
+    std::filesystem::remove(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("field point_loads: entry 1 (grain 2) comes before entry 0 (wire node 1)"), std::string::npos)
+        << r.error();
 }
 
 TEST(Snapshot, AnUnwritableDirectoryIsAnError)

@@ -335,7 +335,7 @@ TEST(WireStretch, ExtensionUnderAxialLoadIsFLOverEA)
     World& w = sim.world;
     hold(w, 0);
     const double force = 0.5; // N: strain 6e-4
-    w.point_loads.push_back({{BodyKind::wire, nodes - 1}, Vec3(force, 0, 0)});
+    w.point_loads.set(BodyRef(BodyKind::wire, nodes - 1), Vec3(force, 0, 0));
     // Slowest axial mode of a fixed–free bar: ω = (π/2L)√(E/ρ).
     const double length = (nodes - 1) * paper_wire.segment_length_m;
     const double omega = M_PI / (2 * length) * std::sqrt(paper_wire.youngs_modulus_pa / paper_wire.density_kg_per_m3);
@@ -360,7 +360,7 @@ TEST(WireCantilever, TipDeflectionMatchesEulerBernoulli)
     // segment on either side, so the beam starts half a segment before node 1.
     const double length = (nodes - 2 + 0.5) * paper_wire.segment_length_m;
     const double force = 1e-3 * 3 * ei / (length * length); // tip deflection ≈ 1e-3 L
-    w.point_loads.push_back({{BodyKind::wire, nodes - 1}, Vec3(0, 0, -force)});
+    w.point_loads.set(BodyRef(BodyKind::wire, nodes - 1), Vec3(0, 0, -force));
     // First cantilever mode: ω₁ = 1.875² √(EI/(ρ A L⁴)).
     const double omega = 1.875 * 1.875 * std::sqrt(ei / (paper_wire.density_kg_per_m3 * area_m2() * std::pow(length, 4)));
     relax(sim, static_cast<std::uint64_t>(40.0 / (omega * w.dt_s)), 2.0 * omega * w.dt_s);

@@ -81,11 +81,11 @@ TEST(WireBreaking, APulledWireBreaksAtTheAnalyticalLoad)
     set_motion(w, {BodyKind::wire, 0}, Motion::fixed);
     const double f_b = paper_wire.youngs_modulus_pa * area_m2() * eps_b;
     const double ramp_s = 5e-3;
-    w.point_loads.push_back({{BodyKind::wire, nodes - 1}, Vec3::Zero()});
+    w.point_loads.set(BodyRef(BodyKind::wire, nodes - 1), Vec3::Zero());
     double load_at_break = 0.0;
     for (std::uint64_t n = 0; n < static_cast<std::uint64_t>(2.0 * ramp_s / w.dt_s) && w.wire_breaks.empty(); ++n) {
         const double load = f_b * w.time_s / ramp_s;
-        w.point_loads[0].second = Vec3(load, 0, 0);
+        w.point_loads.set(BodyRef(BodyKind::wire, nodes - 1), Vec3(load, 0, 0));
         sim.step();
         load_at_break = load;
     }
