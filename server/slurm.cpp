@@ -185,10 +185,10 @@ std::string slurm_batch_script(
     add(std::to_string(options.cpus_per_task));
     add("--progress");
     add("json");
-    if (stage == SlurmStage::test) {
-        add("--checkpoint-interval");
-        add(engine::exact_number(checkpoint_interval_s));  // shortest exact
-    }
+    // Every stage keeps checkpoints at the server's interval: the preparation,
+    // each test, and the analysis, which runs the free-standing test.
+    add("--checkpoint-interval");
+    add(engine::exact_number(checkpoint_interval_s));  // shortest exact
     const std::string exit_file = stage == SlurmStage::test
         ? shell_quote((files.dir() / "test_").string()) + task + shell_quote(".exit")
         : shell_quote(files.log(stage, 0, "exit").string());

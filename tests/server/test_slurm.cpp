@@ -170,6 +170,12 @@ TEST(SlurmSubmission, TheBatchScriptPassesItsWordsToWiredemAsTheyAreAndLeavesThe
     EXPECT_EQ(read_all(files.log(SlurmStage::test, 1, "exit")), "3\n");
     EXPECT_FALSE(fs::exists(root / "pwned"));
     EXPECT_FALSE(fs::exists(files.log(SlurmStage::test, 1, "exit.part")));
+    // The preparation and the analysis (which runs the free-standing test)
+    // keep checkpoints at the server's interval too, not at the runner's default.
+    for (const SlurmStage stage : {SlurmStage::prepare, SlurmStage::analyse}) {
+        const std::string text = slurm_batch_script(stage, "0123456789abcdef01234567", files, o, 0.25);
+        EXPECT_NE(text.find("'--checkpoint-interval' '0.25'"), std::string::npos) << text;
+    }
     fs::remove_all(root.parent_path());
 }
 
