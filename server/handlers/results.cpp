@@ -332,9 +332,21 @@ Response live_free_standing(const Request& req, const std::vector<std::string>& 
                 {"columns", json::array()}, {"profiles", nullptr}, {"wire_at_peak", nullptr}, {"snapshots", json::array()},
                 {"peak_snapshot", nullptr}, {"series_url", base + "/" + name + "/series"}});
     }
-    auto parsed = series_query(req, name, {}, q);
+    // No rows yet, but the columns a free-standing series has (a test's, less
+    // the volumetric strain it leaves empty), so that a query naming them is
+    // answered as it will be once rows come.
+    std::vector<api::SeriesColumn> all = campaign::series_columns(engine::TriaxialSeries{});
+    std::erase_if(all, [](const api::SeriesColumn& c) { return c.name == "volumetric_strain"; });
+    std::vector<std::string> names;
+    for (const auto& c : all) names.push_back(c.name);
+    auto parsed = series_query(req, name, names, q);
     if (auto* res = std::get_if<Response>(&parsed)) return std::move(*res);
-    json::object body = api::series_json(name, std::vector<api::SeriesColumn>{}, std::get<SeriesQuery>(parsed).max_points);
+    const SeriesQuery& sq = std::get<SeriesQuery>(parsed);
+    std::vector<api::SeriesColumn> chosen;
+    for (const auto& n : sq.columns)
+        for (auto& c : all)
+            if (c.name == n) chosen.push_back(std::move(c));
+    json::object body = api::series_json(name, sq.columns.empty() ? all : chosen, sq.max_points);
     body["partial"] = true;
     body["state"] = state;
     body["reached"] = nullptr;

@@ -629,6 +629,13 @@ protected:
                         if (sb.as_object().contains("state") && sb.at("state") != "finished") {
                             EXPECT_EQ(sb.at("rows").to_number<std::size_t>(), 0u);
                         }
+                        // Named columns are answered before the first row too (it answered 400).
+                        const auto named = get("/free_standing/series?columns=phase,sigma1_pa");
+                        EXPECT_EQ(named.status, 200) << named.body;
+                        if (named.status == 200 && named.json().as_object().contains("state")
+                            && named.json().at("state") != "finished") {
+                            EXPECT_EQ(named.json().at("columns").as_object().size(), 2u) << named.body;
+                        }
                     } else {
                         EXPECT_EQ(b.at("rows").to_number<std::size_t>(), fs_rows);
                         EXPECT_FALSE(b.at("partial").as_bool());
