@@ -28,6 +28,14 @@ GrainVolumes grain_volumes(const World& w)
     return out;
 }
 
+double mean_grain_radius_m(const World& w)
+{
+    const std::vector<double> radii = grain_volumes(w).radius_m;
+    double sum_m = 0.0;
+    for (const double r : radii) sum_m += r;
+    return radii.empty() ? 0.0 : sum_m / static_cast<double>(radii.size());
+}
+
 CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m, double top_z_m,
     double margin_m, double grid_m)
 {

@@ -39,6 +39,11 @@ struct GrainVolumes {
 /// The grains of `w` (grain_body_count of them) and their volumes.
 [[nodiscard]] GrainVolumes grain_volumes(const World& w);
 
+/// The mean of grain_volumes' radii: a sphere's radius, a clump's
+/// volume-equivalent one, each grain once (the grain size of the tests'
+/// inertial number) [m]; 0 without grains.
+[[nodiscard]] double mean_grain_radius_m(const World& w);
+
 [[nodiscard]] CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m,
     double top_z_m, double margin_m, double grid_m);
 

@@ -3,6 +3,7 @@
 
 #include "analysis/stress.hpp"
 #include "contact/geometry.hpp"
+#include "specimen/packing.hpp"
 #include "specimen/preparation.hpp"
 #include "timestep.hpp"
 #include "triaxial/consolidation.hpp"
@@ -173,10 +174,9 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
     for (const std::size_t i : {walls.bottom, walls.top, walls.lateral[0], walls.lateral[1], walls.lateral[2], walls.lateral[3]})
         w.walls[i].velocity_m_per_s.setZero();
 
+    // A clump counts once, at its volume-equivalent radius.
     const TranslationalState& grains = w.of(BodyKind::grain);
-    double radius_sum_m = 0.0;
-    for (double r : grains.radius_m) radius_sum_m += r;
-    const double grain_radius_m = radius_sum_m / static_cast<double>(grains.size());
+    const double grain_radius_m = mean_grain_radius_m(w);
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
 
     TriaxialDriverState st;

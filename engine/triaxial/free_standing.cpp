@@ -382,13 +382,11 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
 
     // Grains as grains: a clump's spheres have no mass of their own (the
     // clump has it) and it counts once in the mean radius and per grain.
-    double radius_sum_m = 0.0, column_mass_kg = 0.0;
-    const std::vector<double> grain_radii_m = grain_volumes(w).radius_m;
-    for (double r : grain_radii_m) radius_sum_m += r;
+    double column_mass_kg = 0.0;
     for (double m : grains.mass_kg) column_mass_kg += m;
     for (double m : w.clumps.mass_kg) column_mass_kg += m;
     const double grain_count = static_cast<double>(grain_body_count(w));
-    const double grain_radius_m = radius_sum_m / grain_count;
+    const double grain_radius_m = mean_grain_radius_m(w);
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
     const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
     const double density_scale = settings.real_weights ? settings.real_weights->density_scale : 1.0;

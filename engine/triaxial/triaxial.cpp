@@ -3,6 +3,7 @@
 
 #include "analysis/stress.hpp"
 #include "forces/membrane_forces.hpp"
+#include "specimen/packing.hpp"
 #include "specimen/preparation.hpp"
 #include "timestep.hpp"
 #include "triaxial/formwork.hpp"
@@ -209,10 +210,9 @@ Result<TriaxialResult, std::string> run_triaxial(Simulation& sim, std::size_t to
     if (crit.overdamped()) return Err(overdamped_error(crit, w.contact.normal_damping_s));
 
     // Grain properties for the inertial number (mass-scaled density if scaled).
+    // A clump counts once, at its volume-equivalent radius.
     const TranslationalState& grains = w.of(BodyKind::grain);
-    double radius_sum_m = 0.0;
-    for (double r : grains.radius_m) radius_sum_m += r;
-    const double grain_radius_m = radius_sum_m / static_cast<double>(grains.size());
+    const double grain_radius_m = mean_grain_radius_m(w);
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
 
     const double pre_load_s = settings.pressure_ramp_time_s + settings.hold_time_s;

@@ -49,6 +49,11 @@ TEST(GrainVolumes, TwoSphereClumpsCountAsOneGrainEachWithTheirUnionVolume)
     EXPECT_NEAR(g.total_volume_m3 / box_m3, (3.0 * sphere + 5.0 * clump) / box_m3, 1e-9 * (3.0 * sphere + 5.0 * clump) / box_m3);
     // 3 + 5 × 1.6875 = 11.4375 sphere volumes, where the spheres' would be 13.
     EXPECT_NEAR(g.total_volume_m3, 11.4375 * sphere, 1e-9 * 11.4375 * sphere);
+    // The tests' grain size: each grain once, a clump at 1.6875^(1/3) r (its
+    // volume-equivalent radius), not the mean of its 10 spheres' r.
+    const double expected = (3.0 * r + 5.0 * std::cbrt(1.6875) * r) / 8.0;
+    EXPECT_NEAR(mean_grain_radius_m(w), expected, 1e-9 * r);
+    EXPECT_EQ(mean_grain_radius_m(World{}), 0.0);
 }
 
 TEST(CoreVolumeFractions, ASimpleCubicLatticeFillsPiOverSix)
