@@ -113,12 +113,8 @@ double unbalanced_force_ratio(const World& w)
     if (contacts == 0) return 0.0;
     const TranslationalState& g = w.of(BodyKind::grain);
     const std::vector<Vec3>& net = w.force_of(BodyKind::grain);
-    double net_sum = 0.0;
-    if (w.clumps.empty()) {
-        for (std::size_t i = 0; i < g.size(); ++i) net_sum += net[i].norm();
-        return (net_sum / static_cast<double>(g.size())) / (contact_sum / static_cast<double>(contacts));
-    }
     // A clump's spheres carry the contacts; the body is the clump.
+    double net_sum = 0.0;
     for (std::size_t i = 0; i < g.size(); ++i)
         if (!w.clumps.is_member(i)) net_sum += net[i].norm();
     for (const Vec3& f : w.clump_loads.force_n) net_sum += f.norm();
@@ -148,15 +144,10 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     // initial fraction (a crushed clump's are 2.9 times its volume).
     const double k = spec.grain_shape ? spec.grain_shape->bounding_radius_m() : 1.0;
     std::vector<double> extents(radii.size());
-    double extent_volume_m3 = grain_volume_m3;
-    if (spec.grain_shape) {
-        extent_volume_m3 = 0.0;
-        for (std::size_t i = 0; i < radii.size(); ++i) {
-            extents[i] = k * radii[i];
-            extent_volume_m3 += 4.0 / 3.0 * std::numbers::pi * extents[i] * extents[i] * extents[i];
-        }
-    } else {
-        extents = radii;
+    double extent_volume_m3 = 0.0; // the grains' volume for spheres (k = 1: the same bits)
+    for (std::size_t i = 0; i < radii.size(); ++i) {
+        const double e = extents[i] = k * radii[i];
+        extent_volume_m3 += 4.0 / 3.0 * std::numbers::pi * e * e * e;
     }
     // The fraction is over the box the centres may take, the box less the
     // largest radius at each wall: counted over the whole box, a small box's

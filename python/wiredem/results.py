@@ -444,6 +444,10 @@ def _read_frame(path: Path, group: str, names: List[str], units: Dict[str, Optio
     return frame
 
 
+#: The free-standing group's per-segment datasets at the peak, and their names in :meth:`FreeStanding.wire_at_peak`.
+_WIRE_AT_PEAK = {"wire_strain_at_peak": "strain", "wire_tension_at_peak_n": "tension_n"}
+
+
 class FreeStanding:
     """The free-standing test (``/free_standing``; docs/model.md, "The free-standing test"):
     the formwork taken away, the column settling under its own weight, an optional dead
@@ -469,8 +473,7 @@ class FreeStanding:
             # The series: the datasets with one entry per row (not the per-segment
             # ones at the peak, nor the volumetric strain a free column leaves empty).
             self._columns = {k: u for k, u in units.items() if g[k].ndim == 1 and g[k].shape[0] == rows and rows}
-            self._per_segment = {k: u for k, u in units.items() if k.startswith("wire_") and k.endswith("_at_peak")
-                                 or k == "wire_tension_at_peak_n"}
+            self._per_segment = {k: u for k, u in units.items() if k in _WIRE_AT_PEAK}
             self._groups = {k: _dataset_units(g[k]) for k in g if isinstance(g[k], h5py.Group)
                             and k not in ("snapshots", "peak_snapshot")}
             #: {phase code: name}, as the file's ``phase`` dataset declares them
@@ -616,7 +619,7 @@ class FreeStanding:
     def wire_at_peak(self) -> pd.DataFrame:
         """Per wire segment, in the order laid, at the compression's largest σ₁:
         ``strain`` and ``tension_n``."""
-        names = {"wire_strain_at_peak": "strain", "wire_tension_at_peak_n": "tension_n"}
+        names = _WIRE_AT_PEAK
         have = [k for k in names if k in self._per_segment]
         if not have:
             raise ResultError(f"{self._path}: the free-standing test holds no wire at its peak "

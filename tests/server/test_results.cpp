@@ -325,6 +325,22 @@ std::vector<double> column_of(const json::value& series, const char* name)
     return out;
 }
 
+/// Every partial series is the beginning of the finished one, bit for bit,
+/// in each of `columns`.
+void expect_partials_begin_the_final_series(
+    const json::value& final_series, const std::vector<json::value>& partial, std::initializer_list<const char*> columns)
+{
+    EXPECT_FALSE(final_series.at("partial").as_bool());
+    for (const char* column : columns) {
+        const std::vector<double> all = column_of(final_series, column);
+        for (const json::value& p : partial) {
+            const std::vector<double> head = column_of(p, column);
+            ASSERT_LT(head.size(), all.size());
+            EXPECT_TRUE(std::equal(head.begin(), head.end(), all.begin())) << column << ": a partial series is not the start of the final one";
+        }
+    }
+}
+
 // With the real runner, checkpoints every 50 ms: while a job runs, its first
 // test's series grows from the checkpoints (marked partial, with how far it
 // reached), and every partial series is the beginning of the finished one,
@@ -378,15 +394,7 @@ TEST(LiveSeriesRealRunner, ARunningTestsSeriesGrowsAndIsTheBeginningOfTheFinishe
     const auto done = http(server.port(), "GET", series);
     ASSERT_EQ(done.status, 200);
     const json::value final_series = done.json();
-    EXPECT_FALSE(final_series.at("partial").as_bool());
-    for (const char* column : {"time_s", "deviatoric_stress_pa", "phase"}) {
-        const std::vector<double> all = column_of(final_series, column);
-        for (const json::value& p : partial) {
-            const std::vector<double> head = column_of(p, column);
-            ASSERT_LT(head.size(), all.size());
-            EXPECT_TRUE(std::equal(head.begin(), head.end(), all.begin())) << column << ": a partial series is not the start of the final one";
-        }
-    }
+    expect_partials_begin_the_final_series(final_series, partial, {"time_s", "deviatoric_stress_pa", "phase"});
     // A running test has no volumetric strain yet (derived when it ends): not among its columns.
     EXPECT_FALSE(partial.front().at("units").as_object().contains("volumetric_strain"));
 }
@@ -411,7 +419,7 @@ TEST(LiveSeriesRealRunner, ARunningFreeStandingTestsSeriesGrowsAndIsTheBeginning
     ASSERT_EQ(r.status, 201) << r.body;
     const std::string id(r.json().at("id").as_string());
     const std::string route = "/v1/jobs/" + id + "/free_standing";
-    const std::string series = route + "/series"; // every column: before the test begins, it has none to choose from
+    const std::string series = route + "/series?columns=time_s,sigma1_pa,phase"; // named, from before the test begins
 
     std::vector<json::value> partial;  // each reply that had grown
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
@@ -443,16 +451,7 @@ TEST(LiveSeriesRealRunner, ARunningFreeStandingTestsSeriesGrowsAndIsTheBeginning
 
     const auto done = http(server.port(), "GET", series);
     ASSERT_EQ(done.status, 200);
-    const json::value final_series = done.json();
-    EXPECT_FALSE(final_series.at("partial").as_bool());
-    for (const char* column : {"time_s", "sigma1_pa", "phase"}) {
-        const std::vector<double> all = column_of(final_series, column);
-        for (const json::value& p : partial) {
-            const std::vector<double> head = column_of(p, column);
-            ASSERT_LT(head.size(), all.size());
-            EXPECT_TRUE(std::equal(head.begin(), head.end(), all.begin())) << column << ": a partial series is not the start of the final one";
-        }
-    }
+    expect_partials_begin_the_final_series(done.json(), partial, {"time_s", "sigma1_pa", "phase"});
 }
 
 } // namespace
