@@ -1,4 +1,4 @@
-// The campaign's stages through the real `wiredem` binary on examples/tiny.json (loaded to 2 %):
+// The campaign's stages through the real `wiredem` binary on examples/tiny.json (a short test: tiny_job()):
 // prepare + test + analyse give the files `run` gives, bit for bit; tests run
 // at once give what tests run one after another give; a test or a preparation
 // killed with SIGKILL at several points continues from its checkpoints to the
@@ -25,6 +25,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 #include <spawn.h>
@@ -81,24 +82,43 @@ public:
 [[maybe_unused]] const ::testing::Environment* const scratch_cleanup =
     ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
-/// examples/tiny.json loaded to 2 % instead of 8 % of strain (written once per
-/// process): the stages' orchestration needs a campaign that runs, not the
-/// strain, and a quarter of the loading took these cases from ~20 to ~6 min
-/// under ASan.
+/// examples/tiny.json with a shorter test, written once per process under
+/// `name`: loaded to `strain` instead of 8 %, after a ramp and hold of `ramp_s`
+/// and `hold_s` instead of 5 and 10 ms.
+fs::path tiny_variant(const std::string& name, double strain, double ramp_s, double hold_s)
+{
+    std::ifstream in(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json");
+    std::ostringstream text;
+    text << in.rdbuf();
+    json::value job = json::parse(text.str());
+    json::object& triaxial = job.as_object()["triaxial"].as_object();
+    triaxial["target_axial_strain"] = strain;
+    triaxial["snapshot_strains"] = json::array{0.0, strain / 2, strain};
+    triaxial["pressure_ramp_time_s"] = ramp_s;
+    triaxial["hold_time_s"] = hold_s;
+    const fs::path p = scratch_root() / name;
+    std::ofstream(p) << json::serialize(job);
+    return p;
+}
+
+/// The campaign these cases run: the stages' orchestration needs a campaign
+/// that runs, not a consolidated column or its strength (the runner warns
+/// that it had not consolidated). Loaded to 1 % after a ramp of 2 ms and a
+/// hold of 3 ms: each test costs 0.4 of the 2 % test after the 10 ms hold
+/// (which the consolidation check lengthened to the end of its max_hold_time_s),
+/// and 8 % took these cases ~20 min under ASan.
 const fs::path& tiny_job()
 {
-    static const fs::path path = [] {
-        std::ifstream in(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json");
-        std::ostringstream text;
-        text << in.rdbuf();
-        json::value job = json::parse(text.str());
-        json::object& triaxial = job.as_object()["triaxial"].as_object();
-        triaxial["target_axial_strain"] = 0.02;
-        triaxial["snapshot_strains"] = json::array{0.0, 0.01, 0.02};
-        const fs::path p = scratch_root() / "job.json";
-        std::ofstream(p) << json::serialize(job);
-        return p;
-    }();
+    static const fs::path path = tiny_variant("job.json", 0.01, 0.002, 0.003);
+    return path;
+}
+
+/// The cases that kill a test after growing delays need a test that lasts
+/// long enough to be killed twice after a checkpoint: loaded to 2 % after the
+/// example's ramp and hold.
+const fs::path& longer_tiny_job()
+{
+    static const fs::path path = tiny_variant("longer_job.json", 0.02, 0.005, 0.01);
     return path;
 }
 
@@ -198,17 +218,16 @@ std::string joined(const std::vector<std::string>& v)
     return s;
 }
 
-/// The reference: `wiredem run` with one thread (tests one after another),
-/// computed once for the suite.
-const fs::path& reference_run()
+/// The reference: `wiredem run` of `job` with one thread (tests one after
+/// another), computed once per job for the suite.
+const fs::path& reference_run(const fs::path& job = tiny_job())
 {
-    static const fs::path dir = [] {
-        const fs::path d = fresh_dir("reference");
-        const Outcome o = run_wiredem({"run", tiny_job().string(), "-o", (d / "out").string(), "--threads", "1"}, d / "log");
-        EXPECT_TRUE(o.ok()) << o.err;
-        return d / "out";
-    }();
-    return dir;
+    static std::map<fs::path, fs::path> runs;
+    if (const auto it = runs.find(job); it != runs.end()) return it->second;
+    const fs::path d = fresh_dir("reference_" + job.stem().string());
+    const Outcome o = run_wiredem({"run", job.string(), "-o", (d / "out").string(), "--threads", "1"}, d / "log");
+    EXPECT_TRUE(o.ok()) << o.err;
+    return runs.emplace(job, d / "out").first->second;
 }
 
 } // namespace
@@ -340,9 +359,9 @@ KilledRuns kill_until_it_finishes(
 // here), and the test ends with the file of an uninterrupted test.
 TEST(Stages, ATestKilledAtSeveralPointsContinuesToTheSameResult)
 {
-    const fs::path& ref = reference_run();
+    const fs::path& ref = reference_run(longer_tiny_job());
     const fs::path dir = fresh_dir("killed"), out = dir / "out";
-    ASSERT_TRUE(run_wiredem({"prepare", tiny_job().string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    ASSERT_TRUE(run_wiredem({"prepare", longer_tiny_job().string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
     const KilledRuns r = kill_until_it_finishes(
         [&](int) {
             return std::vector<std::string>{
@@ -817,6 +836,24 @@ json::value computed_free_standing(const fs::path& summary)
     return v;
 }
 
+/// tiny_job() at one pressure with a short free-standing test (written once
+/// per process): the job of the free-standing stage cases, whose `wiredem run`
+/// on one thread they share as their reference (reference_run).
+const fs::path& free_standing_job()
+{
+    static const fs::path path = [] {
+        json::value job = json::parse(read_text(tiny_job()));
+        job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
+        job.as_object()["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01},
+            {"removal_distance_m", 0.002}, {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05},
+            {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
+        const fs::path p = scratch_root() / "free_standing_job.json";
+        std::ofstream(p) << json::serialize(job);
+        return p;
+    }();
+    return path;
+}
+
 } // namespace
 
 // A job with a free-standing test: `analyse` runs it (after the tests, as
@@ -825,14 +862,9 @@ json::value computed_free_standing(const fs::path& summary)
 // for how it ran; a second `analyse` finds it done and gives the same.
 TEST(Stages, AnalyseRunsTheFreeStandingTestAsRunDoes)
 {
-    json::value job = json::parse(read_text(tiny_job()));
-    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
-    job.as_object()["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
-        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
-    const fs::path dir = fresh_dir("free_standing"), spec = dir / "job.json";
-    std::ofstream(spec) << json::serialize(job);
-    const Outcome ran = run_wiredem({"run", spec.string(), "-o", (dir / "run").string(), "--threads", "1"}, dir / "log");
-    ASSERT_TRUE(ran.ok()) << ran.err;
+    const fs::path& spec = free_standing_job();
+    const fs::path& ran = reference_run(spec);
+    const fs::path dir = fresh_dir("free_standing");
     const fs::path out = dir / "staged";
     ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
     ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0", "--threads", "1"}, dir / "log").ok());
@@ -840,12 +872,12 @@ TEST(Stages, AnalyseRunsTheFreeStandingTestAsRunDoes)
     const Outcome a = run_wiredem({"analyse", out.string(), "--threads", "2"}, dir / "log");
     ASSERT_TRUE(a.ok()) << a.err;
     EXPECT_TRUE(fs::exists(out / "tests/free_standing.h5"));
-    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
-    const auto diffs = h5_differences(out / "result.h5", dir / "run/result.h5", how_it_ran);
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(ran / "summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", ran / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
     const Outcome again = run_wiredem({"analyse", out.string()}, dir / "log");
     ASSERT_TRUE(again.ok()) << again.err;
-    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(ran / "summary.json"));
 }
 
 // `wiredem test --free-standing` runs the free-standing test alone, before or
@@ -853,14 +885,9 @@ TEST(Stages, AnalyseRunsTheFreeStandingTestAsRunDoes)
 // does): the staged results are run's, bit for bit but for how it ran.
 TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
 {
-    json::value job = json::parse(read_text(tiny_job()));
-    job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
-    job.as_object()["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
-        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
-    const fs::path dir = fresh_dir("free_standing_stage"), spec = dir / "job.json";
-    std::ofstream(spec) << json::serialize(job);
-    const Outcome ran = run_wiredem({"run", spec.string(), "-o", (dir / "run").string(), "--threads", "1"}, dir / "log");
-    ASSERT_TRUE(ran.ok()) << ran.err;
+    const fs::path& spec = free_standing_job();
+    const fs::path& ran = reference_run(spec);
+    const fs::path dir = fresh_dir("free_standing_stage");
     const fs::path out = dir / "staged";
     ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
     Outcome o = run_wiredem({"test", out.string(), "--free-standing", "--index", "0"}, dir / "log");
@@ -870,8 +897,8 @@ TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
     EXPECT_TRUE(fs::exists(out / "tests/free_standing.h5"));
     ASSERT_TRUE(run_wiredem({"test", out.string(), "--index", "0", "--threads", "1"}, dir / "log").ok());
     ASSERT_TRUE(run_wiredem({"analyse", out.string()}, dir / "log").ok());
-    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(dir / "run/summary.json"));
-    const auto diffs = h5_differences(out / "result.h5", dir / "run/result.h5", how_it_ran);
+    EXPECT_EQ(computed_free_standing(out / "summary.json"), computed_free_standing(ran / "summary.json"));
+    const auto diffs = h5_differences(out / "result.h5", ran / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
 
     // A job without a free-standing test says so.
