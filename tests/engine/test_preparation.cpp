@@ -362,11 +362,13 @@ TEST(PreparationLid, LetsGoOfTheHeldWireEndItReaches)
     // seed 1: 0.35 mm deep, 75 N, the end at 1.7 m/s and its last segment 7 %
     // short when the column was declared settled). The nozzle lets go as the
     // lid reaches it: no held node is ever closer to the lid than its radius
-    // less the lid's travel in one step. Both seeds bring the lid to the end
-    // (measured: within 0.001 r_w); at least one must, or the test shows
-    // nothing. ~45 s of both cores each in Release: label physics_long.
+    // less the lid's travel in one step. Seeds 1 and 2 both bring the lid to
+    // the end (measured: within 0.001 r_w); the test runs seed 1, the column
+    // of the failure, and must see the lid reach the end, or it shows nothing
+    // (seed 2 as well took 118 s of the CI's Release phase, 2026-12-06).
+    // ~45 s of both cores in Release: label physics_long.
     std::size_t reached = 0;
-    for (std::uint64_t seed : {1u, 2u}) {
+    for (std::uint64_t seed : {1u}) {
         const PreparationSpec spec = quarter_helix_column(seed);
         Simulation sim(2);
         double closest = std::numeric_limits<double>::infinity();
