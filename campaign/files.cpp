@@ -784,6 +784,28 @@ eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapsho
     return s;
 }
 
+void write_cuboid_driver_state(io::Group& g, const eng::CuboidDriverState& s)
+{
+    write_driver_state(g, s.triaxial);
+    io::Group box = g.create_group("box");
+    units(box.write_dataset("width_x_m", std::span<const double>(s.width_x_m)), "m");
+    units(box.write_dataset("width_y_m", std::span<const double>(s.width_y_m)), "m");
+    units(box.write_dataset("sigma_x_pa", std::span<const double>(s.sigma_x_pa)), "Pa");
+    units(box.write_dataset("sigma_y_pa", std::span<const double>(s.sigma_y_pa)), "Pa");
+}
+
+eng::CuboidDriverState read_cuboid_driver_state(const io::Group& g)
+{
+    eng::CuboidDriverState s;
+    s.triaxial = read_driver_state(g);
+    const io::Group box = g.open_group("box");
+    s.width_x_m = read_doubles(box, "width_x_m");
+    s.width_y_m = read_doubles(box, "width_y_m");
+    s.sigma_x_pa = read_doubles(box, "sigma_x_pa");
+    s.sigma_y_pa = read_doubles(box, "sigma_y_pa");
+    return s;
+}
+
 void write_free_standing_driver_state(io::Group& g, const eng::FreeStandingDriverState& s)
 {
     g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));

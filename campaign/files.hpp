@@ -28,6 +28,7 @@
 #include "api/result_data.hpp"
 #include "io/hdf5.hpp"
 #include "specimen/preparation.hpp"
+#include "triaxial/cuboid.hpp"
 #include "triaxial/free_standing.hpp"
 #include "triaxial/triaxial.hpp"
 
@@ -115,6 +116,12 @@ void write_free_standing_result(engine::io::Group& g, const engine::FreeStanding
 void write_driver_state(engine::io::Group& g, const engine::TriaxialDriverState& s);
 [[nodiscard]] engine::TriaxialDriverState read_driver_state(
     const engine::io::Group& g, Snapshots snapshots = Snapshots::read);
+
+/// The cuboid cell's test driver state: the membrane cell's (write_driver_state,
+/// in the same group, so that read_driver_state reads a running cuboid test's
+/// record too) and per row the box and its lateral stresses in the subgroup "box".
+void write_cuboid_driver_state(engine::io::Group& g, const engine::CuboidDriverState& s);
+[[nodiscard]] engine::CuboidDriverState read_cuboid_driver_state(const engine::io::Group& g);
 
 /// The free-standing test driver's state (its phase by name), its partial
 /// result in the subgroup "result"; read back with its exact bits.

@@ -151,7 +151,7 @@ std::function<void(const eng::World&, const State&)> checkpointer(const StageCon
 /// `State` saved there (read_state reads /host) — else from `start` (the
 /// specimen's World); and, as it runs, saving both there (checkpointer,
 /// write_state writes /host). `Continuation` is the engine's
-/// (TriaxialContinuation, FreeStandingContinuation).
+/// (TriaxialContinuation, CuboidContinuation, FreeStandingContinuation).
 template <class State, class Continuation>
 StageError continue_from_checkpoint(eng::Simulation& sim, eng::World&& start, const std::filesystem::path& path,
     const std::string& label, const StageControl& control, Continuation& continuation,
@@ -442,14 +442,18 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     if (spec.triaxial.cell == api::CellKind::cuboid) {
         // The box's walls in add_cuboid_walls' order on the box's World
         // (bottom, top, x_min, x_max, y_min, y_max; run_cuboid_triaxial
-        // checks their normals). Not checkpointed (cuboid.hpp): a stopped
-        // test runs again from the specimen.
-        sim.world = std::move(specimen.value().world);
+        // checks their normals). Checkpointed as the membrane cell's tests.
         const eng::CuboidWalls walls{0, top_plate, {2, 3, 4, 5}};
         eng::CuboidSettings settings;
         settings.triaxial = api::triaxial_settings(spec, index);
+        eng::CuboidContinuation continuation;
+        if (auto e = continue_from_checkpoint<eng::CuboidDriverState>(sim, std::move(specimen.value().world),
+                dir.checkpoint(index), label, control, continuation,
+                [](io::Group& host, const eng::CuboidDriverState& st) { write_cuboid_driver_state(host, st); },
+                [](const io::Group& host) { return read_cuboid_driver_state(host); }))
+            return e;
         report(control, "testing", 0.0, label);
-        auto r = eng::run_cuboid_triaxial(sim, walls, settings, rc);
+        auto r = eng::run_cuboid_triaxial(sim, walls, settings, rc, std::move(continuation));
         if (!r.ok()) return label + " failed: " + r.error();
         return write_test(r.value().triaxial);
     }

@@ -14,7 +14,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <utility>
 
 namespace wiredem::engine {
 namespace {
@@ -140,8 +142,8 @@ std::optional<std::string> validate_cuboid_settings(const CuboidSettings& s)
     return std::nullopt;
 }
 
-Result<CuboidResult, std::string> run_cuboid_triaxial(
-    Simulation& sim, const CuboidWalls& walls, const CuboidSettings& cuboid, const RunControl& control)
+Result<CuboidResult, std::string> run_cuboid_triaxial(Simulation& sim, const CuboidWalls& walls,
+    const CuboidSettings& cuboid, const RunControl& control, CuboidContinuation continuation)
 {
     const auto wall_start = std::chrono::steady_clock::now();
     World& w = sim.world;
@@ -169,26 +171,40 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
                    + " s set by the " + crit.limited_by);
     if (crit.overdamped()) return Err(overdamped_error(crit, w.contact.normal_damping_s));
 
-    if (settings.real_weights)
-        set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
-    for (const std::size_t i : {walls.bottom, walls.top, walls.lateral[0], walls.lateral[1], walls.lateral[2], walls.lateral[3]})
-        w.walls[i].velocity_m_per_s.setZero();
+    // Everything that changes from step to step outside the World (a
+    // checkpoint saves it): the rows, the phase, the consolidation window.
+    const bool continued = continuation.from.has_value();
+    CuboidDriverState cst = continued ? std::move(*continuation.from) : CuboidDriverState{};
+    TriaxialDriverState& st = cst.triaxial;
+    TriaxialResult& result = st.result;
+    if (!continued) {
+        if (settings.real_weights)
+            set_weights(w, settings.real_weights->density_scale, settings.real_weights->wire_mass_scale, 1.0);
+        for (const std::size_t i : {walls.bottom, walls.top, walls.lateral[0], walls.lateral[1], walls.lateral[2], walls.lateral[3]})
+            w.walls[i].velocity_m_per_s.setZero();
+    }
 
     // A clump counts once, at its volume-equivalent radius.
     const TranslationalState& grains = w.of(BodyKind::grain);
     const double grain_radius_m = mean_grain_radius_m(w);
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
 
-    TriaxialDriverState st;
-    CuboidResult out;
-    TriaxialResult& result = out.triaxial;
     const auto pre_load_steps = static_cast<std::uint64_t>(std::ceil((settings.pressure_ramp_time_s + settings.hold_time_s) / dt));
     const auto sample_every = static_cast<std::uint64_t>(std::max(1.0, std::round(settings.sample_interval_s / dt)));
     const std::vector<double> plan = snapshot_plan(settings.target_axial_strain, settings.snapshot_strains);
     const auto height_m = [&] { return wall_at_m(w, walls.top, 2) - wall_at_m(w, walls.bottom, 2); };
-    st.reference_height_m = height_m();
-    st.expected_steps = expected_triaxial_steps(settings, st.reference_height_m, dt);
-    result.time_step_s = dt;
+    if (continued) {
+        const std::size_t rows = result.series.size();
+        if (cst.width_x_m.size() != rows || cst.width_y_m.size() != rows || cst.sigma_x_pa.size() != rows
+            || cst.sigma_y_pa.size() != rows || st.next_snapshot > plan.size() || (st.loading && st.loading_start_sample >= rows)
+            || !(st.reference_height_m > 0.0) || !st.cap_nodes.empty()
+            || st.steps > std::numeric_limits<std::uint64_t>::max() / 2)
+            return Err(std::string("the cuboid test's saved state is inconsistent (rows, snapshot plan, loading start or height)"));
+    } else {
+        st.reference_height_m = height_m();
+        st.expected_steps = expected_triaxial_steps(settings, st.reference_height_m, dt);
+        result.time_step_s = dt;
+    }
     double sigma3_pa = 0.0; // σ₃ of the ramp at the step being taken
 
     // A row (sampling.hpp) with the walls' stresses (cuboid.hpp's file comment).
@@ -215,10 +231,10 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
             s.inertial_number = analysis::inertial_number(
                 settings.plate_speed_m_per_s / st.reference_height_m, grain_radius_m, grain_density, sigma3_pa);
         result.series.push_back(s);
-        out.width_x_m.push_back(box.width_x_m);
-        out.width_y_m.push_back(box.width_y_m);
-        out.sigma_x_pa.push_back(box.sigma_x_pa);
-        out.sigma_y_pa.push_back(box.sigma_y_pa);
+        cst.width_x_m.push_back(box.width_x_m);
+        cst.width_y_m.push_back(box.width_y_m);
+        cst.sigma_x_pa.push_back(box.sigma_x_pa);
+        cst.sigma_y_pa.push_back(box.sigma_y_pa);
         st.last_sample_step = st.steps;
         st.column_radius_m = s.column_radius_m;
     };
@@ -248,8 +264,13 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
             target_pa, measured_pa, area_m2, wall_response(w, wall), dt, cuboid.servo_relaxation, max_wall_speed);
         w.walls[wall].velocity_m_per_s = v * w.walls[wall].normal;
     };
-    const ColumnTestStepper<TriaxialDriverState>::BetweenSteps no_checkpoints; // the cell keeps none yet
-    ColumnTestStepper<TriaxialDriverState> stepper(sim, control, no_checkpoints, st, "the cuboid triaxial test", wall_start);
+    // The stepper hands its host the membrane cell's part of the state; the
+    // host saves the whole of it.
+    using Stepper = ColumnTestStepper<TriaxialDriverState>;
+    const Stepper::BetweenSteps between_steps = continuation.between_steps
+        ? Stepper::BetweenSteps([&](const World& world, const TriaxialDriverState&) { continuation.between_steps(world, cst); })
+        : Stepper::BetweenSteps{};
+    Stepper stepper(sim, control, between_steps, st, "the cuboid triaxial test", wall_start);
     auto advance = [&]() -> std::optional<std::string> {
         auto prescribe = [&] {
             sigma3_pa = ramped_pressure_pa(
@@ -264,41 +285,43 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
         return std::nullopt;
     };
 
-    // 1. Ramp and hold, the top wall following the consolidation target, as
-    // the membrane cell does (run_triaxial): at least hold_time_s, then until
-    // consolidated, at most the longest hold.
-    if (auto e = hold_until_consolidated(w, walls.top, settings, st, pre_load_steps, advance, consolidation_target_pa))
-        return Err(*e);
-    result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
+    if (!st.loading) {
+        // 1. Ramp and hold, the top wall following the consolidation target, as
+        // the membrane cell does (run_triaxial): at least hold_time_s, then until
+        // consolidated, at most the longest hold.
+        if (auto e = hold_until_consolidated(w, walls.top, settings, st, pre_load_steps, advance, consolidation_target_pa))
+            return Err(*e);
+        result.hold_time_s = static_cast<double>(st.steps) * dt - settings.pressure_ramp_time_s;
 
-    // 2. Loading at constant speed from h₀ now.
-    st.reference_height_m = height_m();
-    result.initial_height_m = st.reference_height_m;
-    const double target_pa = consolidation_target_pa();
-    st.loading = true;
-    st.expected_steps = st.steps + static_cast<std::uint64_t>(std::ceil(loading_time_s(settings, st.reference_height_m) / dt));
-    st.loading_start_step = st.steps;
-    if (st.last_sample_step == st.steps) { // this step's row belongs to the loading
-        result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
-        result.series.axial_strain.back() = 0.0;
-        result.series.inertial_number.back() = analysis::inertial_number(
-            settings.plate_speed_m_per_s / st.reference_height_m, grain_radius_m, grain_density, sigma3_pa);
-    } else {
-        sample();
+        // 2. Loading at constant speed from h₀ now.
+        st.reference_height_m = height_m();
+        result.initial_height_m = st.reference_height_m;
+        const double target_pa = consolidation_target_pa();
+        st.loading = true;
+        st.expected_steps = st.steps + static_cast<std::uint64_t>(std::ceil(loading_time_s(settings, st.reference_height_m) / dt));
+        st.loading_start_step = st.steps;
+        if (st.last_sample_step == st.steps) { // this step's row belongs to the loading
+            result.series.phase.back() = static_cast<std::uint8_t>(TriaxialPhase::loading);
+            result.series.axial_strain.back() = 0.0;
+            result.series.inertial_number.back() = analysis::inertial_number(
+                settings.plate_speed_m_per_s / st.reference_height_m, grain_radius_m, grain_density, sigma3_pa);
+        } else {
+            sample();
+        }
+        st.loading_start_sample = result.series.size() - 1;
+        result.consolidated_sigma1_pa = st.window_sigma1_pa.value_or(result.series.sigma1_pa[st.loading_start_sample]);
+        result.consolidation = settings.consolidation;
+        result.consolidation_target_pa = target_pa;
+        if (!within_consolidation_mismatch(result.consolidated_sigma1_pa, target_pa))
+            result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
+                                      + " Pa had not consolidated when loading started: σ₁ = "
+                                      + format_number(result.consolidated_sigma1_pa) + " Pa, more than "
+                                      + format_number(100 * max_consolidation_mismatch) + " % off "
+                                      + format_number(target_pa) + " Pa after a hold of " + format_number(result.hold_time_s)
+                                      + " s; lengthen hold_time_s or max_hold_time_s");
+        snapshot_due();
+        w.walls[walls.top].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
     }
-    st.loading_start_sample = result.series.size() - 1;
-    result.consolidated_sigma1_pa = st.window_sigma1_pa.value_or(result.series.sigma1_pa[st.loading_start_sample]);
-    result.consolidation = settings.consolidation;
-    result.consolidation_target_pa = target_pa;
-    if (!within_consolidation_mismatch(result.consolidated_sigma1_pa, target_pa))
-        result.warnings.push_back("test at σ₃ = " + format_number(settings.confining_pressure_pa)
-                                  + " Pa had not consolidated when loading started: σ₁ = "
-                                  + format_number(result.consolidated_sigma1_pa) + " Pa, more than "
-                                  + format_number(100 * max_consolidation_mismatch) + " % off "
-                                  + format_number(target_pa) + " Pa after a hold of " + format_number(result.hold_time_s)
-                                  + " s; lengthen hold_time_s or max_hold_time_s");
-    snapshot_due();
-    w.walls[walls.top].velocity_m_per_s = Vec3(0.0, 0.0, -settings.plate_speed_m_per_s);
     const auto end = load_to_target(w, control, settings.target_axial_strain, advance, snapshot_due, [](double) { return false; });
     if (!end.ok()) return Err(end.error());
     for (const std::size_t i : {walls.top, walls.lateral[0], walls.lateral[1], walls.lateral[2], walls.lateral[3]})
@@ -310,6 +333,11 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
         result.warnings.push_back("stopped by the host at axial strain " + format_number(result.series.axial_strain.back())
                                   + " before the target " + format_number(settings.target_axial_strain));
 
+    CuboidResult out;
+    out.width_x_m = std::move(cst.width_x_m);
+    out.width_y_m = std::move(cst.width_y_m);
+    out.sigma_x_pa = std::move(cst.sigma_x_pa);
+    out.sigma_y_pa = std::move(cst.sigma_y_pa);
     // The servo's accuracy over the loading rows.
     std::size_t rows = 0;
     double deviation_sum = 0.0;
@@ -325,6 +353,7 @@ Result<CuboidResult, std::string> run_cuboid_triaxial(
     result.steps = st.steps;
     result.simulated_time_s = static_cast<double>(st.steps) * dt;
     result.wall_time_s = stepper.wall_time_s();
+    out.triaxial = std::move(result);
     return out;
 }
 

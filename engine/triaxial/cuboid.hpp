@@ -45,6 +45,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -136,13 +137,35 @@ struct CuboidResult {
     double servo_mean_deviation = 0.0;
 };
 
+/// Everything of a cuboid test that changes from step to step outside the
+/// World: the membrane cell's driver state (its result holds the rows and
+/// snapshots so far; cap_nodes stays empty) and per row the box and its
+/// lateral stresses. A checkpoint saves it beside the World.
+struct CuboidDriverState {
+    TriaxialDriverState triaxial;
+    std::vector<double> width_x_m, width_y_m;   ///< per row of triaxial.result.series [m]
+    std::vector<double> sigma_x_pa, sigma_y_pa; ///< per row [Pa]
+};
+
+/// How a host checkpoints a cuboid test and continues one (as TriaxialContinuation).
+struct CuboidContinuation {
+    /// Called between every two steps of this run, and just before it returns
+    /// because it was cancelled: a consistent point to save the World and the state.
+    std::function<void(const World&, const CuboidDriverState&)> between_steps;
+    /// When set, the test continues from this state; sim.world must be the
+    /// World saved with it. The result, and the World at the end, are
+    /// bit-identical to those of a test that was never stopped.
+    std::optional<CuboidDriverState> from;
+};
+
 /// Runs one test in the cuboid cell on `sim.world` (grains, no membrane, the
 /// six walls `walls`, δt set), leaving the World in its final state.
-/// RunControl as run_triaxial's. Not yet continued from a checkpoint.
+/// RunControl as run_triaxial's; checkpoints and continuation as
+/// run_triaxial's (CuboidContinuation).
 /// @return the result, or an error: settings out of range, walls missing or
-///         misplaced, a membrane present, δt above the stable step,
-///         cancelled, blew up.
-[[nodiscard]] Result<CuboidResult, std::string> run_cuboid_triaxial(
-    Simulation& sim, const CuboidWalls& walls, const CuboidSettings& settings, const RunControl& control = {});
+///         misplaced, a membrane present, δt above the stable step, a saved
+///         state that does not fit, cancelled, blew up.
+[[nodiscard]] Result<CuboidResult, std::string> run_cuboid_triaxial(Simulation& sim, const CuboidWalls& walls,
+    const CuboidSettings& settings, const RunControl& control = {}, CuboidContinuation continuation = {});
 
 } // namespace wiredem::engine

@@ -16,11 +16,13 @@
 namespace fs = std::filesystem;
 namespace eng = wiredem::engine;
 namespace io = wiredem::engine::io;
+using wiredem::campaign::read_cuboid_driver_state;
 using wiredem::campaign::read_driver_state;
 using wiredem::campaign::read_preparation_report;
 using wiredem::campaign::read_preparation_state;
 using wiredem::campaign::read_test_so_far;
 using wiredem::campaign::read_triaxial_result;
+using wiredem::campaign::write_cuboid_driver_state;
 using wiredem::campaign::write_driver_state;
 using wiredem::campaign::write_preparation_report;
 using wiredem::campaign::write_preparation_state;
@@ -291,6 +293,46 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
         EXPECT_EQ(r.wall_time_s, s.wall_time_s);
         expect_same(r.result, s.result);
     }
+    fs::remove(path);
+}
+
+// The cuboid cell's state: the membrane cell's, read back as it is (and by
+// read_driver_state alone, as the live series reads a running test), and
+// the box's rows exactly.
+TEST(CampaignFiles, ACuboidDriverStateReadsBackExactlyWithItsBoxRows)
+{
+    const fs::path path = temp_file("cuboid_driver");
+    eng::CuboidDriverState s;
+    s.triaxial.steps = 777;
+    s.triaxial.reference_height_m = next_value();
+    s.triaxial.column_radius_m = next_value();
+    s.triaxial.last_sample_step = 770;
+    s.triaxial.result = sample_result(3);
+    s.triaxial.result.series.volumetric_strain.clear();
+    s.triaxial.result.strength.reset();
+    for (std::size_t i = 0; i < 3; ++i) {
+        s.width_x_m.push_back(next_value());
+        s.width_y_m.push_back(next_value());
+        s.sigma_x_pa.push_back(next_value());
+        s.sigma_y_pa.push_back(next_value());
+    }
+    io::write_file_atomically(path, [&](io::Group& root) {
+        io::Group g = root.create_group("host");
+        write_cuboid_driver_state(g, s);
+    });
+    const io::File f = io::File::open_read_only(path);
+    const eng::CuboidDriverState r = read_cuboid_driver_state(f.root().open_group("host"));
+    EXPECT_EQ(r.triaxial.steps, s.triaxial.steps);
+    EXPECT_EQ(r.triaxial.reference_height_m, s.triaxial.reference_height_m);
+    EXPECT_EQ(r.triaxial.column_radius_m, s.triaxial.column_radius_m);
+    EXPECT_EQ(r.triaxial.last_sample_step, s.triaxial.last_sample_step);
+    EXPECT_TRUE(r.triaxial.cap_nodes.empty());
+    expect_same(r.triaxial.result, s.triaxial.result);
+    EXPECT_EQ(r.width_x_m, s.width_x_m);
+    EXPECT_EQ(r.width_y_m, s.width_y_m);
+    EXPECT_EQ(r.sigma_x_pa, s.sigma_x_pa);
+    EXPECT_EQ(r.sigma_y_pa, s.sigma_y_pa);
+    expect_same(read_driver_state(f.root().open_group("host")).result, s.triaxial.result);
     fs::remove(path);
 }
 

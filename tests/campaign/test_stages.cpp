@@ -731,6 +731,51 @@ TEST(Stages, TheCellAndTheBoxBelongToTheSpecimen)
     EXPECT_EQ(campaign::specimen_difference(cuboid, other_tests), std::nullopt);
 }
 
+// A cuboid-cell test stopped every 1500 steps (its cancel flag set, as a
+// server's SIGTERM or a thread handover sets it) saves a checkpoint on its
+// way out, and started again, on two threads and one in turn, continues from
+// it: its file is that of the test run without a stop, bit for bit but for
+// how it ran (examples/tiny-cuboid.json at one pressure, loaded to 1 %).
+TEST(Stages, ACuboidTestStoppedAgainAndAgainContinuesToTheSameResult)
+{
+    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json"));
+    json::object& triaxial = job.as_object()["triaxial"].as_object();
+    triaxial["confining_pressures_pa"] = json::array{10000};
+    triaxial["target_axial_strain"] = 0.01;
+    triaxial["snapshot_strains"] = json::array{0, 0.01};
+    const fs::path dir = fresh_dir("cuboid_stops"), spec = dir / "job.json";
+    std::ofstream(spec) << json::serialize(job);
+    const fs::path& ref = reference_run(spec);
+    const fs::path out = dir / "out";
+    ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
+    const campaign::JobDir jd{out};
+    int stops = 0;
+    bool done = false;
+    for (int attempt = 0; attempt < 100 && !done; ++attempt) {
+        std::atomic<bool> stop{false};
+        campaign::StageControl control;
+        control.threads = attempt % 2 == 0 ? 2 : 1;
+        control.cancel = &stop;
+        int reports = 0; // every 500 steps (and one at the start)
+        control.progress = [&](const char*, double, const std::string&) {
+            if (++reports > 3) stop.store(true);
+        };
+        const campaign::StageError e = campaign::run_test(jd, 0, control);
+        if (!e) {
+            done = true;
+            break;
+        }
+        ASSERT_NE(e->find("cancelled"), std::string::npos) << *e;
+        ASSERT_TRUE(fs::exists(jd.checkpoint(0))) << "stop " << attempt << " left no checkpoint";
+        ++stops;
+    }
+    ASSERT_TRUE(done) << "the test did not finish in 100 starts";
+    EXPECT_GE(stops, 3);
+    EXPECT_FALSE(fs::exists(jd.checkpoint(0)));
+    const auto diffs = h5_differences(out / "tests/test_0.h5", ref / "tests/test_0.h5", how_it_ran);
+    EXPECT_TRUE(diffs.empty()) << joined(diffs);
+}
+
 // A job directory whose job.json lacks triaxial.consolidation was written
 // before the field existed, when every test consolidated to the cell
 // pressure (the default is `effective` since): its tests run, and its
