@@ -11,6 +11,7 @@
 // auto_time_step_fraction.
 #pragma once
 
+#include "parallel/thread_pool.hpp"
 #include "state/world.hpp"
 
 #include <limits>
@@ -160,7 +161,12 @@ struct LiveContactLimit {
 /// (3/2) · (4/3) E* √R* · √ξ from the list's prefactor and this step's
 /// overlap, on the lighter moving body (a clump's sphere with the mass its
 /// contacts see), as stable_time_step takes a contact. A pass over the
-/// contacts: cheap next to a step, and run every live_check_steps.
+/// contacts: cheap next to a step, and run every live_check_steps. On
+/// `pool`'s threads over fixed blocks (reduce_blocks), the stiffest of each
+/// block taken in block order with the first of equals kept: the contact the
+/// serial pass finds, on any thread count.
+[[nodiscard]] LiveContactLimit live_contact_limit(const World& w, ThreadPool& pool);
+/// The same on the calling thread alone.
 [[nodiscard]] LiveContactLimit live_contact_limit(const World& w);
 
 /// How often a column test checks its stiffest live contact [steps]: a pass

@@ -76,7 +76,7 @@ public:
         // change, before Gear-5 diverges (docs/model.md, "The stiffest live
         // contact"). It reads the World only: results do not change.
         if (st_.steps % live_check_steps == 0) {
-            const LiveContactLimit live = live_contact_limit(sim_.world);
+            const LiveContactLimit live = live_contact_limit(sim_.world, sim_.pool());
             if (sim_.world.dt_s > live_contact_tolerance * live.critical_s)
                 return live_contact_error(live, sim_.world.dt_s, "after " + std::to_string(st_.steps) + " steps of " + test_);
         }

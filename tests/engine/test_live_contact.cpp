@@ -107,3 +107,34 @@ TEST(LiveContactLimit, ContactsApartOrBetweenHeldBodiesDoNotCount)
     set_motion(sim.world, {BodyKind::grain, 1}, Motion::dynamic);
     EXPECT_EQ(live_contact_limit(sim.world).mass_kg, sim.world.of(BodyKind::grain).mass_kg[1]);
 }
+
+TEST(LiveContactLimit, TheSameContactOnAnyThreadCount)
+{
+    // A chain of 3000 grains along x (2999 contacts, three reduction blocks
+    // of the list), each pair pressed a little differently, the deepest near
+    // the chain's end: every thread count finds it, with the same bits.
+    constexpr int grains = 3000;
+    constexpr int deepest = 2500;
+    const auto overlap_of = [](int i) { return i == deepest ? 4e-6 : 1e-6 * (1.0 + (i * 7919 % 1000) / 1000.0); };
+    std::vector<LiveContactLimit> found;
+    for (const unsigned threads : {1u, 2u, 3u}) {
+        Simulation sim(threads);
+        reset_world(sim.world, grain_material, 1e-7, 0.0);
+        double x = 0.0;
+        for (int i = 0; i < grains; ++i) {
+            add_grain(sim.world, Vec3(x, 0.0, 0.0), r_a, 0);
+            x += 2.0 * r_a - overlap_of(i);
+        }
+        begin_run(sim.world, sim.pool());
+        ASSERT_GT(sim.world.contacts.size(), 2 * reduction_block);
+        found.push_back(live_contact_limit(sim.world, sim.pool()));
+        found.push_back(live_contact_limit(sim.world)); // on the caller alone
+        EXPECT_NEAR(found.back().overlap_m, overlap_of(deepest), 1e-12) << threads;
+    }
+    for (const LiveContactLimit& live : found) {
+        EXPECT_EQ(live.critical_s, found[0].critical_s);
+        EXPECT_EQ(live.overlap_m, found[0].overlap_m);
+        EXPECT_EQ(live.mass_kg, found[0].mass_kg);
+        EXPECT_EQ(live.kinds, found[0].kinds);
+    }
+}
