@@ -463,6 +463,7 @@ int main(int argc, char** argv)
     app.add_option("--grains", spec.grains, "number of grains")->check(CLI::Range(10, 2000000));
     app.add_option("--steps", steps, "timed steps per case")->check(CLI::Range(1, 100000000));
     app.add_option("--settle-time", settle_s, "simulated settling time before timing [s]")->check(CLI::Range(0.0, 10.0));
+    app.add_option("--seed", spec.seed, "seed of the lattice's jitter (the packing's randomness)");
     app.add_option("--threads", thread_counts, "thread counts to time")->delimiter(',')->check(CLI::Range(1, 256));
     app.add_flag("--json", json, "one JSON object per line and case");
     std::vector<Integrator> integrators{Integrator::gear5, Integrator::verlet};
