@@ -207,7 +207,7 @@ def main() -> int:
         styles = {"wiredem": "C0", "LIGGGHTS": "C1", "LAMMPS": "C2"}
         for label, m in res.items():
             h, _ = np.histogram(m["fn"], bins=bins, density=True)
-            c = styles.get(label.split("/")[0], None)
+            c = styles.get(label.split("/")[0], "C3")
             for a in ax:
                 a.plot(centres, h, "-", color=c, alpha=0.8, label=label)
         ax[1].set_yscale("log")

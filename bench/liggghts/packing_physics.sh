@@ -20,6 +20,10 @@
 # Builds nothing (bash scripts/build.sh release wiredem-bench first).
 #
 # usage: bench/liggghts/packing_physics.sh [--grains N] [--settle-time S] [--seeds "1 2"] [--out DIR] [--no-lammps]
+#                                          [--also-kt K]
+#   --also-kt K: also settle each lattice in wiredem with the tangential
+#   law's k_t = K [1/m] (wiredem-bench --tangential-stiffness), labelled
+#   wiredem-ktK: the paper's 1e5 against a spring as stiff as the peers'.
 #   defaults: 2000 grains, 0.2 s, seeds 1 and 2 (a few minutes of CPU per
 #   run on a quiet machine: wiredem ~30 s, LIGGGHTS and LAMMPS longer).
 # environment: LIGGGHTS, LAMMPS (binaries; default liggghts and lmp on PATH),
@@ -34,6 +38,7 @@ settle=0.2
 seeds="1 2"
 out=
 use_lammps=1
+also_kt=
 while [ $# -gt 0 ]; do
     case $1 in
         --grains) grains=$2; shift 2 ;;
@@ -41,6 +46,7 @@ while [ $# -gt 0 ]; do
         --seeds) seeds=$2; shift 2 ;;
         --out) out=$(realpath -m "$2"); shift 2 ;;
         --no-lammps) use_lammps=0; shift ;;
+        --also-kt) also_kt=$2; shift 2 ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "unknown argument: $1 (try --help)" >&2; exit 2 ;;
     esac
@@ -68,6 +74,12 @@ for seed in $seeds; do
     echo "  wiredem" >&2
     nice -n "$nice_level" "$bench" "${common[@]}" --settle-time "$settle" --liggghts-data "$work/wiredem.$seed.data" > /dev/null
     runs+=("wiredem/s$seed=$work/wiredem.$seed.data")
+    if [ -n "$also_kt" ]; then
+        echo "  wiredem, k_t = $also_kt" >&2
+        nice -n "$nice_level" "$bench" "${common[@]}" --settle-time "$settle" --tangential-stiffness "$also_kt" \
+            --liggghts-data "$work/wiredem-kt.$seed.data" > /dev/null
+        runs+=("wiredem-kt$also_kt/s$seed=$work/wiredem-kt.$seed.data")
+    fi
     echo "  LIGGGHTS" >&2
     (cd "$work" && nice -n "$nice_level" "$liggghts" -in "$here/in.settle" -var datafile "lattice.$seed.data" -var dt "$dt" \
         -var steps "$steps" -var dumpfile "liggghts.$seed.dump" -log "liggghts.$seed.log" > "liggghts.$seed.out" 2>&1) ||
