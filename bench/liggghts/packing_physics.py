@@ -106,6 +106,9 @@ def measure(x: np.ndarray, r: np.ndarray) -> dict:
     z_top = float(np.percentile(x[:, 2], 95))
     z_lo, z_hi, r_in = d, z_top - 3.0 * d, R_CYL - 2.0 * d
     rc = np.hypot(x[:, 0], x[:, 1])
+    if z_hi - z_lo < 2.0 * d:
+        raise SystemExit(f"the packing is {z_top / d:.1f} diameters high: too low for a bulk region "
+                         "(d <= z <= z_95 - 3d, at least 2d high); settle more grains (2000 in the 20 mm cylinder)")
 
     # packing fraction: each grain's share of the region
     pts = ball_points()
@@ -126,6 +129,8 @@ def measure(x: np.ndarray, r: np.ndarray) -> dict:
     mid = 0.5 * (x[i] + x[j])
     in_region = (mid[:, 2] >= z_lo) & (mid[:, 2] <= z_hi) & (np.hypot(mid[:, 0], mid[:, 1]) <= r_in)
     f, zc = f[in_region], mid[in_region, 2]
+    if len(f) == 0:
+        raise SystemExit("no grain-grain contact in the bulk region: the packing has not settled")
     slab = np.floor((zc - z_lo) / (2.0 * d)).astype(int)
     mean_of_slab = np.bincount(slab, weights=f) / np.maximum(np.bincount(slab), 1)
     fn = f / mean_of_slab[slab]
