@@ -463,6 +463,11 @@ int main(int argc, char** argv)
     app.add_option("--grains", spec.grains, "number of grains")->check(CLI::Range(10, 2000000));
     app.add_option("--steps", steps, "timed steps per case")->check(CLI::Range(1, 100000000));
     app.add_option("--settle-time", settle_s, "simulated settling time before timing [s]")->check(CLI::Range(0.0, 10.0));
+    app.add_option("--seed", spec.seed, "seed of the lattice's jitter (the packing's randomness)");
+    double tangential_stiffness = 0.0;
+    app.add_option("--tangential-stiffness", tangential_stiffness,
+           "k_t of the tangential law [1/m] for the settling and the timing (0: the law's default, 1e5)")
+        ->check(CLI::Range(0.0, 1e12));
     app.add_option("--threads", thread_counts, "thread counts to time")->delimiter(',')->check(CLI::Range(1, 256));
     app.add_flag("--json", json, "one JSON object per line and case");
     std::vector<Integrator> integrators{Integrator::gear5, Integrator::verlet};
@@ -535,6 +540,7 @@ int main(int argc, char** argv)
     const double e_star = effective_modulus_pa(spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio,
         spec.grain.youngs_modulus_pa, spec.grain.poisson_ratio);
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
+    if (tangential_stiffness > 0.0) w.contact.tangential.stiffness_per_m = tangential_stiffness;
     w.dt_s = stable_time_step(w).auto_s;
     if (!packing.empty()) {
         read_liggghts_data(w, spec, packing);

@@ -35,6 +35,8 @@ struct FccOptions {
     bool spins_held = true;
     /// k_t of the tangential law [1/m]; 0: the contact law's default.
     double tangential_stiffness_per_m = 0.0;
+    /// γ_t of the tangential law's sliding branch [s/m]; 0: the law's default.
+    double tangential_damping_s_per_m = 0.0;
 };
 
 /// The FCC array with friction μ between the spheres, frictionless walls.
@@ -45,6 +47,7 @@ inline CuboidWalls fcc_world(Simulation& sim, double mu, const FccOptions& o = {
     w.gravity_m_per_s2 = Vec3::Zero(); // Thornton's array is weightless
     w.contact.tangential.friction_coeff = mu;
     if (o.tangential_stiffness_per_m > 0.0) w.contact.tangential.stiffness_per_m = o.tangential_stiffness_per_m;
+    if (o.tangential_damping_s_per_m > 0.0) w.contact.tangential.damping_s_per_m = o.tangential_damping_s_per_m;
     FccArraySpec spec;
     spec.grain = fcc_grain;
     spec.cells = {o.cells, o.cells, o.cells};

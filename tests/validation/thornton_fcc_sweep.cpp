@@ -5,7 +5,7 @@
 // (docs/validation.md). Optional arguments: the μ to run (one), e.g. 0.3;
 // the unit cells per axis (2); verlet (else Gear-5); free (spins not held);
 // dt=F (the time step, F × the auto step; 0.5 by default); v=V (the plate's
-// speed [m/s]); alpha=A (the servo's relaxation factor); kt=K (k_t [1/m]).
+// speed [m/s]); alpha=A (the servo's relaxation factor); kt=K (k_t [1/m]); gt=G (γ_t [s/m]).
 #include "fcc.hpp"
 
 #include <cstdio>
@@ -28,6 +28,7 @@ int main(int argc, char** argv)
         if (std::string(argv[a]) == "free") options.spins_held = false;
         if (std::string(argv[a]).starts_with("dt=")) options.time_step_fraction = std::atof(argv[a] + 3);
         if (std::string(argv[a]).starts_with("kt=")) options.tangential_stiffness_per_m = std::atof(argv[a] + 3);
+        if (std::string(argv[a]).starts_with("gt=")) options.tangential_damping_s_per_m = std::atof(argv[a] + 3);
         if (std::string(argv[a]).starts_with("v=")) settings.triaxial.plate_speed_m_per_s = std::atof(argv[a] + 2);
         if (std::string(argv[a]).starts_with("alpha=")) settings.servo_relaxation = std::atof(argv[a] + 6);
     }
