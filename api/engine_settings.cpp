@@ -13,18 +13,6 @@
 
 namespace wiredem::api {
 
-engine::PatternKind pattern_kind(WirePattern p)
-{
-    switch (p) {
-    case WirePattern::none: return engine::PatternKind::none;
-    case WirePattern::helix: return engine::PatternKind::helix;
-    case WirePattern::spiral_helix: return engine::PatternKind::spiral_helix;
-    case WirePattern::radial_helix: return engine::PatternKind::radial_helix;
-    case WirePattern::toolpath: return engine::PatternKind::toolpath;
-    }
-    return engine::PatternKind::none;
-}
-
 engine::SieveCurve sieve_curve(const GrainSizesSpec& g)
 {
     engine::SieveCurve c;
@@ -203,7 +191,7 @@ engine::WireCuts wire_cuts(const JobSpec& spec)
 engine::PatternSpec pattern_spec(const WireSpec& w)
 {
     engine::PatternSpec p;
-    p.kind = pattern_kind(w.pattern);
+    p.kind = w.pattern;  // the engine's own kind (api::WirePattern)
     p.helix_radius_m = w.helix_radius_m;
     p.inner_radius_m = w.inner_radius_m;
     p.period_angle_rad = w.period_angle_rad;

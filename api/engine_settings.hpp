@@ -67,7 +67,4 @@ namespace wiredem::api {
 /// fit's head-on pair): r_p, or half the curve's D50 (by mass) [m].
 [[nodiscard]] double reference_grain_radius_m(const SpecimenSpec& s);
 
-/// The engine's pattern kind for a job's pattern.
-[[nodiscard]] engine::PatternKind pattern_kind(WirePattern p);
-
 } // namespace wiredem::api

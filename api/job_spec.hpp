@@ -12,6 +12,7 @@
 
 #include "api/grain_presets.hpp"
 #include "core/result.hpp"
+#include "specimen/pattern_kind.hpp"
 
 #include <boost/json/object.hpp>
 #include <boost/json/value.hpp>
@@ -27,15 +28,11 @@
 
 namespace wiredem::api {
 
-/// How the nozzle lays the wire (the model spec §5). JSON: "none", "helix",
-/// "spiral_helix", "radial_helix", "toolpath".
-enum class WirePattern : std::uint8_t {
-    none,          ///< no wire
-    helix,         ///< circle of radius R_a rising at v_z
-    spiral_helix,  ///< circle of radius R_i whose centre travels on the circle R_a
-    radial_helix,  ///< circle R_a with a radial excursion to the axis every φ_rs
-    toolpath,      ///< the robot's own path: a polyline per layer (WireSpec::toolpath_x_m)
-};
+/// How the nozzle lays the wire (the model spec §5): the engine's own kind,
+/// read into directly (engine/specimen/pattern_kind.hpp). JSON: "none",
+/// "helix", "spiral_helix", "radial_helix", "toolpath" (a toolpath's points:
+/// WireSpec::toolpath_x_m).
+using WirePattern = engine::PatternKind;
 
 /// Time integrator (the model spec §4). JSON: "gear5", "verlet".
 enum class Integrator : std::uint8_t {

@@ -6,6 +6,7 @@
 #include "api/result_data.hpp"
 #include "core/format.hpp"
 #include "io/hdf5.hpp"
+#include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
 
@@ -88,8 +89,12 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
     data["written_by"] = "wiredem report";
     data["summary"] = summary.value();
     json::object tests = tests_json(root, "");
-    // The columns the curves draw (curveColumns of web/src/js/results_view.js).
-    const std::vector<std::string> columns{"axial_strain", "deviatoric_stress_pa", "stress_ratio", "volumetric_strain", "phase"};
+    // The columns the curves draw (curveColumns of web/src/js/results_view.js),
+    // each checked by the compiler against the one list of columns.
+    using engine::series_column;
+    const std::vector<std::string> columns{std::string(series_column("axial_strain").name),
+        std::string(series_column("deviatoric_stress_pa").name), std::string(series_column("stress_ratio").name),
+        std::string(series_column("volumetric_strain").name), std::string(series_column("phase").name)};
     constexpr std::size_t points = 1000;  // as the job page asks for
     json::array series;
     const std::vector<std::string> names = test_names(root);
@@ -110,7 +115,8 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
         const io::Group g = root.open_group(fs_name);
         data["free_standing"] = json::object{
             {"test", free_standing_json(g, "", spec.value().specimen.wire.segment_length_m)},
-            {"series", series_json(g, fs_name, {"axial_strain", "sigma1_pa", "phase"}, 2000)}};
+            {"series", series_json(g, fs_name, {std::string(series_column("axial_strain").name),
+                std::string(series_column("sigma1_pa").name), std::string(series_column("phase").name)}, 2000)}};
     }
     data["wire"] = nullptr;
     if (!names.empty()) {

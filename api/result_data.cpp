@@ -3,6 +3,7 @@
 #include "api/json_text.hpp"
 
 #include "analysis/autocorrelation.hpp"
+#include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
 #include <hdf5.h>
@@ -180,7 +181,8 @@ std::vector<std::string> free_standing_series_columns(const io::Group& g)
 {
     std::vector<std::string> out = series_columns(g);
     // The series' rows: time_s's (every row has a time).
-    const std::size_t rows = g.exists("time_s") ? g.open_dataset("time_s").shape()[0] : 0;
+    const std::string time(engine::series_column("time_s").name);
+    const std::size_t rows = g.exists(time) ? g.open_dataset(time).shape()[0] : 0;
     std::erase_if(out, [&](const std::string& c) {
         return std::find(free_standing_wire_arrays.begin(), free_standing_wire_arrays.end(), c) != free_standing_wire_arrays.end()
             || g.open_dataset(c).shape()[0] != rows;  // volumetric_strain: not derived for this test

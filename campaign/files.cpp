@@ -2,6 +2,7 @@
 
 #include "core/format.hpp"
 #include "io/snapshot.hpp"
+#include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
 
@@ -40,40 +41,13 @@ std::string test_group_name(double pa)
 
 namespace {
 
-/// Units of the phase column: what its integers mean.
-constexpr std::string_view phase_units = "0 ramp, 1 hold, 2 loading";
-constexpr std::string_view free_standing_phase_units = "0 removal, 1 settling, 2 dead_load, 3 loading";
-/// With a pull-out (only then, so that the files of other tests stay as they were).
-constexpr std::string_view free_standing_pull_out_phase_units = "0 removal, 1 settling, 2 dead_load, 3 loading, 4 pull_out";
-
 void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
 
-/// The columns of a time series, with their names and units: the one list the
-/// writer and the reader go through. `phase` (bytes) is written apart.
-template <class Series, class F>
-void for_each_series_column(Series& s, F&& f)
-{
-    f("time_s", s.time_s, "s");
-    f("axial_strain", s.axial_strain, "1");
-    f("height_m", s.height_m, "m");
-    f("top_plate_force_n", s.top_plate_force_n, "N");
-    f("bottom_plate_force_n", s.bottom_plate_force_n, "N");
-    f("column_radius_m", s.column_radius_m, "m");
-    f("confining_pressure_pa", s.confining_pressure_pa, "Pa");
-    f("sigma1_pa", s.sigma1_pa, "Pa");
-    f("sigma3_effective_pa", s.sigma3_effective_pa, "Pa");
-    f("deviatoric_stress_pa", s.deviatoric_stress_pa, "Pa");
-    f("stress_ratio", s.stress_ratio, "1");
-    f("volumetric_strain", s.volumetric_strain, "1");
-    f("kinetic_energy_j", s.kinetic_energy_j, "J");
-    f("elastic_energy_j", s.elastic_energy_j, "J");
-    f("contacts", s.contacts, "1");
-    f("sliding_contacts", s.sliding_contacts, "1");
-    f("membrane_contacts", s.membrane_contacts, "1");
-    f("wire_strain_mean", s.wire_strain_mean, "1");
-    f("wire_strain_max", s.wire_strain_max, "1");
-    f("inertial_number", s.inertial_number, "1");
-}
+// The columns of a time series, their names, units and the meaning of each
+// test's phases: engine/triaxial/series_columns.hpp, the one list the writer
+// and the readers go through.
+using eng::for_each_series_column;
+using eng::SeriesColumnSpec;
 
 std::vector<eng::Vec3> read_vec3s(const io::Group& g, std::string_view name)
 {
@@ -230,23 +204,23 @@ eng::analysis::CurveReading read_curve(const io::Group& g, const std::string& pr
 /// A record's time series: its columns, then `phase` (meaning `phase_meaning`).
 void write_series(io::Group& g, const eng::TriaxialSeries& s, std::string_view phase_meaning)
 {
-    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view u) {
-        units(g.write_dataset(name, std::span(column)), u);
+    for_each_series_column(s, [&](const SeriesColumnSpec& c, const auto& column) {
+        units(g.write_dataset(c.name, std::span(column)), c.units);
     });
     std::vector<std::int32_t> phase(s.phase.begin(), s.phase.end());
-    units(g.write_dataset("phase", std::span<const std::int32_t>(phase)), phase_meaning);
+    units(g.write_dataset(eng::series_column("phase").name, std::span<const std::int32_t>(phase)), phase_meaning);
 }
 
 /// What write_series wrote; a phase must lie in [0, last_phase].
 eng::TriaxialSeries read_series(const io::Group& g, std::int64_t last_phase)
 {
     eng::TriaxialSeries s;
-    for_each_series_column(s, [&](const char* name, auto& column, std::string_view) {
+    for_each_series_column(s, [&](const SeriesColumnSpec& c, auto& column) {
         using T = typename std::remove_cvref_t<decltype(column)>::value_type;
         if constexpr (std::is_same_v<T, double>) {
-            column = read_doubles(g, name);
+            column = read_doubles(g, c.name);
         } else {
-            const io::Dataset d = g.open_dataset(name);
+            const io::Dataset d = g.open_dataset(c.name);
             column.clear();
             for (std::int64_t x : d.read_int64s()) {
                 if (x < 0) throw std::runtime_error(d.path() + ": negative count");
@@ -254,7 +228,7 @@ eng::TriaxialSeries read_series(const io::Group& g, std::int64_t last_phase)
             }
         }
     });
-    const io::Dataset phase = g.open_dataset("phase");
+    const io::Dataset phase = g.open_dataset(eng::series_column("phase").name);
     for (std::int64_t p : phase.read_int64s()) {
         if (p < 0 || p > last_phase)
             throw std::runtime_error(phase.path() + ": a phase is not in 0.." + std::to_string(last_phase));
@@ -262,9 +236,9 @@ eng::TriaxialSeries read_series(const io::Group& g, std::int64_t last_phase)
     }
     const std::size_t rows = s.size();
     bool same_length = s.phase.size() == rows;
-    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view) {
+    for_each_series_column(s, [&](const SeriesColumnSpec& c, const auto& column) {
         // ε_v is derived when the test ends: empty in a running test's record.
-        if (column.size() != rows && !(std::string_view(name) == "volumetric_strain" && column.empty()))
+        if (column.size() != rows && !(c.name == eng::series_column("volumetric_strain").name && column.empty()))
             same_length = false;
     });
     if (!same_length) throw std::runtime_error(g.path() + ": the time series differ in length");
@@ -404,7 +378,7 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
     g.write_string_attribute("warnings", json::serialize(warnings));
 
-    write_series(g, r.series, phase_units);
+    write_series(g, r.series, eng::triaxial_phase_units);
     write_snapshots(g, r.snapshots);
     write_wire_breaks(g, r.wire_breaks);
 }
@@ -593,7 +567,7 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
     g.write_string_attribute("warnings", json::serialize(warnings));
     if (r.pull_out) write_pull_out(g, *r.pull_out);
-    write_series(g, r.series, r.pull_out ? free_standing_pull_out_phase_units : free_standing_phase_units);
+    write_series(g, r.series, r.pull_out ? eng::free_standing_pull_out_phase_units : eng::free_standing_phase_units);
     write_snapshots(g, r.snapshots);
     write_wire_breaks(g, r.wire_breaks);
     if (r.peak_snapshot) write_snapshot(g.create_group(std::string(api::free_standing_peak_snapshot)), *r.peak_snapshot);
@@ -691,11 +665,12 @@ std::vector<api::SeriesColumn> series_columns(const eng::TriaxialSeries& s)
 {
     std::vector<api::SeriesColumn> out;
     const std::size_t rows = s.size();
-    for_each_series_column(s, [&](const char* name, const auto& column, std::string_view u) {
+    for_each_series_column(s, [&](const SeriesColumnSpec& c, const auto& column) {
         if (column.size() != rows) return;  // ε_v of a running test
-        out.push_back({name, std::string(u), std::vector<double>(column.begin(), column.end())});
+        out.push_back({std::string(c.name), std::string(c.units), std::vector<double>(column.begin(), column.end())});
     });
-    out.push_back({"phase", std::string(phase_units), std::vector<double>(s.phase.begin(), s.phase.end())});
+    const SeriesColumnSpec& phase = eng::series_column("phase");
+    out.push_back({std::string(phase.name), std::string(phase.units), std::vector<double>(s.phase.begin(), s.phase.end())});
     return out;
 }
 

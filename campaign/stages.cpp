@@ -8,6 +8,7 @@
 #include "api/derived.hpp"
 #include "api/engine_settings.hpp"
 #include "api/json_text.hpp"
+#include "api/progress_line.hpp"
 #include "core/format.hpp"
 #include "forces/wire_forces.hpp"
 #include "io/atomic_file.hpp"
@@ -41,6 +42,8 @@ namespace wiredem::campaign {
 namespace json = boost::json;
 namespace eng = engine;
 namespace io = engine::io;
+/// The stages a progress line names (the runner contract): one list, api/progress_line.hpp.
+namespace progress_stage = api::progress_line;
 
 namespace {
 
@@ -289,14 +292,14 @@ StageError prepare_box(const api::JobSpec& spec, const JobDir& dir, const StageC
     const auto box_spec = api::box_preparation_spec(spec);
     if (!box_spec.ok()) return "preparation failed: " + box_spec.error();
     eng::Simulation sim(control.threads);
-    eng::RunControl rc = stage_run_control(control, "preparing", 0.99, [&](std::uint64_t done) {
+    eng::RunControl rc = stage_run_control(control, progress_stage::preparing, 0.99, [&](std::uint64_t done) {
         return "compacting " + std::to_string(box_spec.value().grain_count) + " grains in the box, step " + std::to_string(done);
     });
-    report(control, "preparing", 0.0, "preparing the specimen in the box");
+    report(control, progress_stage::preparing, 0.0, "preparing the specimen in the box");
     auto prepared = eng::prepare_box_specimen(sim, box_spec.value(), rc);
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
     const eng::BoxPreparationReport& box = prepared.value();
-    report(control, "preparing", 1.0, "specimen prepared in " + std::to_string(box.steps) + " steps");
+    report(control, progress_stage::preparing, 1.0, "specimen prepared in " + std::to_string(box.steps) + " steps");
     eng::PreparationReport prep;
     prep.grains = box.grains;
     prep.pile_height_m = box.box.height_m;
@@ -377,14 +380,14 @@ StageError prepare(const api::JobSpec& spec, const JobDir& dir, const StageContr
     };
     // The engine's total is the pour's expected steps; the settling phases
     // after it take as long as the column needs.
-    eng::RunControl rc = stage_run_control(control, "preparing", 0.99, [&](std::uint64_t done) {
+    eng::RunControl rc = stage_run_control(control, progress_stage::preparing, 0.99, [&](std::uint64_t done) {
         return preparation_phase_text(phase, prep_spec.grain_count) + ", step " + std::to_string(done);
     });
-    report(control, "preparing", 0.0, "preparing the specimen");
+    report(control, progress_stage::preparing, 0.0, "preparing the specimen");
     auto prepared = eng::prepare_specimen(sim, prep_spec, rc, std::move(continuation));
     if (!prepared.ok()) return "preparation failed: " + prepared.error();
     const eng::PreparationReport prep = prepared.value();
-    report(control, "preparing", 1.0, "specimen prepared in " + std::to_string(prep.steps) + " steps");
+    report(control, progress_stage::preparing, 1.0, "specimen prepared in " + std::to_string(prep.steps) + " steps");
     // Cuts the job asks for, before any test (specimen.wire.cuts_at_m, cut_every_loops).
     if (const eng::WireCuts cuts = api::wire_cuts(spec); !cuts.at_m.empty() || cuts.every_loops > 0)
         if (auto cut = eng::cut_wire(sim.world, cuts); !cut.ok()) return "specimen.wire.cuts_at_m: " + cut.error();
@@ -424,7 +427,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
     const std::size_t top_plate = specimen.value().report.top_plate_wall;
     eng::Simulation sim(control.threads);
     eng::RunControl rc = stage_run_control(
-        control, "testing", 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
+        control, progress_stage::testing, 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
     auto write_test = [&](const eng::TriaxialResult& result) -> StageError {
         try {
             io::write_file_atomically(dir.test(index), [&](io::Group& root) {
@@ -452,7 +455,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
                 [](io::Group& host, const eng::CuboidDriverState& st) { write_cuboid_driver_state(host, st); },
                 [](const io::Group& host) { return read_cuboid_driver_state(host); }))
             return e;
-        report(control, "testing", 0.0, label);
+        report(control, progress_stage::testing, 0.0, label);
         auto r = eng::run_cuboid_triaxial(sim, walls, settings, rc, std::move(continuation));
         if (!r.ok()) return label + " failed: " + r.error();
         return write_test(r.value().triaxial);
@@ -463,7 +466,7 @@ StageError run_test(const JobDir& dir, std::size_t index, const StageControl& co
             [](io::Group& host, const eng::TriaxialDriverState& st) { write_driver_state(host, st); },
             [](const io::Group& host) { return read_driver_state(host); }))
         return e;
-    report(control, "testing", 0.0, label);
+    report(control, progress_stage::testing, 0.0, label);
     auto r = eng::run_triaxial(sim, top_plate, api::triaxial_settings(spec, index), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
     return write_test(r.value());
@@ -492,8 +495,8 @@ StageError run_free_standing_test(const JobDir& dir, const StageControl& control
             [](const io::Group& host) { return read_free_standing_driver_state(host); }))
         return e;
     eng::RunControl rc = stage_run_control(
-        control, "testing", 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
-    report(control, "testing", 0.0, label);
+        control, progress_stage::testing, 1.0, [&](std::uint64_t done) { return label + ", step " + std::to_string(done); });
+    report(control, progress_stage::testing, 0.0, label);
     auto r = eng::run_free_standing(sim, top_plate, api::free_standing_settings(spec), rc, std::move(continuation));
     if (!r.ok()) return label + " failed: " + r.error();
     try {
@@ -816,7 +819,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     const Specimen& specimen = specimen_read.value();
     const eng::PreparationReport& prep = specimen.report;
     const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
-    report(control, "analysing", 0.0, "reading the tests");
+    report(control, progress_stage::analysing, 0.0, "reading the tests");
 
     std::vector<eng::TriaxialResult> tests;
     std::vector<std::int64_t> test_threads;
@@ -879,7 +882,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     // Two envelopes: through the yield states (the maximum of the stress
     // ratio; docs/model.md, "How yield is read") and, beside it, through the
     // states at the maximum of q.
-    report(control, "analysing", 0.3, "Mohr-Coulomb fit and wire autocorrelation");
+    report(control, progress_stage::analysing, 0.3, "Mohr-Coulomb fit and wire autocorrelation");
     std::vector<eng::analysis::PeakState> yield_states, max_q_states;
     for (const auto& t : tests) {
         max_q_states.push_back({t.peak_sigma1_pa, t.peak_sigma3_effective_pa});
@@ -918,7 +921,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     }
 
     // Writing: result.h5, then summary.json (its presence marks success).
-    report(control, "writing", 0.6, "writing result.h5 and summary.json");
+    report(control, progress_stage::writing, 0.6, "writing result.h5 and summary.json");
     try {
         io::write_file_atomically(dir.result_h5(), [&](io::Group& root) { write_result(root, spec, specimen, tests, free_standing); });
         eng::io::write_xdmf(dir.result_h5(), dir.result_xdmf()); // ParaView's view of result.h5
@@ -1072,7 +1075,7 @@ StageError analyse(const JobDir& dir, const StageControl& control)
     } catch (const std::exception& ex) {
         return io::write_failure_text("writing the results failed: ", ex);
     }
-    report(control, "writing", 1.0, "done");
+    report(control, progress_stage::writing, 1.0, "done");
     return std::nullopt;
 }
 

@@ -10,6 +10,7 @@
 #include "run_command.hpp"
 
 #include "api/json_text.hpp"
+#include "api/progress_line.hpp"
 #include "core/format.hpp"
 #include "display.hpp"
 #include "stages.hpp"
@@ -85,11 +86,12 @@ public:
         }
         if (json_) {
             json::object o;
-            o["stage"] = stage;
-            o["progress"] = fraction;
-            o["eta_s"] = nullptr;
-            if (has_eta) o["eta_s"] = *eta_;
-            o["message"] = message;
+            namespace key = wiredem::api::progress_line;  // the runner contract's keys, one list
+            o[key::stage] = stage;
+            o[key::progress] = fraction;
+            o[key::eta_s] = nullptr;
+            if (has_eta) o[key::eta_s] = *eta_;
+            o[key::message] = message;
             std::cout << wiredem::api::json_document_text(o) << '\n' << std::flush;
         } else if (tty_) {
             constexpr int width = 30;
@@ -183,7 +185,7 @@ int run_stage(bool json_progress, campaign::StageControl control,
     if (g_cancel.load()) return fail(progress, "cancelled");
     // This run's time: a directory continued from an earlier run's files
     // took that run's time too, which this process did not see.
-    progress.report("writing", 1.0, "done: this run took " + wiredem::engine::fixed_number(seconds_since(t_start), 1) + " s", true);
+    progress.report(wiredem::api::progress_line::writing, 1.0, "done: this run took " + wiredem::engine::fixed_number(seconds_since(t_start), 1) + " s", true);
     progress.finish_line();
     return 0;
 }

@@ -1,6 +1,8 @@
 // Reading the runner's progress lines.
 #include "progress_line.hpp"
 
+#include "api/progress_line.hpp"
+
 #include <boost/json.hpp>
 
 #include <algorithm>
@@ -55,22 +57,23 @@ std::optional<double> number_at(const json::value& v, std::initializer_list<cons
 
 std::optional<ProgressLine> parse_progress_line(std::string_view line)
 {
+    namespace key = api::progress_line;  // the runner contract's keys, one list
     boost::system::error_code ec;
     const json::value v = json::parse(line, ec);
     const auto* obj = ec ? nullptr : v.if_object();
     if (!obj) return std::nullopt;
     ProgressLine p;
-    if (auto s = obj->find("stage"); s != obj->end() && s->value().is_string())
+    if (auto s = obj->find(key::stage); s != obj->end() && s->value().is_string())
         p.stage = cut_utf8(s->value().get_string(), max_stage_bytes);
     // A fraction: finite (Boost.JSON reads "0e3006" as NaN, which clamp would keep), then within [0, 1].
-    if (auto f = number_at(v, {"progress"}); f && std::isfinite(*f)) p.progress = std::clamp(*f, 0.0, 1.0);
-    if (auto e = obj->find("eta_s"); e != obj->end()) {
+    if (auto f = number_at(v, {key::progress}); f && std::isfinite(*f)) p.progress = std::clamp(*f, 0.0, 1.0);
+    if (auto e = obj->find(key::eta_s); e != obj->end()) {
         p.has_eta = true;
-        p.eta_s = duration(number_at(v, {"eta_s"}));  // null: no estimate
+        p.eta_s = duration(number_at(v, {key::eta_s}));  // null: no estimate
     }
-    if (auto m = obj->find("message"); m != obj->end() && m->value().is_string())
+    if (auto m = obj->find(key::message); m != obj->end() && m->value().is_string())
         p.message = cut_utf8(m->value().get_string(), max_message_bytes);
-    p.body_steps_per_second = rate(number_at(v, {"body_steps_per_second"}));
+    p.body_steps_per_second = rate(number_at(v, {key::body_steps_per_second}));
     return p;
 }
 
@@ -81,7 +84,7 @@ void apply_progress_line(const ProgressLine& line, LiveProgress& live)
     if (line.has_eta) live.eta_s = line.eta_s;
     if (line.message) live.message = *line.message;
     // preparing until the runner reports a later stage; running from then on
-    if (live.state == JobState::preparing && !live.stage.empty() && live.stage != "preparing")
+    if (live.state == JobState::preparing && !live.stage.empty() && live.stage != api::progress_line::preparing)
         live.state = JobState::running;
 }
 

@@ -9,6 +9,7 @@
 
 #include "api/derived.hpp"
 #include "api/job_spec.hpp"
+#include "api/progress_line.hpp"
 #include "child_process.hpp"
 #include "progress_line.hpp"
 #include "slurm_client.hpp"
@@ -114,16 +115,16 @@ LiveProgress slurm_progress(const std::vector<SlurmUnit>& units, const SlurmFile
     p.progress = shares.overall(fraction[0], std::span<const double>(fraction).subspan(1, tests), fraction.back(), fraction.back());
     if (units[0].state != S::succeeded) {
         p.state = JobState::preparing;
-        p.stage = "preparing";
+        p.stage = api::progress_line::preparing;
         p.message = "Slurm job " + std::to_string(ids.prepare) + " " + units[0].slurm_state;
     } else if (done < tests) {
         p.state = JobState::running;
-        p.stage = "testing";
+        p.stage = api::progress_line::testing;
         p.message = "Slurm array " + std::to_string(ids.tests) + ": " + std::to_string(done) + " of "
                   + std::to_string(tests) + " tests done, " + std::to_string(running) + " running";
     } else {
         p.state = JobState::running;
-        p.stage = "analysing";
+        p.stage = api::progress_line::analysing;
         p.message = "Slurm job " + std::to_string(ids.analyse) + " " + units.back().slurm_state;
     }
     if (newest && newest->message && !newest->message->empty()) p.message += ": " + *newest->message;

@@ -5,14 +5,13 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "specimen/pattern_kind.hpp"
 
 #include <string>
 #include <vector>
 #include <string_view>
 
 namespace wiredem::engine {
-
-enum class PatternKind { none, helix, spiral_helix, radial_helix, toolpath };
 
 /// Parses "none", "helix", "spiral_helix", "radial_helix", "toolpath".
 [[nodiscard]] bool parse_pattern_kind(std::string_view name, PatternKind& out);

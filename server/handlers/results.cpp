@@ -12,6 +12,7 @@
 #include "files.hpp"
 #include "io/hdf5.hpp"
 #include "io/snapshot.hpp"
+#include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
 
@@ -283,9 +284,11 @@ Response free_standing_routes(const Request& req, const std::vector<std::string>
 /// row's time and axial strain; null before its first row.
 json::value reached_in(const io::Group& g)
 {
-    const std::vector<double> t = g.open_dataset("time_s").read_doubles();
+    using engine::series_column;
+    const std::vector<double> t = g.open_dataset(series_column("time_s").name).read_doubles();
     if (t.empty()) return nullptr;
-    return json::object{{"rows", t.size()}, {"time_s", t.back()}, {"axial_strain", g.open_dataset("axial_strain").read_doubles().back()}};
+    return json::object{{"rows", t.size()}, {"time_s", t.back()},
+        {"axial_strain", g.open_dataset(series_column("axial_strain").name).read_doubles().back()}};
 }
 
 /// …/free_standing and …/free_standing/series of a job that prepares or

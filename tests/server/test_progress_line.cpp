@@ -4,8 +4,14 @@
 // kept as ETAs and rates.
 #include "progress_line.hpp"
 
+#include "api/progress_line.hpp"
+
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 
 using namespace wiredem::server;
@@ -76,5 +82,44 @@ TEST(ProgressLine, AProgressThatIsNotANumberIsNotKept)
         const auto p = parse_progress_line(line);
         ASSERT_TRUE(p) << line;
         EXPECT_FALSE(p->progress) << line;
+    }
+}
+
+// The runner contract of docs/api.md names the keys and stages of
+// api/progress_line.hpp, every one and no other; a line with every key is
+// read whole, and each stage but the first makes a preparing job running.
+TEST(ProgressLine, TheContractInTheDocsNamesTheKeysAndStagesOfTheOneList)
+{
+    namespace key = wiredem::api::progress_line;
+    std::ifstream in(std::string(WIREDEM_SOURCE_DIR) + "/docs/api.md");
+    ASSERT_TRUE(in) << "docs/api.md not found";
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string doc = text.str();
+    const std::size_t from = doc.find("prints progress on stdout, one JSON object per line");
+    ASSERT_NE(from, std::string::npos) << "docs/api.md: the runner contract's progress line";
+    const std::string contract = doc.substr(from, doc.find("Other lines", from) - from);
+    std::set<std::string> documented;
+    const std::regex quoted("\"([a-z_]+)\"");
+    for (auto it = std::sregex_iterator(contract.begin(), contract.end(), quoted); it != std::sregex_iterator(); ++it)
+        documented.insert((*it)[1].str());
+    std::set<std::string> listed(key::keys.begin(), key::keys.end());
+    listed.insert(key::stages.begin(), key::stages.end());
+    EXPECT_EQ(documented, listed) << "docs/api.md's runner contract and api/progress_line.hpp differ";
+
+    const auto p = parse_progress_line(std::string("{\"") + key::stage + "\":\"" + key::testing + "\",\"" + key::progress
+        + "\":0.5,\"" + key::eta_s + "\":3,\"" + key::message + "\":\"m\",\"" + key::body_steps_per_second + "\":7}");
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->stage, key::testing);
+    EXPECT_EQ(p->progress, 0.5);
+    EXPECT_EQ(p->eta_s, 3.0);
+    EXPECT_EQ(p->message, "m");
+    EXPECT_EQ(p->body_steps_per_second, 7.0);
+    for (const std::string_view stage : key::stages) {
+        LiveProgress live;
+        ProgressLine line;
+        line.stage = std::string(stage);
+        apply_progress_line(line, live);
+        EXPECT_EQ(live.state, stage == key::preparing ? JobState::preparing : JobState::running) << stage;
     }
 }
