@@ -731,11 +731,57 @@ TEST(Stages, TheCellAndTheBoxBelongToTheSpecimen)
     EXPECT_EQ(campaign::specimen_difference(cuboid, other_tests), std::nullopt);
 }
 
-// A cuboid-cell test stopped every 1500 steps (its cancel flag set, as a
-// server's SIGTERM or a thread handover sets it) saves a checkpoint on its
-// way out, and started again, on two threads and one in turn, continues from
-// it: its file is that of the test run without a stop, bit for bit but for
-// how it ran (examples/tiny-cuboid.json at one pressure, loaded to 1 %).
+namespace {
+
+/// A stage run again and again, each run stopped (its cancel flag set, as a
+/// server's SIGTERM or a thread handover sets it) after `steps_per_run`
+/// steps, on 2 and 1 threads in turn, until a run finishes: how many stops,
+/// the phases (`phase_of` the checkpoint's /host) its checkpoints were saved
+/// in, and what went wrong otherwise (a run that failed otherwise, or a stop
+/// that left no `checkpoint`).
+struct StoppedRuns {
+    bool done = false;
+    std::set<std::string> phases;  ///< of the checkpoints left by the stops
+    int stops = 0;
+    std::string error;
+};
+StoppedRuns stop_until_it_finishes(const std::function<campaign::StageError(const campaign::StageControl&)>& stage,
+    const fs::path& checkpoint, int steps_per_run,
+    const std::function<std::string(const wiredem::engine::io::Group& host)>& phase_of)
+{
+    StoppedRuns r;
+    for (int attempt = 0; attempt < 200 && !r.done; ++attempt) {
+        std::atomic<bool> stop{false};
+        campaign::StageControl control;
+        control.threads = attempt % 2 == 0 ? 2 : 1;
+        control.cancel = &stop;
+        int reports = 0; // every 500 steps (and one at the start)
+        control.progress = [&](const char*, double, const std::string&) {
+            if (++reports > steps_per_run / 500) stop.store(true);
+        };
+        const campaign::StageError e = stage(control);
+        if (!e) {
+            r.done = true;
+            break;
+        }
+        if (e->find("cancelled") == std::string::npos || !fs::exists(checkpoint)) {
+            r.error = "run " + std::to_string(attempt) + ": " + *e;
+            return r;
+        }
+        ++r.stops;
+        const wiredem::engine::io::File f = wiredem::engine::io::File::open_read_only(checkpoint);
+        r.phases.insert(phase_of(f.root().open_group("host")));
+    }
+    return r;
+}
+
+} // namespace
+
+// A cuboid-cell test stopped every 500 steps (its cancel flag set, as a
+// server's SIGTERM or a thread handover sets it), before and during its
+// loading, saves a checkpoint on its way out, and started again, on two
+// threads and one in turn, continues from it: its file is that of the test
+// run without a stop, bit for bit but for how it ran (examples/tiny-cuboid.json at one pressure, loaded to 1 %).
 TEST(Stages, ACuboidTestStoppedAgainAndAgainContinuesToTheSameResult)
 {
     json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json"));
@@ -749,28 +795,12 @@ TEST(Stages, ACuboidTestStoppedAgainAndAgainContinuesToTheSameResult)
     const fs::path out = dir / "out";
     ASSERT_TRUE(run_wiredem({"prepare", spec.string(), "-o", out.string(), "--threads", "1"}, dir / "log").ok());
     const campaign::JobDir jd{out};
-    int stops = 0;
-    bool done = false;
-    for (int attempt = 0; attempt < 100 && !done; ++attempt) {
-        std::atomic<bool> stop{false};
-        campaign::StageControl control;
-        control.threads = attempt % 2 == 0 ? 2 : 1;
-        control.cancel = &stop;
-        int reports = 0; // every 500 steps (and one at the start)
-        control.progress = [&](const char*, double, const std::string&) {
-            if (++reports > 3) stop.store(true);
-        };
-        const campaign::StageError e = campaign::run_test(jd, 0, control);
-        if (!e) {
-            done = true;
-            break;
-        }
-        ASSERT_NE(e->find("cancelled"), std::string::npos) << *e;
-        ASSERT_TRUE(fs::exists(jd.checkpoint(0))) << "stop " << attempt << " left no checkpoint";
-        ++stops;
-    }
-    ASSERT_TRUE(done) << "the test did not finish in 100 starts";
-    EXPECT_GE(stops, 3);
+    const StoppedRuns r = stop_until_it_finishes(
+        [&](const campaign::StageControl& control) { return campaign::run_test(jd, 0, control); }, jd.checkpoint(0), 500,
+        [](const wiredem::engine::io::Group& host) { return host.read_int_attribute("loading") != 0 ? "loading" : "before"; });
+    ASSERT_EQ(r.error, "");
+    ASSERT_TRUE(r.done) << "not finished after " << r.stops << " stops";
+    EXPECT_EQ(r.phases, (std::set<std::string>{"before", "loading"})) << "stopped " << r.stops << " times";
     EXPECT_FALSE(fs::exists(jd.checkpoint(0)));
     const auto diffs = h5_differences(out / "tests/test_0.h5", ref / "tests/test_0.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
@@ -954,48 +984,6 @@ TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
     EXPECT_NE(o.err.find("free_standing.enabled is false"), std::string::npos) << o.err;
 }
 
-namespace {
-
-/// A free-standing stage run again and again on `dir`, each run stopped (its
-/// cancel flag set, as a server's SIGTERM or a thread handover sets it) after
-/// `steps_per_run` steps, on 2 and 1 threads in turn, until a run finishes:
-/// the phases its checkpoints were saved in, and what went wrong otherwise.
-struct StoppedRuns {
-    bool done = false;
-    std::set<std::string> phases;  ///< of the checkpoints left by the stops
-    int stops = 0;
-    std::string error;
-};
-StoppedRuns stop_until_it_finishes(const campaign::JobDir& dir, int steps_per_run)
-{
-    StoppedRuns r;
-    for (int attempt = 0; attempt < 200 && !r.done; ++attempt) {
-        std::atomic<bool> stop{false};
-        campaign::StageControl control;
-        control.threads = attempt % 2 == 0 ? 2 : 1;
-        control.cancel = &stop;
-        int reports = 0; // every 500 steps (and one at the start)
-        control.progress = [&](const char*, double, const std::string&) {
-            if (++reports > steps_per_run / 500) stop.store(true);
-        };
-        const campaign::StageError e = campaign::run_free_standing_test(dir, control);
-        if (!e) {
-            r.done = true;
-            break;
-        }
-        if (e->find("cancelled") == std::string::npos || !fs::exists(dir.free_standing_checkpoint())) {
-            r.error = "run " + std::to_string(attempt) + ": " + *e;
-            return r;
-        }
-        ++r.stops;
-        const wiredem::engine::io::File f = wiredem::engine::io::File::open_read_only(dir.free_standing_checkpoint());
-        r.phases.insert(f.root().open_group("host").read_string_attribute("phase"));
-    }
-    return r;
-}
-
-} // namespace
-
 // A free-standing test stopped at several points — in the removal, the
 // settling, the dead load and the compression, and (a second job) the
 // pull-out — saves a checkpoint on its way out, and started again, on two
@@ -1038,7 +1026,10 @@ TEST(Stages, AFreeStandingTestStoppedInEveryPhaseContinuesToTheSameResult)
         const campaign::StageError e = campaign::run_free_standing_test(whole, control);
         ASSERT_FALSE(e) << *e;
 
-        const StoppedRuns r = stop_until_it_finishes(stopped, 3000);
+        const StoppedRuns r = stop_until_it_finishes(
+            [&](const campaign::StageControl& c) { return campaign::run_free_standing_test(stopped, c); },
+            stopped.free_standing_checkpoint(), 3000,
+            [](const wiredem::engine::io::Group& host) { return host.read_string_attribute("phase"); });
         ASSERT_EQ(r.error, "");
         ASSERT_TRUE(r.done) << "not finished after " << r.stops << " stops";
         EXPECT_EQ(r.phases, phases) << "stopped " << r.stops << " times";
