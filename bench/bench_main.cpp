@@ -508,6 +508,11 @@ int main(int argc, char** argv)
     app.add_option("--rolling-friction", rolling_friction,
            "time the settled packing with rolling resistance μ_r (engine/laws/rolling.hpp; f_r = 1, η_r = 0.3); 0: off")
         ->check(CLI::Range(0.0, 1.0));
+    std::string clump_template;
+    app.add_option("--clump-template", clump_template,
+           "--clumps: also write the first clump's spheres as the engine holds them, one \"x y z r\" line each [m], "
+           "in its body frame (origin at the centre of mass): the template a peer code's multisphere reads "
+           "(bench/liggghts/clumps_side_by_side.sh)");
     std::string column_test;
     app.add_option("--column-test", column_test,
            "time the column test users run: a test of the prepared job directory DIR (`wiredem prepare JOB -o DIR`) "
@@ -555,6 +560,23 @@ int main(int argc, char** argv)
             w.bodies[0].size(), settle_s, w.dt_s, static_cast<unsigned long long>(w.step_count), settle_wall,
             kinetic_energy_j(w, settle.pool()));
     if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data);
+    if (!clump_template.empty()) {
+        if (w.clumps.empty()) {
+            std::fprintf(stderr, "--clump-template needs --clumps\n");
+            return 2;
+        }
+        std::ofstream out(clump_template);
+        out.precision(17);
+        for (std::uint32_t k = 0; k < w.clumps.member_count[0]; ++k) {
+            const std::uint32_t g = w.clumps.first_member[0] + k;
+            const Vec3& o = w.clumps.member_offset_m[g];
+            out << o.x() << ' ' << o.y() << ' ' << o.z() << ' ' << w.bodies[0].radius_m[g] << '\n';
+        }
+        if (!out) {
+            std::fprintf(stderr, "cannot write %s\n", clump_template.c_str());
+            return 1;
+        }
+    }
     // Timed with the rolling law from here on (its springs start unwound).
     w.contact.rolling = RollingParams{rolling_friction, 1.0, rolling_friction > 0.0 ? 0.3 : 0.0};
 
