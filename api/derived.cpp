@@ -69,7 +69,7 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
     // "Integration and time step").
     if (const auto* given = std::get_if<NormalDampingTime>(&spec.contact.normal_damping))
         in.normal_damping_s = given->normal_damping_s;
-    in.integrator = engine_integrator(spec.engine.integrator);
+    in.integrator = spec.engine.integrator;
     const double membrane_node_kg = membrane_node_mass_kg(s.membrane) * scale;
     in.kinds[2].include(membrane_node_kg, false, membrane_contact_radius_m(s.membrane), plane_modulus_pa(s.membrane));
     in.membrane_edge_stiffness_n_per_m

@@ -16,7 +16,7 @@ namespace wiredem::api {
 engine::SieveCurve sieve_curve(const GrainSizesSpec& g)
 {
     engine::SieveCurve c;
-    c.basis = g.basis == GrainSizeBasis::number ? engine::SieveCurve::Basis::number : engine::SieveCurve::Basis::mass;
+    c.basis = g.basis;  // the engine's own basis
     c.diameters_m = g.diameters_m;
     c.fraction_passing = g.fraction_passing;
     return c;
@@ -91,8 +91,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.membrane.poisson_ratio = s.membrane.poisson_ratio;
     p.membrane.density_kg_per_m3 = s.membrane.density_kg_per_m3;
     p.membrane.contact_radius_m = membrane_contact_radius_m(s.membrane);
-    p.membrane.edge_law = s.membrane.edges == MembraneEdges::linear ? engine::MembraneEdgeLaw::linear
-                                                                     : engine::MembraneEdgeLaw::tension_only;
+    p.membrane.edge_law = s.membrane.edges;  // the engine's own law
     p.membrane.density_scale = spec.engine.density_scale;
 
     p.contact.normal_damping_s = resolve_damping ? resolved_normal_damping_s(spec) : 0.0;
@@ -115,17 +114,12 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
     p.time_step_s = spec.engine.time_step_s.value_or(0.0);
-    p.integrator = engine_integrator(spec.engine.integrator);
+    p.integrator = spec.engine.integrator;  // the engine's own integrator
     p.seed = spec.seed;
     return p;
 }
 
 } // namespace
-
-engine::Integrator engine_integrator(Integrator i)
-{
-    return i == Integrator::verlet ? engine::Integrator::verlet : engine::Integrator::gear5;
-}
 
 engine::PreparationSpec preparation_spec(const JobSpec& spec) { return preparation(spec, true); }
 
@@ -140,8 +134,7 @@ engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test
     t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
     t.hold_time_s = spec.triaxial.hold_time_s;
     t.max_hold_time_s = spec.triaxial.max_hold_time_s;
-    t.consolidation = spec.triaxial.consolidation == Consolidation::effective ? engine::Consolidation::effective
-                                                                              : engine::Consolidation::cell_pressure;
+    t.consolidation = spec.triaxial.consolidation;  // the engine's own
     t.sample_interval_s = spec.triaxial.sample_interval_s;
     t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test
@@ -165,7 +158,7 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
     if (f.dead_load_n) s.dead_load = engine::DeadLoad{*f.dead_load_n, f.dead_load_ramp_time_s, f.dead_load_hold_time_s};
     if (f.pull_out_speed_m_per_s) {
         engine::PullOutSettings p;
-        p.end = f.pull_out_end == WireEndSpec::first ? engine::WireEnd::first : engine::WireEnd::last;
+        p.end = f.pull_out_end;  // the engine's own end
         if (f.pull_out_direction.size() == 3)
             p.direction = engine::Vec3(f.pull_out_direction[0], f.pull_out_direction[1], f.pull_out_direction[2]);
         p.speed_m_per_s = *f.pull_out_speed_m_per_s;

@@ -20,9 +20,6 @@ namespace wiredem::api {
 /// restitution if given so), density scaling, pouring end, δt (0 = auto), seed.
 [[nodiscard]] engine::PreparationSpec preparation_spec(const JobSpec& spec);
 
-/// The engine's integrator for the job's `engine.integrator`.
-[[nodiscard]] engine::Integrator engine_integrator(Integrator i);
-
 /// preparation_spec with the normal damping left at 0, not resolved: all
 /// that the estimates of a job's fill height, wire length and work read
 /// (engine::estimated_fill_height_m, estimated_wire_length_m), which

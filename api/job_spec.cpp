@@ -487,42 +487,17 @@ bool read_numbers(ObjectReader& r, std::string_view key, Range range, std::size_
 
 // ----------------------------------------------------------- schema readers
 
-constexpr std::array<std::pair<std::string_view, WirePattern>, 5> wire_patterns{{
-    {"none", WirePattern::none},
-    {"helix", WirePattern::helix},
-    {"spiral_helix", WirePattern::spiral_helix},
-    {"radial_helix", WirePattern::radial_helix},
-    {"toolpath", WirePattern::toolpath},
-}};
-
-constexpr std::array<std::pair<std::string_view, Integrator>, 2> integrators{{
-    {"gear5", Integrator::gear5},
-    {"verlet", Integrator::verlet},
-}};
-
-constexpr std::array<std::pair<std::string_view, MembraneEdges>, 2> membrane_edges{{
-    {"tension_only", MembraneEdges::tension_only},
-    {"linear", MembraneEdges::linear},
-}};
-
-constexpr std::array<std::pair<std::string_view, GrainSizeBasis>, 2> grain_size_bases{{
-    {"mass", GrainSizeBasis::mass},
-    {"number", GrainSizeBasis::number},
-}};
+// The engine's own name tables: the spec's names are the engine's.
+constexpr const auto& wire_patterns = engine::pattern_kind_names;
+constexpr const auto& integrators = engine::integrator_names;
+constexpr const auto& membrane_edges = engine::membrane_edge_law_names;
+constexpr const auto& grain_size_bases = engine::sieve_basis_names;
+constexpr const auto& wire_ends = engine::wire_end_names;
+constexpr const auto& consolidations = engine::consolidation_names;
 
 constexpr std::array<std::pair<std::string_view, GrainPreset>, 2> grain_presets{{
     {"none", GrainPreset::none},
     {gravel_preset.name, GrainPreset::gravel},
-}};
-
-constexpr std::array<std::pair<std::string_view, WireEndSpec>, 2> wire_ends{{
-    {"last", WireEndSpec::last},
-    {"first", WireEndSpec::first},
-}};
-
-constexpr std::array<std::pair<std::string_view, Consolidation>, 2> consolidations{{
-    {"cell_pressure", Consolidation::cell_pressure},
-    {"effective", Consolidation::effective},
 }};
 
 constexpr std::array<std::pair<std::string_view, CellKind>, 2> cell_kinds{{
@@ -1926,52 +1901,10 @@ json::object engine_json(const EngineSpec& e)
 
 } // namespace
 
-std::string_view to_string(WirePattern p)
-{
-    for (const auto& [name, value] : wire_patterns)
-        if (value == p) return name;
-    return "?";
-}
-
-std::string_view to_string(Integrator i)
-{
-    for (const auto& [name, value] : integrators)
-        if (value == i) return name;
-    return "?";
-}
-
-std::string_view to_string(MembraneEdges e)
-{
-    for (const auto& [name, value] : membrane_edges)
-        if (value == e) return name;
-    return "?";
-}
-
-std::string_view to_string(GrainSizeBasis b)
-{
-    for (const auto& [name, value] : grain_size_bases)
-        if (value == b) return name;
-    return "?";
-}
-
 std::string_view to_string(GrainPreset p)
 {
     for (const auto& [name, value] : grain_presets)
         if (value == p) return name;
-    return "?";
-}
-
-std::string_view to_string(WireEndSpec e)
-{
-    for (const auto& [name, value] : wire_ends)
-        if (value == e) return name;
-    return "?";
-}
-
-std::string_view to_string(Consolidation c)
-{
-    for (const auto& [name, value] : consolidations)
-        if (value == c) return name;
     return "?";
 }
 

@@ -13,6 +13,11 @@
 #include "api/grain_presets.hpp"
 #include "core/result.hpp"
 #include "specimen/pattern_kind.hpp"
+#include "specimen/sieve_basis.hpp"
+#include "state/integrator.hpp"
+#include "state/membrane_edge_law.hpp"
+#include "triaxial/consolidation_kind.hpp"
+#include "triaxial/wire_end.hpp"
 
 #include <boost/json/object.hpp>
 #include <boost/json/value.hpp>
@@ -28,31 +33,28 @@
 
 namespace wiredem::api {
 
-/// How the nozzle lays the wire (the model spec §5): the engine's own kind,
-/// read into directly (engine/specimen/pattern_kind.hpp). JSON: "none",
-/// "helix", "spiral_helix", "radial_helix", "toolpath" (a toolpath's points:
-/// WireSpec::toolpath_x_m).
+// The enums of the spec are the engine's own, read into directly through
+// the engine's one name table of each (engine/core/name_table.hpp): the JSON
+// names are the engine's, and nothing translates them.
+
+/// How the nozzle lays the wire (the model spec §5;
+/// engine/specimen/pattern_kind.hpp). JSON: "none", "helix", "spiral_helix",
+/// "radial_helix", "toolpath" (a toolpath's points: WireSpec::toolpath_x_m).
 using WirePattern = engine::PatternKind;
 
-/// Time integrator (the model spec §4). JSON: "gear5", "verlet".
-enum class Integrator : std::uint8_t {
-    gear5,   ///< fifth-order Gear predictor–corrector, the reference
-    verlet,  ///< velocity Verlet: cheaper, symplectic
-};
+/// Time integrator (the model spec §4; engine/state/integrator.hpp). JSON:
+/// "gear5", "verlet".
+using Integrator = engine::Integrator;
 
-/// How a membrane edge acts when shorter than its rest length. JSON:
-/// "tension_only", "linear". See engine/state/membrane.hpp.
-enum class MembraneEdges : std::uint8_t {
-    tension_only,  ///< the sheet wrinkles: slack in compression (default)
-    linear,        ///< the model spec §3 as written: a spring both ways
-};
+/// How a membrane edge acts when shorter than its rest length
+/// (engine/state/membrane_edge_law.hpp). JSON: "tension_only" (the sheet
+/// wrinkles: slack in compression; default), "linear".
+using MembraneEdges = engine::MembraneEdgeLaw;
 
-/// What the top plate consolidates the column to before loading. JSON:
-/// "cell_pressure", "effective". See engine/triaxial/triaxial.hpp.
-enum class Consolidation : std::uint8_t {
-    cell_pressure, ///< σ₁ = σ₃, the cell pressure on the cap
-    effective,     ///< σ₁ = σ₃,eff, the lateral stress the column feels (default)
-};
+/// What the top plate consolidates the column to before loading
+/// (engine/triaxial/consolidation_kind.hpp). JSON: "cell_pressure",
+/// "effective" (default).
+using Consolidation = engine::Consolidation;
 
 /// The triaxial cell. JSON: "membrane", "cuboid". See
 /// engine/triaxial/cuboid.hpp and engine/specimen/box_preparation.hpp.
@@ -61,11 +63,9 @@ enum class CellKind : std::uint8_t {
     cuboid,   ///< a box of six rigid walls, the specimen compacted in it by servo walls (issue 43)
 };
 
-/// What the fractions of a grain-size curve count. JSON: "mass", "number".
-enum class GrainSizeBasis : std::uint8_t {
-    mass,    ///< fraction passing by mass, as a sieve analysis reports it
-    number,  ///< fraction of the grains by number
-};
+/// What the fractions of a grain-size curve count
+/// (engine/specimen/sieve_basis.hpp). JSON: "mass", "number".
+using GrainSizeBasis = engine::SieveBasis;
 
 /// A grain-size distribution (docs/model.md, "Size distribution"): the
 /// fraction passing each size, linear in log D between sizes.
@@ -305,9 +305,9 @@ struct TriaxialSpec {
 /// after the triaxial tests, the prepared column's formwork is removed, the
 /// column settles on the bottom plate, optionally carries a dead load, and is
 /// compressed unconfined. Not run unless `enabled`.
-/// Which end of the wire a pull-out pulls.
-enum class WireEndSpec : std::uint8_t { last, first };
-[[nodiscard]] std::string_view to_string(WireEndSpec e);
+/// Which end of the wire a pull-out pulls (engine/triaxial/wire_end.hpp).
+/// JSON: "last", "first".
+using WireEndSpec = engine::WireEnd;
 
 struct FreeStandingSpec {
     bool enabled = false;                      ///< run the test
@@ -446,14 +446,11 @@ inline constexpr std::uint64_t job_spec_schema_version = 2;
 /// across fields are not in it.
 [[nodiscard]] boost::json::object job_spec_json_schema();
 
-/// JSON names of the enums.
-[[nodiscard]] std::string_view to_string(WirePattern p);
-[[nodiscard]] std::string_view to_string(Integrator i);
-[[nodiscard]] std::string_view to_string(MembraneEdges e);
-[[nodiscard]] std::string_view to_string(Consolidation c);
+/// JSON names of the engine's enums: the engine's own to_string (one table
+/// per enum, engine/core/name_table.hpp).
+using engine::to_string;
 /// The JSON name of a cell.
 [[nodiscard]] std::string_view to_string(CellKind c);
-[[nodiscard]] std::string_view to_string(GrainSizeBasis b);
 [[nodiscard]] std::string_view to_string(GrainPreset p);
 
 } // namespace wiredem::api

@@ -255,7 +255,8 @@ World wire_membrane_column(const ContainerSpec& base, std::size_t wire_nodes)
     return w;
 }
 
-const char* integrator_name(Integrator i) { return i == Integrator::gear5 ? "gear5" : "verlet"; }
+/// The engine's name (integrator_names: string literals, so NUL-terminated).
+const char* integrator_name(Integrator i) { return to_string(i).data(); }
 
 /// The explicit SIMD paths the run uses (set_simd_kernels and the CPU).
 const char* simd_name()

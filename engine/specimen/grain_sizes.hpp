@@ -18,6 +18,8 @@
 // thread-safe.
 #pragma once
 
+#include "specimen/sieve_basis.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -28,7 +30,7 @@ namespace wiredem::engine {
 /// A size distribution as a lab reports it.
 struct SieveCurve {
     /// What the fractions count: mass (a sieve analysis) or number (a count).
-    enum class Basis : std::uint8_t { mass, number };
+    using Basis = SieveBasis;
     Basis basis = Basis::mass;
     /// D_k, grain diameters (sieve apertures) [m]: at least 2, strictly
     /// increasing, positive.

@@ -4,31 +4,18 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
 
 namespace wiredem::engine {
 
 bool parse_pattern_kind(std::string_view name, PatternKind& out)
 {
-    for (PatternKind k :
-        {PatternKind::none, PatternKind::helix, PatternKind::spiral_helix, PatternKind::radial_helix, PatternKind::toolpath})
-        if (name == pattern_name(k)) {
-            out = k;
-            return true;
-        }
-    return false;
+    const std::optional<PatternKind> k = value_named(pattern_kind_names, name);
+    if (k) out = *k;
+    return k.has_value();
 }
 
-std::string_view pattern_name(PatternKind kind)
-{
-    switch (kind) {
-    case PatternKind::none: return "none";
-    case PatternKind::helix: return "helix";
-    case PatternKind::spiral_helix: return "spiral_helix";
-    case PatternKind::radial_helix: return "radial_helix";
-    case PatternKind::toolpath: return "toolpath";
-    }
-    return "none";
-}
+std::string_view pattern_name(PatternKind kind) { return to_string(kind); }
 
 double pattern_reach_m(const PatternSpec& p)
 {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "state/membrane_edge_law.hpp"
 
 #include <array>
 #include <cstddef>
@@ -11,18 +12,6 @@
 #include <vector>
 
 namespace wiredem::engine {
-
-/// How a membrane edge responds when it is shorter than its rest length.
-enum class MembraneEdgeLaw : std::uint8_t {
-    /// A thin sheet wrinkles rather than carry compression: an edge pulls when
-    /// stretched and is slack when shorter than its rest length. The default:
-    /// with linear edges the contracted membrane holds up part of σ₃ by hoop
-    /// compression, and the grains feel less than the applied pressure
-    /// (docs/model.md, "The membrane carries no compression").
-    tension_only,
-    /// The model spec §3 as written: a linear spring in tension and compression.
-    linear,
-};
 
 /// The membrane as a triangle mesh over the membrane nodes (bodies of kind
 /// membrane, State): its parameters, topology, rest lengths and pressure. What

@@ -30,6 +30,7 @@
 #include "state/body_state.hpp"
 #include "state/clump_shape.hpp"
 #include "state/clump_state.hpp"
+#include "state/integrator.hpp"
 #include "state/materials.hpp"
 #include "state/membrane.hpp"
 #include "state/point_loads.hpp"
@@ -88,12 +89,6 @@ using KindMatrix = std::array<std::array<bool, body_kind_count>, body_kind_count
 /// without it a laid coil, which springs outwards, passes through the
 /// membrane (docs/model.md).
 inline constexpr KindMatrix default_kinds_interact{{{true, true, true}, {true, true, true}, {true, true, false}}};
-
-/// Time integrator (the model spec §4).
-enum class Integrator : std::uint8_t {
-    gear5,  ///< fifth-order Gear predictor–corrector: the reference
-    verlet, ///< velocity Verlet: cheaper per step, symplectic
-};
 
 /// The definition of the system: what a step reads and never writes. Drivers
 /// change it between steps, through the mutators where a change affects the

@@ -41,16 +41,9 @@ bool within_consolidation_mismatch(double sigma1_pa, double target_pa) noexcept
         && std::abs(sigma1_pa - target_pa) <= max_consolidation_mismatch * std::abs(target_pa);
 }
 
-const char* to_string(Consolidation c) noexcept
-{
-    return c == Consolidation::effective ? "effective" : "cell_pressure";
-}
-
 std::optional<Consolidation> consolidation_from_string(std::string_view text) noexcept
 {
-    for (const Consolidation c : {Consolidation::cell_pressure, Consolidation::effective})
-        if (text == to_string(c)) return c;
-    return std::nullopt;
+    return value_named(consolidation_names, text);
 }
 
 double piston_velocity_m_per_s(double velocity_m_per_s, double target_force_n, double plate_force_n,

@@ -6,6 +6,7 @@
 // started (LoadingStart) is read here too.
 #pragma once
 
+#include "triaxial/consolidation_kind.hpp"
 #include "triaxial/sampling.hpp"
 
 #include <cstddef>
@@ -37,22 +38,6 @@ inline constexpr double default_max_hold_factor = 4.0;
 /// consolidates the column.
 inline constexpr double max_piston_speed_factor = 4.0;
 
-/// What the top plate consolidates the column to while σ₃ ramps and holds
-/// (docs/model.md, "Consolidation").
-enum class Consolidation : std::uint8_t {
-    /// σ₁ = σ₃: the cell pressure pushes the cap, as in a laboratory cell. A
-    /// stiff membrane squeezes the column harder than that (σ₃,eff > σ₃), and
-    /// a column it squeezes to its extension strength flows in extension
-    /// while σ₃ is held.
-    cell_pressure,
-    /// σ₁ = σ₃,eff, the lateral stress the column feels (consolidation_window_mean):
-    /// isotropic in the stresses the stress ratio is read from, so loading
-    /// starts from η ≈ 0.
-    effective,
-};
-
-/// "cell_pressure" or "effective".
-[[nodiscard]] const char* to_string(Consolidation c) noexcept;
 /// The inverse of to_string; nullopt for any other text.
 [[nodiscard]] std::optional<Consolidation> consolidation_from_string(std::string_view text) noexcept;
 

@@ -22,7 +22,6 @@ bool segment_removed(const World& w, std::uint32_t segment)
 
 } // namespace
 
-const char* to_string(WireEnd e) noexcept { return e == WireEnd::first ? "first" : "last"; }
 
 const char* to_string(PullOutEnd e) noexcept
 {

@@ -25,6 +25,7 @@
 
 #include "state/world.hpp"
 #include "triaxial/triaxial.hpp"
+#include "triaxial/wire_end.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -32,14 +33,6 @@
 
 namespace wiredem::engine {
 
-/// Which end of the wire is pulled.
-enum class WireEnd : std::uint8_t {
-    last = 0,  ///< the last node laid: the top end of a printed column
-    first = 1, ///< the first node laid: the bottom end
-};
-
-/// "last", "first".
-[[nodiscard]] const char* to_string(WireEnd e) noexcept;
 
 /// How the wire is pulled out. All SI.
 struct PullOutSettings {

@@ -24,7 +24,7 @@ import shutil
 import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Union
+from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
 
 import h5py
 import numpy as np
@@ -39,6 +39,28 @@ RAMP, HOLD, LOADING = 0, 1, 2
 
 #: Body kinds of ``contact_bodies`` (docs/results.md).
 BODY_KINDS = {0: "grain", 1: "wire", 2: "membrane"}
+
+#: The columns of a test's time series in the order the runner writes them: the list
+#: of ``engine/triaxial/series_columns.hpp`` (the writer's one list;
+#: ``SeriesColumns.ThePythonPackagesColumnListIsTheTable`` checks that this is it, in
+#: its order). Time first, the phase last.
+SERIES_COLUMNS: Tuple[str, ...] = (
+    "time_s", "axial_strain", "height_m", "top_plate_force_n", "bottom_plate_force_n",
+    "column_radius_m", "confining_pressure_pa", "sigma1_pa", "sigma3_effective_pa",
+    "deviatoric_stress_pa", "stress_ratio", "volumetric_strain", "kinetic_energy_j",
+    "elastic_energy_j", "contacts", "sliding_contacts", "membrane_contacts",
+    "wire_strain_mean", "wire_strain_max", "inertial_number", "phase",
+)
+_TIME, _PHASE = SERIES_COLUMNS[0], SERIES_COLUMNS[-1]
+
+
+def _series_order(columns: Iterable[str]) -> List[str]:
+    """A series frame's columns: time and phase first (as docs/results.md lists them),
+    then the others in the writer's order (:data:`SERIES_COLUMNS`), then any the package
+    does not know (a newer file's) in the file's order."""
+    have = list(columns)
+    known = [_TIME, _PHASE] + [k for k in SERIES_COLUMNS if k not in (_TIME, _PHASE)]
+    return [k for k in known if k in have] + [k for k in have if k not in SERIES_COLUMNS]
 
 
 def find_wiredem(given: Optional[PathLike] = None) -> str:
@@ -333,8 +355,7 @@ class Test:
             with h5py.File(self._path, "r") as f:
                 g = f[self._group]
                 data = {k: g[k][()] for k in self._columns}
-            order = ["time_s", "phase"] + [k for k in self._columns if k not in ("time_s", "phase")]
-            frame = pd.DataFrame({k: data[k] for k in order if k in data})
+            frame = pd.DataFrame({k: data[k] for k in _series_order(data)})
             frame.index.name = "sample"
             frame.attrs["units"] = {k: self._columns[k] for k in frame.columns}
             frame.attrs["test"] = self.name
@@ -345,7 +366,7 @@ class Test:
     def loading(self) -> pd.DataFrame:
         """The rows of the loading phase (``phase == 2``): the curves against axial strain."""
         s = self.series
-        out = s[s["phase"] == LOADING] if "phase" in s else s
+        out = s[s[_PHASE] == LOADING] if _PHASE in s else s
         out.attrs = dict(s.attrs)
         return out
 
@@ -469,7 +490,7 @@ class FreeStanding:
             #: the group's attributes as the runner wrote them (docs/results.md)
             self.attributes: Dict[str, Any] = _attributes(g)
             units = _dataset_units(g)
-            rows = g["time_s"].shape[0] if "time_s" in g else 0
+            rows = g[_TIME].shape[0] if _TIME in g else 0
             # The series: the datasets with one entry per row (not the per-segment
             # ones at the peak, nor the volumetric strain a free column leaves empty).
             self._columns = {k: u for k, u in units.items() if g[k].ndim == 1 and g[k].shape[0] == rows and rows}
@@ -477,7 +498,7 @@ class FreeStanding:
             self._groups = {k: _dataset_units(g[k]) for k in g if isinstance(g[k], h5py.Group)
                             and k not in ("snapshots", "peak_snapshot")}
             #: {phase code: name}, as the file's ``phase`` dataset declares them
-            self.phases: Dict[int, str] = _phase_names(units.get("phase"))
+            self.phases: Dict[int, str] = _phase_names(units.get(_PHASE))
             snaps = []
             if "snapshots" in g and isinstance(g["snapshots"], h5py.Group):
                 for k in g["snapshots"]:
@@ -561,11 +582,10 @@ class FreeStanding:
         the settled column's equivalent radius), ``column_radius_m``, ``height_m``, the plate
         forces, energies and wire strains (docs/results.md); units in ``frame.attrs["units"]``."""
         if self._series is None:
-            order = ["time_s", "phase"] + [k for k in self._columns if k not in ("time_s", "phase")]
-            frame = _read_frame(self._path, "/free_standing", [k for k in order if k in self._columns], self._columns)
+            frame = _read_frame(self._path, "/free_standing", _series_order(self._columns), self._columns)
             units = frame.attrs["units"]
-            if "phase" in frame:
-                frame.insert(2, "phase_name", frame["phase"].map(self.phases))
+            if _PHASE in frame:
+                frame.insert(2, "phase_name", frame[_PHASE].map(self.phases))
                 units["phase_name"] = None
             frame.index.name = "sample"
             frame.attrs["units"] = units
@@ -583,7 +603,7 @@ class FreeStanding:
             raise ResultError(f"{self._path}: the free-standing test has no phase {name!r} "
                               f"(its phases: {', '.join(self.phases.values())})")
         s = self.series
-        out = s[s["phase"] == codes[0]]
+        out = s[s[_PHASE] == codes[0]]
         out.attrs = dict(s.attrs)
         return out
 

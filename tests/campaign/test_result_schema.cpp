@@ -142,3 +142,20 @@ TEST(SeriesColumns, ThePythonPackageNamesOnlyColumnsOfTheTable)
     }
     EXPECT_GE(found, 10u) << "the package's column names were not found: has the pattern of the Python changed?";
 }
+
+// The package's own list (results.py's SERIES_COLUMNS, by which a series
+// frame orders its columns) is the table, name for name and in its order.
+TEST(SeriesColumns, ThePythonPackagesColumnListIsTheTable)
+{
+    const std::string py = read_text(source("python/wiredem/results.py"));
+    const std::size_t at = py.find("SERIES_COLUMNS: Tuple[str, ...] = (");
+    ASSERT_NE(at, std::string::npos) << "python/wiredem/results.py: SERIES_COLUMNS";
+    const std::size_t end = py.find("\n)", at);
+    ASSERT_NE(end, std::string::npos);
+    const std::vector<std::string> listed =
+        names_matching(py.substr(at, end - at), std::regex(R"re("([a-z0-9_]+)")re"));
+    std::vector<std::string> table;
+    for (const eng::SeriesColumnSpec& c : eng::series_column_specs) table.emplace_back(c.name);
+    EXPECT_EQ(listed, table) << "python/wiredem/results.py's SERIES_COLUMNS is not engine/triaxial/series_columns.hpp's list";
+    EXPECT_EQ(table.front(), "time_s") << "results.py takes the first column for the time";
+}
