@@ -608,15 +608,10 @@ void compute_contact_forces(World& w, ThreadPool& pool, MemoryUpdate memory)
             const std::uint32_t wall = c.second[p].index();
             if (simd.wall && !w.walls[wall].friction_coeff
                 && p + lanes <= std::min<std::size_t>(pairs + end, c.wall_start[wall + 1])) {
+                // The lanes roll their grains too (wall_lanes); those it leaves go one by one.
                 const std::uint32_t done = simd.wall(c, p, w.walls[wall], in);
-                for (std::size_t l = 0; l < lanes; ++l) {
+                for (std::size_t l = 0; l < lanes; ++l)
                     if (!(done >> l & 1u)) wall_contact(p + l);
-                    else if (in.inverse_inertia_about_contact != nullptr && c.touching[p + l])
-                        // The lanes' wall contacts roll one by one (few against the pairs).
-                        if (const std::optional<RollingSides> s = wall_rolling(p + l))
-                            roll_contact(c, p + l, wall_gap(w.walls[wall], in.x[grain][c.first[p + l].index()]).towards,
-                                c.output[p + l].normal_force_n, *s, in);
-                }
                 p += lanes;
             } else {
                 wall_contact(p++);

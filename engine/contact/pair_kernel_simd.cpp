@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 
 #if defined(__x86_64__)
 #include "contact/avx2.hpp"
