@@ -92,9 +92,11 @@ void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::s
 
 /// A rough base under a heap (--rough-base): the poured grains move up by one
 /// lattice pitch, and a layer of fixed grains of their size, on a square
-/// lattice of that pitch at z = r, covers the floor to `radius_m` from the
-/// axis. The base grains come after the poured ones (their ids are higher),
-/// so the peers can tell them apart by id.
+/// lattice of that pitch at z = r, shifted by half a pitch from the poured
+/// lattice's columns (a landing grain meets a pocket, not a grain's top),
+/// covers the floor to `radius_m` from the axis. The base grains come after
+/// the poured ones (their ids are higher), so the peers can tell them apart
+/// by id.
 void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
 {
     const double r = spec.grain_radius_m;
@@ -106,8 +108,9 @@ void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
     const int half = static_cast<int>(std::floor(radius_m / pitch));
     for (int iy = -half; iy <= half; ++iy)
         for (int ix = -half; ix <= half; ++ix) {
-            if (std::hypot(ix * pitch, iy * pitch) > radius_m) continue;
-            const std::uint32_t id = add_grain(w, Vec3(ix * pitch, iy * pitch, r), r, material);
+            const double x = (ix + 0.5) * pitch, y = (iy + 0.5) * pitch;
+            if (std::hypot(x, y) > radius_m) continue;
+            const std::uint32_t id = add_grain(w, Vec3(x, y, r), r, material);
             set_motion(w, BodyRef(BodyKind::grain, id), Motion::fixed);
         }
 }
@@ -540,7 +543,8 @@ int main(int argc, char** argv)
         ->check(CLI::Range(3e-3, 0.1));
     bool heap = false;
     app.add_flag("--heap", heap,
-        "pour a heap: the settling runs without the cylinder (the lattice column falls onto the floor) and with the "
+        "pour a heap: the settling runs without the cylinder (the lattice column, its gaps 0.2 d and its offsets "
+        "across the whole gap, falls onto the floor) and with the "
         "rolling law of --rolling-friction from the start, undamped (η_r = 0, as LIGGGHTS' epsd2); the data file's "
         "box is 0.2 m wide (bench/liggghts/heap_physics.sh)");
     double rough_base_m = 0.0;
@@ -571,6 +575,12 @@ int main(int argc, char** argv)
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);
     spec.lattice_gap = 0.02;
+    if (heap) {
+        // A heap's column: gaps of 0.2 d and offsets across the whole gap, so that its
+        // layers, landing one on the other, do not stack into vertical chains.
+        spec.lattice_gap = 0.2;
+        spec.jitter = 1.0;
+    }
     if (sphere_radius > 0.0) spec.grain_radius_m = sphere_radius;
     if (!clumps.empty()) spec.clump = unit_clump_shape(*builtin_clump_template(clumps));
     build_container(settle.world, spec);

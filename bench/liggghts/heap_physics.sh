@@ -24,7 +24,7 @@
 #
 # usage: bench/liggghts/heap_physics.sh [--grains N] [--lattice-radius R] [--rough-base R] [--time S]
 #                                       [--mu-r "0.3 0"] [--seeds "1 2"] [--also-kt K] [--out DIR] [--no-lammps]
-#   defaults: 1500 grains, a 10 mm lattice column (37 grains a layer, 0.1 m
+#   defaults: 1500 grains, a 12 mm lattice column (37 grains a layer, 0.12 m
 #   tall), a 45 mm base (1005 grains; 0: none, the flat floor), 0.5 s,
 #   μ_r = 0.3, seed 1. --also-kt K: also wiredem with the
 #   tangential law's k_t = K [1/m] (its rolling stiffness is k_t F_n R*²: both
@@ -35,7 +35,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 grains=1500
-lattice_radius=0.01
+lattice_radius=0.012
 rough_base=0.045
 time_s=0.5
 mu_rs=0.3
@@ -73,27 +73,35 @@ for mu_r in $mu_rs; do
         dt=$(sed -n 's/.*"time_step_s":\([^,}]*\).*/\1/p' "$work/lattice.$tag.json" | head -n1)
         steps=$(awk -v s="$time_s" -v dt="$dt" 'BEGIN { printf "%d", s / dt }')
         echo "mu_r $mu_r, seed $seed: δt = $dt s, $steps steps" >&2
-        echo "  wiredem" >&2
+        # The codes run side by side (each one thread, at the nice level): only the heaps are compared.
+        echo "  wiredem, LIGGGHTS$([ "$use_lammps" = 1 ] && echo ", LAMMPS")$([ -n "$also_kt" ] && echo ", wiredem with k_t = $also_kt")" >&2
+        pids=()
         nice -n "$nice_level" "$bench" "${common[@]}" --settle-time "$time_s" --liggghts-data "$work/wiredem.$tag.data" \
-            > /dev/null 2> "$work/wiredem.$tag.err"
+            > /dev/null 2> "$work/wiredem.$tag.err" &
+        pids+=($!)
+        if [ -n "$also_kt" ]; then
+            nice -n "$nice_level" "$bench" "${common[@]}" --settle-time "$time_s" --tangential-stiffness "$also_kt" \
+                --liggghts-data "$work/wiredem-kt.$tag.data" > /dev/null 2> "$work/wiredem-kt.$tag.err" &
+            pids+=($!)
+        fi
+        run_peer "$liggghts" "$here/in.heap" "liggghts.$tag" -var datafile "lattice.$tag.data" -var dt "$dt" \
+            -var steps "$steps" -var dumpfile "liggghts.$tag.dump" -var mur "$mu_r" -var poured "$grains" &
+        pids+=($!)
+        if [ "$use_lammps" = 1 ]; then
+            run_peer "$lammps" "$here/in.heap.lammps" "lammps.$tag" -var datafile "lattice.$tag.data" -var dt "$dt" \
+                -var steps "$steps" -var dumpfile "lammps.$tag.dump" -var mur "$mu_r" -var poured "$grains" &
+            pids+=($!)
+        fi
+        for pid in "${pids[@]}"; do wait "$pid" || { echo "a run of mu_r $mu_r, seed $seed failed" >&2; exit 1; }; done
         runs+=("wiredem/r$mu_r/s$seed=$work/wiredem.$tag.data")
         energies+=("wiredem/r$mu_r/s$seed $(sed -n 's/.*kinetic energy \([^ ]*\) J.*/\1/p' "$work/wiredem.$tag.err" | tail -n1) $grains")
         if [ -n "$also_kt" ]; then
-            echo "  wiredem, k_t = $also_kt" >&2
-            nice -n "$nice_level" "$bench" "${common[@]}" --settle-time "$time_s" --tangential-stiffness "$also_kt" \
-                --liggghts-data "$work/wiredem-kt.$tag.data" > /dev/null 2> "$work/wiredem-kt.$tag.err"
             runs+=("wiredem-kt$also_kt/r$mu_r/s$seed=$work/wiredem-kt.$tag.data")
             energies+=("wiredem-kt$also_kt/r$mu_r/s$seed $(sed -n 's/.*kinetic energy \([^ ]*\) J.*/\1/p' "$work/wiredem-kt.$tag.err" | tail -n1) $grains")
         fi
-        echo "  LIGGGHTS" >&2
-        run_peer "$liggghts" "$here/in.heap" "liggghts.$tag" -var datafile "lattice.$tag.data" -var dt "$dt" \
-            -var steps "$steps" -var dumpfile "liggghts.$tag.dump" -var mur "$mu_r" -var poured "$grains"
         runs+=("LIGGGHTS/r$mu_r/s$seed=$work/liggghts.$tag.dump")
         energies+=("LIGGGHTS/r$mu_r/s$seed $(last_kinetic_energy "$work/liggghts.$tag.log") $(last_atoms "$work/liggghts.$tag.log")")
         if [ "$use_lammps" = 1 ]; then
-            echo "  LAMMPS" >&2
-            run_peer "$lammps" "$here/in.heap.lammps" "lammps.$tag" -var datafile "lattice.$tag.data" -var dt "$dt" \
-                -var steps "$steps" -var dumpfile "lammps.$tag.dump" -var mur "$mu_r" -var poured "$grains"
             runs+=("LAMMPS/r$mu_r/s$seed=$work/lammps.$tag.dump")
             energies+=("LAMMPS/r$mu_r/s$seed $(last_kinetic_energy "$work/lammps.$tag.log") $(last_atoms "$work/lammps.$tag.log")")
         fi
