@@ -21,8 +21,9 @@ axis), r95, and atan(H / r95), the angle of a cone of that height and base.
 
     heap_physics.py [--poured N] LABEL=FILE [LABEL=FILE ...] [--csv OUT.csv] [--png OUT.png]
 
---poured N: only the first N grains (by id) are the heap's; the rest is the
-fixed rough base (wiredem-bench --rough-base).
+--poured N: only the grains with ids up to N are the heap's; the rest is
+the fixed rough base (wiredem-bench --rough-base). Grains beyond the peers'
+box (|x| or |y| > 0.1 m) are left out for every code: a peer loses them.
 
 Labels name the runs as heap_physics.sh does (code/rMU_R/sSEED); with several
 seeds of a code and mu_r, the table adds their mean and standard deviation.
@@ -40,7 +41,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent.parent / "scripts"))
 from gravel_calibration import equivalent_radius_profile, profile_angle_deg, surface_angle_deg  # noqa: E402
-from packing_physics import read_positions  # noqa: E402
+from packing_physics import read_atoms  # noqa: E402
+
+# The peers' box (wiredem-bench --heap writes it 0.2 m wide): a grain that
+# rolls beyond it is lost to them, so it is left out for every code.
+BOX_HALF_WIDTH_M = 0.1
 
 
 def measure(x: np.ndarray, r: np.ndarray) -> dict:
@@ -74,9 +79,11 @@ def main() -> int:
     res = {}
     for spec in args.runs:
         label, _, path = spec.partition("=")
-        x, r = read_positions(Path(path))
-        n = args.poured if args.poured else len(r)
-        res[label] = measure(x[:n], r[:n])
+        ids, x, r = read_atoms(Path(path))
+        keep = np.all(np.abs(x[:, :2]) <= BOX_HALF_WIDTH_M, axis=1)
+        if args.poured:
+            keep &= ids <= args.poured
+        res[label] = measure(x[keep], r[keep])
     print("angles in degrees")
     print(f"{'run':<28} {'N':>6} " + " ".join(f"{h:>11}" for _, h, _ in FIGURES))
     for label, m in res.items():
