@@ -109,9 +109,12 @@ def main() -> int:
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(6.5, 4))
         colours = {"wiredem": "C0", "LIGGGHTS": "C1", "LAMMPS": "C2"}
+        cases = sorted({label.split("/")[1] if label.count("/") >= 1 else "" for label in res})
+        styles = ["o-", "s--", "^:", "d-."]  # one per mu_r (the label's second part)
         for i, (label, m) in enumerate(res.items()):
             code = label.split("/")[0]
-            ax.plot(1e3 * m["rr"], 1e3 * m["h"], "o-" if code in colours else "s--",
+            case = label.split("/")[1] if label.count("/") >= 1 else ""
+            ax.plot(1e3 * m["rr"], 1e3 * m["h"], styles[cases.index(case) % len(styles)],
                     color=colours.get(code, f"C{3 + i % 6}"), ms=3, alpha=0.8,
                     label=f"{label}: {m['surface']:.1f}° / {m['profile']:.1f}°")
         ax.set_xlabel("equivalent radius of the slice [mm]")
