@@ -67,9 +67,14 @@ std::size_t touching(const World& w)
     return n;
 }
 
+/// Half the width of the box of a heap's data file (--heap) [m]: the floor
+/// the peers' grains may spread over (a grain beyond it is lost to them).
+constexpr double heap_box_half_width_m = 0.1;
+
 /// LAMMPS/LIGGGHTS data file (atom_style granular) of the grains, for the
-/// side-by-side run in bench/liggghts.
-void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::string& path)
+/// side-by-side runs in bench/liggghts; the box is the container's, or
+/// heap_box_half_width_m wide for a heap.
+void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::string& path, bool heap)
 {
     const auto& g = w.bodies[0];
     double z_max = 0.0;
@@ -77,12 +82,37 @@ void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::s
     std::ofstream out(path);
     out.precision(17);
     out << "wiredem settled packing\n\n" << g.size() << " atoms\n2 atom types\n\n"; // type 2: the walls
-    const double half = spec.container_radius_m * 1.05;
+    const double half = std::max(spec.container_radius_m * 1.05, heap ? heap_box_half_width_m : 0.0);
     out << -half << ' ' << half << " xlo xhi\n" << -half << ' ' << half << " ylo yhi\n"
         << -0.001 << ' ' << z_max + 4 * spec.grain_radius_m << " zlo zhi\n\nAtoms\n\n";
     for (std::size_t i = 0; i < g.size(); ++i)
         out << i + 1 << " 1 " << 2 * g.radius_m[i] << ' ' << spec.grain.density_kg_per_m3 << ' '
             << g.x[0][i].x() << ' ' << g.x[0][i].y() << ' ' << g.x[0][i].z() << '\n';
+}
+
+/// A rough base under a heap (--rough-base): the poured grains move up by one
+/// lattice pitch, and a layer of fixed grains of their size, on a square
+/// lattice of that pitch at z = r, shifted by half a pitch from the poured
+/// lattice's columns (a landing grain meets a pocket, not a grain's top),
+/// covers the floor to `radius_m` from the axis. The base grains come after
+/// the poured ones (their ids are higher), so the peers can tell them apart
+/// by id.
+void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
+{
+    const double r = spec.grain_radius_m;
+    const double pitch = 2.0 * r * (1.0 + spec.lattice_gap);
+    const auto poured = static_cast<std::uint32_t>(w.bodies[0].size());
+    for (std::uint32_t i = 0; i < poured; ++i)
+        place_body(w, BodyRef(BodyKind::grain, i), w.bodies[0].x[0][i] + Vec3(0.0, 0.0, pitch));
+    const std::uint8_t material = w.bodies[0].material.at(0);
+    const int half = static_cast<int>(std::floor(radius_m / pitch));
+    for (int iy = -half; iy <= half; ++iy)
+        for (int ix = -half; ix <= half; ++ix) {
+            const double x = (ix + 0.5) * pitch, y = (iy + 0.5) * pitch;
+            if (std::hypot(x, y) > radius_m) continue;
+            const std::uint32_t id = add_grain(w, Vec3(x, y, r), r, material);
+            set_motion(w, BodyRef(BodyKind::grain, id), Motion::fixed);
+        }
 }
 
 /// Replaces the grains of a freshly built container by the packing in a data
@@ -514,6 +544,20 @@ int main(int argc, char** argv)
            "--clumps: also write the first clump's spheres as the engine holds them, one \"x y z r\" line each [m], "
            "in its body frame (origin at the centre of mass): the template a peer code's multisphere reads "
            "(bench/liggghts/clumps_side_by_side.sh)");
+    app.add_option("--lattice-radius", spec.container_radius_m,
+           "radius of the cylinder the grains' lattice fills [m] (default: 20 mm, the paper's column)")
+        ->check(CLI::Range(3e-3, 0.1));
+    bool heap = false;
+    app.add_flag("--heap", heap,
+        "pour a heap: the settling runs without the cylinder (the lattice column, its gaps 0.2 d and its offsets "
+        "across the whole gap, falls onto the floor) and with the "
+        "rolling law of --rolling-friction from the start, undamped (η_r = 0, as LIGGGHTS' epsd2); the data file's "
+        "box is 0.2 m wide (bench/liggghts/heap_physics.sh)");
+    double rough_base_m = 0.0;
+    app.add_option("--rough-base", rough_base_m,
+           "--heap: a layer of fixed grains of the grains' size on the floor, to this radius [m] (their ids follow the "
+           "poured grains'); 0: the flat floor")
+        ->check(CLI::Range(0.0, 0.09));
     std::string column_test;
     app.add_option("--column-test", column_test,
            "time the column test users run: a test of the prepared job directory DIR (`wiredem prepare JOB -o DIR`) "
@@ -537,6 +581,12 @@ int main(int argc, char** argv)
     // The paper's grains; plates and cylinder with E_b = 1 GPa; e_n = 0.5.
     Simulation settle(0);
     spec.lattice_gap = 0.02;
+    if (heap) {
+        // A heap's column: gaps of 0.2 d and offsets across the whole gap, so that its
+        // layers, landing one on the other, do not stack into vertical chains.
+        spec.lattice_gap = 0.2;
+        spec.jitter = 1.0;
+    }
     if (sphere_radius > 0.0) spec.grain_radius_m = sphere_radius;
     if (!clumps.empty()) spec.clump = unit_clump_shape(*builtin_clump_template(clumps));
     build_container(settle.world, spec);
@@ -552,6 +602,21 @@ int main(int argc, char** argv)
         read_liggghts_data(w, spec, packing);
         settle_s = 0.0;
     }
+    if (heap) {
+        // The lattice's cylinder goes (build_container's second wall); the rolling law acts while the heap forms.
+        if (w.walls.size() < 2 || w.walls[1].shape != Wall::Shape::cylinder)
+            throw std::logic_error("--heap: the container's second wall is not its cylinder");
+        remove_wall(w, 1);
+        w.contact.rolling = RollingParams{rolling_friction, 1.0, 0.0};
+        if (rough_base_m > 0.0) add_rough_base(w, spec, rough_base_m);
+    } else if (rough_base_m > 0.0) {
+        std::fprintf(stderr, "wiredem-bench: --rough-base needs --heap\n");
+        return 2;
+    }
+    if (!clump_template.empty() && w.clumps.empty()) {
+        std::fprintf(stderr, "wiredem-bench: --clump-template needs --clumps\n");
+        return 2;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     settle.run(static_cast<std::uint64_t>(settle_s / w.dt_s));
     const double settle_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -560,12 +625,11 @@ int main(int argc, char** argv)
                     "kinetic energy %.3g J\n",
             w.bodies[0].size(), settle_s, w.dt_s, static_cast<unsigned long long>(w.step_count), settle_wall,
             kinetic_energy_j(w, settle.pool()));
-    if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data);
+    if (heap)
+        std::fprintf(stderr, "heap: %zu grains, kinetic energy %.6g J after %.6g s\n", w.bodies[0].size(),
+            kinetic_energy_j(w, settle.pool()), settle_s);
+    if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data, heap);
     if (!clump_template.empty()) {
-        if (w.clumps.empty()) {
-            std::fprintf(stderr, "--clump-template needs --clumps\n");
-            return 2;
-        }
         std::ofstream out(clump_template);
         out.precision(17);
         for (std::uint32_t k = 0; k < w.clumps.member_count[0]; ++k) {

@@ -26,12 +26,12 @@
 #
 # usage: bench/liggghts/clumps_side_by_side.sh [--shape SHAPE] [--grains N] [--steps STEPS] [--reps R]
 #   defaults: tetrahedral, 500 clumps, 2000 steps, 3 timed repetitions each
-# environment: LIGGGHTS (binary, default liggghts on PATH), WIREDEM_BENCH, KEEP=1.
+# environment: as peers.sh: WIREDEM_BENCH, LIGGGHTS, NICE (default 19: both codes
+# run at it; CPU times hardly depend on it), KEEP=1.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
-bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
 shape=tetrahedral grains=500 steps=2000 reps=3
 while [ $# -gt 0 ]; do
     case $1 in
@@ -43,18 +43,14 @@ while [ $# -gt 0 ]; do
         *) echo "unknown argument: $1 (try --help)" >&2; exit 2 ;;
     esac
 done
-[ -x "$bench" ] || { echo "no $bench: build it first with 'bash scripts/build.sh release'" >&2; exit 1; }
-liggghts=${LIGGGHTS:-$(command -v liggghts || echo /usr/bin/liggghts)}
-[ -x "$liggghts" ] || { echo "no LIGGGHTS binary ($liggghts): apt-get install liggghts, or set LIGGGHTS=" >&2; exit 1; }
-
-work=$(mktemp -d /tmp/wiredem-clumps.XXXXXX)
-if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
+use_lammps=0
+. "$here/peers.sh" # bench, liggghts, nice_level, work, run_peer
 settle_s=0.2
 
 # --- wiredem ---------------------------------------------------------------
 threads=$(seq -s, "$reps" | sed 's/[0-9][0-9]*/1/g') # "1,1,1": each run from the same settled packing
 echo "running: $bench --clumps $shape --grains $grains --threads $threads (settling $settle_s s, then $steps steps per run)" >&2
-"$bench" --clumps "$shape" --grains "$grains" --settle-time "$settle_s" --threads "$threads" --steps "$steps" \
+nice -n "$nice_level" "$bench" --clumps "$shape" --grains "$grains" --settle-time "$settle_s" --threads "$threads" --steps "$steps" \
     --no-wire-membrane --json --liggghts-data "$work/wiredem.data" --clump-template "$work/clump.spheres" > "$work/wiredem.json"
 field() { sed 's/,"stage_s":{[^}]*}//' | sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"; }
 dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
@@ -67,11 +63,10 @@ settle_steps=$(awk -v t="$settle_s" -v dt="$dt" 'BEGIN { printf "%d", t / dt }')
 # wiredem's skin (engine/step.cpp, effective_skin_m): 0.2 x the largest sphere's radius.
 common=(-var skin "$(awk -v r="$radius" 'BEGIN { print 0.2 * r }')" -var dt "$dt")
 echo "running: $liggghts -in in.multisphere_settle ($grains clumps, $settle_steps steps)" >&2
-(cd "$work" && "$liggghts" -in "$here/in.multisphere_settle" "${common[@]}" -var clumpfile clump.spheres \
-    -var nspheres "$nsph" -var clumps "$grains" -var steps "$settle_steps" -var restart settled.restart \
-    -log settle.log > settle.out 2>&1) || { tail -n 30 "$work/settle.out" >&2; exit 1; }
+run_peer "$liggghts" "$here/in.multisphere_settle" settle "${common[@]}" -var clumpfile clump.spheres \
+    -var nspheres "$nsph" -var clumps "$grains" -var steps "$settle_steps" -var restart settled.restart
 ligg_cpu() { # ligg_cpu STEPS: CPU seconds of a run of STEPS steps from the restart
-    (cd "$work" && /usr/bin/time -f "%U %S" -o time.$1 "$liggghts" -in "$here/in.multisphere_time" "${common[@]}" \
+    (cd "$work" && /usr/bin/time -f "%U %S" -o time.$1 nice -n "$nice_level" "$liggghts" -in "$here/in.multisphere_time" "${common[@]}" \
         -var restart settled.restart -var steps "$1" -log time.$1.log > time.$1.out 2>&1) ||
         { tail -n 30 "$work/time.$1.out" >&2; exit 1; }
     awk '{ print $1 + $2 }' "$work/time.$1"

@@ -51,8 +51,9 @@ def e_star(e1: float, n1: float, e2: float, n2: float) -> float:
     return 1.0 / ((1 - n1 * n1) / e1 + (1 - n2 * n2) / e2)
 
 
-def read_positions(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """(x (N, 3), radius (N,)) from a data file or the last snapshot of a dump."""
+def read_atoms(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(id (N,), x (N, 3), radius (N,)) from a data file or the last snapshot
+    of a dump, in ascending id (a dump lacks the atoms its code lost)."""
     lines = path.read_text().splitlines()
     if lines and lines[0].startswith("ITEM:"):
         starts = [i for i, l in enumerate(lines) if l.startswith("ITEM: NUMBER OF ATOMS")]
@@ -63,10 +64,17 @@ def read_positions(path: Path) -> tuple[np.ndarray, np.ndarray]:
         rows = np.array([[float(v) for v in l.split()] for l in lines[j + 1:j + 1 + n]])
         rows = rows[np.argsort(rows[:, cols.index("id")])]
         x = rows[:, [cols.index("x"), cols.index("y"), cols.index("z")]]
-        return x, rows[:, cols.index("radius")]
+        return rows[:, cols.index("id")].astype(int), x, rows[:, cols.index("radius")]
     j = lines.index("Atoms")
     rows = np.array([[float(v) for v in l.split()] for l in lines[j + 1:] if l.strip()])
-    return rows[:, 4:7], 0.5 * rows[:, 2]
+    rows = rows[np.argsort(rows[:, 0])]
+    return rows[:, 0].astype(int), rows[:, 4:7], 0.5 * rows[:, 2]
+
+
+def read_positions(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """(x (N, 3), radius (N,)) from a data file or the last snapshot of a dump."""
+    _, x, r = read_atoms(path)
+    return x, r
 
 
 def pairs_in_contact(x: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

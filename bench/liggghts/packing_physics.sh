@@ -32,7 +32,6 @@ set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
-bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
 grains=2000
 settle=0.2
 seeds="1 2"
@@ -51,18 +50,7 @@ while [ $# -gt 0 ]; do
         *) echo "unknown argument: $1 (try --help)" >&2; exit 2 ;;
     esac
 done
-[ -x "$bench" ] || { echo "no $bench: build it first with 'bash scripts/build.sh release wiredem-bench'" >&2; exit 1; }
-liggghts=${LIGGGHTS:-$(command -v liggghts || true)}
-[ -n "$liggghts" ] || { echo "no LIGGGHTS binary: apt-get install liggghts, or set LIGGGHTS=" >&2; exit 1; }
-lammps=${LAMMPS:-$(command -v lmp || true)}
-if [ "$use_lammps" = 1 ] && [ -z "$lammps" ]; then
-    echo "note: no LAMMPS binary (apt-get install lammps, or set LAMMPS=): left out" >&2
-    use_lammps=0
-fi
-nice_level=${NICE:-19}
-
-work=$(mktemp -d /tmp/wiredem-packing-physics.XXXXXX)
-if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
+source "$here/peers.sh"
 
 runs=()
 for seed in $seeds; do
@@ -81,23 +69,21 @@ for seed in $seeds; do
         runs+=("wiredem-kt$also_kt/s$seed=$work/wiredem-kt.$seed.data")
     fi
     echo "  LIGGGHTS" >&2
-    (cd "$work" && nice -n "$nice_level" "$liggghts" -in "$here/in.settle" -var datafile "lattice.$seed.data" -var dt "$dt" \
-        -var steps "$steps" -var dumpfile "liggghts.$seed.dump" -log "liggghts.$seed.log" > "liggghts.$seed.out" 2>&1) ||
-        { tail -n 20 "$work/liggghts.$seed.out" >&2; exit 1; }
+    run_peer "$liggghts" "$here/in.settle" "liggghts.$seed" -var datafile "lattice.$seed.data" -var dt "$dt" \
+        -var steps "$steps" -var dumpfile "liggghts.$seed.dump"
     runs+=("LIGGGHTS/s$seed=$work/liggghts.$seed.dump")
     if [ "$use_lammps" = 1 ]; then
         echo "  LAMMPS" >&2
-        (cd "$work" && nice -n "$nice_level" "$lammps" -in "$here/in.settle.lammps" -var datafile "lattice.$seed.data" -var dt "$dt" \
-            -var steps "$steps" -var dumpfile "lammps.$seed.dump" -log "lammps.$seed.log" > "lammps.$seed.out" 2>&1) ||
-            { tail -n 20 "$work/lammps.$seed.out" >&2; exit 1; }
+        run_peer "$lammps" "$here/in.settle.lammps" "lammps.$seed" -var datafile "lattice.$seed.data" -var dt "$dt" \
+            -var steps "$steps" -var dumpfile "lammps.$seed.dump"
         runs+=("LAMMPS/s$seed=$work/lammps.$seed.dump")
     fi
 done
 
 echo "$(date -u '+%Y-%m-%d %H:%M UTC'); $grains grains, $settle s of settling; kinetic energy at the end [J]:"
 for seed in $seeds; do
-    echo "  seed $seed: LIGGGHTS $(awk '/^ *Step/ { on = 1; next } on && NF == 3 { ke = $3 } END { print ke }' "$work/liggghts.$seed.log")" \
-         "$([ "$use_lammps" = 1 ] && echo "LAMMPS $(awk '/^ *Step/ { on = 1; next } on && NF == 3 && $1 ~ /^[0-9]+$/ { ke = $3 } END { print ke }' "$work/lammps.$seed.log")")"
+    echo "  seed $seed: LIGGGHTS $(last_kinetic_energy "$work/liggghts.$seed.log")" \
+         "$([ "$use_lammps" = 1 ] && echo "LAMMPS $(last_kinetic_energy "$work/lammps.$seed.log")")"
 done
 extra=()
 if [ -n "$out" ]; then
