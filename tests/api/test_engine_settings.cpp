@@ -116,7 +116,8 @@ void expect_json_names_are_the_engines(std::string_view path, const engine::Name
         const auto r = api::parse_job_spec(document(name));
         ASSERT_TRUE(r.ok()) << name << ": " << (r.ok() ? "" : r.error().front().path + ": " + r.error().front().message);
         EXPECT_EQ(field(r.value()), value) << name << " read as another value";
-        const json::value* written = json_at(api::to_json(r.value()), path);
+        const json::value whole_written = api::to_json(r.value()); // json_at points into it
+        const json::value* written = json_at(whole_written, path);
         ASSERT_NE(written, nullptr);
         EXPECT_EQ(*written, json::value(json::string(name))) << "written as another name";
     }
