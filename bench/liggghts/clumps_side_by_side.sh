@@ -44,7 +44,7 @@ while [ $# -gt 0 ]; do
     esac
 done
 use_lammps=0
-. "$here/peers.sh" # bench, liggghts, nice_level, work, run_peer
+. "$here/peers.sh" # bench, liggghts, nice_level, work, run_peer, field
 settle_s=0.2
 
 # --- wiredem ---------------------------------------------------------------
@@ -52,7 +52,6 @@ threads=$(seq -s, "$reps" | sed 's/[0-9][0-9]*/1/g') # "1,1,1": each run from th
 echo "running: $bench --clumps $shape --grains $grains --threads $threads (settling $settle_s s, then $steps steps per run)" >&2
 nice -n "$nice_level" "$bench" --clumps "$shape" --grains "$grains" --settle-time "$settle_s" --threads "$threads" --steps "$steps" \
     --no-wire-membrane --json --liggghts-data "$work/wiredem.data" --clump-template "$work/clump.spheres" > "$work/wiredem.json"
-field() { sed 's/,"stage_s":{[^}]*}//' | sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"; }
 dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
 spheres=$(head -n1 "$work/wiredem.json" | field bodies)
 nsph=$(wc -l < "$work/clump.spheres")

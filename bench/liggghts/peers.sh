@@ -1,5 +1,6 @@
-# Shared by the cross-code comparisons (issue 43 §4): packing_physics.sh and
-# heap_physics.sh source it after parsing their arguments. It finds the three
+# Shared by the cross-code scripts: packing_physics.sh and heap_physics.sh
+# (issue 43 §4), side_by_side.sh and clumps_side_by_side.sh (the timings)
+# source it after parsing their arguments. It finds the three
 # codes and makes the work directory; its functions run a peer's deck and read
 # its log.
 #
@@ -9,6 +10,7 @@
 # environment: WIREDEM_BENCH, LIGGGHTS, LAMMPS (binaries; default
 #              build/release/bench/wiredem-bench, liggghts and lmp on PATH),
 #              NICE (default 19), KEEP=1 keeps the work directory.
+# functions: run_peer, last_kinetic_energy, last_atoms, field (below)
 
 bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
 [ -x "$bench" ] || { echo "no $bench: build it first with 'bash scripts/build.sh release wiredem-bench'" >&2; exit 1; }
@@ -44,4 +46,11 @@ last_kinetic_energy() {
 # a grain that leaves its box).
 last_atoms() {
     awk '/^ *Step/ { on = 1; next } on && NF == 3 && $1 ~ /^[0-9]+$/ { n = $2 } END { print n }' "$1"
+}
+
+# field NAME < one JSON line (wiredem-bench --json): the value of a top-level
+# number or string field. The stage_s object goes first: its stage
+# "contacts" would match.
+field() {
+    sed 's/,"stage_s":{[^}]*}//' | sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"
 }

@@ -25,15 +25,12 @@
 # other work, wall times mostly measure the waiting; the CPU time of a
 # one-thread run does not (LIGGGHTS' CPU time is that of an N-step run minus
 # that of a 0-step run, i.e. without reading the file and setting up).
-# environment: LIGGGHTS (binary, default: liggghts on PATH, else /usr/bin/liggghts),
-#              LAMMPS (binary, default: lmp on PATH, else /usr/bin/lmp; Debian: lammps),
-#              MPIRUN (default: mpirun on PATH), KEEP=1 keeps the work directory,
-#              WIREDEM_BENCH (default: build/release/bench/wiredem-bench).
+# environment: as peers.sh (WIREDEM_BENCH, LIGGGHTS, LAMMPS, KEEP=1; NICE is
+#              0 here), and MPIRUN (default: mpirun on PATH).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
-bench=${WIREDEM_BENCH:-$root/build/release/bench/wiredem-bench}
 
 steps=2000
 settle=0.2
@@ -52,20 +49,10 @@ while [ $# -gt 0 ]; do
     esac
 done
 
-if [ ! -x "$bench" ]; then
-    echo "no $bench: build it first with 'bash scripts/build.sh release'" >&2
-    exit 1
-fi
-liggghts=${LIGGGHTS:-$(command -v liggghts || echo /usr/bin/liggghts)}
-if [ ! -x "$liggghts" ]; then
-    echo "no LIGGGHTS binary ($liggghts): install it (Debian: apt-get install liggghts) or set LIGGGHTS=" >&2
-    exit 1
-fi
-lammps=${LAMMPS:-$(command -v lmp || echo /usr/bin/lmp)}
-if [ ! -x "$lammps" ]; then
-    echo "note: no LAMMPS binary ($lammps): LAMMPS is left out (Debian: apt-get install lammps, or set LAMMPS=)" >&2
-    lammps=
-fi
+use_lammps=1
+NICE=${NICE:-0} # timings: at normal priority unless asked
+. "$here/peers.sh" # bench, liggghts, lammps, use_lammps, work, field
+[ "$use_lammps" = 1 ] || lammps=
 mpirun=${MPIRUN:-$(command -v mpirun || true)}
 # mpi_procs BINARY: the process counts to run it on (2 only with mpirun and an MPI build).
 # (not `ldd | grep -q`: grep -q quits early, ldd gets SIGPIPE, pipefail fails it)
@@ -78,9 +65,6 @@ mpi_procs() {
     fi
 }
 
-work=$(mktemp -d /tmp/wiredem-side-by-side.XXXXXX)
-if [ "${KEEP:-0}" = 1 ]; then echo "work directory: $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
-
 # --- wiredem ---------------------------------------------------------------
 bench_args=(--json --threads 1,2 --steps "$steps" --no-wire-membrane --liggghts-data "$work/packing.data")
 [ -n "$settle" ] && bench_args+=(--settle-time "$settle")
@@ -89,10 +73,6 @@ bench_args=(--json --threads 1,2 --steps "$steps" --no-wire-membrane --liggghts-
 echo "running: $bench ${bench_args[*]}" >&2
 "$bench" "${bench_args[@]}" > "$work/wiredem.json"
 
-field() { # field NAME < one JSON line: the value of a top-level number or string field
-    # (the stage_s object goes first: its stage "contacts" would match)
-    sed 's/,"stage_s":{[^}]*}//' | sed -n "s/.*\"$1\":\"\{0,1\}\([^\",}]*\).*/\1/p"
-}
 dt=$(head -n1 "$work/wiredem.json" | field time_step_s)
 bodies=$(head -n1 "$work/wiredem.json" | field bodies)
 contacts=$(head -n1 "$work/wiredem.json" | field contacts)

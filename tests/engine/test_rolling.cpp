@@ -287,8 +287,8 @@ TEST(RollingGrains, SameBitsOnOneAndSeveralThreadsAndWithOrWithoutTheSimdPaths)
 {
     const std::vector<std::uint64_t> reference = run_rolling_column(1);
     EXPECT_EQ(run_rolling_column(3), reference);
-    // The force kernels run as every SIMD choice has them (the same bits);
-    // the rolling pass after them is scalar for all: the same bits again.
+    // The force kernels, the rolling law among them (the AVX2 wall lanes
+    // have it too), run as every SIMD choice has them: the same bits.
     const RestoreSimdKernels restore;
     set_simd_kernels(SimdKernels::scalar);
     EXPECT_EQ(run_rolling_column(2), reference);
