@@ -284,8 +284,9 @@ StageError take_specimen(const api::JobSpec& spec, const JobDir& dir, const Stag
 
 /// The cuboid cell's specimen (triaxial.cell = cuboid): the grains compacted
 /// in the box (engine/specimen/box_preparation.hpp), saved as a poured one
-/// is, with the report's fields a box has (no wire, no core: the whole box's
-/// fraction). Not checkpointed: the preparation is a pure function of the
+/// is, with the report's fields a box has (no wire; its core a grain
+/// diameter inside all six walls, as the column's is inside the membrane and
+/// the plates). Not checkpointed: the preparation is a pure function of the
 /// job, prepared again (the same bits) if it was stopped.
 StageError prepare_box(const api::JobSpec& spec, const JobDir& dir, const StageControl& control)
 {
@@ -305,7 +306,7 @@ StageError prepare_box(const api::JobSpec& spec, const JobDir& dir, const StageC
     prep.pile_height_m = box.box.height_m;
     prep.sample_volume_m3 = box.sample_volume_m3;
     prep.grain_volume_fraction = box.grain_volume_fraction;
-    prep.core_grain_volume_fraction = box.grain_volume_fraction;
+    prep.core_grain_volume_fraction = box.core_grain_volume_fraction;
     prep.simulated_time_s = box.simulated_time_s;
     prep.wall_time_s = box.wall_time_s;
     prep.steps = box.steps;

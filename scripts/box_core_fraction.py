@@ -2,9 +2,10 @@
 """The grain volume fraction of a cuboid-cell specimen inside its walls and in
 its core, a grain diameter (or more) in from all six walls: the measure the
 membrane cell reports as `core_grain_volume_fraction` (a grain diameter from
-the membrane and both plates; engine/specimen/packing.hpp), which the cuboid
-cell's summary does not (its "core" there is the whole box). For comparing the
-two cells at one density (docs/validation.md, "The rigid-wall cell against
+the membrane and both plates; engine/specimen/packing.hpp). The cuboid cell's
+summary reports its core so too since 2026-12-07 (a diameter of the largest
+grain in, on a grid); this script reads a specimen of any date, at several
+margins. For comparing the two cells at one density (docs/validation.md, "The rigid-wall cell against
 the membrane").
 
     /usr/bin/python3 scripts/box_core_fraction.py JOB_DIR [JOB_DIR ...]

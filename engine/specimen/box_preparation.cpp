@@ -4,6 +4,7 @@
 #include "core/format.hpp"
 #include "core/result.hpp"
 #include "scene.hpp"
+#include "specimen/packing.hpp"
 #include "state/clump_shape.hpp"
 #include "timestep.hpp"
 #include "triaxial/sampling.hpp"
@@ -290,6 +291,13 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
     report.box = cuboid_stresses(w, walls);
     report.sample_volume_m3 = report.box.width_x_m * report.box.width_y_m * report.box.height_m;
     report.grain_volume_fraction = grain_volume_m3 / report.sample_volume_m3;
+    // The box now (the walls have moved in from the loose box's lo, hi).
+    const Vec3 now_lo(w.walls[walls.lateral[0]].point_m.x(), w.walls[walls.lateral[2]].point_m.y(), w.walls[walls.bottom].point_m.z());
+    const Vec3 now_hi(w.walls[walls.lateral[1]].point_m.x(), w.walls[walls.lateral[3]].point_m.y(), w.walls[walls.top].point_m.z());
+    const CoreSampling sampling = core_sampling(
+        largest_grain_radius_m(spec.grain_radius_m, spec.grain_radius_spread, spec.grain_sizes, spec.grain_shape),
+        spec.grain_radius_m, spec.grain_sizes);
+    report.core_grain_volume_fraction = box_core_volume_fractions(w, now_lo, now_hi, sampling.margin_m, sampling.grid_m).grain;
     report.unbalanced_force_ratio = unbalanced_force_ratio(w);
     const ContactList& c = w.contacts;
     for (std::size_t p = 0; p < c.size(); ++p)

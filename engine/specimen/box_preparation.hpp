@@ -94,6 +94,9 @@ struct BoxPreparationReport {
     CuboidStresses box;                      ///< the box and the walls' stresses at the end
     double sample_volume_m3 = 0.0;           ///< L_x L_y h
     double grain_volume_fraction = 0.0;      ///< Σ (4/3) π r³ / (L_x L_y h)
+    /// The box's core, a largest grain's diameter inside all six walls,
+    /// as the column's is measured (box_core_volume_fractions, core_sampling)
+    double core_grain_volume_fraction = 0.0;
     double initial_volume_m3 = 0.0;          ///< of the loose box
     /// The loose box's fraction: the spec's, or lower where a grain found no
     /// place at it (each retry a fifth lower, down to 0.05).

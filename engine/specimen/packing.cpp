@@ -1,6 +1,7 @@
 #include "specimen/packing.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -36,6 +37,51 @@ double mean_grain_radius_m(const World& w)
     return radii.empty() ? 0.0 : sum_m / static_cast<double>(radii.size());
 }
 
+namespace {
+
+/// The share of the grid points of the box [lo, hi] (spacing h, points at
+/// lo + (i + ½) h, i < ⌊(hi − lo)/h⌋ + 1 per axis) that lie inside some
+/// grain sphere, among those for which `counts(point)` holds.
+template <class Counts>
+double grain_share_on_grid(const World& w, const Vec3& lo, const Vec3& hi, double h, Counts counts)
+{
+    std::array<int, 3> n{};
+    for (int a = 0; a < 3; ++a) n[a] = static_cast<int>((hi[a] - lo[a]) / h) + 1;
+    auto coord = [&](int i, int a) { return lo[a] + (i + 0.5) * h; };
+    const auto cell = [&](int ix, int iy, int iz) {
+        return (static_cast<std::size_t>(iz) * n[1] + iy) * n[0] + ix;
+    };
+    std::vector<std::uint8_t> filled(static_cast<std::size_t>(n[0]) * n[1] * n[2], 0);
+    const TranslationalState& g = w.of(BodyKind::grain);
+    for (std::size_t i = 0; i < g.size(); ++i) { // each grain marks the grid points inside it
+        const Vec3& c = g.x[0][i];
+        const double r = g.radius_m[i];
+        auto range = [&](int a) {
+            return std::pair(std::max(0, static_cast<int>(std::floor((c[a] - r - lo[a]) / h))),
+                std::min(n[a] - 1, static_cast<int>(std::ceil((c[a] + r - lo[a]) / h))));
+        };
+        const auto [ix0, ix1] = range(0);
+        const auto [iy0, iy1] = range(1);
+        const auto [iz0, iz1] = range(2);
+        for (int iz = iz0; iz <= iz1; ++iz)
+            for (int iy = iy0; iy <= iy1; ++iy)
+                for (int ix = ix0; ix <= ix1; ++ix)
+                    if ((Vec3(coord(ix, 0), coord(iy, 1), coord(iz, 2)) - c).squaredNorm() < r * r)
+                        filled[cell(ix, iy, iz)] = 1;
+    }
+    std::size_t inside = 0, total = 0;
+    for (int iz = 0; iz < n[2]; ++iz)
+        for (int iy = 0; iy < n[1]; ++iy)
+            for (int ix = 0; ix < n[0]; ++ix) {
+                if (!counts(Vec3(coord(ix, 0), coord(iy, 1), coord(iz, 2)))) continue;
+                ++total;
+                inside += filled[cell(ix, iy, iz)];
+            }
+    return total ? static_cast<double>(inside) / static_cast<double>(total) : 0.0;
+}
+
+} // namespace
+
 CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m, double top_z_m,
     double margin_m, double grid_m)
 {
@@ -43,36 +89,8 @@ CoreFractions core_volume_fractions(const World& w, double inner_radius_m, doubl
     const double rc = inner_radius_m - margin_m, z0 = bottom_z_m + margin_m, z1 = top_z_m - margin_m;
     if (!(rc > 0.0 && z1 > z0 && grid_m > 0.0)) return out;
     out.volume_m3 = std::numbers::pi * rc * rc * (z1 - z0);
-    const double h = grid_m;
-    const int nxy = static_cast<int>(2.0 * rc / h) + 1, nz = static_cast<int>((z1 - z0) / h) + 1;
-    auto coord = [&](int i, double lo) { return lo + (i + 0.5) * h; };
-    std::vector<std::uint8_t> filled(static_cast<std::size_t>(nxy) * nxy * nz, 0);
-    const TranslationalState& g = w.of(BodyKind::grain);
-    for (std::size_t i = 0; i < g.size(); ++i) { // each grain marks the grid points inside it
-        const Vec3& c = g.x[0][i];
-        const double r = g.radius_m[i];
-        auto range = [&](double centre, double lo, int n) {
-            return std::pair(std::max(0, static_cast<int>(std::floor((centre - r - lo) / h))),
-                std::min(n - 1, static_cast<int>(std::ceil((centre + r - lo) / h))));
-        };
-        const auto [ix0, ix1] = range(c.x(), -rc, nxy);
-        const auto [iy0, iy1] = range(c.y(), -rc, nxy);
-        const auto [iz0, iz1] = range(c.z(), z0, nz);
-        for (int iz = iz0; iz <= iz1; ++iz)
-            for (int iy = iy0; iy <= iy1; ++iy)
-                for (int ix = ix0; ix <= ix1; ++ix)
-                    if ((Vec3(coord(ix, -rc), coord(iy, -rc), coord(iz, z0)) - c).squaredNorm() < r * r)
-                        filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix] = 1;
-    }
-    std::size_t inside = 0, total = 0;
-    for (int iz = 0; iz < nz; ++iz)
-        for (int iy = 0; iy < nxy; ++iy)
-            for (int ix = 0; ix < nxy; ++ix) {
-                if (std::hypot(coord(ix, -rc), coord(iy, -rc)) >= rc || coord(iz, z0) >= z1) continue;
-                ++total;
-                inside += filled[(static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix];
-            }
-    out.grain = total ? static_cast<double>(inside) / static_cast<double>(total) : 0.0;
+    out.grain = grain_share_on_grid(w, Vec3(-rc, -rc, z0), Vec3(rc, rc, z1), grid_m,
+        [&](const Vec3& p) { return std::hypot(p.x(), p.y()) < rc && p.z() < z1; });
 
     const std::vector<Vec3>& x = w.of(BodyKind::wire).x[0];
     double wire_m3 = 0.0;
@@ -83,6 +101,33 @@ CoreFractions core_volume_fractions(const World& w, double inner_radius_m, doubl
     }
     out.wire = wire_m3 / out.volume_m3;
     return out;
+}
+
+CoreFractions box_core_volume_fractions(const World& w, const Vec3& lo_m, const Vec3& hi_m, double margin_m,
+    double grid_m)
+{
+    CoreFractions out;
+    const Vec3 lo = lo_m.array() + margin_m, hi = hi_m.array() - margin_m;
+    if (!((hi - lo).minCoeff() > 0.0 && grid_m > 0.0)) return out;
+    out.volume_m3 = (hi - lo).prod();
+    out.grain = grain_share_on_grid(w, lo, hi, grid_m,
+        [&](const Vec3& p) { return p.x() < hi.x() && p.y() < hi.y() && p.z() < hi.z(); });
+    return out;
+}
+
+CoreSampling core_sampling(double largest_grain_radius_m, double grain_radius_m, const std::optional<SieveCurve>& grain_sizes)
+{
+    return {2.0 * largest_grain_radius_m,
+        grain_sizes ? 0.05 * GrainSizeDistribution(*grain_sizes).diameter_at_mass_fraction(0.5) : 0.1 * grain_radius_m};
+}
+
+double largest_grain_radius_m(double grain_radius_m, double grain_radius_spread,
+    const std::optional<SieveCurve>& grain_sizes, const std::optional<ClumpBody>& grain_shape)
+{
+    // A clump reaches its bounding radius from its centre (≥ its volume-equivalent radius).
+    const double extent = grain_shape ? grain_shape->bounding_radius_m() : 1.0;
+    if (grain_sizes) return extent * (0.5 * grain_sizes->diameters_m.back());
+    return extent * (grain_radius_m * (1.0 + grain_radius_spread));
 }
 
 } // namespace wiredem::engine

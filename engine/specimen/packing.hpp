@@ -2,7 +2,11 @@
 // "What a sound specimen is"). Reads only; deterministic; no threads.
 #pragma once
 
+#include "specimen/grain_sizes.hpp"
+#include "state/clump_shape.hpp"
 #include "state/world.hpp"
+
+#include <optional>
 
 namespace wiredem::engine {
 
@@ -46,5 +50,26 @@ struct GrainVolumes {
 
 [[nodiscard]] CoreFractions core_volume_fractions(const World& w, double inner_radius_m, double bottom_z_m,
     double top_z_m, double margin_m, double grid_m);
+
+/// The same for the rigid-wall cell's box [lo, hi]: the box `margin_m`
+/// inside all six walls, its grains sampled on the same grid (no wire).
+[[nodiscard]] CoreFractions box_core_volume_fractions(const World& w, const Vec3& lo_m, const Vec3& hi_m,
+    double margin_m, double grid_m);
+
+/// How both cells measure their core: `margin_m`, a diameter of the largest
+/// grain inside every wall, and `grid_m`, the sampling grid: 0.1 r_p, or with
+/// a grain-size curve 0.05 D50 (by mass).
+struct CoreSampling {
+    double margin_m = 0.0;
+    double grid_m = 0.0;
+};
+[[nodiscard]] CoreSampling core_sampling(double largest_grain_radius_m, double grain_radius_m,
+    const std::optional<SieveCurve>& grain_sizes);
+
+/// The largest grain's reach from its centre: the largest radius the
+/// grains are drawn with (r_p (1 + spread), or the curve's largest D/2),
+/// times a clump's bounding radius (≥ its volume-equivalent radius, 1).
+[[nodiscard]] double largest_grain_radius_m(double grain_radius_m, double grain_radius_spread,
+    const std::optional<SieveCurve>& grain_sizes, const std::optional<ClumpBody>& grain_shape);
 
 } // namespace wiredem::engine

@@ -787,9 +787,9 @@ Result<PreparationReport, std::string> prepare_specimen(
     report.wire_volume_fraction = std::numbers::pi * spec.wire.radius_m * spec.wire.radius_m
                                 * report.wire_length_m / report.sample_volume_m3;
     // The core: a grain diameter inside the membrane's inner surface and the
-    // plates, sampled every 0.1 r_p (from a curve, 0.05 D50).
-    const double sample_m = spec.grain_sizes ? 0.05 * sizes->diameter_at_mass_fraction(0.5) : 0.1 * spec.grain_radius_m;
-    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, 2.0 * r_max, sample_m);
+    // plates (core_sampling).
+    const CoreSampling sampling = core_sampling(r_max, spec.grain_radius_m, spec.grain_sizes);
+    const CoreFractions core = core_volume_fractions(w, R - r_m, 0.0, report.pile_height_m, sampling.margin_m, sampling.grid_m);
     report.core_grain_volume_fraction = core.grain;
     report.core_wire_volume_fraction = core.wire;
     if (spec.grain_sizes && !grain_radii.empty()) report.grain_sizes = grain_size_report(grain_radii, *spec.grain_sizes);
@@ -826,10 +826,7 @@ StabilityInputs::Kind smallest_grain_stability(const PreparationSpec& spec)
 
 double largest_grain_radius_m(const PreparationSpec& spec)
 {
-    // A clump reaches its bounding radius from its centre (≥ its volume-equivalent radius).
-    const double extent = spec.grain_shape ? spec.grain_shape->bounding_radius_m() : 1.0;
-    if (spec.grain_sizes) return extent * (0.5 * spec.grain_sizes->diameters_m.back());
-    return extent * (spec.grain_radius_m * (1.0 + spec.grain_radius_spread));
+    return largest_grain_radius_m(spec.grain_radius_m, spec.grain_radius_spread, spec.grain_sizes, spec.grain_shape);
 }
 
 double required_membrane_height_m(const PreparationSpec& spec)

@@ -95,3 +95,48 @@ TEST(CoreVolumeFractions, AWireCountsAsACylinderAlongTheSegmentsInTheCore)
     EXPECT_EQ(none.wire, 0.0);
     EXPECT_EQ(none.volume_m3, 0.0);
 }
+
+TEST(CoreVolumeFractions, TheBoxsCoreLeavesOutTheLayersAtItsWalls)
+{
+    // The rigid-wall cell's core: the same lattice (π/6, grid error 1 %)
+    // inside a box whose walls stand 3 spacings beyond it on every side, an
+    // empty layer as a wall's loose layer would be. The whole box holds
+    // 17³ (4/3) π r³ in (22 a)³: 0.242. Its core, a margin of 4 spacings in
+    // from every wall, lies inside the lattice: π/6 again.
+    World w;
+    const std::uint8_t m = add_material(w, Material{});
+    const double r = 1e-3, a = 2.0 * r;
+    for (int i = -8; i <= 8; ++i)
+        for (int j = -8; j <= 8; ++j)
+            for (int k = 0; k <= 16; ++k) add_grain(w, Vec3(i * a, j * a, k * a), r, m);
+    const Vec3 lo(-11 * a, -11 * a, -3 * a), hi(11 * a, 11 * a, 19 * a);
+    const CoreFractions core = box_core_volume_fractions(w, lo, hi, 4 * a, 0.1 * r);
+    EXPECT_NEAR(core.grain, std::numbers::pi / 6.0, 0.01);
+    EXPECT_EQ(core.wire, 0.0);
+    EXPECT_NEAR(core.volume_m3, (14 * a) * (14 * a) * (14 * a), 1e-18);
+    // With no margin the grid sees the whole box: the empty layers count.
+    const double whole = 17.0 * 17.0 * 17.0 * (4.0 / 3.0) * std::numbers::pi * r * r * r / std::pow(22 * a, 3);
+    EXPECT_NEAR(box_core_volume_fractions(w, lo, hi, 0.0, 0.1 * r).grain, whole, 0.01 * whole);
+    // A margin of half the box or more leaves no core: zeros, not NaN.
+    const CoreFractions none = box_core_volume_fractions(w, lo, hi, 11 * a, 0.1 * r);
+    EXPECT_EQ(none.grain, 0.0);
+    EXPECT_EQ(none.volume_m3, 0.0);
+}
+
+TEST(CoreVolumeFractions, BothCellsSampleTheirCoreOneWay)
+{
+    // A diameter of the largest grain in from the walls; every 0.1 r_p, or
+    // 0.05 D50 (by mass) with a curve.
+    const CoreSampling spheres = core_sampling(largest_grain_radius_m(1e-3, 0.2, std::nullopt, std::nullopt), 1e-3, std::nullopt);
+    EXPECT_DOUBLE_EQ(spheres.margin_m, 2.0 * 1.2e-3);
+    EXPECT_DOUBLE_EQ(spheres.grid_m, 1e-4);
+    SieveCurve curve;
+    curve.diameters_m = {1e-3, 4e-3};
+    curve.fraction_passing = {0.0, 1.0};
+    const CoreSampling graded = core_sampling(largest_grain_radius_m(1e-3, 0.2, curve, std::nullopt), 1e-3, curve);
+    EXPECT_DOUBLE_EQ(graded.margin_m, 4e-3);
+    EXPECT_DOUBLE_EQ(graded.grid_m, 0.05 * GrainSizeDistribution(curve).diameter_at_mass_fraction(0.5));
+    // A clump reaches its bounding radius.
+    const ClumpBody pair = clump_body({{Vec3(-0.5e-3, 0, 0), 1e-3}, {Vec3(0.5e-3, 0, 0), 1e-3}});
+    EXPECT_DOUBLE_EQ(largest_grain_radius_m(1e-3, 0.0, std::nullopt, pair), pair.bounding_radius_m() * 1e-3);
+}
