@@ -4,10 +4,10 @@
 # way from the positions of each (issue 43 §4; docs/validation.md, "Across
 # codes: the angle of repose of a lifted tube").
 #
-# For each rolling friction μ_r and seed:
-# 1. wiredem-bench --heap --tube writes the start every code reads: a column
+# For each seed, then each rolling friction μ_r:
+# 1. wiredem-bench --heap --tube writes the start every code and μ_r reads: a column
 #    of the paper's grains (the heap's loose lattice, gaps 0.2 d, in a cylinder
-#    of --lattice-radius) settled for --settle-time inside that cylinder, on
+#    of --lattice-radius) settled for --settle-time with μ_r = --settle-mu-r inside that cylinder, on
 #    the rough base of heap_physics.sh (to --rough-base from the axis), with
 #    the cylinder replaced by a tube of spheres of the grains' size and
 #    material around it (closed rings, √3 r apart, to the column's top): ids
@@ -25,11 +25,11 @@
 #
 # Builds nothing (bash scripts/build.sh release wiredem-bench first).
 #
-# usage: bench/liggghts/repose_physics.sh [--grains N] [--lattice-radius R] [--rough-base R] [--settle-time S]
+# usage: bench/liggghts/repose_physics.sh [--grains N] [--lattice-radius R] [--rough-base R] [--settle-time S] [--settle-mu-r M]
 #                                         [--hold S] [--lift V] [--rest S] [--mu-r "0.3 0"] [--seeds "1 2"]
 #                                         [--out DIR] [--no-lammps]
 #   defaults: 600 grains in a 10 mm tube (a column ~27 mm high), a 35 mm base
-#   (436 grains), settled 0.25 s; held 0.02 s, lifted at 0.05 m/s (0.32 √(g d)),
+#   (436 grains), settled 0.25 s with μ_r = 0.3; held 0.02 s, lifted at 0.05 m/s (0.32 √(g d)),
 #   0.15 s of rest after; μ_r = 0.3, seed 1. A run is a few minutes of CPU per code.
 # environment: see peers.sh (WIREDEM_BENCH, LIGGGHTS, LAMMPS, NICE, KEEP).
 set -euo pipefail
@@ -40,6 +40,7 @@ grains=600
 lattice_radius=0.010
 rough_base=0.035
 settle_s=0.25
+settle_mu_r=0.3
 hold_s=0.02
 lift=0.05
 rest_s=0.15
@@ -53,6 +54,7 @@ while [ $# -gt 0 ]; do
         --lattice-radius) lattice_radius=$2; shift 2 ;;
         --rough-base) rough_base=$2; shift 2 ;;
         --settle-time) settle_s=$2; shift 2 ;;
+        --settle-mu-r) settle_mu_r=$2; shift 2 ;;
         --hold) hold_s=$2; shift 2 ;;
         --lift) lift=$2; shift 2 ;;
         --rest) rest_s=$2; shift 2 ;;
@@ -73,25 +75,27 @@ energies=()
 pids=()
 tags=()
 # Every case runs at once (each code one thread, at the nice level): only the cones are compared.
-for mu_r in $mu_rs; do
-    for seed in $seeds; do
+for seed in $seeds; do
+    # One start per seed, for every code and μ_r: the column settled in its cylinder with μ_r = --settle-mu-r.
+    start="start.s$seed.data"
+    nice -n "$nice_level" "$bench" "${geometry[@]}" --rolling-friction "$settle_mu_r" --seed "$seed" --tube \
+        --settle-time "$settle_s" --liggghts-data "$work/$start" > "$work/start.s$seed.json" 2> "$work/start.s$seed.err"
+    dt=$(field time_step_s < "$work/start.s$seed.json" | head -n1)
+    base=$(sed -n 's/^tube: [0-9]* poured grains, \([0-9]*\) base grains.*/\1/p' "$work/start.s$seed.err")
+    # The tube rises until its lowest ring's bottom (2.03 r above the floor)
+    # has passed the top of the column, then the rest.
+    read -r time_s steps hold < <(awk -v n="$grains" -v dt="$dt" -v hold="$hold_s" -v v="$lift" -v rest="$rest_s" '
+        f && NF == 7 && $1 <= n { top = $7 + 0.5 * $3 > top ? $7 + 0.5 * $3 : top; r = 0.5 * $3 }
+        /^Atoms/ { f = 1 }
+        END { t = hold + (top - 2.03 * r) / v + rest; printf "%.6g %d %d\n", t, t / dt, hold / dt }' "$work/$start")
+    echo "seed $seed: δt = $dt s, $base base grains, $time_s s ($steps steps, the lift from step $hold)" >&2
+    for mu_r in $mu_rs; do
         tag="r$mu_r.s$seed"
-        nice -n "$nice_level" "$bench" "${geometry[@]}" --rolling-friction "$mu_r" --seed "$seed" --tube \
-            --settle-time "$settle_s" --liggghts-data "$work/start.$tag.data" > "$work/start.$tag.json" 2> "$work/start.$tag.err"
-        dt=$(field time_step_s < "$work/start.$tag.json" | head -n1)
-        base=$(sed -n 's/^tube: [0-9]* poured grains, \([0-9]*\) base grains.*/\1/p' "$work/start.$tag.err")
-        # The tube rises until its lowest ring's bottom (2.03 r above the floor)
-        # has passed the top of the column, then the rest.
-        read -r time_s steps hold < <(awk -v n="$grains" -v dt="$dt" -v hold="$hold_s" -v v="$lift" -v rest="$rest_s" '
-            f && NF == 7 && $1 <= n { top = $7 + 0.5 * $3 > top ? $7 + 0.5 * $3 : top; r = 0.5 * $3 }
-            /^Atoms/ { f = 1 }
-            END { t = hold + (top - 2.03 * r) / v + rest; printf "%.6g %d %d\n", t, t / dt, hold / dt }' "$work/start.$tag.data")
-        echo "mu_r $mu_r, seed $seed: δt = $dt s, $base base grains, $time_s s ($steps steps, the lift from step $hold)" >&2
         nice -n "$nice_level" "$bench" "${geometry[@]}" --rolling-friction "$mu_r" --seed "$seed" \
-            --packing "$work/start.$tag.data" --lift-tube "$lift" --tube-hold "$hold_s" --settle-time "$time_s" \
+            --packing "$work/$start" --lift-tube "$lift" --tube-hold "$hold_s" --settle-time "$time_s" \
             --liggghts-data "$work/wiredem.$tag.data" > /dev/null 2> "$work/wiredem.$tag.err" &
         pids+=($!)
-        peer=(-var datafile "start.$tag.data" -var dt "$dt" -var hold "$hold" -var steps "$steps" -var lift "$lift"
+        peer=(-var datafile "$start" -var dt "$dt" -var hold "$hold" -var steps "$steps" -var lift "$lift"
               -var mur "$mu_r" -var poured "$grains" -var base "$base")
         run_peer "$liggghts" "$here/in.repose" "liggghts.$tag" "${peer[@]}" -var dumpfile "liggghts.$tag.dump" &
         pids+=($!)
