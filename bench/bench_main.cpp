@@ -685,10 +685,16 @@ int main(int argc, char** argv)
         w.contact.rolling = RollingParams{rolling_friction, 1.0, 0.0};
         if (lift) {
             // The file's poured grains, its base (as --rough-base makes it) and its tube.
-            tube_first = spec.grains + rough_base_sites(spec, rough_base_m).size();
-            if (w.bodies[0].size() <= tube_first)
-                throw std::runtime_error(packing + ": no tube after " + std::to_string(spec.grains)
-                                         + " poured grains and the base (written by --tube with these --grains and --rough-base?)");
+            const std::vector<Vec3> sites = rough_base_sites(spec, rough_base_m);
+            tube_first = spec.grains + sites.size();
+            const auto& x = w.bodies[0].x[0];
+            bool same_base = x.size() > tube_first && std::abs(x[tube_first].z() - spec.grain_radius_m) > 1e-9;
+            for (std::size_t k = 0; same_base && k < sites.size(); ++k)
+                same_base = (x[spec.grains + k] - sites[k]).norm() < 1e-9;
+            if (!same_base)
+                throw std::runtime_error(packing + ": its spheres after the first " + std::to_string(spec.grains)
+                                         + " are not --rough-base's base and then a tube (write it with --tube and the "
+                                           "same --grains, --rough-base and --lattice-radius)");
             for (std::size_t i = spec.grains; i < w.bodies[0].size(); ++i)
                 set_motion(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)),
                     i < tube_first ? Motion::fixed : Motion::kinematic);
