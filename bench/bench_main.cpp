@@ -23,11 +23,13 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -73,8 +75,9 @@ constexpr double heap_box_half_width_m = 0.1;
 
 /// LAMMPS/LIGGGHTS data file (atom_style granular) of the grains, for the
 /// side-by-side runs in bench/liggghts; the box is the container's, or
-/// heap_box_half_width_m wide for a heap.
-void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::string& path, bool heap)
+/// heap_box_half_width_m wide for a heap, and as high again above the highest
+/// sphere with a tube (--tube: room for the peers to lift it).
+void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::string& path, bool heap, bool tube)
 {
     const auto& g = w.bodies[0];
     double z_max = 0.0;
@@ -84,35 +87,77 @@ void write_liggghts_data(const World& w, const ContainerSpec& spec, const std::s
     out << "wiredem settled packing\n\n" << g.size() << " atoms\n2 atom types\n\n"; // type 2: the walls
     const double half = std::max(spec.container_radius_m * 1.05, heap ? heap_box_half_width_m : 0.0);
     out << -half << ' ' << half << " xlo xhi\n" << -half << ' ' << half << " ylo yhi\n"
-        << -0.001 << ' ' << z_max + 4 * spec.grain_radius_m << " zlo zhi\n\nAtoms\n\n";
+        << -0.001 << ' ' << (tube ? 2.0 : 1.0) * z_max + 4 * spec.grain_radius_m << " zlo zhi\n\nAtoms\n\n";
     for (std::size_t i = 0; i < g.size(); ++i)
         out << i + 1 << " 1 " << 2 * g.radius_m[i] << ' ' << spec.grain.density_kg_per_m3 << ' '
             << g.x[0][i].x() << ' ' << g.x[0][i].y() << ' ' << g.x[0][i].z() << '\n';
 }
 
-/// A rough base under a heap (--rough-base): the poured grains move up by one
-/// lattice pitch, and a layer of fixed grains of their size, on a square
-/// lattice of that pitch at z = r, shifted by half a pitch from the poured
-/// lattice's columns (a landing grain meets a pocket, not a grain's top),
-/// covers the floor to `radius_m` from the axis. The base grains come after
-/// the poured ones (their ids are higher), so the peers can tell them apart
-/// by id.
-void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
+/// The sites of a rough base under a heap (--rough-base): a square lattice of
+/// the poured lattice's pitch at z = r, shifted by half a pitch from the poured
+/// lattice's columns (a landing grain meets a pocket, not a grain's top), to
+/// `radius_m` from the axis.
+std::vector<Vec3> rough_base_sites(const ContainerSpec& spec, double radius_m)
 {
     const double r = spec.grain_radius_m;
     const double pitch = 2.0 * r * (1.0 + spec.lattice_gap);
+    const int half = static_cast<int>(std::floor(radius_m / pitch));
+    std::vector<Vec3> sites;
+    for (int iy = -half; iy <= half; ++iy)
+        for (int ix = -half; ix <= half; ++ix) {
+            const double x = (ix + 0.5) * pitch, y = (iy + 0.5) * pitch;
+            if (std::hypot(x, y) <= radius_m) sites.emplace_back(x, y, r);
+        }
+    return sites;
+}
+
+/// A rough base under a heap (--rough-base): the poured grains move up by one
+/// lattice pitch, and fixed grains of their size fill rough_base_sites. The
+/// base grains come after the poured ones (their ids are higher), so the peers
+/// can tell them apart by id.
+void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
+{
+    const double pitch = 2.0 * spec.grain_radius_m * (1.0 + spec.lattice_gap);
     const auto poured = static_cast<std::uint32_t>(w.bodies[0].size());
     for (std::uint32_t i = 0; i < poured; ++i)
         place_body(w, BodyRef(BodyKind::grain, i), w.bodies[0].x[0][i] + Vec3(0.0, 0.0, pitch));
     const std::uint8_t material = w.bodies[0].material.at(0);
-    const int half = static_cast<int>(std::floor(radius_m / pitch));
-    for (int iy = -half; iy <= half; ++iy)
-        for (int ix = -half; ix <= half; ++ix) {
-            const double x = (ix + 0.5) * pitch, y = (iy + 0.5) * pitch;
-            if (std::hypot(x, y) > radius_m) continue;
-            const std::uint32_t id = add_grain(w, Vec3(x, y, r), r, material);
+    for (const Vec3& site : rough_base_sites(spec, radius_m)) {
+        const std::uint32_t id = add_grain(w, site, spec.grain_radius_m, material);
+        set_motion(w, BodyRef(BodyKind::grain, id), Motion::fixed);
+    }
+}
+
+/// The tube of a repose heap (--tube): rings of spheres of the grains' size
+/// and material around the lattice's cylinder (centres r outside it, so that
+/// their inner tops are the cylinder), each ring closed (neighbours at most 2r
+/// apart: no grain passes) and turned by half a step from the one below, √3 r
+/// higher (the rings touch: a close-packed sheet rolled into a tube). The
+/// lowest ring stands 1 % of r clear of the rough base's tops (its centres at
+/// 3.03 r: a grain in a pocket of the base cannot pass under it), the highest
+/// covers the highest grain. Fixed here; --lift-tube moves them. Their ids
+/// follow the base's. Returns how many were added.
+std::size_t add_tube(World& w, const ContainerSpec& spec)
+{
+    const double r = spec.grain_radius_m;
+    const double ring_radius = spec.container_radius_m + r;
+    const auto per_ring = static_cast<int>(std::ceil(std::numbers::pi / std::asin(r / ring_radius)));
+    double top = 0.0;
+    for (const Vec3& x : w.bodies[0].x[0]) top = std::max(top, x.z() + r);
+    const std::uint8_t material = w.bodies[0].material.at(0);
+    std::size_t added = 0;
+    for (int ring = 0;; ++ring) {
+        const double z = 3.03 * r + ring * std::sqrt(3.0) * r;
+        if (z - r > top) break;
+        for (int k = 0; k < per_ring; ++k) {
+            const double phi = 2.0 * std::numbers::pi * (k + 0.5 * (ring % 2)) / per_ring;
+            const std::uint32_t id
+                = add_grain(w, Vec3(ring_radius * std::cos(phi), ring_radius * std::sin(phi), z), r, material);
             set_motion(w, BodyRef(BodyKind::grain, id), Motion::fixed);
+            ++added;
         }
+    }
+    return added;
 }
 
 /// Replaces the grains of a freshly built container by the packing in a data
@@ -558,6 +603,20 @@ int main(int argc, char** argv)
            "--heap: a layer of fixed grains of the grains' size on the floor, to this radius [m] (their ids follow the "
            "poured grains'); 0: the flat floor")
         ->check(CLI::Range(0.0, 0.09));
+    bool tube = false;
+    app.add_flag("--tube", tube,
+        "--heap with --rough-base: the column settles inside its cylinder (kept) for --settle-time, and the data file "
+        "also holds a tube of fixed spheres of the grains' size around it, to its top (their ids follow the base's): "
+        "the start of a repose heap (bench/liggghts/repose_physics.sh)");
+    double lift_tube_m_per_s = 0.0;
+    app.add_option("--lift-tube", lift_tube_m_per_s,
+           "--heap with --packing (a file --tube wrote, with the same --grains and --rough-base): the file's grains "
+           "after the poured and the base's are the tube, lifted at this speed [m/s] after --tube-hold, without the "
+           "cylinder, for --settle-time in all")
+        ->check(CLI::Range(1e-4, 10.0));
+    double tube_hold_s = 0.0;
+    app.add_option("--tube-hold", tube_hold_s, "--lift-tube: the tube stands still this long first [s]")
+        ->check(CLI::Range(0.0, 10.0));
     std::string column_test;
     app.add_option("--column-test", column_test,
            "time the column test users run: a test of the prepared job directory DIR (`wiredem prepare JOB -o DIR`) "
@@ -598,17 +657,50 @@ int main(int argc, char** argv)
     w.contact.normal_damping_s = hertz_damping_for_restitution_s(0.5, 0.5 * mass, 0.1, e_star, 0.5 * spec.grain_radius_m);
     if (tangential_stiffness > 0.0) w.contact.tangential.stiffness_per_m = tangential_stiffness;
     w.dt_s = stable_time_step(w).auto_s;
+    const bool lift = lift_tube_m_per_s > 0.0;
+    if (tube && (!heap || rough_base_m <= 0.0 || !packing.empty())) {
+        std::fprintf(stderr, "wiredem-bench: --tube needs --heap and --rough-base, without --packing\n");
+        return 2;
+    }
+    if (lift != !packing.empty() && heap) {
+        std::fprintf(stderr, "wiredem-bench: --heap --packing FILE needs --lift-tube (FILE written by --tube), and "
+                             "--lift-tube needs --packing\n");
+        return 2;
+    }
+    if (lift && (!heap || rough_base_m <= 0.0)) {
+        std::fprintf(stderr, "wiredem-bench: --lift-tube needs --heap, --rough-base and --packing\n");
+        return 2;
+    }
     if (!packing.empty()) {
         read_liggghts_data(w, spec, packing);
-        settle_s = 0.0;
+        if (!lift) settle_s = 0.0;
     }
+    std::size_t tube_first = 0; // --lift-tube: the tube's first id
     if (heap) {
-        // The lattice's cylinder goes (build_container's second wall); the rolling law acts while the heap forms.
+        // The lattice's cylinder goes (build_container's second wall), but while a
+        // repose heap's column settles in it (--tube); the rolling law acts while the heap forms.
         if (w.walls.size() < 2 || w.walls[1].shape != Wall::Shape::cylinder)
             throw std::logic_error("--heap: the container's second wall is not its cylinder");
-        remove_wall(w, 1);
+        if (!tube) remove_wall(w, 1);
         w.contact.rolling = RollingParams{rolling_friction, 1.0, 0.0};
-        if (rough_base_m > 0.0) add_rough_base(w, spec, rough_base_m);
+        if (lift) {
+            // The file's poured grains, its base (as --rough-base makes it) and its tube.
+            const std::vector<Vec3> sites = rough_base_sites(spec, rough_base_m);
+            tube_first = spec.grains + sites.size();
+            const auto& x = w.bodies[0].x[0];
+            bool same_base = x.size() > tube_first && std::abs(x[tube_first].z() - spec.grain_radius_m) > 1e-9;
+            for (std::size_t k = 0; same_base && k < sites.size(); ++k)
+                same_base = (x[spec.grains + k] - sites[k]).norm() < 1e-9;
+            if (!same_base)
+                throw std::runtime_error(packing + ": its spheres after the first " + std::to_string(spec.grains)
+                                         + " are not --rough-base's base and then a tube (write it with --tube and the "
+                                           "same --grains, --rough-base and --lattice-radius)");
+            for (std::size_t i = spec.grains; i < w.bodies[0].size(); ++i)
+                set_motion(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)),
+                    i < tube_first ? Motion::fixed : Motion::kinematic);
+        } else if (rough_base_m > 0.0) {
+            add_rough_base(w, spec, rough_base_m);
+        }
     } else if (rough_base_m > 0.0) {
         std::fprintf(stderr, "wiredem-bench: --rough-base needs --heap\n");
         return 2;
@@ -618,7 +710,21 @@ int main(int argc, char** argv)
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    settle.run(static_cast<std::uint64_t>(settle_s / w.dt_s));
+    if (lift) {
+        // Held, then lifted at constant speed: a kinematic sphere keeps the velocity it is given.
+        const auto hold = static_cast<std::uint64_t>(tube_hold_s / w.dt_s);
+        const auto all = static_cast<std::uint64_t>(settle_s / w.dt_s);
+        settle.run(std::min(hold, all));
+        for (std::size_t i = tube_first; i < w.bodies[0].size(); ++i)
+            set_velocity(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)), Vec3(0.0, 0.0, lift_tube_m_per_s));
+        settle.run(all - std::min(hold, all));
+    } else {
+        settle.run(static_cast<std::uint64_t>(settle_s / w.dt_s));
+    }
+    if (tube) {
+        const std::size_t poured = spec.grains, base = rough_base_sites(spec, rough_base_m).size();
+        std::fprintf(stderr, "tube: %zu poured grains, %zu base grains, %zu tube spheres\n", poured, base, add_tube(w, spec));
+    }
     const double settle_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!json)
         std::printf("settled %zu grains for %.3f s simulated (δt = %.3g s, %llu steps) in %.1f s wall; "
@@ -628,7 +734,7 @@ int main(int argc, char** argv)
     if (heap)
         std::fprintf(stderr, "heap: %zu grains, kinetic energy %.6g J after %.6g s\n", w.bodies[0].size(),
             kinetic_energy_j(w, settle.pool()), settle_s);
-    if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data, heap);
+    if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data, heap, tube || lift_tube_m_per_s > 0.0);
     if (!clump_template.empty()) {
         std::ofstream out(clump_template);
         out.precision(17);

@@ -19,7 +19,7 @@ of repose"):
 Also printed: the heap's height H (the highest sphere top within r95/4 of the
 axis), r95, and atan(H / r95), the angle of a cone of that height and base.
 
-    heap_physics.py [--poured N] LABEL=FILE [LABEL=FILE ...] [--csv OUT.csv] [--png OUT.png]
+    heap_physics.py [--poured N] LABEL=FILE [LABEL=FILE ...] [--csv OUT.csv] [--png OUT.png] [--title T]
 
 --poured N: only the grains with ids up to N are the heap's; the rest is
 the fixed rough base (wiredem-bench --rough-base). Grains beyond the peers'
@@ -75,6 +75,8 @@ def main() -> int:
     ap.add_argument("--csv", type=Path)
     ap.add_argument("--png", type=Path)
     ap.add_argument("--poured", type=int, help="the heap's grains: the first N by id (the rest: the base)")
+    ap.add_argument("--title", default="poured heaps: radius profile (surface / profile angle)",
+                    help="the figure's title (repose_physics.sh: the lifted tube's)")
     args = ap.parse_args()
     res = {}
     for spec in args.runs:
@@ -119,7 +121,7 @@ def main() -> int:
                     label=f"{label}: {m['surface']:.1f}° / {m['profile']:.1f}°")
         ax.set_xlabel("equivalent radius of the slice [mm]")
         ax.set_ylabel("height of the slice [mm]")
-        ax.set_title("poured heaps: radius profile (surface / profile angle)")
+        ax.set_title(args.title)
         ax.legend(fontsize=6)
         fig.tight_layout()
         fig.savefig(args.png, dpi=110)
