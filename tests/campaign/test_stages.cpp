@@ -8,6 +8,7 @@
 #include "api/job_spec.hpp"
 #include "h5_compare.hpp"
 #include "io/hdf5.hpp"
+#include "source_tree.hpp"
 #include "stages.hpp"
 
 #include <boost/json.hpp>
@@ -45,6 +46,8 @@ extern char** environ;
 namespace api = wiredem::api;
 namespace campaign = wiredem::campaign;
 using wiredem::test::h5_differences;
+using wiredem::test_support::read_text;
+using wiredem::test_support::source;
 
 namespace fs = std::filesystem;
 namespace json = boost::json;
@@ -87,7 +90,7 @@ public:
 /// and `hold_s` instead of 5 and 10 ms.
 fs::path tiny_variant(const std::string& name, double strain, double ramp_s, double hold_s)
 {
-    std::ifstream in(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json");
+    std::ifstream in(source("examples/tiny.json"));
     std::ostringstream text;
     text << in.rdbuf();
     json::value job = json::parse(text.str());
@@ -128,14 +131,6 @@ fs::path fresh_dir(const std::string& name)
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
-}
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 struct Outcome {
@@ -784,7 +779,7 @@ StoppedRuns stop_until_it_finishes(const std::function<campaign::StageError(cons
 // run without a stop, bit for bit but for how it ran (examples/tiny-cuboid.json at one pressure, loaded to 1 %).
 TEST(Stages, ACuboidTestStoppedAgainAndAgainContinuesToTheSameResult)
 {
-    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json"));
+    json::value job = json::parse(read_text(source("examples/tiny-cuboid.json")));
     json::object& triaxial = job.as_object()["triaxial"].as_object();
     triaxial["confining_pressures_pa"] = json::array{10000};
     triaxial["target_axial_strain"] = 0.01;
@@ -994,7 +989,7 @@ TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
 // column (examples/tiny-helix.json, 150 grains) and short phases: seconds.
 TEST(Stages, AFreeStandingTestStoppedInEveryPhaseContinuesToTheSameResult)
 {
-    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-helix.json"));
+    json::value job = json::parse(read_text(source("examples/tiny-helix.json")));
     job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
     job.as_object()["specimen"].as_object()["wire"].as_object()["cut_every_loops"] = 1;
     const json::object quick{{"enabled", true}, {"removal_time_s", 0.005}, {"removal_distance_m", 0.002},
