@@ -8,6 +8,7 @@
 #include "api/job_spec.hpp"
 #include "h5_compare.hpp"
 #include "io/hdf5.hpp"
+#include "result_file_names.hpp"
 #include "source_tree.hpp"
 #include "stages.hpp"
 
@@ -248,6 +249,26 @@ TEST(Stages, PrepareTestAnalyseGiveTheFilesOfRun)
     const auto diffs = h5_differences(out / "result.h5", ref / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
     EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
+}
+
+// The real binary's result.h5 holds only names of the one table of
+// result.h5's names (engine/triaxial/result_names.hpp), each where the table
+// puts it and with its units; and the root's and the specimen's names that
+// every job writes (the optional parts: CampaignFiles.AResultFileHoldsOnlyTheTablesNames).
+TEST(Stages, PrepareTestAnalyseWritesOnlyTheTablesNames)
+{
+    using P = wiredem::engine::ResultPlace;
+    const fs::path& ref = reference_run();
+    const wiredem::engine::io::File f = wiredem::engine::io::File::open_read_only(ref / "result.h5");
+    const wiredem::test::ResultFileNames found = wiredem::test::result_file_names(f.root());
+    for (const std::string& p : found.problems) ADD_FAILURE() << p;
+    for (const wiredem::engine::ResultNameSpec& s : wiredem::engine::result_name_specs) {
+        const bool always = (s.place == P::root && s.name != "free_standing")
+            || (s.place == P::specimen && s.kind != wiredem::engine::ResultKind::group && s.name != "grain_clump");
+        if (always) {
+            EXPECT_TRUE(found.seen.contains({s.place, std::string(s.name)})) << s.name << " was not written";
+        }
+    }
 }
 
 TEST(Stages, TestsRunAtOnceGiveWhatTestsRunOneAfterAnotherGive)
