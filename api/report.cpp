@@ -6,6 +6,7 @@
 #include "api/result_data.hpp"
 #include "core/format.hpp"
 #include "io/hdf5.hpp"
+#include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
@@ -14,11 +15,13 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace wiredem::api {
 namespace json = boost::json;
 namespace fs = std::filesystem;
 namespace io = engine::io;
+using P = engine::ResultPlace;
 
 namespace {
 
@@ -78,7 +81,7 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
     if (!summary) throw std::runtime_error(summary_json.string() + ": " + summary.error());
     const io::File file = io::File::open_read_only(result_h5);
     const io::Group root = file.root();
-    const auto spec_doc = parse_json_text(root.open_dataset("job_spec").read_string());
+    const auto spec_doc = parse_json_text(root.open_dataset(engine::result_name(P::root, "job_spec")).read_string());
     if (!spec_doc) throw std::runtime_error("result.h5: /job_spec is not JSON");
     const auto spec = parse_job_spec(spec_doc.value());
     if (!spec) throw std::runtime_error("result.h5: /job_spec is not a valid job: " + spec.error().front().message);
@@ -99,7 +102,7 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
     json::array series;
     const std::vector<std::string> names = test_names(root);
     for (const std::string& name : names) {
-        const io::Group t = root.open_group("tests/" + name);
+        const io::Group t = root.open_group(test_path(name));
         const std::vector<std::string> stored = series_columns(t);
         std::vector<std::string> present;  // a result written before a column existed has no such column
         for (const auto& c : columns)
@@ -120,18 +123,20 @@ json::object report_data(const fs::path& summary_json, const fs::path& result_h5
     }
     data["wire"] = nullptr;
     if (!names.empty()) {
-        const io::Group last = root.open_group("tests/" + names.back());
+        const io::Group last = root.open_group(test_path(names.back()));
         const auto ks = snapshot_indices(last);
         if (!ks.empty()) {
             const io::Group snap = last.open_group(snapshot_path(ks.back()));
-            if (snap.exists("wire_segment_strain") && snap.exists("wire_node_position_m")) {
-                const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
-                const std::vector<double> nodes = snap.open_dataset("wire_node_position_m").read_doubles();
+            constexpr std::string_view strain_name = engine::result_name(P::snapshot, "wire_segment_strain"),
+                                       nodes_name = engine::result_name(P::snapshot, "wire_node_position_m");
+            if (snap.exists(strain_name) && snap.exists(nodes_name)) {
+                const std::vector<double> strain = snap.open_dataset(strain_name).read_doubles();
+                const std::vector<double> nodes = snap.open_dataset(nodes_name).read_doubles();
                 if (strain.size() > 1) {
                     // 6 significant digits, as std::ostream's default wrote them.
                     const std::string label = "sigma3 = "
-                        + engine::format_number(last.read_double_attribute("confining_pressure_pa") / 1000, 6)
-                        + " kPa, eps1 = " + engine::format_number(snap.read_double_attribute("axial_strain"), 6);
+                        + engine::format_number(last.read_double_attribute(engine::result_name(P::test, "confining_pressure_pa")) / 1000, 6)
+                        + " kPa, eps1 = " + engine::format_number(snap.read_double_attribute(engine::result_name(P::snapshot, "axial_strain")), 6);
                     data["wire"] = json::object{{"label", label},
                         {"node_position_m", json::value_from(nodes)}, {"segment_strain", json::value_from(strain)},
                         {"autocorrelation", wire_autocorrelation_json(strain, spec.value().specimen.wire.segment_length_m)}};

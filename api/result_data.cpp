@@ -3,6 +3,7 @@
 #include "api/json_text.hpp"
 
 #include "analysis/autocorrelation.hpp"
+#include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
@@ -12,10 +13,12 @@
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 namespace wiredem::api {
 namespace json = boost::json;
 namespace io = engine::io;
+using P = engine::ResultPlace;
 
 namespace {
 
@@ -30,7 +33,8 @@ bool is_numeric_dataset(const io::Dataset& d, H5T_class_t* cls_out = nullptr)
 
 json::value units_of(const io::Dataset& d)
 {
-    return d.has_attribute("units") ? json::value(d.read_string_attribute("units")) : json::value(nullptr);
+    constexpr std::string_view units = engine::result_name(P::dataset, "units");
+    return d.has_attribute(units) ? json::value(d.read_string_attribute(units)) : json::value(nullptr);
 }
 
 } // namespace
@@ -63,20 +67,30 @@ std::string snapshot_path(std::size_t k)
 {
     // Appended rather than chained: GCC 12 at -O3 sees a false
     // -Warray-bounds in "…" + std::string(…) + std::to_string(…).
-    std::string path("snapshots/");
+    std::string path(engine::result_name(P::record, "snapshots"));
+    path += '/';
     path += snapshot_prefix;
     path += std::to_string(k);
+    return path;
+}
+
+std::string test_path(const std::string& name)
+{
+    std::string path(tests_group);
+    path += '/';
+    path += name;
     return path;
 }
 
 std::vector<std::string> test_names(const io::Group& root)
 {
     std::vector<std::pair<double, std::string>> found;
-    if (!root.exists("tests")) return {};
-    const io::Group all = root.open_group("tests");
+    if (!root.exists(tests_group)) return {};
+    const io::Group all = root.open_group(tests_group);
     for (const std::string& name : all.child_names()) {
         const io::Group t = all.open_group(name);
-        found.emplace_back(t.has_attribute("confining_pressure_pa") ? t.read_double_attribute("confining_pressure_pa") : 0.0, name);
+        constexpr std::string_view pressure = engine::result_name(P::test, "confining_pressure_pa");
+        found.emplace_back(t.has_attribute(pressure) ? t.read_double_attribute(pressure) : 0.0, name);
     }
     std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::string> names;
@@ -87,8 +101,9 @@ std::vector<std::string> test_names(const io::Group& root)
 std::vector<std::size_t> snapshot_indices(const io::Group& test)
 {
     std::vector<std::size_t> out;
-    if (!test.exists("snapshots")) return out;
-    for (const std::string& name : test.open_group("snapshots").child_names()) {
+    constexpr std::string_view snapshots = engine::result_name(P::record, "snapshots");
+    if (!test.exists(snapshots)) return out;
+    for (const std::string& name : test.open_group(snapshots).child_names()) {
         if (name.size() <= snapshot_prefix.size() || name.compare(0, snapshot_prefix.size(), snapshot_prefix) != 0) continue;
         std::size_t k = 0;
         const char* first = name.data() + snapshot_prefix.size();
@@ -154,7 +169,7 @@ json::object tests_json(const io::Group& root, const std::string& url_base)
 {
     json::array tests;
     for (const std::string& name : test_names(root)) {
-        const io::Group t = root.open_group("tests/" + name);
+        const io::Group t = root.open_group(test_path(name));
         json::array columns;
         std::size_t rows = 0;
         for (const std::string& c : series_columns(t)) {
@@ -215,9 +230,12 @@ json::object free_standing_json(const io::Group& g, const std::string& url_base,
         }
         const io::Group p = g.open_group(n);
         json::array grains;
-        for (std::int64_t k : p.open_dataset("grains").read_int64s()) grains.push_back(k);
-        profiles[n] = json::object{{"height_m", numbers(p.open_dataset("height_m").read_doubles())},
-            {"radius_m", numbers(p.open_dataset("radius_m").read_doubles())}, {"grains", std::move(grains)}};
+        constexpr std::string_view height = engine::result_name(P::profile, "height_m"),
+                                   radius = engine::result_name(P::profile, "radius_m"),
+                                   grains_in_slice = engine::result_name(P::profile, "grains");
+        for (std::int64_t k : p.open_dataset(grains_in_slice).read_int64s()) grains.push_back(k);
+        profiles[n] = json::object{{height, numbers(p.open_dataset(height).read_doubles())},
+            {radius, numbers(p.open_dataset(radius).read_doubles())}, {grains_in_slice, std::move(grains)}};
     }
     json::value wire = nullptr;
     const std::string strain_name(free_standing_wire_arrays[0]), tension_name(free_standing_wire_arrays[1]);
@@ -230,7 +248,7 @@ json::object free_standing_json(const io::Group& g, const std::string& url_base,
     }
     json::array snaps;
     for (std::size_t k : snapshot_indices(g)) {
-        json::object o = attributes_of(g.open_group("snapshots/" + std::string(snapshot_prefix) + std::to_string(k)));
+        json::object o = attributes_of(g.open_group(snapshot_path(k)));
         o["index"] = k;
         o["url"] = base + "/snapshots/" + std::to_string(k);
         snaps.push_back(std::move(o));
@@ -245,7 +263,9 @@ json::object free_standing_json(const io::Group& g, const std::string& url_base,
     if (g.exists(std::string(pull_out_group))) {
         const io::Group p = g.open_group(std::string(pull_out_group));
         json::object o;
-        for (const char* c : {"time_s", "pulled_length_m", "pull_force_n", "end_tension_n", "wire_in_column_m", "grains_in_column"})
+        for (std::string_view c : {engine::result_name(P::pull_out, "time_s"), engine::result_name(P::pull_out, "pulled_length_m"),
+                 engine::result_name(P::pull_out, "pull_force_n"), engine::result_name(P::pull_out, "end_tension_n"),
+                 engine::result_name(P::pull_out, "wire_in_column_m"), engine::result_name(P::pull_out, "grains_in_column")})
             if (p.exists(c)) {
                 const io::Dataset d = p.open_dataset(c);
                 o[c] = json::object{{"units", units_of(d)}, {"values", numbers(d.read_doubles())}};

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "io/hdf5.hpp"
+#include "triaxial/result_names.hpp"
 
 #include <boost/json/object.hpp>
 
@@ -16,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace wiredem::api {
@@ -25,10 +27,13 @@ namespace wiredem::api {
 inline constexpr std::size_t max_series_points = 1'000'000;
 
 /// Name prefix of a test's snapshot groups (snapshot_0, snapshot_1, …).
-inline constexpr std::string_view snapshot_prefix = "snapshot_";
+inline constexpr std::string_view snapshot_prefix = engine::result_name(engine::ResultPlace::snapshots, "snapshot_");
 
 /// Path of snapshot `k` within its test's group: "snapshots/snapshot_<k>".
 [[nodiscard]] std::string snapshot_path(std::size_t k);
+
+/// Path of the test `name` (test_names) from the root: "tests/<name>".
+[[nodiscard]] std::string test_path(const std::string& name);
 
 /// The tests of a result file by ascending confining pressure (their group
 /// names sort as text: sigma3_100000 before sigma3_20000).
@@ -77,26 +82,35 @@ struct SeriesColumn {
 /// (engine/analysis/autocorrelation.hpp); error (and empty lists) when there is none.
 [[nodiscard]] boost::json::object wire_autocorrelation_json(std::span<const double> segment_strain, double segment_length_m);
 
+/// The group of result.h5 that holds a group per triaxial test (test_names).
+inline constexpr std::string_view tests_group = engine::result_name(engine::ResultPlace::root, "tests");
+
 /// The group of result.h5 (and of the runner's tests/free_standing.h5) that
 /// holds the free-standing test (docs/results.md, campaign/files.hpp writes it).
-inline constexpr std::string_view free_standing_group = "free_standing";
+inline constexpr std::string_view free_standing_group = engine::result_name(engine::ResultPlace::root, "free_standing");
 
 /// The free-standing group's per-segment datasets (the wire at the largest
 /// σ₁): 1-D like its series columns, but not of the series' length.
-inline constexpr std::array<std::string_view, 2> free_standing_wire_arrays{"wire_strain_at_peak", "wire_tension_at_peak_n"};
+inline constexpr std::array<std::string_view, 2> free_standing_wire_arrays{
+    engine::result_name(engine::ResultPlace::free_standing, "wire_strain_at_peak"),
+    engine::result_name(engine::ResultPlace::free_standing, "wire_tension_at_peak_n")};
 
 /// Its radius profiles (subgroups of height_m, radius_m, grains per slice):
 /// before the removal, settled, at the largest σ₁, at the end.
 inline constexpr std::array<std::string_view, 4> free_standing_profiles{
-    "profile_before", "profile_settled", "profile_at_peak", "profile_at_end"};
+    engine::result_name(engine::ResultPlace::free_standing, "profile_before"),
+    engine::result_name(engine::ResultPlace::free_standing, "profile_settled"),
+    engine::result_name(engine::ResultPlace::free_standing, "profile_at_peak"),
+    engine::result_name(engine::ResultPlace::free_standing, "profile_at_end")};
 
 /// Its peak snapshot's subgroup (the force network at the largest σ₁).
-inline constexpr std::string_view free_standing_peak_snapshot = "peak_snapshot";
+inline constexpr std::string_view free_standing_peak_snapshot =
+    engine::result_name(engine::ResultPlace::free_standing, "peak_snapshot");
 /// The subgroup of the free-standing test's group that holds a pull-out's
 /// rows (time_s, pulled_length_m, pull_force_n, end_tension_n,
 /// wire_in_column_m, grains_in_column); its figures are the group's
 /// attributes pull_out_* (docs/results.md).
-inline constexpr std::string_view pull_out_group = "pull_out";
+inline constexpr std::string_view pull_out_group = engine::result_name(engine::ResultPlace::free_standing, "pull_out");
 
 /// The free-standing group's time-series columns: its 1-D numeric datasets
 /// of the length of its time_s but the wire's per-segment arrays (the

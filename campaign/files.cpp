@@ -2,6 +2,7 @@
 
 #include "core/format.hpp"
 #include "io/snapshot.hpp"
+#include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
@@ -36,12 +37,46 @@ std::filesystem::path JobDir::test_lock(std::size_t k) const { return tests() / 
 
 std::string test_group_name(double pa)
 {
-    return "sigma3_" + eng::format_number(pa, 17); // as std::ostream wrote it at precision 17
+    return std::string(eng::result_name(eng::ResultPlace::tests, "sigma3_")) + eng::format_number(pa, 17); // as std::ostream wrote it at precision 17
 }
 
 namespace {
 
-void units(io::Dataset d, std::string_view u) { d.write_string_attribute("units", u); }
+void units(io::Dataset d, std::string_view u) { d.write_string_attribute(eng::result_name(eng::ResultPlace::dataset, "units"), u); }
+
+// The names of result.h5 but the series' (engine/triaxial/result_names.hpp):
+// the one list the writer and the readers go through.
+using P = eng::ResultPlace;
+using eng::result_name;
+using eng::result_name_spec;
+
+
+/// The attributes of a curve's reading (engine/analysis/strength.hpp), by
+/// the name of the curve in result.h5.
+struct CurveNames {
+    std::string_view shape, sample, smoothed_maximum, smoothed_end, drop, end_rise;
+};
+constexpr CurveNames yield_curve{result_name(P::test, "yield_shape"), result_name(P::test, "yield_sample"),
+    result_name(P::test, "yield_smoothed_maximum"), result_name(P::test, "yield_smoothed_end"),
+    result_name(P::test, "yield_drop"), result_name(P::test, "yield_end_rise")};
+constexpr CurveNames max_q_curve{result_name(P::test, "max_q_shape"), result_name(P::test, "max_q_sample"),
+    result_name(P::test, "max_q_smoothed_maximum"), result_name(P::test, "max_q_smoothed_end"),
+    result_name(P::test, "max_q_drop"), result_name(P::test, "max_q_end_rise")};
+constexpr CurveNames strength_curve{result_name(P::free_standing, "strength_shape"),
+    result_name(P::free_standing, "strength_sample"), result_name(P::free_standing, "strength_smoothed_maximum"),
+    result_name(P::free_standing, "strength_smoothed_end"), result_name(P::free_standing, "strength_drop"),
+    result_name(P::free_standing, "strength_end_rise")};
+
+/// A grain-size curve's figures (engine/specimen/grain_sizes.hpp): requested or drawn.
+struct GrainSizeNames {
+    std::string_view d10_m, d50_m, d60_m, uniformity_coefficient;
+};
+constexpr GrainSizeNames requested_grain_sizes{result_name(P::grain_sizes, "requested_d10_m"),
+    result_name(P::grain_sizes, "requested_d50_m"), result_name(P::grain_sizes, "requested_d60_m"),
+    result_name(P::grain_sizes, "requested_uniformity_coefficient")};
+constexpr GrainSizeNames drawn_grain_sizes{result_name(P::grain_sizes, "drawn_d10_m"),
+    result_name(P::grain_sizes, "drawn_d50_m"), result_name(P::grain_sizes, "drawn_d60_m"),
+    result_name(P::grain_sizes, "drawn_uniformity_coefficient")};
 
 // The columns of a time series, their names, units and the meaning of each
 // test's phases: engine/triaxial/series_columns.hpp, the one list the writer
@@ -84,19 +119,19 @@ std::vector<double> read_doubles(const io::Group& g, std::string_view name)
 
 void write_snapshot(io::Group g, const eng::TriaxialSnapshot& s)
 {
-    g.write_double_attribute("requested_axial_strain", s.requested_axial_strain);
-    g.write_double_attribute("axial_strain", s.axial_strain);
-    g.write_double_attribute("time_s", s.time_s);
-    units(g.write_dataset("grain_position_m", std::span<const eng::Vec3>(s.grain_position_m)), "m");
-    units(g.write_dataset("grain_radius_m", std::span<const double>(s.grain_radius_m)), "m");
-    units(g.write_dataset("grain_velocity_m_per_s", std::span<const eng::Vec3>(s.grain_velocity_m_per_s)), "m/s");
-    units(g.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(s.wire_node_position_m)), "m");
-    units(g.write_dataset("wire_segment_strain", std::span<const double>(s.wire_segment_strain)), "1");
-    units(g.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(s.membrane_node_position_m)), "m");
+    g.write_double_attribute(result_name(P::snapshot, "requested_axial_strain"), s.requested_axial_strain);
+    g.write_double_attribute(result_name(P::snapshot, "axial_strain"), s.axial_strain);
+    g.write_double_attribute(result_name(P::snapshot, "time_s"), s.time_s);
+    write_named(g, result_name_spec(P::snapshot, "grain_position_m"), std::span<const eng::Vec3>(s.grain_position_m));
+    write_named(g, result_name_spec(P::snapshot, "grain_radius_m"), std::span<const double>(s.grain_radius_m));
+    write_named(g, result_name_spec(P::snapshot, "grain_velocity_m_per_s"), std::span<const eng::Vec3>(s.grain_velocity_m_per_s));
+    write_named(g, result_name_spec(P::snapshot, "wire_node_position_m"), std::span<const eng::Vec3>(s.wire_node_position_m));
+    write_named(g, result_name_spec(P::snapshot, "wire_segment_strain"), std::span<const double>(s.wire_segment_strain));
+    write_named(g, result_name_spec(P::snapshot, "membrane_node_position_m"), std::span<const eng::Vec3>(s.membrane_node_position_m));
     std::vector<std::uint32_t> tri;
     tri.reserve(3 * s.membrane_triangles.size());
     for (const auto& t : s.membrane_triangles) tri.insert(tri.end(), t.begin(), t.end());
-    units(g.write_dataset("membrane_triangles", std::span<const std::uint32_t>(tri), 3), "1");
+    write_named(g, result_name_spec(P::snapshot, "membrane_triangles"), std::span<const std::uint32_t>(tri), 3);
 
     const eng::ForceNetwork& f = s.forces;
     std::vector<std::uint32_t> pairs;
@@ -107,9 +142,9 @@ void write_snapshot(io::Group g, const eng::TriaxialSnapshot& s)
         pairs.push_back(static_cast<std::uint32_t>(f.second[i].kind()));
         pairs.push_back(f.second[i].index());
     }
-    units(g.write_dataset("contact_bodies", std::span<const std::uint32_t>(pairs), 4), "1");
-    units(g.write_dataset("contact_force_n", std::span<const eng::Vec3>(f.force_n)), "N");
-    units(g.write_dataset("contact_normal_force_n", std::span<const double>(f.normal_force_n)), "N");
+    write_named(g, result_name_spec(P::snapshot, "contact_bodies"), std::span<const std::uint32_t>(pairs), 4);
+    write_named(g, result_name_spec(P::snapshot, "contact_force_n"), std::span<const eng::Vec3>(f.force_n));
+    write_named(g, result_name_spec(P::snapshot, "contact_normal_force_n"), std::span<const double>(f.normal_force_n));
     std::vector<std::uint32_t> walls;
     walls.reserve(3 * f.wall.size());
     for (std::size_t i = 0; i < f.wall.size(); ++i) {
@@ -117,8 +152,8 @@ void write_snapshot(io::Group g, const eng::TriaxialSnapshot& s)
         walls.push_back(static_cast<std::uint32_t>(f.wall_body[i].kind()));
         walls.push_back(f.wall_body[i].index());
     }
-    units(g.write_dataset("wall_contact_bodies", std::span<const std::uint32_t>(walls), 3), "1");
-    units(g.write_dataset("wall_contact_force_n", std::span<const eng::Vec3>(f.wall_force_n)), "N");
+    write_named(g, result_name_spec(P::snapshot, "wall_contact_bodies"), std::span<const std::uint32_t>(walls), 3);
+    write_named(g, result_name_spec(P::snapshot, "wall_contact_force_n"), std::span<const eng::Vec3>(f.wall_force_n));
 }
 
 eng::BodyRef body(std::uint32_t kind, std::uint32_t index)
@@ -132,72 +167,72 @@ eng::BodyRef body(std::uint32_t kind, std::uint32_t index)
 eng::TriaxialSnapshot read_snapshot(const io::Group& g)
 {
     eng::TriaxialSnapshot s;
-    s.requested_axial_strain = g.read_double_attribute("requested_axial_strain");
-    s.axial_strain = g.read_double_attribute("axial_strain");
-    s.time_s = g.read_double_attribute("time_s");
-    s.grain_position_m = read_vec3s(g, "grain_position_m");
-    s.grain_radius_m = read_doubles(g, "grain_radius_m");
-    s.grain_velocity_m_per_s = read_vec3s(g, "grain_velocity_m_per_s");
-    s.wire_node_position_m = read_vec3s(g, "wire_node_position_m");
-    s.wire_segment_strain = read_doubles(g, "wire_segment_strain");
-    s.membrane_node_position_m = read_vec3s(g, "membrane_node_position_m");
-    const std::vector<std::uint32_t> tri = read_u32s(g, "membrane_triangles", 3);
+    s.requested_axial_strain = g.read_double_attribute(result_name(P::snapshot, "requested_axial_strain"));
+    s.axial_strain = g.read_double_attribute(result_name(P::snapshot, "axial_strain"));
+    s.time_s = g.read_double_attribute(result_name(P::snapshot, "time_s"));
+    s.grain_position_m = read_vec3s(g, result_name(P::snapshot, "grain_position_m"));
+    s.grain_radius_m = read_doubles(g, result_name(P::snapshot, "grain_radius_m"));
+    s.grain_velocity_m_per_s = read_vec3s(g, result_name(P::snapshot, "grain_velocity_m_per_s"));
+    s.wire_node_position_m = read_vec3s(g, result_name(P::snapshot, "wire_node_position_m"));
+    s.wire_segment_strain = read_doubles(g, result_name(P::snapshot, "wire_segment_strain"));
+    s.membrane_node_position_m = read_vec3s(g, result_name(P::snapshot, "membrane_node_position_m"));
+    const std::vector<std::uint32_t> tri = read_u32s(g, result_name(P::snapshot, "membrane_triangles"), 3);
     for (std::size_t i = 0; i + 2 < tri.size(); i += 3) s.membrane_triangles.push_back({tri[i], tri[i + 1], tri[i + 2]});
 
     eng::ForceNetwork& f = s.forces;
-    const std::vector<std::uint32_t> pairs = read_u32s(g, "contact_bodies", 4);
+    const std::vector<std::uint32_t> pairs = read_u32s(g, result_name(P::snapshot, "contact_bodies"), 4);
     for (std::size_t i = 0; i + 3 < pairs.size(); i += 4) {
         f.first.push_back(body(pairs[i], pairs[i + 1]));
         f.second.push_back(body(pairs[i + 2], pairs[i + 3]));
     }
-    f.force_n = read_vec3s(g, "contact_force_n");
-    f.normal_force_n = read_doubles(g, "contact_normal_force_n");
-    const std::vector<std::uint32_t> walls = read_u32s(g, "wall_contact_bodies", 3);
+    f.force_n = read_vec3s(g, result_name(P::snapshot, "contact_force_n"));
+    f.normal_force_n = read_doubles(g, result_name(P::snapshot, "contact_normal_force_n"));
+    const std::vector<std::uint32_t> walls = read_u32s(g, result_name(P::snapshot, "wall_contact_bodies"), 3);
     for (std::size_t i = 0; i + 2 < walls.size(); i += 3) {
         f.wall.push_back(walls[i]);
         f.wall_body.push_back(body(walls[i + 1], walls[i + 2]));
     }
-    f.wall_force_n = read_vec3s(g, "wall_contact_force_n");
+    f.wall_force_n = read_vec3s(g, result_name(P::snapshot, "wall_contact_force_n"));
     if (f.force_n.size() != f.first.size() || f.normal_force_n.size() != f.first.size()
         || f.wall_force_n.size() != f.wall.size())
         throw std::runtime_error(g.path() + ": the force network's arrays differ in length");
     return s;
 }
 
-void write_curve(io::Group& g, const std::string& prefix, const eng::analysis::CurveReading& c)
+void write_curve(io::Group& g, const CurveNames& n, const eng::analysis::CurveReading& c)
 {
-    g.write_string_attribute(prefix + "_shape", eng::analysis::to_string(c.shape));
-    g.write_int_attribute(prefix + "_sample", static_cast<std::int64_t>(c.index));
-    g.write_double_attribute(prefix + "_smoothed_maximum", c.value);
-    g.write_double_attribute(prefix + "_smoothed_end", c.end_value);
-    g.write_double_attribute(prefix + "_drop", c.drop);
-    g.write_double_attribute(prefix + "_end_rise", c.end_rise);
+    g.write_string_attribute(n.shape, eng::analysis::to_string(c.shape));
+    g.write_int_attribute(n.sample, static_cast<std::int64_t>(c.index));
+    g.write_double_attribute(n.smoothed_maximum, c.value);
+    g.write_double_attribute(n.smoothed_end, c.end_value);
+    g.write_double_attribute(n.drop, c.drop);
+    g.write_double_attribute(n.end_rise, c.end_rise);
 }
 
-eng::analysis::CurveShape read_shape(const io::Group& g, const std::string& name)
+eng::analysis::CurveShape read_shape(const io::Group& g, std::string_view name)
 {
     const std::string text = g.read_string_attribute(name);
     for (auto shape : {eng::analysis::CurveShape::peak, eng::analysis::CurveShape::plateau, eng::analysis::CurveShape::rising})
         if (text == eng::analysis::to_string(shape)) return shape;
-    throw std::runtime_error(g.path() + ": attribute " + name + " is \"" + text + "\", not peak, plateau or rising");
+    throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is \"" + text + "\", not peak, plateau or rising");
 }
 
-std::size_t read_index(const io::Group& g, const std::string& name)
+std::size_t read_index(const io::Group& g, std::string_view name)
 {
     const std::int64_t v = g.read_int_attribute(name);
-    if (v < 0) throw std::runtime_error(g.path() + ": attribute " + name + " is negative");
+    if (v < 0) throw std::runtime_error(g.path() + ": attribute " + std::string(name) + " is negative");
     return static_cast<std::size_t>(v);
 }
 
-eng::analysis::CurveReading read_curve(const io::Group& g, const std::string& prefix)
+eng::analysis::CurveReading read_curve(const io::Group& g, const CurveNames& n)
 {
     eng::analysis::CurveReading c;
-    c.shape = read_shape(g, prefix + "_shape");
-    c.index = read_index(g, prefix + "_sample");
-    c.value = g.read_double_attribute(prefix + "_smoothed_maximum");
-    c.end_value = g.read_double_attribute(prefix + "_smoothed_end");
-    c.drop = g.read_double_attribute(prefix + "_drop");
-    c.end_rise = g.read_double_attribute(prefix + "_end_rise");
+    c.shape = read_shape(g, n.shape);
+    c.index = read_index(g, n.sample);
+    c.value = g.read_double_attribute(n.smoothed_maximum);
+    c.end_value = g.read_double_attribute(n.smoothed_end);
+    c.drop = g.read_double_attribute(n.drop);
+    c.end_rise = g.read_double_attribute(n.end_rise);
     return c;
 }
 
@@ -247,18 +282,18 @@ eng::TriaxialSeries read_series(const io::Group& g, std::int64_t last_phase)
 
 void write_snapshots(io::Group& g, const std::vector<eng::TriaxialSnapshot>& snapshots)
 {
-    io::Group snaps = g.create_group("snapshots");
+    io::Group snaps = g.create_group(result_name(P::record, "snapshots"));
     for (std::size_t i = 0; i < snapshots.size(); ++i)
-        write_snapshot(snaps.create_group("snapshot_" + std::to_string(i)), snapshots[i]);
+        write_snapshot(snaps.create_group(std::string(result_name(P::snapshots, "snapshot_")) + std::to_string(i)), snapshots[i]);
 }
 
 std::vector<eng::TriaxialSnapshot> read_snapshots(const io::Group& g)
 {
     std::vector<eng::TriaxialSnapshot> out;
-    const io::Group snaps = g.open_group("snapshots");
+    const io::Group snaps = g.open_group(result_name(P::record, "snapshots"));
     const std::vector<std::string> names = snaps.child_names();
     for (std::size_t i = 0; i < names.size(); ++i) {
-        const std::string name = "snapshot_" + std::to_string(i);
+        const std::string name = std::string(result_name(P::snapshots, "snapshot_")) + std::to_string(i);
         if (!snaps.exists(name)) throw std::runtime_error(snaps.path() + ": " + name + " is missing");
         out.push_back(read_snapshot(snaps.open_group(name)));
     }
@@ -267,18 +302,18 @@ std::vector<eng::TriaxialSnapshot> read_snapshots(const io::Group& g)
 
 void write_profile(io::Group g, const eng::RadiusProfile& p)
 {
-    units(g.write_dataset("height_m", std::span<const double>(p.height_m)), "m");
-    units(g.write_dataset("radius_m", std::span<const double>(p.radius_m)), "m");
+    write_named(g, result_name_spec(P::profile, "height_m"), std::span<const double>(p.height_m));
+    write_named(g, result_name_spec(P::profile, "radius_m"), std::span<const double>(p.radius_m));
     std::vector<std::int64_t> grains(p.grains.begin(), p.grains.end());
-    units(g.write_dataset("grains", std::span<const std::int64_t>(grains)), "1");
+    write_named(g, result_name_spec(P::profile, "grains"), std::span<const std::int64_t>(grains));
 }
 
 eng::RadiusProfile read_profile(const io::Group& g)
 {
     eng::RadiusProfile p;
-    p.height_m = read_doubles(g, "height_m");
-    p.radius_m = read_doubles(g, "radius_m");
-    for (std::int64_t n : g.open_dataset("grains").read_int64s()) p.grains.push_back(static_cast<std::uint32_t>(n));
+    p.height_m = read_doubles(g, result_name(P::profile, "height_m"));
+    p.radius_m = read_doubles(g, result_name(P::profile, "radius_m"));
+    for (std::int64_t n : g.open_dataset(result_name(P::profile, "grains")).read_int64s()) p.grains.push_back(static_cast<std::uint32_t>(n));
     if (p.radius_m.size() != p.height_m.size() || p.grains.size() != p.height_m.size())
         throw std::runtime_error(g.path() + ": the profile's columns differ in length");
     return p;
@@ -289,7 +324,7 @@ eng::RadiusProfile read_profile(const io::Group& g)
 void write_wire_breaks(io::Group& g, const std::vector<eng::TestWireBreak>& breaks)
 {
     if (breaks.empty()) return; // a whole wire: the files stay as they were
-    io::Group b = g.create_group("wire_breaks");
+    io::Group b = g.create_group(result_name(P::record, "wire_breaks"));
     std::vector<std::int64_t> segment, cause;
     std::vector<double> time, test_time, strain, position, segment_strain, energy;
     for (const eng::TestWireBreak& e : breaks) {
@@ -302,26 +337,26 @@ void write_wire_breaks(io::Group& g, const std::vector<eng::TestWireBreak>& brea
         segment_strain.push_back(e.event.strain);
         energy.push_back(e.event.released_energy_j);
     }
-    units(b.write_dataset("segment", std::span<const std::int64_t>(segment)), "1");
-    units(b.write_dataset("cause", std::span<const std::int64_t>(cause)), "0 broke (strain past the breaking strain), 1 cut");
-    units(b.write_dataset("time_s", std::span<const double>(test_time)), "s");
-    units(b.write_dataset("world_time_s", std::span<const double>(time)), "s");
-    units(b.write_dataset("axial_strain", std::span<const double>(strain)), "1");
-    units(b.write_dataset("position_m", std::span<const double>(position)), "m");
-    units(b.write_dataset("segment_strain", std::span<const double>(segment_strain)), "1");
-    units(b.write_dataset("released_energy_j", std::span<const double>(energy)), "J");
+    write_named(b, result_name_spec(P::wire_breaks, "segment"), std::span<const std::int64_t>(segment));
+    write_named(b, result_name_spec(P::wire_breaks, "cause"), std::span<const std::int64_t>(cause));
+    write_named(b, result_name_spec(P::wire_breaks, "time_s"), std::span<const double>(test_time));
+    write_named(b, result_name_spec(P::wire_breaks, "world_time_s"), std::span<const double>(time));
+    write_named(b, result_name_spec(P::wire_breaks, "axial_strain"), std::span<const double>(strain));
+    write_named(b, result_name_spec(P::wire_breaks, "position_m"), std::span<const double>(position));
+    write_named(b, result_name_spec(P::wire_breaks, "segment_strain"), std::span<const double>(segment_strain));
+    write_named(b, result_name_spec(P::wire_breaks, "released_energy_j"), std::span<const double>(energy));
 }
 
 std::vector<eng::TestWireBreak> read_wire_breaks(const io::Group& g)
 {
     std::vector<eng::TestWireBreak> out;
-    if (!g.exists("wire_breaks")) return out;
-    const io::Group b = g.open_group("wire_breaks");
-    const std::vector<std::int64_t> segment = b.open_dataset("segment").read_int64s();
-    const std::vector<std::int64_t> cause = b.open_dataset("cause").read_int64s();
-    const std::vector<double> test_time = read_doubles(b, "time_s"), time = read_doubles(b, "world_time_s"),
-                              strain = read_doubles(b, "axial_strain"), position = read_doubles(b, "position_m"),
-                              segment_strain = read_doubles(b, "segment_strain"), energy = read_doubles(b, "released_energy_j");
+    if (!g.exists(result_name(P::record, "wire_breaks"))) return out;
+    const io::Group b = g.open_group(result_name(P::record, "wire_breaks"));
+    const std::vector<std::int64_t> segment = b.open_dataset(result_name(P::wire_breaks, "segment")).read_int64s();
+    const std::vector<std::int64_t> cause = b.open_dataset(result_name(P::wire_breaks, "cause")).read_int64s();
+    const std::vector<double> test_time = read_doubles(b, result_name(P::wire_breaks, "time_s")), time = read_doubles(b, result_name(P::wire_breaks, "world_time_s")),
+                              strain = read_doubles(b, result_name(P::wire_breaks, "axial_strain")), position = read_doubles(b, result_name(P::wire_breaks, "position_m")),
+                              segment_strain = read_doubles(b, result_name(P::wire_breaks, "segment_strain")), energy = read_doubles(b, result_name(P::wire_breaks, "released_energy_j"));
     const std::size_t n = segment.size();
     if (cause.size() != n || test_time.size() != n || time.size() != n || strain.size() != n || position.size() != n
         || segment_strain.size() != n || energy.size() != n)
@@ -342,41 +377,41 @@ std::vector<eng::TestWireBreak> read_wire_breaks(const io::Group& g)
 
 void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
 {
-    g.write_double_attribute("peak_deviatoric_stress_pa", r.peak_deviatoric_stress_pa);
-    g.write_double_attribute("peak_axial_strain", r.peak_axial_strain);
-    g.write_double_attribute("peak_sigma1_pa", r.peak_sigma1_pa);
-    g.write_double_attribute("peak_sigma3_effective_pa", r.peak_sigma3_effective_pa);
-    g.write_int_attribute("peak_sample", static_cast<std::int64_t>(r.peak_sample));
+    g.write_double_attribute(result_name(P::test, "peak_deviatoric_stress_pa"), r.peak_deviatoric_stress_pa);
+    g.write_double_attribute(result_name(P::test, "peak_axial_strain"), r.peak_axial_strain);
+    g.write_double_attribute(result_name(P::test, "peak_sigma1_pa"), r.peak_sigma1_pa);
+    g.write_double_attribute(result_name(P::test, "peak_sigma3_effective_pa"), r.peak_sigma3_effective_pa);
+    g.write_int_attribute(result_name(P::test, "peak_sample"), static_cast<std::int64_t>(r.peak_sample));
     if (r.strength) {
         const eng::analysis::StrengthReading& y = *r.strength;
-        write_curve(g, "yield", y.stress_ratio);
-        write_curve(g, "max_q", y.deviatoric);
-        g.write_double_attribute("yield_stress_ratio", y.stress_ratio.value);
-        g.write_double_attribute("yield_axial_strain", y.yield_axial_strain);
-        g.write_double_attribute("yield_sigma1_pa", y.yield_sigma1_pa);
-        g.write_double_attribute("yield_sigma3_effective_pa", y.yield_sigma3_pa);
-        g.write_double_attribute("residual_stress_ratio", y.residual_stress_ratio);
+        write_curve(g, yield_curve, y.stress_ratio);
+        write_curve(g, max_q_curve, y.deviatoric);
+        g.write_double_attribute(result_name(P::test, "yield_stress_ratio"), y.stress_ratio.value);
+        g.write_double_attribute(result_name(P::test, "yield_axial_strain"), y.yield_axial_strain);
+        g.write_double_attribute(result_name(P::test, "yield_sigma1_pa"), y.yield_sigma1_pa);
+        g.write_double_attribute(result_name(P::test, "yield_sigma3_effective_pa"), y.yield_sigma3_pa);
+        g.write_double_attribute(result_name(P::test, "residual_stress_ratio"), y.residual_stress_ratio);
     }
-    g.write_double_attribute("hold_time_s", r.hold_time_s);
-    g.write_double_attribute("consolidated_sigma1_pa", r.consolidated_sigma1_pa);
+    g.write_double_attribute(result_name(P::test, "hold_time_s"), r.hold_time_s);
+    g.write_double_attribute(result_name(P::test, "consolidated_sigma1_pa"), r.consolidated_sigma1_pa);
     if (r.consolidation) {
-        g.write_string_attribute("consolidation", eng::to_string(*r.consolidation));
-        g.write_double_attribute("consolidation_target_pa", r.consolidation_target_pa);
+        g.write_string_attribute(result_name(P::test, "consolidation"), eng::to_string(*r.consolidation));
+        g.write_double_attribute(result_name(P::test, "consolidation_target_pa"), r.consolidation_target_pa);
     }
-    g.write_double_attribute("initial_height_m", r.initial_height_m);
-    g.write_double_attribute("initial_volume_m3", r.initial_volume_m3);
-    g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
-    g.write_double_attribute("max_inertial_number", r.verdict.max_inertial_number);
-    g.write_double_attribute("mean_kinetic_to_elastic", r.verdict.mean_kinetic_to_elastic);
-    g.write_double_attribute("max_kinetic_to_elastic", r.verdict.max_kinetic_to_elastic);
-    g.write_string_attribute("quasi_static_warning", r.verdict.warning);
-    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
-    g.write_double_attribute("time_step_s", r.time_step_s);
-    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
-    g.write_double_attribute("wall_time_s", r.wall_time_s);
+    g.write_double_attribute(result_name(P::test, "initial_height_m"), r.initial_height_m);
+    g.write_double_attribute(result_name(P::test, "initial_volume_m3"), r.initial_volume_m3);
+    g.write_int_attribute(result_name(P::record, "quasi_static"), r.verdict.quasi_static ? 1 : 0);
+    g.write_double_attribute(result_name(P::record, "max_inertial_number"), r.verdict.max_inertial_number);
+    g.write_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"), r.verdict.mean_kinetic_to_elastic);
+    g.write_double_attribute(result_name(P::record, "max_kinetic_to_elastic"), r.verdict.max_kinetic_to_elastic);
+    g.write_string_attribute(result_name(P::record, "quasi_static_warning"), r.verdict.warning);
+    g.write_int_attribute(result_name(P::record, "steps"), static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute(result_name(P::record, "time_step_s"), r.time_step_s);
+    g.write_double_attribute(result_name(P::record, "simulated_time_s"), r.simulated_time_s);
+    g.write_double_attribute(result_name(P::record, "wall_time_s"), r.wall_time_s);
     json::array warnings;
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
-    g.write_string_attribute("warnings", json::serialize(warnings));
+    g.write_string_attribute(result_name(P::record, "warnings"), json::serialize(warnings));
 
     write_series(g, r.series, eng::triaxial_phase_units);
     write_snapshots(g, r.snapshots);
@@ -386,43 +421,43 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
 eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots)
 {
     eng::TriaxialResult r;
-    r.peak_deviatoric_stress_pa = g.read_double_attribute("peak_deviatoric_stress_pa");
-    r.peak_axial_strain = g.read_double_attribute("peak_axial_strain");
-    r.peak_sigma1_pa = g.read_double_attribute("peak_sigma1_pa");
-    r.peak_sigma3_effective_pa = g.read_double_attribute("peak_sigma3_effective_pa");
-    r.peak_sample = read_index(g, "peak_sample");
-    if (g.has_attribute("yield_shape")) {
+    r.peak_deviatoric_stress_pa = g.read_double_attribute(result_name(P::test, "peak_deviatoric_stress_pa"));
+    r.peak_axial_strain = g.read_double_attribute(result_name(P::test, "peak_axial_strain"));
+    r.peak_sigma1_pa = g.read_double_attribute(result_name(P::test, "peak_sigma1_pa"));
+    r.peak_sigma3_effective_pa = g.read_double_attribute(result_name(P::test, "peak_sigma3_effective_pa"));
+    r.peak_sample = read_index(g, result_name(P::test, "peak_sample"));
+    if (g.has_attribute(result_name(P::test, "yield_shape"))) {
         eng::analysis::StrengthReading y;
-        y.stress_ratio = read_curve(g, "yield");
-        y.deviatoric = read_curve(g, "max_q");
-        y.yield_axial_strain = g.read_double_attribute("yield_axial_strain");
-        y.yield_sigma1_pa = g.read_double_attribute("yield_sigma1_pa");
-        y.yield_sigma3_pa = g.read_double_attribute("yield_sigma3_effective_pa");
-        y.residual_stress_ratio = g.read_double_attribute("residual_stress_ratio");
+        y.stress_ratio = read_curve(g, yield_curve);
+        y.deviatoric = read_curve(g, max_q_curve);
+        y.yield_axial_strain = g.read_double_attribute(result_name(P::test, "yield_axial_strain"));
+        y.yield_sigma1_pa = g.read_double_attribute(result_name(P::test, "yield_sigma1_pa"));
+        y.yield_sigma3_pa = g.read_double_attribute(result_name(P::test, "yield_sigma3_effective_pa"));
+        y.residual_stress_ratio = g.read_double_attribute(result_name(P::test, "residual_stress_ratio"));
         r.strength = y;
     }
-    r.hold_time_s = g.read_double_attribute("hold_time_s");
-    r.consolidated_sigma1_pa = g.read_double_attribute("consolidated_sigma1_pa");
-    if (g.has_attribute("consolidation")) { // absent in a file written before it was recorded
-        const std::string c = g.read_string_attribute("consolidation");
+    r.hold_time_s = g.read_double_attribute(result_name(P::test, "hold_time_s"));
+    r.consolidated_sigma1_pa = g.read_double_attribute(result_name(P::test, "consolidated_sigma1_pa"));
+    if (g.has_attribute(result_name(P::test, "consolidation"))) { // absent in a file written before it was recorded
+        const std::string c = g.read_string_attribute(result_name(P::test, "consolidation"));
         r.consolidation = eng::consolidation_from_string(c);
         if (!r.consolidation) throw std::runtime_error(g.path() + ": consolidation \"" + c + "\" is not cell_pressure or effective");
-        r.consolidation_target_pa = g.read_double_attribute("consolidation_target_pa");
+        r.consolidation_target_pa = g.read_double_attribute(result_name(P::test, "consolidation_target_pa"));
     }
-    r.initial_height_m = g.read_double_attribute("initial_height_m");
-    r.initial_volume_m3 = g.read_double_attribute("initial_volume_m3");
-    r.verdict.quasi_static = g.read_int_attribute("quasi_static") != 0;
-    r.verdict.max_inertial_number = g.read_double_attribute("max_inertial_number");
-    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute("mean_kinetic_to_elastic");
-    r.verdict.max_kinetic_to_elastic = g.read_double_attribute("max_kinetic_to_elastic");
-    r.verdict.warning = g.read_string_attribute("quasi_static_warning");
-    const std::int64_t steps = g.read_int_attribute("steps");
+    r.initial_height_m = g.read_double_attribute(result_name(P::test, "initial_height_m"));
+    r.initial_volume_m3 = g.read_double_attribute(result_name(P::test, "initial_volume_m3"));
+    r.verdict.quasi_static = g.read_int_attribute(result_name(P::record, "quasi_static")) != 0;
+    r.verdict.max_inertial_number = g.read_double_attribute(result_name(P::record, "max_inertial_number"));
+    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"));
+    r.verdict.max_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "max_kinetic_to_elastic"));
+    r.verdict.warning = g.read_string_attribute(result_name(P::record, "quasi_static_warning"));
+    const std::int64_t steps = g.read_int_attribute(result_name(P::record, "steps"));
     if (steps < 0) throw std::runtime_error(g.path() + ": negative step count");
     r.steps = static_cast<std::uint64_t>(steps);
-    r.time_step_s = g.read_double_attribute("time_step_s");
-    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
-    r.wall_time_s = g.read_double_attribute("wall_time_s");
-    const json::value warnings = json::parse(g.read_string_attribute("warnings"));
+    r.time_step_s = g.read_double_attribute(result_name(P::record, "time_step_s"));
+    r.simulated_time_s = g.read_double_attribute(result_name(P::record, "simulated_time_s"));
+    r.wall_time_s = g.read_double_attribute(result_name(P::record, "wall_time_s"));
+    const json::value warnings = json::parse(g.read_string_attribute(result_name(P::record, "warnings")));
     for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
 
     r.series = read_series(g, static_cast<std::int64_t>(eng::TriaxialPhase::loading));
@@ -447,30 +482,30 @@ namespace {
 /// the phase.
 void write_pull_out(io::Group& g, const eng::PullOutReading& p)
 {
-    g.write_string_attribute("pull_out_end", eng::to_string(p.end));
-    g.write_int_attribute("pull_out_node", p.pulled_node);
-    g.write_double_attribute("pull_out_peak_force_n", p.peak_pull_force_n);
-    g.write_double_attribute("pull_out_length_at_peak_m", p.pulled_length_at_peak_m);
-    g.write_double_attribute("pull_out_length_m", p.pulled_length_m);
-    g.write_double_attribute("pull_out_wire_in_column_before_m", p.wire_in_column_before_m);
-    g.write_double_attribute("pull_out_wire_in_column_m", p.wire_in_column_m);
-    g.write_int_attribute("pull_out_grains_in_column", static_cast<std::int64_t>(p.grains_in_column));
-    g.write_int_attribute("pull_out_wire_broke", p.wire_broke ? 1 : 0);
-    g.write_double_attribute("pull_out_ramp_inertia_n", p.ramp_inertia_n);
+    g.write_string_attribute(result_name(P::free_standing, "pull_out_end"), eng::to_string(p.end));
+    g.write_int_attribute(result_name(P::free_standing, "pull_out_node"), p.pulled_node);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_peak_force_n"), p.peak_pull_force_n);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_length_at_peak_m"), p.pulled_length_at_peak_m);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_length_m"), p.pulled_length_m);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_wire_in_column_before_m"), p.wire_in_column_before_m);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_wire_in_column_m"), p.wire_in_column_m);
+    g.write_int_attribute(result_name(P::free_standing, "pull_out_grains_in_column"), static_cast<std::int64_t>(p.grains_in_column));
+    g.write_int_attribute(result_name(P::free_standing, "pull_out_wire_broke"), p.wire_broke ? 1 : 0);
+    g.write_double_attribute(result_name(P::free_standing, "pull_out_ramp_inertia_n"), p.ramp_inertia_n);
     io::Group s = g.create_group(std::string(api::pull_out_group));
     const eng::PullOutSeries& x = p.series;
-    units(s.write_dataset("time_s", std::span<const double>(x.time_s)), "s");
-    units(s.write_dataset("pulled_length_m", std::span<const double>(x.pulled_length_m)), "m");
-    units(s.write_dataset("pull_force_n", std::span<const double>(x.pull_force_n)), "N");
-    units(s.write_dataset("end_tension_n", std::span<const double>(x.end_tension_n)), "N");
-    units(s.write_dataset("wire_in_column_m", std::span<const double>(x.wire_in_column_m)), "m");
-    units(s.write_dataset("grains_in_column", std::span<const double>(x.grains_in_column)), "1");
+    write_named(s, result_name_spec(P::pull_out, "time_s"), std::span<const double>(x.time_s));
+    write_named(s, result_name_spec(P::pull_out, "pulled_length_m"), std::span<const double>(x.pulled_length_m));
+    write_named(s, result_name_spec(P::pull_out, "pull_force_n"), std::span<const double>(x.pull_force_n));
+    write_named(s, result_name_spec(P::pull_out, "end_tension_n"), std::span<const double>(x.end_tension_n));
+    write_named(s, result_name_spec(P::pull_out, "wire_in_column_m"), std::span<const double>(x.wire_in_column_m));
+    write_named(s, result_name_spec(P::pull_out, "grains_in_column"), std::span<const double>(x.grains_in_column));
 }
 
 eng::PullOutReading read_pull_out(const io::Group& g)
 {
     eng::PullOutReading p;
-    const std::string end = g.read_string_attribute("pull_out_end");
+    const std::string end = g.read_string_attribute(result_name(P::free_standing, "pull_out_end"));
     bool known = false;
     for (auto e : {eng::PullOutEnd::length, eng::PullOutEnd::wire_out, eng::PullOutEnd::time, eng::PullOutEnd::host})
         if (end == eng::to_string(e)) {
@@ -478,23 +513,23 @@ eng::PullOutReading read_pull_out(const io::Group& g)
             known = true;
         }
     if (!known) throw std::runtime_error(g.path() + ": pull_out_end \"" + end + "\" is not a known end");
-    p.pulled_node = static_cast<std::uint32_t>(read_index(g, "pull_out_node"));
-    p.peak_pull_force_n = g.read_double_attribute("pull_out_peak_force_n");
-    p.pulled_length_at_peak_m = g.read_double_attribute("pull_out_length_at_peak_m");
-    p.pulled_length_m = g.read_double_attribute("pull_out_length_m");
-    p.wire_in_column_before_m = g.read_double_attribute("pull_out_wire_in_column_before_m");
-    p.wire_in_column_m = g.read_double_attribute("pull_out_wire_in_column_m");
-    p.grains_in_column = read_index(g, "pull_out_grains_in_column");
-    p.wire_broke = g.read_int_attribute("pull_out_wire_broke") != 0;
-    p.ramp_inertia_n = g.read_double_attribute("pull_out_ramp_inertia_n");
+    p.pulled_node = static_cast<std::uint32_t>(read_index(g, result_name(P::free_standing, "pull_out_node")));
+    p.peak_pull_force_n = g.read_double_attribute(result_name(P::free_standing, "pull_out_peak_force_n"));
+    p.pulled_length_at_peak_m = g.read_double_attribute(result_name(P::free_standing, "pull_out_length_at_peak_m"));
+    p.pulled_length_m = g.read_double_attribute(result_name(P::free_standing, "pull_out_length_m"));
+    p.wire_in_column_before_m = g.read_double_attribute(result_name(P::free_standing, "pull_out_wire_in_column_before_m"));
+    p.wire_in_column_m = g.read_double_attribute(result_name(P::free_standing, "pull_out_wire_in_column_m"));
+    p.grains_in_column = read_index(g, result_name(P::free_standing, "pull_out_grains_in_column"));
+    p.wire_broke = g.read_int_attribute(result_name(P::free_standing, "pull_out_wire_broke")) != 0;
+    p.ramp_inertia_n = g.read_double_attribute(result_name(P::free_standing, "pull_out_ramp_inertia_n"));
     const io::Group s = g.open_group(std::string(api::pull_out_group));
     eng::PullOutSeries& x = p.series;
-    x.time_s = read_doubles(s, "time_s");
-    x.pulled_length_m = read_doubles(s, "pulled_length_m");
-    x.pull_force_n = read_doubles(s, "pull_force_n");
-    x.end_tension_n = read_doubles(s, "end_tension_n");
-    x.wire_in_column_m = read_doubles(s, "wire_in_column_m");
-    x.grains_in_column = read_doubles(s, "grains_in_column");
+    x.time_s = read_doubles(s, result_name(P::pull_out, "time_s"));
+    x.pulled_length_m = read_doubles(s, result_name(P::pull_out, "pulled_length_m"));
+    x.pull_force_n = read_doubles(s, result_name(P::pull_out, "pull_force_n"));
+    x.end_tension_n = read_doubles(s, result_name(P::pull_out, "end_tension_n"));
+    x.wire_in_column_m = read_doubles(s, result_name(P::pull_out, "wire_in_column_m"));
+    x.grains_in_column = read_doubles(s, result_name(P::pull_out, "grains_in_column"));
     const std::size_t n = x.size();
     if (x.pulled_length_m.size() != n || x.pull_force_n.size() != n || x.end_tension_n.size() != n
         || x.wire_in_column_m.size() != n || x.grains_in_column.size() != n)
@@ -507,65 +542,65 @@ eng::PullOutReading read_pull_out(const io::Group& g)
 void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
 {
     const eng::SettlingReading& s = r.settling;
-    g.write_int_attribute("at_rest", s.at_rest ? 1 : 0);
-    g.write_double_attribute("time_to_rest_s", s.time_to_rest_s);
-    g.write_double_attribute("height_before_m", s.height_before_m);
-    g.write_double_attribute("height_m", s.height_m);
-    g.write_double_attribute("height_loss", s.height_loss);
-    g.write_double_attribute("radius_before_m", s.radius_before_m);
-    g.write_double_attribute("radius_m", s.radius_m);
-    g.write_int_attribute("escaped_grains", static_cast<std::int64_t>(s.escaped_grains));
-    g.write_double_attribute("bulk_height_before_m", s.bulk_height_before_m);
-    g.write_double_attribute("bulk_height_m", s.bulk_height_m);
-    g.write_double_attribute("bulk_height_loss", s.bulk_height_loss);
-    g.write_int_attribute("grains", static_cast<std::int64_t>(s.grains));
-    g.write_double_attribute("lost_fraction", s.lost_fraction);
-    g.write_double_attribute("weight_n", s.weight_n);
-    g.write_double_attribute("base_force_n", s.base_force_n);
-    g.write_double_attribute("base_force_tolerance_n", s.base_force_tolerance_n);
-    g.write_int_attribute("stands", s.stands ? 1 : 0);
-    g.write_double_attribute("max_removal_kinetic_energy_j", s.max_removal_kinetic_energy_j);
+    g.write_int_attribute(result_name(P::free_standing, "at_rest"), s.at_rest ? 1 : 0);
+    g.write_double_attribute(result_name(P::free_standing, "time_to_rest_s"), s.time_to_rest_s);
+    g.write_double_attribute(result_name(P::free_standing, "height_before_m"), s.height_before_m);
+    g.write_double_attribute(result_name(P::free_standing, "height_m"), s.height_m);
+    g.write_double_attribute(result_name(P::free_standing, "height_loss"), s.height_loss);
+    g.write_double_attribute(result_name(P::free_standing, "radius_before_m"), s.radius_before_m);
+    g.write_double_attribute(result_name(P::free_standing, "radius_m"), s.radius_m);
+    g.write_int_attribute(result_name(P::free_standing, "escaped_grains"), static_cast<std::int64_t>(s.escaped_grains));
+    g.write_double_attribute(result_name(P::free_standing, "bulk_height_before_m"), s.bulk_height_before_m);
+    g.write_double_attribute(result_name(P::free_standing, "bulk_height_m"), s.bulk_height_m);
+    g.write_double_attribute(result_name(P::free_standing, "bulk_height_loss"), s.bulk_height_loss);
+    g.write_int_attribute(result_name(P::free_standing, "grains"), static_cast<std::int64_t>(s.grains));
+    g.write_double_attribute(result_name(P::free_standing, "lost_fraction"), s.lost_fraction);
+    g.write_double_attribute(result_name(P::free_standing, "weight_n"), s.weight_n);
+    g.write_double_attribute(result_name(P::free_standing, "base_force_n"), s.base_force_n);
+    g.write_double_attribute(result_name(P::free_standing, "base_force_tolerance_n"), s.base_force_tolerance_n);
+    g.write_int_attribute(result_name(P::free_standing, "stands"), s.stands ? 1 : 0);
+    g.write_double_attribute(result_name(P::free_standing, "max_removal_kinetic_energy_j"), s.max_removal_kinetic_energy_j);
     write_profile(g.create_group(std::string(api::free_standing_profiles[0])), s.profile_before);
     write_profile(g.create_group(std::string(api::free_standing_profiles[1])), s.profile);
     if (r.dead_load) {
         const eng::DeadLoadReading& d = *r.dead_load;
-        g.write_double_attribute("dead_load_n", d.force_n);
-        g.write_double_attribute("dead_load_stress_pa", d.stress_pa);
-        g.write_double_attribute("dead_load_strain_at_load", d.strain_at_load);
-        g.write_double_attribute("dead_load_strain_at_end", d.strain_at_end);
-        g.write_double_attribute("dead_load_creep_strain", d.creep_strain);
-        g.write_int_attribute("dead_load_holds", d.holds ? 1 : 0);
+        g.write_double_attribute(result_name(P::free_standing, "dead_load_n"), d.force_n);
+        g.write_double_attribute(result_name(P::free_standing, "dead_load_stress_pa"), d.stress_pa);
+        g.write_double_attribute(result_name(P::free_standing, "dead_load_strain_at_load"), d.strain_at_load);
+        g.write_double_attribute(result_name(P::free_standing, "dead_load_strain_at_end"), d.strain_at_end);
+        g.write_double_attribute(result_name(P::free_standing, "dead_load_creep_strain"), d.creep_strain);
+        g.write_int_attribute(result_name(P::free_standing, "dead_load_holds"), d.holds ? 1 : 0);
     }
     if (r.compression) {
         const eng::CompressionReading& c = *r.compression;
-        write_curve(g, "strength", c.strength);
-        g.write_double_attribute("strength_axial_strain", c.strength_axial_strain);
-        g.write_double_attribute("max_sigma1_pa", c.max_sigma1_pa);
-        g.write_int_attribute("max_sigma1_sample", static_cast<std::int64_t>(c.max_sigma1_sample));
-        g.write_int_attribute("failed", c.failed ? 1 : 0);
+        write_curve(g, strength_curve, c.strength);
+        g.write_double_attribute(result_name(P::free_standing, "strength_axial_strain"), c.strength_axial_strain);
+        g.write_double_attribute(result_name(P::free_standing, "max_sigma1_pa"), c.max_sigma1_pa);
+        g.write_int_attribute(result_name(P::free_standing, "max_sigma1_sample"), static_cast<std::int64_t>(c.max_sigma1_sample));
+        g.write_int_attribute(result_name(P::free_standing, "failed"), c.failed ? 1 : 0);
         if (c.failure_mode) {
-            g.write_string_attribute("failure_mode", eng::to_string(*c.failure_mode));
-            g.write_double_attribute("spilled_fraction", c.spilled_fraction);
-            g.write_double_attribute("bulge_m", c.bulge_m);
+            g.write_string_attribute(result_name(P::free_standing, "failure_mode"), eng::to_string(*c.failure_mode));
+            g.write_double_attribute(result_name(P::free_standing, "spilled_fraction"), c.spilled_fraction);
+            g.write_double_attribute(result_name(P::free_standing, "bulge_m"), c.bulge_m);
         }
         write_profile(g.create_group(std::string(api::free_standing_profiles[2])), c.profile_at_peak);
         write_profile(g.create_group(std::string(api::free_standing_profiles[3])), c.profile_at_end);
-        units(g.write_dataset(std::string(api::free_standing_wire_arrays[0]), std::span<const double>(c.wire_strain_at_peak)), "1");
-        units(g.write_dataset(std::string(api::free_standing_wire_arrays[1]), std::span<const double>(c.wire_tension_at_peak_n)), "N");
+        write_named(g, result_name_spec(P::free_standing, "wire_strain_at_peak"), std::span<const double>(c.wire_strain_at_peak));
+        write_named(g, result_name_spec(P::free_standing, "wire_tension_at_peak_n"), std::span<const double>(c.wire_tension_at_peak_n));
     }
-    g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(r.loading_start_sample));
-    g.write_int_attribute("quasi_static", r.verdict.quasi_static ? 1 : 0);
-    g.write_double_attribute("max_inertial_number", r.verdict.max_inertial_number);
-    g.write_double_attribute("mean_kinetic_to_elastic", r.verdict.mean_kinetic_to_elastic);
-    g.write_double_attribute("max_kinetic_to_elastic", r.verdict.max_kinetic_to_elastic);
-    g.write_string_attribute("quasi_static_warning", r.verdict.warning);
-    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
-    g.write_double_attribute("time_step_s", r.time_step_s);
-    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
-    g.write_double_attribute("wall_time_s", r.wall_time_s);
+    g.write_int_attribute(result_name(P::free_standing, "loading_start_sample"), static_cast<std::int64_t>(r.loading_start_sample));
+    g.write_int_attribute(result_name(P::record, "quasi_static"), r.verdict.quasi_static ? 1 : 0);
+    g.write_double_attribute(result_name(P::record, "max_inertial_number"), r.verdict.max_inertial_number);
+    g.write_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"), r.verdict.mean_kinetic_to_elastic);
+    g.write_double_attribute(result_name(P::record, "max_kinetic_to_elastic"), r.verdict.max_kinetic_to_elastic);
+    g.write_string_attribute(result_name(P::record, "quasi_static_warning"), r.verdict.warning);
+    g.write_int_attribute(result_name(P::record, "steps"), static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute(result_name(P::record, "time_step_s"), r.time_step_s);
+    g.write_double_attribute(result_name(P::record, "simulated_time_s"), r.simulated_time_s);
+    g.write_double_attribute(result_name(P::record, "wall_time_s"), r.wall_time_s);
     json::array warnings;
     for (const std::string& w : r.warnings) warnings.emplace_back(w);
-    g.write_string_attribute("warnings", json::serialize(warnings));
+    g.write_string_attribute(result_name(P::record, "warnings"), json::serialize(warnings));
     if (r.pull_out) write_pull_out(g, *r.pull_out);
     write_series(g, r.series, r.pull_out ? eng::free_standing_pull_out_phase_units : eng::free_standing_phase_units);
     write_snapshots(g, r.snapshots);
@@ -577,56 +612,56 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
 {
     eng::FreeStandingResult r;
     eng::SettlingReading& s = r.settling;
-    s.at_rest = g.read_int_attribute("at_rest") != 0;
-    s.time_to_rest_s = g.read_double_attribute("time_to_rest_s");
-    s.height_before_m = g.read_double_attribute("height_before_m");
-    s.height_m = g.read_double_attribute("height_m");
-    s.height_loss = g.read_double_attribute("height_loss");
-    s.radius_before_m = g.read_double_attribute("radius_before_m");
-    s.radius_m = g.read_double_attribute("radius_m");
-    s.escaped_grains = read_index(g, "escaped_grains");
-    if (g.has_attribute("bulk_height_m")) { // written since 2026-12-06: an older file's verdict read the top
-        s.bulk_height_before_m = g.read_double_attribute("bulk_height_before_m");
-        s.bulk_height_m = g.read_double_attribute("bulk_height_m");
-        s.bulk_height_loss = g.read_double_attribute("bulk_height_loss");
-        s.grains = read_index(g, "grains");
-        s.lost_fraction = g.read_double_attribute("lost_fraction");
+    s.at_rest = g.read_int_attribute(result_name(P::free_standing, "at_rest")) != 0;
+    s.time_to_rest_s = g.read_double_attribute(result_name(P::free_standing, "time_to_rest_s"));
+    s.height_before_m = g.read_double_attribute(result_name(P::free_standing, "height_before_m"));
+    s.height_m = g.read_double_attribute(result_name(P::free_standing, "height_m"));
+    s.height_loss = g.read_double_attribute(result_name(P::free_standing, "height_loss"));
+    s.radius_before_m = g.read_double_attribute(result_name(P::free_standing, "radius_before_m"));
+    s.radius_m = g.read_double_attribute(result_name(P::free_standing, "radius_m"));
+    s.escaped_grains = read_index(g, result_name(P::free_standing, "escaped_grains"));
+    if (g.has_attribute(result_name(P::free_standing, "bulk_height_m"))) { // written since 2026-12-06: an older file's verdict read the top
+        s.bulk_height_before_m = g.read_double_attribute(result_name(P::free_standing, "bulk_height_before_m"));
+        s.bulk_height_m = g.read_double_attribute(result_name(P::free_standing, "bulk_height_m"));
+        s.bulk_height_loss = g.read_double_attribute(result_name(P::free_standing, "bulk_height_loss"));
+        s.grains = read_index(g, result_name(P::free_standing, "grains"));
+        s.lost_fraction = g.read_double_attribute(result_name(P::free_standing, "lost_fraction"));
     } else {
         s.bulk_height_before_m = s.bulk_height_m = s.bulk_height_loss = s.lost_fraction
             = std::numeric_limits<double>::quiet_NaN();
     }
-    s.weight_n = g.read_double_attribute("weight_n");
-    s.base_force_n = g.read_double_attribute("base_force_n");
-    s.base_force_tolerance_n = g.read_double_attribute("base_force_tolerance_n");
-    s.stands = g.read_int_attribute("stands") != 0;
-    s.max_removal_kinetic_energy_j = g.read_double_attribute("max_removal_kinetic_energy_j");
+    s.weight_n = g.read_double_attribute(result_name(P::free_standing, "weight_n"));
+    s.base_force_n = g.read_double_attribute(result_name(P::free_standing, "base_force_n"));
+    s.base_force_tolerance_n = g.read_double_attribute(result_name(P::free_standing, "base_force_tolerance_n"));
+    s.stands = g.read_int_attribute(result_name(P::free_standing, "stands")) != 0;
+    s.max_removal_kinetic_energy_j = g.read_double_attribute(result_name(P::free_standing, "max_removal_kinetic_energy_j"));
     s.profile_before = read_profile(g.open_group(std::string(api::free_standing_profiles[0])));
     s.profile = read_profile(g.open_group(std::string(api::free_standing_profiles[1])));
-    if (g.has_attribute("dead_load_n")) {
+    if (g.has_attribute(result_name(P::free_standing, "dead_load_n"))) {
         eng::DeadLoadReading d;
-        d.force_n = g.read_double_attribute("dead_load_n");
-        d.stress_pa = g.read_double_attribute("dead_load_stress_pa");
-        d.strain_at_load = g.read_double_attribute("dead_load_strain_at_load");
-        d.strain_at_end = g.read_double_attribute("dead_load_strain_at_end");
-        d.creep_strain = g.read_double_attribute("dead_load_creep_strain");
-        d.holds = g.read_int_attribute("dead_load_holds") != 0;
+        d.force_n = g.read_double_attribute(result_name(P::free_standing, "dead_load_n"));
+        d.stress_pa = g.read_double_attribute(result_name(P::free_standing, "dead_load_stress_pa"));
+        d.strain_at_load = g.read_double_attribute(result_name(P::free_standing, "dead_load_strain_at_load"));
+        d.strain_at_end = g.read_double_attribute(result_name(P::free_standing, "dead_load_strain_at_end"));
+        d.creep_strain = g.read_double_attribute(result_name(P::free_standing, "dead_load_creep_strain"));
+        d.holds = g.read_int_attribute(result_name(P::free_standing, "dead_load_holds")) != 0;
         r.dead_load = d;
     }
-    if (g.has_attribute("strength_shape")) {
+    if (g.has_attribute(result_name(P::free_standing, "strength_shape"))) {
         eng::CompressionReading c;
-        c.strength = read_curve(g, "strength");
-        c.strength_axial_strain = g.read_double_attribute("strength_axial_strain");
-        c.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
-        c.max_sigma1_sample = read_index(g, "max_sigma1_sample");
-        c.failed = g.read_int_attribute("failed") != 0;
-        if (g.has_attribute("failure_mode")) { // written since 2026-12-06
-            const std::string mode = g.read_string_attribute("failure_mode");
+        c.strength = read_curve(g, strength_curve);
+        c.strength_axial_strain = g.read_double_attribute(result_name(P::free_standing, "strength_axial_strain"));
+        c.max_sigma1_pa = g.read_double_attribute(result_name(P::free_standing, "max_sigma1_pa"));
+        c.max_sigma1_sample = read_index(g, result_name(P::free_standing, "max_sigma1_sample"));
+        c.failed = g.read_int_attribute(result_name(P::free_standing, "failed")) != 0;
+        if (g.has_attribute(result_name(P::free_standing, "failure_mode"))) { // written since 2026-12-06
+            const std::string mode = g.read_string_attribute(result_name(P::free_standing, "failure_mode"));
             for (auto m : {eng::FailureMode::wire_break, eng::FailureMode::grains_spilling, eng::FailureMode::bulging,
                      eng::FailureMode::unresolved})
                 if (mode == eng::to_string(m)) c.failure_mode = m;
             if (!c.failure_mode) throw std::runtime_error(g.path() + ": failure_mode \"" + mode + "\" is not a failure mode");
-            c.spilled_fraction = g.read_double_attribute("spilled_fraction");
-            c.bulge_m = g.read_double_attribute("bulge_m");
+            c.spilled_fraction = g.read_double_attribute(result_name(P::free_standing, "spilled_fraction"));
+            c.bulge_m = g.read_double_attribute(result_name(P::free_standing, "bulge_m"));
         } else {
             c.spilled_fraction = c.bulge_m = std::numeric_limits<double>::quiet_NaN();
         }
@@ -636,21 +671,21 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
         c.wire_tension_at_peak_n = read_doubles(g, std::string(api::free_standing_wire_arrays[1]));
         r.compression = std::move(c);
     }
-    r.loading_start_sample = read_index(g, "loading_start_sample");
-    r.verdict.quasi_static = g.read_int_attribute("quasi_static") != 0;
-    r.verdict.max_inertial_number = g.read_double_attribute("max_inertial_number");
-    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute("mean_kinetic_to_elastic");
-    r.verdict.max_kinetic_to_elastic = g.read_double_attribute("max_kinetic_to_elastic");
-    r.verdict.warning = g.read_string_attribute("quasi_static_warning");
-    r.steps = static_cast<std::uint64_t>(g.read_int_attribute("steps"));
-    r.time_step_s = g.read_double_attribute("time_step_s");
-    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
-    r.wall_time_s = g.read_double_attribute("wall_time_s");
-    const json::value warnings = json::parse(g.read_string_attribute("warnings"));
+    r.loading_start_sample = read_index(g, result_name(P::free_standing, "loading_start_sample"));
+    r.verdict.quasi_static = g.read_int_attribute(result_name(P::record, "quasi_static")) != 0;
+    r.verdict.max_inertial_number = g.read_double_attribute(result_name(P::record, "max_inertial_number"));
+    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"));
+    r.verdict.max_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "max_kinetic_to_elastic"));
+    r.verdict.warning = g.read_string_attribute(result_name(P::record, "quasi_static_warning"));
+    r.steps = static_cast<std::uint64_t>(g.read_int_attribute(result_name(P::record, "steps")));
+    r.time_step_s = g.read_double_attribute(result_name(P::record, "time_step_s"));
+    r.simulated_time_s = g.read_double_attribute(result_name(P::record, "simulated_time_s"));
+    r.wall_time_s = g.read_double_attribute(result_name(P::record, "wall_time_s"));
+    const json::value warnings = json::parse(g.read_string_attribute(result_name(P::record, "warnings")));
     for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
     r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::pull_out));
     r.wire_breaks = read_wire_breaks(g);
-    if (g.has_attribute("pull_out_end")) r.pull_out = read_pull_out(g);
+    if (g.has_attribute(result_name(P::free_standing, "pull_out_end"))) r.pull_out = read_pull_out(g);
     const std::size_t rows = r.series.size();
     // A running test's record (a checkpoint's) may not have the first row of
     // its loading or pull-out yet, nor any row: loading_start_sample = rows.
@@ -844,69 +879,69 @@ eng::FreeStandingDriverState read_free_standing_driver_state(const io::Group& g)
 
 void write_preparation_report(io::Group& g, const eng::PreparationReport& r)
 {
-    g.write_int_attribute("grains", static_cast<std::int64_t>(r.grains));
-    g.write_int_attribute("wire_nodes", static_cast<std::int64_t>(r.wire_nodes));
-    g.write_double_attribute("wire_length_m", r.wire_length_m);
-    g.write_double_attribute("nozzle_path_m", r.nozzle_path_m);
-    g.write_double_attribute("pile_height_m", r.pile_height_m);
-    g.write_double_attribute("sample_volume_m3", r.sample_volume_m3);
-    g.write_double_attribute("grain_volume_fraction", r.grain_volume_fraction);
-    g.write_double_attribute("wire_volume_fraction", r.wire_volume_fraction);
-    g.write_double_attribute("core_grain_volume_fraction", r.core_grain_volume_fraction);
-    g.write_double_attribute("core_wire_volume_fraction", r.core_wire_volume_fraction);
-    g.write_double_attribute("simulated_time_s", r.simulated_time_s);
-    g.write_double_attribute("wall_time_s", r.wall_time_s);
-    g.write_int_attribute("steps", static_cast<std::int64_t>(r.steps));
-    g.write_double_attribute("time_step_s", r.time_step_s);
-    g.write_int_attribute("settled", r.settled ? 1 : 0);
-    g.write_int_attribute("top_plate_wall", static_cast<std::int64_t>(r.top_plate_wall));
+    g.write_int_attribute(result_name(P::specimen, "grains"), static_cast<std::int64_t>(r.grains));
+    g.write_int_attribute(result_name(P::specimen, "wire_nodes"), static_cast<std::int64_t>(r.wire_nodes));
+    g.write_double_attribute(result_name(P::specimen, "wire_length_m"), r.wire_length_m);
+    g.write_double_attribute(result_name(P::specimen, "nozzle_path_m"), r.nozzle_path_m);
+    g.write_double_attribute(result_name(P::specimen, "pile_height_m"), r.pile_height_m);
+    g.write_double_attribute(result_name(P::specimen, "sample_volume_m3"), r.sample_volume_m3);
+    g.write_double_attribute(result_name(P::specimen, "grain_volume_fraction"), r.grain_volume_fraction);
+    g.write_double_attribute(result_name(P::specimen, "wire_volume_fraction"), r.wire_volume_fraction);
+    g.write_double_attribute(result_name(P::specimen, "core_grain_volume_fraction"), r.core_grain_volume_fraction);
+    g.write_double_attribute(result_name(P::specimen, "core_wire_volume_fraction"), r.core_wire_volume_fraction);
+    g.write_double_attribute(result_name(P::specimen, "simulated_time_s"), r.simulated_time_s);
+    g.write_double_attribute(result_name(P::specimen, "wall_time_s"), r.wall_time_s);
+    g.write_int_attribute(result_name(P::specimen, "steps"), static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute(result_name(P::specimen, "time_step_s"), r.time_step_s);
+    g.write_int_attribute(result_name(P::specimen, "settled"), r.settled ? 1 : 0);
+    g.write_int_attribute(result_name(P::specimen, "top_plate_wall"), static_cast<std::int64_t>(r.top_plate_wall));
     if (r.grain_sizes) {
         // The drawn grains against the requested curve (engine/specimen/grain_sizes.hpp).
         const eng::GrainSizeReport& z = *r.grain_sizes;
-        io::Group s = g.create_group("grain_sizes");
-        for (const auto& [prefix, f] : {std::pair{"requested_", &z.requested}, std::pair{"drawn_", &z.drawn}}) {
-            s.write_double_attribute(std::string(prefix) + "d10_m", f->d10_m);
-            s.write_double_attribute(std::string(prefix) + "d50_m", f->d50_m);
-            s.write_double_attribute(std::string(prefix) + "d60_m", f->d60_m);
-            s.write_double_attribute(std::string(prefix) + "uniformity_coefficient", f->uniformity_coefficient);
+        io::Group s = g.create_group(result_name(P::specimen, "grain_sizes"));
+        for (const auto& [n, f] : {std::pair{&requested_grain_sizes, &z.requested}, std::pair{&drawn_grain_sizes, &z.drawn}}) {
+            s.write_double_attribute(n->d10_m, f->d10_m);
+            s.write_double_attribute(n->d50_m, f->d50_m);
+            s.write_double_attribute(n->d60_m, f->d60_m);
+            s.write_double_attribute(n->uniformity_coefficient, f->uniformity_coefficient);
         }
-        s.write_double_attribute("ks_distance", z.ks_distance);
-        s.write_double_attribute("ks_critical_1pct", z.ks_critical_1pct);
-        s.write_int_attribute("grains", static_cast<std::int64_t>(z.grains));
+        s.write_double_attribute(result_name(P::grain_sizes, "ks_distance"), z.ks_distance);
+        s.write_double_attribute(result_name(P::grain_sizes, "ks_critical_1pct"), z.ks_critical_1pct);
+        s.write_int_attribute(result_name(P::grain_sizes, "grains"), static_cast<std::int64_t>(z.grains));
     }
 }
 
 eng::PreparationReport read_preparation_report(const io::Group& g)
 {
     eng::PreparationReport r;
-    r.grains = read_index(g, "grains");
-    r.wire_nodes = read_index(g, "wire_nodes");
-    r.wire_length_m = g.read_double_attribute("wire_length_m");
-    r.nozzle_path_m = g.read_double_attribute("nozzle_path_m");
-    r.pile_height_m = g.read_double_attribute("pile_height_m");
-    r.sample_volume_m3 = g.read_double_attribute("sample_volume_m3");
-    r.grain_volume_fraction = g.read_double_attribute("grain_volume_fraction");
-    r.wire_volume_fraction = g.read_double_attribute("wire_volume_fraction");
-    r.core_grain_volume_fraction = g.read_double_attribute("core_grain_volume_fraction");
-    r.core_wire_volume_fraction = g.read_double_attribute("core_wire_volume_fraction");
-    r.simulated_time_s = g.read_double_attribute("simulated_time_s");
-    r.wall_time_s = g.read_double_attribute("wall_time_s");
-    r.steps = read_index(g, "steps");
-    r.time_step_s = g.read_double_attribute("time_step_s");
-    r.settled = g.read_int_attribute("settled") != 0;
-    r.top_plate_wall = read_index(g, "top_plate_wall");
-    if (g.exists("grain_sizes")) {
-        const io::Group s = g.open_group("grain_sizes");
+    r.grains = read_index(g, result_name(P::specimen, "grains"));
+    r.wire_nodes = read_index(g, result_name(P::specimen, "wire_nodes"));
+    r.wire_length_m = g.read_double_attribute(result_name(P::specimen, "wire_length_m"));
+    r.nozzle_path_m = g.read_double_attribute(result_name(P::specimen, "nozzle_path_m"));
+    r.pile_height_m = g.read_double_attribute(result_name(P::specimen, "pile_height_m"));
+    r.sample_volume_m3 = g.read_double_attribute(result_name(P::specimen, "sample_volume_m3"));
+    r.grain_volume_fraction = g.read_double_attribute(result_name(P::specimen, "grain_volume_fraction"));
+    r.wire_volume_fraction = g.read_double_attribute(result_name(P::specimen, "wire_volume_fraction"));
+    r.core_grain_volume_fraction = g.read_double_attribute(result_name(P::specimen, "core_grain_volume_fraction"));
+    r.core_wire_volume_fraction = g.read_double_attribute(result_name(P::specimen, "core_wire_volume_fraction"));
+    r.simulated_time_s = g.read_double_attribute(result_name(P::specimen, "simulated_time_s"));
+    r.wall_time_s = g.read_double_attribute(result_name(P::specimen, "wall_time_s"));
+    r.steps = read_index(g, result_name(P::specimen, "steps"));
+    r.time_step_s = g.read_double_attribute(result_name(P::specimen, "time_step_s"));
+    r.settled = g.read_int_attribute(result_name(P::specimen, "settled")) != 0;
+    r.top_plate_wall = read_index(g, result_name(P::specimen, "top_plate_wall"));
+    if (g.exists(result_name(P::specimen, "grain_sizes"))) {
+        const io::Group s = g.open_group(result_name(P::specimen, "grain_sizes"));
         eng::GrainSizeReport z;
-        for (const auto& [prefix, f] : {std::pair{"requested_", &z.requested}, std::pair{"drawn_", &z.drawn}}) {
-            f->d10_m = s.read_double_attribute(std::string(prefix) + "d10_m");
-            f->d50_m = s.read_double_attribute(std::string(prefix) + "d50_m");
-            f->d60_m = s.read_double_attribute(std::string(prefix) + "d60_m");
-            f->uniformity_coefficient = s.read_double_attribute(std::string(prefix) + "uniformity_coefficient");
+        for (const auto& [n, f] : {std::pair{&requested_grain_sizes, &z.requested}, std::pair{&drawn_grain_sizes, &z.drawn}}) {
+            f->d10_m = s.read_double_attribute(n->d10_m);
+            f->d50_m = s.read_double_attribute(n->d50_m);
+            f->d60_m = s.read_double_attribute(n->d60_m);
+            f->uniformity_coefficient = s.read_double_attribute(n->uniformity_coefficient);
         }
-        z.ks_distance = s.read_double_attribute("ks_distance");
-        z.ks_critical_1pct = s.read_double_attribute("ks_critical_1pct");
-        z.grains = read_index(s, "grains");
+        z.ks_distance = s.read_double_attribute(result_name(P::grain_sizes, "ks_distance"));
+        z.ks_critical_1pct = s.read_double_attribute(result_name(P::grain_sizes, "ks_critical_1pct"));
+        z.grains = read_index(s, result_name(P::grain_sizes, "grains"));
         r.grain_sizes = z;
     }
     return r;

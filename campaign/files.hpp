@@ -30,11 +30,13 @@
 #include "specimen/preparation.hpp"
 #include "triaxial/cuboid.hpp"
 #include "triaxial/free_standing.hpp"
+#include "triaxial/result_names.hpp"
 #include "triaxial/triaxial.hpp"
 
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 namespace wiredem::campaign {
 
@@ -143,6 +145,16 @@ struct TestSoFar {
 /// String length per volume: metres of wire per m³ of column (the sample
 /// volume π R² h), as printed columns are designed [m/m³]; NaN without a volume.
 [[nodiscard]] double wire_length_per_volume_m_per_m3(const engine::PreparationReport& r);
+
+/// Writes the dataset `spec` names (engine/triaxial/result_names.hpp) into
+/// `g` with the table's units as its `units` attribute; `values` as
+/// engine::io::Group::write_dataset takes them.
+template <class... Values>
+void write_named(engine::io::Group& g, const engine::ResultNameSpec& spec, Values&&... values)
+{
+    g.write_dataset(spec.name, std::forward<Values>(values)...)
+        .write_string_attribute(engine::result_name(engine::ResultPlace::dataset, "units"), spec.units);
+}
 
 /// The preparation report, as attributes (the specimen group of result.h5).
 void write_preparation_report(engine::io::Group& g, const engine::PreparationReport& r);

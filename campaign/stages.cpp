@@ -611,7 +611,10 @@ json::object definitions_json()
     return d;
 }
 
-void write_units(io::Dataset d, std::string_view units) { d.write_string_attribute("units", units); }
+// The names of result.h5 (engine/triaxial/result_names.hpp).
+using P = eng::ResultPlace;
+using eng::result_name;
+using eng::result_name_spec;
 
 /// Whether the job's wire can fall into pieces (breakable or cut): only then
 /// do result.h5 and the summary report pieces and breaks, so that other jobs'
@@ -626,7 +629,7 @@ bool wire_can_part(const api::JobSpec& spec)
 /// breaks during the preparation), into the specimen group.
 void write_wire_pieces(io::Group& sp, const eng::World& w)
 {
-    io::Group g = sp.create_group("wire_pieces");
+    io::Group g = sp.create_group(result_name(P::specimen, "wire_pieces"));
     std::vector<std::int64_t> first, nodes;
     std::vector<double> rest, length;
     for (const eng::WirePiece& p : eng::wire_pieces(w)) {
@@ -635,10 +638,10 @@ void write_wire_pieces(io::Group& sp, const eng::World& w)
         rest.push_back(p.rest_length_m);
         length.push_back(p.length_m);
     }
-    write_units(g.write_dataset("first_node", std::span<const std::int64_t>(first)), "1");
-    write_units(g.write_dataset("nodes", std::span<const std::int64_t>(nodes)), "1");
-    write_units(g.write_dataset("rest_length_m", std::span<const double>(rest)), "m");
-    write_units(g.write_dataset("length_m", std::span<const double>(length)), "m");
+    write_named(g, result_name_spec(P::wire_pieces, "first_node"), std::span<const std::int64_t>(first));
+    write_named(g, result_name_spec(P::wire_pieces, "nodes"), std::span<const std::int64_t>(nodes));
+    write_named(g, result_name_spec(P::wire_pieces, "rest_length_m"), std::span<const double>(rest));
+    write_named(g, result_name_spec(P::wire_pieces, "length_m"), std::span<const double>(length));
     std::vector<eng::TestWireBreak> removed;
     for (const eng::WireBreak& b : w.wire_breaks)
         removed.push_back({.event = b, .test_time_s = b.time_s, .axial_strain = 0.0,
@@ -668,15 +671,15 @@ json::array wire_breaks_json(const std::vector<eng::TestWireBreak>& breaks)
 void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& specimen,
     const std::vector<eng::TriaxialResult>& tests, const std::optional<eng::FreeStandingResult>& free_standing)
 {
-    root.write_string_attribute("format", "wiredem-result-1");
-    root.write_string_dataset("job_spec", json::serialize(api::to_json(spec)));
+    root.write_string_attribute(result_name(P::root, "format"), eng::result_format);
+    root.write_string_dataset(result_name(P::root, "job_spec"), json::serialize(api::to_json(spec)));
 
-    io::Group sp = root.create_group("specimen");
+    io::Group sp = root.create_group(result_name(P::root, "specimen"));
     write_preparation_report(sp, specimen.report);
     const eng::World& w = specimen.world;
     const eng::TranslationalState& g = w.of(eng::BodyKind::grain);
-    write_units(sp.write_dataset("grain_position_m", std::span<const eng::Vec3>(g.x[0])), "m");
-    write_units(sp.write_dataset("grain_radius_m", std::span<const double>(g.radius_m)), "m");
+    write_named(sp, result_name_spec(P::specimen, "grain_position_m"), std::span<const eng::Vec3>(g.x[0]));
+    write_named(sp, result_name_spec(P::specimen, "grain_radius_m"), std::span<const double>(g.radius_m));
     // Clumps: every sphere is a grain above; which clump it belongs to
     // (−1: a free grain), so that a viewer can colour or pick a clump. Only
     // with clumps: every other result.h5 stays as it was.
@@ -684,30 +687,30 @@ void write_result(io::Group& root, const api::JobSpec& spec, const Specimen& spe
         std::vector<std::int64_t> clump(g.size(), -1);
         for (std::size_t i = 0; i < g.size(); ++i)
             if (w.clumps.is_member(i)) clump[i] = w.clumps.member_clump[i];
-        write_units(sp.write_dataset("grain_clump", std::span<const std::int64_t>(clump)), "1");
+        write_named(sp, result_name_spec(P::specimen, "grain_clump"), std::span<const std::int64_t>(clump));
     }
     const eng::TranslationalState& wn = w.of(eng::BodyKind::wire);
-    write_units(sp.write_dataset("wire_node_position_m", std::span<const eng::Vec3>(wn.x[0])), "m");
+    write_named(sp, result_name_spec(P::specimen, "wire_node_position_m"), std::span<const eng::Vec3>(wn.x[0]));
     // The plastic joints' rest angles are part of the wire's state (docs/model.md, "Wire").
-    write_units(sp.write_dataset("wire_rest_angle_rad", std::span<const double>(w.wire_rest_angle_rad)), "rad");
+    write_named(sp, result_name_spec(P::specimen, "wire_rest_angle_rad"), std::span<const double>(w.wire_rest_angle_rad));
     const eng::TranslationalState& mn = w.of(eng::BodyKind::membrane);
-    write_units(sp.write_dataset("membrane_node_position_m", std::span<const eng::Vec3>(mn.x[0])), "m");
+    write_named(sp, result_name_spec(P::specimen, "membrane_node_position_m"), std::span<const eng::Vec3>(mn.x[0]));
     if (wire_can_part(spec)) write_wire_pieces(sp, w);
 
-    io::Group all = root.create_group("tests");
+    io::Group all = root.create_group(result_name(P::root, "tests"));
     const std::vector<double>& pressures = spec.triaxial.confining_pressures_pa;
     for (std::size_t i = 0; i < tests.size(); ++i) {
         io::Group t = all.create_group(test_group_name(pressures[i]));
-        t.write_double_attribute("confining_pressure_pa", pressures[i]);
+        t.write_double_attribute(result_name(P::test, "confining_pressure_pa"), pressures[i]);
         write_triaxial_result(t, tests[i]);
         if (spec.specimen.wire.breaking_strain)
-            t.write_string_attribute("peak_failure", eng::to_string(eng::peak_failure(tests[i].series, tests[i].peak_sample, tests[i].wire_breaks)));
+            t.write_string_attribute(result_name(P::record, "peak_failure"), eng::to_string(eng::peak_failure(tests[i].series, tests[i].peak_sample, tests[i].wire_breaks)));
     }
     if (free_standing) {
         io::Group f = root.create_group(free_standing_group);
         write_free_standing_result(f, *free_standing);
         if (spec.specimen.wire.breaking_strain && free_standing->compression)
-            f.write_string_attribute("peak_failure", eng::to_string(eng::peak_failure(free_standing->series,
+            f.write_string_attribute(result_name(P::record, "peak_failure"), eng::to_string(eng::peak_failure(free_standing->series,
                 free_standing->compression->max_sigma1_sample, free_standing->wire_breaks)));
     }
 }

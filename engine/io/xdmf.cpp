@@ -8,6 +8,7 @@
 #include "io/atomic_file.hpp"
 
 #include "io/hdf5.hpp"
+#include "triaxial/result_names.hpp"
 
 #include <hdf5.h>
 
@@ -15,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -25,6 +27,40 @@
 namespace wiredem::engine::io {
 
 namespace {
+
+// The names of result.h5 read here (triaxial/result_names.hpp). The
+// specimen's bodies and a snapshot's are drawn by the same code: their
+// datasets are spelled alike in both places.
+using P = ResultPlace;
+constexpr std::string_view grain_position_m = result_name(P::snapshot, "grain_position_m");
+constexpr std::string_view grain_radius_m = result_name(P::snapshot, "grain_radius_m");
+constexpr std::string_view grain_velocity_m_per_s = result_name(P::snapshot, "grain_velocity_m_per_s");
+constexpr std::string_view grain_clump = result_name(P::specimen, "grain_clump");
+constexpr std::string_view wire_node_position_m = result_name(P::snapshot, "wire_node_position_m");
+constexpr std::string_view wire_segment_strain = result_name(P::snapshot, "wire_segment_strain");
+constexpr std::string_view membrane_node_position_m = result_name(P::snapshot, "membrane_node_position_m");
+constexpr std::string_view membrane_triangles = result_name(P::snapshot, "membrane_triangles");
+constexpr std::string_view contact_bodies = result_name(P::snapshot, "contact_bodies");
+constexpr std::string_view contact_force_n = result_name(P::snapshot, "contact_force_n");
+constexpr std::string_view contact_normal_force_n = result_name(P::snapshot, "contact_normal_force_n");
+static_assert(result_name(P::specimen, "grain_position_m") == grain_position_m
+              && result_name(P::specimen, "grain_radius_m") == grain_radius_m
+              && result_name(P::specimen, "wire_node_position_m") == wire_node_position_m
+              && result_name(P::specimen, "membrane_node_position_m") == membrane_node_position_m);
+constexpr std::string_view tests_group = result_name(P::root, "tests");
+constexpr std::string_view specimen_group = result_name(P::root, "specimen");
+constexpr std::string_view snapshots_group = result_name(P::record, "snapshots");
+
+/// `parts` joined by '/': a path below a group.
+std::string joined(std::initializer_list<std::string_view> parts)
+{
+    std::string out;
+    for (std::string_view p : parts) {
+        if (!out.empty()) out += '/';
+        out += p;
+    }
+    return out;
+}
 
 /// One HDF5 dataset as XDMF sees it.
 struct Array {
@@ -69,12 +105,12 @@ std::string dims_text(const std::vector<std::size_t>& shape)
 
 /// The dataset at `path` (relative to `g`) with its stored type, or nothing when it
 /// is absent or not a plain integer/float array.
-std::optional<Array> find_array(const Group& g, const std::string& path)
+std::optional<Array> find_array(const Group& g, std::string_view path)
 {
     if (!g.exists(path)) return std::nullopt;
     // A group of that name is not an array (H5Oopen + H5Iget_type: the same in
     // HDF5 1.10 and 1.12+, unlike H5Oget_info).
-    const hid_t object = H5Oopen(g.id(), path.c_str(), H5P_DEFAULT);
+    const hid_t object = H5Oopen(g.id(), std::string(path).c_str(), H5P_DEFAULT);
     if (object < 0) {
         H5Eclear2(H5E_DEFAULT);
         return std::nullopt;
@@ -104,7 +140,7 @@ std::optional<Array> find_array(const Group& g, const std::string& path)
 }
 
 /// An N×3 array (positions, velocities, forces), or nothing.
-std::optional<Array> find_vectors(const Group& g, const std::string& path)
+std::optional<Array> find_vectors(const Group& g, std::string_view path)
 {
     auto a = find_array(g, path);
     if (!a || a->shape.size() != 2 || a->shape[1] != 3) return std::nullopt;
@@ -112,7 +148,7 @@ std::optional<Array> find_vectors(const Group& g, const std::string& path)
 }
 
 /// A 1-D array of exactly `n` values (or an n×1 one), or nothing.
-std::optional<Array> find_scalars(const Group& g, const std::string& path, std::size_t n)
+std::optional<Array> find_scalars(const Group& g, std::string_view path, std::size_t n)
 {
     auto a = find_array(g, path);
     if (!a || a->shape.empty() || a->shape.size() > 2 || a->rows() != n || a->columns() != 1) return std::nullopt;
@@ -123,9 +159,11 @@ std::optional<Array> find_scalars(const Group& g, const std::string& path, std::
 /// specimen's) at test time `up_to_s` or before, appended to `out`.
 void append_removed_segments(const Group& g, double up_to_s, std::vector<std::int64_t>& out)
 {
-    if (!g.exists("wire_breaks/segment") || !g.exists("wire_breaks/time_s")) return;
-    const std::vector<std::int64_t> segment = g.open_dataset("wire_breaks/segment").read_int64s();
-    const std::vector<double> time = g.open_dataset("wire_breaks/time_s").read_doubles();
+    const std::string segment_path = joined({result_name(P::record, "wire_breaks"), result_name(P::wire_breaks, "segment")});
+    const std::string time_path = joined({result_name(P::record, "wire_breaks"), result_name(P::wire_breaks, "time_s")});
+    if (!g.exists(segment_path) || !g.exists(time_path)) return;
+    const std::vector<std::int64_t> segment = g.open_dataset(segment_path).read_int64s();
+    const std::vector<double> time = g.open_dataset(time_path).read_doubles();
     for (std::size_t i = 0; i < segment.size() && i < time.size(); ++i)
         if (time[i] <= up_to_s) out.push_back(segment[i]);
 }
@@ -242,17 +280,17 @@ public:
     /// Grains as vertices with radius and (optionally) velocity.
     void grains(const Group& g, bool with_velocity)
     {
-        const auto pos = find_vectors(g, "grain_position_m");
+        const auto pos = find_vectors(g, grain_position_m);
         if (!pos || pos->rows() == 0) return;
         const std::size_t n = pos->rows();
         xml.open("Grid Name=\"grains\" GridType=\"Uniform\"");
         vertices(n);
         geometry(*pos);
-        if (const auto r = find_scalars(g, "grain_radius_m", n)) attribute("radius_m", "Scalar", "Node", *r);
+        if (const auto r = find_scalars(g, grain_radius_m, n)) attribute("radius_m", "Scalar", "Node", *r);
         // Clumps: each sphere is a vertex; its clump's index (−1: a free grain).
-        if (const auto c = find_scalars(g, "grain_clump", n)) attribute("clump", "Scalar", "Node", *c);
+        if (const auto c = find_scalars(g, grain_clump, n)) attribute("clump", "Scalar", "Node", *c);
         if (with_velocity)
-            if (const auto v = find_vectors(g, "grain_velocity_m_per_s"); v && v->rows() == n)
+            if (const auto v = find_vectors(g, grain_velocity_m_per_s); v && v->rows() == n)
                 attribute("velocity_m_per_s", "Vector", "Node", *v);
         xml.close("Grid");
         ++summary_.grids;
@@ -264,7 +302,7 @@ public:
     /// written inline.
     void wire(const Group& g, bool with_strain, const std::vector<std::int64_t>& removed)
     {
-        const auto pos = find_vectors(g, "wire_node_position_m");
+        const auto pos = find_vectors(g, wire_node_position_m);
         if (!pos || pos->rows() < 2) return;
         const std::size_t segments = pos->rows() - 1;
         std::vector<std::int64_t> pairs, kept;
@@ -283,11 +321,11 @@ public:
         xml.close("Topology");
         geometry(*pos);
         if (with_strain)
-            if (const auto e = find_scalars(g, "wire_segment_strain", segments)) {
+            if (const auto e = find_scalars(g, wire_segment_strain, segments)) {
                 if (kept.size() == segments) {
                     attribute("segment_strain", "Scalar", "Cell", *e);
                 } else {
-                    const std::vector<double> all = g.open_dataset("wire_segment_strain").read_doubles();
+                    const std::vector<double> all = g.open_dataset(wire_segment_strain).read_doubles();
                     std::vector<double> values;
                     values.reserve(kept.size());
                     for (const std::int64_t s : kept) values.push_back(all[static_cast<std::size_t>(s)]);
@@ -303,7 +341,7 @@ public:
     /// The membrane as a triangle surface (`triangles` from `tri_group` when given).
     void membrane(const Group& g, const std::optional<Array>& triangles)
     {
-        const auto pos = find_vectors(g, "membrane_node_position_m");
+        const auto pos = find_vectors(g, membrane_node_position_m);
         if (!pos || pos->rows() == 0) return;
         xml.open("Grid Name=\"membrane\" GridType=\"Uniform\"");
         if (triangles) {
@@ -325,15 +363,15 @@ public:
     /// Function (JOIN) or HyperSlab items that could combine them.
     void contacts(const Group& g)
     {
-        const auto bodies = find_array(g, "contact_bodies");
+        const auto bodies = find_array(g, contact_bodies);
         if (!bodies || bodies->shape.size() != 2 || bodies->shape[1] != 4 || bodies->rows() == 0) return;
         const std::size_t p = bodies->rows();
-        const std::array<const char*, 3> names = {
-            "grain_position_m", "wire_node_position_m", "membrane_node_position_m"};
+        const std::array<std::string_view, 3> names = {
+            grain_position_m, wire_node_position_m, membrane_node_position_m};
         std::array<std::vector<double>, 3> pos; // by kind: 0 grain, 1 wire, 2 membrane
         for (std::size_t k = 0; k < 3; ++k)
             if (find_vectors(g, names[k])) pos[k] = g.open_dataset(names[k]).read_doubles();
-        const std::vector<std::int64_t> raw = g.open_dataset("contact_bodies").read_int64s();
+        const std::vector<std::int64_t> raw = g.open_dataset(contact_bodies).read_int64s();
         std::vector<double> xyz;
         xyz.reserve(6 * p);
         for (std::size_t c = 0; c < p; ++c) {
@@ -358,8 +396,8 @@ public:
         xml.open("Geometry GeometryType=\"XYZ\"");
         inline_item(xyz);
         xml.close("Geometry");
-        if (const auto f = find_scalars(g, "contact_normal_force_n", p)) attribute("normal_force_n", "Scalar", "Cell", *f);
-        if (const auto f = find_vectors(g, "contact_force_n"); f && f->rows() == p)
+        if (const auto f = find_scalars(g, contact_normal_force_n, p)) attribute("normal_force_n", "Scalar", "Cell", *f);
+        if (const auto f = find_vectors(g, contact_force_n); f && f->rows() == p)
             attribute("force_n", "Vector", "Cell", *f);
         xml.close("Grid");
         ++summary_.grids;
@@ -419,7 +457,8 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
     xml.line("<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>");
     xml.open("Xdmf Version=\"3.0\"");
     xml.open("Domain");
-    const std::string format = root.has_attribute("format") ? root.read_string_attribute("format") : "unknown";
+    constexpr std::string_view format_name = result_name(P::root, "format");
+    const std::string format = root.has_attribute(format_name) ? root.read_string_attribute(format_name) : "unknown";
     xml.line("<Information Name=\"source\" Value=\"" + escape(h5_reference) + " (" + escape(format)
              + "), written by wiredem\"/>");
 
@@ -430,13 +469,13 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
         std::vector<std::string> snapshots;
     };
     std::vector<TestGroup> tests;
-    if (root.exists("tests")) {
-        const Group all = root.open_group("tests");
+    if (root.exists(tests_group)) {
+        const Group all = root.open_group(tests_group);
         for (const std::string& name : all.child_names()) {
-            if (!all.exists(name + "/snapshots")) continue;
+            if (!all.exists(joined({name, snapshots_group}))) continue;
             const Group t = all.open_group(name);
-            tests.push_back({attribute_or(t, "confining_pressure_pa", 0.0), name,
-                numbered_children(t.open_group("snapshots"), "snapshot_")});
+            tests.push_back({attribute_or(t, result_name(P::test, "confining_pressure_pa"), 0.0), name,
+                numbered_children(t.open_group(snapshots_group), result_name(P::snapshots, "snapshot_"))});
         }
         std::stable_sort(tests.begin(), tests.end(),
             [](const TestGroup& a, const TestGroup& b) { return a.pressure_pa < b.pressure_pa; });
@@ -444,15 +483,15 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
 
     // The specimen. Its membrane triangles: those of the first snapshot whose
     // membrane has as many nodes (the mesh does not change during a test).
-    if (root.exists("specimen")) {
-        const Group sp = root.open_group("specimen");
+    if (root.exists(specimen_group)) {
+        const Group sp = root.open_group(specimen_group);
         std::optional<Array> triangles;
-        const auto sp_nodes = find_vectors(sp, "membrane_node_position_m");
+        const auto sp_nodes = find_vectors(sp, membrane_node_position_m);
         for (const TestGroup& t : tests) {
             if (triangles || !sp_nodes || t.snapshots.empty()) break;
-            const Group s = root.open_group("tests/" + t.name + "/snapshots/" + t.snapshots.front());
-            const auto nodes = find_vectors(s, "membrane_node_position_m");
-            const auto tri = find_array(s, "membrane_triangles");
+            const Group s = root.open_group(joined({tests_group, t.name, snapshots_group, t.snapshots.front()}));
+            const auto nodes = find_vectors(s, membrane_node_position_m);
+            const auto tri = find_array(s, membrane_triangles);
             if (nodes && nodes->rows() == sp_nodes->rows() && tri && tri->shape.size() == 2 && tri->shape[1] == 3
                 && tri->rows() > 0 && tri->number_type != "Float")
                 triangles = tri;
@@ -469,13 +508,13 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
 
     for (const TestGroup& t : tests) {
         if (t.snapshots.empty()) continue;
-        const std::string base = "tests/" + t.name + "/snapshots/";
+        const std::string base = joined({tests_group, t.name, snapshots_group}) + '/';
         std::vector<double> strain, requested, time_s;
         for (const std::string& s : t.snapshots) {
             const Group g = root.open_group(base + s);
-            strain.push_back(attribute_or(g, "axial_strain", -1.0));
-            requested.push_back(attribute_or(g, "requested_axial_strain", -1.0));
-            time_s.push_back(attribute_or(g, "time_s", 0.0));
+            strain.push_back(attribute_or(g, result_name(P::snapshot, "axial_strain"), -1.0));
+            requested.push_back(attribute_or(g, result_name(P::snapshot, "requested_axial_strain"), -1.0));
+            time_s.push_back(attribute_or(g, result_name(P::snapshot, "time_s"), 0.0));
         }
         // Time = the requested strain: the same in every test of a campaign, so that
         // ParaView shows all tests at each step (its XDMF 3 readers match times
@@ -498,16 +537,16 @@ std::string xdmf_text(const std::filesystem::path& h5_path, const std::string& h
             xml.line("<Time Value=\"" + number_text(times[k]) + "\"/>");
             xml.line("<Information Name=\"time_s\" Value=\"" + number_text(time_s[k]) + "\"/>");
             xml.line("<Information Name=\"axial_strain\" Value=\"" + number_text(strain[k]) + "\"/>");
-            std::optional<Array> tri = find_array(g, "membrane_triangles");
+            std::optional<Array> tri = find_array(g, membrane_triangles);
             if (tri && (tri->shape.size() != 2 || tri->shape[1] != 3 || tri->rows() == 0 || tri->number_type == "Float"))
                 tri.reset();
             w.grains(g, true);
             // The wire as it was at the snapshot: without the segments cut or
             // broken in the preparation, and in this test up to then.
             std::vector<std::int64_t> removed;
-            if (root.exists("specimen"))
-                append_removed_segments(root.open_group("specimen"), std::numeric_limits<double>::infinity(), removed);
-            append_removed_segments(root.open_group("tests/" + t.name), time_s[k], removed);
+            if (root.exists(specimen_group))
+                append_removed_segments(root.open_group(specimen_group), std::numeric_limits<double>::infinity(), removed);
+            append_removed_segments(root.open_group(joined({tests_group, t.name})), time_s[k], removed);
             w.wire(g, true, sorted_set(std::move(removed)));
             w.membrane(g, tri);
             w.contacts(g);

@@ -12,6 +12,7 @@
 #include "files.hpp"
 #include "io/hdf5.hpp"
 #include "io/snapshot.hpp"
+#include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
 #include <boost/json.hpp>
@@ -26,6 +27,7 @@
 #include <charconv>
 #include <limits>
 #include <optional>
+#include <string_view>
 #include <variant>
 
 namespace wiredem::server {
@@ -223,8 +225,9 @@ Response live_data(const Request& req, const std::vector<std::string>& seg, cons
 /// GET …/snapshots/{k}/wire_autocorrelation, with the job's segment length.
 Response wire_autocorrelation(const Request& req, const io::Group& snap, const std::string& where, const std::string& spec_json)
 {
-    if (!snap.exists("wire_segment_strain")) return not_found(req, where + " has no wire");
-    const std::vector<double> strain = snap.open_dataset("wire_segment_strain").read_doubles();
+    constexpr std::string_view strain_name = engine::result_name(engine::ResultPlace::snapshot, "wire_segment_strain");
+    if (!snap.exists(strain_name)) return not_found(req, where + " has no wire");
+    const std::vector<double> strain = snap.open_dataset(strain_name).read_doubles();
     return json_response(
         req, http::status::ok, api::wire_autocorrelation_json(strain, stored_spec(spec_json).specimen.wire.segment_length_m));
 }
@@ -275,7 +278,7 @@ Response free_standing_routes(const Request& req, const std::vector<std::string>
     auto [p, ec] = std::from_chars(seg[5].data(), seg[5].data() + seg[5].size(), k);
     if (seg[5].empty() || ec != std::errc() || p != seg[5].data() + seg[5].size() || std::find(ks.begin(), ks.end(), k) == ks.end())
         return not_found(req, "the free-standing test has no snapshot '" + seg[5] + "'");
-    const io::Group snap = g.open_group("snapshots/" + std::string(api::snapshot_prefix) + std::to_string(k));
+    const io::Group snap = g.open_group(api::snapshot_path(k));
     return snapshot(req, snap, name, k, "snapshot " + std::to_string(k) + " of the free-standing test",
         url_base + "/snapshots/" + std::to_string(k), seg.size() == 6 ? nullptr : &seg[6], spec_json);
 }
@@ -444,8 +447,9 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     }
 
     if (seg[3] == "specimen") {
-        if (!root.exists("specimen")) return not_found(req, "the result holds no specimen");
-        const io::Group s = root.open_group("specimen");
+        constexpr std::string_view specimen = engine::result_name(engine::ResultPlace::root, "specimen");
+        if (!root.exists(specimen)) return not_found(req, "the result holds no specimen");
+        const io::Group s = root.open_group(specimen);
         if (seg.size() == 4)
             return json_response(req, http::status::ok,
                 json::object{{"attributes", api::attributes_of(s)}, {"arrays", api::arrays_of(s, base + "/specimen")}});
@@ -463,7 +467,7 @@ Response handle_result_data(const Request& req, const std::vector<std::string>& 
     const std::string& test = seg[4];
     if (std::find(names.begin(), names.end(), test) == names.end())
         return not_found(req, "the result has no test '" + test + "'");
-    const io::Group t = root.open_group("tests/" + test);
+    const io::Group t = root.open_group(api::test_path(test));
     if (seg.size() == 6 && seg[5] == "series") return series(req, t, test, api::series_columns(t), q);
     if (seg.size() < 7 || seg.size() > 8 || seg[5] != "snapshots") return not_found(req, "no such route");
     const std::vector<std::size_t> ks = api::snapshot_indices(t);

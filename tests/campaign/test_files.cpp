@@ -6,6 +6,7 @@
 #include "files.hpp"
 #include "h5_compare.hpp"
 #include "io/snapshot.hpp"
+#include "result_file_names.hpp"
 
 #include <gtest/gtest.h>
 
@@ -655,6 +656,53 @@ TEST(CampaignFiles, ADamagedRecordIsAnErrorNamingWhatIsWrong)
         ADD_FAILURE() << "a record with a short column was read";
     } catch (const std::exception& e) {
         EXPECT_NE(std::string(e.what()).find("differ in length"), std::string::npos) << e.what();
+    }
+    fs::remove(path);
+}
+
+// The writer's functions write only names of the one table of result.h5's
+// names (engine/triaxial/result_names.hpp), where the table puts them and with
+// its units; and a record with every optional part (strength, consolidation,
+// breaks, a free-standing test with dead load, compression, pull-out and
+// peak snapshot, grain sizes) writes every name of the places they fill.
+// The real binary's result.h5 (specimen, job spec, root): Stages.PrepareTestAnalyseWritesOnlyTheTablesNames.
+TEST(CampaignFiles, AResultFileHoldsOnlyTheTablesNames)
+{
+    using P = eng::ResultPlace;
+    const fs::path path = temp_file("names");
+    eng::PreparationReport report;
+    report.grains = 8;
+    eng::GrainSizeReport sizes;
+    sizes.grains = 8;
+    report.grain_sizes = sizes;
+    eng::TriaxialResult test = sample_result(5);
+    test.consolidation = eng::Consolidation::effective;
+    test.consolidation_target_pa = next_value();
+    test.wire_breaks.push_back({.event = {.segment = 3, .cause = eng::WireBreakCause::cut, .time_s = 1.5,
+                                    .strain = 0.0, .released_energy_j = 0.0},
+        .test_time_s = 0.5, .axial_strain = 0.01, .position_m = 3.5e-3});
+    const eng::FreeStandingResult free_standing = sample_free_standing_state(eng::FreeStandingPhase::pull_out, 5).result;
+    io::write_file_atomically(path, [&](io::Group& root) {
+        root.write_string_attribute(eng::result_name(P::root, "format"), eng::result_format);
+        io::Group sp = root.create_group(eng::result_name(P::root, "specimen"));
+        write_preparation_report(sp, report);
+        wiredem::campaign::write_wire_breaks(sp, test.wire_breaks);
+        io::Group t = root.create_group(eng::result_name(P::root, "tests")).create_group(wiredem::campaign::test_group_name(2e4));
+        t.write_double_attribute(eng::result_name(P::test, "confining_pressure_pa"), 2e4);
+        write_triaxial_result(t, test);
+        t.write_string_attribute(eng::result_name(P::record, "peak_failure"), "wire");
+        io::Group f = root.create_group(eng::result_name(P::root, "free_standing"));
+        wiredem::campaign::write_free_standing_result(f, free_standing);
+    });
+    const io::File file = io::File::open_read_only(path);
+    const wiredem::test::ResultFileNames found = wiredem::test::result_file_names(file.root());
+    for (const std::string& p : found.problems) ADD_FAILURE() << p;
+    for (const eng::ResultNameSpec& s : eng::result_name_specs) {
+        const bool filled = s.place != P::root && s.place != P::specimen && s.place != P::wire_pieces;
+        if (filled) {
+            EXPECT_TRUE(found.seen.contains({s.place, std::string(s.name)}))
+                << s.name << " (" << static_cast<int>(s.place) << ") was not written";
+        }
     }
     fs::remove(path);
 }

@@ -5,6 +5,7 @@
 // every one. A renamed column fails here, naming the file that still has the
 // old name.
 #include "files.hpp"
+#include "source_tree.hpp"
 #include "triaxial/series_columns.hpp"
 
 #include <gtest/gtest.h>
@@ -19,19 +20,10 @@
 
 namespace fs = std::filesystem;
 namespace eng = wiredem::engine;
+using wiredem::test_support::read_text;
+using wiredem::test_support::source;
 
 namespace {
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p);
-    EXPECT_TRUE(in) << p << " not found";
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-fs::path source(const std::string& relative) { return fs::path(WIREDEM_SOURCE_DIR) / relative; }
 
 std::set<std::string> table_names()
 {

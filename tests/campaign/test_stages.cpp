@@ -8,6 +8,8 @@
 #include "api/job_spec.hpp"
 #include "h5_compare.hpp"
 #include "io/hdf5.hpp"
+#include "result_file_names.hpp"
+#include "source_tree.hpp"
 #include "stages.hpp"
 
 #include <boost/json.hpp>
@@ -45,6 +47,8 @@ extern char** environ;
 namespace api = wiredem::api;
 namespace campaign = wiredem::campaign;
 using wiredem::test::h5_differences;
+using wiredem::test_support::read_text;
+using wiredem::test_support::source;
 
 namespace fs = std::filesystem;
 namespace json = boost::json;
@@ -87,7 +91,7 @@ public:
 /// and `hold_s` instead of 5 and 10 ms.
 fs::path tiny_variant(const std::string& name, double strain, double ramp_s, double hold_s)
 {
-    std::ifstream in(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json");
+    std::ifstream in(source("examples/tiny.json"));
     std::ostringstream text;
     text << in.rdbuf();
     json::value job = json::parse(text.str());
@@ -128,14 +132,6 @@ fs::path fresh_dir(const std::string& name)
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
-}
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 struct Outcome {
@@ -253,6 +249,26 @@ TEST(Stages, PrepareTestAnalyseGiveTheFilesOfRun)
     const auto diffs = h5_differences(out / "result.h5", ref / "result.h5", how_it_ran);
     EXPECT_TRUE(diffs.empty()) << joined(diffs);
     EXPECT_FALSE(fs::exists(out / "tests/test_0.checkpoint.h5"));
+}
+
+// The real binary's result.h5 holds only names of the one table of
+// result.h5's names (engine/triaxial/result_names.hpp), each where the table
+// puts it and with its units; and the root's and the specimen's names that
+// every job writes (the optional parts: CampaignFiles.AResultFileHoldsOnlyTheTablesNames).
+TEST(Stages, PrepareTestAnalyseWritesOnlyTheTablesNames)
+{
+    using P = wiredem::engine::ResultPlace;
+    const fs::path& ref = reference_run();
+    const wiredem::engine::io::File f = wiredem::engine::io::File::open_read_only(ref / "result.h5");
+    const wiredem::test::ResultFileNames found = wiredem::test::result_file_names(f.root());
+    for (const std::string& p : found.problems) ADD_FAILURE() << p;
+    for (const wiredem::engine::ResultNameSpec& s : wiredem::engine::result_name_specs) {
+        const bool always = (s.place == P::root && s.name != "free_standing")
+            || (s.place == P::specimen && s.kind != wiredem::engine::ResultKind::group && s.name != "grain_clump");
+        if (always) {
+            EXPECT_TRUE(found.seen.contains({s.place, std::string(s.name)})) << s.name << " was not written";
+        }
+    }
 }
 
 TEST(Stages, TestsRunAtOnceGiveWhatTestsRunOneAfterAnotherGive)
@@ -784,7 +800,7 @@ StoppedRuns stop_until_it_finishes(const std::function<campaign::StageError(cons
 // run without a stop, bit for bit but for how it ran (examples/tiny-cuboid.json at one pressure, loaded to 1 %).
 TEST(Stages, ACuboidTestStoppedAgainAndAgainContinuesToTheSameResult)
 {
-    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json"));
+    json::value job = json::parse(read_text(source("examples/tiny-cuboid.json")));
     json::object& triaxial = job.as_object()["triaxial"].as_object();
     triaxial["confining_pressures_pa"] = json::array{10000};
     triaxial["target_axial_strain"] = 0.01;
@@ -994,7 +1010,7 @@ TEST(Stages, TheFreeStandingTestRunsAsItsOwnStage)
 // column (examples/tiny-helix.json, 150 grains) and short phases: seconds.
 TEST(Stages, AFreeStandingTestStoppedInEveryPhaseContinuesToTheSameResult)
 {
-    json::value job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-helix.json"));
+    json::value job = json::parse(read_text(source("examples/tiny-helix.json")));
     job.as_object()["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
     job.as_object()["specimen"].as_object()["wire"].as_object()["cut_every_loops"] = 1;
     const json::object quick{{"enabled", true}, {"removal_time_s", 0.005}, {"removal_distance_m", 0.002},

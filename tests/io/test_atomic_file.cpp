@@ -2,6 +2,7 @@
 // or the new one, never part of either, and a failed write leaves the old
 // one as it was.
 #include "io/atomic_file.hpp"
+#include "source_tree.hpp"
 #include "temp_dir.hpp"
 
 #include <gtest/gtest.h>
@@ -12,17 +13,10 @@
 
 using namespace wiredem::engine::io;
 using wiredem::engine::io::test::TempDir;
+using wiredem::test_support::read_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 } // namespace
 

@@ -7,6 +7,7 @@
 // `summary.…` only keys the schemas declare. A renamed key fails here,
 // naming the file that still has the old name.
 #include "handlers/meta.hpp"
+#include "source_tree.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
@@ -22,17 +23,8 @@
 namespace {
 namespace fs = std::filesystem;
 namespace json = boost::json;
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p);
-    EXPECT_TRUE(in) << p << " not found";
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-fs::path source(const std::string& relative) { return fs::path(WIREDEM_SOURCE_DIR) / relative; }
+using wiredem::test_support::read_text;
+using wiredem::test_support::source;
 
 const json::object& schemas() { return wiredem::server::openapi_document().at("components").at("schemas").as_object(); }
 

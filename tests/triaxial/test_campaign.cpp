@@ -2,8 +2,10 @@
 // seconds in Release), then its summary.json and result.h5 are checked; and
 // SIGTERM stops a run within a second with exit code 143.
 //
-// WIREDEM_BIN and WIREDEM_SOURCE_DIR come from tests/triaxial/CMakeLists.txt.
+// WIREDEM_BIN comes from tests/triaxial/CMakeLists.txt, WIREDEM_SOURCE_DIR from
+// wiredem_test_support (tests/CMakeLists.txt).
 #include "io/hdf5.hpp"
+#include "source_tree.hpp"
 
 #include <boost/json.hpp>
 #include <gtest/gtest.h>
@@ -34,6 +36,8 @@ extern char** environ;
 namespace fs = std::filesystem;
 namespace json = boost::json;
 using wiredem::engine::io::File;
+using wiredem::test_support::read_text;
+using wiredem::test_support::source;
 
 namespace {
 
@@ -43,14 +47,6 @@ fs::path fresh_dir(const std::string& name)
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
-}
-
-std::string read_text(const fs::path& p)
-{
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 /// Runs `wiredem run JOB -o OUT --threads 2 --progress json`; returns the wait status.
@@ -86,7 +82,7 @@ const json::value& at(const json::value& v, std::initializer_list<const char*> p
 TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
 {
     const fs::path dir = fresh_dir("tiny"), out = dir / "out";
-    const int status = run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json", out, dir / "log");
+    const int status = run_binary(source("examples/tiny.json"), out, dir / "log");
     const std::string err = read_text(dir / "log.stderr");
     ASSERT_TRUE(WIFEXITED(status)) << err;
     ASSERT_EQ(WEXITSTATUS(status), 0) << err;
@@ -234,7 +230,7 @@ TEST(Campaign, TinyJobWritesASaneSummaryAndResultFile)
 TEST(Campaign, ACuboidCellJobWritesItsSummaryAndResultFile)
 {
     const fs::path dir = fresh_dir("cuboid"), out = dir / "out";
-    const int status = run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny-cuboid.json", out, dir / "log");
+    const int status = run_binary(source("examples/tiny-cuboid.json"), out, dir / "log");
     const std::string err = read_text(dir / "log.stderr");
     ASSERT_TRUE(WIFEXITED(status)) << err;
     ASSERT_EQ(WEXITSTATUS(status), 0) << err;
@@ -273,7 +269,7 @@ TEST(Campaign, ACuboidCellJobWritesItsSummaryAndResultFile)
 TEST(Campaign, AFreeStandingTestIsInTheSummaryAndTheResultFile)
 {
     const fs::path dir = fresh_dir("free_standing"), out = dir / "out";
-    json::object job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json")).as_object();
+    json::object job = json::parse(read_text(source("examples/tiny.json"))).as_object();
     job["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
     job["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
         {"max_settling_time_s", 0.1}, {"dead_load_n", 0.05}, {"dead_load_hold_time_s", 0.01},
@@ -332,7 +328,7 @@ TEST(Campaign, AFreeStandingTestIsInTheSummaryAndTheResultFile)
 TEST(Campaign, APullOutIsInTheSummaryAndTheResultFile)
 {
     const fs::path dir = fresh_dir("pull_out"), out = dir / "out";
-    json::object job = json::parse(read_text(fs::path(WIREDEM_SOURCE_DIR) / "tests/web/job.json")).as_object();
+    json::object job = json::parse(read_text(source("tests/web/job.json"))).as_object();
     json::object& triaxial = job["triaxial"].as_object();
     triaxial["confining_pressures_pa"] = json::array{10000};
     triaxial["target_axial_strain"] = 0.01;
@@ -413,7 +409,7 @@ TEST(Campaign, SigtermStopsTheRunWithinASecondWithExitCode143)
 {
     const fs::path dir = fresh_dir("sigterm");
     pid_t pid = 0;
-    ASSERT_EQ(run_binary(fs::path(WIREDEM_SOURCE_DIR) / "examples/tiny.json", dir / "out", dir / "log", &pid, false), 0);
+    ASSERT_EQ(run_binary(source("examples/tiny.json"), dir / "out", dir / "log", &pid, false), 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
     const auto t0 = std::chrono::steady_clock::now();
     ASSERT_EQ(::kill(pid, SIGTERM), 0);
