@@ -69,7 +69,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.grain_radius_spread = s.grain_radius_spread;
     if (s.grain_sizes) p.grain_sizes = sieve_curve(*s.grain_sizes);
     if (s.grain_shape) p.grain_shape = grain_shape_body(*s.grain_shape);
-    p.grain = engine::Material{s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.density_kg_per_m3};
+    p.grain = s.grain;  // the engine's own material
     p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
     p.plate.poisson_ratio = s.plate.poisson_ratio;
 
@@ -147,14 +147,8 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
 {
     const FreeStandingSpec& f = spec.free_standing;
     engine::FreeStandingSettings s;
-    s.removal_time_s = f.removal_time_s;
-    s.removal_distance_m = f.removal_distance_m;
+    static_cast<engine::FreeStandingParams&>(s) = f;  // the engine's own parameters, as given
     s.escape_distance_m = escape_distance_m(spec);
-    s.settle_kinetic_energy_per_grain_j = f.settle_kinetic_energy_per_grain_j;
-    s.max_settling_time_s = f.max_settling_time_s;
-    s.max_height_loss = f.max_height_loss;
-    s.bulk_fraction = f.bulk_fraction;
-    s.max_lost_fraction = f.max_lost_fraction;
     if (f.dead_load_n) s.dead_load = engine::DeadLoad{*f.dead_load_n, f.dead_load_ramp_time_s, f.dead_load_hold_time_s};
     if (f.pull_out_speed_m_per_s) {
         engine::PullOutSettings p;
@@ -167,10 +161,6 @@ engine::FreeStandingSettings free_standing_settings(const JobSpec& spec)
         p.max_time_s = f.pull_out_max_time_s;
         s.pull_out = p;
     }
-    s.plate_speed_m_per_s = f.plate_speed_m_per_s;
-    s.target_axial_strain = f.target_axial_strain;
-    s.failure_drop = f.failure_drop;
-    s.sample_interval_s = f.sample_interval_s;
     s.snapshot_strains = {0.5 * f.target_axial_strain};
     s.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};
     return s;

@@ -15,8 +15,10 @@
 #include "specimen/pattern_kind.hpp"
 #include "specimen/sieve_basis.hpp"
 #include "state/integrator.hpp"
+#include "state/materials.hpp"
 #include "state/membrane_edge_law.hpp"
 #include "triaxial/consolidation_kind.hpp"
+#include "triaxial/free_standing_params.hpp"
 #include "triaxial/wire_end.hpp"
 
 #include <boost/json/object.hpp>
@@ -94,13 +96,10 @@ struct GrainShapeSpec {
     friend bool operator==(const GrainShapeSpec&, const GrainShapeSpec&) = default;
 };
 
-/// Elastic properties of the grains (the model spec §2).
-struct GrainMaterialSpec {
-    double youngs_modulus_pa = 10e9;     ///< E_p [Pa], (0, 1e13]
-    double poisson_ratio = 0.3;          ///< ν_p, (-1, 0.5]
-    double density_kg_per_m3 = 7800.0;   ///< ρ_p [kg/m³], (0, 1e5]
-    friend bool operator==(const GrainMaterialSpec&, const GrainMaterialSpec&) = default;
-};
+/// Elastic properties of the grains (the model spec §2): the engine's own
+/// material (engine/state/materials.hpp), whose defaults are the model's
+/// grains. JSON ranges: E_p (0, 1e13] Pa, ν_p (-1, 0.5], ρ_p (0, 1e5] kg/m³.
+using GrainMaterialSpec = engine::Material;
 
 /// Elastic properties of both plates (the model spec §2). Plates do not move
 /// freely, so they have no density.
@@ -301,26 +300,23 @@ struct TriaxialSpec {
     friend bool operator==(const TriaxialSpec&, const TriaxialSpec&) = default;
 };
 
-/// The free-standing test (issue 39; engine/triaxial/free_standing.hpp):
-/// after the triaxial tests, the prepared column's formwork is removed, the
-/// column settles on the bottom plate, optionally carries a dead load, and is
-/// compressed unconfined. Not run unless `enabled`.
 /// Which end of the wire a pull-out pulls (engine/triaxial/wire_end.hpp).
 /// JSON: "last", "first".
 using WireEndSpec = engine::WireEnd;
 
-struct FreeStandingSpec {
+/// The free-standing test (issue 39; engine/triaxial/free_standing.hpp):
+/// after the triaxial tests, the prepared column's formwork is removed, the
+/// column settles on the bottom plate, optionally carries a dead load, and is
+/// compressed unconfined. Not run unless `enabled`.
+/// The engine's own parameters (engine/triaxial/free_standing_params.hpp:
+/// removal, settling, standing, compression and sampling, with their
+/// defaults and ranges), read into directly, then what the engine gets
+/// derived (api/engine_settings.cpp, free_standing_settings).
+struct FreeStandingSpec : engine::FreeStandingParams {
     bool enabled = false;                      ///< run the test
-    double removal_time_s = 0.02;              ///< the formwork opens over this time [s], (0, 1e3]
-    double removal_distance_m = 5e-3;          ///< by this much (radius), the top plate lifted as far [m], (0, 1]
     /// A grain farther than this from the axis has left the column [m],
     /// (0, 100], more than specimen.membrane_radius_m; nullopt: 1.5 × it.
     std::optional<double> escape_distance_m;
-    double settle_kinetic_energy_per_grain_j = 1e-9; ///< at rest below this [J], (0, 1]
-    double max_settling_time_s = 0.5;          ///< settling ends here at the latest [s], (0, 1e4]
-    double max_height_loss = 0.1;              ///< stands at rest with at most this loss of the grains' bulk height, (0, 1)
-    double bulk_fraction = 0.95;               ///< q of the bulk height z_q / q, [0.5, 1]
-    double max_lost_fraction = 0.1;            ///< stands with at most this share of the grains' volume lost, [0, 1)
     /// A dead load on the top plate after settling [N], (0, 1e9]; nullopt: none.
     std::optional<double> dead_load_n;
     double dead_load_ramp_time_s = 0.01;       ///< the load rises over this [s], [0, 1e3]
@@ -335,10 +331,6 @@ struct FreeStandingSpec {
     /// piece of wire has left the settled column.
     std::optional<double> pull_out_length_m;
     double pull_out_max_time_s = 1.0;          ///< the pull ends here at the latest [s], (0, 1e4]
-    double plate_speed_m_per_s = 1e-3;         ///< the compression's plate speed [m/s], (0, 10]
-    double target_axial_strain = 0.1;          ///< the compression ends here at the latest, (0, 0.5]
-    double failure_drop = 0.5;                 ///< failed when σ₁ stays below (1 − this) of its largest, (0, 1]
-    double sample_interval_s = 1e-3;           ///< time between rows [s], (0, 1e3]
     friend bool operator==(const FreeStandingSpec&, const FreeStandingSpec&) = default;
 };
 

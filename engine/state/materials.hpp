@@ -15,6 +15,7 @@ struct Material {
     double youngs_modulus_pa = 10e9;      ///< E [Pa]
     double poisson_ratio = 0.3;           ///< ν
     double density_kg_per_m3 = 7800.0;    ///< ρ [kg/m³]
+    friend bool operator==(const Material&, const Material&) = default;
 };
 
 /// The plane-strain modulus E/(1−ν²) of a material [Pa].

@@ -43,6 +43,7 @@
 #include "analysis/strength.hpp"
 #include "core/result.hpp"
 #include "simulation.hpp"
+#include "triaxial/free_standing_params.hpp"
 #include "triaxial/pull_out.hpp"
 #include "triaxial/sampling.hpp"
 #include "triaxial/triaxial.hpp"
@@ -78,41 +79,14 @@ struct DeadLoad {
     double hold_time_s = 0.05;            ///< F held this long after the ramp [s], > 0
 };
 
-/// Parameters of one free-standing test. All SI.
-struct FreeStandingSettings {
-    /// The formwork opens over this time [s], > 0: the membrane's radius
-    /// grows at removal_distance_m / removal_time_s (docs/model.md: a
-    /// column the membrane squeezed gains at most 2 M v² of kinetic energy
-    /// from a removal at speed v).
-    double removal_time_s = 0.02;
-    /// How far the membrane's radius opens, and the top plate rises [m], > 0.
-    double removal_distance_m = 5e-3;
+/// Parameters of one free-standing test. All SI. Those a job gives as they
+/// are (FreeStandingParams, free_standing_params.hpp), then the ones it
+/// derives.
+struct FreeStandingSettings : FreeStandingParams {
     /// A grain whose centre is farther than this from the axis has left the
     /// column [m], > 0.
     double escape_distance_m = 0.03;
-    /// At rest when the kinetic energy per grain (the preparation's
-    /// criterion, settling_energy_j, masses scaled by s only) is below this
-    /// × density_scale [J], > 0.
-    double settle_kinetic_energy_per_grain_j = 1e-9;
-    double max_settling_time_s = 0.5;     ///< settling ends here even if not at rest [s], > 0
-    /// The column stands when it came to rest with a loss of its grains'
-    /// bulk height (H_b before − H_b after)/H_b before of at most this, in
-    /// (0, 1), and with at most max_lost_fraction of its grains lost.
-    double max_height_loss = 0.1;
-    /// q of the bulk height H_b = z_q / q (bulk_height_m), in [0.5, 1].
-    double bulk_fraction = 0.95;
-    /// The column stands only if at most this share of its grains' volume
-    /// left it (beyond escape_distance_m), in [0, 1).
-    double max_lost_fraction = 0.1;
     std::optional<DeadLoad> dead_load;    ///< none: no dead-load phase
-    double plate_speed_m_per_s = 1e-3;    ///< top plate speed in compression [m/s], > 0
-    double target_axial_strain = 0.1;     ///< compression ends here at the latest, in (0, 1)
-    /// The column has failed when its axial stress, averaged over the rows of
-    /// the last smoothing_strain of axial strain, has stayed below (1 − this)
-    /// of the largest such average over the last end_window_strain of strain
-    /// (analysis::CurveTolerances), in (0, 1]; 1: compress to the target.
-    double failure_drop = 0.5;
-    double sample_interval_s = 1e-3;      ///< time between rows [s], > 0
     /// Axial strains of the compression at which to take snapshots (0 and the
     /// target are always added; clamped to [0, target]).
     std::vector<double> snapshot_strains{};
