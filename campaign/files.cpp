@@ -319,6 +319,44 @@ eng::RadiusProfile read_profile(const io::Group& g)
     return p;
 }
 
+/// The verdict, the times and the warnings of a record (eng::TriaxialResult,
+/// eng::FreeStandingResult): the names a test's group and /free_standing share.
+template <class Record>
+void write_verdict_and_times(io::Group& g, const Record& r)
+{
+    g.write_int_attribute(result_name(P::record, "quasi_static"), r.verdict.quasi_static ? 1 : 0);
+    g.write_double_attribute(result_name(P::record, "max_inertial_number"), r.verdict.max_inertial_number);
+    g.write_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"), r.verdict.mean_kinetic_to_elastic);
+    g.write_double_attribute(result_name(P::record, "max_kinetic_to_elastic"), r.verdict.max_kinetic_to_elastic);
+    g.write_string_attribute(result_name(P::record, "quasi_static_warning"), r.verdict.warning);
+    g.write_int_attribute(result_name(P::record, "steps"), static_cast<std::int64_t>(r.steps));
+    g.write_double_attribute(result_name(P::record, "time_step_s"), r.time_step_s);
+    g.write_double_attribute(result_name(P::record, "simulated_time_s"), r.simulated_time_s);
+    g.write_double_attribute(result_name(P::record, "wall_time_s"), r.wall_time_s);
+    json::array warnings;
+    for (const std::string& w : r.warnings) warnings.emplace_back(w);
+    g.write_string_attribute(result_name(P::record, "warnings"), json::serialize(warnings));
+}
+
+/// What write_verdict_and_times wrote.
+template <class Record>
+void read_verdict_and_times(const io::Group& g, Record& r)
+{
+    r.verdict.quasi_static = g.read_int_attribute(result_name(P::record, "quasi_static")) != 0;
+    r.verdict.max_inertial_number = g.read_double_attribute(result_name(P::record, "max_inertial_number"));
+    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"));
+    r.verdict.max_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "max_kinetic_to_elastic"));
+    r.verdict.warning = g.read_string_attribute(result_name(P::record, "quasi_static_warning"));
+    const std::int64_t steps = g.read_int_attribute(result_name(P::record, "steps"));
+    if (steps < 0) throw std::runtime_error(g.path() + ": negative step count");
+    r.steps = static_cast<std::uint64_t>(steps);
+    r.time_step_s = g.read_double_attribute(result_name(P::record, "time_step_s"));
+    r.simulated_time_s = g.read_double_attribute(result_name(P::record, "simulated_time_s"));
+    r.wall_time_s = g.read_double_attribute(result_name(P::record, "wall_time_s"));
+    const json::value warnings = json::parse(g.read_string_attribute(result_name(P::record, "warnings")));
+    for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
+}
+
 } // namespace
 
 void write_wire_breaks(io::Group& g, const std::vector<eng::TestWireBreak>& breaks)
@@ -400,18 +438,7 @@ void write_triaxial_result(io::Group& g, const eng::TriaxialResult& r)
     }
     g.write_double_attribute(result_name(P::test, "initial_height_m"), r.initial_height_m);
     g.write_double_attribute(result_name(P::test, "initial_volume_m3"), r.initial_volume_m3);
-    g.write_int_attribute(result_name(P::record, "quasi_static"), r.verdict.quasi_static ? 1 : 0);
-    g.write_double_attribute(result_name(P::record, "max_inertial_number"), r.verdict.max_inertial_number);
-    g.write_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"), r.verdict.mean_kinetic_to_elastic);
-    g.write_double_attribute(result_name(P::record, "max_kinetic_to_elastic"), r.verdict.max_kinetic_to_elastic);
-    g.write_string_attribute(result_name(P::record, "quasi_static_warning"), r.verdict.warning);
-    g.write_int_attribute(result_name(P::record, "steps"), static_cast<std::int64_t>(r.steps));
-    g.write_double_attribute(result_name(P::record, "time_step_s"), r.time_step_s);
-    g.write_double_attribute(result_name(P::record, "simulated_time_s"), r.simulated_time_s);
-    g.write_double_attribute(result_name(P::record, "wall_time_s"), r.wall_time_s);
-    json::array warnings;
-    for (const std::string& w : r.warnings) warnings.emplace_back(w);
-    g.write_string_attribute(result_name(P::record, "warnings"), json::serialize(warnings));
+    write_verdict_and_times(g, r);
 
     write_series(g, r.series, eng::triaxial_phase_units);
     write_snapshots(g, r.snapshots);
@@ -446,19 +473,7 @@ eng::TriaxialResult read_triaxial_result(const io::Group& g, Snapshots snapshots
     }
     r.initial_height_m = g.read_double_attribute(result_name(P::test, "initial_height_m"));
     r.initial_volume_m3 = g.read_double_attribute(result_name(P::test, "initial_volume_m3"));
-    r.verdict.quasi_static = g.read_int_attribute(result_name(P::record, "quasi_static")) != 0;
-    r.verdict.max_inertial_number = g.read_double_attribute(result_name(P::record, "max_inertial_number"));
-    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"));
-    r.verdict.max_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "max_kinetic_to_elastic"));
-    r.verdict.warning = g.read_string_attribute(result_name(P::record, "quasi_static_warning"));
-    const std::int64_t steps = g.read_int_attribute(result_name(P::record, "steps"));
-    if (steps < 0) throw std::runtime_error(g.path() + ": negative step count");
-    r.steps = static_cast<std::uint64_t>(steps);
-    r.time_step_s = g.read_double_attribute(result_name(P::record, "time_step_s"));
-    r.simulated_time_s = g.read_double_attribute(result_name(P::record, "simulated_time_s"));
-    r.wall_time_s = g.read_double_attribute(result_name(P::record, "wall_time_s"));
-    const json::value warnings = json::parse(g.read_string_attribute(result_name(P::record, "warnings")));
-    for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
+    read_verdict_and_times(g, r);
 
     r.series = read_series(g, static_cast<std::int64_t>(eng::TriaxialPhase::loading));
     const std::size_t rows = r.series.size();
@@ -589,18 +604,7 @@ void write_free_standing_result(io::Group& g, const eng::FreeStandingResult& r)
         write_named(g, result_name_spec(P::free_standing, "wire_tension_at_peak_n"), std::span<const double>(c.wire_tension_at_peak_n));
     }
     g.write_int_attribute(result_name(P::free_standing, "loading_start_sample"), static_cast<std::int64_t>(r.loading_start_sample));
-    g.write_int_attribute(result_name(P::record, "quasi_static"), r.verdict.quasi_static ? 1 : 0);
-    g.write_double_attribute(result_name(P::record, "max_inertial_number"), r.verdict.max_inertial_number);
-    g.write_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"), r.verdict.mean_kinetic_to_elastic);
-    g.write_double_attribute(result_name(P::record, "max_kinetic_to_elastic"), r.verdict.max_kinetic_to_elastic);
-    g.write_string_attribute(result_name(P::record, "quasi_static_warning"), r.verdict.warning);
-    g.write_int_attribute(result_name(P::record, "steps"), static_cast<std::int64_t>(r.steps));
-    g.write_double_attribute(result_name(P::record, "time_step_s"), r.time_step_s);
-    g.write_double_attribute(result_name(P::record, "simulated_time_s"), r.simulated_time_s);
-    g.write_double_attribute(result_name(P::record, "wall_time_s"), r.wall_time_s);
-    json::array warnings;
-    for (const std::string& w : r.warnings) warnings.emplace_back(w);
-    g.write_string_attribute(result_name(P::record, "warnings"), json::serialize(warnings));
+    write_verdict_and_times(g, r);
     if (r.pull_out) write_pull_out(g, *r.pull_out);
     write_series(g, r.series, r.pull_out ? eng::free_standing_pull_out_phase_units : eng::free_standing_phase_units);
     write_snapshots(g, r.snapshots);
@@ -672,17 +676,7 @@ eng::FreeStandingResult read_free_standing_result(const io::Group& g)
         r.compression = std::move(c);
     }
     r.loading_start_sample = read_index(g, result_name(P::free_standing, "loading_start_sample"));
-    r.verdict.quasi_static = g.read_int_attribute(result_name(P::record, "quasi_static")) != 0;
-    r.verdict.max_inertial_number = g.read_double_attribute(result_name(P::record, "max_inertial_number"));
-    r.verdict.mean_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "mean_kinetic_to_elastic"));
-    r.verdict.max_kinetic_to_elastic = g.read_double_attribute(result_name(P::record, "max_kinetic_to_elastic"));
-    r.verdict.warning = g.read_string_attribute(result_name(P::record, "quasi_static_warning"));
-    r.steps = static_cast<std::uint64_t>(g.read_int_attribute(result_name(P::record, "steps")));
-    r.time_step_s = g.read_double_attribute(result_name(P::record, "time_step_s"));
-    r.simulated_time_s = g.read_double_attribute(result_name(P::record, "simulated_time_s"));
-    r.wall_time_s = g.read_double_attribute(result_name(P::record, "wall_time_s"));
-    const json::value warnings = json::parse(g.read_string_attribute(result_name(P::record, "warnings")));
-    for (const json::value& w : warnings.as_array()) r.warnings.emplace_back(w.as_string());
+    read_verdict_and_times(g, r);
     r.series = read_series(g, static_cast<std::int64_t>(eng::FreeStandingPhase::pull_out));
     r.wire_breaks = read_wire_breaks(g);
     if (g.has_attribute(result_name(P::free_standing, "pull_out_end"))) r.pull_out = read_pull_out(g);
