@@ -95,13 +95,8 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.membrane.density_scale = spec.engine.density_scale;
 
     p.contact.normal_damping_s = resolve_damping ? resolved_normal_damping_s(spec) : 0.0;
-    p.contact.tangential.stiffness_per_m = spec.contact.tangential_stiffness_per_m;
-    p.contact.tangential.friction_coeff = spec.contact.friction_coeff;
-    p.contact.tangential.critical_slip_m = spec.contact.critical_slip_m;
-    p.contact.tangential.damping_s_per_m = spec.contact.tangential_damping_s_per_m;
-    p.contact.rolling.friction_coeff = spec.contact.rolling_friction_coeff;
-    p.contact.rolling.stiffness_factor = spec.contact.rolling_stiffness_factor;
-    p.contact.rolling.damping_ratio = spec.contact.rolling_damping_ratio;
+    p.contact.tangential = spec.contact.tangential;  // the engine's own laws
+    p.contact.rolling = spec.contact.rolling;
 
     p.density_scale = spec.engine.density_scale;
     p.wire_mass_scale = spec.engine.wire_mass_scale;
@@ -128,15 +123,9 @@ engine::PreparationSpec preparation_geometry(const JobSpec& spec) { return prepa
 engine::TriaxialSettings triaxial_settings(const JobSpec& spec, std::size_t test)
 {
     engine::TriaxialSettings t;
+    static_cast<engine::TriaxialParams&>(t) = spec.triaxial;  // the engine's own parameters, as given
     t.confining_pressure_pa = spec.triaxial.confining_pressures_pa.at(test);
-    t.target_axial_strain = spec.triaxial.target_axial_strain;
     t.plate_speed_m_per_s = spec.triaxial.plate_speed_m_per_s(test);
-    t.pressure_ramp_time_s = spec.triaxial.pressure_ramp_time_s;
-    t.hold_time_s = spec.triaxial.hold_time_s;
-    t.max_hold_time_s = spec.triaxial.max_hold_time_s;
-    t.consolidation = spec.triaxial.consolidation;  // the engine's own
-    t.sample_interval_s = spec.triaxial.sample_interval_s;
-    t.snapshot_strains = spec.triaxial.snapshot_strains;
     // The prepared specimen carries weights scaled like its masses; the test
     // gives it its real weight back (engine/specimen/preparation.hpp).
     t.real_weights = engine::TriaxialSettings::MassScaling{spec.engine.density_scale, spec.engine.wire_mass_scale};

@@ -994,23 +994,23 @@ void read_contact(ObjectReader& r, ContactSpec& c)
     else
         c.normal_damping = e;
 
-    r.number("tangential_stiffness_per_m", open_closed(0.0, 1e9), c.tangential_stiffness_per_m,
+    r.number("tangential_stiffness_per_m", open_closed(0.0, 1e9), c.tangential.stiffness_per_m,
         {"1/m", "k_t in F_t = −k_t F_n δ_t (the paper's reading, model spec §8)"});
-    r.number("friction_coeff", closed(0.0, 10.0), c.friction_coeff,
+    r.number("friction_coeff", closed(0.0, 10.0), c.tangential.friction_coeff,
         {"1", "μ, Coulomb friction coefficient of the contacts"});
-    r.number("critical_slip_m", open_closed(0.0, 1.0), c.critical_slip_m,
+    r.number("critical_slip_m", open_closed(0.0, 1.0), c.tangential.critical_slip_m,
         {"m", "d_cr, the spring breaks beyond this slip"});
-    r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential_damping_s_per_m,
+    r.number("tangential_damping_s_per_m", closed(0.0, 1e9), c.tangential.damping_s_per_m,
         {"s/m", "γ_t: sliding force F_n·min(μ, γ_t·|v_t|) (engine/laws/tangential.hpp)"});
     // Rolling resistance, type C of Ai et al. (2011): engine/laws/rolling.hpp.
     // f_r ≤ 1 keeps the rolling spring's frequency below the tangential
     // spring's, and η_r ≤ 0.3 the damping within what Gear-5 was measured to
     // follow at the auto step (docs/model.md, "Rolling resistance").
-    r.number("rolling_friction_coeff", closed(0.0, 1.0), c.rolling_friction_coeff,
+    r.number("rolling_friction_coeff", closed(0.0, 1.0), c.rolling.friction_coeff,
         {"1", "μ_r: the rolling torque is at most μ_r R* F_n (a ball holds on an incline up to tan β = μ_r); 0 = no rolling resistance"});
-    r.number("rolling_stiffness_factor", open_closed(0.0, 1.0), c.rolling_stiffness_factor,
+    r.number("rolling_stiffness_factor", open_closed(0.0, 1.0), c.rolling.stiffness_factor,
         {"1", "f_r: rolling stiffness k_r = f_r k_t F_n R*² (Ai et al.'s k_r = k_t R*² at 1)"});
-    r.number("rolling_damping_ratio", closed(0.0, 0.3), c.rolling_damping_ratio,
+    r.number("rolling_damping_ratio", closed(0.0, 0.3), c.rolling.damping_ratio,
         {"1", "η_r: viscous rolling torque 2 η_r √(I_r k_r) ω_r below the limit torque"});
 }
 
@@ -1223,9 +1223,9 @@ void apply_grain_preset(Validator& v, const json::value& doc, JobSpec& spec)
     }
     spec.specimen.grain_sizes = std::move(sizes);
     spec.specimen.grain_shape = GrainShapeSpec{std::string(p->clump_template), {}};
-    spec.contact.friction_coeff = p->friction_coeff;
-    spec.contact.rolling_friction_coeff = p->rolling_friction_coeff;
-    spec.contact.rolling_damping_ratio = p->rolling_damping_ratio;
+    spec.contact.tangential.friction_coeff = p->friction_coeff;
+    spec.contact.rolling.friction_coeff = p->rolling_friction_coeff;
+    spec.contact.rolling.damping_ratio = p->rolling_damping_ratio;
 }
 
 void read_job(Validator& v, const json::value& doc, JobSpec& spec)
@@ -1816,13 +1816,13 @@ json::object contact_json(const ContactSpec& c)
         o["restitution"] = e.restitution;
         o["restitution_reference_speed_m_per_s"] = e.restitution_reference_speed_m_per_s;
     }
-    o["tangential_stiffness_per_m"] = c.tangential_stiffness_per_m;
-    o["friction_coeff"] = c.friction_coeff;
-    o["critical_slip_m"] = c.critical_slip_m;
-    o["tangential_damping_s_per_m"] = c.tangential_damping_s_per_m;
-    o["rolling_friction_coeff"] = c.rolling_friction_coeff;
-    o["rolling_stiffness_factor"] = c.rolling_stiffness_factor;
-    o["rolling_damping_ratio"] = c.rolling_damping_ratio;
+    o["tangential_stiffness_per_m"] = c.tangential.stiffness_per_m;
+    o["friction_coeff"] = c.tangential.friction_coeff;
+    o["critical_slip_m"] = c.tangential.critical_slip_m;
+    o["tangential_damping_s_per_m"] = c.tangential.damping_s_per_m;
+    o["rolling_friction_coeff"] = c.rolling.friction_coeff;
+    o["rolling_stiffness_factor"] = c.rolling.stiffness_factor;
+    o["rolling_damping_ratio"] = c.rolling.damping_ratio;
     return o;
 }
 

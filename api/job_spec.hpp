@@ -12,6 +12,8 @@
 
 #include "api/grain_presets.hpp"
 #include "core/result.hpp"
+#include "laws/rolling.hpp"
+#include "laws/tangential.hpp"
 #include "specimen/pattern_kind.hpp"
 #include "specimen/sieve_basis.hpp"
 #include "state/integrator.hpp"
@@ -19,6 +21,7 @@
 #include "state/membrane_edge_law.hpp"
 #include "triaxial/consolidation_kind.hpp"
 #include "triaxial/free_standing_params.hpp"
+#include "triaxial/triaxial_params.hpp"
 #include "triaxial/wire_end.hpp"
 
 #include <boost/json/object.hpp>
@@ -247,39 +250,31 @@ struct ContactSpec {
     /// Exactly one of the two forms; JSON: either `restitution` (+
     /// `restitution_reference_speed_m_per_s`) or `normal_damping_s`.
     std::variant<NormalRestitution, NormalDampingTime> normal_damping = NormalRestitution{};
-    double tangential_stiffness_per_m = 1e5;   ///< k_t in F_t = −k_t F_n δ_t [1/m], (0, 1e9]
-    double friction_coeff = 0.3;               ///< μ, [0, 10]
-    double critical_slip_m = 1e-4;             ///< d_cr [m], (0, 1]
-    double tangential_damping_s_per_m = 1e3;   ///< γ_t [s/m] (engine/laws/tangential.hpp), [0, 1e9]
+    /// The tangential law (engine/laws/tangential.hpp), its fields read by
+    /// the JSON names tangential_stiffness_per_m (k_t), friction_coeff (μ),
+    /// critical_slip_m (d_cr) and tangential_damping_s_per_m (γ_t).
+    engine::TangentialParams tangential;
     /// Rolling resistance (engine/laws/rolling.hpp; docs/model.md, "Rolling
-    /// resistance"): μ_r, the limit torque μ_r R* F_n, [0, 1]; 0 = off.
-    double rolling_friction_coeff = 0.0;
-    double rolling_stiffness_factor = 1.0;     ///< f_r in k_r = f_r k_t F_n R*², (0, 1]
-    double rolling_damping_ratio = 0.0;        ///< η_r, viscous rolling damping below the limit, [0, 0.3]
+    /// resistance"), its fields read by the JSON names
+    /// rolling_friction_coeff (μ_r; 0 = off), rolling_stiffness_factor (f_r)
+    /// and rolling_damping_ratio (η_r).
+    engine::RollingParams rolling;
     friend bool operator==(const ContactSpec&, const ContactSpec&) = default;
 };
 
 /// The triaxial tests (the model spec §6), one per confining pressure.
-struct TriaxialSpec {
+/// The engine's own parameters of a test (engine/triaxial/triaxial_params.hpp:
+/// target, ramp, hold, consolidation, sampling and snapshots, with their
+/// defaults), read into directly; then the pressures and speeds each test
+/// takes one of, and the cell (api/engine_settings.cpp, triaxial_settings).
+struct TriaxialSpec : engine::TriaxialParams {
     /// σ_3 of each test [Pa]: 1–16 entries, each in (0, 1e7], strictly increasing.
     std::vector<double> confining_pressures_pa{20e3, 40e3, 60e3, 80e3};
-    double target_axial_strain = 0.1;          ///< ε_a at which a test ends, (0, 0.5]
     /// Top plate speed v_z [m/s], each in (0, 10]: one entry for every test
     /// (a number in the JSON), or one per confining pressure (an array), so
     /// that the low pressures can load slower (docs/model.md, "Quasi-static
     /// scaling").
     std::vector<double> plate_speeds_m_per_s{2e-4};
-    double pressure_ramp_time_s = 0.05;        ///< σ_3 ramps linearly from 0 over this [s], [0, 1e3]
-    double hold_time_s = 0.05;                 ///< then holds before loading [s], [0, 1e3]
-    /// The hold goes on past hold_time_s until the column has consolidated,
-    /// at most this long [s], [hold_time_s, 1e3]; nullopt: 4 × hold_time_s.
-    std::optional<double> max_hold_time_s;
-    Consolidation consolidation = Consolidation::effective; ///< what σ₁ is brought to while σ₃ holds
-    double sample_interval_s = 1e-2;           ///< time between samples [s], (0, 1e3]
-    /// Axial strains at which the wire profile and force network are saved:
-    /// 0–64 entries in [0, target_axial_strain], strictly increasing. When
-    /// absent from the JSON: {0, target/2, target}.
-    std::vector<double> snapshot_strains{0.0, 0.05, 0.1};
     /// The cell. to_json writes it (and `cuboid`) only for the cuboid cell,
     /// so that the job files and results of membrane jobs stay as they were.
     CellKind cell = CellKind::membrane;

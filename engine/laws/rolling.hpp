@@ -27,6 +27,9 @@
 namespace wiredem::engine {
 
 /// Parameters of the rolling law, shared by all contacts. μ_r = 0: off.
+/// The defaults are the model's (none: the model spec has no rolling
+/// resistance) and the job spec's (ContactSpec holds these; its ranges:
+/// api/job_spec.cpp).
 struct RollingParams {
     double friction_coeff = 0.0;   ///< μ_r: M_max = μ_r R* F_n; 0 turns the law off
     double stiffness_factor = 1.0; ///< f_r: k_r = f_r k_t F_n R*² (Ai et al.'s k_r = k_t R*² at 1)

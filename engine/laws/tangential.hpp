@@ -37,12 +37,15 @@ struct TangentialState {
     bool sticking = true; ///< true: static spring; false: sliding
 };
 
-/// Parameters of the tangential law, shared by all contacts.
+/// Parameters of the tangential law, shared by all contacts. The defaults
+/// are the model's (and the job spec's "contact" object, api/job_spec.hpp,
+/// ContactSpec, which holds these; its ranges: api/job_spec.cpp).
 struct TangentialParams {
-    double stiffness_per_m = 1e5;   ///< k_t [1/m]
-    double friction_coeff = 0.3;    ///< μ
-    double critical_slip_m = 1e-4;  ///< d_cr [m]
-    double damping_s_per_m = 1e3;   ///< γ_t [s/m]; F-normalised shear damping
+    double stiffness_per_m = 1e5;   ///< k_t in F_t = −k_t F_n δ_t [1/m]
+    double friction_coeff = 0.3;    ///< μ, the Coulomb bound μ F_n
+    double critical_slip_m = 1e-4;  ///< d_cr, the spring breaks beyond this slip [m]
+    double damping_s_per_m = 1e3;   ///< γ_t [s/m]; F-normalised shear damping F_n min(μ, γ_t |v_t|)
+    friend bool operator==(const TangentialParams&, const TangentialParams&) = default;
 };
 
 struct TangentialResult {

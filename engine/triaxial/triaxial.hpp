@@ -19,6 +19,7 @@
 #include "core/result.hpp"
 #include "simulation.hpp"
 #include "triaxial/consolidation.hpp"
+#include "triaxial/triaxial_params.hpp"
 #include "triaxial/sampling.hpp"
 
 #include <algorithm>
@@ -36,24 +37,12 @@
 
 namespace wiredem::engine {
 
-/// Parameters of one triaxial test. All SI.
-struct TriaxialSettings {
+/// Parameters of one triaxial test. All SI. Those a job gives as they are
+/// (TriaxialParams, triaxial_params.hpp), then the test's own: its σ₃, its
+/// plate speed and the masses' scaling.
+struct TriaxialSettings : TriaxialParams {
     double confining_pressure_pa = 40e3;      ///< σ₃ applied on the membrane [Pa], > 0
-    double target_axial_strain = 0.10;        ///< loading stops when ε_a reaches this, in (0, 1)
     double plate_speed_m_per_s = 0.2e-3;      ///< top plate speed while loading [m/s], > 0
-    /// σ₃ rises from 0 to the target over this time as ½(1 − cos(π t/T)), a
-    /// ramp without a jump in rate at either end [s], ≥ 0 (0: a step).
-    double pressure_ramp_time_s = 0.02;
-    double hold_time_s = 0.02;                ///< σ₃ held (plate following σ₁ = σ₃) before loading [s], ≥ 0
-    /// The hold lasts at least hold_time_s and goes on until the column has
-    /// consolidated (see consolidated_mismatch), at most this long [s],
-    /// ≥ hold_time_s; nullopt: default_max_hold_factor × hold_time_s.
-    std::optional<double> max_hold_time_s;
-    Consolidation consolidation = Consolidation::effective; ///< what σ₁ is brought to before loading
-    double sample_interval_s = 1e-3;          ///< time between rows of the time series [s], > 0
-    /// Axial strains at which to take snapshots; 0 (loading start) and the
-    /// target are always added; values outside [0, target] are clamped.
-    std::vector<double> snapshot_strains{};
     /// How the World's masses are scaled (engine/specimen/preparation.hpp).
     struct MassScaling {
         double density_scale = 1.0;     ///< s, every mass

@@ -66,10 +66,10 @@ JobSpec everything_changed()
     p.pouring.max_preparation_time_s = 3.5;
     p.pouring.fill_rate_m_per_s = 0.2;
     s.contact.normal_damping = NormalDampingTime{2.4942671903958094e-7};   // likewise
-    s.contact.tangential_stiffness_per_m = 2e5;
-    s.contact.friction_coeff = 0.5;
-    s.contact.critical_slip_m = 2e-4;
-    s.contact.tangential_damping_s_per_m = 500.0;
+    s.contact.tangential.stiffness_per_m = 2e5;
+    s.contact.tangential.friction_coeff = 0.5;
+    s.contact.tangential.critical_slip_m = 2e-4;
+    s.contact.tangential.damping_s_per_m = 500.0;
     s.triaxial.confining_pressures_pa = {10e3, 30e3, 100e3};
     s.triaxial.target_axial_strain = 0.15;
     s.triaxial.plate_speeds_m_per_s = {0.01, 0.02, 0.03};
@@ -137,7 +137,7 @@ TEST(JobSpec, DefaultsAreTheModelsParameters)
     EXPECT_DOUBLE_EQ(membrane_contact_radius_m(s.specimen.membrane), 0.5e-3); // d/2
     ASSERT_TRUE(std::holds_alternative<NormalRestitution>(s.contact.normal_damping));
     EXPECT_DOUBLE_EQ(std::get<NormalRestitution>(s.contact.normal_damping).restitution, 0.5);
-    EXPECT_DOUBLE_EQ(s.contact.tangential_stiffness_per_m, 1e5);
+    EXPECT_DOUBLE_EQ(s.contact.tangential.stiffness_per_m, 1e5);
     EXPECT_EQ(s.triaxial.confining_pressures_pa, (std::vector<double>{20e3, 40e3, 60e3, 80e3}));
     EXPECT_FALSE(s.engine.time_step_s.has_value()); // "auto"
     EXPECT_EQ(s.engine.integrator, Integrator::gear5);

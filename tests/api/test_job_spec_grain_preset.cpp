@@ -67,9 +67,9 @@ TEST(JobSpecGrainPreset, GravelSetsTheCrushedClumpItsCurveAtTheColumnsScaleAndIt
     EXPECT_NEAR(reference_grain_radius_m(spec.specimen), 1e-3, 1e-15);
     // An 8/32 gravel: D60/D10 = 2.0 (log-linear between 8 and 11.2 mm, 16 and 22.4 mm).
     EXPECT_NEAR(d.diameter_at_mass_fraction(0.6) / d.diameter_at_mass_fraction(0.1), 2.0, 1e-12);
-    EXPECT_EQ(spec.contact.friction_coeff, gravel_preset.friction_coeff);
-    EXPECT_EQ(spec.contact.rolling_friction_coeff, gravel_preset.rolling_friction_coeff);
-    EXPECT_EQ(spec.contact.rolling_damping_ratio, gravel_preset.rolling_damping_ratio);
+    EXPECT_EQ(spec.contact.tangential.friction_coeff, gravel_preset.friction_coeff);
+    EXPECT_EQ(spec.contact.rolling.friction_coeff, gravel_preset.rolling_friction_coeff);
+    EXPECT_EQ(spec.contact.rolling.damping_ratio, gravel_preset.rolling_damping_ratio);
 }
 
 TEST(JobSpecGrainPreset, IsWrittenAsItsNameAndReadsBackTheSameSpec)

@@ -74,6 +74,7 @@ inline CuboidSettings fcc_settings()
     s.triaxial.pressure_ramp_time_s = 0.01;
     s.triaxial.hold_time_s = 0.01;
     s.triaxial.sample_interval_s = 5e-5;
+    s.triaxial.snapshot_strains = {};  // 0 and the target only, as before the job's defaults
     s.triaxial.consolidation = Consolidation::cell_pressure;
     return s;
 }

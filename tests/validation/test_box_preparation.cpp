@@ -202,6 +202,7 @@ TEST(BoxPreparation, APreparedBoxRunsThroughTheCuboidCell)
     s.triaxial.plate_speed_m_per_s = 0.8 * box.report.box.height_m;
     s.triaxial.target_axial_strain = 0.04;
     s.triaxial.sample_interval_s = 2e-4;
+    s.triaxial.snapshot_strains = {};  // 0 and the target only, as before the job's defaults
     const auto r = run_cuboid_triaxial(sim, box.report.walls, s);
     ASSERT_TRUE(r.ok()) << r.error();
     const TriaxialResult& t = r.value().triaxial;
