@@ -62,22 +62,14 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
 {
     const SpecimenSpec& s = spec.specimen;
     engine::PreparationSpec p;
-    p.membrane_radius_m = s.membrane_radius_m;
-    p.membrane_height_m = s.membrane_height_m;
-    p.grain_count = static_cast<std::size_t>(s.grain_count);
-    p.grain_radius_m = s.grain_radius_m;
-    p.grain_radius_spread = s.grain_radius_spread;
+    static_cast<engine::SpecimenSize&>(p) = s;  // the engine's own size, as given
     if (s.grain_sizes) p.grain_sizes = sieve_curve(*s.grain_sizes);
     if (s.grain_shape) p.grain_shape = grain_shape_body(*s.grain_shape);
     p.grain = s.grain;  // the engine's own material
     p.plate.youngs_modulus_pa = s.plate.youngs_modulus_pa;
     p.plate.poisson_ratio = s.plate.poisson_ratio;
 
-    p.wire.radius_m = s.wire.radius_m;
-    p.wire.segment_length_m = s.wire.segment_length_m;
-    p.wire.youngs_modulus_pa = s.wire.youngs_modulus_pa;
-    p.wire.poisson_ratio = s.wire.poisson_ratio;
-    p.wire.density_kg_per_m3 = s.wire.density_kg_per_m3;
+    static_cast<engine::WireMaterial&>(p.wire) = s.wire;  // the engine's own material, as given
     p.wire.bending_yield_strain = s.wire.bending_yield_strain.value_or(std::numeric_limits<double>::infinity());
     p.wire.breaking_strain = s.wire.breaking_strain.value_or(std::numeric_limits<double>::infinity());
     p.wire.density_scale = spec.engine.density_scale * spec.engine.wire_mass_scale;
@@ -85,13 +77,8 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     p.pattern = pattern_spec(s.wire);
     p.clearance_m = s.wire.clearance_m;
 
-    p.membrane.mesh_size_m = s.membrane.mesh_size_m;
-    p.membrane.thickness_m = s.membrane.thickness_m;
-    p.membrane.youngs_modulus_pa = s.membrane.youngs_modulus_pa;
-    p.membrane.poisson_ratio = s.membrane.poisson_ratio;
-    p.membrane.density_kg_per_m3 = s.membrane.density_kg_per_m3;
+    static_cast<engine::MembraneMaterial&>(p.membrane) = s.membrane;  // the engine's own material, as given
     p.membrane.contact_radius_m = membrane_contact_radius_m(s.membrane);
-    p.membrane.edge_law = s.membrane.edges;  // the engine's own law
     p.membrane.density_scale = spec.engine.density_scale;
 
     p.contact.normal_damping_s = resolve_damping ? resolved_normal_damping_s(spec) : 0.0;
@@ -104,7 +91,7 @@ engine::PreparationSpec preparation(const JobSpec& spec, bool resolve_damping)
     // or the engine's default.
     if (s.pouring.fill_rate_m_per_s)
         p.fill_rate_m_per_s = *s.pouring.fill_rate_m_per_s;
-    else if (s.wire.length_m && p.pattern.kind != engine::PatternKind::none)
+    else if (s.wire.length_m && p.pattern.pattern != engine::PatternKind::none)
         p.fill_rate_m_per_s = engine::fill_rate_for_wire_length_m_per_s(p, *s.wire.length_m);
     p.settle_kinetic_energy_per_grain_j = s.pouring.settle_kinetic_energy_per_grain_j;
     p.max_time_s = s.pouring.max_preparation_time_s;
@@ -163,12 +150,7 @@ engine::WireCuts wire_cuts(const JobSpec& spec)
 engine::PatternSpec pattern_spec(const WireSpec& w)
 {
     engine::PatternSpec p;
-    p.kind = w.pattern;  // the engine's own kind (api::WirePattern)
-    p.helix_radius_m = w.helix_radius_m;
-    p.inner_radius_m = w.inner_radius_m;
-    p.period_angle_rad = w.period_angle_rad;
-    p.angular_speed_rad_per_s = w.angular_speed_rad_per_s;
-    p.rise_speed_m_per_s = w.nozzle_rise_speed_m_per_s;
+    static_cast<engine::PatternParams&>(p) = w;  // the engine's own parameters, as given
     if (w.pattern == WirePattern::toolpath) {
         for (std::size_t i = 0; i < std::min(w.toolpath_x_m.size(), w.toolpath_y_m.size()); ++i)
             p.toolpath_m.emplace_back(w.toolpath_x_m[i], w.toolpath_y_m[i], 0.0);

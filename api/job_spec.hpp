@@ -12,10 +12,14 @@
 
 #include "api/grain_presets.hpp"
 #include "core/result.hpp"
+#include "forces/membrane_material.hpp"
+#include "forces/wire_material.hpp"
 #include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
 #include "specimen/pattern_kind.hpp"
+#include "specimen/pattern_params.hpp"
 #include "specimen/sieve_basis.hpp"
+#include "specimen/specimen_size.hpp"
 #include "state/integrator.hpp"
 #include "state/materials.hpp"
 #include "state/membrane_edge_law.hpp"
@@ -112,20 +116,15 @@ struct PlateMaterialSpec {
     friend bool operator==(const PlateMaterialSpec&, const PlateMaterialSpec&) = default;
 };
 
-/// The wire and how the nozzle lays it (the model spec §2, §5). The pattern
+/// The wire and how the nozzle lays it (the model spec §2, §5). Its
+/// material and the nozzle's pattern are the engine's own
+/// (engine/forces/wire_material.hpp: radius_m, segment_length_m,
+/// youngs_modulus_pa, poisson_ratio, density_kg_per_m3;
+/// engine/specimen/pattern_params.hpp: pattern, nozzle_rise_speed_m_per_s,
+/// angular_speed_rad_per_s, helix_radius_m, inner_radius_m,
+/// period_angle_rad; with their defaults), read into directly. The pattern
 /// parameters that a pattern does not use are kept (and validated) but ignored.
-struct WireSpec {
-    WirePattern pattern = WirePattern::helix;  ///< the simplest pattern of the paper
-    double radius_m = 5e-4;                    ///< r_w, contact radius of a node [m], (0, 0.01]
-    double segment_length_m = 1.25e-3;         ///< l_w, rest length of a segment [m], (0, 0.1]
-    double youngs_modulus_pa = 1e9;            ///< E_w [Pa], (0, 1e13]
-    double poisson_ratio = 0.0;                ///< ν_w, (-1, 0.5]
-    double density_kg_per_m3 = 1000.0;         ///< ρ_w [kg/m³], (0, 1e5]
-    double nozzle_rise_speed_m_per_s = 0.5;    ///< v_z^w [m/s], (0, 100]
-    double angular_speed_rad_per_s = 300.0;    ///< ω [rad/s], (0, 1e5]; laying speed ω R_a
-    double helix_radius_m = 12e-3;             ///< R_a [m], (0, 1]; 0.6 R for the 20 mm column
-    double inner_radius_m = 4e-3;              ///< R_i, spiral_helix only [m], (0, 1]
-    double period_angle_rad = std::numbers::pi / 2; ///< φ_rs, spiral/radial only [rad], (0, 2π]
+struct WireSpec : engine::WireMaterial, engine::PatternParams {
     double clearance_m = 1e-3;                 ///< gap kept to the membrane beyond r_w [m], [0, 0.1]
     /// ε_y = σ_y/E_w, yield strain of the wire in bending, (0, 1]: every joint is an
     /// elastic–perfectly-plastic hinge that yields at ζ_y = ε_y l_w / r_w, so the
@@ -163,14 +162,11 @@ struct WireSpec {
     friend bool operator==(const WireSpec&, const WireSpec&) = default;
 };
 
-/// The membrane (the model spec §2, §3).
-struct MembraneSpec {
-    double thickness_m = 1e-3;                 ///< d [m], (0, 0.01]
-    double mesh_size_m = 1.25e-3;              ///< l_m, edge of the triangular mesh [m], (0, 0.1]
-    double youngs_modulus_pa = 1e8;            ///< E_m [Pa], (0, 1e13]
-    double poisson_ratio = 0.0;                ///< ν_m, (-1, 0.5]
-    double density_kg_per_m3 = 1000.0;         ///< ρ_m [kg/m³], (0, 1e5]
-    MembraneEdges edges = MembraneEdges::tension_only; ///< edge law
+/// The membrane (the model spec §2, §3). Its material and mesh are the
+/// engine's own (engine/forces/membrane_material.hpp: thickness_m,
+/// mesh_size_m, youngs_modulus_pa, poisson_ratio, density_kg_per_m3, edges,
+/// with their defaults), read into directly.
+struct MembraneSpec : engine::MembraneMaterial {
     /// r_m, contact radius of a node [m], (0, 0.01]; nullopt (JSON null or
     /// absent): thickness_m / 2, following the thickness. See
     /// membrane_contact_radius_m.
@@ -202,15 +198,11 @@ struct PouringSpec {
     friend bool operator==(const PouringSpec&, const PouringSpec&) = default;
 };
 
-/// The specimen: membrane, grains, wire and how they are poured.
-struct SpecimenSpec {
-    double membrane_radius_m = 0.02;           ///< R [m], (0, 1]
-    double membrane_height_m = 0.12;           ///< H_m [m], (0, 10]
-    /// N_p, [1, 1e8]. 8000, not the paper's 1000: the model spec §8.
-    std::uint64_t grain_count = 8000;
-    double grain_radius_m = 1.23e-3;           ///< r_p, mean radius [m], [1e-5, 0.1]
-    /// s: radii uniform in r_p (1 ± s); 0 = monodisperse. [0, 0.5).
-    double grain_radius_spread = 0.0;
+/// The specimen: membrane, grains, wire and how they are poured. Its size
+/// is the engine's own (engine/specimen/specimen_size.hpp: membrane_radius_m,
+/// membrane_height_m, grain_count, grain_radius_m, grain_radius_spread, with
+/// their defaults), read into directly.
+struct SpecimenSpec : engine::SpecimenSize {
     /// Grain sizes from a curve instead of r_p and s (which must then be
     /// left out of the JSON; reference_grain_radius_m stands for r_p).
     std::optional<GrainSizesSpec> grain_sizes;

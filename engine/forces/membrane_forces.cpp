@@ -19,7 +19,7 @@ void build_membrane(World& w, const MembraneSpec& spec)
     m.height_m = spec.height_m;
     m.base_z_m = spec.base_z_m;
     m.edge_stiffness_n_per_m = membrane_edge_stiffness_n_per_m(spec.youngs_modulus_pa, spec.thickness_m);
-    m.edge_law = spec.edge_law;
+    m.edge_law = spec.edges;
     const std::uint8_t material = add_material(w, Material{spec.youngs_modulus_pa, spec.poisson_ratio, spec.density_kg_per_m3});
 
     // Columns from the circumference, rows so that the row spacing is

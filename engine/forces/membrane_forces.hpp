@@ -4,23 +4,20 @@
 // its effective confining pressure.
 #pragma once
 
+#include "forces/membrane_material.hpp"
 #include "parallel/thread_pool.hpp"
 #include "state/world.hpp"
 
 namespace wiredem::engine {
 
-/// Membrane parameters (the model spec §2–§3); masses × density_scale.
-struct MembraneSpec {
+/// Membrane parameters (the model spec §2–§3): the material and mesh as a
+/// job gives them (MembraneMaterial, membrane_material.hpp), then the
+/// cylinder's size and place and what the job derives; masses × density_scale.
+struct MembraneSpec : MembraneMaterial {
     double radius_m = 20e-3;            ///< R
     double height_m = 0.12;             ///< H_m
     double base_z_m = 0.0;              ///< z of the bottom row
-    double mesh_size_m = 1.25e-3;       ///< l_m, target edge length
-    double thickness_m = 1e-3;          ///< d
-    double youngs_modulus_pa = 1e8;     ///< E_m
-    double poisson_ratio = 0.0;         ///< ν_m (for contacts only; see docs/model.md)
-    double density_kg_per_m3 = 1000.0;  ///< ρ_m
     double contact_radius_m = 0.5e-3;   ///< r_m, default d/2
-    MembraneEdgeLaw edge_law = MembraneEdgeLaw::tension_only;
     double density_scale = 1.0;
 };
 

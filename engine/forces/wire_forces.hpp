@@ -20,6 +20,7 @@
 // viscous damping: it dissipates only relative motion of neighbouring nodes.
 #pragma once
 
+#include "forces/wire_material.hpp"
 #include "parallel/thread_pool.hpp"
 #include "state/world.hpp"
 
@@ -30,12 +31,10 @@
 namespace wiredem::engine {
 
 /// Wire parameters (the model spec §2); masses are multiplied by density_scale.
-struct WireSpec {
-    double radius_m = 0.5e-3;
-    double segment_length_m = 1.25e-3;
-    double youngs_modulus_pa = 1e9;
-    double poisson_ratio = 0.0;
-    double density_kg_per_m3 = 1000.0;
+/// The material as a job gives it (WireMaterial, wire_material.hpp), then
+/// what the job derives: the mass scaling and the wire's two strains as
+/// numbers.
+struct WireSpec : WireMaterial {
     double density_scale = 1.0;
     /// ε_y = σ_y/E_w, the wire's yield strain in bending; the joints are
     /// elastic–perfectly-plastic hinges with ζ_y = ε_y l_w / r_w (docs/model.md,

@@ -19,7 +19,7 @@ std::string_view pattern_name(PatternKind kind) { return to_string(kind); }
 
 double pattern_reach_m(const PatternSpec& p)
 {
-    switch (p.kind) {
+    switch (p.pattern) {
     case PatternKind::none: return 0.0;
     case PatternKind::spiral_helix: return p.helix_radius_m + p.inner_radius_m;
     case PatternKind::toolpath: {
@@ -46,7 +46,7 @@ Vec3 turned(const Vec3& x, double angle_rad)
 
 NozzlePath::NozzlePath(const PatternSpec& spec, double hairpin_gap_m) : spec_(spec), hairpin_gap_m_(hairpin_gap_m)
 {
-    if (spec_.kind != PatternKind::toolpath) return;
+    if (spec_.pattern != PatternKind::toolpath) return;
     std::vector<Vec3>& points = spec_.toolpath_m;
     for (Vec3& x : points) x.z() = 0.0;
     // Legs: point i to point i + 1, and the last point to the next layer's first.
@@ -126,7 +126,7 @@ double NozzlePath::spiral_angle(double s_m) const
 Vec3 NozzlePath::at(double s_m) const
 {
     const double ra = spec_.helix_radius_m;
-    switch (spec_.kind) {
+    switch (spec_.pattern) {
     case PatternKind::none:
         return Vec3::Zero();
     case PatternKind::toolpath:

@@ -6,6 +6,7 @@
 
 #include "core/types.hpp"
 #include "specimen/pattern_kind.hpp"
+#include "specimen/pattern_params.hpp"
 
 #include <string>
 #include <vector>
@@ -17,14 +18,10 @@ namespace wiredem::engine {
 [[nodiscard]] bool parse_pattern_kind(std::string_view name, PatternKind& out);
 [[nodiscard]] std::string_view pattern_name(PatternKind kind);
 
-/// The pattern's parameters. Defaults fit a 20 mm-radius membrane.
-struct PatternSpec {
-    PatternKind kind = PatternKind::helix;
-    double helix_radius_m = 12e-3;          ///< R_a
-    double inner_radius_m = 4e-3;           ///< R_i (spiral_helix)
-    double period_angle_rad = 1.5707963267948966; ///< φ_rs (spiral and radial): π/2
-    double angular_speed_rad_per_s = 300.0; ///< ω; path speed ω R_a
-    double rise_speed_m_per_s = 0.5;        ///< v_z^w, the nozzle's largest rise speed
+/// The pattern's parameters: those a job gives as they are (PatternParams,
+/// pattern_params.hpp; defaults fit a 20 mm-radius membrane), then a
+/// toolpath's polyline.
+struct PatternSpec : PatternParams {
     /// toolpath: one layer of the nozzle's path, a polyline of points (x, y)
     /// in the column's frame (z is ignored) [m], at least two of them apart.
     /// The nozzle walks it from the first point to the last, then straight on
@@ -54,7 +51,7 @@ public:
     /// (helix and spiral helix; the spiral's small circle is at ψ = 2πΘ/φ_rs).
     [[nodiscard]] double large_angle(double s_m) const
     {
-        return spec_.kind == PatternKind::spiral_helix ? spiral_angle(s_m) : s_m / spec_.helix_radius_m;
+        return spec_.pattern == PatternKind::spiral_helix ? spiral_angle(s_m) : s_m / spec_.helix_radius_m;
     }
     /// The path length of one layer of a toolpath [m] (0 for the other patterns).
     [[nodiscard]] double layer_length_m() const { return layer_m_; }

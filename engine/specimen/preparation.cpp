@@ -102,7 +102,7 @@ public:
     /// the chain runs into itself).
     void advance(World& w, double dt, double target_z_m)
     {
-        const double dz_max = spec_.pattern.rise_speed_m_per_s * dt;
+        const double dz_max = spec_.pattern.nozzle_rise_speed_m_per_s * dt;
         st_.z_m += std::clamp(target_z_m - st_.z_m, -dz_max, dz_max);
         st_.path_m += path_.speed_m_per_s() * dt;
         // A node each time the nozzle has travelled one segment length along
@@ -359,7 +359,7 @@ private:
             set_motion(w, {BodyKind::wire, static_cast<std::uint32_t>(n - 2)}, Motion::dynamic);
             return;
         }
-        const double step = spec_.pattern.rise_speed_m_per_s * dt;
+        const double step = spec_.pattern.nozzle_rise_speed_m_per_s * dt;
         const Vec3 target = base + std::min(l, length + step) * towards(base, towards_m);
         Vec3 move = target - at;
         if (const double m = move.norm(); m > step) move *= step / m;
@@ -437,7 +437,7 @@ Column empty_column(const PreparationSpec& spec)
     const double R = spec.membrane_radius_m;
     const double r_max = largest_grain_radius_m(spec);
     const double r_m = spec.membrane.contact_radius_m;
-    const bool with_wire = spec.pattern.kind != PatternKind::none;
+    const bool with_wire = spec.pattern.pattern != PatternKind::none;
     Column c;
     World& w = c.world;
     w.integrator = spec.integrator;
@@ -493,7 +493,7 @@ std::optional<std::string> preparation_error(const PreparationSpec& spec)
 {
     const double R = spec.membrane_radius_m;
     const double r_m = spec.membrane.contact_radius_m;
-    const bool with_wire = spec.pattern.kind != PatternKind::none;
+    const bool with_wire = spec.pattern.pattern != PatternKind::none;
     if (with_wire && !(pattern_reach_m(spec.pattern) < wire_reach_limit_m(spec)))
         return "the wire pattern reaches " + std::to_string(pattern_reach_m(spec.pattern) * 1e3)
              + " mm from the axis; it must stay below the membrane radius less the membrane nodes' contact radius, "
@@ -505,9 +505,9 @@ std::optional<std::string> preparation_error(const PreparationSpec& spec)
              + " mm, not above the " + std::to_string(wire_cover_height_m(spec) * 1e3)
              + " mm of grains poured over the wire's end: the nozzle would lay no wire";
     if (!(spec.fill_rate_m_per_s > 0.0)) return std::string("the fill rate must be positive");
-    if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.rise_speed_m_per_s)
+    if (with_wire && spec.fill_rate_m_per_s > max_fill_rate_per_rise_speed * spec.pattern.nozzle_rise_speed_m_per_s)
         return "the fill rate " + std::to_string(spec.fill_rate_m_per_s) + " m/s is too fast for the nozzle, which "
-             + "rises at most " + std::to_string(spec.pattern.rise_speed_m_per_s)
+             + "rises at most " + std::to_string(spec.pattern.nozzle_rise_speed_m_per_s)
              + " m/s and must follow the pile's uneven top: at most 0.6 times that";
     if (required_membrane_height_m(spec) > spec.membrane_height_m)
         return "the grains fill about " + std::to_string(estimated_fill_height_m(spec) * 1e3)
@@ -528,7 +528,7 @@ Result<PreparationReport, std::string> prepare_specimen(
     const double R = spec.membrane_radius_m;
     const double r_max = largest_grain_radius_m(spec);
     const double r_m = spec.membrane.contact_radius_m;
-    const bool with_wire = spec.pattern.kind != PatternKind::none;
+    const bool with_wire = spec.pattern.pattern != PatternKind::none;
     if (auto e = preparation_error(spec)) return Err(*e);
     const double fill_height = estimated_fill_height_m(spec);
     const double wire_cover_m = wire_cover_height_m(spec);
@@ -864,14 +864,14 @@ double wire_laying_height_m(const PreparationSpec& spec)
 double estimated_wire_length_m(const PreparationSpec& spec)
 {
     const double laying_m = wire_laying_height_m(spec);
-    if (spec.pattern.kind == PatternKind::none || !(laying_m > 0.0)) return 0.0;
+    if (spec.pattern.pattern == PatternKind::none || !(laying_m > 0.0)) return 0.0;
     const double pour_time_s = laying_m / spec.fill_rate_m_per_s;
     return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * pour_time_s;
 }
 
 double fill_rate_for_wire_length_m_per_s(const PreparationSpec& spec, double wire_length_m)
 {
-    if (spec.pattern.kind == PatternKind::none) return 0.0;
+    if (spec.pattern.pattern == PatternKind::none) return 0.0;
     return spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * std::max(0.0, wire_laying_height_m(spec))
          / wire_length_m;
 }

@@ -14,6 +14,7 @@
 #include "specimen/grain_sizes.hpp"
 #include "state/clump_shape.hpp"
 #include "specimen/pattern.hpp"
+#include "specimen/specimen_size.hpp"
 #include "timestep.hpp"
 
 #include <cstdint>
@@ -23,12 +24,9 @@
 
 namespace wiredem::engine {
 
-struct PreparationSpec {
-    double membrane_radius_m = 20e-3;
-    double membrane_height_m = 0.12;
-    std::size_t grain_count = 8000;
-    double grain_radius_m = 1.23e-3;
-    double grain_radius_spread = 0.0;      ///< radii uniform in r (1 ± spread)
+/// What the preparation pours: the specimen's size as a job gives it
+/// (SpecimenSize, specimen_size.hpp), then the rest.
+struct PreparationSpec : SpecimenSize {
     /// When set, the grains' diameters are drawn from this curve instead
     /// (grain_radius_m and grain_radius_spread are then not used for sizes;
     /// smallest_grain_radius_m and the functions after it read either).
@@ -54,7 +52,7 @@ struct PreparationSpec {
     /// Speed at which the fill height rises while pouring [m/s]; sets the
     /// pouring time and therefore the length of wire laid: a helix's pitch
     /// is 2π v_fill / ω. At most max_fill_rate_per_rise_speed ×
-    /// pattern.rise_speed_m_per_s with a wire (the nozzle keeps up with the
+    /// pattern.nozzle_rise_speed_m_per_s with a wire (the nozzle keeps up with the
     /// pile); the job field's default, 0.25 m/s, is half the paper's v_z^w.
     double fill_rate_m_per_s = 0.25;
     /// Grains enter the pouring zone moving down at this speed, or at 2.5 ×

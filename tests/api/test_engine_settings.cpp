@@ -34,8 +34,8 @@ TEST(EngineSettings, IntegratorReachesThePreparationAndSoEveryTest)
 
 TEST(EngineSettings, MembraneEdgeLawReachesThePreparation)
 {
-    EXPECT_EQ(api::preparation_spec(parse("{}")).membrane.edge_law, engine::MembraneEdgeLaw::tension_only);
-    EXPECT_EQ(api::preparation_spec(parse(R"({"specimen": {"membrane": {"edges": "linear"}}})")).membrane.edge_law,
+    EXPECT_EQ(api::preparation_spec(parse("{}")).membrane.edges, engine::MembraneEdgeLaw::tension_only);
+    EXPECT_EQ(api::preparation_spec(parse(R"({"specimen": {"membrane": {"edges": "linear"}}})")).membrane.edges,
         engine::MembraneEdgeLaw::linear);
 }
 

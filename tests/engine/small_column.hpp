@@ -20,7 +20,7 @@ inline PreparationSpec small_column(PatternKind kind, std::size_t grains)
     s.membrane_radius_m = 8e-3;
     s.membrane_height_m = 0.04;
     s.grain_count = grains;
-    s.pattern.kind = kind;
+    s.pattern.pattern = kind;
     s.pattern.helix_radius_m = 4e-3;
     s.pattern.inner_radius_m = 1.5e-3;
     s.density_scale = 100.0;

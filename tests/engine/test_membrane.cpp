@@ -101,7 +101,7 @@ BedResult press_membrane_onto_a_bed_of_grains(MembraneEdgeLaw law, double pressu
     World& w = sim.world;
     w.gravity_m_per_s2 = Vec3::Zero();
     MembraneSpec spec = small_membrane(10e-3, 10e-3);
-    spec.edge_law = law;
+    spec.edges = law;
     build_membrane(w, spec);
     const MembraneMesh& m = w.membrane;
     const std::uint8_t grain_mat = add_material(w, Material{});
@@ -277,7 +277,7 @@ TEST(MembraneStability, AutomaticTimeStepKeepsAPressurisedMembraneFromGainingEne
     w.gravity_m_per_s2 = Vec3::Zero();
     // Linear edges: a tension-only sheet with nothing inside would collapse.
     MembraneSpec spec = small_membrane(5e-3, 8e-3);
-    spec.edge_law = MembraneEdgeLaw::linear;
+    spec.edges = MembraneEdgeLaw::linear;
     build_membrane(w, spec);
     set_membrane_rigid(w, false);
     w.dt_s = stable_time_step(w).auto_s;

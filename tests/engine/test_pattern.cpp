@@ -15,7 +15,7 @@ namespace {
 PatternSpec pattern(PatternKind kind)
 {
     PatternSpec p;
-    p.kind = kind;
+    p.pattern = kind;
     return p; // defaults: R_a = 12 mm, R_i = 4 mm, φ_rs = π/2
 }
 
@@ -114,7 +114,7 @@ namespace {
 PatternSpec toolpath(std::vector<Vec3> points, double turn_rad = 0.0)
 {
     PatternSpec p;
-    p.kind = PatternKind::toolpath;
+    p.pattern = PatternKind::toolpath;
     p.toolpath_m = std::move(points);
     p.toolpath_rotation_per_layer_rad = turn_rad;
     return p;

@@ -317,7 +317,7 @@ PreparationSpec quarter_helix_column(std::uint64_t seed)
     spec.membrane_radius_m = 0.02;
     spec.membrane_height_m = 0.045;
     spec.grain_count = 2000;
-    spec.pattern.kind = PatternKind::helix;
+    spec.pattern.pattern = PatternKind::helix;
     spec.density_scale = 100.0;
     spec.wire_mass_scale = 400.0;
     spec.membrane.density_kg_per_m3 = 20000.0; // as examples/paper-helix.json
@@ -445,7 +445,7 @@ TEST(PreparationNozzle, LaysItsWholePathWhateverTheSeed)
         expect_sound_specimen(sim.world, spec, r.value());
         const double l = spec.wire.segment_length_m;
         const double pushed_path = spec.pattern.angular_speed_rad_per_s * spec.pattern.helix_radius_m * 0.95 * l
-                                 / spec.pattern.rise_speed_m_per_s;
+                                 / spec.pattern.nozzle_rise_speed_m_per_s;
         EXPECT_GT(r.value().wire_length_m, r.value().nozzle_path_m - l - pushed_path) << "seed " << seed;
         EXPECT_LT(r.value().wire_length_m, r.value().nozzle_path_m + l) << "seed " << seed;
     }
@@ -656,7 +656,7 @@ TEST(Preparation, RejectsAPatternThatDoesNotFitInsideTheMembrane)
 TEST(Preparation, RejectsAFillRateTheNozzleCannotFollow)
 {
     PreparationSpec spec = small_column(PatternKind::helix, 150);
-    spec.fill_rate_m_per_s = 0.61 * spec.pattern.rise_speed_m_per_s; // at most 0.6 ×
+    spec.fill_rate_m_per_s = 0.61 * spec.pattern.nozzle_rise_speed_m_per_s; // at most 0.6 ×
     Simulation sim(1);
     const auto r = prepare_specimen(sim, spec);
     ASSERT_FALSE(r.ok());
@@ -679,6 +679,6 @@ TEST(Preparation, RefusesAWireWhenTheGrainsDoNotRiseAboveItsCover)
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("the nozzle would lay no wire"), std::string::npos) << r.error();
     EXPECT_FALSE(preparation_error(small_column(PatternKind::helix, 150)).has_value());
-    spec.pattern.kind = PatternKind::none;
+    spec.pattern.pattern = PatternKind::none;
     EXPECT_FALSE(preparation_error(spec).has_value());
 }

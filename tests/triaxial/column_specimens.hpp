@@ -131,7 +131,7 @@ inline std::size_t build_grain_stack(Simulation& sim, double press_m, MembraneEd
     const double r = grain_radius_m, top_m = 2.0 * r * stack_grains;
     for (int k = 0; k < stack_grains; ++k) add_grain(w, Vec3(0, 0, r + 2.0 * r * k), r, grain_mat);
     MembraneSpec membrane = test_membrane(8e-3, top_m + 2e-3);
-    membrane.edge_law = edges;
+    membrane.edges = edges;
     build_membrane(w, membrane);
     set_membrane_rigid(w, true);
     const std::size_t top = add_wall(w, make_plate(top_m - press_m, -1.0, plate_mat));
