@@ -70,6 +70,9 @@ engine::StabilityInputs stability_inputs(const JobSpec& spec)
     if (const auto* given = std::get_if<NormalDampingTime>(&spec.contact.normal_damping))
         in.normal_damping_s = given->normal_damping_s;
     in.integrator = spec.engine.integrator;
+    in.tangential_stiffness_per_m = spec.contact.tangential.stiffness_per_m;
+    in.friction_coeff = spec.contact.tangential.friction_coeff;
+    in.rolling_stiffness_factor = spec.contact.rolling.on() ? spec.contact.rolling.stiffness_factor : 0.0;
     const double membrane_node_kg = membrane_node_mass_kg(s.membrane) * scale;
     in.kinds[2].include(membrane_node_kg, false, membrane_contact_radius_m(s.membrane), plane_modulus_pa(s.membrane));
     in.membrane_edge_stiffness_n_per_m

@@ -54,7 +54,10 @@ inline constexpr double gear5_damping_limit = 0.13;
 /// drift of the undamped oscillator below 10⁻³ over 2·10⁵ steps. `auto` never
 /// exceeds the damped critical step either (StableStep::auto_s): damping does
 /// not ask for more steps per period, it lowers the ceiling (a restitution of
-/// 0.2 or less blew Gear-5 up at ω δt = 0.15).
+/// 0.2 or less blew Gear-5 up at ω δt = 0.15). Nor the tangential and rolling
+/// springs' critical step, their own ω δt = 0.3: a sticking spring has to
+/// stay bounded, not be resolved (docs/model.md, "The tangential and rolling
+/// springs in the step").
 inline constexpr double auto_time_step_fraction = 0.5;
 
 /// Reference overlap for the Hertz stiffness, as a fraction of R*.
@@ -71,9 +74,21 @@ struct StabilityInputs {
         double min_mass_kg = std::numeric_limits<double>::infinity();   ///< lightest moving body [kg]
         double min_radius_m = std::numeric_limits<double>::infinity();  ///< smallest body, held or not [m]
         double max_plane_modulus_pa = 0.0;  ///< stiffest E/(1−ν²), held or not [Pa]
+        /// Largest tangential mobility of a moving body, the sideways
+        /// displacement of its contact point per unit force: 1/m + a²/I
+        /// with the lever arm a bounded by r (1/m for a body that does not
+        /// turn; a clump's sphere 1/M + (|b| + r)²/I_min) [1/kg]
+        double max_tangential_mobility_per_kg = 0.0;
+        /// Largest 1/I of a moving body that turns (a clump's sphere: its
+        /// clump's 1/I_min): the rolling spring k_r = f_r K R*² turns it at
+        /// k_r/I [1/(kg·m²)]
+        double max_inverse_inertia_per_kg_m2 = 0.0;
 
-        /// Folds in one body.
+        /// Folds in one body that does not turn (a node): its tangential mobility is 1/m.
         void include(double mass_kg, bool held, double radius_m, double plane_modulus_pa);
+        /// Folds in one body that turns (a grain), with its tangential mobility and 1/I.
+        void include(double mass_kg, bool held, double radius_m, double plane_modulus_pa,
+            double tangential_mobility_per_kg, double inverse_inertia_per_kg_m2);
     };
     std::array<Kind, body_kind_count> kinds{};
     KindMatrix kinds_interact = default_kinds_interact;
@@ -86,6 +101,13 @@ struct StabilityInputs {
     /// mass m has the damping ratio ζ = ω γ_n / 3, ω = √(K/m) [s]
     double normal_damping_s = 0.0;
     Integrator integrator = Integrator::gear5;      ///< whose bound applies (damped_stability_limit)
+    /// k_t of the tangential spring F_t = −k_t F_n δ_t: its stiffness is
+    /// K = k_t F_n, at the normal force of the reference overlap [1/m]
+    double tangential_stiffness_per_m = 0.0;
+    double friction_coeff = 0.0;                    ///< μ of body–body contacts (0: no tangential spring)
+    std::vector<double> wall_friction_coeffs;       ///< μ of each wall's contacts, in wall order
+    /// f_r of the rolling spring k_r = f_r K R*² while the rolling law is on; 0 when it is off
+    double rolling_stiffness_factor = 0.0;
 };
 
 /// How stability_inputs(World) treats the membrane.
@@ -99,16 +121,27 @@ enum class MembraneAs : std::uint8_t {
 
 /// The stable time step and where it comes from.
 struct StableStep {
-    double critical_s = 0.0;   ///< largest stable δt, damping included [s]
-    /// The same without damping: gear5_stability_limit over the highest ω [s]
+    /// Largest stable δt, damping included, of the normal contacts, the
+    /// wire, the membrane and the tangential and rolling springs [s]
+    double critical_s = 0.0;
+    /// The same without damping and without the tangential and rolling
+    /// springs: gear5_stability_limit over the highest ω of the normal
+    /// contacts, the wire and the membrane, the oscillations `auto`
+    /// resolves [s]
     double undamped_critical_s = 0.0;
+    /// The tangential and rolling springs' own critical step,
+    /// gear5_stability_limit over their highest ω (undamped); infinity
+    /// without a spring [s]
+    double springs_critical_s = std::numeric_limits<double>::infinity();
     /// What `auto` uses: auto_time_step_fraction × undamped_critical_s, or
-    /// critical_s where damping brings that lower [s]
+    /// critical_s where damping or the tangential and rolling springs bring
+    /// that lower [s]
     double auto_s = 0.0;
     std::string limited_by;    ///< what sets critical_s, e.g. "wire segments", "grain–grain contacts"
 
     /// Whether damping brings the critical step below
-    /// min_damped_step_fraction of the undamped one (overdamped_error).
+    /// min_damped_step_fraction of the undamped one, springs included
+    /// (overdamped_error): a step the springs set is no damping's doing.
     [[nodiscard]] bool overdamped() const;
 };
 
@@ -127,7 +160,11 @@ inline constexpr double min_damped_step_fraction = 0.1;
 /// stiffest material pair, smallest radius of each kind; body–wall contacts),
 /// damped by γ_n, and from the springs: the highest chain mode of the wire,
 /// ω² = 4 k_elo/m_w, damped by its ratio, and a membrane node's six edges,
-/// bounded (Gershgorin) by ω² ≤ 12 k_m/m_m.
+/// bounded (Gershgorin) by ω² ≤ 12 k_m/m_m; and, undamped, the sticking
+/// tangential and rolling springs of each contact at the normal force of
+/// the reference overlap, not of an impact's (tangential_omega2 on the
+/// more mobile side, with the kind's largest mobility: docs/model.md, "The
+/// tangential and rolling springs in the step").
 /// @param impact_speed_m_per_s  fastest expected impact: the Hertz stiffness is
 ///        taken at the larger of the reference overlap and the maximum overlap
 ///        of a collision at this speed (heavy, density-scaled grains falling
@@ -155,6 +192,39 @@ struct LiveContactLimit {
     double reference_overlap_m = 0.0;
     std::string kinds;                ///< "grain–grain", "grain–wall", …
 };
+
+/// The stiffest live sticking spring, and the step it allows: what
+/// stable_time_step says of a contact's tangential and rolling springs, at
+/// the contact's own normal force instead of the one expected (docs/model.md,
+/// "The tangential and rolling springs in the step"). Reported, not a stop:
+/// a sticking spring beyond Gear-5's bound breaks at |δ_t| = μ/k_t and
+/// slides with |F_t| ≤ μ F_n, so it chatters, bounded, where a normal
+/// contact diverges.
+struct LiveSpringLimit {
+    /// gear5_stability_limit over the highest ω of the sticking contacts'
+    /// springs (undamped); infinity with none [s]
+    double critical_s = std::numeric_limits<double>::infinity();
+    double normal_force_n = 0.0;      ///< that contact's F_n [N]
+    double stiffness_n_per_m = 0.0;   ///< its tangential spring K = k_t F_n [N/m]
+    double omega2_per_s2 = 0.0;       ///< its ω² (tangential_omega2 of its more mobile side) [1/s²]
+    std::string kinds;                ///< "grain–grain", "grain–wall", …
+};
+
+/// The stiffest live contact and the stiffest live sticking spring, from one pass.
+struct LiveLimits {
+    LiveContactLimit contact;
+    LiveSpringLimit springs;
+};
+
+/// The stiffest live contact of `w` (LiveContactLimit) and, in the same
+/// pass, its stiffest sticking spring (LiveSpringLimit): every touching
+/// contact whose tangential spring sticks (μ > 0), with K = k_t F_n from
+/// this step's |F_n|, on the more mobile of its moving sides (1/m + a²/I,
+/// a = r − ξ/2; a clump's sphere bounded by 1/M + (|b| + a)²/I_min; a node
+/// 1/m) and, while the rolling law is on, the rolling spring's f_r K R*²/I
+/// on a grain side: as stable_time_step takes a contact's springs.
+/// Threads and blocks as live_contact_limit.
+[[nodiscard]] LiveLimits live_limits(const World& w, ThreadPool& pool);
 
 /// The stiffest live contact of `w` (LiveContactLimit): every touching
 /// contact of the list with a moving side, its tangent stiffness
@@ -190,6 +260,15 @@ inline constexpr std::uint64_t live_check_steps = 10;
 /// every run that ended end and stops every one that blew up, at the check
 /// where it runs away at the latest, with finite values.
 inline constexpr double live_contact_tolerance = 1.5;
+
+/// The warning of a column test whose step `dt_s` exceeds the live springs'
+/// limit `springs` by more than live_contact_tolerance, `after` saying when:
+/// the ratio, the contact and the fields to change
+/// (contact.tangential_stiffness_per_m, engine.time_step_s). Recorded once
+/// per test; the test goes on.
+/// Words every live_spring_warning holds: how a continued test finds that it has one.
+inline constexpr const char* live_spring_warning_marker = "of the stiffest sticking tangential and rolling springs";
+[[nodiscard]] std::string live_spring_warning(const LiveSpringLimit& springs, double dt_s, const std::string& after);
 
 /// What to tell a run whose step `dt_s` exceeds the live limit `live` by more
 /// than live_contact_tolerance, `after` saying when ("after 1200 steps of

@@ -1,7 +1,7 @@
 // The oscillation of a contact's tangential and rolling springs (issue 42
-// item 4; docs/model.md, "The tangential and rolling springs are not in the
-// step"). Not yet used by the time step: counting it changes the golden
-// hashes of the reference columns, which waits for a decision.
+// item 4; docs/model.md, "The tangential and rolling springs in the step"):
+// the stable time step (stable_time_step) and a column test's live check
+// (live_limits) take it.
 #pragma once
 
 namespace wiredem::engine {

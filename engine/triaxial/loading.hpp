@@ -9,6 +9,7 @@
 #include "simulation.hpp"
 #include "timestep.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -35,7 +36,10 @@ public:
     ColumnTestStepper(Simulation& sim, const RunControl& control, const BetweenSteps& between_steps, State& st,
         std::string test, std::chrono::steady_clock::time_point wall_start)
         : sim_(sim), control_(control), between_steps_(between_steps), st_(st), test_(std::move(test)),
-          wall_start_(wall_start)
+          wall_start_(wall_start),
+          // A test continued from a checkpoint has its warnings: the springs' is not repeated.
+          springs_reported_(std::any_of(st.result.warnings.begin(), st.result.warnings.end(),
+              [](const std::string& w) { return w.find(live_spring_warning_marker) != std::string::npos; }))
     {
     }
     /// The stepper keeps a reference to `between_steps`: a temporary (`{}`)
@@ -50,7 +54,9 @@ public:
     /// `prescribe()` sets what the phase prescribes for the step (pressure,
     /// plate and node velocities). After it, a blow-up is an error, so is a
     /// step more than live_contact_tolerance times the limit of the
-    /// stiffest live contact (live_contact_limit, every live_check_steps), and
+    /// stiffest live contact (live_limits, every live_check_steps); a step
+    /// more than that beyond the stiffest sticking spring's limit is a
+    /// warning in the test's result (`State::result.warnings`), once; and
     /// progress is reported every control.progress_every steps as
     /// `progress_of()`, a (done, total) pair.
     /// @return an error message, or nothing
@@ -75,10 +81,19 @@ public:
         // beyond the overlap its step was set for stops here with what to
         // change, before Gear-5 diverges (docs/model.md, "The stiffest live
         // contact"). It reads the World only: results do not change.
+        // The stiffest sticking tangential and rolling springs are reported
+        // once per test, not stopped on: beyond Gear-5's bound such a spring
+        // breaks at its friction limit and slides, bounded (docs/model.md,
+        // "The tangential and rolling springs in the step").
         if (st_.steps % live_check_steps == 0) {
-            const LiveContactLimit live = live_contact_limit(sim_.world, sim_.pool());
-            if (sim_.world.dt_s > live_contact_tolerance * live.critical_s)
-                return live_contact_error(live, sim_.world.dt_s, "after " + std::to_string(st_.steps) + " steps of " + test_);
+            const LiveLimits live = live_limits(sim_.world, sim_.pool());
+            const std::string after = "after " + std::to_string(st_.steps) + " steps of " + test_;
+            if (sim_.world.dt_s > live_contact_tolerance * live.contact.critical_s)
+                return live_contact_error(live.contact, sim_.world.dt_s, after);
+            if (!springs_reported_ && sim_.world.dt_s > live_contact_tolerance * live.springs.critical_s) {
+                st_.result.warnings.push_back(live_spring_warning(live.springs, sim_.world.dt_s, after));
+                springs_reported_ = true;
+            }
         }
         if (control_.progress && control_.progress_every > 0 && st_.steps % control_.progress_every == 0) {
             const auto [done, total] = progress_of();
@@ -102,6 +117,7 @@ private:
     State& st_;
     std::string test_;
     std::chrono::steady_clock::time_point wall_start_;
+    bool springs_reported_ = false; ///< the live springs' warning is in the test's warnings
     bool first_of_run_ = true;
 };
 

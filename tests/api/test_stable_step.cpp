@@ -62,7 +62,7 @@ TEST(StableStep, TheEstimateLeavesTheContactsDampingToTheRun)
     s.specimen.wire.pattern = WirePattern::none;
     s.specimen.membrane.youngs_modulus_pa = 1e4; // the contacts set the step
     const StableStep light = stable_time_step(s);
-    ASSERT_EQ(light.limited_by, "grain–grain contacts");
+    ASSERT_EQ(light.limited_by.rfind("grain–grain", 0), 0u) << light.limited_by; // the contacts or their springs
     s.contact.normal_damping = NormalRestitution{0.05, 0.1};
     EXPECT_EQ(stable_time_step(s).auto_s, light.auto_s);
 }
@@ -93,7 +93,9 @@ TEST(StableStep, StiffGrainsTakeOverFromASoftWire)
     s.specimen.wire.youngs_modulus_pa = 1e6;
     s.specimen.membrane.youngs_modulus_pa = 1e5;
     s.specimen.grain.youngs_modulus_pa = 1e12;
-    EXPECT_EQ(stable_time_step(s).limited_by, "grain–grain contacts");
+    // The contacts, or at their reference load their tangential springs
+    // (docs/model.md, "The tangential and rolling springs in the step").
+    EXPECT_EQ(stable_time_step(s).limited_by.rfind("grain–grain", 0), 0u) << stable_time_step(s).limited_by;
 }
 
 // A job of clumps: the estimate at the door takes the clump's smallest
@@ -109,7 +111,9 @@ TEST(StableStep, AClumpJobsEstimateIsTheEnginesStepOfItsClumps)
     s.specimen.grain.youngs_modulus_pa = 1e11;
     s.specimen.grain_shape = GrainShapeSpec{"tetrahedral", {}};
     const StableStep door = stable_time_step(s);
-    ASSERT_EQ(door.limited_by, "grain–grain contacts");
+    // The clumps' contacts set the step, through their tangential springs
+    // at the reference load (the sphere's 1/M + (|b| + r)²/I_min).
+    ASSERT_EQ(door.limited_by, "grain–grain tangential and rolling springs");
 
     engine::World w;
     const std::uint8_t grain = engine::add_material(w, engine::Material{s.specimen.grain.youngs_modulus_pa,
@@ -122,16 +126,19 @@ TEST(StableStep, AClumpJobsEstimateIsTheEnginesStepOfItsClumps)
         engine::add_clump(w, clump, engine::Vec3(0.01 * i, 0.0, 0.01),
             engine::Quat(Eigen::AngleAxisd(0.7 * i, engine::Vec3(1.0, 2.0, 3.0).normalized())), grain);
     const StableStep engine_step = engine::stable_time_step(w);
-    EXPECT_EQ(engine_step.limited_by, "grain–grain contacts");
+    EXPECT_EQ(engine_step.limited_by, door.limited_by);
     EXPECT_EQ(door.critical_s, engine_step.critical_s);
+    EXPECT_EQ(door.springs_critical_s, engine_step.springs_critical_s);
     EXPECT_EQ(door.undamped_critical_s, engine_step.undamped_critical_s);
 
     // Spheres of the clumps' volume-equivalent radius (what the door took
     // before) are larger than a clump's spheres (0.808 mm against 1.23 mm)
-    // and heavier than what a clump's contact sees: a longer step.
+    // and heavier than what a clump's contact sees: a longer step of the
+    // normal contacts. (Their tangential springs bind the other way: a
+    // clump's sphere moves sideways less than a lone sphere.)
     JobSpec spheres = s;
     spheres.specimen.grain_shape.reset();
-    EXPECT_LT(door.critical_s, stable_time_step(spheres).critical_s);
+    EXPECT_LT(door.undamped_critical_s, stable_time_step(spheres).undamped_critical_s);
 }
 
 TEST(StableStep, ParserAcceptsTheCriticalStepAndRejectsJustAbove)
