@@ -33,7 +33,6 @@
 
 #include <array>
 #include <cstdint>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -130,7 +129,7 @@ struct WireSpec : engine::WireMaterial, engine::PatternParams {
     /// elastic–perfectly-plastic hinge that yields at ζ_y = ε_y l_w / r_w, so the
     /// nozzle forms the wire plastically (docs/model.md, "Wire"). nullopt
     /// ("elastic" in JSON): the model spec's elastic wire, straight at rest.
-    std::optional<double> bending_yield_strain = 0.05;
+    std::optional<double> bending_yield_strain = engine::default_bending_yield_strain;
     /// L, the length of wire to lay [m], (0, 1e4]; the fill rate then follows
     /// from it (the wire is laid at ω R_a while the fill rises: see
     /// fill_rate_m_per_s below). nullopt: the fill rate sets the length. The

@@ -261,13 +261,13 @@ inline constexpr std::uint64_t live_check_steps = 10;
 /// where it runs away at the latest, with finite values.
 inline constexpr double live_contact_tolerance = 1.5;
 
+/// Words every live_spring_warning holds: how a continued test finds that it has one.
+inline constexpr const char* live_spring_warning_marker = "of the stiffest sticking tangential and rolling springs";
 /// The warning of a column test whose step `dt_s` exceeds the live springs'
 /// limit `springs` by more than live_contact_tolerance, `after` saying when:
 /// the ratio, the contact and the fields to change
 /// (contact.tangential_stiffness_per_m, engine.time_step_s). Recorded once
 /// per test; the test goes on.
-/// Words every live_spring_warning holds: how a continued test finds that it has one.
-inline constexpr const char* live_spring_warning_marker = "of the stiffest sticking tangential and rolling springs";
 [[nodiscard]] std::string live_spring_warning(const LiveSpringLimit& springs, double dt_s, const std::string& after);
 
 /// What to tell a run whose step `dt_s` exceeds the live limit `live` by more

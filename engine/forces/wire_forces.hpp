@@ -38,9 +38,8 @@ struct WireSpec : WireMaterial {
     double density_scale = 1.0;
     /// ε_y = σ_y/E_w, the wire's yield strain in bending; the joints are
     /// elastic–perfectly-plastic hinges with ζ_y = ε_y l_w / r_w (docs/model.md,
-    /// "Wire"). 0.05 is a polyamide-like wire (σ_y = 50 MPa at E_w = 1 GPa);
-    /// +∞ is the specification's elastic wire (straight rest state).
-    double bending_yield_strain = 0.05;
+    /// "Wire"); +∞ is the specification's elastic wire (straight rest state).
+    double bending_yield_strain = default_bending_yield_strain;
     /// ε_b, the strain past which a segment breaks (WireChain::breaking_strain),
     /// > 0; +∞: unbreakable, the model spec's wire.
     double breaking_strain = std::numeric_limits<double>::infinity();

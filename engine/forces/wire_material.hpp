@@ -17,4 +17,10 @@ struct WireMaterial {
     friend bool operator==(const WireMaterial&, const WireMaterial&) = default;
 };
 
+/// ε_y = σ_y/E_w, the wire's yield strain in bending by default: a
+/// polyamide-like wire (σ_y = 50 MPa at E_w = 1 GPa; docs/model.md, "Wire").
+/// The default of both the engine's WireSpec and the job's
+/// specimen.wire.bending_yield_strain (where "elastic" is +∞ here).
+inline constexpr double default_bending_yield_strain = 0.05;
+
 } // namespace wiredem::engine
