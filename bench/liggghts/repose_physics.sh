@@ -27,10 +27,14 @@
 #
 # usage: bench/liggghts/repose_physics.sh [--grains N] [--lattice-radius R] [--rough-base R] [--settle-time S] [--settle-mu-r M]
 #                                         [--hold S] [--lift V] [--rest S] [--mu-r "0.3 0"] [--seeds "1 2"]
-#                                         [--out DIR] [--no-lammps]
+#                                         [--wiredem-kt K] [--out DIR] [--no-lammps]
 #   defaults: 600 grains in a 10 mm tube (a column ~27 mm high), a 35 mm base
 #   (436 grains), settled 0.25 s with μ_r = 0.3; held 0.02 s, lifted at 0.05 m/s (0.32 √(g d)),
 #   0.15 s of rest after; μ_r = 0.3, seed 1. A run is a few minutes of CPU per code.
+#   --wiredem-kt K: wiredem's lift runs with k_t = K [1/m] (its rolling spring
+#   k_r = f_r k_t F_n R*² with it; the start is settled with the paper's k_t as
+#   always); its rows are then named wiredem-ktK. The step follows the springs:
+#   K = 1e7 takes 8.5 times the steps of the paper's 1e5.
 # environment: see peers.sh (WIREDEM_BENCH, LIGGGHTS, LAMMPS, NICE, KEEP).
 set -euo pipefail
 
@@ -48,6 +52,7 @@ mu_rs=0.3
 seeds=1
 out=
 use_lammps=1
+wiredem_kt=
 while [ $# -gt 0 ]; do
     case $1 in
         --grains) grains=$2; shift 2 ;;
@@ -60,6 +65,7 @@ while [ $# -gt 0 ]; do
         --rest) rest_s=$2; shift 2 ;;
         --mu-r) mu_rs=$2; shift 2 ;;
         --seeds) seeds=$2; shift 2 ;;
+        --wiredem-kt) wiredem_kt=$2; shift 2 ;;
         --out) out=$(realpath -m "$2"); shift 2 ;;
         --no-lammps) use_lammps=0; shift ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
@@ -67,6 +73,12 @@ while [ $# -gt 0 ]; do
     esac
 done
 source "$here/peers.sh"
+wiredem_name=wiredem
+wiredem_stiffness=()
+if [ -n "$wiredem_kt" ]; then
+    wiredem_name=wiredem-kt$wiredem_kt
+    wiredem_stiffness=(--tangential-stiffness "$wiredem_kt")
+fi
 
 geometry=(--heap --grains "$grains" --lattice-radius "$lattice_radius" --rough-base "$rough_base"
           --steps 1 --threads 1 --integrators verlet --no-wire-membrane --json)
@@ -91,7 +103,7 @@ for seed in $seeds; do
     echo "seed $seed: δt = $dt s, $base base grains, $time_s s ($steps steps, the lift from step $hold)" >&2
     for mu_r in $mu_rs; do
         tag="r$mu_r.s$seed"
-        nice -n "$nice_level" "$bench" "${geometry[@]}" --rolling-friction "$mu_r" --seed "$seed" \
+        nice -n "$nice_level" "$bench" "${geometry[@]}" --rolling-friction "$mu_r" --seed "$seed" "${wiredem_stiffness[@]}" \
             --packing "$work/$start" --lift-tube "$lift" --tube-hold "$hold_s" --settle-time "$time_s" \
             --liggghts-data "$work/wiredem.$tag.data" > /dev/null 2> "$work/wiredem.$tag.err" &
         pids+=($!)
@@ -109,8 +121,8 @@ done
 for pid in "${pids[@]}"; do wait "$pid" || { echo "a run failed (work directory $work; KEEP=1 keeps it)" >&2; exit 1; }; done
 for t in "${tags[@]}"; do
     read -r mu_r seed tag <<< "$t"
-    runs+=("wiredem/r$mu_r/s$seed=$work/wiredem.$tag.data")
-    energies+=("wiredem/r$mu_r/s$seed $(sed -n 's/.*kinetic energy \([^ ]*\) J.*/\1/p' "$work/wiredem.$tag.err" | tail -n1) $grains")
+    runs+=("$wiredem_name/r$mu_r/s$seed=$work/wiredem.$tag.data")
+    energies+=("$wiredem_name/r$mu_r/s$seed $(sed -n 's/.*kinetic energy \([^ ]*\) J.*/\1/p' "$work/wiredem.$tag.err" | tail -n1) $grains")
     runs+=("LIGGGHTS/r$mu_r/s$seed=$work/liggghts.$tag.dump")
     energies+=("LIGGGHTS/r$mu_r/s$seed $(last_kinetic_energy "$work/liggghts.$tag.log") $(last_atoms "$work/liggghts.$tag.log")")
     if [ "$use_lammps" = 1 ]; then
