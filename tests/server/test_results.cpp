@@ -411,8 +411,13 @@ TEST(LiveSeriesRealRunner, ARunningFreeStandingTestsSeriesGrowsAndIsTheBeginning
     spec["triaxial"].as_object()["confining_pressures_pa"] = json::array{10000};
     spec["triaxial"].as_object()["target_axial_strain"] = 0.01;
     spec["triaxial"].as_object()["snapshot_strains"] = json::array{0.0, 0.01};
-    spec["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.01}, {"removal_distance_m", 0.002},
-        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.05}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
+    // Removal and loading long enough (0.4 s of simulated time, about 70 000
+    // steps, 0.7 s of wall time on one idle core: some 14 checkpoints) that
+    // the 20 ms polls see the series grow even on a loaded machine. With 0.01 s
+    // of removal and a plate at 0.05 m/s the test took 0.1 s of wall time, two
+    // checkpoints, and a loaded CI run saw only one of them.
+    spec["free_standing"] = json::object{{"enabled", true}, {"removal_time_s", 0.2}, {"removal_distance_m", 0.002},
+        {"max_settling_time_s", 0.05}, {"plate_speed_m_per_s", 0.002}, {"target_axial_strain", 0.02}, {"sample_interval_s", 0.001}};
     ServerProcess server(tmp.path() / "data", {"--runner", WIREDEM_CLIENT_BIN, "--jobs", "1", "--threads-per-job", "1",
         "--checkpoint-seconds", "0.05", "--max-steps-per-job", "1e8"});
     const auto r = http(server.port(), "POST", "/v1/jobs", json::serialize(spec));
