@@ -364,7 +364,7 @@ double live_springs_omega2(const World& w, std::size_t p, double& stiffness_n_pe
 
 } // namespace
 
-LiveLimits live_limits(const World& w, ThreadPool& pool)
+LiveLimits live_limits(const World& w, ThreadPool& pool, bool with_springs)
 {
     // Both bounds fall as ω rises (the damped one through ζ = ω γ_n / 3), so
     // the contact of the largest ω² = k/m sets the limit: one pass for it,
@@ -394,6 +394,7 @@ LiveLimits live_limits(const World& w, ThreadPool& pool)
                     s.contact = p;
                     s.found = true;
                 }
+                if (!with_springs) continue;
                 double k = 0.0;
                 const double springs = live_springs_omega2(w, p, k);
                 if (springs > s.springs_omega2) {
@@ -443,7 +444,7 @@ LiveLimits live_limits(const World& w, ThreadPool& pool)
     return out;
 }
 
-LiveContactLimit live_contact_limit(const World& w, ThreadPool& pool) { return live_limits(w, pool).contact; }
+LiveContactLimit live_contact_limit(const World& w, ThreadPool& pool) { return live_limits(w, pool, false).contact; }
 
 LiveContactLimit live_contact_limit(const World& w)
 {
