@@ -53,13 +53,14 @@ void fold_contact_limit(StableStep& c, const StabilityInputs& in, double k_n_per
 }
 
 /// Folds in the tangential and rolling springs of a contact, ω² [1/s²]:
-/// undamped, into the critical step (not into the undamped step `auto`
-/// takes its fraction of: the springs are bounded, not resolved; docs/
-/// model.md, "The tangential and rolling springs in the step").
-void fold_springs_limit(StableStep& c, Integrator integrator, double omega2_per_s2, const std::string& what)
+/// undamped, as a packing's (springs_critical_step_s), into the critical
+/// step (not into the undamped step `auto` takes its fraction of: the
+/// springs are bounded, not resolved; docs/model.md, "The tangential and
+/// rolling springs in the step").
+void fold_springs_limit(StableStep& c, double omega2_per_s2, const std::string& what)
 {
     if (!(omega2_per_s2 > 0.0)) return;
-    const double dt = damped_stability_limit(integrator, 0.0) / std::sqrt(omega2_per_s2);
+    const double dt = springs_critical_step_s(omega2_per_s2);
     c.springs_critical_s = std::min(c.springs_critical_s, dt);
     if (c.critical_s == 0.0 || dt < c.critical_s) {
         c.critical_s = dt;
@@ -236,11 +237,11 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const std::string pair = std::string(kind_name(a)) + "–" + kind_name(b);
             fold_contact_limit(c, in, k, m, pair + " contacts");
             // Its springs at the reference overlap's force, on the more mobile
-            // moving side alone, as the normal contact takes the lighter body alone
-            // (m* ≤ m_min): a pair of free grains oscillates up to twice as
-            // fast in ω², well inside the ω δt ≈ 0.57 the engine's spring
-            // was measured to keep (docs/model.md, "The tangential and
-            // rolling springs in the step"). Only grain–grain contacts roll.
+            // moving side alone, as the normal contact takes the lighter body
+            // alone (m* ≤ m_min), and as a packing's: springs_coordination
+            // such contacts on one body (springs_critical_step_s; docs/
+            // model.md, "The tangential and rolling springs in the step").
+            // Only grain–grain contacts roll.
             const bool rolls = a == grain_kind && b == grain_kind;
             const double force_n = reference_force_n(e_star, r_star);
             const auto side_omega2 = [&](int kind) {
@@ -248,7 +249,7 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
                 return springs_omega2(in, force_n, r_star, in.friction_coeff, kinds[kind].max_tangential_mobility_per_kg,
                     rolls ? kinds[kind].max_inverse_inertia_per_kg_m2 : 0.0);
             };
-            fold_springs_limit(c, in.integrator, std::max(side_omega2(a), side_omega2(b)),
+            fold_springs_limit(c, std::max(side_omega2(a), side_omega2(b)),
                 pair + " tangential and rolling springs");
         }
     // Body–wall contacts.
@@ -262,7 +263,7 @@ StableStep stable_time_step(const StabilityInputs& in, double impact_speed_m_per
             const double kk = hertz_stiffness_n_per_m(overlap, e_star, r);
             fold_contact_limit(c, in, kk, kinds[k].min_mass_kg, std::string(kind_name(k)) + "–wall contacts");
             const double friction = wall < in.wall_friction_coeffs.size() ? in.wall_friction_coeffs[wall] : in.friction_coeff;
-            fold_springs_limit(c, in.integrator,
+            fold_springs_limit(c,
                 springs_omega2(in, reference_force_n(e_star, r), r, friction,
                     kinds[k].max_tangential_mobility_per_kg, k == grain_kind ? kinds[k].max_inverse_inertia_per_kg_m2 : 0.0),
                 std::string(kind_name(k)) + "–wall tangential and rolling springs");
@@ -427,7 +428,7 @@ LiveLimits live_limits(const World& w, ThreadPool& pool, bool with_springs)
         LiveSpringLimit& s = out.springs;
         s.omega2_per_s2 = live_springs_omega2(w, p, s.stiffness_n_per_m);
         s.normal_force_n = c.output[p].normal_force_n;
-        s.critical_s = damped_stability_limit(w.integrator, 0.0) / std::sqrt(s.omega2_per_s2);
+        s.critical_s = springs_critical_step_s(s.omega2_per_s2);
         s.kinds = side_name(c.first[p]) + "–" + side_name(c.second[p]);
     }
     if (!stiffest_of_all.found) return out;

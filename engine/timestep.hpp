@@ -32,6 +32,33 @@ namespace wiredem::engine {
 /// step: HertzCollision tests for both). Verlet's gain is a cheaper step.
 inline constexpr double gear5_stability_limit = 0.3;
 
+/// How many sticking contacts act on one body together, for the tangential
+/// and rolling springs' step: a dense random packing's coordination. Each
+/// contact's springs are taken alone (`tangential_omega2` on one side), but
+/// in a packing all of a grain's contacts turn and shift it at once, and
+/// that mode is up to √z times faster than one contact's (z K a²/I for its
+/// rotation against z neighbours held). A pour of 4000 grains of 4 mm
+/// (E = 10 GPa, masses × 100) blew up at one contact's ω δt = 0.273 and ran
+/// at 0.235 and 0.188: √6 × 0.235 = 0.58, the engine spring's own bound
+/// (springs_stability_limit), where one contact alone was judged safe up
+/// to 0.57 (docs/model.md, "The tangential and rolling springs in the step").
+inline constexpr double springs_coordination = 6.0;
+
+/// ω δt of the springs' fastest mode in a packing, √(springs_coordination)
+/// times one contact's, that the step keeps: the engine's sticking spring
+/// stays bounded under Gear-5 up to ω δt = 0.56 and grows from 0.58
+/// (`TangentialMode.AtTheSpringsCriticalStep…`); 0.45 leaves a fifth of it.
+/// Verlet, not measured on the spring, gets the same.
+inline constexpr double springs_stability_limit = 0.45;
+
+/// The tangential and rolling springs' critical step for a contact side
+/// whose one-contact ω² (`tangential_omega2`) is `omega2_per_s2`:
+/// springs_stability_limit / √(springs_coordination ω²) = 0.184/ω [s].
+[[nodiscard]] inline double springs_critical_step_s(double omega2_per_s2)
+{
+    return springs_stability_limit / std::sqrt(springs_coordination * omega2_per_s2);
+}
+
 /// Gear-5 with a damping force −c v on a mass m is stable only while
 /// c δt / m stays below about 0.16, whatever the stiffness: on a damped
 /// harmonic oscillator (damping ratio ζ = c / (2 m ω)) it grows without
@@ -130,8 +157,8 @@ struct StableStep {
     /// resolves [s]
     double undamped_critical_s = 0.0;
     /// The tangential and rolling springs' own critical step,
-    /// gear5_stability_limit over their highest ω (undamped); infinity
-    /// without a spring [s]
+    /// springs_critical_step_s of their highest one-contact ω² (undamped);
+    /// infinity without a spring [s]
     double springs_critical_s = std::numeric_limits<double>::infinity();
     /// What `auto` uses: auto_time_step_fraction × undamped_critical_s, or
     /// critical_s where damping or the tangential and rolling springs bring
@@ -201,7 +228,7 @@ struct LiveContactLimit {
 /// slides with |F_t| ≤ μ F_n, so it chatters, bounded, where a normal
 /// contact diverges.
 struct LiveSpringLimit {
-    /// gear5_stability_limit over the highest ω of the sticking contacts'
+    /// springs_critical_step_s of the highest ω² of the sticking contacts'
     /// springs (undamped); infinity with none [s]
     double critical_s = std::numeric_limits<double>::infinity();
     double normal_force_n = 0.0;      ///< that contact's F_n [N]

@@ -214,7 +214,7 @@ struct StepperState {
 // one. By hand: at ξ = 0.02 R*, F_n = (4/3) E* √R* ξ^{3/2}, K = k_t F_n;
 // on one grain (the step takes a contact's more mobile side alone, as the
 // normal contact its lighter body), K (1/m + r²/I) (+ f_r K R*²/I
-// rolling), R* = r/2 grain–grain and r grain–plate; δt = 0.3/ω of the
+// rolling), R* = r/2 grain–grain and r grain–plate; δt = 0.45/(√6 ω) of the
 // stiffer.
 TEST(TangentialMode, WhereTheSpringsBindTheAutoStepIsTheirCriticalStep)
 {
@@ -239,7 +239,8 @@ TEST(TangentialMode, WhereTheSpringsBindTheAutoStepIsTheirCriticalStep)
         const double k_wall = k_t * reference_force_n(e_wall, r_a);
         const double omega2_pair = k_pair * mobility + (rolling ? k_pair * 0.25 * r_a * r_a * inv_inertia : 0.0);
         const double omega2_wall = k_wall * mobility + (rolling ? k_wall * r_a * r_a * inv_inertia : 0.0);
-        const double expected = gear5_stability_limit / std::sqrt(std::max(omega2_pair, omega2_wall));
+        // As a packing's: six such contacts on the grain, ω δt = 0.45.
+        const double expected = 0.45 / std::sqrt(6.0 * std::max(omega2_pair, omega2_wall));
         const StableStep st = stable_time_step(w);
         // The same operations but the order of a few products and the plane
         // moduli's divisions: a few ulps.
@@ -289,6 +290,101 @@ TEST(TangentialMode, AtTheSpringsCriticalStepTheSlipStaysBoundedAndBeyondItGrows
     }
 }
 
+namespace {
+
+/// A grain of radius r_a at the origin caged by its twelve nearest
+/// neighbours of an FCC cell (held, each pressed to ξ = 0.02 R*, R* = r/2),
+/// k_t = 1e7 1/m, no gravity, spinning about z at `spin_rad_per_s`.
+/// Returns the index of the contact with the neighbour at (1, 1, 0)/√2.
+std::size_t caged_grain(Simulation& sim, double spin_rad_per_s)
+{
+    World& w = sim.world;
+    reset_world(w, grain_material, 1e-6);
+    w.contact.tangential.stiffness_per_m = 1e7;
+    add_grain(w, Vec3::Zero(), r_a, 0, Vec3::Zero(), Vec3(0.0, 0.0, spin_rad_per_s));
+    const double d = 2.0 * r_a - reference_overlap_fraction * 0.5 * r_a;
+    for (int i = 0; i < 3; ++i)
+        for (const double s1 : {1.0, -1.0})
+            for (const double s2 : {1.0, -1.0}) {
+                Vec3 n = Vec3::Zero();
+                n[i] = s1;
+                n[(i + 1) % 3] = s2;
+                const std::uint32_t k = add_grain(w, d / std::numbers::sqrt2 * n, r_a, 0, Vec3::Zero(), Vec3::Zero());
+                set_motion(w, {BodyKind::grain, k}, Motion::fixed);
+            }
+    begin_run(w, sim.pool());
+    sim.step();
+    const ContactList& c = w.contacts;
+    for (std::size_t p = 0; p < c.size(); ++p)
+        if (c.touching[p] && std::min(c.first[p].index(), c.second[p].index()) == 0
+            && std::max(c.first[p].index(), c.second[p].index()) == 1)
+            return p;
+    ADD_FAILURE() << "no contact with the first neighbour";
+    return 0;
+}
+
+} // namespace
+
+// The springs of a packing (springs_critical_step_s): a grain caged by
+// twelve neighbours turns against all their springs at once. Turned by φ
+// about z, each contact slips by a φ sin θ (θ its normal's angle to z:
+// sin²θ = 1 for the four in the xy plane, 1/2 for the other eight), so the
+// mode has ω² = K a² Σ sin²θ / I = 8 K a²/I = 20 K/m (a ≈ r): 5.71 times
+// the one contact's K (1/m + a²/I) = 3.5 K/m that stable_time_step takes
+// (by symmetry the turn and the shift do not couple). Measured: its period
+// at ω δt = 0.02; at the old rule's step, 0.3 over one contact's ω, the
+// mode is at ω δt = 0.3 √5.71 = 0.72, past the spring's bound (about
+// 0.57), and the slip grows until the contacts slide; at the step the
+// engine now gives (0.45 / √6 over one contact's ω: 0.44 for this mode)
+// the slip stays in stick and does not grow.
+TEST(TangentialMode, AGrainCagedByTwelveTurnsAgainstAllTheirSpringsAndTheStepKeepsItBounded)
+{
+    Simulation probe(1);
+    const std::size_t p = caged_grain(probe, 0.0);
+    const World& pw = probe.world;
+    const double m = pw.bodies[0].mass_kg[0];
+    const double inv_inertia = pw.grain_rotation.inv_inertia_per_kg_m2[0];
+    const double k = pw.contact.tangential.stiffness_per_m * pw.contacts.output[p].normal_force_n;
+    const double arm = r_a - 0.5 * pw.contacts.output[p].overlap_m;
+    const double mode_omega2 = 8.0 * k * arm * arm * inv_inertia;
+    const double one_contact_omega2 = tangential_omega2(k, 1.0 / m + arm * arm * inv_inertia, 0.0, inv_inertia);
+    const double a2 = arm * arm / (r_a * r_a); // (1 − ξ/2r)² = 0.990: 5.698, not 20/3.5
+    EXPECT_NEAR(mode_omega2 / one_contact_omega2, 20.0 * a2 / (1.0 + 2.5 * a2), 1e-12);
+    // The slip a ω₀/ω = 4 nm, under μ/k_t = 30 nm.
+    const double spin = 2.0;
+    {
+        Simulation sim(1);
+        const std::size_t q = caged_grain(sim, spin);
+        set_time_step(sim.world, 0.02 / std::sqrt(mode_omega2));
+        const double period = measured_period_s(sim, q, 4000);
+        const double expected = 2.0 * std::numbers::pi / std::sqrt(mode_omega2);
+        EXPECT_NEAR(period, expected, 2e-4 * expected);
+    }
+    for (const bool old_rule : {true, false}) {
+        SCOPED_TRACE(old_rule ? "0.3 / one contact's omega" : "springs_critical_step_s");
+        Simulation sim(1);
+        const std::size_t q = caged_grain(sim, spin);
+        const double dt = old_rule ? 0.3 / std::sqrt(one_contact_omega2) : springs_critical_step_s(one_contact_omega2);
+        set_time_step(sim.world, dt);
+        double first = 0.0, last = 0.0;
+        int sliding = 0;
+        constexpr int steps = 20000;
+        for (int s = 0; s < steps; ++s) {
+            sim.step();
+            const TangentialState& t = sim.world.contacts.tangential[q];
+            sliding += t.sticking ? 0 : 1;
+            if (s < 2000) first = std::max(first, t.spring_m.norm());
+            if (s >= steps - 2000) last = std::max(last, t.spring_m.norm());
+        }
+        if (old_rule) {
+            EXPECT_GT(sliding, 0); // grew to the friction limit
+        } else {
+            EXPECT_EQ(sliding, 0);
+            EXPECT_LE(last, first);
+        }
+    }
+}
+
 // The live check of a column test reports the springs, and goes on: a
 // grain resting on a plate, stepped by ColumnTestStepper at 0.9 and 1.1
 // times live_contact_tolerance × its springs' live limit (by hand, from
@@ -301,7 +397,7 @@ TEST(TangentialMode, AColumnTestReportsASpringBeyondItsLiveLimitOnceAndGoesOn)
         Simulation sim(1);
         grain_on_plate(sim, false, Vec3::Zero(), Vec3::Zero());
         sim.step();
-        const double limit = gear5_stability_limit / std::sqrt(grain_on_plate_springs_omega2(sim.world, false));
+        const double limit = 0.45 / std::sqrt(6.0 * grain_on_plate_springs_omega2(sim.world, false));
         ThreadPool caller(1);
         EXPECT_NEAR(live_limits(sim.world, caller).springs.critical_s, limit, 1e-12 * limit);
         EXPECT_EQ(live_limits(sim.world, caller).springs.kinds, "grain–wall");
