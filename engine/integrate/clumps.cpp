@@ -1,9 +1,16 @@
 #include "integrate/clumps.hpp"
 
+#include "contact/pair_kernel_simd.hpp"
 #include "integrate/gear5.hpp"
 #include "integrate/rotation.hpp"
 
+#if defined(__x86_64__)
+#include "contact/avx2.hpp"
+#endif
+
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 
 namespace wiredem::engine {
@@ -27,20 +34,129 @@ void sum_loads(World& w, std::uint32_t i, const Quat& q, const Vec3* arm_m = nul
     w.clump_loads.torque_n_m[i] = tau;
 }
 
-/// x_k ← Σ_{j≥k} C(j,k) x_j for k ≥ first (Gear's predictor) of element i:
-/// the in-place Taylor shift (pass p adds x_{j+1} to x_j for j ≥ p, from the
-/// top down), skipping the derivatives below `first` (ω_b has no θ₀).
-void predict_all(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i, int first)
+/// Clumps per block of the clump passes' parallel loops. A block runs the
+/// derivative updates, which are elementwise, as flat loops over its
+/// clumps' arrays (integrate/flat_runs.hpp: a run of Vec3 as one array of
+/// doubles), and the turns, loads and placements clump by clump: every clump
+/// gets the operations it got one clump per task, in the same order, so the
+/// bits are the same for any block size and number of threads.
+constexpr std::size_t clump_block = 64;
+
+/// x_k ← Σ_{j≥k} C(j,k) x_j for k ≥ first (Gear's predictor) over n doubles
+/// of the derivative arrays: the in-place Taylor shift (pass p adds x_{j+1}
+/// to x_j for j ≥ p, from the top down), skipping the derivatives below
+/// `first` (ω_b has no θ₀; x0 is then not touched).
+template <int first>
+[[gnu::always_inline]] inline void shift_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, const double* __restrict x5, std::size_t n)
 {
-    for (int pass = 0; pass < gear_order - 1; ++pass)
-        for (int j = gear_order - 2; j >= std::max(pass, first); --j) x[j][i] += x[j + 1][i];
+    for (std::size_t e = 0; e < n; ++e) {
+        double v[gear_order] = {first == 0 ? x0[e] : 0.0, x1[e], x2[e], x3[e], x4[e], x5[e]};
+        for (int pass = 0; pass < gear_order - 1; ++pass)
+            for (int j = gear_order - 2; j >= std::max(pass, first); --j) v[j] += v[j + 1];
+        if constexpr (first == 0) x0[e] = v[0];
+        x1[e] = v[1];
+        x2[e] = v[2];
+        x3[e] = v[3];
+        x4[e] = v[4];
+    }
 }
 
-/// Applies Δ = target − x₂ to every derivative with Gear-5's coefficients.
-void correct_all(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i, const Vec3& target, int first)
+/// Applies Δ = target − x₂ to every derivative k ≥ first with Gear-5's
+/// coefficients, x_k ← x_k + c_k Δ, over n doubles.
+template <int first>
+[[gnu::always_inline]] inline void correct_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
+    std::size_t n)
 {
-    const Vec3 delta = target - x[2][i];
-    for (int k = first; k < gear_order; ++k) x[k][i] += gear5_corrector[k] * delta;
+    constexpr const double* c = gear5_corrector;
+    for (std::size_t e = 0; e < n; ++e) {
+        const double delta = target[e] - x2[e];
+        if constexpr (first == 0) x0[e] += c[0] * delta;
+        x1[e] += c[1] * delta;
+        x2[e] += c[2] * delta;
+        x3[e] += c[3] * delta;
+        x4[e] += c[4] * delta;
+        x5[e] += c[5] * delta;
+    }
+}
+
+/// Verlet's first-half updates over n doubles: x₀ += x₁ + x₂, x₁ += x₂ (the
+/// centre), w₁ += w₂ (L_b += δt/2 τ_b).
+[[gnu::always_inline]] inline void drift_loop(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
+    double* __restrict w1, const double* __restrict w2, std::size_t n)
+{
+    for (std::size_t e = 0; e < n; ++e) {
+        x0[e] += x1[e] + x2[e];
+        x1[e] += x2[e];
+        w1[e] += w2[e];
+    }
+}
+
+using ShiftLoop = void (*)(double*, double*, double*, double*, double*, const double*, std::size_t);
+using CorrectLoop = void (*)(double*, double*, double*, double*, double*, double*, const double*, std::size_t);
+using DriftLoop = void (*)(double*, double*, const double*, double*, const double*, std::size_t);
+
+/// The loops, built for the baseline (SSE2) and for AVX2 from one text, as
+/// gear5.cpp's: no fused multiply–add in either (-ffp-contract=off), so both
+/// give the same bits.
+struct ClumpLoops {
+    ShiftLoop shift_x, shift_omega;
+    CorrectLoop correct_x, correct_omega;
+    DriftLoop drift;
+};
+
+#define WIREDEM_CLUMP_LOOPS(suffix, attributes)                                                                   \
+    template <int first>                                                                                          \
+    attributes void shift_##suffix(double* __restrict x0, double* __restrict x1, double* __restrict x2,            \
+        double* __restrict x3, double* __restrict x4, const double* __restrict x5, std::size_t n)                  \
+    {                                                                                                             \
+        shift_loop<first>(x0, x1, x2, x3, x4, x5, n);                                                             \
+    }                                                                                                             \
+    template <int first>                                                                                          \
+    attributes void correct_##suffix(double* __restrict x0, double* __restrict x1, double* __restrict x2,          \
+        double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,      \
+        std::size_t n)                                                                                            \
+    {                                                                                                             \
+        correct_loop<first>(x0, x1, x2, x3, x4, x5, target, n);                                                   \
+    }                                                                                                             \
+    attributes void drift_##suffix(double* __restrict x0, double* __restrict x1, const double* __restrict x2,      \
+        double* __restrict w1, const double* __restrict w2, std::size_t n)                                         \
+    {                                                                                                             \
+        drift_loop(x0, x1, x2, w1, w2, n);                                                                        \
+    }                                                                                                             \
+    constexpr ClumpLoops clump_loops_##suffix{&shift_##suffix<0>, &shift_##suffix<1>, &correct_##suffix<0>,      \
+        &correct_##suffix<1>, &drift_##suffix};
+
+WIREDEM_CLUMP_LOOPS(baseline, )
+#if defined(__x86_64__)
+WIREDEM_CLUMP_LOOPS(avx2, [[WIREDEM_AVX2_TARGET]])
+#endif
+#undef WIREDEM_CLUMP_LOOPS
+
+/// The loops of the instruction set in use (simd_isa(): `--simd scalar` takes the baseline's).
+const ClumpLoops& clump_loops()
+{
+#if defined(__x86_64__)
+    if (simd_isa() != SimdIsa::none) return clump_loops_avx2;
+#endif
+    return clump_loops_baseline;
+}
+
+/// Order k of derivative set x, clumps [b, e), as flat doubles.
+double* at(std::array<std::vector<Vec3>, gear_order>& x, int k, std::size_t b)
+{
+    return x[static_cast<std::size_t>(k)][b].data();
+}
+
+/// Gear's predictor on clumps [b, e): every derivative of the centre, and
+/// ω_b's from w₁ up.
+void predict_block(const ClumpLoops& loops, ClumpState& c, std::size_t b, std::size_t e)
+{
+    const std::size_t n = 3 * (e - b);
+    loops.shift_x(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.x, 3, b), at(c.x, 4, b), at(c.x, 5, b), n);
+    loops.shift_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
+        at(c.omega, 5, b), n);
 }
 
 /// The Magnus term of a step, (δt³/12) ω × ω̇ = (w₁ × w₂)/6 in scaled derivatives.
@@ -121,14 +237,19 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
     ClumpState& c = w.clumps;
     if (c.empty()) return;
     Vec3* arms = clump_arms(w);
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-        const Vec3 turn = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        predict_all(c.x, i, 0);
-        predict_all(c.omega, i, 1);
-        const Quat q = (c.orientation[i] * rotation_quaternion(turn)).normalized();
-        w.clump_loads.predicted_orientation[i] = q;
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), q, arms);
+    const ClumpLoops& loops = clump_loops();
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        std::array<Vec3, clump_block> turn; // from the derivatives before the prediction
+        for (std::size_t i = b; i < e; ++i) {
+            const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
+            turn[i - b] = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
+        }
+        predict_block(loops, c, b, e);
+        for (std::size_t i = b; i < e; ++i) {
+            const Quat q = (c.orientation[i] * rotation_quaternion(turn[i - b])).normalized();
+            w.clump_loads.predicted_orientation[i] = q;
+            place_clump_spheres(w, static_cast<std::uint32_t>(i), q, arms);
+        }
     });
 }
 
@@ -137,26 +258,35 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    std::vector<char> ok(c.size(), 1);
+    std::atomic<bool> all_finite{true}; // an and, in no order
     const Vec3* arms = w.clump_loads.member_arm_m.data(); // the predictor's, at the predicted orientation
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const auto id = static_cast<std::uint32_t>(i);
-        const Quat predicted = w.clump_loads.predicted_orientation[i];
-        sum_loads(w, id, predicted, arms);
-        correct_all(c.x, i, half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i], 0);
+    const ClumpLoops& loops = clump_loops();
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        const std::size_t n = 3 * (e - b);
+        std::array<Vec3, clump_block> target;
+        for (std::size_t i = b; i < e; ++i) {
+            sum_loads(w, static_cast<std::uint32_t>(i), w.clump_loads.predicted_orientation[i], arms);
+            target[i - b] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
+        }
+        loops.correct_x(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.x, 3, b), at(c.x, 4, b), at(c.x, 5, b),
+            target.data()->data(), n);
         // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
-        const Vec3 target = half_kick(c, w.clump_loads, i, predicted, half_dt2)
+        for (std::size_t i = b; i < e; ++i)
+            target[i - b] = half_kick(c, w.clump_loads, i, w.clump_loads.predicted_orientation[i], half_dt2)
                           - half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
-        correct_all(c.omega, i, target, 1);
-        const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-        const Vec3 turn = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        c.orientation[i] = (c.orientation[i] * rotation_quaternion(turn)).normalized();
-        place_clump_spheres(w, id, c.orientation[i]);
-        ok[i] = finite(c, i) ? 1 : 0;
+        loops.correct_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
+            at(c.omega, 5, b), target.data()->data(), n);
+        bool ok = true;
+        for (std::size_t i = b; i < e; ++i) {
+            const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
+            const Vec3 turn = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
+            c.orientation[i] = (c.orientation[i] * rotation_quaternion(turn)).normalized();
+            place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i]);
+            ok = finite(c, i) && ok;
+        }
+        if (!ok) all_finite.store(false, std::memory_order_relaxed);
     });
-    for (char v : ok)
-        if (v == 0) return false;
-    return true;
+    return all_finite.load();
 }
 
 void verlet_first_half_clumps(World& w, ThreadPool& pool)
@@ -164,12 +294,14 @@ void verlet_first_half_clumps(World& w, ThreadPool& pool)
     ClumpState& c = w.clumps;
     if (c.empty()) return;
     Vec3* arms = clump_arms(w);
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        c.x[0][i] += c.x[1][i] + c.x[2][i]; // the bodies' drift_flat, x₀ += x₁ + x₂
-        c.x[1][i] += c.x[2][i];
-        c.omega[1][i] += c.omega[2][i];     // L_b += δt/2 τ_b
-        free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i], arms);
+    const ClumpLoops& loops = clump_loops();
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        // The bodies' drift_flat, x₀ += x₁ + x₂; x₁ += x₂; and L_b += δt/2 τ_b.
+        loops.drift(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
+        for (std::size_t i = b; i < e; ++i) {
+            free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
+            place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i], arms);
+        }
     });
 }
 
@@ -178,22 +310,24 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    std::vector<char> ok(c.size(), 1);
+    std::atomic<bool> all_finite{true}; // an and, in no order
     const Vec3* arms = w.clump_loads.member_arm_m.data(); // the first half's, at the same orientation
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const auto id = static_cast<std::uint32_t>(i);
-        const Quat q = c.orientation[i];
-        sum_loads(w, id, q, arms);
-        c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-        c.x[1][i] += c.x[2][i];
-        c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
-        c.omega[1][i] += c.omega[2][i];
-        place_clump_spheres_at_arms(w, id, q, arms);
-        ok[i] = finite(c, i) ? 1 : 0;
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        bool ok = true;
+        for (std::size_t i = b; i < e; ++i) {
+            const auto id = static_cast<std::uint32_t>(i);
+            const Quat q = c.orientation[i];
+            sum_loads(w, id, q, arms);
+            c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
+            c.x[1][i] += c.x[2][i];
+            c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
+            c.omega[1][i] += c.omega[2][i];
+            place_clump_spheres_at_arms(w, id, q, arms);
+            ok = finite(c, i) && ok;
+        }
+        if (!ok) all_finite.store(false, std::memory_order_relaxed);
     });
-    for (char v : ok)
-        if (v == 0) return false;
-    return true;
+    return all_finite.load();
 }
 
 void clump_initial_accelerations(World& w, ThreadPool& pool)
