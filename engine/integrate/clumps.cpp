@@ -1,6 +1,7 @@
 #include "integrate/clumps.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
+#include "integrate/clump_simd.hpp"
 #include "integrate/gear5.hpp"
 #include "integrate/rotation.hpp"
 
@@ -159,6 +160,18 @@ void predict_block(const ClumpLoops& loops, ClumpState& c, std::size_t b, std::s
         at(c.omega, 5, b), n);
 }
 
+/// What place_clumps needs to put the spheres of w's clumps at `orientation`,
+/// taking the lever arms from `arms_in` (null: turning the offsets) and
+/// writing them to `arms_out` (null: nowhere).
+ClumpPlacement placement(World& w, const Quat* orientation, const Vec3* arms_in, Vec3* arms_out)
+{
+    ClumpState& c = w.clumps;
+    TranslationalState& grains = w.of(BodyKind::grain);
+    return {orientation, c.x[0].data(), c.x[1].data(), c.omega[1].data(), c.first_member.data(),
+        c.member_count.data(), c.member_offset_m.data(), arms_in, arms_out, grains.x[0].data(), grains.x[1].data(),
+        w.grain_rotation.theta[1].data()};
+}
+
 /// The Magnus term of a step, (δt³/12) ω × ω̇ = (w₁ × w₂)/6 in scaled derivatives.
 Vec3 magnus(const Vec3& w1, const Vec3& w2)
 {
@@ -236,7 +249,8 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    Vec3* arms = clump_arms(w);
+    Quat* predicted = w.clump_loads.predicted_orientation.data();
+    const ClumpPlacement put = placement(w, predicted, nullptr, clump_arms(w));
     const ClumpLoops& loops = clump_loops();
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         std::array<Vec3, clump_block> turn; // from the derivatives before the prediction
@@ -245,11 +259,8 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
             turn[i - b] = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
         }
         predict_block(loops, c, b, e);
-        for (std::size_t i = b; i < e; ++i) {
-            const Quat q = (c.orientation[i] * rotation_quaternion(turn[i - b])).normalized();
-            w.clump_loads.predicted_orientation[i] = q;
-            place_clump_spheres(w, static_cast<std::uint32_t>(i), q, arms);
-        }
+        turn_clumps(c.orientation.data() + b, turn.data(), predicted + b, e - b);
+        place_clumps(put, b, e);
     });
 }
 
@@ -260,6 +271,7 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::atomic<bool> all_finite{true}; // an and, in no order
     const Vec3* arms = w.clump_loads.member_arm_m.data(); // the predictor's, at the predicted orientation
+    const ClumpPlacement put = placement(w, c.orientation.data(), nullptr, nullptr);
     const ClumpLoops& loops = clump_loops();
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         const std::size_t n = 3 * (e - b);
@@ -276,14 +288,15 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
                           - half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
         loops.correct_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
             at(c.omega, 5, b), target.data()->data(), n);
-        bool ok = true;
+        std::array<Vec3, clump_block> turn;
         for (std::size_t i = b; i < e; ++i) {
             const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-            const Vec3 turn = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-            c.orientation[i] = (c.orientation[i] * rotation_quaternion(turn)).normalized();
-            place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i]);
-            ok = finite(c, i) && ok;
+            turn[i - b] = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
         }
+        turn_clumps(c.orientation.data() + b, turn.data(), c.orientation.data() + b, e - b);
+        place_clumps(put, b, e);
+        bool ok = true;
+        for (std::size_t i = b; i < e; ++i) ok = finite(c, i) && ok;
         if (!ok) all_finite.store(false, std::memory_order_relaxed);
     });
     return all_finite.load();
@@ -293,15 +306,13 @@ void verlet_first_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    Vec3* arms = clump_arms(w);
+    const ClumpPlacement put = placement(w, c.orientation.data(), nullptr, clump_arms(w));
     const ClumpLoops& loops = clump_loops();
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         // The bodies' drift_flat, x₀ += x₁ + x₂; x₁ += x₂; and L_b += δt/2 τ_b.
         loops.drift(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
-        for (std::size_t i = b; i < e; ++i) {
-            free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
-            place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i], arms);
-        }
+        for (std::size_t i = b; i < e; ++i) free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
+        place_clumps(put, b, e);
     });
 }
 
@@ -312,6 +323,7 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::atomic<bool> all_finite{true}; // an and, in no order
     const Vec3* arms = w.clump_loads.member_arm_m.data(); // the first half's, at the same orientation
+    const ClumpPlacement put = placement(w, c.orientation.data(), arms, nullptr);
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         bool ok = true;
         for (std::size_t i = b; i < e; ++i) {
@@ -322,9 +334,9 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
             c.x[1][i] += c.x[2][i];
             c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
             c.omega[1][i] += c.omega[2][i];
-            place_clump_spheres_at_arms(w, id, q, arms);
             ok = finite(c, i) && ok;
         }
+        place_clumps(put, b, e);
         if (!ok) all_finite.store(false, std::memory_order_relaxed);
     });
     return all_finite.load();
