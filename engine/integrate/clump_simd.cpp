@@ -42,6 +42,19 @@ static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x 
 #include "contact/lanes_for_each_isa.inc"
 
 template <std::size_t lanes>
+void free_rotation_blocks(std::uint32_t (*block)(Quat*, Vec3*, const Vec3*), Quat* q, Vec3* w1, const Vec3* inertia,
+    std::size_t& i, std::size_t n)
+{
+    constexpr std::uint32_t all = (1u << lanes) - 1u;
+    for (; i + lanes <= n; i += lanes) {
+        const std::uint32_t done = block(q + i, w1 + i, inertia + i);
+        if (done != all)
+            for (std::size_t l = 0; l < lanes; ++l)
+                if (!(done >> l & 1u)) free_rotation(q[i + l], w1[i + l], inertia[i + l]);
+    }
+}
+
+template <std::size_t lanes>
 void turn_blocks(std::uint32_t (*block)(const Quat*, const Vec3*, Quat*), const Quat* q, const Vec3* theta, Quat* out,
     std::size_t& i, std::size_t n)
 {
@@ -78,6 +91,45 @@ void place_blocks(void (*block)(const ClumpPlacement&, std::size_t, std::uint32_
 
 } // namespace
 
+/// The free rotation of one step split along the principal axes (Verlet's
+/// drift, the symmetric splitting z y x y z): each part turns q about a body
+/// axis k by φ = fraction × ω_k δt and the body-frame angular momentum
+/// L = I w₁ the opposite way. A turn about a body axis, (c, s e_k) with
+/// c = cos(φ/2), s = sin(φ/2), has two zero components, so each part is
+/// written out: q ⊗ (c, s e_k) is eight products, L turns by −φ in the plane
+/// normal to e_k (cos φ = 1 − 2s², sin φ = 2cs) and keeps L_k. L is carried
+/// across the five parts and made w₁ once, with 1/I; q is normalised once
+/// after them (each part is a unit quaternion to rounding). Until
+/// 2026-12-07 each part was a quaternion product, a normalisation, a
+/// vector turn and three divisions (the same splitting; other roundings,
+/// bench/README.md "Verlet's clump drift, rolling in lanes").
+void free_rotation(Quat& q, Vec3& w1, const Vec3& inertia)
+{
+    constexpr int axis[5] = {2, 1, 0, 1, 2};
+    constexpr double fraction[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
+    const Vec3 inv_inertia = inertia.cwiseInverse();
+    Vec3 l = inertia.cwiseProduct(w1);
+    double qw = q.w();
+    Vec3 qv = q.vec();
+    for (int part = 0; part < 5; ++part) {
+        const int k = axis[part], i = (k + 1) % 3, j = (k + 2) % 3; // (i, j, k) right-handed
+        const double phi = fraction[part] * (l[k] * inv_inertia[k]);
+        const HalfAngle h = half_angle(phi * phi);
+        const double c = h.cos_half, s = h.sin_half_over_angle * phi;
+        // q ⊗ (c, s e_k): w = c q_w − s q_k, v = c q_v + s q_w e_k + s q_v × e_k.
+        const double w = c * qw - s * qv[k];
+        const double vi = c * qv[i] + s * qv[j], vj = c * qv[j] - s * qv[i], vk = c * qv[k] + s * qw;
+        qw = w;
+        qv[i] = vi, qv[j] = vj, qv[k] = vk;
+        // L in the body frame turned by −φ about e_k.
+        const double cos_phi = 1.0 - 2.0 * s * s, sin_phi = 2.0 * c * s;
+        const double li = cos_phi * l[i] + sin_phi * l[j], lj = cos_phi * l[j] - sin_phi * l[i];
+        l[i] = li, l[j] = lj;
+    }
+    q = Quat(qw, qv.x(), qv.y(), qv.z()).normalized();
+    w1 = l.cwiseProduct(inv_inertia);
+}
+
 void turn_clumps(const Quat* q, const Vec3* theta, Quat* out, std::size_t n)
 {
     std::size_t i = 0;
@@ -89,6 +141,21 @@ void turn_clumps(const Quat* q, const Vec3* theta, Quat* out, std::size_t n)
     default: break;
     }
     for (; i < n; ++i) out[i] = (q[i] * rotation_quaternion(theta[i])).normalized();
+}
+
+void free_rotations(Quat* q, Vec3* w1, const Vec3* inertia, std::size_t n)
+{
+    std::size_t i = 0;
+    switch (simd_isa()) {
+#if defined(__x86_64__)
+    case SimdIsa::avx512:
+        free_rotation_blocks<with_avx512::lanes>(&with_avx512::free_rotation_block, q, w1, inertia, i, n);
+        break;
+    case SimdIsa::avx2: free_rotation_blocks<with_avx2::lanes>(&with_avx2::free_rotation_block, q, w1, inertia, i, n); break;
+#endif
+    default: break;
+    }
+    for (; i < n; ++i) free_rotation(q[i], w1[i], inertia[i]);
 }
 
 void place_clumps(const ClumpPlacement& p, std::size_t b, std::size_t e)

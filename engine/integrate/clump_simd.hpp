@@ -33,6 +33,14 @@ struct ClumpPlacement {
 /// [0, n) (out may be q).
 void turn_clumps(const Quat* q, const Vec3* theta, Quat* out, std::size_t n);
 
+/// The free rotation of one step of a clump with principal inertia `inertia`,
+/// orientation q and w₁ = δt ω_b (Verlet's drift; the description at its
+/// definition, clump_simd.cpp).
+void free_rotation(Quat& q, Vec3& w1, const Vec3& inertia);
+
+/// free_rotation(q[i], w1[i], inertia[i]) for i in [0, n).
+void free_rotations(Quat* q, Vec3* w1, const Vec3* inertia, std::size_t n);
+
 /// place_clump_spheres (or, with arms_in, place_clump_spheres_at_arms) of
 /// clumps [b, e) at p.orientation (state/world.hpp), the lever arms also
 /// into p.arms_out when it is set.

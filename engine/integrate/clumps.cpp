@@ -204,45 +204,6 @@ bool finite(const ClumpState& c, std::size_t i)
     return c.x[0][i].allFinite() && c.x[1][i].allFinite() && c.omega[1][i].allFinite();
 }
 
-/// The free rotation of one step split along the principal axes (Verlet's
-/// drift, the symmetric splitting z y x y z): each part turns q about a body
-/// axis k by φ = fraction × ω_k δt and the body-frame angular momentum
-/// L = I w₁ the opposite way. A turn about a body axis, (c, s e_k) with
-/// c = cos(φ/2), s = sin(φ/2), has two zero components, so each part is
-/// written out: q ⊗ (c, s e_k) is eight products, L turns by −φ in the plane
-/// normal to e_k (cos φ = 1 − 2s², sin φ = 2cs) and keeps L_k. L is carried
-/// across the five parts and made w₁ once, with 1/I; q is normalised once
-/// after them (each part is a unit quaternion to rounding). Until
-/// 2026-12-07 each part was a quaternion product, a normalisation, a
-/// vector turn and three divisions (the same splitting; other roundings,
-/// bench/README.md "Verlet's clump drift, rolling in lanes").
-void free_rotation(Quat& q, Vec3& w1, const Vec3& inertia)
-{
-    constexpr int axis[5] = {2, 1, 0, 1, 2};
-    constexpr double fraction[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
-    const Vec3 inv_inertia = inertia.cwiseInverse();
-    Vec3 l = inertia.cwiseProduct(w1);
-    double qw = q.w();
-    Vec3 qv = q.vec();
-    for (int part = 0; part < 5; ++part) {
-        const int k = axis[part], i = (k + 1) % 3, j = (k + 2) % 3; // (i, j, k) right-handed
-        const double phi = fraction[part] * (l[k] * inv_inertia[k]);
-        const HalfAngle h = half_angle(phi * phi);
-        const double c = h.cos_half, s = h.sin_half_over_angle * phi;
-        // q ⊗ (c, s e_k): w = c q_w − s q_k, v = c q_v + s q_w e_k + s q_v × e_k.
-        const double w = c * qw - s * qv[k];
-        const double vi = c * qv[i] + s * qv[j], vj = c * qv[j] - s * qv[i], vk = c * qv[k] + s * qw;
-        qw = w;
-        qv[i] = vi, qv[j] = vj, qv[k] = vk;
-        // L in the body frame turned by −φ about e_k.
-        const double cos_phi = 1.0 - 2.0 * s * s, sin_phi = 2.0 * c * s;
-        const double li = cos_phi * l[i] + sin_phi * l[j], lj = cos_phi * l[j] - sin_phi * l[i];
-        l[i] = li, l[j] = lj;
-    }
-    q = Quat(qw, qv.x(), qv.y(), qv.z()).normalized();
-    w1 = l.cwiseProduct(inv_inertia);
-}
-
 } // namespace
 
 void gear5_predict_clumps(World& w, ThreadPool& pool)
@@ -311,7 +272,7 @@ void verlet_first_half_clumps(World& w, ThreadPool& pool)
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         // The bodies' drift_flat, x₀ += x₁ + x₂; x₁ += x₂; and L_b += δt/2 τ_b.
         loops.drift(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
-        for (std::size_t i = b; i < e; ++i) free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
+        free_rotations(c.orientation.data() + b, c.omega[1].data() + b, c.principal_inertia_kg_m2.data() + b, e - b);
         place_clumps(put, b, e);
     });
 }
