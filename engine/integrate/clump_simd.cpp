@@ -33,6 +33,28 @@ void place_one(const ClumpPlacement& p, std::size_t i)
     }
 }
 
+/// gear_turns of clump i.
+Vec3 gear_turn(const Vec3* const* w, bool forwards, std::size_t i)
+{
+    const Vec3 w1 = w[1][i], w2 = w[2][i];
+    const Vec3 magnus = w1.cross(w2) / 6.0; // (δt³/12) ω × ω̇ in scaled derivatives
+    return forwards ? Vec3(w1 + w2 + w[3][i] + w[4][i] + w[5][i] + magnus)
+                    : Vec3(w1 - w2 + w[3][i] - w[4][i] + w[5][i] + magnus);
+}
+
+/// clump_kicks of clump i.
+void kick_one(const ClumpLoadSums& s, const ClumpKick& k, std::size_t i, Vec3& x2, Vec3& w2)
+{
+    sum_clump_loads(s, i);
+    x2 = k.half_dt2 / s.mass[i] * s.force_out[i];
+    const Vec3& inertia = k.inertia[i];
+    w2 = k.half_dt2 * (k.orientation[i].conjugate() * s.torque_out[i]).cwiseQuotient(inertia);
+    if (k.gyroscopic) {
+        const Vec3& w1 = k.omega1[i];
+        w2 -= 0.5 * w1.cross(inertia.cwiseProduct(w1)).cwiseQuotient(inertia);
+    }
+}
+
 #if defined(__x86_64__)
 
 static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x y z w");
@@ -87,9 +109,76 @@ void place_blocks(void (*block)(const ClumpPlacement&, std::size_t, std::uint32_
     }
 }
 
+template <std::size_t lanes>
+void gear_turn_blocks(void (*block)(const Vec3* const*, bool, std::size_t, Vec3*), const Vec3* const* w,
+    bool forwards, std::size_t& i, std::size_t b, std::size_t e, Vec3* turn)
+{
+    for (; i + lanes <= e; i += lanes) block(w, forwards, i, turn + (i - b));
+}
+
+/// Clumps [i, e) kicked `lanes` at a time where `lanes` consecutive clumps
+/// have as many spheres each, the others one by one.
+template <std::size_t lanes>
+void kick_blocks(void (*block)(const ClumpLoadSums&, const ClumpKick&, std::size_t, std::uint32_t, Vec3*, Vec3*),
+    const ClumpLoadSums& s, const ClumpKick& k, std::size_t& i, std::size_t b, std::size_t e, Vec3* x2, Vec3* w2)
+{
+    while (i + lanes <= e) {
+        const std::uint32_t count = s.member_count[i];
+        bool same = true;
+        for (std::size_t l = 1; l < lanes; ++l) same = same && s.member_count[i + l] == count;
+        if (same) {
+            block(s, k, i, count, x2 + (i - b), w2 + (i - b));
+            i += lanes;
+        } else {
+            kick_one(s, k, i, x2[i - b], w2[i - b]);
+            ++i;
+        }
+    }
+}
+
 #endif
 
 } // namespace
+
+void sum_clump_loads(const ClumpLoadSums& s, std::size_t i)
+{
+    Vec3 f = s.gravity_acts ? Vec3(s.mass[i] * s.gravity) : Vec3::Zero();
+    Vec3 tau = Vec3::Zero();
+    const std::uint32_t end = s.first_member[i] + s.member_count[i];
+    for (std::uint32_t m = s.first_member[i]; m < end; ++m) {
+        f += s.force[m];
+        const Vec3 arm = s.arms != nullptr ? s.arms[m] : Vec3(s.orientation[i] * s.offset[m]);
+        tau += arm.cross(s.force[m]) + s.torque[m];
+    }
+    s.force_out[i] = f;
+    s.torque_out[i] = tau;
+}
+
+void clump_kicks(const ClumpLoadSums& s, const ClumpKick& k, std::size_t b, std::size_t e, Vec3* x2, Vec3* w2)
+{
+    std::size_t i = b;
+    if (s.arms != nullptr) switch (simd_isa()) {
+#if defined(__x86_64__)
+        case SimdIsa::avx512: kick_blocks<with_avx512::lanes>(&with_avx512::kicks_block, s, k, i, b, e, x2, w2); break;
+        case SimdIsa::avx2: kick_blocks<with_avx2::lanes>(&with_avx2::kicks_block, s, k, i, b, e, x2, w2); break;
+#endif
+        default: break;
+        }
+    for (; i < e; ++i) kick_one(s, k, i, x2[i - b], w2[i - b]);
+}
+
+void gear_turns(const Vec3* const* w, bool forwards, std::size_t b, std::size_t e, Vec3* turn)
+{
+    std::size_t i = b;
+    switch (simd_isa()) {
+#if defined(__x86_64__)
+    case SimdIsa::avx512: gear_turn_blocks<with_avx512::lanes>(&with_avx512::gear_turns_block, w, forwards, i, b, e, turn); break;
+    case SimdIsa::avx2: gear_turn_blocks<with_avx2::lanes>(&with_avx2::gear_turns_block, w, forwards, i, b, e, turn); break;
+#endif
+    default: break;
+    }
+    for (; i < e; ++i) turn[i - b] = gear_turn(w, forwards, i);
+}
 
 /// The free rotation of one step split along the principal axes (Verlet's
 /// drift, the symmetric splitting z y x y z): each part turns q about a body

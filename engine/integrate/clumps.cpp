@@ -17,24 +17,6 @@
 namespace wiredem::engine {
 namespace {
 
-/// The loads on clump i with its spheres' lever arms at orientation q, or,
-/// given `arm_m` (indexed by grain id), those arms as worked out at q.
-void sum_loads(World& w, std::uint32_t i, const Quat& q, const Vec3* arm_m = nullptr)
-{
-    const ClumpState& c = w.clumps;
-    const std::vector<Vec3>& force = w.force_of(BodyKind::grain);
-    Vec3 f = w.gravity_acts[static_cast<int>(BodyKind::grain)] ? Vec3(c.mass_kg[i] * w.gravity_m_per_s2) : Vec3::Zero();
-    Vec3 tau = Vec3::Zero();
-    const std::uint32_t end = c.first_member[i] + c.member_count[i];
-    for (std::uint32_t m = c.first_member[i]; m < end; ++m) {
-        f += force[m];
-        const Vec3 arm = arm_m != nullptr ? arm_m[m] : Vec3(q * c.member_offset_m[m]);
-        tau += arm.cross(force[m]) + w.grain_torque_n_m[m];
-    }
-    w.clump_loads.force_n[i] = f;
-    w.clump_loads.torque_n_m[i] = tau;
-}
-
 /// Clumps per block of the clump passes' parallel loops. A block runs the
 /// derivative updates, which are elementwise, as flat loops over its
 /// clumps' arrays (integrate/flat_runs.hpp: a run of Vec3 as one array of
@@ -94,9 +76,20 @@ template <int first>
     }
 }
 
+/// Verlet's second-half updates over n doubles: x₁ += x₂, w₁ += w₂.
+[[gnu::always_inline]] inline void kick_loop(double* __restrict x1, const double* __restrict x2, double* __restrict w1,
+    const double* __restrict w2, std::size_t n)
+{
+    for (std::size_t e = 0; e < n; ++e) {
+        x1[e] += x2[e];
+        w1[e] += w2[e];
+    }
+}
+
 using ShiftLoop = void (*)(double*, double*, double*, double*, double*, const double*, std::size_t);
 using CorrectLoop = void (*)(double*, double*, double*, double*, double*, double*, const double*, std::size_t);
 using DriftLoop = void (*)(double*, double*, const double*, double*, const double*, std::size_t);
+using KickLoop = void (*)(double*, const double*, double*, const double*, std::size_t);
 
 /// The loops, built for the baseline (SSE2) and for AVX2 from one text, as
 /// gear5.cpp's: no fused multiply–add in either (-ffp-contract=off), so both
@@ -105,6 +98,7 @@ struct ClumpLoops {
     ShiftLoop shift_x, shift_omega;
     CorrectLoop correct_x, correct_omega;
     DriftLoop drift;
+    KickLoop kick;
 };
 
 #define WIREDEM_CLUMP_LOOPS(suffix, attributes)                                                                   \
@@ -126,8 +120,13 @@ struct ClumpLoops {
     {                                                                                                             \
         drift_loop(x0, x1, x2, w1, w2, n);                                                                        \
     }                                                                                                             \
+    attributes void kick_##suffix(double* __restrict x1, const double* __restrict x2, double* __restrict w1,       \
+        const double* __restrict w2, std::size_t n)                                                               \
+    {                                                                                                             \
+        kick_loop(x1, x2, w1, w2, n);                                                                             \
+    }                                                                                                             \
     constexpr ClumpLoops clump_loops_##suffix{&shift_##suffix<0>, &shift_##suffix<1>, &correct_##suffix<0>,      \
-        &correct_##suffix<1>, &drift_##suffix};
+        &correct_##suffix<1>, &drift_##suffix, &kick_##suffix};
 
 WIREDEM_CLUMP_LOOPS(baseline, )
 #if defined(__x86_64__)
@@ -172,22 +171,22 @@ ClumpPlacement placement(World& w, const Quat* orientation, const Vec3* arms_in,
         w.grain_rotation.theta[1].data()};
 }
 
-/// The Magnus term of a step, (δt³/12) ω × ω̇ = (w₁ × w₂)/6 in scaled derivatives.
-Vec3 magnus(const Vec3& w1, const Vec3& w2)
+/// What clump_kicks needs for w's clumps, with the lever arms `arms` (null:
+/// turned from the offsets by `orientation`).
+ClumpLoadSums load_sums(World& w, const Quat* orientation, const Vec3* arms)
 {
-    return w1.cross(w2) / 6.0;
+    ClumpState& c = w.clumps;
+    return {w.force_of(BodyKind::grain).data(), w.grain_torque_n_m.data(), arms, c.member_offset_m.data(), orientation,
+        c.first_member.data(), c.member_count.data(), c.mass_kg.data(), w.gravity_m_per_s2,
+        w.gravity_acts[static_cast<int>(BodyKind::grain)], w.clump_loads.force_n.data(), w.clump_loads.torque_n_m.data()};
 }
 
-/// I⁻¹ (w₁ × I w₁)/2: the gyroscopic part of δt²/2 ω̇_b, in scaled terms.
-Vec3 half_gyroscopic(const Vec3& inertia, const Vec3& w1)
+/// The derivative arrays w₀ … w₅ of ω_b.
+std::array<const Vec3*, gear_order> omega_arrays(const ClumpState& c)
 {
-    return 0.5 * w1.cross(inertia.cwiseProduct(w1)).cwiseQuotient(inertia);
-}
-
-/// δt²/2 I⁻¹ τ_b.
-Vec3 half_kick(const ClumpState& c, const ClumpLoads& loads, std::size_t i, const Quat& q, double half_dt2)
-{
-    return half_dt2 * (q.conjugate() * loads.torque_n_m[i]).cwiseQuotient(c.principal_inertia_kg_m2[i]);
+    std::array<const Vec3*, gear_order> w{};
+    for (int k = 0; k < gear_order; ++k) w[static_cast<std::size_t>(k)] = c.omega[static_cast<std::size_t>(k)].data();
+    return w;
 }
 
 /// The lever arms' scratch (ClumpLoads::member_arm_m), one per grain, for a
@@ -213,12 +212,10 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
     Quat* predicted = w.clump_loads.predicted_orientation.data();
     const ClumpPlacement put = placement(w, predicted, nullptr, clump_arms(w));
     const ClumpLoops& loops = clump_loops();
+    const auto omega = omega_arrays(c);
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         std::array<Vec3, clump_block> turn; // from the derivatives before the prediction
-        for (std::size_t i = b; i < e; ++i) {
-            const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-            turn[i - b] = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        }
+        gear_turns(omega.data(), true, b, e, turn.data());
         predict_block(loops, c, b, e);
         turn_clumps(c.orientation.data() + b, turn.data(), predicted + b, e - b);
         place_clumps(put, b, e);
@@ -229,31 +226,25 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::atomic<bool> all_finite{true}; // an and, in no order
-    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the predictor's, at the predicted orientation
+    // The predictor's lever arms, at the predicted orientation.
+    const ClumpLoadSums sums = load_sums(w, w.clump_loads.predicted_orientation.data(), w.clump_loads.member_arm_m.data());
+    // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
+    const ClumpKick kick{w.clump_loads.predicted_orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(),
+        0.5 * w.dt_s * w.dt_s, true};
     const ClumpPlacement put = placement(w, c.orientation.data(), nullptr, nullptr);
     const ClumpLoops& loops = clump_loops();
+    const auto omega = omega_arrays(c);
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
         const std::size_t n = 3 * (e - b);
-        std::array<Vec3, clump_block> target;
-        for (std::size_t i = b; i < e; ++i) {
-            sum_loads(w, static_cast<std::uint32_t>(i), w.clump_loads.predicted_orientation[i], arms);
-            target[i - b] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-        }
+        std::array<Vec3, clump_block> target_x, target_omega;
+        clump_kicks(sums, kick, b, e, target_x.data(), target_omega.data());
         loops.correct_x(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.x, 3, b), at(c.x, 4, b), at(c.x, 5, b),
-            target.data()->data(), n);
-        // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
-        for (std::size_t i = b; i < e; ++i)
-            target[i - b] = half_kick(c, w.clump_loads, i, w.clump_loads.predicted_orientation[i], half_dt2)
-                          - half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
+            target_x.data()->data(), n);
         loops.correct_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
-            at(c.omega, 5, b), target.data()->data(), n);
-        std::array<Vec3, clump_block> turn;
-        for (std::size_t i = b; i < e; ++i) {
-            const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-            turn[i - b] = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        }
+            at(c.omega, 5, b), target_omega.data()->data(), n);
+        std::array<Vec3, clump_block> turn; // backwards from the corrected derivatives
+        gear_turns(omega.data(), false, b, e, turn.data());
         turn_clumps(c.orientation.data() + b, turn.data(), c.orientation.data() + b, e - b);
         place_clumps(put, b, e);
         bool ok = true;
@@ -281,24 +272,21 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
     std::atomic<bool> all_finite{true}; // an and, in no order
-    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the first half's, at the same orientation
+    // The first half's lever arms, at the same orientation.
+    const Vec3* arms = w.clump_loads.member_arm_m.data();
+    const ClumpLoadSums sums = load_sums(w, c.orientation.data(), arms);
+    const ClumpKick kick{c.orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(), 0.5 * w.dt_s * w.dt_s, false};
     const ClumpPlacement put = placement(w, c.orientation.data(), arms, nullptr);
+    const ClumpLoops& loops = clump_loops();
     parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        // x₂ = δt²/2 F/M, x₁ += x₂; w₂ = δt²/2 I⁻¹ τ_b, w₁ += w₂.
+        clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]);
+        loops.kick(at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
         bool ok = true;
-        for (std::size_t i = b; i < e; ++i) {
-            const auto id = static_cast<std::uint32_t>(i);
-            const Quat q = c.orientation[i];
-            sum_loads(w, id, q, arms);
-            c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-            c.x[1][i] += c.x[2][i];
-            c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
-            c.omega[1][i] += c.omega[2][i];
-            ok = finite(c, i) && ok;
-        }
-        place_clumps(put, b, e);
+        for (std::size_t i = b; i < e; ++i) ok = finite(c, i) && ok;
         if (!ok) all_finite.store(false, std::memory_order_relaxed);
+        place_clumps(put, b, e);
     });
     return all_finite.load();
 }
@@ -307,15 +295,12 @@ void clump_initial_accelerations(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    const bool gear = w.integrator == Integrator::gear5;
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const Quat q = c.orientation[i];
-        sum_loads(w, static_cast<std::uint32_t>(i), q);
-        c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-        c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
-        if (gear) c.omega[2][i] -= half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
-    });
+    const ClumpLoadSums sums = load_sums(w, c.orientation.data(), nullptr); // the arms turned from the offsets
+    // Gear-5: δt²/2 ω̇_b with the gyroscopic term; Verlet: δt²/2 I⁻¹ τ_b.
+    const ClumpKick kick{c.orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(), 0.5 * w.dt_s * w.dt_s,
+        w.integrator == Integrator::gear5};
+    parallel_for_blocks(pool, c.size(), clump_block,
+        [&](std::size_t b, std::size_t e) { clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]); });
 }
 
 double clump_kinetic_energy_j(const State& s)
