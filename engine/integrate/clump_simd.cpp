@@ -63,74 +63,36 @@ static_assert(sizeof(Quat) == 4 * sizeof(double), "a Quat is its coefficients x 
 #define WIREDEM_LANES_KERNELS "integrate/clump_lanes.inc"
 #include "contact/lanes_for_each_isa.inc"
 
-template <std::size_t lanes>
-void free_rotation_blocks(std::uint32_t (*block)(Quat*, Vec3*, const Vec3*), Quat* q, Vec3* w1, const Vec3* inertia,
-    std::size_t& i, std::size_t n)
+/// Items [i, n) `lanes` at a time: block(i) does what it can of items
+/// [i, i + lanes) and returns those it did (bit l: item i + l); one(j) does
+/// item j, for the others.
+template <std::size_t lanes, class Block, class One>
+void lanes_or_one(std::size_t& i, std::size_t n, Block&& block, One&& one)
 {
     constexpr std::uint32_t all = (1u << lanes) - 1u;
     for (; i + lanes <= n; i += lanes) {
-        const std::uint32_t done = block(q + i, w1 + i, inertia + i);
+        const std::uint32_t done = block(i);
         if (done != all)
             for (std::size_t l = 0; l < lanes; ++l)
-                if (!(done >> l & 1u)) free_rotation(q[i + l], w1[i + l], inertia[i + l]);
+                if (!(done >> l & 1u)) one(i + l);
     }
 }
 
-template <std::size_t lanes>
-void turn_blocks(std::uint32_t (*block)(const Quat*, const Vec3*, Quat*), const Quat* q, const Vec3* theta, Quat* out,
-    std::size_t& i, std::size_t n)
-{
-    constexpr std::uint32_t all = (1u << lanes) - 1u;
-    for (; i + lanes <= n; i += lanes) {
-        const std::uint32_t done = block(q + i, theta + i, out + i);
-        if (done != all)
-            for (std::size_t l = 0; l < lanes; ++l)
-                if (!(done >> l & 1u)) out[i + l] = (q[i + l] * rotation_quaternion(theta[i + l])).normalized();
-    }
-}
-
-/// Clumps [i, e) placed `lanes` at a time where `lanes` consecutive clumps
-/// have as many spheres each, the others one by one.
-template <std::size_t lanes>
-void place_blocks(void (*block)(const ClumpPlacement&, std::size_t, std::uint32_t), const ClumpPlacement& p,
-    std::size_t& i, std::size_t e)
+/// Clumps [i, e) `lanes` at a time (block(i, count)) where `lanes`
+/// consecutive clumps have as many spheres each, the others one by one
+/// (one(i)).
+template <std::size_t lanes, class Block, class One>
+void equal_counts_or_one(const std::uint32_t* member_count, std::size_t& i, std::size_t e, Block&& block, One&& one)
 {
     while (i + lanes <= e) {
-        const std::uint32_t count = p.member_count[i];
+        const std::uint32_t count = member_count[i];
         bool same = true;
-        for (std::size_t l = 1; l < lanes; ++l) same = same && p.member_count[i + l] == count;
+        for (std::size_t l = 1; l < lanes; ++l) same = same && member_count[i + l] == count;
         if (same) {
-            block(p, i, count);
+            block(i, count);
             i += lanes;
         } else {
-            place_one(p, i);
-            ++i;
-        }
-    }
-}
-
-template <std::size_t lanes>
-void gear_turn_blocks(void (*block)(const Vec3* const*, bool, std::size_t, Vec3*), const Vec3* const* w,
-    bool forwards, std::size_t& i, std::size_t b, std::size_t e, Vec3* turn)
-{
-    for (; i + lanes <= e; i += lanes) block(w, forwards, i, turn + (i - b));
-}
-
-/// Clumps [i, e) kicked `lanes` at a time where `lanes` consecutive clumps
-/// have as many spheres each, the others one by one.
-template <std::size_t lanes>
-void kick_blocks(void (*block)(const ClumpLoadSums&, const ClumpKick&, std::size_t, std::uint32_t, Vec3*, Vec3*),
-    const ClumpLoadSums& s, const ClumpKick& k, std::size_t& i, std::size_t b, std::size_t e, Vec3* x2, Vec3* w2)
-{
-    while (i + lanes <= e) {
-        const std::uint32_t count = s.member_count[i];
-        bool same = true;
-        for (std::size_t l = 1; l < lanes; ++l) same = same && s.member_count[i + l] == count;
-        if (same) {
-            block(s, k, i, count, x2 + (i - b), w2 + (i - b));
-            i += lanes;
-        } else {
-            kick_one(s, k, i, x2[i - b], w2[i - b]);
+            one(i);
             ++i;
         }
     }
@@ -156,15 +118,24 @@ void sum_clump_loads(const ClumpLoadSums& s, std::size_t i)
 
 void clump_kicks(const ClumpLoadSums& s, const ClumpKick& k, std::size_t b, std::size_t e, Vec3* x2, Vec3* w2)
 {
+    const auto one = [&](std::size_t j) { kick_one(s, k, j, x2[j - b], w2[j - b]); };
     std::size_t i = b;
     if (s.arms != nullptr) switch (simd_isa()) {
 #if defined(__x86_64__)
-        case SimdIsa::avx512: kick_blocks<with_avx512::lanes>(&with_avx512::kicks_block, s, k, i, b, e, x2, w2); break;
-        case SimdIsa::avx2: kick_blocks<with_avx2::lanes>(&with_avx2::kicks_block, s, k, i, b, e, x2, w2); break;
+        case SimdIsa::avx512:
+            equal_counts_or_one<with_avx512::lanes>(s.member_count, i, e, [&](std::size_t j, std::uint32_t count) {
+                with_avx512::kicks_block(s, k, j, count, x2 + (j - b), w2 + (j - b));
+            }, one);
+            break;
+        case SimdIsa::avx2:
+            equal_counts_or_one<with_avx2::lanes>(s.member_count, i, e, [&](std::size_t j, std::uint32_t count) {
+                with_avx2::kicks_block(s, k, j, count, x2 + (j - b), w2 + (j - b));
+            }, one);
+            break;
 #endif
         default: break;
         }
-    for (; i < e; ++i) kick_one(s, k, i, x2[i - b], w2[i - b]);
+    for (; i < e; ++i) one(i);
 }
 
 void gear_turns(const Vec3* const* w, bool forwards, std::size_t b, std::size_t e, Vec3* turn)
@@ -172,8 +143,12 @@ void gear_turns(const Vec3* const* w, bool forwards, std::size_t b, std::size_t 
     std::size_t i = b;
     switch (simd_isa()) {
 #if defined(__x86_64__)
-    case SimdIsa::avx512: gear_turn_blocks<with_avx512::lanes>(&with_avx512::gear_turns_block, w, forwards, i, b, e, turn); break;
-    case SimdIsa::avx2: gear_turn_blocks<with_avx2::lanes>(&with_avx2::gear_turns_block, w, forwards, i, b, e, turn); break;
+    case SimdIsa::avx512:
+        for (; i + with_avx512::lanes <= e; i += with_avx512::lanes) with_avx512::gear_turns_block(w, forwards, i, turn + (i - b));
+        break;
+    case SimdIsa::avx2:
+        for (; i + with_avx2::lanes <= e; i += with_avx2::lanes) with_avx2::gear_turns_block(w, forwards, i, turn + (i - b));
+        break;
 #endif
     default: break;
     }
@@ -221,43 +196,62 @@ void free_rotation(Quat& q, Vec3& w1, const Vec3& inertia)
 
 void turn_clumps(const Quat* q, const Vec3* theta, Quat* out, std::size_t n)
 {
-    std::size_t i = 0;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: turn_blocks<with_avx512::lanes>(&with_avx512::turn_after_block, q, theta, out, i, n); break;
-    case SimdIsa::avx2: turn_blocks<with_avx2::lanes>(&with_avx2::turn_after_block, q, theta, out, i, n); break;
-#endif
-    default: break;
-    }
-    for (; i < n; ++i) out[i] = (q[i] * rotation_quaternion(theta[i])).normalized();
-}
-
-void free_rotations(Quat* q, Vec3* w1, const Vec3* inertia, std::size_t n)
-{
+    const auto turn_one = [&](std::size_t j) { out[j] = (q[j] * rotation_quaternion(theta[j])).normalized(); };
     std::size_t i = 0;
     switch (simd_isa()) {
 #if defined(__x86_64__)
     case SimdIsa::avx512:
-        free_rotation_blocks<with_avx512::lanes>(&with_avx512::free_rotation_block, q, w1, inertia, i, n);
+        lanes_or_one<with_avx512::lanes>(
+            i, n, [&](std::size_t j) { return with_avx512::turn_after_block(q + j, theta + j, out + j); }, turn_one);
         break;
-    case SimdIsa::avx2: free_rotation_blocks<with_avx2::lanes>(&with_avx2::free_rotation_block, q, w1, inertia, i, n); break;
+    case SimdIsa::avx2:
+        lanes_or_one<with_avx2::lanes>(
+            i, n, [&](std::size_t j) { return with_avx2::turn_after_block(q + j, theta + j, out + j); }, turn_one);
+        break;
 #endif
     default: break;
     }
-    for (; i < n; ++i) free_rotation(q[i], w1[i], inertia[i]);
+    for (; i < n; ++i) turn_one(i);
+}
+
+void free_rotations(Quat* q, Vec3* w1, const Vec3* inertia, std::size_t n)
+{
+    const auto one = [&](std::size_t j) { free_rotation(q[j], w1[j], inertia[j]); };
+    std::size_t i = 0;
+    switch (simd_isa()) {
+#if defined(__x86_64__)
+    case SimdIsa::avx512:
+        lanes_or_one<with_avx512::lanes>(
+            i, n, [&](std::size_t j) { return with_avx512::free_rotation_block(q + j, w1 + j, inertia + j); }, one);
+        break;
+    case SimdIsa::avx2:
+        lanes_or_one<with_avx2::lanes>(
+            i, n, [&](std::size_t j) { return with_avx2::free_rotation_block(q + j, w1 + j, inertia + j); }, one);
+        break;
+#endif
+    default: break;
+    }
+    for (; i < n; ++i) one(i);
 }
 
 void place_clumps(const ClumpPlacement& p, std::size_t b, std::size_t e)
 {
+    const auto one = [&](std::size_t j) { place_one(p, j); };
     std::size_t i = b;
     switch (simd_isa()) {
 #if defined(__x86_64__)
-    case SimdIsa::avx512: place_blocks<with_avx512::lanes>(&with_avx512::place_block, p, i, e); break;
-    case SimdIsa::avx2: place_blocks<with_avx2::lanes>(&with_avx2::place_block, p, i, e); break;
+    case SimdIsa::avx512:
+        equal_counts_or_one<with_avx512::lanes>(
+            p.member_count, i, e, [&](std::size_t j, std::uint32_t count) { with_avx512::place_block(p, j, count); }, one);
+        break;
+    case SimdIsa::avx2:
+        equal_counts_or_one<with_avx2::lanes>(
+            p.member_count, i, e, [&](std::size_t j, std::uint32_t count) { with_avx2::place_block(p, j, count); }, one);
+        break;
 #endif
     default: break;
     }
-    for (; i < e; ++i) place_one(p, i);
+    for (; i < e; ++i) one(i);
 }
 
 } // namespace wiredem::engine
