@@ -20,9 +20,11 @@ namespace {
 /// Clumps per block of the clump passes' parallel loops. A block runs the
 /// derivative updates, which are elementwise, as flat loops over its
 /// clumps' arrays (integrate/flat_runs.hpp: a run of Vec3 as one array of
-/// doubles), and the turns, loads and placements clump by clump: every clump
-/// gets the operations it got one clump per task, in the same order, so the
-/// bits are the same for any block size and number of threads.
+/// doubles), and the loads, kicks, turns and placements several clumps at a
+/// time in SIMD lanes (integrate/clump_simd.hpp): every clump gets the
+/// operations it got one clump per task before (until 2026-12-07), in the
+/// same order, so the bits are the same for any block size, number of
+/// threads and instruction set.
 constexpr std::size_t clump_block = 64;
 
 /// x_k ← Σ_{j≥k} C(j,k) x_j for k ≥ first (Gear's predictor) over n doubles
