@@ -2,11 +2,13 @@
 
 #include "contact/pair_kernel_simd.hpp"
 #include "integrate/clump_simd.hpp"
+#include "integrate/flat_runs.hpp"
 #include "integrate/gear5.hpp"
 #include "integrate/rotation.hpp"
 
 #if defined(__x86_64__)
 #include "contact/avx2.hpp"
+#include "contact/avx512.hpp"
 #endif
 
 #include <algorithm>
@@ -93,9 +95,10 @@ using CorrectLoop = void (*)(double*, double*, double*, double*, double*, double
 using DriftLoop = void (*)(double*, double*, const double*, double*, const double*, std::size_t);
 using KickLoop = void (*)(double*, const double*, double*, const double*, std::size_t);
 
-/// The loops, built for the baseline (SSE2) and for AVX2 from one text, as
-/// gear5.cpp's: no fused multiply–add in either (-ffp-contract=off), so both
-/// give the same bits.
+/// The loops, built for the baseline (SSE2), AVX2 and AVX-512 from one text,
+/// as gear5.cpp's: no fused multiply–add in any (-ffp-contract=off), so all
+/// give the same bits. (A block's arrays stay in L1, where AVX-512's eight
+/// doubles per instruction pay; gear5.cpp's bodies stream from L3.)
 struct ClumpLoops {
     ShiftLoop shift_x, shift_omega;
     CorrectLoop correct_x, correct_omega;
@@ -133,6 +136,7 @@ struct ClumpLoops {
 WIREDEM_CLUMP_LOOPS(baseline, )
 #if defined(__x86_64__)
 WIREDEM_CLUMP_LOOPS(avx2, [[WIREDEM_AVX2_TARGET]])
+WIREDEM_CLUMP_LOOPS(avx512, [[WIREDEM_AVX512_TARGET]])
 #endif
 #undef WIREDEM_CLUMP_LOOPS
 
@@ -140,6 +144,7 @@ WIREDEM_CLUMP_LOOPS(avx2, [[WIREDEM_AVX2_TARGET]])
 const ClumpLoops& clump_loops()
 {
 #if defined(__x86_64__)
+    if (simd_isa() == SimdIsa::avx512) return clump_loops_avx512;
     if (simd_isa() != SimdIsa::none) return clump_loops_avx2;
 #endif
     return clump_loops_baseline;
@@ -200,9 +205,10 @@ Vec3* clump_arms(World& w)
     return arms.data();
 }
 
-bool finite(const ClumpState& c, std::size_t i)
+/// Whether clumps [b, e) have a finite centre, velocity and spin.
+bool finite(const ClumpState& c, std::size_t b, std::size_t e)
 {
-    return c.x[0][i].allFinite() && c.x[1][i].allFinite() && c.omega[1][i].allFinite();
+    return all_finite(c.x[0], b, e) && all_finite(c.x[1], b, e) && all_finite(c.omega[1], b, e);
 }
 
 } // namespace
@@ -228,7 +234,7 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    std::atomic<bool> all_finite{true}; // an and, in no order
+    std::atomic<bool> finite_all{true}; // an and, in no order
     // The predictor's lever arms, at the predicted orientation.
     const ClumpLoadSums sums = load_sums(w, w.clump_loads.predicted_orientation.data(), w.clump_loads.member_arm_m.data());
     // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
@@ -249,11 +255,9 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
         gear_turns(omega.data(), false, b, e, turn.data());
         turn_clumps(c.orientation.data() + b, turn.data(), c.orientation.data() + b, e - b);
         place_clumps(put, b, e);
-        bool ok = true;
-        for (std::size_t i = b; i < e; ++i) ok = finite(c, i) && ok;
-        if (!ok) all_finite.store(false, std::memory_order_relaxed);
+        if (!finite(c, b, e)) finite_all.store(false, std::memory_order_relaxed);
     });
-    return all_finite.load();
+    return finite_all.load();
 }
 
 void verlet_first_half_clumps(World& w, ThreadPool& pool)
@@ -274,7 +278,7 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    std::atomic<bool> all_finite{true}; // an and, in no order
+    std::atomic<bool> finite_all{true}; // an and, in no order
     // The first half's lever arms, at the same orientation.
     const Vec3* arms = w.clump_loads.member_arm_m.data();
     const ClumpLoadSums sums = load_sums(w, c.orientation.data(), arms);
@@ -285,12 +289,10 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
         // x₂ = δt²/2 F/M, x₁ += x₂; w₂ = δt²/2 I⁻¹ τ_b, w₁ += w₂.
         clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]);
         loops.kick(at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
-        bool ok = true;
-        for (std::size_t i = b; i < e; ++i) ok = finite(c, i) && ok;
-        if (!ok) all_finite.store(false, std::memory_order_relaxed);
+        if (!finite(c, b, e)) finite_all.store(false, std::memory_order_relaxed);
         place_clumps(put, b, e);
     });
-    return all_finite.load();
+    return finite_all.load();
 }
 
 void clump_initial_accelerations(World& w, ThreadPool& pool)
