@@ -38,10 +38,11 @@ inline constexpr double gear5_stability_limit = 0.3;
 /// in a packing all of a grain's contacts turn and shift it at once, and
 /// that mode is up to √z times faster than one contact's (z K a²/I for its
 /// rotation against z neighbours held). A pour of 4000 grains of 4 mm
-/// (E = 10 GPa, masses × 100) blew up at one contact's ω δt = 0.273 and ran
-/// at 0.235 and 0.188: √6 × 0.235 = 0.58, the engine spring's own bound
-/// (springs_stability_limit), where one contact alone was judged safe up
-/// to 0.57 (docs/model.md, "The tangential and rolling springs in the step").
+/// (E = 10 GPa, masses × 100) blew up at one contact's ω δt = 0.273 (in its
+/// pour) and 0.235 (settling after it), and ran 200 000 steps at 0.188:
+/// √6 × 0.235 = 0.58, the engine spring's own bound (springs_stability_limit),
+/// where one contact alone was judged safe up to 0.57 (docs/model.md, "The
+/// tangential and rolling springs in the step").
 inline constexpr double springs_coordination = 6.0;
 
 /// ω δt of the springs' fastest mode in a packing, √(springs_coordination)
