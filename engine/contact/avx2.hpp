@@ -161,6 +161,19 @@ struct Records4 {
             _mm256_storeu_pd(out[l], components == 0xFu ? records[l] : blend(keep, _mm256_loadu_pd(out[l]), records[l]));
 }
 
+/// Writes lane l of v to the 3-vector at out[l]: transposed in registers,
+/// then two stores per vector (none past its third double).
+[[WIREDEM_AVX2]] inline void store_vec3s_at(const std::array<double*, lanes>& out, const V3& v)
+{
+    __m256d r0 = v.x, r1 = v.y, r2 = v.z, r3 = _mm256_setzero_pd();
+    transpose4(r0, r1, r2, r3); // r_l = x_l y_l z_l 0
+    const __m256d rows[4] = {r0, r1, r2, r3};
+    for (unsigned l = 0; l < lanes; ++l) {
+        _mm_storeu_pd(out[l], _mm256_castpd256_pd128(rows[l]));
+        _mm_store_sd(out[l] + 2, _mm256_extractf128_pd(rows[l], 1));
+    }
+}
+
 /// store_rows4 to four consecutive records at `out`.
 [[WIREDEM_AVX2]] inline void store_records4(double* out, Mask m, Records4 r, unsigned components)
 {

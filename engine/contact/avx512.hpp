@@ -162,6 +162,13 @@ struct Records4 {
     }
 }
 
+/// Writes lane l of v to the 3-vector at out[l] (store_rows4's masked
+/// stores: nothing past its third double).
+[[WIREDEM_AVX512]] inline void store_vec3s_at(const std::array<double*, 8>& out, const V3& v)
+{
+    store_rows4(out, 0xFF, Records4{v.x, v.y, v.z, v.z}, 0x7);
+}
+
 /// Writes eight consecutive 3-vectors (x₀ y₀ z₀ x₁ … z₇, 24 doubles) from
 /// lanes: three stores of v transposed in registers (AVX-512 has scatters,
 /// but on this CPU they cost several times these permutes).

@@ -1,64 +1,199 @@
 #include "integrate/clumps.hpp"
 
+#include "contact/pair_kernel_simd.hpp"
+#include "integrate/clump_simd.hpp"
+#include "integrate/flat_runs.hpp"
 #include "integrate/gear5.hpp"
 #include "integrate/rotation.hpp"
 
+#if defined(__x86_64__)
+#include "contact/avx2.hpp"
+#include "contact/avx512.hpp"
+#endif
+
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 
 namespace wiredem::engine {
 namespace {
 
-/// The loads on clump i with its spheres' lever arms at orientation q, or,
-/// given `arm_m` (indexed by grain id), those arms as worked out at q.
-void sum_loads(World& w, std::uint32_t i, const Quat& q, const Vec3* arm_m = nullptr)
+/// Clumps per block of the clump passes' parallel loops. A block runs the
+/// derivative updates, which are elementwise, as flat loops over its
+/// clumps' arrays (integrate/flat_runs.hpp: a run of Vec3 as one array of
+/// doubles), and the loads, kicks, turns and placements several clumps at a
+/// time in SIMD lanes (integrate/clump_simd.hpp): every clump gets the
+/// operations it got one clump per task before (until 2026-12-07), in the
+/// same order, so the bits are the same for any block size, number of
+/// threads and instruction set.
+constexpr std::size_t clump_block = 64;
+
+/// x_k ← Σ_{j≥k} C(j,k) x_j for k ≥ first (Gear's predictor) over n doubles
+/// of the derivative arrays: the in-place Taylor shift (pass p adds x_{j+1}
+/// to x_j for j ≥ p, from the top down), skipping the derivatives below
+/// `first` (ω_b has no θ₀; x0 is then not touched).
+template <int first>
+[[gnu::always_inline]] inline void shift_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, const double* __restrict x5, std::size_t n)
 {
-    const ClumpState& c = w.clumps;
-    const std::vector<Vec3>& force = w.force_of(BodyKind::grain);
-    Vec3 f = w.gravity_acts[static_cast<int>(BodyKind::grain)] ? Vec3(c.mass_kg[i] * w.gravity_m_per_s2) : Vec3::Zero();
-    Vec3 tau = Vec3::Zero();
-    const std::uint32_t end = c.first_member[i] + c.member_count[i];
-    for (std::uint32_t m = c.first_member[i]; m < end; ++m) {
-        f += force[m];
-        const Vec3 arm = arm_m != nullptr ? arm_m[m] : Vec3(q * c.member_offset_m[m]);
-        tau += arm.cross(force[m]) + w.grain_torque_n_m[m];
+    for (std::size_t e = 0; e < n; ++e) {
+        double v[gear_order] = {first == 0 ? x0[e] : 0.0, x1[e], x2[e], x3[e], x4[e], x5[e]};
+        for (int pass = 0; pass < gear_order - 1; ++pass)
+            for (int j = gear_order - 2; j >= std::max(pass, first); --j) v[j] += v[j + 1];
+        if constexpr (first == 0) x0[e] = v[0];
+        x1[e] = v[1];
+        x2[e] = v[2];
+        x3[e] = v[3];
+        x4[e] = v[4];
     }
-    w.clump_loads.force_n[i] = f;
-    w.clump_loads.torque_n_m[i] = tau;
 }
 
-/// x_k ← Σ_{j≥k} C(j,k) x_j for k ≥ first (Gear's predictor) of element i:
-/// the in-place Taylor shift (pass p adds x_{j+1} to x_j for j ≥ p, from the
-/// top down), skipping the derivatives below `first` (ω_b has no θ₀).
-void predict_all(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i, int first)
+/// Applies Δ = target − x₂ to every derivative k ≥ first with Gear-5's
+/// coefficients, x_k ← x_k + c_k Δ, over n doubles.
+template <int first>
+[[gnu::always_inline]] inline void correct_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2,
+    double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,
+    std::size_t n)
 {
-    for (int pass = 0; pass < gear_order - 1; ++pass)
-        for (int j = gear_order - 2; j >= std::max(pass, first); --j) x[j][i] += x[j + 1][i];
+    constexpr const double* c = gear5_corrector;
+    for (std::size_t e = 0; e < n; ++e) {
+        const double delta = target[e] - x2[e];
+        if constexpr (first == 0) x0[e] += c[0] * delta;
+        x1[e] += c[1] * delta;
+        x2[e] += c[2] * delta;
+        x3[e] += c[3] * delta;
+        x4[e] += c[4] * delta;
+        x5[e] += c[5] * delta;
+    }
 }
 
-/// Applies Δ = target − x₂ to every derivative with Gear-5's coefficients.
-void correct_all(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i, const Vec3& target, int first)
+/// Verlet's first-half updates over n doubles: x₀ += x₁ + x₂, x₁ += x₂ (the
+/// centre), w₁ += w₂ (L_b += δt/2 τ_b).
+[[gnu::always_inline]] inline void drift_loop(double* __restrict x0, double* __restrict x1, const double* __restrict x2,
+    double* __restrict w1, const double* __restrict w2, std::size_t n)
 {
-    const Vec3 delta = target - x[2][i];
-    for (int k = first; k < gear_order; ++k) x[k][i] += gear5_corrector[k] * delta;
+    for (std::size_t e = 0; e < n; ++e) {
+        x0[e] += x1[e] + x2[e];
+        x1[e] += x2[e];
+        w1[e] += w2[e];
+    }
 }
 
-/// The Magnus term of a step, (δt³/12) ω × ω̇ = (w₁ × w₂)/6 in scaled derivatives.
-Vec3 magnus(const Vec3& w1, const Vec3& w2)
+/// Verlet's second-half updates over n doubles: x₁ += x₂, w₁ += w₂.
+[[gnu::always_inline]] inline void kick_loop(double* __restrict x1, const double* __restrict x2, double* __restrict w1,
+    const double* __restrict w2, std::size_t n)
 {
-    return w1.cross(w2) / 6.0;
+    for (std::size_t e = 0; e < n; ++e) {
+        x1[e] += x2[e];
+        w1[e] += w2[e];
+    }
 }
 
-/// I⁻¹ (w₁ × I w₁)/2: the gyroscopic part of δt²/2 ω̇_b, in scaled terms.
-Vec3 half_gyroscopic(const Vec3& inertia, const Vec3& w1)
+using ShiftLoop = void (*)(double*, double*, double*, double*, double*, const double*, std::size_t);
+using CorrectLoop = void (*)(double*, double*, double*, double*, double*, double*, const double*, std::size_t);
+using DriftLoop = void (*)(double*, double*, const double*, double*, const double*, std::size_t);
+using KickLoop = void (*)(double*, const double*, double*, const double*, std::size_t);
+
+/// The loops, built for the baseline (SSE2), AVX2 and AVX-512 from one text,
+/// as gear5.cpp's: no fused multiply–add in any (-ffp-contract=off), so all
+/// give the same bits. (A block's arrays stay in L1, where AVX-512's eight
+/// doubles per instruction pay; gear5.cpp's bodies stream from L3.)
+struct ClumpLoops {
+    ShiftLoop shift_x, shift_omega;
+    CorrectLoop correct_x, correct_omega;
+    DriftLoop drift;
+    KickLoop kick;
+};
+
+#define WIREDEM_CLUMP_LOOPS(suffix, attributes)                                                                   \
+    template <int first>                                                                                          \
+    attributes void shift_##suffix(double* __restrict x0, double* __restrict x1, double* __restrict x2,            \
+        double* __restrict x3, double* __restrict x4, const double* __restrict x5, std::size_t n)                  \
+    {                                                                                                             \
+        shift_loop<first>(x0, x1, x2, x3, x4, x5, n);                                                             \
+    }                                                                                                             \
+    template <int first>                                                                                          \
+    attributes void correct_##suffix(double* __restrict x0, double* __restrict x1, double* __restrict x2,          \
+        double* __restrict x3, double* __restrict x4, double* __restrict x5, const double* __restrict target,      \
+        std::size_t n)                                                                                            \
+    {                                                                                                             \
+        correct_loop<first>(x0, x1, x2, x3, x4, x5, target, n);                                                   \
+    }                                                                                                             \
+    attributes void drift_##suffix(double* __restrict x0, double* __restrict x1, const double* __restrict x2,      \
+        double* __restrict w1, const double* __restrict w2, std::size_t n)                                         \
+    {                                                                                                             \
+        drift_loop(x0, x1, x2, w1, w2, n);                                                                        \
+    }                                                                                                             \
+    attributes void kick_##suffix(double* __restrict x1, const double* __restrict x2, double* __restrict w1,       \
+        const double* __restrict w2, std::size_t n)                                                               \
+    {                                                                                                             \
+        kick_loop(x1, x2, w1, w2, n);                                                                             \
+    }                                                                                                             \
+    constexpr ClumpLoops clump_loops_##suffix{&shift_##suffix<0>, &shift_##suffix<1>, &correct_##suffix<0>,      \
+        &correct_##suffix<1>, &drift_##suffix, &kick_##suffix};
+
+WIREDEM_CLUMP_LOOPS(baseline, )
+#if defined(__x86_64__)
+WIREDEM_CLUMP_LOOPS(avx2, [[WIREDEM_AVX2_TARGET]])
+WIREDEM_CLUMP_LOOPS(avx512, [[WIREDEM_AVX512_TARGET]])
+#endif
+#undef WIREDEM_CLUMP_LOOPS
+
+/// The loops of the instruction set in use (simd_isa(): `--simd scalar` takes the baseline's).
+const ClumpLoops& clump_loops()
 {
-    return 0.5 * w1.cross(inertia.cwiseProduct(w1)).cwiseQuotient(inertia);
+#if defined(__x86_64__)
+    if (simd_isa() == SimdIsa::avx512) return clump_loops_avx512;
+    if (simd_isa() != SimdIsa::none) return clump_loops_avx2;
+#endif
+    return clump_loops_baseline;
 }
 
-/// δt²/2 I⁻¹ τ_b.
-Vec3 half_kick(const ClumpState& c, const ClumpLoads& loads, std::size_t i, const Quat& q, double half_dt2)
+/// Order k of derivative set x, clumps [b, e), as flat doubles.
+double* at(std::array<std::vector<Vec3>, gear_order>& x, int k, std::size_t b)
 {
-    return half_dt2 * (q.conjugate() * loads.torque_n_m[i]).cwiseQuotient(c.principal_inertia_kg_m2[i]);
+    return x[static_cast<std::size_t>(k)][b].data();
+}
+
+/// Gear's predictor on clumps [b, e): every derivative of the centre, and
+/// ω_b's from w₁ up.
+void predict_block(const ClumpLoops& loops, ClumpState& c, std::size_t b, std::size_t e)
+{
+    const std::size_t n = 3 * (e - b);
+    loops.shift_x(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.x, 3, b), at(c.x, 4, b), at(c.x, 5, b), n);
+    loops.shift_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
+        at(c.omega, 5, b), n);
+}
+
+/// What place_clumps needs to put the spheres of w's clumps at `orientation`,
+/// taking the lever arms from `arms_in` (null: turning the offsets) and
+/// writing them to `arms_out` (null: nowhere).
+ClumpPlacement placement(World& w, const Quat* orientation, const Vec3* arms_in, Vec3* arms_out)
+{
+    ClumpState& c = w.clumps;
+    TranslationalState& grains = w.of(BodyKind::grain);
+    return {orientation, c.x[0].data(), c.x[1].data(), c.omega[1].data(), c.first_member.data(),
+        c.member_count.data(), c.member_offset_m.data(), arms_in, arms_out, grains.x[0].data(), grains.x[1].data(),
+        w.grain_rotation.theta[1].data()};
+}
+
+/// What clump_kicks needs for w's clumps, with the lever arms `arms` (null:
+/// turned from the offsets by `orientation`).
+ClumpLoadSums load_sums(World& w, const Quat* orientation, const Vec3* arms)
+{
+    ClumpState& c = w.clumps;
+    return {w.force_of(BodyKind::grain).data(), w.grain_torque_n_m.data(), arms, c.member_offset_m.data(), orientation,
+        c.first_member.data(), c.member_count.data(), c.mass_kg.data(), w.gravity_m_per_s2,
+        w.gravity_acts[static_cast<int>(BodyKind::grain)], w.clump_loads.force_n.data(), w.clump_loads.torque_n_m.data()};
+}
+
+/// The derivative arrays w₀ … w₅ of ω_b.
+std::array<const Vec3*, gear_order> omega_arrays(const ClumpState& c)
+{
+    std::array<const Vec3*, gear_order> w{};
+    for (int k = 0; k < gear_order; ++k) w[static_cast<std::size_t>(k)] = c.omega[static_cast<std::size_t>(k)].data();
+    return w;
 }
 
 /// The lever arms' scratch (ClumpLoads::member_arm_m), one per grain, for a
@@ -70,48 +205,10 @@ Vec3* clump_arms(World& w)
     return arms.data();
 }
 
-bool finite(const ClumpState& c, std::size_t i)
+/// Whether clumps [b, e) have a finite centre, velocity and spin.
+bool finite(const ClumpState& c, std::size_t b, std::size_t e)
 {
-    return c.x[0][i].allFinite() && c.x[1][i].allFinite() && c.omega[1][i].allFinite();
-}
-
-/// The free rotation of one step split along the principal axes (Verlet's
-/// drift, the symmetric splitting z y x y z): each part turns q about a body
-/// axis k by φ = fraction × ω_k δt and the body-frame angular momentum
-/// L = I w₁ the opposite way. A turn about a body axis, (c, s e_k) with
-/// c = cos(φ/2), s = sin(φ/2), has two zero components, so each part is
-/// written out: q ⊗ (c, s e_k) is eight products, L turns by −φ in the plane
-/// normal to e_k (cos φ = 1 − 2s², sin φ = 2cs) and keeps L_k. L is carried
-/// across the five parts and made w₁ once, with 1/I; q is normalised once
-/// after them (each part is a unit quaternion to rounding). Until
-/// 2026-12-07 each part was a quaternion product, a normalisation, a
-/// vector turn and three divisions (the same splitting; other roundings,
-/// bench/README.md "Verlet's clump drift, rolling in lanes").
-void free_rotation(Quat& q, Vec3& w1, const Vec3& inertia)
-{
-    constexpr int axis[5] = {2, 1, 0, 1, 2};
-    constexpr double fraction[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
-    const Vec3 inv_inertia = inertia.cwiseInverse();
-    Vec3 l = inertia.cwiseProduct(w1);
-    double qw = q.w();
-    Vec3 qv = q.vec();
-    for (int part = 0; part < 5; ++part) {
-        const int k = axis[part], i = (k + 1) % 3, j = (k + 2) % 3; // (i, j, k) right-handed
-        const double phi = fraction[part] * (l[k] * inv_inertia[k]);
-        const HalfAngle h = half_angle(phi * phi);
-        const double c = h.cos_half, s = h.sin_half_over_angle * phi;
-        // q ⊗ (c, s e_k): w = c q_w − s q_k, v = c q_v + s q_w e_k + s q_v × e_k.
-        const double w = c * qw - s * qv[k];
-        const double vi = c * qv[i] + s * qv[j], vj = c * qv[j] - s * qv[i], vk = c * qv[k] + s * qw;
-        qw = w;
-        qv[i] = vi, qv[j] = vj, qv[k] = vk;
-        // L in the body frame turned by −φ about e_k.
-        const double cos_phi = 1.0 - 2.0 * s * s, sin_phi = 2.0 * c * s;
-        const double li = cos_phi * l[i] + sin_phi * l[j], lj = cos_phi * l[j] - sin_phi * l[i];
-        l[i] = li, l[j] = lj;
-    }
-    q = Quat(qw, qv.x(), qv.y(), qv.z()).normalized();
-    w1 = l.cwiseProduct(inv_inertia);
+    return all_finite(c.x[0], b, e) && all_finite(c.x[1], b, e) && all_finite(c.omega[1], b, e);
 }
 
 } // namespace
@@ -120,15 +217,16 @@ void gear5_predict_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    Vec3* arms = clump_arms(w);
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-        const Vec3 turn = w1 + w2 + c.omega[3][i] + c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        predict_all(c.x, i, 0);
-        predict_all(c.omega, i, 1);
-        const Quat q = (c.orientation[i] * rotation_quaternion(turn)).normalized();
-        w.clump_loads.predicted_orientation[i] = q;
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), q, arms);
+    Quat* predicted = w.clump_loads.predicted_orientation.data();
+    const ClumpPlacement put = placement(w, predicted, nullptr, clump_arms(w));
+    const ClumpLoops& loops = clump_loops();
+    const auto omega = omega_arrays(c);
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        std::array<Vec3, clump_block> turn; // from the derivatives before the prediction
+        gear_turns(omega.data(), true, b, e, turn.data());
+        predict_block(loops, c, b, e);
+        turn_clumps(c.orientation.data() + b, turn.data(), predicted + b, e - b);
+        place_clumps(put, b, e);
     });
 }
 
@@ -136,40 +234,43 @@ bool gear5_correct_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    std::vector<char> ok(c.size(), 1);
-    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the predictor's, at the predicted orientation
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const auto id = static_cast<std::uint32_t>(i);
-        const Quat predicted = w.clump_loads.predicted_orientation[i];
-        sum_loads(w, id, predicted, arms);
-        correct_all(c.x, i, half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i], 0);
-        // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
-        const Vec3 target = half_kick(c, w.clump_loads, i, predicted, half_dt2)
-                          - half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
-        correct_all(c.omega, i, target, 1);
-        const Vec3 w1 = c.omega[1][i], w2 = c.omega[2][i];
-        const Vec3 turn = w1 - w2 + c.omega[3][i] - c.omega[4][i] + c.omega[5][i] + magnus(w1, w2);
-        c.orientation[i] = (c.orientation[i] * rotation_quaternion(turn)).normalized();
-        place_clump_spheres(w, id, c.orientation[i]);
-        ok[i] = finite(c, i) ? 1 : 0;
+    std::atomic<bool> finite_all{true}; // an and, in no order
+    // The predictor's lever arms, at the predicted orientation.
+    const ClumpLoadSums sums = load_sums(w, w.clump_loads.predicted_orientation.data(), w.clump_loads.member_arm_m.data());
+    // δt²/2 ω̇_b = δt²/2 I⁻¹ τ_b − ½ I⁻¹ (w₁ × I w₁), from the predicted w₁.
+    const ClumpKick kick{w.clump_loads.predicted_orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(),
+        0.5 * w.dt_s * w.dt_s, true};
+    const ClumpPlacement put = placement(w, c.orientation.data(), nullptr, nullptr);
+    const ClumpLoops& loops = clump_loops();
+    const auto omega = omega_arrays(c);
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        const std::size_t n = 3 * (e - b);
+        std::array<Vec3, clump_block> target_x, target_omega;
+        clump_kicks(sums, kick, b, e, target_x.data(), target_omega.data());
+        loops.correct_x(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.x, 3, b), at(c.x, 4, b), at(c.x, 5, b),
+            target_x.data()->data(), n);
+        loops.correct_omega(nullptr, at(c.omega, 1, b), at(c.omega, 2, b), at(c.omega, 3, b), at(c.omega, 4, b),
+            at(c.omega, 5, b), target_omega.data()->data(), n);
+        std::array<Vec3, clump_block> turn; // backwards from the corrected derivatives
+        gear_turns(omega.data(), false, b, e, turn.data());
+        turn_clumps(c.orientation.data() + b, turn.data(), c.orientation.data() + b, e - b);
+        place_clumps(put, b, e);
+        if (!finite(c, b, e)) finite_all.store(false, std::memory_order_relaxed);
     });
-    for (char v : ok)
-        if (v == 0) return false;
-    return true;
+    return finite_all.load();
 }
 
 void verlet_first_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    Vec3* arms = clump_arms(w);
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        c.x[0][i] += c.x[1][i] + c.x[2][i]; // the bodies' drift_flat, x₀ += x₁ + x₂
-        c.x[1][i] += c.x[2][i];
-        c.omega[1][i] += c.omega[2][i];     // L_b += δt/2 τ_b
-        free_rotation(c.orientation[i], c.omega[1][i], c.principal_inertia_kg_m2[i]);
-        place_clump_spheres(w, static_cast<std::uint32_t>(i), c.orientation[i], arms);
+    const ClumpPlacement put = placement(w, c.orientation.data(), nullptr, clump_arms(w));
+    const ClumpLoops& loops = clump_loops();
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        // The bodies' drift_flat, x₀ += x₁ + x₂; x₁ += x₂; and L_b += δt/2 τ_b.
+        loops.drift(at(c.x, 0, b), at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
+        free_rotations(c.orientation.data() + b, c.omega[1].data() + b, c.principal_inertia_kg_m2.data() + b, e - b);
+        place_clumps(put, b, e);
     });
 }
 
@@ -177,38 +278,33 @@ bool verlet_second_half_clumps(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return true;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    std::vector<char> ok(c.size(), 1);
-    const Vec3* arms = w.clump_loads.member_arm_m.data(); // the first half's, at the same orientation
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const auto id = static_cast<std::uint32_t>(i);
-        const Quat q = c.orientation[i];
-        sum_loads(w, id, q, arms);
-        c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-        c.x[1][i] += c.x[2][i];
-        c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
-        c.omega[1][i] += c.omega[2][i];
-        place_clump_spheres_at_arms(w, id, q, arms);
-        ok[i] = finite(c, i) ? 1 : 0;
+    std::atomic<bool> finite_all{true}; // an and, in no order
+    // The first half's lever arms, at the same orientation.
+    const Vec3* arms = w.clump_loads.member_arm_m.data();
+    const ClumpLoadSums sums = load_sums(w, c.orientation.data(), arms);
+    const ClumpKick kick{c.orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(), 0.5 * w.dt_s * w.dt_s, false};
+    const ClumpPlacement put = placement(w, c.orientation.data(), arms, nullptr);
+    const ClumpLoops& loops = clump_loops();
+    parallel_for_blocks(pool, c.size(), clump_block, [&](std::size_t b, std::size_t e) {
+        // x₂ = δt²/2 F/M, x₁ += x₂; w₂ = δt²/2 I⁻¹ τ_b, w₁ += w₂.
+        clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]);
+        loops.kick(at(c.x, 1, b), at(c.x, 2, b), at(c.omega, 1, b), at(c.omega, 2, b), 3 * (e - b));
+        if (!finite(c, b, e)) finite_all.store(false, std::memory_order_relaxed);
+        place_clumps(put, b, e);
     });
-    for (char v : ok)
-        if (v == 0) return false;
-    return true;
+    return finite_all.load();
 }
 
 void clump_initial_accelerations(World& w, ThreadPool& pool)
 {
     ClumpState& c = w.clumps;
     if (c.empty()) return;
-    const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    const bool gear = w.integrator == Integrator::gear5;
-    parallel_for(pool, c.size(), [&](std::size_t i) {
-        const Quat q = c.orientation[i];
-        sum_loads(w, static_cast<std::uint32_t>(i), q);
-        c.x[2][i] = half_dt2 / c.mass_kg[i] * w.clump_loads.force_n[i];
-        c.omega[2][i] = half_kick(c, w.clump_loads, i, q, half_dt2);
-        if (gear) c.omega[2][i] -= half_gyroscopic(c.principal_inertia_kg_m2[i], c.omega[1][i]);
-    });
+    const ClumpLoadSums sums = load_sums(w, c.orientation.data(), nullptr); // the arms turned from the offsets
+    // Gear-5: δt²/2 ω̇_b with the gyroscopic term; Verlet: δt²/2 I⁻¹ τ_b.
+    const ClumpKick kick{c.orientation.data(), c.principal_inertia_kg_m2.data(), c.omega[1].data(), 0.5 * w.dt_s * w.dt_s,
+        w.integrator == Integrator::gear5};
+    parallel_for_blocks(pool, c.size(), clump_block,
+        [&](std::size_t b, std::size_t e) { clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]); });
 }
 
 double clump_kinetic_energy_j(const State& s)

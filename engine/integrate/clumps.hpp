@@ -6,8 +6,14 @@
 // Loads. A clump's force is its spheres' forces (contacts and point loads;
 // they weigh nothing) plus M g; its torque about the centre of mass,
 // Σ (q b_i) × f_i + τ_i, with q b_i the sphere's lever arm at the
-// orientation the forces were evaluated at. Summed in sphere order, one
-// clump per task: the same bits on any number of threads.
+// orientation the forces were evaluated at. Summed in sphere order, each
+// clump by one thread: the same bits on any number of threads.
+//
+// The passes run in blocks of clumps (parallel_for_blocks): the derivative
+// updates as flat loops over a block's arrays, the loads, kicks, turns and the
+// spheres' placement several clumps per SIMD instruction where the CPU has
+// AVX2 or AVX-512 (integrate/clump_simd.hpp), each lane with the scalar
+// code's operations in Eigen's order: the same bits as `--simd scalar`.
 //
 // Translation: the centre of mass moves as a body of mass M (Gear-5's
 // predictor–corrector, Verlet's kicks and drift, on the same scaled

@@ -197,15 +197,17 @@ bool sized_for(const Prediction& next, std::size_t n)
 }
 
 /// The kept prediction made x₀ and x₁: the arrays swap, and the bodies that
-/// are not dynamic, which the corrector skipped, take their stored values
-/// (which `next` now holds) over [begin, end).
+/// are kinematic or fixed, which the corrector skipped, take their stored
+/// values (which `next` now holds) over [begin, end). A clump's spheres take
+/// nothing: gear5_predict_clumps puts them at the end of the predictor.
 template <Position position>
 void take_kept(Derivatives& x, const Prediction& stored, const std::vector<Motion>& motion, std::size_t begin,
     std::size_t end)
 {
     if (all_of_motion(motion, Motion::dynamic, begin, end)) return;
+    if (!any_of_motion(motion, Motion::kinematic, begin, end) && !any_of_motion(motion, Motion::fixed, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
-        if (motion[i] != Motion::dynamic) {
+        if (motion[i] == Motion::kinematic || motion[i] == Motion::fixed) {
             if constexpr (position == Position::with) x[0][i] = stored[0][i];
             x[1][i] = stored[1][i];
         }
