@@ -67,6 +67,10 @@ struct CollapseOutcome {
     World& w = sim.world;
     w.contact.rolling.friction_coeff = c.rolling_friction_coeff;
     w.contact.rolling.damping_ratio = c.rolling_friction_coeff > 0.0 ? c.rolling_damping_ratio : 0.0;
+    // The column was built and settled without rolling resistance: its step
+    // is the auto step of the World that collapses, rolling springs included
+    // (springs_critical_step_s; unchanged at μ_r = 0).
+    set_auto_time_step(w);
     const StandingColumn before = standing_column(w, 1.0, FreeStandingSettings{}.bulk_fraction);
     const TranslationalState& grains = w.of(BodyKind::grain);
     const double bottom_m = w.walls[0].point_m.z();
