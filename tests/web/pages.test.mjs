@@ -764,11 +764,13 @@ test('offline report: wiredem report OUT/ writes one page with the same figures 
   await page.close();
 
   // A fit with a negative c: the main job's tests and fits, as the engine
-  // wrote them (docs/figures/main-summary.json), in this job's summary (the
-  // Mohr plot reads the summary alone). The τ axis goes below c, the c ≥ 0
-  // fit is drawn, the caveat is said.
+  // wrote them at a step of 15.38 µs (tests/web/summary-negative-cohesion.json,
+  // docs/figures/main-summary.json until the springs' packing step made
+  // that job's fit c = 0.3 kPa), in this job's summary (the Mohr plot reads
+  // the summary alone). The τ axis goes below c, the c ≥ 0 fit is drawn,
+  // the caveat is said.
   const negative = mkdtempSync(path.join(tmp, 'report-negative-'));
-  const mainSummary = JSON.parse(readFileSync(path.join(sourceDir, 'docs/figures/main-summary.json'), 'utf8'));
+  const mainSummary = JSON.parse(readFileSync(path.join(sourceDir, 'tests/web/summary-negative-cohesion.json'), 'utf8'));
   const mainFit = mainSummary.mohr_coulomb;
   assert.ok(mainFit.cohesion_pa < 0 && mainFit.caveats.some((c) => c.code === 'negative_cohesion'), JSON.stringify(mainFit));
   writeFileSync(path.join(negative, 'summary.json'), JSON.stringify({ ...summary, tests: mainSummary.tests, mohr_coulomb: mainFit,
