@@ -813,28 +813,45 @@ TEST(TriaxialControl, ASoftColumnPressedBeyondItsStableStepStopsNamingTheStepNot
     // runs are at 10 and 40 kPa, end normally).
 }
 
-TEST(TriaxialControl, ASoftColumnWithinTheLiveToleranceRunsToItsEnd)
+TEST(TriaxialControl, ASoftColumnNearItsStepEndsOrIsStoppedByTheLiveCheck)
 {
-    // At 200 kPa the lattice's grain–plate contacts reach 6 ξ_ref and the
-    // step 1.14 times their live limit, yet Gear-5 holds it and the test ends
-    // (a check at the limit itself stopped it after 960 steps; with a step
-    // 1.1 times as large it holds 1.22, then runs away and blows up:
-    // docs/model.md, "The stiffest live contact").
-    Simulation sim(2);
-    const std::size_t lid = build_lattice_specimen(sim);
-    double largest = 0.0, deepest = 0.0; // δt over the live limit, ξ over ξ_ref, at the checks
-    std::uint64_t steps = 0;
-    RunControl control;
-    control.after_step = [&](const World& w, const StepReport&) {
-        if (++steps % live_check_steps != 0) return true;
-        const LiveContactLimit live = live_contact_limit(w);
-        largest = std::max(largest, w.dt_s / live.critical_s);
-        deepest = std::max(deepest, live.overlap_m / live.reference_overlap_m);
-        return true;
-    };
-    const auto r = run_triaxial(sim, lid, fast_settings(200e3), control);
-    ASSERT_TRUE(r.ok()) << r.error();
-    EXPECT_GT(largest, 1.1) << "the step went beyond the live limit";
-    EXPECT_LT(largest, live_contact_tolerance);
-    EXPECT_GT(deepest, 5.0);
+    // At 200 kPa the lattice's grain–wall contacts are pressed to 4–6 ξ_ref,
+    // so the live limit of the stiffest contact falls to about the step: how a
+    // run goes from there is chaotic in δt. Eight steps from 0.965 to 1 times
+    // the auto step (3.13 µs, the grain–wall springs' packing step) measured:
+    // seven ended, six of them beyond the live limit (up to 1.19 times it),
+    // which a check at the limit itself would have stopped; at the auto step
+    // the membrane ran into the column and the check stopped the test at 1.5
+    // times the limit after 1100 steps. What must hold for each: it ends, or
+    // the live check stops it with its message, never a blow-up; and a run
+    // that ends stayed within the tolerance (docs/model.md, "The stiffest live
+    // contact").
+    int ended = 0, beyond = 0;
+    for (int k = 0; k < 8; ++k) {
+        Simulation sim(2);
+        const std::size_t lid = build_lattice_specimen(sim);
+        set_time_step(sim.world, sim.world.dt_s * (1.0 - 0.005 * k));
+        double largest = 0.0; // δt over the live limit, at the checks
+        std::uint64_t steps = 0;
+        RunControl control;
+        control.after_step = [&](const World& w, const StepReport&) {
+            if (++steps % live_check_steps != 0) return true;
+            largest = std::max(largest, w.dt_s / live_contact_limit(w).critical_s);
+            return true;
+        };
+        const auto r = run_triaxial(sim, lid, fast_settings(200e3), control);
+        SCOPED_TRACE(::testing::Message() << "dt " << sim.world.dt_s);
+        if (r.ok()) {
+            ++ended;
+            beyond += largest > 1.0;
+            EXPECT_LT(largest, live_contact_tolerance);
+        } else {
+            EXPECT_NE(r.error().find("stiffest contact"), std::string::npos) << r.error();
+            EXPECT_EQ(r.error().find("blew up"), std::string::npos) << r.error();
+        }
+        const TranslationalState& g = sim.world.of(BodyKind::grain);
+        for (std::size_t i = 0; i < g.size(); ++i) ASSERT_TRUE(g.x[0][i].allFinite()) << i;
+    }
+    EXPECT_GE(ended, 4);
+    EXPECT_GE(beyond, 2) << "no run that ended went beyond the live limit";
 }
