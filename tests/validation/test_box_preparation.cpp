@@ -105,13 +105,19 @@ TEST(BoxPreparation, NoOverlapBeyondTheHertzOverlapOfTwentyTimesTheMeanForce)
     const BoxPreparationSpec s = box_spec();
     const double r_max = s.grain_radius_m * (1 + s.grain_radius_spread);
     const double force_n = 20 * sigma_c_pa * 4 * r_max * r_max;
-    const double e_star = effective_modulus_pa(
-        s.grain.youngs_modulus_pa, s.grain.poisson_ratio, s.grain.youngs_modulus_pa, s.grain.poisson_ratio);
-    // Hertz at rest: F = (4/3) E* √R* ξ^{3/2}, R* = r/2 (two grains; a wall's R* = r is smaller ξ).
-    const double xi_bound = std::pow(3 * force_n / (4 * e_star * std::sqrt(0.5 * r_max)), 2.0 / 3.0);
+    // Hertz at rest: F = (4/3) E* √R* ξ^{3/2}. Between two grains R* = r/2;
+    // against a wall R* = r, but the walls are ten times softer (E = 1 GPa),
+    // so a wall contact has the larger overlap for a force (measured: the
+    // largest overlaps are at the walls, 6.7 µm at 4.8 F̄).
+    auto overlap_m = [&](const Material& other, double r_star) {
+        const double e_star =
+            effective_modulus_pa(s.grain.youngs_modulus_pa, s.grain.poisson_ratio, other.youngs_modulus_pa, other.poisson_ratio);
+        return std::pow(3 * force_n / (4 * e_star * std::sqrt(r_star)), 2.0 / 3.0);
+    };
+    const double xi_bound = std::max(overlap_m(s.grain, 0.5 * r_max), overlap_m(s.wall, r_max));
     EXPECT_GT(r.max_overlap_m, 0.0);
     EXPECT_LE(r.max_overlap_m, xi_bound);
-    EXPECT_LT(xi_bound, 0.01 * r_max); // and that bound is small: ≈ 6 µm, 0.5 % of r
+    EXPECT_LT(xi_bound, 0.02 * r_max); // and that bound is small: ≈ 15 µm, 1.1 % of r
 }
 
 TEST(BoxPreparation, LessFrictionWhileCompactingPacksDenser)
