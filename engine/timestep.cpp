@@ -475,4 +475,13 @@ std::string live_contact_error(const LiveContactLimit& live, double dt_s, const 
            + " s (engine.time_step_s), stiffer grains (specimen.grain.youngs_modulus_pa) or a lower pressure or load (triaxial.confining_pressures_pa, free_standing.dead_load_n)";
 }
 
+std::string blow_up_error(double dt_s, const std::string& after)
+{
+    return "the simulation blew up " + after + ": a position became NaN or infinite. Its time step "
+           + format_number(dt_s) + " s was too large for what the run met (the stable step is set for each contact at its "
+             "reference overlap; deeper impacts, pressed contacts or a packing's springs can need less): run it again with "
+             "a smaller engine.time_step_s, for example "
+           + format_number(0.5 * dt_s) + " s (half of it)";
+}
+
 } // namespace wiredem::engine

@@ -316,4 +316,12 @@ inline constexpr const char* live_spring_warning_marker = "of the stiffest stick
 /// the fields to change.
 [[nodiscard]] std::string live_contact_error(const LiveContactLimit& live, double dt_s, const std::string& after);
 
+/// What to tell a run that blew up (a position became NaN or infinite) at
+/// step `dt_s`, `after` saying when ("after 1200 steps of the preparation,
+/// at t = 0.3 s"): that its step was too large for what it met, and the
+/// field to change (engine.time_step_s) with a value to try, half the step.
+/// Every driver's blow-up says this, so a user learns the same remedy from
+/// each (the preparation, the box's compaction, the column tests).
+[[nodiscard]] std::string blow_up_error(double dt_s, const std::string& after);
+
 } // namespace wiredem::engine

@@ -280,7 +280,9 @@ Result<BoxPreparationReport, std::string> prepare_box_specimen(
                 target, measured[i], area[i], wall_response(w, servos[i]), dt, spec.servo_relaxation, cap);
             w.walls[servos[i]].velocity_m_per_s = v * w.walls[servos[i]].normal;
         }
-        if (sim.step().blew_up) return Err(std::string("the simulation blew up during the box's compaction (time step too large?)"));
+        if (sim.step().blew_up)
+            return Err(blow_up_error(w.dt_s, "after " + std::to_string(steps + 1) + " steps of the box's compaction, at t = "
+                                                 + format_number(w.time_s) + " s"));
         if (control.progress && control.progress_every && (steps + 1) % control.progress_every == 0)
             control.progress(steps + 1, std::max(expected_steps, steps + 1));
     }

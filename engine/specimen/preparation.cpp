@@ -582,7 +582,9 @@ Result<PreparationReport, std::string> prepare_specimen(
         first_of_run = false;
         if (control.cancel && control.cancel->load()) return "cancelled";
         if (st.laid_all) nozzle.pay_out(w, w.dt_s);
-        if (sim.step().blew_up) return "the simulation blew up during preparation (time step too large?)";
+        if (sim.step().blew_up)
+            return blow_up_error(w.dt_s, "after " + std::to_string(st.steps + 1) + " steps of the preparation, at t = "
+                                             + format_number(w.time_s) + " s");
         ++st.steps;
         if (control.progress && control.progress_every && st.steps % control.progress_every == 0)
             control.progress(st.steps, std::max(expected_steps, st.steps));

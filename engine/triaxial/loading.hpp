@@ -75,9 +75,7 @@ public:
         prescribe();
         const StepReport report = sim_.step();
         ++st_.steps;
-        if (report.blew_up)
-            return "the simulation blew up after " + std::to_string(st_.steps) + " steps of " + test_
-                 + " (time step too large for the loading?)";
+        if (report.blew_up) return blow_up_error(sim_.world.dt_s, "after " + std::to_string(st_.steps) + " steps of " + test_);
         // The stiffest live contact, every live_check_steps: a column pressed
         // beyond the overlap its step was set for stops here with what to
         // change, before Gear-5 diverges (docs/model.md, "The stiffest live

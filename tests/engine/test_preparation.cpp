@@ -5,6 +5,7 @@
 // heavy grains' impacts make δt small. A preparation stopped in any phase,
 // saved and continued ends as one that never stopped.
 #include "contact/geometry.hpp"
+#include "core/format.hpp"
 #include "io/snapshot.hpp"
 #include "small_column.hpp"
 #include "specimen/preparation.hpp"
@@ -196,6 +197,26 @@ TEST(Preparation, RefusesAnExplicitStepAboveThePoursStableLimit)
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().find("engine.time_step_s"), std::string::npos) << r.error();
     EXPECT_NE(r.error().find("exceeds the stable limit"), std::string::npos) << r.error();
+}
+
+TEST(Preparation, ABlowUpSaysWhenAndWhatToChange)
+{
+    // A velocity made NaN between two steps stands for a pour whose step was
+    // too large for what it met: the run ends with the step count and time,
+    // the step, and the field to change with a value to try (it used to say
+    // "time step too large?" and no field).
+    PreparationSpec spec = small_column(PatternKind::none, 100);
+    Simulation sim(1);
+    PreparationContinuation spoil;
+    spoil.between_steps = [&](const World&, const PreparationDriverState& s) {
+        if (s.steps == 300) set_velocity(sim.world, BodyRef(BodyKind::grain, 0), Vec3::Constant(std::nan("")));
+    };
+    const auto r = prepare_specimen(sim, spec, RunControl{}, spoil);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("blew up after 301 steps of the preparation, at t = "), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("engine.time_step_s"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find(format_number(sim.world.dt_s) + " s was too large"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find(format_number(0.5 * sim.world.dt_s) + " s (half of it)"), std::string::npos) << r.error();
 }
 
 class PreparationWithWire : public ::testing::TestWithParam<PatternKind> {};
