@@ -2,6 +2,7 @@
 
 #include "core/format.hpp"
 #include "io/snapshot.hpp"
+#include "timestep.hpp"
 #include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 #include <type_traits>
 #include <utility>
@@ -750,6 +752,8 @@ namespace state_name {
 constexpr std::string_view steps = "steps";
 constexpr std::string_view phase = "phase";
 constexpr std::string_view wall_time_s = "wall_time_s";
+// Every test's: 1 when the live springs' warning is in the result's warnings
+constexpr std::string_view live_springs_reported = "live_springs_reported";
 // The tests' (membrane and cuboid cell, free-standing)
 constexpr std::string_view reference_height_m = "reference_height_m";
 constexpr std::string_view last_sample_step = "last_sample_step";
@@ -804,6 +808,17 @@ constexpr std::string_view settled_under_lid = "settled_under_lid";
 constexpr std::string_view top_plate_wall = "top_plate_wall";
 } // namespace state_name
 
+/// Whether the live springs' warning is in `warnings`, from the driver state
+/// in `g`: its flag, or in a checkpoint written before the flag
+/// (2026-12-07), the warning's own words.
+bool read_live_springs_reported(const io::Group& g, const std::vector<std::string>& warnings)
+{
+    if (g.has_attribute(state_name::live_springs_reported))
+        return g.read_int_attribute(state_name::live_springs_reported) != 0;
+    return std::any_of(warnings.begin(), warnings.end(),
+        [](const std::string& w) { return w.find(eng::live_spring_warning_marker) != std::string::npos; });
+}
+
 } // namespace
 
 void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
@@ -825,6 +840,7 @@ void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
     g.write_double_attribute(state_name::column_radius_m, s.column_radius_m);
     g.write_double_attribute(state_name::wall_time_s, s.wall_time_s);
     g.write_dataset(state_name::cap_nodes, std::span<const std::uint32_t>(s.cap_nodes));
+    g.write_int_attribute(state_name::live_springs_reported, s.live_springs_reported ? 1 : 0);
     io::Group result = g.create_group(state_name::result);
     write_triaxial_result(result, s.result);
 }
@@ -854,6 +870,7 @@ eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapsho
     s.wall_time_s = g.read_double_attribute(state_name::wall_time_s);
     s.cap_nodes = read_u32s(g, state_name::cap_nodes, 1);
     s.result = read_triaxial_result(g.open_group(state_name::result), snapshots);
+    s.live_springs_reported = read_live_springs_reported(g, s.result.warnings);
     return s;
 }
 
@@ -901,6 +918,7 @@ void write_free_standing_driver_state(io::Group& g, const eng::FreeStandingDrive
     g.write_double_attribute(state_name::end_tension_sum_n, s.end_tension_sum_n);
     g.write_int_attribute(state_name::pull_steps_summed, static_cast<std::int64_t>(s.pull_steps_summed));
     g.write_double_attribute(state_name::wall_time_s, s.wall_time_s);
+    g.write_int_attribute(state_name::live_springs_reported, s.live_springs_reported ? 1 : 0);
     io::Group result = g.create_group(state_name::result);
     write_free_standing_result(result, s.result);
 }
@@ -937,6 +955,7 @@ eng::FreeStandingDriverState read_free_standing_driver_state(const io::Group& g)
     s.pull_steps_summed = read_index(g, state_name::pull_steps_summed);
     s.wall_time_s = g.read_double_attribute(state_name::wall_time_s);
     s.result = read_free_standing_result(g.open_group(state_name::result));
+    s.live_springs_reported = read_live_springs_reported(g, s.result.warnings);
     return s;
 }
 
