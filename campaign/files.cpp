@@ -2,6 +2,7 @@
 
 #include "core/format.hpp"
 #include "io/snapshot.hpp"
+#include "timestep.hpp"
 #include "triaxial/result_names.hpp"
 #include "triaxial/series_columns.hpp"
 
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 #include <type_traits>
 #include <utility>
@@ -739,108 +741,193 @@ std::string_view to_string(TestSoFar::State s)
     return "?";
 }
 
+namespace {
+
+/// The names in a checkpoint's driver state (the snapshot's host group, written
+/// by write_driver_state, write_cuboid_driver_state,
+/// write_free_standing_driver_state and write_preparation_state, read by their
+/// readers): each name once, for the writer and the reader.
+namespace state_name {
+// Every test's and the preparation's
+constexpr std::string_view steps = "steps";
+constexpr std::string_view phase = "phase";
+constexpr std::string_view wall_time_s = "wall_time_s";
+// Every test's: 1 when the live springs' warning is in the result's warnings
+constexpr std::string_view live_springs_reported = "live_springs_reported";
+// The tests' (membrane and cuboid cell, free-standing)
+constexpr std::string_view reference_height_m = "reference_height_m";
+constexpr std::string_view last_sample_step = "last_sample_step";
+constexpr std::string_view next_snapshot = "next_snapshot";
+constexpr std::string_view window_force_n = "window_force_n";
+constexpr std::string_view result = "result";
+// The membrane cell's test (TriaxialDriverState; the cuboid cell's too)
+constexpr std::string_view expected_steps = "expected_steps";
+constexpr std::string_view loading = "loading";
+constexpr std::string_view loading_start_sample = "loading_start_sample";
+constexpr std::string_view loading_start_step = "loading_start_step";
+constexpr std::string_view progress_at_loading = "progress_at_loading";
+constexpr std::string_view window_filled = "window_filled";
+constexpr std::string_view has_window_sigma1 = "has_window_sigma1";
+constexpr std::string_view window_sigma1_pa = "window_sigma1_pa";
+constexpr std::string_view column_radius_m = "column_radius_m";
+constexpr std::string_view cap_nodes = "cap_nodes";
+// The cuboid cell's box: a group of rows
+constexpr std::string_view box = "box";
+constexpr std::string_view width_x_m = "width_x_m";
+constexpr std::string_view width_y_m = "width_y_m";
+constexpr std::string_view sigma_x_pa = "sigma_x_pa";
+constexpr std::string_view sigma_y_pa = "sigma_y_pa";
+// The free-standing test's (FreeStandingDriverState)
+constexpr std::string_view phase_start_step = "phase_start_step";
+constexpr std::string_view reference_radius_m = "reference_radius_m";
+constexpr std::string_view max_sigma1_pa = "max_sigma1_pa";
+constexpr std::string_view profile_at_max_sigma1 = "profile_at_max_sigma1";
+constexpr std::string_view max_window_sigma1_pa = "max_window_sigma1_pa";
+constexpr std::string_view below_since_strain = "below_since_strain";
+constexpr std::string_view loading_begun = "loading_begun";
+constexpr std::string_view window_kinetic_energy_j = "window_kinetic_energy_j";
+constexpr std::string_view pull_force_sum_n = "pull_force_sum_n";
+constexpr std::string_view end_tension_sum_n = "end_tension_sum_n";
+constexpr std::string_view pull_steps_summed = "pull_steps_summed";
+constexpr std::array<std::string_view, 3> pull_start_m{"pull_start_m_x", "pull_start_m_y", "pull_start_m_z"};
+// The preparation's (PreparationDriverState)
+constexpr std::string_view rng_state = "rng_state";
+constexpr std::string_view owed_grains = "owed_grains";
+constexpr std::string_view next_batch_s = "next_batch_s";
+constexpr std::string_view poured_volume_m3 = "poured_volume_m3";
+constexpr std::string_view pile_top_m = "pile_top_m";
+constexpr std::string_view nozzle_target_m = "nozzle_target_m";
+constexpr std::string_view laid_all = "laid_all";
+constexpr std::string_view nozzle_z_m = "nozzle_z_m";
+constexpr std::string_view nozzle_path_m = "nozzle_path_m";
+constexpr std::string_view nozzle_last_node_path_m = "nozzle_last_node_path_m";
+constexpr std::string_view nozzle_integration_s_m = "nozzle_integration_s_m";
+constexpr std::string_view nozzle_integration_theta_rad = "nozzle_integration_theta_rad";
+constexpr std::string_view settled_before_lid = "settled_before_lid";
+constexpr std::string_view settled_under_lid = "settled_under_lid";
+constexpr std::string_view top_plate_wall = "top_plate_wall";
+} // namespace state_name
+
+/// Whether the live springs' warning is in `warnings`, from the driver state
+/// in `g`: its flag, or in a checkpoint written before the flag
+/// (2026-12-07), the warning's own words.
+bool read_live_springs_reported(const io::Group& g, const std::vector<std::string>& warnings)
+{
+    if (g.has_attribute(state_name::live_springs_reported))
+        return g.read_int_attribute(state_name::live_springs_reported) != 0;
+    return std::any_of(warnings.begin(), warnings.end(),
+        [](const std::string& w) { return w.find(eng::live_spring_warning_marker) != std::string::npos; });
+}
+
+} // namespace
+
 void write_driver_state(io::Group& g, const eng::TriaxialDriverState& s)
 {
-    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
-    g.write_int_attribute("expected_steps", static_cast<std::int64_t>(s.expected_steps));
-    g.write_int_attribute("loading", s.loading ? 1 : 0);
-    g.write_double_attribute("reference_height_m", s.reference_height_m);
+    g.write_int_attribute(state_name::steps, static_cast<std::int64_t>(s.steps));
+    g.write_int_attribute(state_name::expected_steps, static_cast<std::int64_t>(s.expected_steps));
+    g.write_int_attribute(state_name::loading, s.loading ? 1 : 0);
+    g.write_double_attribute(state_name::reference_height_m, s.reference_height_m);
     // "none yet" (the largest value) is written as -1: the same bits.
-    g.write_int_attribute("last_sample_step", static_cast<std::int64_t>(s.last_sample_step));
-    g.write_int_attribute("next_snapshot", static_cast<std::int64_t>(s.next_snapshot));
-    g.write_int_attribute("loading_start_sample", static_cast<std::int64_t>(s.loading_start_sample));
-    g.write_int_attribute("loading_start_step", static_cast<std::int64_t>(s.loading_start_step));
-    g.write_double_attribute("progress_at_loading", s.progress_at_loading);
-    g.write_double_attribute("window_force_n", s.window_force_n);
-    g.write_int_attribute("window_filled", static_cast<std::int64_t>(s.window_filled));
-    g.write_int_attribute("has_window_sigma1", s.window_sigma1_pa ? 1 : 0);
-    g.write_double_attribute("window_sigma1_pa", s.window_sigma1_pa.value_or(0.0));
-    g.write_double_attribute("column_radius_m", s.column_radius_m);
-    g.write_double_attribute("wall_time_s", s.wall_time_s);
-    g.write_dataset("cap_nodes", std::span<const std::uint32_t>(s.cap_nodes));
-    io::Group result = g.create_group("result");
+    g.write_int_attribute(state_name::last_sample_step, static_cast<std::int64_t>(s.last_sample_step));
+    g.write_int_attribute(state_name::next_snapshot, static_cast<std::int64_t>(s.next_snapshot));
+    g.write_int_attribute(state_name::loading_start_sample, static_cast<std::int64_t>(s.loading_start_sample));
+    g.write_int_attribute(state_name::loading_start_step, static_cast<std::int64_t>(s.loading_start_step));
+    g.write_double_attribute(state_name::progress_at_loading, s.progress_at_loading);
+    g.write_double_attribute(state_name::window_force_n, s.window_force_n);
+    g.write_int_attribute(state_name::window_filled, static_cast<std::int64_t>(s.window_filled));
+    g.write_int_attribute(state_name::has_window_sigma1, s.window_sigma1_pa ? 1 : 0);
+    g.write_double_attribute(state_name::window_sigma1_pa, s.window_sigma1_pa.value_or(0.0));
+    g.write_double_attribute(state_name::column_radius_m, s.column_radius_m);
+    g.write_double_attribute(state_name::wall_time_s, s.wall_time_s);
+    g.write_dataset(state_name::cap_nodes, std::span<const std::uint32_t>(s.cap_nodes));
+    g.write_int_attribute(state_name::live_springs_reported, s.live_springs_reported ? 1 : 0);
+    io::Group result = g.create_group(state_name::result);
     write_triaxial_result(result, s.result);
 }
 
 eng::TriaxialDriverState read_driver_state(const io::Group& g, Snapshots snapshots)
 {
     eng::TriaxialDriverState s;
-    s.steps = read_index(g, "steps");
-    s.expected_steps = read_index(g, "expected_steps");
-    s.loading = g.read_int_attribute("loading") != 0;
-    s.reference_height_m = g.read_double_attribute("reference_height_m");
-    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
-    s.next_snapshot = read_index(g, "next_snapshot");
-    s.loading_start_sample = read_index(g, "loading_start_sample");
-    if (g.has_attribute("loading_start_step")) { // absent in a checkpoint written before them: steps as they are
-        s.loading_start_step = read_index(g, "loading_start_step");
-        s.progress_at_loading = g.read_double_attribute("progress_at_loading");
+    s.steps = read_index(g, state_name::steps);
+    s.expected_steps = read_index(g, state_name::expected_steps);
+    s.loading = g.read_int_attribute(state_name::loading) != 0;
+    s.reference_height_m = g.read_double_attribute(state_name::reference_height_m);
+    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute(state_name::last_sample_step));
+    s.next_snapshot = read_index(g, state_name::next_snapshot);
+    s.loading_start_sample = read_index(g, state_name::loading_start_sample);
+    // Absent in a checkpoint written before them: steps as they are.
+    if (g.has_attribute(state_name::loading_start_step)) {
+        s.loading_start_step = read_index(g, state_name::loading_start_step);
+        s.progress_at_loading = g.read_double_attribute(state_name::progress_at_loading);
         if (!(s.progress_at_loading >= 0.0 && s.progress_at_loading <= 1.0))
             throw std::runtime_error(g.path() + ": progress_at_loading out of [0, 1]");
     }
-    s.window_force_n = g.read_double_attribute("window_force_n");
-    s.window_filled = read_index(g, "window_filled");
-    if (g.read_int_attribute("has_window_sigma1") != 0) s.window_sigma1_pa = g.read_double_attribute("window_sigma1_pa");
-    s.column_radius_m = g.read_double_attribute("column_radius_m");
-    s.wall_time_s = g.read_double_attribute("wall_time_s");
-    s.cap_nodes = read_u32s(g, "cap_nodes", 1);
-    s.result = read_triaxial_result(g.open_group("result"), snapshots);
+    s.window_force_n = g.read_double_attribute(state_name::window_force_n);
+    s.window_filled = read_index(g, state_name::window_filled);
+    if (g.read_int_attribute(state_name::has_window_sigma1) != 0)
+        s.window_sigma1_pa = g.read_double_attribute(state_name::window_sigma1_pa);
+    s.column_radius_m = g.read_double_attribute(state_name::column_radius_m);
+    s.wall_time_s = g.read_double_attribute(state_name::wall_time_s);
+    s.cap_nodes = read_u32s(g, state_name::cap_nodes, 1);
+    s.result = read_triaxial_result(g.open_group(state_name::result), snapshots);
+    s.live_springs_reported = read_live_springs_reported(g, s.result.warnings);
     return s;
 }
 
 void write_cuboid_driver_state(io::Group& g, const eng::CuboidDriverState& s)
 {
     write_driver_state(g, s.triaxial);
-    io::Group box = g.create_group("box");
-    units(box.write_dataset("width_x_m", std::span<const double>(s.width_x_m)), "m");
-    units(box.write_dataset("width_y_m", std::span<const double>(s.width_y_m)), "m");
-    units(box.write_dataset("sigma_x_pa", std::span<const double>(s.sigma_x_pa)), "Pa");
-    units(box.write_dataset("sigma_y_pa", std::span<const double>(s.sigma_y_pa)), "Pa");
+    io::Group box = g.create_group(state_name::box);
+    units(box.write_dataset(state_name::width_x_m, std::span<const double>(s.width_x_m)), "m");
+    units(box.write_dataset(state_name::width_y_m, std::span<const double>(s.width_y_m)), "m");
+    units(box.write_dataset(state_name::sigma_x_pa, std::span<const double>(s.sigma_x_pa)), "Pa");
+    units(box.write_dataset(state_name::sigma_y_pa, std::span<const double>(s.sigma_y_pa)), "Pa");
 }
 
 eng::CuboidDriverState read_cuboid_driver_state(const io::Group& g)
 {
     eng::CuboidDriverState s;
     s.triaxial = read_driver_state(g);
-    const io::Group box = g.open_group("box");
-    s.width_x_m = read_doubles(box, "width_x_m");
-    s.width_y_m = read_doubles(box, "width_y_m");
-    s.sigma_x_pa = read_doubles(box, "sigma_x_pa");
-    s.sigma_y_pa = read_doubles(box, "sigma_y_pa");
+    const io::Group box = g.open_group(state_name::box);
+    s.width_x_m = read_doubles(box, state_name::width_x_m);
+    s.width_y_m = read_doubles(box, state_name::width_y_m);
+    s.sigma_x_pa = read_doubles(box, state_name::sigma_x_pa);
+    s.sigma_y_pa = read_doubles(box, state_name::sigma_y_pa);
     return s;
 }
 
 void write_free_standing_driver_state(io::Group& g, const eng::FreeStandingDriverState& s)
 {
-    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
-    g.write_string_attribute("phase", eng::to_string(s.phase));
-    g.write_int_attribute("phase_start_step", static_cast<std::int64_t>(s.phase_start_step));
-    g.write_double_attribute("reference_height_m", s.reference_height_m);
-    g.write_double_attribute("reference_radius_m", s.reference_radius_m);
+    g.write_int_attribute(state_name::steps, static_cast<std::int64_t>(s.steps));
+    g.write_string_attribute(state_name::phase, eng::to_string(s.phase));
+    g.write_int_attribute(state_name::phase_start_step, static_cast<std::int64_t>(s.phase_start_step));
+    g.write_double_attribute(state_name::reference_height_m, s.reference_height_m);
+    g.write_double_attribute(state_name::reference_radius_m, s.reference_radius_m);
     // "none yet" (the largest value) is written as -1: the same bits.
-    g.write_int_attribute("last_sample_step", static_cast<std::int64_t>(s.last_sample_step));
-    g.write_int_attribute("next_snapshot", static_cast<std::int64_t>(s.next_snapshot));
-    g.write_double_attribute("max_sigma1_pa", s.max_sigma1_pa);
-    write_profile(g.create_group("profile_at_max_sigma1"), s.profile_at_max_sigma1);
-    g.write_double_attribute("max_window_sigma1_pa", s.max_window_sigma1_pa);
-    g.write_double_attribute("below_since_strain", s.below_since_strain); // NaN: not below
-    g.write_int_attribute("loading_begun", s.loading_begun ? 1 : 0);
-    g.write_double_attribute("window_force_n", s.window_force_n);
-    g.write_double_attribute("window_kinetic_energy_j", s.window_kinetic_energy_j);
-    for (int k = 0; k < 3; ++k) g.write_double_attribute("pull_start_m_" + std::string(1, "xyz"[k]), s.pull_start_m[k]);
-    g.write_double_attribute("pull_force_sum_n", s.pull_force_sum_n);
-    g.write_double_attribute("end_tension_sum_n", s.end_tension_sum_n);
-    g.write_int_attribute("pull_steps_summed", static_cast<std::int64_t>(s.pull_steps_summed));
-    g.write_double_attribute("wall_time_s", s.wall_time_s);
-    io::Group result = g.create_group("result");
+    g.write_int_attribute(state_name::last_sample_step, static_cast<std::int64_t>(s.last_sample_step));
+    g.write_int_attribute(state_name::next_snapshot, static_cast<std::int64_t>(s.next_snapshot));
+    g.write_double_attribute(state_name::max_sigma1_pa, s.max_sigma1_pa);
+    write_profile(g.create_group(state_name::profile_at_max_sigma1), s.profile_at_max_sigma1);
+    g.write_double_attribute(state_name::max_window_sigma1_pa, s.max_window_sigma1_pa);
+    g.write_double_attribute(state_name::below_since_strain, s.below_since_strain); // NaN: not below
+    g.write_int_attribute(state_name::loading_begun, s.loading_begun ? 1 : 0);
+    g.write_double_attribute(state_name::window_force_n, s.window_force_n);
+    g.write_double_attribute(state_name::window_kinetic_energy_j, s.window_kinetic_energy_j);
+    for (int k = 0; k < 3; ++k) g.write_double_attribute(state_name::pull_start_m[k], s.pull_start_m[k]);
+    g.write_double_attribute(state_name::pull_force_sum_n, s.pull_force_sum_n);
+    g.write_double_attribute(state_name::end_tension_sum_n, s.end_tension_sum_n);
+    g.write_int_attribute(state_name::pull_steps_summed, static_cast<std::int64_t>(s.pull_steps_summed));
+    g.write_double_attribute(state_name::wall_time_s, s.wall_time_s);
+    g.write_int_attribute(state_name::live_springs_reported, s.live_springs_reported ? 1 : 0);
+    io::Group result = g.create_group(state_name::result);
     write_free_standing_result(result, s.result);
 }
 
 eng::FreeStandingDriverState read_free_standing_driver_state(const io::Group& g)
 {
     eng::FreeStandingDriverState s;
-    s.steps = read_index(g, "steps");
-    const std::string phase = g.read_string_attribute("phase");
+    s.steps = read_index(g, state_name::steps);
+    const std::string phase = g.read_string_attribute(state_name::phase);
     bool known = false;
     for (auto p : {eng::FreeStandingPhase::removal, eng::FreeStandingPhase::settling, eng::FreeStandingPhase::dead_load,
              eng::FreeStandingPhase::loading, eng::FreeStandingPhase::pull_out})
@@ -849,25 +936,26 @@ eng::FreeStandingDriverState read_free_standing_driver_state(const io::Group& g)
             known = true;
         }
     if (!known) throw std::runtime_error(g.path() + ": phase \"" + phase + "\" is not a phase of the free-standing test");
-    s.phase_start_step = read_index(g, "phase_start_step");
+    s.phase_start_step = read_index(g, state_name::phase_start_step);
     if (s.phase_start_step > s.steps) throw std::runtime_error(g.path() + ": phase_start_step is past steps");
-    s.reference_height_m = g.read_double_attribute("reference_height_m");
-    s.reference_radius_m = g.read_double_attribute("reference_radius_m");
-    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute("last_sample_step"));
-    s.next_snapshot = read_index(g, "next_snapshot");
-    s.max_sigma1_pa = g.read_double_attribute("max_sigma1_pa");
-    s.profile_at_max_sigma1 = read_profile(g.open_group("profile_at_max_sigma1"));
-    s.max_window_sigma1_pa = g.read_double_attribute("max_window_sigma1_pa");
-    s.below_since_strain = g.read_double_attribute("below_since_strain");
-    s.loading_begun = g.read_int_attribute("loading_begun") != 0;
-    s.window_force_n = g.read_double_attribute("window_force_n");
-    s.window_kinetic_energy_j = g.read_double_attribute("window_kinetic_energy_j");
-    for (int k = 0; k < 3; ++k) s.pull_start_m[k] = g.read_double_attribute("pull_start_m_" + std::string(1, "xyz"[k]));
-    s.pull_force_sum_n = g.read_double_attribute("pull_force_sum_n");
-    s.end_tension_sum_n = g.read_double_attribute("end_tension_sum_n");
-    s.pull_steps_summed = read_index(g, "pull_steps_summed");
-    s.wall_time_s = g.read_double_attribute("wall_time_s");
-    s.result = read_free_standing_result(g.open_group("result"));
+    s.reference_height_m = g.read_double_attribute(state_name::reference_height_m);
+    s.reference_radius_m = g.read_double_attribute(state_name::reference_radius_m);
+    s.last_sample_step = static_cast<std::uint64_t>(g.read_int_attribute(state_name::last_sample_step));
+    s.next_snapshot = read_index(g, state_name::next_snapshot);
+    s.max_sigma1_pa = g.read_double_attribute(state_name::max_sigma1_pa);
+    s.profile_at_max_sigma1 = read_profile(g.open_group(state_name::profile_at_max_sigma1));
+    s.max_window_sigma1_pa = g.read_double_attribute(state_name::max_window_sigma1_pa);
+    s.below_since_strain = g.read_double_attribute(state_name::below_since_strain);
+    s.loading_begun = g.read_int_attribute(state_name::loading_begun) != 0;
+    s.window_force_n = g.read_double_attribute(state_name::window_force_n);
+    s.window_kinetic_energy_j = g.read_double_attribute(state_name::window_kinetic_energy_j);
+    for (int k = 0; k < 3; ++k) s.pull_start_m[k] = g.read_double_attribute(state_name::pull_start_m[k]);
+    s.pull_force_sum_n = g.read_double_attribute(state_name::pull_force_sum_n);
+    s.end_tension_sum_n = g.read_double_attribute(state_name::end_tension_sum_n);
+    s.pull_steps_summed = read_index(g, state_name::pull_steps_summed);
+    s.wall_time_s = g.read_double_attribute(state_name::wall_time_s);
+    s.result = read_free_standing_result(g.open_group(state_name::result));
+    s.live_springs_reported = read_live_springs_reported(g, s.result.warnings);
     return s;
 }
 
@@ -958,52 +1046,52 @@ void write_preparation_state(io::Group& g, const eng::PreparationDriverState& s)
     const auto phase = std::find_if(preparation_phases.begin(), preparation_phases.end(),
         [&](const auto& p) { return p.first == s.phase; });
     if (phase == preparation_phases.end()) throw std::runtime_error("unknown preparation phase");
-    g.write_string_attribute("phase", phase->second);
-    g.write_int_attribute("steps", static_cast<std::int64_t>(s.steps));
-    g.write_int_attribute("rng_state", static_cast<std::int64_t>(s.rng_state)); // the same 64 bits
-    g.write_double_attribute("owed_grains", s.owed_grains);
-    g.write_double_attribute("next_batch_s", s.next_batch_s);
-    g.write_double_attribute("poured_volume_m3", s.poured_volume_m3);
-    g.write_double_attribute("pile_top_m", s.pile_top_m);
-    g.write_double_attribute("nozzle_target_m", s.nozzle_target_m);
-    g.write_int_attribute("laid_all", s.laid_all ? 1 : 0);
-    g.write_double_attribute("nozzle_z_m", s.nozzle.z_m);
-    g.write_double_attribute("nozzle_path_m", s.nozzle.path_m);
-    g.write_double_attribute("nozzle_last_node_path_m", s.nozzle.last_node_path_m);
-    g.write_double_attribute("nozzle_integration_s_m", s.nozzle.path_integration.s_m);
-    g.write_double_attribute("nozzle_integration_theta_rad", s.nozzle.path_integration.theta_rad);
-    g.write_int_attribute("settled_before_lid", s.settled_before_lid ? 1 : 0);
-    g.write_int_attribute("settled_under_lid", s.settled_under_lid ? 1 : 0);
-    g.write_int_attribute("top_plate_wall", static_cast<std::int64_t>(s.top_plate_wall));
-    g.write_double_attribute("wall_time_s", s.wall_time_s);
+    g.write_string_attribute(state_name::phase, phase->second);
+    g.write_int_attribute(state_name::steps, static_cast<std::int64_t>(s.steps));
+    g.write_int_attribute(state_name::rng_state, static_cast<std::int64_t>(s.rng_state)); // the same 64 bits
+    g.write_double_attribute(state_name::owed_grains, s.owed_grains);
+    g.write_double_attribute(state_name::next_batch_s, s.next_batch_s);
+    g.write_double_attribute(state_name::poured_volume_m3, s.poured_volume_m3);
+    g.write_double_attribute(state_name::pile_top_m, s.pile_top_m);
+    g.write_double_attribute(state_name::nozzle_target_m, s.nozzle_target_m);
+    g.write_int_attribute(state_name::laid_all, s.laid_all ? 1 : 0);
+    g.write_double_attribute(state_name::nozzle_z_m, s.nozzle.z_m);
+    g.write_double_attribute(state_name::nozzle_path_m, s.nozzle.path_m);
+    g.write_double_attribute(state_name::nozzle_last_node_path_m, s.nozzle.last_node_path_m);
+    g.write_double_attribute(state_name::nozzle_integration_s_m, s.nozzle.path_integration.s_m);
+    g.write_double_attribute(state_name::nozzle_integration_theta_rad, s.nozzle.path_integration.theta_rad);
+    g.write_int_attribute(state_name::settled_before_lid, s.settled_before_lid ? 1 : 0);
+    g.write_int_attribute(state_name::settled_under_lid, s.settled_under_lid ? 1 : 0);
+    g.write_int_attribute(state_name::top_plate_wall, static_cast<std::int64_t>(s.top_plate_wall));
+    g.write_double_attribute(state_name::wall_time_s, s.wall_time_s);
 }
 
 eng::PreparationDriverState read_preparation_state(const io::Group& g)
 {
     eng::PreparationDriverState s;
-    const std::string phase = g.read_string_attribute("phase");
+    const std::string phase = g.read_string_attribute(state_name::phase);
     const auto p = std::find_if(preparation_phases.begin(), preparation_phases.end(),
         [&](const auto& q) { return phase == q.second; });
     if (p == preparation_phases.end())
         throw std::runtime_error(g.path() + ": attribute phase is \"" + phase + "\", not a preparation phase");
     s.phase = p->first;
-    s.steps = read_index(g, "steps");
-    s.rng_state = static_cast<std::uint64_t>(g.read_int_attribute("rng_state"));
-    s.owed_grains = g.read_double_attribute("owed_grains");
-    s.next_batch_s = g.read_double_attribute("next_batch_s");
-    s.poured_volume_m3 = g.read_double_attribute("poured_volume_m3");
-    s.pile_top_m = g.read_double_attribute("pile_top_m");
-    s.nozzle_target_m = g.read_double_attribute("nozzle_target_m");
-    s.laid_all = g.read_int_attribute("laid_all") != 0;
-    s.nozzle.z_m = g.read_double_attribute("nozzle_z_m");
-    s.nozzle.path_m = g.read_double_attribute("nozzle_path_m");
-    s.nozzle.last_node_path_m = g.read_double_attribute("nozzle_last_node_path_m");
-    s.nozzle.path_integration.s_m = g.read_double_attribute("nozzle_integration_s_m");
-    s.nozzle.path_integration.theta_rad = g.read_double_attribute("nozzle_integration_theta_rad");
-    s.settled_before_lid = g.read_int_attribute("settled_before_lid") != 0;
-    s.settled_under_lid = g.read_int_attribute("settled_under_lid") != 0;
-    s.top_plate_wall = read_index(g, "top_plate_wall");
-    s.wall_time_s = g.read_double_attribute("wall_time_s");
+    s.steps = read_index(g, state_name::steps);
+    s.rng_state = static_cast<std::uint64_t>(g.read_int_attribute(state_name::rng_state));
+    s.owed_grains = g.read_double_attribute(state_name::owed_grains);
+    s.next_batch_s = g.read_double_attribute(state_name::next_batch_s);
+    s.poured_volume_m3 = g.read_double_attribute(state_name::poured_volume_m3);
+    s.pile_top_m = g.read_double_attribute(state_name::pile_top_m);
+    s.nozzle_target_m = g.read_double_attribute(state_name::nozzle_target_m);
+    s.laid_all = g.read_int_attribute(state_name::laid_all) != 0;
+    s.nozzle.z_m = g.read_double_attribute(state_name::nozzle_z_m);
+    s.nozzle.path_m = g.read_double_attribute(state_name::nozzle_path_m);
+    s.nozzle.last_node_path_m = g.read_double_attribute(state_name::nozzle_last_node_path_m);
+    s.nozzle.path_integration.s_m = g.read_double_attribute(state_name::nozzle_integration_s_m);
+    s.nozzle.path_integration.theta_rad = g.read_double_attribute(state_name::nozzle_integration_theta_rad);
+    s.settled_before_lid = g.read_int_attribute(state_name::settled_before_lid) != 0;
+    s.settled_under_lid = g.read_int_attribute(state_name::settled_under_lid) != 0;
+    s.top_plate_wall = read_index(g, state_name::top_plate_wall);
+    s.wall_time_s = g.read_double_attribute(state_name::wall_time_s);
     return s;
 }
 

@@ -301,7 +301,9 @@ static_assert(live_spring_check_steps % live_check_steps == 0);
 /// where it runs away at the latest, with finite values.
 inline constexpr double live_contact_tolerance = 1.5;
 
-/// Words every live_spring_warning holds: how a continued test finds that it has one.
+/// Words every live_spring_warning holds: how the reader of a checkpoint
+/// written before the driver states kept `live_springs_reported`
+/// (2026-12-07) finds whether its test has the warning (campaign/files.cpp).
 inline constexpr const char* live_spring_warning_marker = "of the stiffest sticking tangential and rolling springs";
 /// The warning of a column test whose step `dt_s` exceeds the live springs'
 /// limit `springs` by more than live_contact_tolerance, `after` saying when:

@@ -50,13 +50,8 @@ using NearRun = std::size_t (*)(const GridSlots&, std::size_t, std::size_t, cons
 /// The candidate test of the instruction set in use (all give the same candidates).
 NearRun near_run_for_isa()
 {
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: return &with_avx512::near_run;
-    case SimdIsa::avx2: return &with_avx2::near_run;
-#endif
-    default: return &near_scalar;
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, return &isa::near_run);
+    return &near_scalar;
 }
 
 } // namespace

@@ -74,13 +74,8 @@ SimdIsa simd_isa()
 
 SimdContactKernels simd_contact_kernels()
 {
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::pair_ids, &with_avx512::wall_block};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::pair_ids, &with_avx2::wall_block};
-#endif
-    default: return {};
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, return SimdContactKernels{isa::lanes, &isa::pair_ids, &isa::wall_block});
+    return {};
 }
 
 } // namespace wiredem::engine

@@ -102,6 +102,34 @@ void set_simd_kernels(SimdKernels kernels);
 enum class SimdIsa : std::uint8_t { none, avx2, avx512 };
 [[nodiscard]] SimdIsa simd_isa();
 
+/// WIREDEM_WITH_SIMD_ISA(ns, statement): runs `statement` with `ns` naming
+/// the namespace of the kernels of the instruction set in use — `with_avx512`
+/// or `with_avx2`, which contact/lanes_for_each_isa.inc makes of a file's
+/// kernel text — and does nothing on the scalar path (simd_isa() is none, or
+/// not on x86-64), where the caller's scalar code follows. The one place
+/// where an instruction set is matched to its kernels:
+///
+///     WIREDEM_WITH_SIMD_ISA(isa, return Kernels{isa::lanes, &isa::edges});
+///     return Kernels{};                  // the scalar path
+#if defined(__x86_64__)
+#define WIREDEM_WITH_SIMD_ISA(ns, ...)                                                                                \
+    do {                                                                                                              \
+        switch (::wiredem::engine::simd_isa()) {                                                                      \
+        case ::wiredem::engine::SimdIsa::avx512: {                                                                    \
+            namespace ns = with_avx512;                                                                               \
+            __VA_ARGS__;                                                                                              \
+        } break;                                                                                                      \
+        case ::wiredem::engine::SimdIsa::avx2: {                                                                      \
+            namespace ns = with_avx2;                                                                                 \
+            __VA_ARGS__;                                                                                              \
+        } break;                                                                                                      \
+        case ::wiredem::engine::SimdIsa::none: break;                                                                 \
+        }                                                                                                             \
+    } while (false)
+#else
+#define WIREDEM_WITH_SIMD_ISA(ns, ...) static_cast<void>(0)
+#endif
+
 /// The SIMD contact kernels in use: `lanes` contacts per call; none (lanes
 /// 0, null kernels) for the scalar path only.
 struct SimdContactKernels {

@@ -25,13 +25,9 @@ namespace {
 
 MembraneSimdKernels simd_membrane_kernels()
 {
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::edges, &with_avx512::triangles, &with_avx512::sums, &with_avx512::split};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::edges, &with_avx2::triangles, &with_avx2::sums, &with_avx2::split};
-#endif
-    default: return {};
-    }
+    WIREDEM_WITH_SIMD_ISA(
+        isa, return MembraneSimdKernels{isa::lanes, &isa::edges, &isa::triangles, &isa::sums, &isa::split});
+    return {};
 }
 
 } // namespace wiredem::engine

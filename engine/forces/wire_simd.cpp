@@ -31,13 +31,8 @@ static_assert(sizeof(WireSegment) == 4 * sizeof(double) && offsetof(WireSegment,
 
 WireSimdKernels simd_wire_kernels()
 {
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: return {with_avx512::lanes, &with_avx512::segments, &with_avx512::joints, &with_avx512::nodes};
-    case SimdIsa::avx2: return {with_avx2::lanes, &with_avx2::segments, &with_avx2::joints, &with_avx2::nodes};
-#endif
-    default: return {};
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, return WireSimdKernels{isa::lanes, &isa::segments, &isa::joints, &isa::nodes});
+    return {};
 }
 
 } // namespace wiredem::engine

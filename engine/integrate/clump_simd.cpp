@@ -120,38 +120,19 @@ void clump_kicks(const ClumpLoadSums& s, const ClumpKick& k, std::size_t b, std:
 {
     const auto one = [&](std::size_t j) { kick_one(s, k, j, x2[j - b], w2[j - b]); };
     std::size_t i = b;
-    if (s.arms != nullptr) switch (simd_isa()) {
-#if defined(__x86_64__)
-        case SimdIsa::avx512:
-            equal_counts_or_one<with_avx512::lanes>(s.member_count, i, e, [&](std::size_t j, std::uint32_t count) {
-                with_avx512::kicks_block(s, k, j, count, x2 + (j - b), w2 + (j - b));
-            }, one);
-            break;
-        case SimdIsa::avx2:
-            equal_counts_or_one<with_avx2::lanes>(s.member_count, i, e, [&](std::size_t j, std::uint32_t count) {
-                with_avx2::kicks_block(s, k, j, count, x2 + (j - b), w2 + (j - b));
-            }, one);
-            break;
-#endif
-        default: break;
-        }
+    if (s.arms != nullptr)
+        WIREDEM_WITH_SIMD_ISA(isa, equal_counts_or_one<isa::lanes>(
+            s.member_count, i, e,
+            [&](std::size_t j, std::uint32_t count) { isa::kicks_block(s, k, j, count, x2 + (j - b), w2 + (j - b)); },
+            one));
     for (; i < e; ++i) one(i);
 }
 
 void gear_turns(const Vec3* const* w, bool forwards, std::size_t b, std::size_t e, Vec3* turn)
 {
     std::size_t i = b;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512:
-        for (; i + with_avx512::lanes <= e; i += with_avx512::lanes) with_avx512::gear_turns_block(w, forwards, i, turn + (i - b));
-        break;
-    case SimdIsa::avx2:
-        for (; i + with_avx2::lanes <= e; i += with_avx2::lanes) with_avx2::gear_turns_block(w, forwards, i, turn + (i - b));
-        break;
-#endif
-    default: break;
-    }
+    WIREDEM_WITH_SIMD_ISA(
+        isa, for (; i + isa::lanes <= e; i += isa::lanes) isa::gear_turns_block(w, forwards, i, turn + (i - b)));
     for (; i < e; ++i) turn[i - b] = gear_turn(w, forwards, i);
 }
 
@@ -198,19 +179,8 @@ void turn_clumps(const Quat* q, const Vec3* theta, Quat* out, std::size_t n)
 {
     const auto turn_one = [&](std::size_t j) { out[j] = (q[j] * rotation_quaternion(theta[j])).normalized(); };
     std::size_t i = 0;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512:
-        lanes_or_one<with_avx512::lanes>(
-            i, n, [&](std::size_t j) { return with_avx512::turn_after_block(q + j, theta + j, out + j); }, turn_one);
-        break;
-    case SimdIsa::avx2:
-        lanes_or_one<with_avx2::lanes>(
-            i, n, [&](std::size_t j) { return with_avx2::turn_after_block(q + j, theta + j, out + j); }, turn_one);
-        break;
-#endif
-    default: break;
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, lanes_or_one<isa::lanes>(
+        i, n, [&](std::size_t j) { return isa::turn_after_block(q + j, theta + j, out + j); }, turn_one));
     for (; i < n; ++i) turn_one(i);
 }
 
@@ -218,19 +188,8 @@ void free_rotations(Quat* q, Vec3* w1, const Vec3* inertia, std::size_t n)
 {
     const auto one = [&](std::size_t j) { free_rotation(q[j], w1[j], inertia[j]); };
     std::size_t i = 0;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512:
-        lanes_or_one<with_avx512::lanes>(
-            i, n, [&](std::size_t j) { return with_avx512::free_rotation_block(q + j, w1 + j, inertia + j); }, one);
-        break;
-    case SimdIsa::avx2:
-        lanes_or_one<with_avx2::lanes>(
-            i, n, [&](std::size_t j) { return with_avx2::free_rotation_block(q + j, w1 + j, inertia + j); }, one);
-        break;
-#endif
-    default: break;
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, lanes_or_one<isa::lanes>(
+        i, n, [&](std::size_t j) { return isa::free_rotation_block(q + j, w1 + j, inertia + j); }, one));
     for (; i < n; ++i) one(i);
 }
 
@@ -238,19 +197,8 @@ void place_clumps(const ClumpPlacement& p, std::size_t b, std::size_t e)
 {
     const auto one = [&](std::size_t j) { place_one(p, j); };
     std::size_t i = b;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512:
-        equal_counts_or_one<with_avx512::lanes>(
-            p.member_count, i, e, [&](std::size_t j, std::uint32_t count) { with_avx512::place_block(p, j, count); }, one);
-        break;
-    case SimdIsa::avx2:
-        equal_counts_or_one<with_avx2::lanes>(
-            p.member_count, i, e, [&](std::size_t j, std::uint32_t count) { with_avx2::place_block(p, j, count); }, one);
-        break;
-#endif
-    default: break;
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, equal_counts_or_one<isa::lanes>(
+        p.member_count, i, e, [&](std::size_t j, std::uint32_t count) { isa::place_block(p, j, count); }, one));
     for (; i < e; ++i) one(i);
 }
 

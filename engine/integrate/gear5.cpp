@@ -198,18 +198,23 @@ bool sized_for(const Prediction& next, std::size_t n)
 
 /// The kept prediction made x₀ and x₁: the arrays swap, and the bodies that
 /// are kinematic or fixed, which the corrector skipped, take their stored
-/// values (which `next` now holds) over [begin, end). A clump's spheres take
-/// nothing: gear5_predict_clumps puts them at the end of the predictor.
+/// values (which `next` now holds) over [begin, end); with a position, the
+/// kinematic ones then move (move_kinematic's x₀ ← x₀ + x₁). One scan of the
+/// motions finds whether the range has any such body (usually none), one
+/// loop takes and moves them. A clump's spheres take nothing:
+/// gear5_predict_clumps puts them at the end of the predictor.
 template <Position position>
 void take_kept(Derivatives& x, const Prediction& stored, const std::vector<Motion>& motion, std::size_t begin,
     std::size_t end)
 {
-    if (all_of_motion(motion, Motion::dynamic, begin, end)) return;
-    if (!any_of_motion(motion, Motion::kinematic, begin, end) && !any_of_motion(motion, Motion::fixed, begin, end)) return;
+    if (!any_prescribed(motion, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
-        if (motion[i] == Motion::kinematic || motion[i] == Motion::fixed) {
-            if constexpr (position == Position::with) x[0][i] = stored[0][i];
+        if (is_prescribed(motion[i])) {
             x[1][i] = stored[1][i];
+            if constexpr (position == Position::with) {
+                x[0][i] = stored[0][i];
+                if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
+            }
         }
 }
 
@@ -298,8 +303,8 @@ void gear5_predict(World& w, ThreadPool& pool)
             for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
                 predict_position_and_velocity<Position::with>(body.x, b, e);
             });
+            move_kinematic(body.x, body.motion, begin, end);
         }
-        move_kinematic(body.x, body.motion, begin, end);
     });
 #if defined(WIREDEM_CHECK_PREDICTION)
     for (int k = 0; k < body_kind_count; ++k)

@@ -42,13 +42,7 @@ void turn_blocks(std::uint32_t (*block)(Quat*, const Vec3*), Quat* q, const Vec3
 void turn_all(Quat* q, const Vec3* theta, std::size_t n)
 {
     std::size_t i = 0;
-    switch (simd_isa()) {
-#if defined(__x86_64__)
-    case SimdIsa::avx512: turn_blocks<with_avx512::lanes>(&with_avx512::turn_block, q, theta, i, n); break;
-    case SimdIsa::avx2: turn_blocks<with_avx2::lanes>(&with_avx2::turn_block, q, theta, i, n); break;
-#endif
-    default: break;
-    }
+    WIREDEM_WITH_SIMD_ISA(isa, turn_blocks<isa::lanes>(&isa::turn_block, q, theta, i, n));
     for (; i < n; ++i) turn(q[i], theta[i]);
 }
 

@@ -362,6 +362,9 @@ struct FreeStandingDriverState {
     double end_tension_sum_n = 0.0;           ///< and the end segment's tension along the pull [N]
     std::uint64_t pull_steps_summed = 0;      ///< the steps in those sums
     double wall_time_s = 0.0;
+    /// The live springs' warning is in result.warnings (ColumnTestStepper
+    /// reports it once per test, a continued test included).
+    bool live_springs_reported = false;
     FreeStandingResult result;
 };
 

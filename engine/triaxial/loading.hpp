@@ -9,7 +9,6 @@
 #include "simulation.hpp"
 #include "timestep.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -26,7 +25,9 @@ namespace wiredem::engine {
 /// The step every phase of a column test takes, and what a host needs
 /// between two steps. `State` is the test driver's own state (a checkpoint
 /// saves it with the World): it counts the test's steps (`steps`) and the
-/// wall time of the runs before this one (`wall_time_s`).
+/// wall time of the runs before this one (`wall_time_s`), and says whether
+/// the live springs' warning is in its `result.warnings`
+/// (`live_springs_reported`), so that a continued test does not repeat it.
 template <class State>
 class ColumnTestStepper {
 public:
@@ -36,10 +37,7 @@ public:
     ColumnTestStepper(Simulation& sim, const RunControl& control, const BetweenSteps& between_steps, State& st,
         std::string test, std::chrono::steady_clock::time_point wall_start)
         : sim_(sim), control_(control), between_steps_(between_steps), st_(st), test_(std::move(test)),
-          wall_start_(wall_start),
-          // A test continued from a checkpoint has its warnings: the springs' is not repeated.
-          springs_reported_(std::any_of(st.result.warnings.begin(), st.result.warnings.end(),
-              [](const std::string& w) { return w.find(live_spring_warning_marker) != std::string::npos; }))
+          wall_start_(wall_start)
     {
     }
     /// The stepper keeps a reference to `between_steps`: a temporary (`{}`)
@@ -57,7 +55,7 @@ public:
     /// stiffest live contact (live_limits, every live_check_steps); a step
     /// more than that beyond the stiffest sticking spring's limit (every
     /// live_spring_check_steps) is a warning in the test's result
-    /// (`State::result.warnings`), once; and
+    /// (`State::result.warnings`), once per test (`State::live_springs_reported`); and
     /// progress is reported every control.progress_every steps as
     /// `progress_of()`, a (done, total) pair.
     /// @return an error message, or nothing
@@ -86,14 +84,14 @@ public:
         // "The tangential and rolling springs in the step").
         if (st_.steps % live_check_steps == 0) {
             // The springs every live_spring_check_steps, until reported.
-            const bool springs = !springs_reported_ && st_.steps % live_spring_check_steps == 0;
+            const bool springs = !st_.live_springs_reported && st_.steps % live_spring_check_steps == 0;
             const LiveLimits live = live_limits(sim_.world, sim_.pool(), springs);
             const auto after = [&] { return "after " + std::to_string(st_.steps) + " steps of " + test_; };
             if (sim_.world.dt_s > live_contact_tolerance * live.contact.critical_s)
                 return live_contact_error(live.contact, sim_.world.dt_s, after());
             if (springs && sim_.world.dt_s > live_contact_tolerance * live.springs.critical_s) {
                 st_.result.warnings.push_back(live_spring_warning(live.springs, sim_.world.dt_s, after()));
-                springs_reported_ = true;
+                st_.live_springs_reported = true;
             }
         }
         if (control_.progress && control_.progress_every > 0 && st_.steps % control_.progress_every == 0) {
@@ -118,7 +116,6 @@ private:
     State& st_;
     std::string test_;
     std::chrono::steady_clock::time_point wall_start_;
-    bool springs_reported_ = false; ///< the live springs' warning is in the test's warnings
     bool first_of_run_ = true;
 };
 

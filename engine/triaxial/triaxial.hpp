@@ -152,6 +152,9 @@ struct TriaxialDriverState {
     /// Membrane nodes clamped to the top cap (held, carried with the plate).
     std::vector<std::uint32_t> cap_nodes;
     double wall_time_s = 0.0;             ///< spent by the runs before this one [s]
+    /// The live springs' warning is in result.warnings (ColumnTestStepper
+    /// reports it once per test, a continued test included).
+    bool live_springs_reported = false;
     /// What has been measured: series and snapshots so far, hold time, h₀,
     /// consolidated σ₁ and warnings once loading has started.
     TriaxialResult result;

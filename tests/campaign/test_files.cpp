@@ -7,8 +7,10 @@
 #include "h5_compare.hpp"
 #include "io/snapshot.hpp"
 #include "result_file_names.hpp"
+#include "timestep.hpp"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <cmath>
 #include <filesystem>
@@ -268,6 +270,7 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
     s.column_radius_m = next_value();
     s.cap_nodes = {3, 5, 8, 13};
     s.wall_time_s = next_value();
+    s.live_springs_reported = true;
     s.result = sample_result(3);
     s.result.series.volumetric_strain.clear(); // a running test has none yet
     s.result.strength.reset();
@@ -292,8 +295,56 @@ TEST(CampaignFiles, ADriverStateReadsBackExactlyWithItsPartialRecord)
         EXPECT_EQ(r.column_radius_m, s.column_radius_m);
         EXPECT_EQ(r.cap_nodes, s.cap_nodes);
         EXPECT_EQ(r.wall_time_s, s.wall_time_s);
+        EXPECT_EQ(r.live_springs_reported, s.live_springs_reported);
         expect_same(r.result, s.result);
     }
+    fs::remove(path);
+}
+
+// A checkpoint written before the driver states kept whether the live
+// springs' warning was given (2026-12-07) has no flag: its test gave it
+// when one of its warnings is that warning (engine::live_spring_warning), so
+// that a test continued from it does not give it again; otherwise not yet.
+// With the flag, the flag decides, whatever the warnings say.
+TEST(CampaignFiles, ADriverStateWithoutTheSpringsFlagTakesItFromItsWarnings)
+{
+    using wiredem::campaign::read_free_standing_driver_state;
+    using wiredem::campaign::write_free_standing_driver_state;
+    const fs::path path = temp_file("driver_before_flag");
+    eng::LiveSpringLimit springs;
+    springs.critical_s = 2e-6;
+    springs.normal_force_n = 3.0;
+    springs.stiffness_n_per_m = 3e5;
+    springs.omega2_per_s2 = 4e11;
+    springs.kinds = "grain–wall";
+    const std::string warning = eng::live_spring_warning(springs, 4e-6, "after 1200 steps of the test");
+    constexpr const char* flag = "live_springs_reported";
+    for (const bool warned : {false, true})
+        for (const bool flagged : {false, true}) {
+            SCOPED_TRACE(std::string(warned ? "warned" : "not warned") + (flagged ? ", flag kept" : ", no flag"));
+            eng::TriaxialDriverState s;
+            s.result = sample_result(2);
+            if (warned) s.result.warnings.push_back(warning);
+            eng::FreeStandingDriverState fs_state;
+            fs_state.result.warnings = s.result.warnings;
+            // With the flag, it says the opposite of the warnings: the flag wins.
+            s.live_springs_reported = fs_state.live_springs_reported = !warned;
+            io::write_file_atomically(path, [&](io::Group& root) {
+                io::Group g = root.create_group("host");
+                write_driver_state(g, s);
+                io::Group h = root.create_group("free_standing");
+                write_free_standing_driver_state(h, fs_state);
+                if (!flagged) { // as written before the flag
+                    ASSERT_GE(H5Adelete(g.id(), flag), 0);
+                    ASSERT_GE(H5Adelete(h.id(), flag), 0);
+                }
+            });
+            const io::File f = io::File::open_read_only(path);
+            const bool expected = flagged ? !warned : warned;
+            EXPECT_EQ(read_driver_state(f.root().open_group("host")).live_springs_reported, expected);
+            EXPECT_EQ(read_free_standing_driver_state(f.root().open_group("free_standing")).live_springs_reported,
+                expected);
+        }
     fs::remove(path);
 }
 
@@ -364,6 +415,7 @@ eng::FreeStandingDriverState sample_free_standing_state(eng::FreeStandingPhase p
     s.end_tension_sum_n = next_value();
     s.pull_steps_summed = 7;
     s.wall_time_s = next_value();
+    s.live_springs_reported = true;
     eng::FreeStandingResult& r = s.result;
     if (rows > 0) {
         eng::TriaxialResult t = sample_result(rows);
@@ -458,6 +510,7 @@ TEST(CampaignFiles, AFreeStandingDriverStateReadsBackExactlyWithItsPartialRecord
             EXPECT_EQ(r.last_sample_step, s.last_sample_step);
             EXPECT_EQ(std::isnan(r.below_since_strain), rows == 0);
             EXPECT_EQ(r.pull_start_m, s.pull_start_m);
+            EXPECT_EQ(r.live_springs_reported, s.live_springs_reported);
             EXPECT_EQ(r.result.series.sigma1_pa, s.result.series.sigma1_pa);
             EXPECT_EQ(r.result.wire_breaks.size(), 1u);
             EXPECT_EQ(r.result.pull_out.has_value(), rows > 0);

@@ -199,6 +199,7 @@ double grain_on_plate_springs_omega2(const World& w, bool rolling)
 struct StepperState {
     std::uint64_t steps = 0;
     double wall_time_s = 0.0;
+    bool live_springs_reported = false;
     struct {
         std::vector<std::string> warnings;
     } result;
