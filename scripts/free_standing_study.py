@@ -17,7 +17,7 @@ The unconfined strength predicted by a Mohr-Coulomb envelope (phi, c) is
 the study's summary of the same pattern and seed (docs/study/PATTERN-seedK.json,
 its mohr_coulomb), a check of the whole chain, not a tuning target.
 
-    python3 scripts/free_standing_study.py DIR... [--out docs/study/free-standing]
+    python3 scripts/free_standing_study.py DIR... [--out docs/study/free-standing] [--figure NAME.png]
 """
 from __future__ import annotations
 
@@ -202,6 +202,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dirs", nargs="+", type=Path)
     ap.add_argument("--out", type=Path, default=ROOT / "docs/study/free-standing")
+    ap.add_argument("--figure", default="free_standing.png",
+                    help="the figure's file name under docs/study/figures (default free_standing.png)")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     runs = [read_run(d) for d in args.dirs]
@@ -255,7 +257,7 @@ def main() -> None:
     fig.tight_layout()
     figures = ROOT / "docs/study/figures"
     figures.mkdir(parents=True, exist_ok=True)
-    fig.savefig(figures / "free_standing.png", dpi=120)
+    fig.savefig(figures / args.figure, dpi=120)
 
 
 if __name__ == "__main__":
