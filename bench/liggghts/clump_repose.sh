@@ -21,7 +21,7 @@
 #    sphere; in.clump_repose). So both codes fill the same tube with the same
 #    clumps in the same region, each at its own random places: two samples
 #    of one column, not one packing;
-# 3. each code (one process each, the seeds in turn) lets them settle for --settle-time
+# 3. each code (two processes at a time) lets them settle for --settle-time
 #    in the tube, writes the column, holds the tube still for --hold, lifts it
 #    at --lift m/s (wiredem: Motion::kinematic spheres; LIGGGHTS: fix move
 #    linear) for --lift-time in all (the hold included), and writes the cone;
@@ -39,7 +39,8 @@
 #   defaults: 600 tetrahedral clumps in a 10 mm tube (a lattice 0.18 m tall,
 #   a settled column ~27 mm), a 35 mm base (436 spheres), settled 0.35 s, held
 #   0.02 s and lifted at 0.05 m/s for 0.8 s in all (the tube's foot 39 mm up at
-#   the end); seed 1. About 5 min of CPU for wiredem, 15 for LIGGGHTS, a seed.
+#   the end); seed 1. A seed is 2.5 min of CPU for wiredem and about twice its
+#   time for LIGGGHTS.
 # environment: see peers.sh (WIREDEM_BENCH, LIGGGHTS, NICE, KEEP).
 set -euo pipefail
 
@@ -80,8 +81,9 @@ primes=(32452867 32452883 32452909 32452919 32452921)
 
 geometry=(--clumps "$shape" --heap --grains "$grains" --lattice-radius "$lattice_radius" --rough-base "$rough_base"
           --tube --steps 1 --threads 1 --integrators verlet --no-wire-membrane --json)
-# The start of each seed; then two chains, one a code, each running its seeds in turn (two
-# processes at a time).
+# The start of each seed; then two chains of runs, two processes at a time: LIGGGHTS' first
+# seed, and wiredem's seeds followed by LIGGGHTS' others (LIGGGHTS takes about twice
+# wiredem's time here).
 wiredem_chain=()
 liggghts_chain=()
 for seed in $seeds; do
@@ -114,6 +116,15 @@ for seed in $seeds; do
         -var seed ${primes[$(( (seed - 1) % ${#primes[@]} ))]} -var settled liggghts.$tag.settled.dump
         -var dumpfile liggghts.$tag.lifted.dump")
 done
+liggghts_run() { # liggghts_run "TAG -var NAME VALUE ...": one LIGGGHTS run of the chain
+    # shellcheck disable=SC2086 # the deck's variables, split on purpose
+    set -- $1
+    local tag=$1
+    shift
+    run_peer "$liggghts" "$here/in.clump_repose" "liggghts.$tag" "$@"
+}
+liggghts_run "${liggghts_chain[0]}" &
+lpid=$!
 (
     for seed in "${wiredem_chain[@]}"; do
         nice -n "$nice_level" "$bench" "${geometry[@]}" --seed "$seed" --settle-time "$settle_s" --lift-tube "$lift" \
@@ -121,19 +132,10 @@ done
             --lifted-data "$work/wiredem.s$seed.lifted.data" > /dev/null 2> "$work/wiredem.s$seed.err" ||
             { tail "$work/wiredem.s$seed.err" >&2; exit 1; }
     done
+    for args in "${liggghts_chain[@]:1}"; do liggghts_run "$args"; done
 ) &
 wpid=$!
-(
-    for args in "${liggghts_chain[@]}"; do
-        # shellcheck disable=SC2086 # the deck's variables, split on purpose
-        set -- $args
-        tag=$1
-        shift
-        run_peer "$liggghts" "$here/in.clump_repose" "liggghts.$tag" "$@"
-    done
-) &
-lpid=$!
-wait "$wpid" || { echo "wiredem failed (work directory $work; KEEP=1 keeps it)" >&2; exit 1; }
+wait "$wpid" || { echo "a run failed (work directory $work; KEEP=1 keeps it)" >&2; exit 1; }
 wait "$lpid" || { echo "LIGGGHTS failed (work directory $work; KEEP=1 keeps it)" >&2; exit 1; }
 
 runs=()
