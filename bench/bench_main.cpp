@@ -118,9 +118,18 @@ std::vector<Vec3> rough_base_sites(const ContainerSpec& spec, double radius_m)
 void add_rough_base(World& w, const ContainerSpec& spec, double radius_m)
 {
     const double pitch = 2.0 * spec.grain_radius_m * (1.0 + spec.lattice_gap);
-    const auto poured = static_cast<std::uint32_t>(w.bodies[0].size());
-    for (std::uint32_t i = 0; i < poured; ++i)
-        place_body(w, BodyRef(BodyKind::grain, i), w.bodies[0].x[0][i] + Vec3(0.0, 0.0, pitch));
+    if (!w.clumps.empty()) {
+        // Clumps (--clumps): each moves up whole, its spheres with it.
+        for (std::uint32_t c = 0; c < w.clumps.size(); ++c) {
+            w.clumps.x[0][c] += Vec3(0.0, 0.0, pitch);
+            place_clump_spheres(w, c, w.clumps.orientation[c]);
+        }
+        invalidate_neighbours(w);
+    } else {
+        const auto poured = static_cast<std::uint32_t>(w.bodies[0].size());
+        for (std::uint32_t i = 0; i < poured; ++i)
+            place_body(w, BodyRef(BodyKind::grain, i), w.bodies[0].x[0][i] + Vec3(0.0, 0.0, pitch));
+    }
     const std::uint8_t material = w.bodies[0].material.at(0);
     for (const Vec3& site : rough_base_sites(spec, radius_m)) {
         const std::uint32_t id = add_grain(w, site, spec.grain_radius_m, material);
@@ -158,6 +167,21 @@ std::size_t add_tube(World& w, const ContainerSpec& spec)
         }
     }
     return added;
+}
+
+/// The lift of a repose heap's tube (--lift-tube): its spheres (grains from
+/// `tube_first` on, kinematic) stand still for `hold_s`, then move up at
+/// `speed_m_per_s` (a kinematic sphere keeps the velocity it is given), for
+/// `all_s` in all.
+void hold_then_lift(Simulation& sim, std::size_t tube_first, double hold_s, double all_s, double speed_m_per_s)
+{
+    World& w = sim.world;
+    const auto hold = static_cast<std::uint64_t>(hold_s / w.dt_s);
+    const auto all = static_cast<std::uint64_t>(all_s / w.dt_s);
+    sim.run(std::min(hold, all));
+    for (std::size_t i = tube_first; i < w.bodies[0].size(); ++i)
+        set_velocity(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)), Vec3(0.0, 0.0, speed_m_per_s));
+    sim.run(all - std::min(hold, all));
 }
 
 /// Replaces the grains of a freshly built container by the packing in a data
@@ -607,7 +631,8 @@ int main(int argc, char** argv)
     app.add_flag("--tube", tube,
         "--heap with --rough-base: the column settles inside its cylinder (kept) for --settle-time, and the data file "
         "also holds a tube of fixed spheres of the grains' size around it, to its top (their ids follow the base's): "
-        "the start of a repose heap (bench/liggghts/repose_physics.sh)");
+        "the start of a repose heap (bench/liggghts/repose_physics.sh); with --clumps the tube is there from the start "
+        "and the clumps settle in it, without the cylinder (bench/liggghts/clump_repose.sh)");
     double lift_tube_m_per_s = 0.0;
     app.add_option("--lift-tube", lift_tube_m_per_s,
            "--heap with --packing (a file --tube wrote, with the same --grains and --rough-base): the file's grains "
@@ -617,6 +642,16 @@ int main(int argc, char** argv)
     double tube_hold_s = 0.0;
     app.add_option("--tube-hold", tube_hold_s, "--lift-tube: the tube stands still this long first [s]")
         ->check(CLI::Range(0.0, 10.0));
+    double lift_time_s = 0.0;
+    app.add_option("--lift-time", lift_time_s,
+           "--clumps with --tube and --lift-tube (no --packing: a peer cannot read clumps from a data file): after "
+           "--settle-time in the tube, the tube is held --tube-hold and lifted, this long in all [s] "
+           "(bench/liggghts/clump_repose.sh)")
+        ->check(CLI::Range(0.0, 10.0));
+    std::string lifted_data;
+    app.add_option("--lifted-data", lifted_data,
+           "with --lift-time: also write the spheres at the lift's end as a LIGGGHTS data file (--liggghts-data "
+           "holds them settled, before the lift)");
     std::string column_test;
     app.add_option("--column-test", column_test,
            "time the column test users run: a test of the prepared job directory DIR (`wiredem prepare JOB -o DIR`) "
@@ -658,11 +693,19 @@ int main(int argc, char** argv)
     if (tangential_stiffness > 0.0) w.contact.tangential.stiffness_per_m = tangential_stiffness;
     w.dt_s = stable_time_step(w).auto_s;
     const bool lift = lift_tube_m_per_s > 0.0;
+    // Clumps in a tube: they settle in the tube of spheres itself and the same run lifts it.
+    const bool clump_tube = tube && !clumps.empty();
     if (tube && (!heap || rough_base_m <= 0.0 || !packing.empty())) {
         std::fprintf(stderr, "wiredem-bench: --tube needs --heap and --rough-base, without --packing\n");
         return 2;
     }
-    if (lift != !packing.empty() && heap) {
+    if ((lift_time_s > 0.0 || !lifted_data.empty()) != (clump_tube && lift)
+        || (clump_tube && lift && lift_time_s <= 0.0)) {
+        std::fprintf(stderr, "wiredem-bench: --clumps --tube --lift-tube needs --lift-time (and takes --lifted-data); "
+                             "without them neither\n");
+        return 2;
+    }
+    if (!clump_tube && lift != !packing.empty() && heap) {
         std::fprintf(stderr, "wiredem-bench: --heap --packing FILE needs --lift-tube (FILE written by --tube), and "
                              "--lift-tube needs --packing\n");
         return 2;
@@ -683,7 +726,7 @@ int main(int argc, char** argv)
             throw std::logic_error("--heap: the container's second wall is not its cylinder");
         if (!tube) remove_wall(w, 1);
         w.contact.rolling = RollingParams{rolling_friction, 1.0, 0.0};
-        if (lift) {
+        if (lift && !clump_tube) {
             // The file's poured grains, its base (as --rough-base makes it) and its tube.
             const std::vector<Vec3> sites = rough_base_sites(spec, rough_base_m);
             tube_first = spec.grains + sites.size();
@@ -700,6 +743,14 @@ int main(int argc, char** argv)
                     i < tube_first ? Motion::fixed : Motion::kinematic);
         } else if (rough_base_m > 0.0) {
             add_rough_base(w, spec, rough_base_m);
+            if (clump_tube) {
+                // A peer's multisphere cannot start from a data file of clumps, so each code
+                // fills the tube with its own clumps: the tube is there from the start, the
+                // cylinder (its inner tops) goes.
+                tube_first = w.bodies[0].size();
+                add_tube(w, spec);
+                remove_wall(w, 1);
+            }
         }
     } else if (rough_base_m > 0.0) {
         std::fprintf(stderr, "wiredem-bench: --rough-base needs --heap\n");
@@ -710,18 +761,16 @@ int main(int argc, char** argv)
         return 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    if (lift) {
-        // Held, then lifted at constant speed: a kinematic sphere keeps the velocity it is given.
-        const auto hold = static_cast<std::uint64_t>(tube_hold_s / w.dt_s);
-        const auto all = static_cast<std::uint64_t>(settle_s / w.dt_s);
-        settle.run(std::min(hold, all));
-        for (std::size_t i = tube_first; i < w.bodies[0].size(); ++i)
-            set_velocity(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)), Vec3(0.0, 0.0, lift_tube_m_per_s));
-        settle.run(all - std::min(hold, all));
+    if (lift && !clump_tube) {
+        hold_then_lift(settle, tube_first, tube_hold_s, settle_s, lift_tube_m_per_s);
     } else {
         settle.run(static_cast<std::uint64_t>(settle_s / w.dt_s));
     }
-    if (tube) {
+    if (clump_tube) {
+        const std::size_t base = rough_base_sites(spec, rough_base_m).size();
+        std::fprintf(stderr, "tube: %zu poured spheres (%zu clumps), %zu base grains, %zu tube spheres\n",
+            tube_first - base, w.clumps.size(), base, w.bodies[0].size() - tube_first);
+    } else if (tube) {
         const std::size_t poured = spec.grains, base = rough_base_sites(spec, rough_base_m).size();
         std::fprintf(stderr, "tube: %zu poured grains, %zu base grains, %zu tube spheres\n", poured, base, add_tube(w, spec));
     }
@@ -735,6 +784,14 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "heap: %zu grains, kinetic energy %.6g J after %.6g s\n", w.bodies[0].size(),
             kinetic_energy_j(w, settle.pool()), settle_s);
     if (!liggghts_data.empty()) write_liggghts_data(w, spec, liggghts_data, heap, tube || lift_tube_m_per_s > 0.0);
+    if (clump_tube && lift) {
+        for (std::size_t i = tube_first; i < w.bodies[0].size(); ++i)
+            set_motion(w, BodyRef(BodyKind::grain, static_cast<std::uint32_t>(i)), Motion::kinematic);
+        hold_then_lift(settle, tube_first, tube_hold_s, lift_time_s, lift_tube_m_per_s);
+        std::fprintf(stderr, "lifted: kinetic energy %.6g J after %.6g s more\n", kinetic_energy_j(w, settle.pool()),
+            lift_time_s);
+        if (!lifted_data.empty()) write_liggghts_data(w, spec, lifted_data, heap, true);
+    }
     if (!clump_template.empty()) {
         std::ofstream out(clump_template);
         out.precision(17);

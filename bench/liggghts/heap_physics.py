@@ -69,6 +69,25 @@ FIGURES = [("surface", "surface", "{:.1f}"), ("surface_se", "+-", "{:.1f}"), ("p
            ("cone", "atan(H/r95)", "{:.1f}")]
 
 
+def print_table(res: dict, figures: list, count: str, width: int = 28, mean=np.mean, sd=np.std) -> None:
+    """One row per run (LABEL: its figures, `count` first), then the mean and
+    standard deviation of each group of runs that differ in their last label
+    part only (the seeds)."""
+    print(f"{'run':<{width}} {'N':>6} " + " ".join(f"{h:>11}" for _, h, _ in figures))
+    for label, m in res.items():
+        print(f"{label:<{width}} {m[count]:>6} " + " ".join(f"{fmt.format(m[k]):>11}" for k, _, fmt in figures))
+    groups: dict[str, list[str]] = {}
+    for label in res:
+        groups.setdefault(label.rsplit("/", 1)[0], []).append(label)
+    for group, labels in groups.items():
+        if len(labels) < 2:
+            continue
+        means = " ".join(f"{fmt.format(mean([res[l][k] for l in labels])):>11}" for k, _, fmt in figures)
+        sds = " ".join(f"{fmt.format(sd([res[l][k] for l in labels], ddof=1)):>11}" for k, _, fmt in figures)
+        print(f"{group + ' mean':<{width}} {'':>6} {means}")
+        print(f"{group + ' s.d.':<{width}} {'':>6} {sds}")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+", help="LABEL=FILE")
@@ -87,19 +106,7 @@ def main() -> int:
             keep &= ids <= args.poured
         res[label] = measure(x[keep], r[keep])
     print("angles in degrees")
-    print(f"{'run':<28} {'N':>6} " + " ".join(f"{h:>11}" for _, h, _ in FIGURES))
-    for label, m in res.items():
-        print(f"{label:<28} {m['grains']:>6} " + " ".join(f"{fmt.format(m[k]):>11}" for k, _, fmt in FIGURES))
-    groups: dict[str, list[str]] = {}
-    for label in res:
-        groups.setdefault(label.rsplit("/", 1)[0], []).append(label)
-    for group, labels in groups.items():
-        if len(labels) < 2:
-            continue
-        mean = " ".join(f"{fmt.format(np.mean([res[l][k] for l in labels])):>11}" for k, _, fmt in FIGURES)
-        sd = " ".join(f"{fmt.format(np.std([res[l][k] for l in labels], ddof=1)):>11}" for k, _, fmt in FIGURES)
-        print(f"{group + ' mean':<28} {'':>6} {mean}")
-        print(f"{group + ' s.d.':<28} {'':>6} {sd}")
+    print_table(res, FIGURES, "grains")
     if args.csv:
         with open(args.csv, "w") as out:
             out.write("run,grains," + ",".join(k for k, _, _ in FIGURES) + "\n")
