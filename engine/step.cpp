@@ -12,6 +12,7 @@
 #include "laws/hertz.hpp"
 #include "laws/rolling.hpp"
 #include "laws/tangential.hpp"
+#include "parallel/body_blocks.hpp"
 
 #include <algorithm>
 #include <array>
@@ -118,12 +119,11 @@ Moves body_moves(const World& w, ThreadPool& pool, bool check_list, bool check_n
     const double limit2 = 0.25 * w.skin_at_build_m * w.skin_at_build_m;
     const double near_limit = near_reselect_fraction * w.near.skin_m;
     const double near_limit2 = near_limit * near_limit;
-    // Every kind's bodies in one loop; an or needs no order. A block skips
-    // the test that another has answered already.
-    std::array<std::size_t, body_kind_count> sizes{};
-    for (int k = 0; k < body_kind_count; ++k) sizes[k] = w.bodies[k].size();
+    // Every kind's bodies in one loop, on the blocks the predictor has just
+    // moved them in (body_blocks); an or needs no order. A block skips the
+    // test that another has answered already.
     std::atomic<bool> list_moved{false}, near_moved{false};
-    parallel_for_parts(pool, sizes, reduction_block, [&](std::size_t k, std::size_t b, std::size_t e) {
+    body_blocks(w, pool, [&](std::size_t k, std::size_t b, std::size_t e) {
         const bool test_list = check_list && !list_moved.load(std::memory_order_relaxed);
         const bool test_near = check_near && !near_moved.load(std::memory_order_relaxed);
         const auto& pos = w.bodies[k].x[0];
@@ -702,11 +702,9 @@ void gather_forces(World& w, ThreadPool& pool)
     const SimdGather simd = simd_gather();
     const SimdGather gather = simd != nullptr ? simd : &gather_block_scalar;
     std::array<GatherInputs, body_kind_count> inputs;
-    std::array<std::size_t, body_kind_count> sizes{};
     for (int k = 0; k < body_kind_count; ++k) {
         const auto kind = static_cast<BodyKind>(k);
         const TranslationalState& body = w.bodies[k];
-        sizes[k] = body.size();
         GatherInputs& in = inputs[k];
         in.contacts = &w.contacts;
         in.incidence_start = w.near.incidence_start_of(w.contacts).data();
@@ -727,7 +725,7 @@ void gather_forces(World& w, ThreadPool& pool)
     }
     // A load on a body past the last (or on a wall) would never be added.
     for (int k = 0; k < body_kind_count; ++k)
-        WIREDEM_ASSERT(w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(sizes[k]), BodyRef::max_index + 1).empty(),
+        WIREDEM_ASSERT(w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(w.bodies[k].size()), BodyRef::max_index + 1).empty(),
             "a point load names a body that does not exist");
     WIREDEM_ASSERT(w.point_loads.empty() || !is_wall(w.point_loads.list().back().first), "a point load names a wall");
     // Every kind's bodies in one loop (each body's sum is its own). A block
@@ -735,7 +733,9 @@ void gather_forces(World& w, ThreadPool& pool)
     // under mass scaling the wire's weight, one per node) right after their
     // sums, on its thread: the list names each body at most once, in body
     // order (state/point_loads.hpp), so each body's force is f + p.
-    parallel_for_parts(pool, sizes, 256, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    // The blocks of the integrators' loops (body_blocks): the thread that
+    // gathers a body's force corrects it.
+    body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t end) {
         gather(inputs[k], begin, end);
         std::vector<Vec3>& force = w.body_force_n[k];
         for (const auto& [body, p] : w.point_loads.of(static_cast<BodyKind>(k), static_cast<std::uint32_t>(begin),

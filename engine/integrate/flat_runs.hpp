@@ -10,10 +10,15 @@
 // results, are the same either way.
 #pragma once
 
+#include "core/assert.hpp"
 #include "core/types.hpp"
+#include "parallel/body_blocks.hpp"
 #include "state/body_state.hpp"
+#include "state/world.hpp"
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 
 #include <cstddef>
@@ -23,8 +28,9 @@
 
 namespace wiredem::engine {
 
-/// Bodies per block of the integrators' parallel loops: a block's six
-/// derivative arrays (6 × 3 KB) and scratch stay in L1.
+/// Bodies the integrators' loops take at a time within a block of their
+/// parallel loops (body_block, parallel/body_blocks.hpp): six derivative
+/// arrays (6 × 3 KB) and scratch stay in L1.
 inline constexpr std::size_t integrate_block = 128;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "flat() needs Vec3 to be three packed doubles");
@@ -166,6 +172,34 @@ inline void move_kinematic(std::array<std::vector<Vec3>, gear_order>& x, const s
     if (!any_of_motion(motion, Motion::kinematic, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
         if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
+}
+
+/// The integrators' corrector loop (Gear-5's corrector, Verlet's second
+/// half) over every body, on body_blocks' blocks: body(kind, b, e) on each
+/// run [b, e) of dynamic bodies, at most integrate_block long, and for the
+/// grains rotation(b, e) on each run of dynamic grains of the same
+/// integrate_block. Returns whether every body(…) returned true (an and, in
+/// no order).
+template <class Body, class Rotation>
+bool all_dynamic_runs(World& w, ThreadPool& pool, Body&& body, Rotation&& rotation)
+{
+    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
+    WIREDEM_ASSERT(w.grain_rotation.orientation.size() == grain_motion.size(), "every grain has a rotation");
+    std::atomic<bool> all{true};
+    body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        const std::vector<Motion>& motion = w.bodies[k].motion;
+        bool ok = true;
+        for (std::size_t block = begin; block < end; block += integrate_block) {
+            const std::size_t block_end = std::min(end, block + integrate_block);
+            for_each_run(motion, Motion::dynamic, block, block_end, [&](std::size_t b, std::size_t e) {
+                ok = body(k, b, e) && ok;
+            });
+            if (k == static_cast<std::size_t>(BodyKind::grain))
+                for_each_run(grain_motion, Motion::dynamic, block, block_end, rotation);
+        }
+        if (!ok) all.store(false, std::memory_order_relaxed);
+    });
+    return all.load();
 }
 
 } // namespace wiredem::engine

@@ -1,13 +1,14 @@
 #include "integrate/gear5.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
+#include "core/assert.hpp"
 #include "integrate/clumps.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
+#include "parallel/body_blocks.hpp"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -247,29 +248,19 @@ void check_kept(const Derivatives& x, const Prediction& stored, const std::vecto
 } // namespace
 
 // The predictor and the corrector each run every kind of body and the
-// grains' rotations in one parallel loop (parallel_for_parts): at the
-// paper's size each kind's loop is a few tens of microseconds, and four
-// loops with a join each cost the second thread most of its share.
-// Elementwise, so the blocks a body is in do not change its bits.
-
-/// Parts of the integrators' loops: the body kinds, then the grains' rotations.
-constexpr std::size_t rotation_part = body_kind_count;
-using IntegrateParts = std::array<std::size_t, body_kind_count + 1>;
-
-IntegrateParts integrate_parts(const World& w)
-{
-    IntegrateParts sizes{};
-    for (int k = 0; k < body_kind_count; ++k) sizes[k] = w.bodies[k].size();
-    sizes[rotation_part] = w.grain_rotation.orientation.size();
-    return sizes;
-}
+// grains' rotations in one parallel loop, on the blocks of the gather
+// (body_blocks), a grain's rotation with its grain: at the paper's size
+// each kind's loop is a few tens of microseconds, and four loops with a
+// join each cost the second thread most of its share; and a thread works
+// on the bodies whose forces it gathered. Elementwise, so the blocks a body
+// is in do not change its bits.
 
 void gear5_predict(World& w, ThreadPool& pool)
 {
     GearPrediction& next = w.next_prediction;
     const bool kept = next.for_step == w.step_count;
     next.for_step = GearPrediction::none; // used up: this step's corrector makes the next one
-    std::array<bool, body_kind_count + 1> take{};
+    std::array<bool, body_kind_count> take{};
     for (int k = 0; k < body_kind_count; ++k) {
         TranslationalState& body = w.bodies[k];
         Prediction& stored = next.x[k];
@@ -282,20 +273,11 @@ void gear5_predict(World& w, ThreadPool& pool)
     // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    take[rotation_part] = kept && sized_for<Position::without>(next.theta, rot.orientation.size())
-                       && any_of_motion(grain_motion, Motion::dynamic, 0, grain_motion.size());
-    if (take[rotation_part]) std::swap(rot.theta[1], next.theta[1]);
-    parallel_for_parts(pool, integrate_parts(w), integrate_block, [&](std::size_t k, std::size_t begin, std::size_t end) {
-        if (k == rotation_part) {
-            if (take[k]) {
-                take_kept<Position::without>(rot.theta, next.theta, grain_motion, begin, end);
-            } else {
-                for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-                    predict_position_and_velocity<Position::without>(rot.theta, b, e);
-                });
-            }
-            return;
-        }
+    WIREDEM_ASSERT(rot.orientation.size() == grain_motion.size(), "every grain has a rotation");
+    const bool take_rotation = kept && sized_for<Position::without>(next.theta, rot.orientation.size())
+                            && any_of_motion(grain_motion, Motion::dynamic, 0, grain_motion.size());
+    if (take_rotation) std::swap(rot.theta[1], next.theta[1]);
+    body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t end) {
         TranslationalState& body = w.bodies[k];
         if (take[k]) {
             take_kept<Position::with>(body.x, next.x[k], body.motion, begin, end);
@@ -305,11 +287,19 @@ void gear5_predict(World& w, ThreadPool& pool)
             });
             move_kinematic(body.x, body.motion, begin, end);
         }
+        if (k != static_cast<std::size_t>(BodyKind::grain)) return;
+        if (take_rotation) {
+            take_kept<Position::without>(rot.theta, next.theta, grain_motion, begin, end);
+        } else {
+            for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+                predict_position_and_velocity<Position::without>(rot.theta, b, e);
+            });
+        }
     });
 #if defined(WIREDEM_CHECK_PREDICTION)
     for (int k = 0; k < body_kind_count; ++k)
         if (take[k]) check_kept<Position::with>(w.bodies[k].x, next.x[k], w.bodies[k].motion, "body");
-    if (take[rotation_part]) check_kept<Position::without>(rot.theta, next.theta, grain_motion, "the rotation of grain");
+    if (take_rotation) check_kept<Position::without>(rot.theta, next.theta, grain_motion, "the rotation of grain");
 #endif
     gear5_predict_clumps(w, pool); // puts their spheres, which the loops above skip
 }
@@ -321,30 +311,23 @@ bool gear5_correct(World& w, ThreadPool& pool)
     for (int k = 0; k < body_kind_count; ++k)
         for (auto& v : next.x[k]) v.resize(w.bodies[k].size());
     RotationalState& rot = w.grain_rotation;
-    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
     next.theta[1].resize(rot.orientation.size()); // θ₀ is not integrated
-    // Whether every corrected position is finite: an and, in no order.
-    std::atomic<bool> finite{true};
-    parallel_for_parts(pool, integrate_parts(w), integrate_block, [&](std::size_t k, std::size_t begin, std::size_t end) {
-        if (k == rotation_part) {
-            for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-                (void)correct<Position::without>(
-                    rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
-                // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
-                turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
-            });
-            return;
-        }
-        TranslationalState& body = w.bodies[k];
-        bool ok = true;
-        for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-            ok = correct<Position::with>(body.x, next.x[k], b, e, body.inv_mass_per_kg, w.body_force_n[k], half_dt2) && ok;
+    // Whether every corrected position is finite.
+    const bool finite = all_dynamic_runs(
+        w, pool,
+        [&](std::size_t k, std::size_t b, std::size_t e) {
+            TranslationalState& body = w.bodies[k];
+            return correct<Position::with>(body.x, next.x[k], b, e, body.inv_mass_per_kg, w.body_force_n[k], half_dt2);
+        },
+        [&](std::size_t b, std::size_t e) {
+            (void)correct<Position::without>(
+                rot.theta, next.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
+            // q ← exp(½ ω δt) ⊗ q, with ω δt = w₁
+            turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
-        if (!ok) finite.store(false, std::memory_order_relaxed);
-    });
     const bool clumps_finite = gear5_correct_clumps(w, pool);
     next.for_step = w.step_count + 1; // step() counts this step after the corrector
-    return finite.load() && clumps_finite;
+    return finite && clumps_finite;
 }
 
 } // namespace wiredem::engine

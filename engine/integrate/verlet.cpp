@@ -1,9 +1,11 @@
 #include "integrate/verlet.hpp"
 
 #include "contact/pair_kernel_simd.hpp"
+#include "core/assert.hpp"
 #include "integrate/clumps.hpp"
 #include "integrate/flat_runs.hpp"
 #include "integrate/rotation.hpp"
+#include "parallel/body_blocks.hpp"
 
 #include <algorithm>
 
@@ -96,60 +98,47 @@ bool kick(std::array<std::vector<Vec3>, gear_order>& x, std::size_t b, std::size
 
 } // namespace
 
+// Both halves run on the blocks of the gather and of Gear-5 (body_blocks),
+// a grain's rotation with its grain: a thread works on the bodies whose
+// forces it gathered. Elementwise, so the blocks do not change a bit.
+
 void verlet_first_half(World& w, ThreadPool& pool)
 {
     const FlatLoop drift = drifter();
-    for (auto& body : w.bodies) {
-        parallel_for_blocks(pool, body.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-            for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
-                drift(flat(body.x[0], b, e).data(), flat(body.x[1], b, e).data(), flat(body.x[2], b, e).data(),
-                    3 * (e - b));
-            });
-            move_kinematic(body.x, body.motion, begin, end);
-        });
-    }
     // Grains turn while they are dynamic (a kinematic or fixed grain does not).
     RotationalState& rot = w.grain_rotation;
     const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
+    WIREDEM_ASSERT(rot.orientation.size() == grain_motion.size(), "every grain has a rotation");
+    body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t end) {
+        TranslationalState& body = w.bodies[k];
+        for_each_run(body.motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+            drift(flat(body.x[0], b, e).data(), flat(body.x[1], b, e).data(), flat(body.x[2], b, e).data(), 3 * (e - b));
+        });
+        move_kinematic(body.x, body.motion, begin, end);
+        if (k != static_cast<std::size_t>(BodyKind::grain)) return;
         for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
             flat(rot.theta[1], b, e) += flat(rot.theta[2], b, e); // w₁ += w₂
             // q ← exp(½ ω δt) ⊗ q with the half-step ω (w₁ = δt ω)
             turn_all(rot.orientation.data() + b, rot.theta[1].data() + b, e - b);
         });
     });
-    verlet_first_half_clumps(w, pool); // puts their spheres, which the loops above skip
+    verlet_first_half_clumps(w, pool); // puts their spheres, which the loop above skips
 }
 
 bool verlet_second_half(World& w, ThreadPool& pool)
 {
     const double half_dt2 = 0.5 * w.dt_s * w.dt_s;
-    bool finite = true;
-    for (int k = 0; k < body_kind_count; ++k) {
-        TranslationalState& body = w.bodies[k];
-        const std::vector<Vec3>& force = w.body_force_n[k];
-        const bool body_finite = reduce_blocks(
-            pool, body.size(), true,
-            [&](std::size_t begin, std::size_t end) {
-                bool ok = true;
-                for (std::size_t block = begin; block < end; block += integrate_block)
-                    for_each_run(body.motion, Motion::dynamic, block, std::min(end, block + integrate_block),
-                        [&](std::size_t b, std::size_t e) {
-                            ok = kick(body.x, b, e, body.inv_mass_per_kg, force, half_dt2) && ok;
-                            ok = ok && all_finite(body.x[0], b, e);
-                        });
-                return ok;
-            },
-            [](bool a, bool b) { return a && b; });
-        finite = finite && body_finite;
-    }
     RotationalState& rot = w.grain_rotation;
-    const std::vector<Motion>& grain_motion = w.of(BodyKind::grain).motion;
-    parallel_for_blocks(pool, rot.orientation.size(), integrate_block, [&](std::size_t begin, std::size_t end) {
-        for_each_run(grain_motion, Motion::dynamic, begin, end, [&](std::size_t b, std::size_t e) {
+    // Whether every body's new x₀ and x₁ are finite.
+    const bool finite = all_dynamic_runs(
+        w, pool,
+        [&](std::size_t k, std::size_t b, std::size_t e) {
+            TranslationalState& body = w.bodies[k];
+            return kick(body.x, b, e, body.inv_mass_per_kg, w.body_force_n[k], half_dt2) && all_finite(body.x[0], b, e);
+        },
+        [&](std::size_t b, std::size_t e) {
             (void)kick(rot.theta, b, e, rot.inv_inertia_per_kg_m2, w.grain_torque_n_m, half_dt2);
         });
-    });
     return verlet_second_half_clumps(w, pool) && finite;
 }
 

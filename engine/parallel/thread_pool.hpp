@@ -33,9 +33,10 @@ inline constexpr char worker_thread_name[] = "wiredem-worker";
 /// and each thread claims from its own range first (the caller the first,
 /// worker k the (k+1)-th), then from the others'. So as long as the threads
 /// keep pace, a thread works on the same part of every array in every loop
-/// of a step (the bodies it predicted are the ones it gathers and corrects),
-/// and that part stays in its core's own cache instead of passing between
-/// the cores at each loop.
+/// of a step that cuts it alike (body_blocks, parallel/body_blocks.hpp: the
+/// bodies it predicted are the ones it gathers and corrects), and that part
+/// stays in its core's own cache instead of passing between the cores at
+/// each loop.
 class ThreadPool {
 public:
     /// @param threads total threads taking part in a loop, the caller included;

@@ -1,6 +1,9 @@
 // The thread pool: every index visited once, reductions independent of threads.
 #include "parallel/thread_pool.hpp"
 
+#include "parallel/body_blocks.hpp"
+#include "state/world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -200,4 +203,71 @@ TEST(ThreadPool, EachThreadStartsOnItsOwnRange)
     if (first_chunk.size() < 2) GTEST_SKIP() << "the worker did not take part within 10 s";
     for (const auto& [thread, chunk] : first_chunk)
         EXPECT_EQ(chunk, thread == caller ? 0u : chunks / 2) << (thread == caller ? "caller" : "worker");
+}
+
+namespace {
+
+/// A world of 1000 grains, 600 wire nodes and 2000 membrane nodes (4, 3 and 8 blocks of body_block).
+World bodies_of_three_kinds()
+{
+    World w;
+    add_material(w, Material{});
+    for (int i = 0; i < 1000; ++i) (void)add_grain(w, Vec3(0.01 * i, 0.0, 0.0), 1e-3, 0);
+    for (int i = 0; i < 600; ++i) (void)add_node(w, BodyKind::wire, Vec3(0.01 * i, 1.0, 0.0), 1e-3, 1e-6, 0);
+    for (int i = 0; i < 2000; ++i) (void)add_node(w, BodyKind::membrane, Vec3(0.01 * i, 2.0, 0.0), 1e-3, 1e-6, 0);
+    return w;
+}
+
+} // namespace
+
+TEST(BodyBlocks, VisitEveryBodyOnceInBlocksOfBodyBlock)
+{
+    const World w = bodies_of_three_kinds();
+    for (unsigned threads : {1u, 2u, 3u}) {
+        ThreadPool pool(threads);
+        std::array<std::vector<std::atomic<int>>, body_kind_count> visits;
+        for (std::size_t k = 0; k < body_kind_count; ++k) visits[k] = std::vector<std::atomic<int>>(w.bodies[k].size());
+        std::atomic<bool> aligned{true};
+        body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t end) {
+            if (begin % body_block != 0 || end - begin > body_block || (end - begin < body_block && end != w.bodies[k].size()))
+                aligned = false;
+            for (std::size_t i = begin; i < end; ++i) visits[k][i].fetch_add(1);
+        });
+        EXPECT_TRUE(aligned.load()) << threads << " threads";
+        for (std::size_t k = 0; k < body_kind_count; ++k)
+            EXPECT_TRUE(std::all_of(visits[k].begin(), visits[k].end(), [](const std::atomic<int>& v) { return v.load() == 1; }))
+                << "kind " << k << ", " << threads << " threads";
+    }
+}
+
+TEST(BodyBlocks, EachThreadStartsOnItsShareOfEveryKind)
+{
+    // As ThreadPool.EachThreadStartsOnItsOwnRange: each thread's first block
+    // waits until the other has begun one. The worker's first block is the
+    // first of its half of the grains (block 2 of 4), not a block of the
+    // flat order's second half (wire nodes): the thread that gathers a
+    // body's force is the one that corrects it, and each gets half of the
+    // grains, the heavier bodies.
+    const World w = bodies_of_three_kinds();
+    ThreadPool pool(2);
+    const auto caller = std::this_thread::get_id();
+    std::mutex mutex;
+    std::map<std::thread::id, std::pair<std::size_t, std::size_t>> first_block; // (kind, begin)
+    std::atomic<int> started{0};
+    body_blocks(w, pool, [&](std::size_t k, std::size_t begin, std::size_t) {
+        bool first = false;
+        {
+            const std::lock_guard lock(mutex);
+            first = first_block.emplace(std::this_thread::get_id(), std::pair{k, begin}).second;
+        }
+        if (!first) return;
+        started.fetch_add(1);
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (started.load() < 2 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    });
+    if (first_block.size() < 2) GTEST_SKIP() << "the worker did not take part within 10 s";
+    for (const auto& [thread, block] : first_block) {
+        EXPECT_EQ(block.first, 0u);
+        EXPECT_EQ(block.second, thread == caller ? 0u : 2 * body_block) << (thread == caller ? "caller" : "worker");
+    }
 }
