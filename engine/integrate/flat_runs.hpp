@@ -164,14 +164,20 @@ void scale_accelerations(const double* inv_mass, const Vec3* load, double half_d
     return half_a_dt2;
 }
 
-/// The kinematic bodies of [begin, end) move by their prescribed x₁ = δt v
-/// (their higher derivatives stay zero): x₀ ← x₀ + x₁.
+/// A kinematic body moves by its prescribed x₁ = δt v (its higher
+/// derivatives stay zero): x₀ ← x₀ + x₁.
+inline void move_kinematic_body(std::array<std::vector<Vec3>, gear_order>& x, std::size_t i)
+{
+    x[0][i] += x[1][i];
+}
+
+/// The kinematic bodies of [begin, end) move (move_kinematic_body).
 inline void move_kinematic(std::array<std::vector<Vec3>, gear_order>& x, const std::vector<Motion>& motion,
     std::size_t begin, std::size_t end)
 {
     if (!any_of_motion(motion, Motion::kinematic, begin, end)) return;
     for (std::size_t i = begin; i < end; ++i)
-        if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
+        if (motion[i] == Motion::kinematic) move_kinematic_body(x, i);
 }
 
 /// The integrators' corrector loop (Gear-5's corrector, Verlet's second

@@ -200,7 +200,7 @@ bool sized_for(const Prediction& next, std::size_t n)
 /// The kept prediction made x₀ and x₁: the arrays swap, and the bodies that
 /// are kinematic or fixed, which the corrector skipped, take their stored
 /// values (which `next` now holds) over [begin, end); with a position, the
-/// kinematic ones then move (move_kinematic's x₀ ← x₀ + x₁). One scan of the
+/// kinematic ones then move (move_kinematic_body). One scan of the
 /// motions finds whether the range has any such body (usually none), one
 /// loop takes and moves them. A clump's spheres take nothing:
 /// gear5_predict_clumps puts them at the end of the predictor.
@@ -214,7 +214,7 @@ void take_kept(Derivatives& x, const Prediction& stored, const std::vector<Motio
             x[1][i] = stored[1][i];
             if constexpr (position == Position::with) {
                 x[0][i] = stored[0][i];
-                if (motion[i] == Motion::kinematic) x[0][i] += x[1][i];
+                if (motion[i] == Motion::kinematic) move_kinematic_body(x, i);
             }
         }
 }
