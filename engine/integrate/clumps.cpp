@@ -307,15 +307,18 @@ void clump_initial_accelerations(World& w, ThreadPool& pool)
         [&](std::size_t b, std::size_t e) { clump_kicks(sums, kick, b, e, &c.x[2][b], &c.omega[2][b]); });
 }
 
-double clump_kinetic_energy_j(const State& s)
+double clump_kinetic_energy_j(const State& s, std::size_t i)
 {
     const ClumpState& c = s.clumps;
     const double inv_dt2 = 1.0 / (s.dt_s * s.dt_s);
+    const Vec3& w1 = c.omega[1][i];
+    return 0.5 * inv_dt2 * (c.mass_kg[i] * c.x[1][i].squaredNorm() + c.principal_inertia_kg_m2[i].dot(w1.cwiseProduct(w1)));
+}
+
+double clump_kinetic_energy_j(const State& s)
+{
     double e = 0.0;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-        const Vec3& w1 = c.omega[1][i];
-        e += 0.5 * inv_dt2 * (c.mass_kg[i] * c.x[1][i].squaredNorm() + c.principal_inertia_kg_m2[i].dot(w1.cwiseProduct(w1)));
-    }
+    for (std::size_t i = 0; i < s.clumps.size(); ++i) e += clump_kinetic_energy_j(s, i);
     return e;
 }
 

@@ -63,6 +63,9 @@ void verlet_first_half_clumps(World& w, ThreadPool& pool);
 /// δt²/2 I⁻¹ τ_b).
 void clump_initial_accelerations(World& w, ThreadPool& pool);
 
+/// Translational and rotational kinetic energy of clump `i` [J].
+[[nodiscard]] double clump_kinetic_energy_j(const State& s, std::size_t i);
+
 /// Translational and rotational kinetic energy of the clumps [J].
 [[nodiscard]] double clump_kinetic_energy_j(const State& s);
 

@@ -386,22 +386,49 @@ private:
 
 } // namespace
 
-double settling_energy_j(const World& w, double wire_mass_scale)
+namespace {
+
+/// The settling energy of the grains `counts` keeps (counts(centre), a
+/// clump's by its centre of mass) and of the wire, and their count.
+template <class Counts>
+SettlingEnergy settling_energy(const World& w, double wire_mass_scale, Counts&& counts)
 {
-    double e = 0.0;
+    SettlingEnergy out;
+    double& e = out.energy_j;
     const TranslationalState& g = w.of(BodyKind::grain);
+    const ClumpState& c = w.clumps;
     const double inv_dt2 = 1.0 / (w.dt_s * w.dt_s);
     for (std::size_t i = 0; i < g.size(); ++i) {
+        if (!counts(g.x[0][i])) continue;
+        out.grains += c.is_member(i) ? 0 : 1;
         e += 0.5 * g.mass_kg[i] * g.x[1][i].squaredNorm() * inv_dt2;
         const Vec3 omega = angular_velocity_rad_per_s(w, static_cast<std::uint32_t>(i));
         const double inv_i = w.grain_rotation.inv_inertia_per_kg_m2[i];
         if (inv_i > 0.0) e += 0.5 * omega.squaredNorm() / inv_i;
     }
-    if (!w.clumps.empty()) e += clump_kinetic_energy_j(w); // their spheres weigh nothing
+    if (!c.empty()) { // their spheres weigh nothing
+        double clumps = 0.0;
+        for (std::size_t k = 0; k < c.size(); ++k)
+            if (counts(c.x[0][k])) clumps += clump_kinetic_energy_j(w, k), ++out.grains;
+        e += clumps;
+    }
     const TranslationalState& n = w.of(BodyKind::wire);
     for (std::size_t i = 0; i < n.size(); ++i)
         if (is_dynamic(n, i)) e += 0.5 * n.mass_kg[i] / wire_mass_scale * n.x[1][i].squaredNorm() * inv_dt2;
-    return e;
+    return out;
+}
+
+} // namespace
+
+double settling_energy_j(const World& w, double wire_mass_scale)
+{
+    return settling_energy(w, wire_mass_scale, [](const Vec3&) { return true; }).energy_j;
+}
+
+SettlingEnergy settling_energy_within(const World& w, double wire_mass_scale, double radius_m)
+{
+    return settling_energy(w, wire_mass_scale,
+        [radius_m](const Vec3& x) { return std::hypot(x.x(), x.y()) <= radius_m; });
 }
 
 void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor)

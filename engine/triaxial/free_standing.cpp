@@ -385,7 +385,6 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
     double column_mass_kg = 0.0;
     for (double m : grains.mass_kg) column_mass_kg += m;
     for (double m : w.clumps.mass_kg) column_mass_kg += m;
-    const double grain_count = static_cast<double>(grain_body_count(w));
     const double grain_radius_m = mean_grain_radius_m(w);
     const double grain_density = w.materials[grains.material[0]].density_kg_per_m3;
     const double wire_mass_scale = settings.real_weights ? settings.real_weights->wire_mass_scale : 1.0;
@@ -517,8 +516,14 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
                                      / (static_cast<double>(check_every) * dt);
             st.window_force_n = 0.0;
             st.window_kinetic_energy_j = ke;
-            if (settling_energy_j(w, wire_mass_scale) / grain_count
-                < settings.settle_kinetic_energy_per_grain_j * density_scale) {
+            // The standing column's grains only: one that left it is lost
+            // (lost_fraction), and a sphere without rolling resistance rolls
+            // on the plate for ever, which would keep a column that stands
+            // from ever being at rest.
+            const SettlingEnergy column = settling_energy_within(w, wire_mass_scale, settings.escape_distance_m);
+            if (column.grains > 0
+                && column.energy_j / static_cast<double>(column.grains)
+                       < settings.settle_kinetic_energy_per_grain_j * density_scale) {
                 at_rest = true;
                 break;
             }

@@ -140,6 +140,36 @@ TEST(FreeStanding, TheBottomPlateCarriesTheColumnsWeightAtRest)
     for (std::size_t k = 0; k < st.profile.radius_m.size(); ++k) EXPECT_NEAR(st.profile.radius_m[k], grain_radius_m, 1e-6);
 }
 
+// A grain that left the column is lost (escaped_grains), not part of the
+// column that comes to rest: the same stack with a grain rolling away on the
+// plate beyond the escape distance (rolling without slipping, ω = v/r: a
+// sphere without rolling resistance loses nothing and rolls on for ever)
+// comes to rest by the criterion of 10⁻¹⁶ J per grain of the column, while
+// the rolling grain alone holds ½ m v² + ½ I ω² = 0.7 m v² (≈ 10⁻⁷ J) to the
+// end. Counted over every grain, as before 2026-12-07, it never would.
+TEST(FreeStanding, AGrainRollingAwayDoesNotKeepTheColumnFromRest)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, 0.0);
+    World& w = sim.world;
+    FreeStandingSettings s = quick_settings();
+    s.settle_kinetic_energy_per_grain_j = 1e-16;
+    s.max_settling_time_s = 0.3;
+    const double r = grain_radius_m, v0 = 0.05;
+    const std::uint32_t rolling = add_grain(w, Vec3(s.escape_distance_m + 5e-3, 0, r), r, w.of(BodyKind::grain).material[0]);
+    set_velocity(w, {BodyKind::grain, rolling}, Vec3(v0, 0, 0));
+    w.grain_rotation.theta[1][rolling] = Vec3(0, v0 / r, 0) * w.dt_s; // about +y: rolling along +x, away from the axis
+    const auto res = run_free_standing(sim, lid, s);
+    ASSERT_TRUE(res.ok()) << res.error();
+    const SettlingReading& st = res.value().settling;
+    EXPECT_TRUE(st.at_rest);
+    EXPECT_LT(st.time_to_rest_s, s.max_settling_time_s);
+    EXPECT_EQ(st.escaped_grains, 1u);
+    const double m = w.of(BodyKind::grain).mass_kg[rolling];
+    EXPECT_GT(velocity_m_per_s(w, {BodyKind::grain, rolling}).x(), 0.9 * v0) << "it still rolls: the column's rest is its own";
+    EXPECT_GT(0.7 * m * v0 * v0, 1e6 * s.settle_kinetic_energy_per_grain_j * (stack_grains + 1));
+}
+
 // The force the top plate measures is the force the contacts carry through
 // any horizontal plane of the column below it plus the weight between: for
 // the grains above the plane, F_plane − F_top − W_above = dP_above/dt. A
