@@ -194,6 +194,51 @@ def read_run(d: Path) -> dict:
     return rec
 
 
+def column_label(r: dict) -> str:
+    """The column a run is a sample of: its pattern and contact law (seeds pooled)."""
+    mu_r = r["rolling_friction_coeff"]
+    return LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {mu_r}" if mu_r else "")
+
+
+def by_column(runs: list[dict]) -> dict[str, list[dict]]:
+    """The runs grouped by column_label, in the order first given, each group by seed."""
+    groups: dict[str, list[dict]] = {}
+    for r in runs:
+        groups.setdefault(column_label(r), []).append(r)
+    return {k: sorted(v, key=lambda r: r["seed"]) for k, v in groups.items()}
+
+
+def mean_sd(values: list[float], scale: float = 1.0, digits: int = 1) -> str:
+    """mean ± sample standard deviation (n − 1), scaled; the value alone for one; "—" for none."""
+    xs = [scale * v for v in values if v is not None]
+    if not xs:
+        return "—"
+    m = sum(xs) / len(xs)
+    if len(xs) == 1:
+        return f"{m:.{digits}f}"
+    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1))
+    return f"{m:.{digits}f} ± {sd:.{digits}f}"
+
+
+def print_seed_table(groups: dict[str, list[dict]]) -> None:
+    """Per column, over its seeds: how many stand, and the mean ± standard
+    deviation of the bulk height's loss, the settled radius, the volume lost
+    and the unconfined strength (the runs that recorded one, counted)."""
+    print("| column | seeds | stand | at rest | bulk height loss [%] | radius after [mm] | volume lost [%] "
+          "| unconfined strength [kPa] (runs with one) | steps | wall time [s] |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for label, group in groups.items():
+        n = len(group)
+        ucs = [r["compression"]["unconfined_strength_pa"] for r in group if r.get("compression")]
+        print(f"| {label} | {', '.join(str(r['seed']) for r in group)} "
+              f"| {sum(r['stands'] for r in group)} of {n} | {sum(r['at_rest'] for r in group)} of {n} "
+              f"| {mean_sd([r.get('bulk_height_loss') for r in group], 100)} "
+              f"| {mean_sd([r['radius_m'] for r in group], 1e3)} "
+              f"| {mean_sd([r.get('lost_fraction') for r in group], 100, 0)} "
+              f"| {mean_sd(ucs, 1e-3, 2)} ({len(ucs)} of {n}) "
+              f"| {mean_sd([r['steps'] for r in group], 1, 0)} | {mean_sd([r['wall_time_s'] for r in group], 1, 0)} |")
+
+
 def kpa(x: float | None) -> str:
     return "—" if x is None else f"{x / 1e3:.2f}"
 
@@ -224,7 +269,7 @@ def main() -> None:
             p = env["predicted_unconfined_strength_pa"]
             pred = (f"{kpa(p)} (φ = {env['friction_angle_deg']:.1f}°, c = {env['cohesion_pa'] / 1e3:.1f} kPa)" if p
                     else f"none (c = {env['cohesion_pa'] / 1e3:.1f} kPa ≤ 0)")
-        label = LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {r['rolling_friction_coeff']}" if r["rolling_friction_coeff"] else "")
+        label = column_label(r) + f", seed {r['seed']}"
         stands = "yes" if r["stands"] else "no"
         if "verdict_as_recorded" in r:  # re-read: the run's own file has the top's verdict
             stands += f" (recorded: {'yes' if r['verdict_as_recorded'] else 'no'}, read from the top)"
@@ -236,16 +281,30 @@ def main() -> None:
               f"| {r['time_to_rest_s']:.3f}{'' if r['at_rest'] else ' (not at rest)'} | {ucs} | {pred} "
               f"| {r['steps']}, {r['wall_time_s']:.0f} s on {r['threads']} |")
 
+    groups = by_column(runs)
+    if any(len(g) > 1 for g in groups.values()):
+        print()
+        print_seed_table(groups)
+
+    # One colour per column (pattern and law), one line style per seed; the
+    # profile before the removal of each column's first run only.
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for r in runs:
-        label = LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {r['rolling_friction_coeff']}" if r["rolling_friction_coeff"] else "")
-        if r["curve"]["axial_strain"]:
-            ax1.plot(r["curve"]["axial_strain"], [s / 1e3 for s in r["curve"]["sigma1_pa"]], label=label)
-        for key, style in (("profile_before", ":"), ("profile_settled", "-")):
-            p = r[key]
+    for i, (label, group) in enumerate(groups.items()):
+        colour = f"C{i % 10}"
+        for j, r in enumerate(group):
+            style = ["-", "--", "-.", ":"][j % 4]
+            name = f"{label}, seed {r['seed']}"
+            if r["curve"]["axial_strain"]:
+                ax1.plot(r["curve"]["axial_strain"], [s / 1e3 for s in r["curve"]["sigma1_pa"]], style, color=colour,
+                         label=name)
+            p = r["profile_settled"]
             if p:
-                ax2.plot([1e3 * x for x in p["radius_m"]], [1e3 * z for z in p["height_m"]], style,
-                         label=f"{label}, {'before removal' if key == 'profile_before' else 'settled'}")
+                ax2.plot([1e3 * x for x in p["radius_m"]], [1e3 * z for z in p["height_m"]], style, color=colour,
+                         label=f"{name}, settled")
+            p = r["profile_before"]
+            if p and j == 0:
+                ax2.plot([1e3 * x for x in p["radius_m"]], [1e3 * z for z in p["height_m"]], ":", color=colour,
+                         alpha=0.6, label=f"{label}, before removal")
     ax1.set_xlabel("axial strain ε₁")
     ax1.set_ylabel("σ₁ [kPa] (top plate)")
     ax1.set_title("unconfined compression")
