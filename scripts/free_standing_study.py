@@ -131,6 +131,8 @@ def read_run(d: Path) -> dict:
             "pattern": pattern,
             "seed": job.get("seed", 1),
             "rolling_friction_coeff": job.get("contact", {}).get("rolling_friction_coeff", 0),
+            "wire_cuts": len(job["specimen"].get("wire", {}).get("cuts_at_m", [])),
+            "cut_every_loops": job["specimen"].get("wire", {}).get("cut_every_loops", 0),
             "stands": bool(attribute(g, "stands", 0)),
             "at_rest": bool(attribute(g, "at_rest", 0)),
             "time_to_rest_s": attribute(g, "time_to_rest_s"),
@@ -185,7 +187,9 @@ def read_run(d: Path) -> dict:
         ref = json.loads(paper.read_text())
         # The same specimen and the same contact law (the study's has no rolling resistance).
         contact = dict({"rolling_friction_coeff": 0}, **ref.get("contact", {}))
-        same_column = given_in(ref["specimen"], job["specimen"]) and given_in(contact, job.get("contact", {}))
+        # (A cut wire is another column: the study's wire is whole.)
+        same_column = (given_in(ref["specimen"], job["specimen"]) and given_in(contact, job.get("contact", {}))
+                       and not rec["wire_cuts"] and not rec["cut_every_loops"])
     if study.exists() and same_column:
         mc = json.loads(study.read_text())["mohr_coulomb"]
         rec["envelope"] = {"source": str(study.relative_to(ROOT)), "friction_angle_deg": mc["friction_angle_deg"],
@@ -195,9 +199,10 @@ def read_run(d: Path) -> dict:
 
 
 def column_label(r: dict) -> str:
-    """The column a run is a sample of: its pattern and contact law (seeds pooled)."""
-    mu_r = r["rolling_friction_coeff"]
-    return LABELS.get(r["pattern"], r["pattern"]) + (f", μ_r = {mu_r}" if mu_r else "")
+    """The column a run is a sample of: its pattern, its wire's cuts and its contact law (seeds pooled)."""
+    mu_r, cuts, every = r["rolling_friction_coeff"], r.get("wire_cuts", 0), r.get("cut_every_loops", 0)
+    return (LABELS.get(r["pattern"], r["pattern"]) + (f", wire cut at {cuts} places" if cuts else "")
+            + (f", wire cut every {every} loops" if every else "") + (f", μ_r = {mu_r}" if mu_r else ""))
 
 
 def by_column(runs: list[dict]) -> dict[str, list[dict]]:

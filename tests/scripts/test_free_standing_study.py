@@ -38,8 +38,9 @@ class FreeStandingStudy(unittest.TestCase):
         self.assertIsNone(fs.predicted_ucs_pa(25.0, -500.0))
 
     def test_runs_are_grouped_by_pattern_and_law_and_sorted_by_seed(self):
-        groups = fs.by_column([run("helix", 3), run("none", 1), run("helix", 1), run("helix", 2, mu_r=0.2)])
-        self.assertEqual(list(groups), ["helix", "no wire", "helix, μ_r = 0.2"])
+        groups = fs.by_column([run("helix", 3), run("none", 1), run("helix", 1), run("helix", 2, mu_r=0.2),
+                               run("helix", 1, wire_cuts=9)])
+        self.assertEqual(list(groups), ["helix", "no wire", "helix, μ_r = 0.2", "helix, wire cut at 9 places"])
         self.assertEqual([r["seed"] for r in groups["helix"]], [1, 3])
 
     def test_mean_and_sample_standard_deviation(self):
