@@ -215,9 +215,12 @@ StandingColumn standing_column(const World& w, double escape_distance_m, double 
     // The top is where a plate touches the column: every sphere (a clump's
     // too) and wire node.
     for (const TranslationalState* s : {&w.of(BodyKind::grain), &w.of(BodyKind::wire)})
-        for (std::size_t i = 0; i < s->size(); ++i)
-            if (standing(s->x[0][i], escape_distance_m))
-                c.top_m = std::max(c.top_m, s->x[0][i].z() + s->radius_m[i] - bottom_m);
+        for (std::size_t i = 0; i < s->size(); ++i) {
+            const Vec3& x = s->x[0][i];
+            const double top = x.z() + s->radius_m[i] - bottom_m;
+            if (standing(x, escape_distance_m)) c.top_m = std::max(c.top_m, top);
+            if (top > c.highest_top_m) c.highest_top_m = top, c.highest_top_axis_distance_m = std::hypot(x.x(), x.y());
+        }
     return c;
 }
 
@@ -542,6 +545,18 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
             return Err(std::string("no grain is left standing within escape_distance_m of the axis"));
         st.reference_height_m = after.top_m;
         st.reference_radius_m = after.radius_m;
+        // The top plate is a plane over the whole bottom plate: set on the
+        // column, it would cut into a grain or wire node that left the column
+        // and lies higher. It is set on the highest of them then, the
+        // compression's strain measured from there, and the result says so.
+        if (!settings.pull_out && after.highest_top_m > after.top_m) {
+            st.reference_height_m = after.highest_top_m;
+            result.warnings.push_back("the top plate was set at " + format_number(1e3 * after.highest_top_m)
+                + " mm, on a body that left the column (" + format_number(1e3 * after.highest_top_axis_distance_m)
+                + " mm from the axis), " + format_number(1e3 * (after.highest_top_m - after.top_m))
+                + " mm above the standing column's top: the plate, a plane, presses what lies beyond escape_distance_m "
+                  "as well as the column, and the unconfined compression does not measure the column alone");
+        }
         if (!settings.pull_out) place_plate_on_column(); // a pull-out leaves the plate above the column
         st.phase = settings.pull_out ? FreeStandingPhase::pull_out
                  : settings.dead_load ? FreeStandingPhase::dead_load : FreeStandingPhase::loading;

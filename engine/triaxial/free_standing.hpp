@@ -141,6 +141,13 @@ struct StandingColumn {
     /// Highest top of a standing grain's sphere or wire node above the bottom
     /// plate: where a plate set on the column touches it [m].
     double top_m = 0.0;
+    /// Highest top of any grain's sphere or wire node above the bottom plate,
+    /// standing or not: where the top plate, a plane over the whole bottom
+    /// plate, touches first [m]; above top_m when something that left the
+    /// column lies higher (a ridge of the runout, a grain still falling).
+    double highest_top_m = 0.0;
+    /// The distance from the axis of that highest top's body [m].
+    double highest_top_axis_distance_m = 0.0;
     /// The grains' bulk height (bulk_height_m at the given fraction) [m].
     double bulk_height_m = 0.0;
     /// Equivalent radius √(2⟨ρ²⟩) + ⟨r⟩ of the standing grains (ρ their

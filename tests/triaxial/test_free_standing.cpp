@@ -170,6 +170,43 @@ TEST(FreeStanding, AGrainRollingAwayDoesNotKeepTheColumnFromRest)
     EXPECT_GT(0.7 * m * v0 * v0, 1e6 * s.settle_kinetic_energy_per_grain_j * (stack_grains + 1));
 }
 
+// The top plate is a plane over the whole bottom plate. Set on the standing
+// column, it must not cut into a body that left the column and lies higher
+// (the study's column without wire left a ridge of its runout 12 mm above
+// its 8 mm heap, 131 mm from the axis, and the plate set on the heap
+// overlapped it by 9.6 mm: the live check stopped the test). The stack, its
+// plate 2 mm above it, and beside it beyond the escape distance a stack of
+// larger grains 1.5 mm taller: the plate is set on the taller stack, the
+// strain measured from there, and a warning says what it presses.
+TEST(FreeStanding, TheTopPlateIsSetOnABodyThatLeftTheColumnAndLiesHigher)
+{
+    Simulation sim(1);
+    const std::size_t lid = build_grain_stack(sim, -2e-3);
+    World& w = sim.world;
+    FreeStandingSettings s = quick_settings();
+    const double r = grain_radius_m + 0.15e-3, rho = s.escape_distance_m + 5e-3;
+    for (int k = 0; k < stack_grains; ++k) add_grain(w, Vec3(rho, 0, r + 2.0 * r * k), r, w.of(BodyKind::grain).material[0]);
+    set_auto_time_step(w);
+    const double column_top = 2.0 * grain_radius_m * stack_grains, beside_top = 2.0 * r * stack_grains;
+    ASSERT_LT(beside_top, w.walls[lid].point_m.z()) << "the plate starts above both stacks";
+    const auto res = run_free_standing(sim, lid, s);
+    ASSERT_TRUE(res.ok()) << res.error();
+    const FreeStandingResult& out = res.value();
+    EXPECT_EQ(out.settling.escaped_grains, static_cast<std::size_t>(stack_grains));
+    EXPECT_NEAR(out.settling.height_m, column_top, 0.02 * grain_radius_m) << "the standing column's top";
+    ASSERT_TRUE(std::any_of(out.warnings.begin(), out.warnings.end(),
+        [](const std::string& m) { return m.find("the top plate was set at") != std::string::npos; }));
+    // The compression's first row: the plate on the taller stack (ε = 0 there), the strain from its top.
+    const TriaxialSeries& ts = out.series;
+    const std::size_t first = out.loading_start_sample;
+    ASSERT_LT(first, ts.size());
+    EXPECT_NEAR(ts.axial_strain[first], 0.0, 1e-12);
+    EXPECT_GT(ts.axial_strain.back(), 0.0);
+    // (The stack's settled top: its contacts' overlaps under its weight, microns.)
+    EXPECT_NEAR(w.walls[lid].point_m.z(), beside_top * (1.0 - ts.axial_strain.back()), 0.01 * grain_radius_m)
+        << "the strain is the plate's travel from the taller stack's top";
+}
+
 // The force the top plate measures is the force the contacts carry through
 // any horizontal plane of the column below it plus the weight between: for
 // the grains above the plane, F_plane − F_top − W_above = dP_above/dt. A
