@@ -1112,9 +1112,12 @@ void read_free_standing(ObjectReader& r, FreeStandingSpec& f)
     optional_number(r, "escape_distance_m", open_closed(0.0, 100.0), f.escape_distance_m,
         {"m", "a grain whose centre is farther than this from the axis has left the column; more than specimen.membrane_radius_m; null (or absent) = 1.5 × it"});
     r.number("settle_kinetic_energy_per_grain_j", open_closed(0.0, 1.0), f.settle_kinetic_energy_per_grain_j,
-        {"J", "the free column is at rest when the mean kinetic energy per grain is below this (the preparation's criterion)"});
+        {"J", "the free column is at rest when the mean kinetic energy per grain of the standing column (its grains within "
+              "escape_distance_m of the axis, and the wire) is below this (the preparation's criterion; a grain that left the "
+              "column is counted as lost, not waited for: docs/model.md, \"The free-standing test\")"});
     r.number("max_settling_time_s", open_closed(0.0, 1e4), f.max_settling_time_s,
-        {"s", "settling ends here at the latest (a warning says the column was not at rest)"});
+        {"s", "settling ends here at the latest (a warning says the column was not at rest). Under mass scaling the settling "
+              "is √engine.density_scale slower than a real column's (s = 100: 5 s here is 0.5 s of a real slump)"});
     r.number("max_height_loss", open_open(0.0, 1.0), f.max_height_loss,
         {"1", "the column stands when it came to rest having lost at most this fraction of its grains' bulk height (bulk_fraction; not the top of its highest grain or wire node, which a wire left standing keeps), and at most max_lost_fraction of its grains"});
     r.number("bulk_fraction", closed(0.5, 1.0), f.bulk_fraction,
