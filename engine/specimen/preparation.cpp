@@ -389,7 +389,9 @@ private:
 namespace {
 
 /// The settling energy of the grains `counts` keeps (counts(centre), a
-/// clump's by its centre of mass) and of the wire, and their count.
+/// clump's by its centre of mass) and of the wire, and their count. A clump's
+/// member spheres are asked by their own centres, which is harmless: they
+/// weigh nothing and count as no grain, their clump is asked once.
 template <class Counts>
 SettlingEnergy settling_energy(const World& w, double wire_mass_scale, Counts&& counts)
 {
@@ -425,10 +427,10 @@ double settling_energy_j(const World& w, double wire_mass_scale)
     return settling_energy(w, wire_mass_scale, [](const Vec3&) { return true; }).energy_j;
 }
 
-SettlingEnergy settling_energy_within(const World& w, double wire_mass_scale, double radius_m)
+SettlingEnergy settling_energy_of(
+    const World& w, double wire_mass_scale, const std::function<bool(const Vec3& centre_m)>& counts)
 {
-    return settling_energy(w, wire_mass_scale,
-        [radius_m](const Vec3& x) { return std::hypot(x.x(), x.y()) <= radius_m; });
+    return settling_energy(w, wire_mass_scale, counts);
 }
 
 void set_weights(World& w, double density_scale, double wire_mass_scale, double weight_factor)

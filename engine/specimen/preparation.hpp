@@ -137,14 +137,17 @@ void set_weights(World& w, double density_scale, double wire_mass_scale, double 
 /// criterion reads (settle_kinetic_energy_per_grain_j). Serial, in id order.
 [[nodiscard]] double settling_energy_j(const World& w, double wire_mass_scale);
 
-/// settling_energy_j of the grains within `radius_m` of the z axis (a free
-/// sphere by its centre, a clump by its centre of mass) and of every wire
-/// node, and how many grains (as grains: a clump once) that is.
+/// settling_energy_j of the grains that `counts` keeps (asked with a free
+/// sphere's centre, a clump's centre of mass) and of every wire node, and how
+/// many grains (as grains: a clump once) that is. The free-standing test asks
+/// with its own "standing" test, so its rest and its verdict read one
+/// definition of the column.
 struct SettlingEnergy {
     double energy_j = 0.0;
     std::size_t grains = 0;
 };
-[[nodiscard]] SettlingEnergy settling_energy_within(const World& w, double wire_mass_scale, double radius_m);
+[[nodiscard]] SettlingEnergy settling_energy_of(
+    const World& w, double wire_mass_scale, const std::function<bool(const Vec3& centre_m)>& counts);
 
 /// The fill rate may be at most this times the nozzle's rise speed v_z^w when
 /// a wire is laid. The nozzle follows the top of the pile under it, which

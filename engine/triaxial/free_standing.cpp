@@ -523,7 +523,8 @@ Result<FreeStandingResult, std::string> run_free_standing(Simulation& sim, std::
             // (lost_fraction), and a sphere without rolling resistance rolls
             // on the plate for ever, which would keep a column that stands
             // from ever being at rest.
-            const SettlingEnergy column = settling_energy_within(w, wire_mass_scale, settings.escape_distance_m);
+            const SettlingEnergy column = settling_energy_of(w, wire_mass_scale,
+                [&settings](const Vec3& x) { return standing(x, settings.escape_distance_m); });
             if (column.grains > 0
                 && column.energy_j / static_cast<double>(column.grains)
                        < settings.settle_kinetic_energy_per_grain_j * density_scale) {
