@@ -137,15 +137,16 @@ void set_weights(World& w, double density_scale, double wire_mass_scale, double 
 /// criterion reads (settle_kinetic_energy_per_grain_j). Serial, in id order.
 [[nodiscard]] double settling_energy_j(const World& w, double wire_mass_scale);
 
+/// A settling energy and the grains it was summed over.
+struct SettlingEnergy {
+    double energy_j = 0.0;  ///< as settling_energy_j sums it [J]
+    std::size_t grains = 0; ///< grains counted (a clump once, its spheres not)
+};
+
 /// settling_energy_j of the grains that `counts` keeps (asked with a free
 /// sphere's centre, a clump's centre of mass) and of every wire node, and how
-/// many grains (as grains: a clump once) that is. The free-standing test asks
-/// with its own "standing" test, so its rest and its verdict read one
-/// definition of the column.
-struct SettlingEnergy {
-    double energy_j = 0.0;
-    std::size_t grains = 0;
-};
+/// many grains that is. The free-standing test asks with its own "standing"
+/// test, so its rest and its verdict read one definition of the column.
 [[nodiscard]] SettlingEnergy settling_energy_of(
     const World& w, double wire_mass_scale, const std::function<bool(const Vec3& centre_m)>& counts);
 
